@@ -1,0 +1,55 @@
+# flipper_add_plugin(<name> KIND <kind> SOURCES <src>... [LIBRARIES <lib>...] [VERSION <v>])
+#
+# Builds a Flipper plugin: a MODULE library linked against the SDK only, with hidden visibility,
+# -fno-gnu-unique (so g++ does not pin it in memory, see docs) and -z nodelete (the kernel never
+# unloads within a process), written to the plugin directory together with a sidecar manifest
+# <name>.flipper.yaml that lets the kernel index plugins without loading their code.
+# Works in tree (target flipper_sdk) and out of tree (after find_package(FlipperSDK)).
+include_guard(GLOBAL)
+
+function(flipper_add_plugin name)
+  cmake_parse_arguments(FAP "" "KIND;VERSION;OUTPUT_DIRECTORY" "SOURCES;LIBRARIES" ${ARGN})
+  if(NOT FAP_KIND)
+    message(FATAL_ERROR "flipper_add_plugin(${name}): KIND is required")
+  endif()
+  if(NOT FAP_SOURCES)
+    message(FATAL_ERROR "flipper_add_plugin(${name}): SOURCES is required")
+  endif()
+  if(NOT FAP_VERSION)
+    set(FAP_VERSION "1.0.0")
+  endif()
+  if(NOT FAP_OUTPUT_DIRECTORY)
+    if(DEFINED FLIPPER_PLUGIN_OUTPUT_DIR)
+      set(FAP_OUTPUT_DIRECTORY ${FLIPPER_PLUGIN_OUTPUT_DIR})
+    else()
+      set(FAP_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/plugins)
+    endif()
+  endif()
+  set(target flipper_plugin_${name})
+  add_library(${target} MODULE ${FAP_SOURCES})
+  if(TARGET flipper_sdk)
+    target_link_libraries(${target} PRIVATE flipper_sdk)
+  else()
+    target_link_libraries(${target} PRIVATE Flipper::sdk)
+  endif()
+  if(FAP_LIBRARIES)
+    target_link_libraries(${target} PRIVATE ${FAP_LIBRARIES})
+  endif()
+  set_target_properties(${target} PROPERTIES
+    PREFIX ""
+    OUTPUT_NAME ${name}
+    LIBRARY_OUTPUT_DIRECTORY ${FAP_OUTPUT_DIRECTORY}
+    CXX_VISIBILITY_PRESET hidden
+    VISIBILITY_INLINES_HIDDEN ON
+    POSITION_INDEPENDENT_CODE ON
+    CXX_STANDARD 20
+    CXX_STANDARD_REQUIRED ON)
+  target_compile_options(${target} PRIVATE -fno-gnu-unique -Wall -Wextra)
+  target_link_options(${target} PRIVATE -Wl,-z,nodelete -Wl,--no-undefined)
+  file(GENERATE OUTPUT ${FAP_OUTPUT_DIRECTORY}/${name}.flipper.yaml CONTENT
+"name: ${name}
+kind: ${FAP_KIND}
+version: ${FAP_VERSION}
+library: ${name}.so
+")
+endfunction()

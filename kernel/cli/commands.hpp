@@ -1,0 +1,14 @@
+#pragma once
+// Subcommands of build/bin/flipper. Each lives in its own file and registers itself on the app;
+// main.cpp only wires them. Every subcommand takes --config FILE and repeated --set key=value
+// (see common.hpp). Exit status: 0 ok, 1 the work failed, 2 misuse or bad config.
+#include <CLI/CLI.hpp>
+
+namespace flipper::cli {
+void add_plugins_command(CLI::App& app);  // plugins.cpp
+void add_config_command(CLI::App& app);   // config.cpp   (config check)
+void add_run_command(CLI::App& app);      // run.cpp
+void add_session_command(CLI::App& app);  // session.cpp
+void add_repl_command(CLI::App& app);     // repl.cpp
+void add_replay_command(CLI::App& app);   // replay.cpp
+}  // namespace flipper::cli

@@ -1,0 +1,17 @@
+// flipper repl: placeholder until its module lands (owner replaces this file).
+#include <iostream>
+
+#include "commands.hpp"
+#include "common.hpp"
+
+namespace flipper::cli {
+void add_repl_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("repl", "(not available yet)");
+  static CommonOptions opts;
+  add_common_options(*cmd, opts);
+  cmd->callback([] {
+    std::cerr << "flipper repl: not available in this build yet\n";
+    std::exit(2);
+  });
+}
+}  // namespace flipper::cli

@@ -1,0 +1,69 @@
+#pragma once
+/// @file config.hpp
+/// The validated configuration. Sources, in order: the file given with --config (or the embedded
+/// configs/default.yaml), then each --set key.path=value. Validation happens before anything is
+/// built: kernel keys against the kernel schema, each plugin's `params` against the schema that
+/// plugin declares; unknown keys are errors with a "did you mean" hint (code bad_config).
+///
+/// Layout (Nav2-style named instances):
+///   world:    {plugin: grid2d, params: {...}, file: worlds/study2018.json}
+///   planner:  {plugin: astar, params: {...}}
+///   parser / scorer / rewriter / similarity: {plugin: NAME, params: {...}}
+///   grammar:  {file, colors, shapes}
+///   lexicon:  {path, sharing: shared|private|core, preload, weights: global|per_user}
+///   induction:{alignment, generalize, perturbed_checks}
+///   execution:{action_budget, time_budget_ms, while_limit}
+///   input:    {max_chars, max_semicolons}
+///   session:  {k}
+///   plugin_paths: [dirs]
+/// Relative paths resolve against the config file's directory (the embedded default behaves as
+/// if it lived in the source tree's configs/).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace flipper::kernel {
+
+class Config {
+ public:
+  /// Loads and validates the kernel keys (plugin params are validated by the loader against
+  /// each plugin's schema). Throws sdk::Error(bad_config).
+  static Config load(const std::optional<std::string>& file,
+                     const std::vector<std::string>& overrides);
+  /// The embedded default.
+  static Config embedded_default();
+
+  /// "<embedded default>" or the file path.
+  const std::string& source() const;
+  /// Directory relative paths resolve against.
+  const std::string& base_dir() const;
+  /// Resolves a path relative to base_dir(); "~/" expands to $HOME. Empty stays empty.
+  std::string resolve_path(const std::string& path) const;
+
+  /// Typed access by dotted key ("execution.action_budget"). Throws bad_config when absent or
+  /// of the wrong type (after validation these only fail on programming errors).
+  bool has(const std::string& key) const;
+  std::string get_string(const std::string& key) const;
+  std::int64_t get_int(const std::string& key) const;
+  double get_double(const std::string& key) const;
+  bool get_bool(const std::string& key) const;
+  std::vector<std::string> get_string_list(const std::string& key) const;
+
+  /// Sets a key after loading (same syntax and validation as --set).
+  void set(const std::string& assignment);
+
+  /// The effective config as YAML text (defaults included), for run records.
+  std::string dump() const;
+
+  struct Impl;
+  explicit Config(std::shared_ptr<Impl> impl);
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::shared_ptr<Impl> impl_;  // copy-on-write shared state
+};
+
+}  // namespace flipper::kernel

@@ -1,0 +1,41 @@
+#pragma once
+/// @file runtime.hpp
+/// A runtime is everything a config selects, loaded and ready: one instance of each plugin kind
+/// (through the loader, libraries kept loaded while the objects live), the core grammar handed to
+/// the parser, and the default world. Built once, before the first request is answered.
+
+#include <memory>
+#include <string>
+
+#include "flipper/kernel/config.hpp"
+#include "flipper/sdk/grammar.hpp"
+#include "flipper/sdk/parser.hpp"
+#include "flipper/sdk/planner.hpp"
+#include "flipper/sdk/rewriter.hpp"
+#include "flipper/sdk/scorer.hpp"
+#include "flipper/sdk/similarity.hpp"
+#include "flipper/sdk/world.hpp"
+
+namespace flipper::kernel {
+
+struct Runtime {
+  Config config;
+  std::shared_ptr<sdk::World> world;
+  std::shared_ptr<sdk::Planner> planner;
+  std::shared_ptr<sdk::Parser> parser;
+  std::shared_ptr<sdk::Scorer> scorer;
+  std::shared_ptr<sdk::Rewriter> rewriter;      ///< null when the config has no rewriter
+  std::shared_ptr<sdk::Similarity> similarity;  ///< null when the config has no similarity
+  std::shared_ptr<const sdk::Grammar> core_grammar;
+  sdk::WorldState default_world;                ///< from world.file (loaded by the world plugin)
+};
+
+/// Loads every plugin the config selects and builds the runtime. Throws sdk::Error with codes
+/// bad_config, plugin_not_found, plugin_abi_mismatch, plugin_load_failed, plugin_error,
+/// bad_world, bad_grammar; messages name the plugin, file and what was expected.
+std::unique_ptr<Runtime> make_runtime(const Config& config);
+
+/// Loads a world file (or JSON text) with the runtime's world plugin.
+sdk::WorldState load_world_file(const Runtime& rt, const std::string& path);
+
+}  // namespace flipper::kernel

@@ -1,0 +1,48 @@
+#pragma once
+/// @file errors.hpp
+/// The one exception type that crosses the plugin boundary. It carries a stable machine-readable
+/// `code` (the protocol's error codes) and a message for a person. Exported from the SDK library
+/// so that it is caught by type on both sides.
+
+#include <stdexcept>
+#include <string>
+
+#include "flipper/sdk/export.hpp"
+
+namespace flipper::sdk {
+inline namespace v1 {
+
+/// Stable error codes. They appear in protocol answers (`error.code`) and CLI messages; never
+/// rename one, only add.
+namespace codes {
+inline constexpr const char* kBadConfig = "bad_config";
+inline constexpr const char* kBadWorld = "bad_world";
+inline constexpr const char* kBadProgram = "bad_program";  ///< canonical text that does not read
+inline constexpr const char* kBadGrammar = "bad_grammar";
+inline constexpr const char* kBadRequest = "bad_request";
+inline constexpr const char* kPluginNotFound = "plugin_not_found";
+inline constexpr const char* kPluginAbiMismatch = "plugin_abi_mismatch";
+inline constexpr const char* kPluginLoadFailed = "plugin_load_failed";
+inline constexpr const char* kPluginDuplicate = "plugin_duplicate";
+inline constexpr const char* kPluginError = "plugin_error";  ///< a plugin call threw
+inline constexpr const char* kExecution = "execution_error";
+inline constexpr const char* kBudgetExceeded = "budget_exceeded";
+inline constexpr const char* kInputTooLong = "input_too_long";
+inline constexpr const char* kInternal = "internal";
+}  // namespace codes
+
+/// An error with a stable code. Plugins throw it (or any std::exception; the kernel wraps those
+/// as `plugin_error` with the plugin id).
+class FLIPPER_SDK_API Error : public std::runtime_error {
+ public:
+  Error(std::string code, const std::string& message);
+  ~Error() override;
+  /// The stable code, e.g. "bad_world".
+  const std::string& code() const noexcept { return code_; }
+
+ private:
+  std::string code_;
+};
+
+}  // namespace v1
+}  // namespace flipper::sdk

@@ -1,0 +1,114 @@
+#pragma once
+/// @file planner.hpp
+/// Planner plugins: shortest paths to the nearest cell of a goal area while avoiding an area,
+/// and the visiting order (tour) of a set of cells, modelled on OMPL: "no plan" is a status, not
+/// an exception, and every call takes a stop condition (deadline, cancel flag, budget).
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "flipper/sdk/export.hpp"
+#include "flipper/sdk/geometry.hpp"
+#include "flipper/sdk/plugin.hpp"
+#include "flipper/sdk/world.hpp"
+
+namespace flipper::sdk {
+inline namespace v1 {
+
+/// When to give up: a deadline, a cancel flag and an expansion budget, any of which stops.
+struct StopCondition {
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  const std::atomic<bool>* cancel = nullptr;
+  std::uint64_t max_expansions = std::numeric_limits<std::uint64_t>::max();
+
+  bool should_stop(std::uint64_t expansions) const {
+    if (expansions >= max_expansions) return true;
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
+    return std::chrono::steady_clock::now() >= deadline;
+  }
+  static StopCondition within(std::chrono::milliseconds ms) {
+    StopCondition s;
+    s.deadline = std::chrono::steady_clock::now() + ms;
+    return s;
+  }
+};
+
+enum class PlanStatus {
+  found,    ///< a path / tour was produced
+  no_path,  ///< proven infeasible (or, for sampling planners, none found within the budget)
+  stopped,  ///< the stop condition fired first
+  invalid,  ///< bad request (e.g. empty goal set)
+};
+FLIPPER_SDK_API const char* to_string(PlanStatus s);
+
+/// A path request: from `start` to the nearest reachable free cell of `goals`.
+struct PathRequest {
+  Cell start;
+  const Area* goals = nullptr;  ///< sorted; cells that are not free are ignored
+  const Area* avoid = nullptr;  ///< sorted, may be null; the start cell is always exempt
+};
+
+struct PathResult {
+  PlanStatus status = PlanStatus::no_path;
+  Cell target;               ///< the goal cell reached (status == found)
+  std::vector<Cell> path;    ///< cells entered, in order, excluding start (empty if start is a goal)
+  std::uint64_t expansions = 0;
+  std::string message;       ///< a short reason when not found
+};
+
+/// A visiting order over `points`: indexes into the request's vector.
+struct TourResult {
+  PlanStatus status = PlanStatus::found;
+  std::vector<std::size_t> order;  ///< a permutation of 0..points.size()-1
+  double length = 0;               ///< path length of the tour from the start (reachable part)
+};
+
+/// What a planner can do (OMPL's PlannerSpecs): the kernel refuses incompatible world/planner
+/// pairs at config time.
+struct PlannerTraits {
+  bool supports_2d = true;
+  bool supports_3d = false;
+  bool optimal = true;        ///< paths are shortest on the cell graph
+  bool deterministic = true;  ///< same input, same output
+};
+
+class FLIPPER_SDK_API Planner : public Plugin {
+ public:
+  using Interface = Planner;
+  ~Planner() override;
+
+  /// Shortest path to the nearest reachable goal cell. Contract for optimal planners:
+  /// path length minimal; among equally near goals the smallest (x, y, z); the path itself is
+  /// the one found by breadth-first search expanding neighbours in geometry.neighbour_offsets()
+  /// order (first discovery wins). Never throws for "no path": returns a status.
+  PathResult plan(const Geometry& geometry, const PathRequest& request,
+                  const StopCondition& stop) const {
+    return do_plan(geometry, request, stop);
+  }
+  /// Order in which to visit `points` starting at `start` (core-language §8 tour T for the
+  /// reference planner). Unreachable points come last, in (x, y, z) order.
+  TourResult tour(const Geometry& geometry, Cell start, const std::vector<Cell>& points,
+                  const StopCondition& stop) const {
+    return do_tour(geometry, start, points, stop);
+  }
+  PlannerTraits traits() const { return do_traits(); }
+
+ protected:
+  virtual PathResult do_plan(const Geometry& geometry, const PathRequest& request,
+                             const StopCondition& stop) const = 0;
+  virtual TourResult do_tour(const Geometry& geometry, Cell start, const std::vector<Cell>& points,
+                             const StopCondition& stop) const = 0;
+  virtual PlannerTraits do_traits() const = 0;
+};
+
+template <>
+struct KindOf<Planner> {
+  static constexpr PluginKind value = PluginKind::planner;
+};
+
+}  // namespace v1
+}  // namespace flipper::sdk

@@ -1,0 +1,70 @@
+#pragma once
+/// @file scorer.hpp
+/// Scorer plugins: the ranking model (naturalization.md §3). The parser asks for each new
+/// derivation node's local score while it builds the chart; the kernel asks the scorer to learn
+/// when the user accepts a candidate, and to save/restore its state with the lexicon.
+
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "flipper/sdk/derivation.hpp"
+#include "flipper/sdk/export.hpp"
+#include "flipper/sdk/plugin.hpp"
+
+namespace flipper::sdk {
+inline namespace v1 {
+
+/// Sparse features: (name, value).
+using FeatureVector = std::vector<std::pair<std::string, double>>;
+
+/// What a score may depend on besides the derivation itself.
+struct ScoreContext {
+  const std::vector<std::string>* tokens = nullptr;  ///< the utterance's tokens
+  std::string user;                                  ///< the current user
+};
+
+class FLIPPER_SDK_API Scorer : public Plugin {
+ public:
+  using Interface = Scorer;
+  ~Scorer() override;
+
+  /// Local score of `node` (its kids are complete): w·φ(node), plus 1.0 when the node's subtree
+  /// uses only core rules. The node's total is this plus its kids' totals (the parser adds).
+  /// Must be cheap and thread-compatible (const, no mutation).
+  double score_node(const Derivation& node, const ScoreContext& ctx) const {
+    return do_score_node(node, ctx);
+  }
+  /// Features of one node (not its kids), for inspection and tests.
+  void features(const Derivation& node, const ScoreContext& ctx, FeatureVector& out) const {
+    do_features(node, ctx, out);
+  }
+  /// Learns from an accept: `candidates` as returned for the query (all of them, every
+  /// derivation), `accepted` indexes the chosen one.
+  void learn(const std::vector<Candidate>& candidates, std::size_t accepted,
+             const ScoreContext& ctx) {
+    do_learn(candidates, accepted, ctx);
+  }
+  /// Serialised model state (weights, AdaGrad sums) for persistence; opaque text.
+  std::string save_state() const { return do_save_state(); }
+  /// Restores a state produced by save_state(); throws Error(bad_config) if unreadable.
+  void load_state(std::string_view state) { do_load_state(state); }
+
+ protected:
+  virtual double do_score_node(const Derivation& node, const ScoreContext& ctx) const = 0;
+  virtual void do_features(const Derivation& node, const ScoreContext& ctx,
+                           FeatureVector& out) const = 0;
+  virtual void do_learn(const std::vector<Candidate>& candidates, std::size_t accepted,
+                        const ScoreContext& ctx) = 0;
+  virtual std::string do_save_state() const = 0;
+  virtual void do_load_state(std::string_view state) = 0;
+};
+
+template <>
+struct KindOf<Scorer> {
+  static constexpr PluginKind value = PluginKind::scorer;
+};
+
+}  // namespace v1
+}  // namespace flipper::sdk

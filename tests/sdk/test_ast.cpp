@@ -1,0 +1,54 @@
+#include <catch2/catch.hpp>
+
+#include "flipper/sdk/ast.hpp"
+#include "flipper/sdk/errors.hpp"
+
+using namespace flipper::sdk;
+
+TEST_CASE("sequences flatten and compare structurally", "[ast]") {
+  auto left = make(Kind::Move, {make_word(Kind::Direction, "left")});
+  auto up = make(Kind::Move, {make_word(Kind::Direction, "up")});
+  auto a = make(Kind::Seq, {make(Kind::Seq, {left, up}), left});
+  auto b = make(Kind::Seq, {left, make(Kind::Seq, {up, left})});
+  REQUIRE(a->kids.size() == 3);
+  REQUIRE(equal(a, b));
+  REQUIRE(a->hash == b->hash);
+  REQUIRE(!equal(a, make(Kind::Seq, {left, up})));
+  REQUIRE(a->size == 7);
+}
+
+TEST_CASE("make rejects wrong operand sorts", "[ast]") {
+  auto left = make(Kind::Move, {make_word(Kind::Direction, "left")});
+  REQUIRE_THROWS_AS(make(Kind::Pick, {left}), Error);
+  REQUIRE_THROWS_AS(make(Kind::Seq, {left}), Error);
+  REQUIRE_NOTHROW(make(Kind::Pick, {make(Kind::Item)}));
+  REQUIRE_NOTHROW(make(Kind::Pick, {make(Kind::Every, {make(Kind::Item)})}));
+}
+
+TEST_CASE("substitute fills holes and checks sorts", "[ast]") {
+  auto tmpl = make(Kind::Repeat, {make_hole(0, Sort::Number), make(Kind::Pick, {make_hole(1, Sort::CountedItem)})});
+  auto p = substitute(tmpl, {make_num(3), make(Kind::Item)});
+  REQUIRE(!has_holes(p));
+  REQUIRE(p->kids[0]->number == 3);
+  REQUIRE(has_holes(tmpl));
+  REQUIRE_THROWS_AS(substitute(tmpl, {make(Kind::Item), make(Kind::Item)}), Error);
+  REQUIRE_THROWS_AS(substitute(tmpl, {make_num(3)}), Error);
+}
+
+TEST_CASE("grey is gray", "[ast]") {
+  REQUIRE(equal(make_word(Kind::Color, "grey"), make_word(Kind::Color, "gray")));
+}
+
+TEST_CASE("loop variables must be bound by an enclosing loop body", "[ast]") {
+  auto visit_point = make(Kind::VisitPoint, {make(Kind::PointVar)});
+  REQUIRE(!loop_variables_bound(visit_point));
+  auto dom = make(Kind::PointList, {make(Kind::PointXY, {make_num(1), make_num(4)})});
+  auto loop = make(Kind::ForeachPoint, {dom, visit_point});
+  REQUIRE(loop_variables_bound(loop));
+  // The loop's own domain is outside the loop.
+  auto bad = make(Kind::ForeachPoint, {make(Kind::PointList, {make(Kind::PointVar)}), visit_point});
+  REQUIRE(!loop_variables_bound(bad));
+  auto nested = make(Kind::ForeachPoint, {dom, make(Kind::ForeachPoint, {make(Kind::PointList, {make(Kind::PointVar)}), visit_point})});
+  REQUIRE(loop_variables_bound(nested));
+  REQUIRE(!loop_variables_bound(make(Kind::VisitArea, {make(Kind::AreaVar)})));
+}
