@@ -1,0 +1,156 @@
+#pragma once
+/// @file session.hpp
+/// One protocol session (session-protocol.md): the runtime, the current world and user, and the
+/// last query's full parse result. `handle_line` turns one request line into exactly one answer
+/// line; every front end (`flipper session`, `flipper repl`, experiment runs) goes through it.
+///
+/// Ops are looked up in a table, so another module adds or replaces an op in one place:
+/// @code
+///   session.set_op("define", [&](Session& s, const Json& req) { ...; return Json{{"rules", ...}};
+///   }); session.set_visibility([&](const sdk::Rule& r, const std::string& user) { ... });
+///   session.set_on_accept([&](Session& s, const AcceptEvent& e) { /* persist weights, counters */
+///   });
+/// @endcode
+/// A handler returns the answer's payload fields; the session adds `ok`, `op` and `id`. A handler
+/// reports a refusal by throwing sdk::Error(code, message) and must leave the state unchanged then.
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/runtime.hpp"
+#include "flipper/sdk/derivation.hpp"
+#include "flipper/sdk/execution.hpp"
+#include "flipper/sdk/parser.hpp"
+#include "flipper/sdk/world.hpp"
+
+namespace flipper::kernel {
+
+/// Requests and answers keep their field order ("ok", "op", "id" first).
+using Json = nlohmann::ordered_json;
+
+/// Protocol error codes owned by the session (sdk::codes has the shared ones).
+namespace session_codes {
+inline constexpr const char* kBadJson = "bad_json";
+inline constexpr const char* kUnknownOp = "unknown_op";
+inline constexpr const char* kMissingField = "missing_field";
+inline constexpr const char* kNoQuery = "no_query";
+inline constexpr const char* kRankOutOfRange = "rank_out_of_range";
+inline constexpr const char* kNotAcceptable = "not_acceptable";
+inline constexpr const char* kNotImplemented = "not_implemented";
+}  // namespace session_codes
+
+/// Settings the session reads from the config once, at construction.
+struct SessionOptions {
+  int k = 3;                     ///< session.k: candidates shown per query
+  std::size_t max_chars = 2000;  ///< input.max_chars
+  int max_semicolons = 30;       ///< input.max_semicolons: refused at this many `;` tokens
+  int beam = 0;                  ///< parser beam (0: the parser's default)
+  ExecLimits limits;             ///< execution.*
+  static SessionOptions from_config(const Config& config);
+};
+
+/// A candidate shown to the user, with what is needed to accept it.
+struct ShownCandidate {
+  std::size_t index = 0;                    ///< into LastQuery::parse.candidates
+  sdk::DerivationPtr derivation;            ///< the derivation whose rules are reported/credited
+  std::vector<sdk::RulePtr> induced_rules;  ///< distinct induced rules of that derivation
+  sdk::Outcome outcome;                     ///< executed on the world of the query
+  std::optional<std::string> error_code;    ///< set when the candidate cannot be accepted
+};
+
+/// The last query: everything learning and definitions need.
+struct LastQuery {
+  std::string text;
+  std::vector<std::string> tokens;
+  std::string user;
+  sdk::ParseResult parse;     ///< all candidates with every derivation
+  std::vector<double> probs;  ///< softmax over all candidates' scores
+  std::vector<ShownCandidate> shown;
+  sdk::WorldState world;  ///< the world the query was answered in
+};
+
+/// What an accept did, for the naturalization module's persistence hook.
+struct AcceptEvent {
+  const LastQuery& query;
+  std::size_t rank;
+  const ShownCandidate& candidate;
+  const sdk::Outcome& outcome;
+  const std::string& user;
+};
+
+class Session {
+ public:
+  using OpHandler = std::function<Json(Session&, const Json& request)>;
+  using VisibilityHook = std::function<bool(const sdk::Rule&, const std::string& user)>;
+  using AcceptHook = std::function<void(Session&, const AcceptEvent&)>;
+
+  /// Options from the runtime's config.
+  explicit Session(std::shared_ptr<Runtime> runtime);
+  Session(std::shared_ptr<Runtime> runtime, SessionOptions options);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  /// One request line -> one answer line (no trailing newline). Empty (blank) lines give an empty
+  /// string: no answer. Never throws.
+  std::string handle_line(std::string_view line);
+  /// The same for an already parsed request. Never throws.
+  Json handle(const Json& request);
+
+  /// Installs or replaces an op.
+  void set_op(const std::string& name, OpHandler handler);
+  /// The current handler of an op (to wrap it), or null.
+  const OpHandler* find_op(const std::string& name) const;
+  std::vector<std::string> op_names() const;
+
+  /// Per-user rule visibility (sharing modes). Default: every rule is visible.
+  void set_visibility(VisibilityHook hook) { visibility_ = std::move(hook); }
+  /// Called after a successful accept (the world is updated, the scorer has learned).
+  void set_on_accept(AcceptHook hook) { on_accept_ = std::move(hook); }
+
+  Runtime& runtime() { return *runtime_; }
+  const Runtime& runtime() const { return *runtime_; }
+  const SessionOptions& options() const { return options_; }
+  const Executor& executor() const { return executor_; }
+
+  const sdk::WorldState& world() const { return world_; }
+  /// Replaces the current world (and forgets the last query, whose plans no longer apply).
+  void set_world(sdk::WorldState world);
+  const std::string& user() const { return user_; }
+  void set_user(std::string name) { user_ = std::move(name); }
+  /// Null before the first query, after an accept and after a world change.
+  const LastQuery* last_query() const { return last_query_.get(); }
+  /// The rule filter for the current user (null when every rule is visible).
+  std::function<bool(const sdk::Rule&)> visible_rules() const;
+
+  /// The world object of a state, as the world plugin writes it.
+  Json world_json(const sdk::WorldState& state) const;
+
+ private:
+  void install_default_ops();
+  Json op_world(const Json& request);
+  Json op_user(const Json& request);
+  Json op_state(const Json& request);
+  Json op_query(const Json& request);
+  Json op_accept(const Json& request);
+
+  std::shared_ptr<Runtime> runtime_;
+  SessionOptions options_;
+  Executor executor_;
+  sdk::WorldState world_;
+  std::string user_ = "anonymous";
+  std::unique_ptr<LastQuery> last_query_;
+  std::map<std::string, OpHandler, std::less<>> ops_;
+  VisibilityHook visibility_;
+  AcceptHook on_accept_;
+};
+
+}  // namespace flipper::kernel

@@ -1,0 +1,39 @@
+#pragma once
+/// @file session_request.hpp
+/// Typed access to request fields with the protocol's errors: a missing field is `missing_field`,
+/// a field of the wrong type is `bad_request`; both messages name the field and what was expected.
+/// Shared by every op handler (also those other modules install).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flipper/kernel/session.hpp"
+
+namespace flipper::kernel::request {
+
+/// The field's value; throws missing_field when absent (or null).
+const Json& require(const Json& req, const char* field, const char* what);
+std::string require_string(const Json& req, const char* field, const char* what);
+std::int64_t require_int(const Json& req, const char* field, const char* what);
+std::vector<std::string> require_string_list(const Json& req, const char* field, const char* what);
+std::optional<std::string> optional_string(const Json& req, const char* field, const char* what);
+std::optional<std::int64_t> optional_int(const Json& req, const char* field, const char* what);
+
+/// Runs a plugin call: sdk::Error passes through with its code, any other exception becomes
+/// `plugin_error` naming the plugin.
+template <class F>
+auto call_plugin(const char* plugin, F&& f) -> decltype(f());
+[[noreturn]] void rethrow_as_plugin_error(const char* plugin);
+
+template <class F>
+auto call_plugin(const char* plugin, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (...) {
+    rethrow_as_plugin_error(plugin);
+  }
+}
+
+}  // namespace flipper::kernel::request

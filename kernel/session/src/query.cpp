@@ -1,0 +1,198 @@
+// The query and accept ops: parse, rank, plan every shown candidate, learn from the choice.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "flipper/kernel/session.hpp"
+#include "flipper/kernel/session_json.hpp"
+#include "flipper/kernel/session_request.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel {
+namespace {
+
+// Code points, not bytes: the limit is about what a person typed.
+std::size_t utf8_length(std::string_view s) {
+  std::size_t n = 0;
+  for (unsigned char c : s) n += (c & 0xC0) != 0x80;
+  return n;
+}
+
+std::vector<double> softmax(const std::vector<sdk::Candidate>& candidates) {
+  std::vector<double> p(candidates.size());
+  if (p.empty()) return p;
+  double top = candidates.front().score;
+  for (const auto& c : candidates) top = std::max(top, c.score);
+  double sum = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) sum += p[i] = std::exp(candidates[i].score - top);
+  for (double& v : p) v /= sum;
+  return p;
+}
+
+// The derivation a candidate is credited to: a core-only one when the program has one (that is
+// why it ranks as core), else the best.
+sdk::DerivationPtr credited_derivation(const sdk::Candidate& c) {
+  if (c.derivations.empty()) return nullptr;
+  if (c.core_only)
+    for (const auto& d : c.derivations)
+      if (d->core_only) return d;
+  return c.derivations.front();
+}
+
+void collect_induced(const sdk::DerivationPtr& d, std::vector<sdk::RulePtr>& out) {
+  if (!d) return;
+  if (d->rule && d->rule->induced &&
+      std::none_of(out.begin(), out.end(),
+                   [&](const sdk::RulePtr& r) { return r->id == d->rule->id; }))
+    out.push_back(d->rule);
+  for (const auto& kid : d->kids) collect_induced(kid, out);
+}
+
+// Runs a program; a throwing planner becomes an erroneous outcome, not a failed query.
+sdk::Outcome run_guarded(const Executor& exec, const sdk::Program& program,
+                         const sdk::WorldState& world) {
+  try {
+    return request::call_plugin("planner", [&] { return exec.run(program, world); });
+  } catch (const sdk::Error& e) {
+    sdk::Outcome o;
+    o.world = world;
+    o.realizable = false;
+    o.error = e.what();
+    o.error_code = e.code();
+    return o;
+  }
+}
+
+}  // namespace
+
+Json Session::op_query(const Json& req) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string text = request::require_string(req, "text", "the utterance to parse");
+  std::int64_t k =
+      request::optional_int(req, "k", "how many candidates to show").value_or(options_.k);
+  if (k < 0) throw sdk::Error(sdk::codes::kBadRequest, "field 'k' must not be negative");
+  if (utf8_length(text) > options_.max_chars)
+    throw sdk::Error(
+        sdk::codes::kInputTooLong,
+        "the utterance has " + std::to_string(utf8_length(text)) +
+            " characters; the limit is input.max_chars = " + std::to_string(options_.max_chars));
+
+  auto q = std::make_unique<LastQuery>();
+  q->text = std::move(text);
+  q->user = user_;
+  sdk::ParseRequest pr;
+  pr.tokens = sdk::tokenize(q->text);
+  auto semicolons = std::count(pr.tokens.begin(), pr.tokens.end(), ";");
+  if (semicolons >= options_.max_semicolons)
+    throw sdk::Error(sdk::codes::kInputTooLong,
+                     "the utterance has " + std::to_string(semicolons) +
+                         " ';' tokens; the limit is input.max_semicolons = " +
+                         std::to_string(options_.max_semicolons) + " (refused at that many)");
+  q->tokens = pr.tokens;
+  pr.context.tokens = &q->tokens;
+  pr.context.user = user_;
+  pr.scorer = runtime_->scorer.get();
+  pr.visible = visible_rules();
+  pr.beam = options_.beam;
+  q->parse = request::call_plugin("parser", [&] { return runtime_->parser->parse(pr); });
+  q->probs = softmax(q->parse.candidates);
+  q->world = world_;
+
+  const auto& cands = q->parse.candidates;
+  const std::size_t shown = std::min<std::size_t>(static_cast<std::size_t>(k), cands.size());
+  const int dims = world_.geometry ? world_.geometry->dims() : 2;
+  Json list = Json::array();
+  q->shown.reserve(shown);
+  for (std::size_t i = 0; i < shown; ++i) {
+    ShownCandidate sc;
+    sc.index = i;
+    sc.derivation = credited_derivation(cands[i]);
+    collect_induced(sc.derivation, sc.induced_rules);
+    sc.outcome = run_guarded(executor_, cands[i].program, world_);
+    if (sc.outcome.error) sc.error_code = sc.outcome.error_code.value_or(sdk::codes::kExecution);
+
+    Json rules = Json::array(), authors = Json::array();
+    for (const auto& r : sc.induced_rules) {
+      rules.push_back(r->id);
+      if (std::find(authors.begin(), authors.end(), r->author) == authors.end())
+        authors.push_back(r->author);
+    }
+    Json c;
+    c["rank"] = i;
+    c["score"] = cands[i].score;
+    c["prob"] = q->probs[i];
+    c["formula"] = sdk::render(cands[i].program);
+    c["induced"] = !cands[i].core_only;
+    c["rules"] = std::move(rules);
+    c["authors"] = std::move(authors);
+    c["realizable"] = sc.outcome.realizable && !sc.outcome.error;
+    c["trace"] = protocol_json::trace(sc.outcome.trace, dims);
+    c["world"] = world_json(sc.outcome.world);
+    c["warnings"] = protocol_json::strings(sc.outcome.warnings);
+    if (sc.error_code)
+      c["error"] = Json{{"code", *sc.error_code}, {"message", sc.outcome.error.value_or("")}};
+    list.push_back(std::move(c));
+    q->shown.push_back(std::move(sc));
+  }
+
+  const char* status = "unparsable";
+  if (!cands.empty())
+    status =
+        std::any_of(cands.begin(), cands.end(), [](const sdk::Candidate& c) { return c.core_only; })
+            ? "core"
+            : "induced";
+  last_query_ = std::move(q);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  Json answer;
+  answer["status"] = status;
+  answer["candidates"] = std::move(list);
+  answer["ms"] = ms;
+  return answer;
+}
+
+Json Session::op_accept(const Json& req) {
+  std::int64_t rank = request::require_int(req, "rank", "index into the last query's candidates");
+  if (!last_query_)
+    throw sdk::Error(session_codes::kNoQuery, "there is no query to accept a candidate of");
+  LastQuery& q = *last_query_;
+  if (rank < 0 || static_cast<std::size_t>(rank) >= q.shown.size())
+    throw sdk::Error(session_codes::kRankOutOfRange,
+                     "rank " + std::to_string(rank) + " is out of range: the last query showed " +
+                         std::to_string(q.shown.size()) + " candidate(s)");
+  const ShownCandidate& sc = q.shown[static_cast<std::size_t>(rank)];
+  if (sc.error_code)
+    throw sdk::Error(session_codes::kNotAcceptable,
+                     "candidate " + std::to_string(rank) +
+                         " cannot be accepted: its execution failed (" +
+                         sc.outcome.error.value_or(*sc.error_code) + ")");
+  sdk::Outcome outcome = run_guarded(executor_, q.parse.candidates[sc.index].program, world_);
+  if (outcome.error)
+    throw sdk::Error(session_codes::kNotAcceptable, "candidate " + std::to_string(rank) +
+                                                        " cannot be accepted: " + *outcome.error);
+
+  // Learn before committing the world, so a failing scorer leaves the session unchanged.
+  sdk::ScoreContext ctx;
+  ctx.tokens = &q.tokens;
+  ctx.user = user_;
+  request::call_plugin("scorer",
+                       [&] { runtime_->scorer->learn(q.parse.candidates, sc.index, ctx); });
+  for (const auto& rule : sc.induced_rules)
+    (rule->author == user_ ? rule->usage->by_author : rule->usage->by_others)
+        .fetch_add(1, std::memory_order_relaxed);
+
+  const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
+  Json answer;
+  answer["world"] = world_json(outcome.world);
+  answer["trace"] = protocol_json::trace(outcome.trace, dims);
+  answer["warnings"] = protocol_json::strings(outcome.warnings);
+  world_ = outcome.world;
+  if (on_accept_)
+    on_accept_(*this, AcceptEvent{q, static_cast<std::size_t>(rank), sc, outcome, user_});
+  // The query is consumed: accepting again would apply it twice.
+  last_query_.reset();
+  return answer;
+}
+
+}  // namespace flipper::kernel

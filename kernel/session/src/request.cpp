@@ -1,0 +1,80 @@
+// Typed request fields and plugin-call error wrapping.
+#include <exception>
+
+#include "flipper/kernel/session_request.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel::request {
+namespace {
+
+[[noreturn]] void wrong_type(const char* field, const char* expected, const char* what) {
+  throw sdk::Error(sdk::codes::kBadRequest,
+                   std::string("field '") + field + "' must be " + expected + " (" + what + ")");
+}
+
+}  // namespace
+
+const Json& require(const Json& req, const char* field, const char* what) {
+  auto it = req.find(field);
+  if (it == req.end() || it->is_null())
+    throw sdk::Error(session_codes::kMissingField,
+                     std::string("missing field '") + field + "' (" + what + ")");
+  return *it;
+}
+
+std::string require_string(const Json& req, const char* field, const char* what) {
+  const Json& v = require(req, field, what);
+  if (!v.is_string()) wrong_type(field, "a string", what);
+  return v.get<std::string>();
+}
+
+std::int64_t require_int(const Json& req, const char* field, const char* what) {
+  const Json& v = require(req, field, what);
+  if (v.is_number_integer()) return v.get<std::int64_t>();
+  // 2.0 is accepted as 2; 2.5 is not an integer.
+  if (v.is_number_float()) {
+    double d = v.get<double>();
+    if (d == static_cast<double>(static_cast<std::int64_t>(d))) return static_cast<std::int64_t>(d);
+  }
+  wrong_type(field, "an integer", what);
+}
+
+std::vector<std::string> require_string_list(const Json& req, const char* field, const char* what) {
+  const Json& v = require(req, field, what);
+  if (!v.is_array()) wrong_type(field, "a list of strings", what);
+  std::vector<std::string> out;
+  out.reserve(v.size());
+  for (const auto& e : v) {
+    if (!e.is_string()) wrong_type(field, "a list of strings", what);
+    out.push_back(e.get<std::string>());
+  }
+  return out;
+}
+
+std::optional<std::string> optional_string(const Json& req, const char* field, const char* what) {
+  auto it = req.find(field);
+  if (it == req.end() || it->is_null()) return std::nullopt;
+  return require_string(req, field, what);
+}
+
+std::optional<std::int64_t> optional_int(const Json& req, const char* field, const char* what) {
+  auto it = req.find(field);
+  if (it == req.end() || it->is_null()) return std::nullopt;
+  return require_int(req, field, what);
+}
+
+void rethrow_as_plugin_error(const char* plugin) {
+  try {
+    throw;
+  } catch (const sdk::Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw sdk::Error(sdk::codes::kPluginError,
+                     std::string("the ") + plugin + " plugin failed: " + e.what());
+  } catch (...) {
+    throw sdk::Error(sdk::codes::kPluginError,
+                     std::string("the ") + plugin + " plugin failed with an unknown exception");
+  }
+}
+
+}  // namespace flipper::kernel::request

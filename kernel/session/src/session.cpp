@@ -1,0 +1,187 @@
+// The session: op table, request/answer framing, and the state ops (world, user, state).
+#include "flipper/kernel/session.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "flipper/kernel/session_request.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel {
+namespace {
+
+Json error_answer(const Json* op, const Json* id, const std::string& code,
+                  const std::string& message) {
+  Json a;
+  a["ok"] = false;
+  a["op"] = op != nullptr ? *op : Json(nullptr);
+  if (id != nullptr) a["id"] = *id;
+  a["error"] = Json{{"code", code}, {"message", message}};
+  return a;
+}
+
+// Ops the naturalization module provides; until it is wired in they refuse clearly.
+Json not_implemented(Session&, const Json& req) {
+  throw sdk::Error(session_codes::kNotImplemented,
+                   "op '" + req.value("op", std::string()) + "' is not available in this build");
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw sdk::Error(sdk::codes::kBadWorld, "cannot read world file '" + path.string() + "'");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool is_blank(std::string_view s) {
+  for (char c : s)
+    if (c != ' ' && c != '\t' && c != '\r' && c != '\n') return false;
+  return true;
+}
+
+}  // namespace
+
+Session::Session(std::shared_ptr<Runtime> runtime)
+    : Session(runtime, SessionOptions::from_config(runtime->config)) {}
+
+Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)
+    : runtime_(std::move(runtime)),
+      options_(options),
+      executor_(runtime_->planner, options_.limits),
+      world_(runtime_->default_world) {
+  install_default_ops();
+}
+
+Session::~Session() = default;
+
+void Session::install_default_ops() {
+  set_op("world", [](Session& s, const Json& r) { return s.op_world(r); });
+  set_op("user", [](Session& s, const Json& r) { return s.op_user(r); });
+  set_op("state", [](Session& s, const Json& r) { return s.op_state(r); });
+  set_op("query", [](Session& s, const Json& r) { return s.op_query(r); });
+  set_op("accept", [](Session& s, const Json& r) { return s.op_accept(r); });
+  for (const char* op : {"define", "rules", "delete_rule"}) set_op(op, not_implemented);
+}
+
+void Session::set_op(const std::string& name, OpHandler handler) {
+  ops_[name] = std::move(handler);
+}
+
+const Session::OpHandler* Session::find_op(const std::string& name) const {
+  auto it = ops_.find(name);
+  return it == ops_.end() ? nullptr : &it->second;
+}
+
+std::vector<std::string> Session::op_names() const {
+  std::vector<std::string> names;
+  for (const auto& [name, handler] : ops_) names.push_back(name);
+  return names;
+}
+
+std::function<bool(const sdk::Rule&)> Session::visible_rules() const {
+  if (!visibility_) return {};
+  return [hook = visibility_, user = user_](const sdk::Rule& r) { return hook(r, user); };
+}
+
+void Session::set_world(sdk::WorldState world) {
+  world_ = std::move(world);
+  last_query_.reset();
+}
+
+Json Session::world_json(const sdk::WorldState& state) const {
+  std::string text = request::call_plugin("world", [&] { return runtime_->world->save(state); });
+  return Json::parse(text);
+}
+
+std::string Session::handle_line(std::string_view line) {
+  if (is_blank(line)) return {};
+  Json request;
+  try {
+    request = Json::parse(line);
+  } catch (const Json::parse_error& e) {
+    // nlohmann's message carries the byte position of the problem.
+    return error_answer(nullptr, nullptr, session_codes::kBadJson,
+                        std::string("the line is not valid JSON: ") + e.what())
+        .dump();
+  }
+  return handle(request).dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+Json Session::handle(const Json& request) {
+  if (!request.is_object())
+    return error_answer(nullptr, nullptr, session_codes::kBadJson,
+                        "a request must be a JSON object, got " + std::string(request.type_name()));
+  const Json* op = nullptr;
+  const Json* id = nullptr;
+  if (auto it = request.find("op"); it != request.end()) op = &*it;
+  if (auto it = request.find("id"); it != request.end()) id = &*it;
+  if (op == nullptr || op->is_null())
+    return error_answer(op, id, session_codes::kMissingField,
+                        "missing field 'op' (the operation to perform)");
+  if (!op->is_string())
+    return error_answer(op, id, sdk::codes::kBadRequest, "field 'op' must be a string");
+  const std::string& name = op->get_ref<const std::string&>();
+  auto handler = ops_.find(name);
+  if (handler == ops_.end()) {
+    std::string known;
+    for (const auto& [n, h] : ops_) known += (known.empty() ? "" : ", ") + n;
+    return error_answer(op, id, session_codes::kUnknownOp,
+                        "unknown op '" + name + "' (known ops: " + known + ")");
+  }
+  try {
+    Json payload = handler->second(*this, request);
+    Json answer;
+    answer["ok"] = true;
+    answer["op"] = *op;
+    if (id != nullptr) answer["id"] = *id;
+    for (auto& [key, value] : payload.items()) answer[key] = std::move(value);
+    return answer;
+  } catch (const sdk::Error& e) {
+    return error_answer(op, id, e.code(), e.what());
+  } catch (const Json::exception& e) {
+    return error_answer(op, id, sdk::codes::kBadRequest, std::string("bad request: ") + e.what());
+  } catch (const std::exception& e) {
+    return error_answer(op, id, sdk::codes::kInternal, std::string("internal error: ") + e.what());
+  }
+}
+
+Json Session::op_world(const Json& req) {
+  sdk::WorldState state;
+  auto world_field = req.find("world");
+  if (world_field != req.end() && !world_field->is_null()) {
+    if (!world_field->is_object())
+      throw sdk::Error(sdk::codes::kBadRequest, "field 'world' must be a world object");
+    const std::string base = std::filesystem::current_path().string();
+    std::string text = world_field->dump();
+    state = request::call_plugin("world", [&] { return runtime_->world->load(text, base); });
+  } else {
+    std::string file =
+        request::require_string(req, "file", "a world object 'world' or a path 'file'");
+    std::filesystem::path path(file);
+    // Relative paths: the caller's directory first, then the config's.
+    if (path.is_relative() && !std::filesystem::exists(path))
+      path = runtime_->config.resolve_path(file);
+    std::string text = read_file(path);
+    std::string base = path.parent_path().string();
+    state = request::call_plugin("world", [&] { return runtime_->world->load(text, base); });
+  }
+  Json normalised = world_json(state);
+  set_world(std::move(state));
+  return Json{{"world", std::move(normalised)}};
+}
+
+Json Session::op_user(const Json& req) {
+  std::string name = request::require_string(req, "name", "the user's name");
+  if (name.empty()) throw sdk::Error(sdk::codes::kBadRequest, "field 'name' must not be empty");
+  user_ = name;
+  return Json{{"name", std::move(name)}};
+}
+
+Json Session::op_state(const Json&) {
+  return Json{{"world", world_json(world_)}};
+}
+
+}  // namespace flipper::kernel
