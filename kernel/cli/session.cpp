@@ -1,17 +1,55 @@
-// flipper session: placeholder until its module lands (owner replaces this file).
+// flipper session [--config F] [--set k=v] [SCRIPT|-]: session-protocol requests, one JSON line in,
+// one JSON answer line out, flushed after each so another program can drive it interactively.
+#include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <string>
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "flipper/kernel/session_factory.hpp"
 
 namespace flipper::cli {
+namespace {
+
+int run_session(const CommonOptions& opts, const std::string& script) {
+  std::ifstream file;
+  std::istream* in = &std::cin;
+  if (!script.empty() && script != "-") {
+    file.open(script);
+    if (!file) {
+      std::cerr << "flipper session: cannot read script '" << script << "'\n";
+      return kExitUsage;
+    }
+    in = &file;
+  }
+  std::optional<std::string> config;
+  if (!opts.config_file.empty()) config = opts.config_file;
+  auto session = kernel::open_session(config, opts.overrides);
+  std::string line;
+  while (std::getline(*in, line)) {
+    std::string answer = session->handle_line(line);
+    if (answer.empty()) continue;
+    answer.push_back('\n');
+    std::fwrite(answer.data(), 1, answer.size(), stdout);
+    std::fflush(stdout);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
 void add_session_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("session", "(not available yet)");
+  auto* cmd = app.add_subcommand(
+      "session", "Answer session-protocol requests (JSON lines) from SCRIPT or standard input");
   static CommonOptions opts;
+  static std::string script;
   add_common_options(*cmd, opts);
+  cmd->add_option("script", script, "Script of JSON lines ('-' or omitted: standard input)");
   cmd->callback([] {
-    std::cerr << "flipper session: not available in this build yet\n";
-    std::exit(2);
+    std::ios::sync_with_stdio(false);
+    int rc = run_session(opts, script);
+    if (rc != kExitOk) std::exit(rc);
   });
 }
 }  // namespace flipper::cli

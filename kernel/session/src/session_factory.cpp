@@ -1,0 +1,19 @@
+// Session construction for front ends.
+#include "flipper/kernel/session_factory.hpp"
+
+namespace flipper::kernel {
+
+std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime) {
+  auto session = std::make_unique<Session>(std::move(runtime));
+  // Other modules install their ops and hooks here (naturalization: define, rules, delete_rule,
+  // visibility, accept persistence).
+  return session;
+}
+
+std::unique_ptr<Session> open_session(const std::optional<std::string>& config_file,
+                                      const std::vector<std::string>& overrides) {
+  std::shared_ptr<Runtime> runtime = make_runtime(Config::load(config_file, overrides));
+  return open_session(std::move(runtime));
+}
+
+}  // namespace flipper::kernel
