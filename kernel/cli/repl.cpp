@@ -1,17 +1,27 @@
-// flipper repl: placeholder until its module lands (owner replaces this file).
+// flipper repl: the interactive terminal front end (kernel/repl), a client of the session ops.
+#include <unistd.h>
+
 #include <iostream>
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "flipper/kernel/repl.hpp"
+#include "flipper/kernel/session_factory.hpp"
 
 namespace flipper::cli {
 void add_repl_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("repl", "(not available yet)");
+  auto* cmd = app.add_subcommand("repl", "Interactive terminal: give tasks, choose plans, teach");
   static CommonOptions opts;
   add_common_options(*cmd, opts);
   cmd->callback([] {
-    std::cerr << "flipper repl: not available in this build yet\n";
-    std::exit(2);
+    std::optional<std::string> config;
+    if (!opts.config_file.empty()) config = opts.config_file;
+    auto session = kernel::open_session(config, opts.overrides);
+    // Readline only on a terminal; piped input is read line by line without prompts.
+    bool terminal = isatty(STDIN_FILENO) != 0;
+    auto reader = kernel::repl::make_line_reader(std::cin, terminal);
+    int rc = kernel::repl::run(*session, *reader, std::cout);
+    if (rc != kExitOk) std::exit(rc);
   });
 }
 }  // namespace flipper::cli
