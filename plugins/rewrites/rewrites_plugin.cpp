@@ -1,0 +1,121 @@
+// The `rewrites` rewriter plugin: the four rewritings of naturalization.md §6, in generation
+// order. It only proposes; the kernel's generalizer checks equivalence and selects.
+#include <algorithm>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/plugin.hpp"
+#include "flipper/sdk/rewriter.hpp"
+#include "loop_rolling.hpp"
+#include "predicate_programs.hpp"
+
+namespace flipper::plugins::rewrites {
+
+namespace {
+
+using sdk::Kind;
+using sdk::Program;
+
+const std::vector<std::string> kAllRewritings = {"loop", "moves_to_visit", "visit_by_predicate",
+                                                 "pick_by_predicate"};
+
+// Collects candidates in order, without duplicates (or the body itself), up to a limit.
+class CandidateList {
+ public:
+  CandidateList(const Program& body, std::size_t limit) : limit_(limit) { seen_.insert(body); }
+  void add(Program program, const char* rewriting) {
+    if (out_.size() >= limit_ || !seen_.insert(program).second) return;
+    out_.push_back({std::move(program), rewriting});
+  }
+  bool full() const { return out_.size() >= limit_; }
+  std::vector<sdk::RewriteCandidate> take() { return std::move(out_); }
+
+ private:
+  std::size_t limit_;
+  std::unordered_set<Program, sdk::ProgramHash, sdk::ProgramEqual> seen_;
+  std::vector<sdk::RewriteCandidate> out_;
+};
+
+}  // namespace
+
+class Rewrites : public sdk::Rewriter {
+ public:
+  explicit Rewrites(const sdk::Params& params)
+      : max_candidates_(static_cast<std::size_t>(params.get_int("max_candidates"))),
+        max_block_(static_cast<std::size_t>(params.get_int("max_block"))) {
+    for (const auto& name : params.get_string_list("rewritings")) {
+      auto it = std::find(kAllRewritings.begin(), kAllRewritings.end(), name);
+      if (it == kAllRewritings.end())
+        throw sdk::Error(
+            sdk::codes::kBadConfig,
+            "rewrites: unknown rewriting '" + name +
+                "' (known: loop, moves_to_visit, visit_by_predicate, pick_by_predicate)");
+      enabled_[static_cast<std::size_t>(it - kAllRewritings.begin())] = true;
+    }
+  }
+
+  static sdk::ParamSchema schema() {
+    sdk::ParamSchema s;
+    s.add_int("max_candidates", 64, "most candidates proposed per definition", 0, 10000);
+    s.add_int("max_block", 10, "longest block of statements loop rolling repeats", 1, 30);
+    s.add_string_list("rewritings", kAllRewritings,
+                      "rewritings to apply (loop, moves_to_visit, visit_by_predicate, "
+                      "pick_by_predicate), always in that order");
+    return s;
+  }
+
+ protected:
+  std::vector<sdk::RewriteCandidate> do_propose(const sdk::RewriteRequest& req) const override {
+    if (!req.body || req.body->sort != sdk::Sort::Action)
+      throw sdk::Error(sdk::codes::kBadRequest, "rewrites: the body must be a statement");
+    CandidateList list(req.body, max_candidates_);
+    if (enabled_[0]) list.add(roll_loops(req.body, max_block_), "loop");
+    if (list.full() || req.exec == nullptr || !(enabled_[1] || enabled_[2] || enabled_[3]))
+      return list.take();
+
+    // Rewritings 2-4 depend on what the body does in the world of the definition.
+    const sdk::Outcome run = req.exec->run(req.body, req.before);
+    if (run.error) return list.take();
+    const sdk::Cell final_cell = run.world.robot;
+
+    if (enabled_[1] && only_moves(req.body)) {
+      const int dims = run.world.geometry ? run.world.geometry->dims() : 2;
+      list.add(visit_cell(final_cell, dims), "moves_to_visit");
+    }
+    if (enabled_[2] && trace_only(run.trace, sdk::TraceStep::Act::move)) {
+      std::vector<sdk::ItemInfo> here;
+      for (const auto& lying : run.world.items)
+        if (lying.at == final_cell) here.push_back(lying.item);
+      if (!here.empty())
+        for (const auto& p : predicates_for(here))
+          list.add(visit_world_containing(p), "visit_by_predicate");
+    }
+    if (enabled_[3]) {
+      for (auto [act, kind] : {std::pair{sdk::TraceStep::Act::pick, Kind::Pick},
+                               std::pair{sdk::TraceStep::Act::drop, Kind::Drop}}) {
+        if (!trace_only(run.trace, act)) continue;
+        std::vector<sdk::ItemInfo> moved;
+        moved.reserve(run.trace.size());
+        for (const auto& step : run.trace) moved.push_back(step.item);
+        const char* name = kind == Kind::Pick ? "pick_by_predicate" : "drop_by_predicate";
+        for (const auto& p : predicates_for(moved)) {
+          list.add(pick_or_drop(kind, p, false), name);
+          list.add(pick_or_drop(kind, p, true), name);
+        }
+      }
+    }
+    return list.take();
+  }
+
+ private:
+  std::size_t max_candidates_;
+  std::size_t max_block_;
+  bool enabled_[4] = {false, false, false, false};
+};
+
+}  // namespace flipper::plugins::rewrites
+
+FLIPPER_PLUGIN(flipper::plugins::rewrites::Rewrites, rewriter, "rewrites", "1.0.0",
+               "Loop rolling, moves to visit, visit/pick/drop by predicate (naturalization §6)")

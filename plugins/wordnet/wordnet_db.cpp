@@ -1,0 +1,165 @@
+#include "wordnet_db.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+#include <utility>
+
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::plugins::wordnet {
+
+namespace {
+
+constexpr const char* kPosName[] = {"noun", "verb", "adj", "adv"};
+
+// WordNet's detachment rules (morph.c), per part of speech.
+const std::vector<std::pair<std::string_view, std::string_view>> kRules[] = {
+    {{"s", ""},
+     {"ses", "s"},
+     {"xes", "x"},
+     {"zes", "z"},
+     {"ches", "ch"},
+     {"shes", "sh"},
+     {"men", "man"},
+     {"ies", "y"}},
+    {{"s", ""},
+     {"ies", "y"},
+     {"es", "e"},
+     {"es", ""},
+     {"ed", "e"},
+     {"ed", ""},
+     {"ing", "e"},
+     {"ing", ""}},
+    {{"er", ""}, {"est", ""}, {"er", "e"}, {"est", "e"}},
+    {},
+};
+
+// Splits a line into space-separated fields.
+std::vector<std::string_view> fields(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && line[i] == ' ') ++i;
+    const std::size_t s = i;
+    while (i < line.size() && line[i] != ' ') ++i;
+    if (i > s) out.push_back(line.substr(s, i - s));
+  }
+  return out;
+}
+
+std::string_view line_at(std::string_view text, std::size_t start) {
+  const std::size_t end = text.find('\n', start);
+  return text.substr(start, (end == std::string_view::npos ? text.size() : end) - start);
+}
+
+// Binary search of a bytewise-sorted file of lines "key ...", from `start` on.
+std::string_view find_line(std::string_view text, std::size_t start, std::string_view key) {
+  std::size_t lo = start, hi = text.size();
+  while (lo < hi) {
+    std::size_t s = lo + (hi - lo) / 2;
+    while (s > lo && text[s - 1] != '\n') --s;
+    const std::string_view line = line_at(text, s);
+    const std::string_view k = line.substr(0, line.find(' '));
+    const int cmp = k.compare(key);
+    if (cmp == 0) return line;
+    if (cmp < 0)
+      lo = s + line.size() + 1;
+    else
+      hi = s;
+  }
+  return {};
+}
+
+template <class T>
+bool parse(std::string_view s, T& out, int base = 10) {
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), out, base);
+  return ec == std::errc() && p == s.data() + s.size();
+}
+
+}  // namespace
+
+WordNetDb::WordNetDb(std::string dir) : dir_(std::move(dir)) {
+  const auto probe = std::filesystem::path(dir_) / "index.noun";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(probe, ec))
+    throw sdk::Error(sdk::codes::kBadConfig,
+                     "wordnet: no WordNet dictionary in '" + dir_ +
+                         "' (index.noun missing; on Debian install the wordnet-base package)");
+}
+
+WordNetDb::~WordNetDb() = default;
+
+const WordNetDb::Files& WordNetDb::files(Pos pos) const {
+  Files& f = files_[static_cast<std::size_t>(pos)];
+  std::call_once(f.once, [&] {
+    const std::string name = kPosName[static_cast<std::size_t>(pos)];
+    f.index = std::make_unique<MappedFile>(dir_ + "/index." + name);
+    f.data = std::make_unique<MappedFile>(dir_ + "/data." + name);
+    f.exceptions = std::make_unique<MappedFile>(dir_ + "/" + name + ".exc");
+    // The licence header's lines start with two spaces.
+    const std::string_view t = f.index->text();
+    std::size_t s = 0;
+    while (s < t.size() && t[s] == ' ') {
+      const std::size_t nl = t.find('\n', s);
+      s = nl == std::string_view::npos ? t.size() : nl + 1;
+    }
+    f.index_start = s;
+  });
+  return f;
+}
+
+void WordNetDb::lemma_synsets(const Files& f, std::string_view lemma,
+                              std::vector<std::uint32_t>& out) const {
+  const auto parts = fields(find_line(f.index->text(), f.index_start, lemma));
+  // lemma pos synset_cnt p_cnt [ptr_symbol...] sense_cnt tagsense_cnt synset_offset...
+  std::size_t synset_count = 0, pointer_count = 0;
+  if (parts.size() < 4 || !parse(parts[2], synset_count) || !parse(parts[3], pointer_count)) return;
+  const std::size_t first = 4 + pointer_count + 2;
+  for (std::size_t i = first; i < parts.size() && i < first + synset_count; ++i) {
+    std::uint32_t offset = 0;
+    if (parse(parts[i], offset) && std::find(out.begin(), out.end(), offset) == out.end())
+      out.push_back(offset);
+  }
+}
+
+std::vector<std::uint32_t> WordNetDb::synsets(std::string_view word, Pos pos) const {
+  std::vector<std::uint32_t> out;
+  if (word.empty() || word.find('\n') != std::string_view::npos) return out;
+  const Files& f = files(pos);
+  lemma_synsets(f, word, out);
+  // Irregular forms ("mice mouse").
+  const auto exc = fields(find_line(f.exceptions->text(), 0, word));
+  for (std::size_t i = 1; i < exc.size(); ++i) lemma_synsets(f, exc[i], out);
+  for (const auto& [suffix, ending] : kRules[static_cast<std::size_t>(pos)]) {
+    if (word.size() <= suffix.size() || !word.ends_with(suffix)) continue;
+    std::string base(word.substr(0, word.size() - suffix.size()));
+    base += ending;
+    lemma_synsets(f, base, out);
+  }
+  return out;
+}
+
+std::vector<std::uint32_t> WordNetDb::hypernyms(std::uint32_t offset, Pos pos) const {
+  std::vector<std::uint32_t> out;
+  const std::string_view text = files(pos).data->text();
+  if (offset >= text.size()) return out;
+  const auto parts = fields(line_at(text, offset));
+  // offset lex_filenum ss_type w_cnt(hex) [word lex_id]... p_cnt [symbol offset pos src/tgt]...
+  std::size_t words = 0, pointers = 0;
+  if (parts.size() < 4 || !parse(parts[3], words, 16)) return out;
+  const std::size_t p = 4 + 2 * words;
+  if (p >= parts.size() || !parse(parts[p], pointers)) return out;
+  const char pos_char = "nvar"[static_cast<std::size_t>(pos)];
+  for (std::size_t i = 0; i < pointers && p + 4 + 4 * i <= parts.size(); ++i) {
+    const auto symbol = parts[p + 1 + 4 * i];
+    const auto target_pos = parts[p + 3 + 4 * i];
+    std::uint32_t target = 0;
+    if ((symbol == "@" || symbol == "@i") && target_pos.size() == 1 && target_pos[0] == pos_char &&
+        parse(parts[p + 2 + 4 * i], target))
+      out.push_back(target);
+  }
+  return out;
+}
+
+}  // namespace flipper::plugins::wordnet
