@@ -1,0 +1,168 @@
+// astar: the reference planner. Paths are breadth-first (every step costs 1), from the start to
+// the nearest free goal cell, with the core language's tie rules (core-language §8); tours are
+// §8's tour T (Christofides on shortest-path distances, then 2-opt and Or-opt on the open path).
+// Works on any Geometry: the neighbourhood comes from geometry.neighbour_offsets().
+#include <algorithm>
+#include <mutex>
+#include <numeric>
+
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/planner.hpp"
+#include "grid_search.hpp"
+#include "tour_solver.hpp"
+
+namespace flipper::plugins::astar {
+namespace {
+
+using sdk::Cell;
+
+class AStarPlanner final : public sdk::Planner {
+ public:
+  explicit AStarPlanner(const sdk::Params& p)
+      : budget_(p.has("max_expansions") && p.get_int("max_expansions") > 0
+                    ? static_cast<std::uint64_t>(p.get_int("max_expansions"))
+                    : std::numeric_limits<std::uint64_t>::max()),
+        two_opt_(!p.has("two_opt") || p.get_bool("two_opt")),
+        or_opt_(!p.has("or_opt") || p.get_bool("or_opt")) {}
+
+  static sdk::ParamSchema schema() {
+    sdk::ParamSchema s;
+    s.add_int("max_expansions", 0,
+              "expansion budget per search, on top of the caller's stop condition (0: none)", 0);
+    s.add_bool("two_opt", true, "improve tours with 2-opt moves");
+    s.add_bool("or_opt", true, "improve tours with Or-opt moves (segments of 1-3 points)");
+    return s;
+  }
+
+ protected:
+  sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& req,
+                          const sdk::StopCondition& stop) const override {
+    sdk::PathResult r;
+    if (req.goals == nullptr || req.goals->empty()) {
+      r.status = sdk::PlanStatus::invalid;
+      r.message = "the goal set is empty";
+      return r;
+    }
+    if (!g.in_bounds(req.start)) {
+      r.status = sdk::PlanStatus::invalid;
+      r.message = "start " + sdk::to_string(req.start, g.dims()) + " is outside the bounds";
+      return r;
+    }
+    // The buffers are shared by every call on this instance: calls are serialised.
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!search_.prepare(g)) {
+      r.status = sdk::PlanStatus::invalid;
+      r.message = "the world is too large for 32-bit cell indexes";
+      return r;
+    }
+    if (req.avoid != nullptr) search_.block(*req.avoid, req.start);
+    return search_.shortest_path(req.start, *req.goals, stop, budget_);
+  }
+
+  sdk::TourResult do_tour(const sdk::Geometry& g, Cell start, const std::vector<Cell>& points,
+                          const sdk::StopCondition& stop) const override {
+    sdk::TourResult r;
+    // Point indexes in (cell, index) order: the order of unreachable points, and the grouping
+    // of points that share a cell.
+    std::vector<std::size_t> by_cell(points.size());
+    std::iota(by_cell.begin(), by_cell.end(), 0);
+    std::stable_sort(by_cell.begin(), by_cell.end(),
+                     [&](std::size_t a, std::size_t b) { return points[a] < points[b]; });
+    if (points.empty()) return r;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!g.in_bounds(start) || !search_.prepare(g)) {
+      r.status = sdk::PlanStatus::invalid;
+      r.order = by_cell;
+      return r;
+    }
+    // Distinct free point cells, sorted; then which of them the start reaches.
+    std::vector<Cell> cells;
+    for (std::size_t i : by_cell)
+      if (g.is_free(points[i]) && (cells.empty() || cells.back() != points[i]))
+        cells.push_back(points[i]);
+    std::uint64_t expansions = 0;
+    search_.set_targets(cells);
+    std::vector<std::int32_t> from_start(cells.size(), -1);
+    if (!search_.distances(start, -1, from_start.data(), stop, budget_, expansions)) {
+      search_.clear_targets();
+      return stopped(r, by_cell);
+    }
+    // Vertices: the start and the reachable point cells, numbered in (x, y, z) order.
+    std::vector<Cell> vertices{start};
+    for (std::size_t k = 0; k < cells.size(); ++k)
+      if (from_start[k] >= 0 && cells[k] != start) vertices.push_back(cells[k]);
+    std::sort(vertices.begin(), vertices.end());
+    const int n = static_cast<int>(vertices.size());
+    const int s = static_cast<int>(std::lower_bound(vertices.begin(), vertices.end(), start) -
+                                   vertices.begin());
+    DistanceMatrix m;
+    m.n = n;
+    m.d.assign(static_cast<std::size_t>(n) * n, 0.0);
+    search_.set_targets(vertices);
+    std::vector<std::int32_t> row(n);
+    for (int v = 0; v < n; ++v) {
+      std::fill(row.begin(), row.end(), -1);
+      if (!search_.distances(vertices[v], v, row.data(), stop, budget_, expansions)) {
+        search_.clear_targets();
+        return stopped(r, by_cell);
+      }
+      for (int u = v + 1; u < n; ++u) {
+        // The neighbourhood is symmetric in every world we know; an unreachable pair (a
+        // one-way world) is made very long rather than breaking the tour.
+        const double d = row[u] >= 0 ? row[u] : 1e9;
+        m.d[static_cast<std::size_t>(v) * n + u] = m.d[static_cast<std::size_t>(u) * n + v] = d;
+      }
+    }
+    search_.clear_targets();
+    std::vector<int> path = open_path_from_cycle(m, christofides_cycle(m, s));
+    const bool complete =
+        improve_open_path(m, path, two_opt_, or_opt_, [&] { return stop.should_stop(expansions); });
+    r.status = complete ? sdk::PlanStatus::found : sdk::PlanStatus::stopped;
+    r.length = open_length(m, path);
+    // Points per vertex in path order, then the unreachable ones in (cell, index) order.
+    std::vector<char> placed(points.size(), 0);
+    auto first_at = [&](const Cell& c) {
+      return std::lower_bound(by_cell.begin(), by_cell.end(), c,
+                              [&](std::size_t i, const Cell& cc) { return points[i] < cc; });
+    };
+    for (int v : path)
+      for (auto it = first_at(vertices[v]); it != by_cell.end() && points[*it] == vertices[v];
+           ++it) {
+        r.order.push_back(*it);
+        placed[*it] = 1;
+      }
+    for (std::size_t i : by_cell)
+      if (!placed[i]) r.order.push_back(i);
+    return r;
+  }
+
+  sdk::PlannerTraits do_traits() const override {
+    sdk::PlannerTraits t;
+    t.supports_2d = true;
+    t.supports_3d = true;
+    t.optimal = true;
+    t.deterministic = true;
+    return t;
+  }
+
+ private:
+  static sdk::TourResult stopped(sdk::TourResult& r, const std::vector<std::size_t>& by_cell) {
+    r.status = sdk::PlanStatus::stopped;
+    r.order = by_cell;
+    r.length = 0;
+    return r;
+  }
+
+  std::uint64_t budget_;
+  bool two_opt_;
+  bool or_opt_;
+  mutable std::mutex mutex_;
+  mutable GridSearch search_;
+};
+
+}  // namespace
+}  // namespace flipper::plugins::astar
+
+FLIPPER_PLUGIN(flipper::plugins::astar::AStarPlanner, planner, "astar", "1.0.0",
+               "Breadth-first shortest paths with the core language's tie rules; Christofides "
+               "tours improved by 2-opt and Or-opt")

@@ -1,0 +1,380 @@
+#include "flipper/sdk/world_format.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::sdk {
+inline namespace v1 {
+namespace world_format {
+namespace {
+
+using json = nlohmann::json;
+
+[[noreturn]] void fail(const std::string& message) {
+  throw Error(codes::kBadWorld, message);
+}
+
+// nlohmann keeps only the last of duplicate keys, silently. The parser callback sees every key,
+// so a stack of key sets (one per open object) finds duplicates and names where they are.
+class DuplicateKeyCheck {
+ public:
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+        frames_.push_back({false, child_path(), {}, {}, 0});
+        break;
+      case json::parse_event_t::array_start:
+        frames_.push_back({true, child_path(), {}, {}, 0});
+        break;
+      case json::parse_event_t::key: {
+        Frame& f = frames_.back();
+        const std::string& key = parsed.get_ref<const std::string&>();
+        if (!f.keys.insert(key).second) {
+          if (f.path == "rooms") fail("rooms: duplicate room name \"" + key + "\"");
+          if (f.path.empty()) fail("duplicate key \"" + key + "\"");
+          fail(f.path + ": duplicate key \"" + key + "\"");
+        }
+        f.last_key = key;
+        break;
+      }
+      case json::parse_event_t::value:
+        if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        frames_.pop_back();
+        if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool is_array;
+    std::string path;
+    std::set<std::string> keys;
+    std::string last_key;
+    std::size_t index;
+  };
+  std::string child_path() const {
+    if (frames_.empty()) return {};
+    const Frame& f = frames_.back();
+    if (f.is_array) return f.path + "[" + std::to_string(f.index) + "]";
+    return f.path.empty() ? f.last_key : f.path + "." + f.last_key;
+  }
+  std::vector<Frame> frames_;
+};
+
+std::string type_name(const json& v) {
+  if (v.is_number_float()) return "a fractional number";
+  if (v.is_number()) return "an integer";
+  if (v.is_string()) return "a string";
+  if (v.is_boolean()) return "a boolean";
+  if (v.is_null()) return "null";
+  if (v.is_array()) return "an array";
+  return "an object";
+}
+
+std::int32_t coordinate(const json& v, const std::string& what) {
+  if (!v.is_number_integer()) fail(what + " must be an integer, not " + type_name(v));
+  const auto i = v.get<std::int64_t>();
+  // Leave headroom so box sizes and neighbour steps cannot overflow.
+  constexpr std::int64_t kLimit = 1 << 28;
+  if (i < -kLimit || i > kLimit) fail(what + " is out of range (" + std::to_string(i) + ")");
+  return static_cast<std::int32_t>(i);
+}
+
+Cell point(const json& v, int dims, const std::string& where) {
+  if (!v.is_array() || v.size() != static_cast<std::size_t>(dims))
+    fail(where + ": a point must be an array of " + std::to_string(dims) + " integers");
+  Cell c;
+  c.x = coordinate(v[0], where + ": x");
+  c.y = coordinate(v[1], where + ": y");
+  if (dims == 3) c.z = coordinate(v[2], where + ": z");
+  return c;
+}
+
+std::vector<Cell> point_list(const json& v, int dims, const std::string& where) {
+  if (!v.is_array()) fail(where + " must be an array of points, not " + type_name(v));
+  std::vector<Cell> out;
+  out.reserve(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    out.push_back(point(v[i], dims, where + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+Cell position(const json& obj, int dims, const std::string& where) {
+  static const char* const kAxes[] = {"x", "y", "z"};
+  std::int32_t xyz[3] = {0, 0, 0};
+  for (int a = 0; a < dims; ++a) {
+    auto it = obj.find(kAxes[a]);
+    if (it == obj.end()) fail(where + ": missing \"" + kAxes[a] + "\"");
+    xyz[a] = coordinate(*it, where + ": " + kAxes[a]);
+  }
+  return {xyz[0], xyz[1], xyz[2]};
+}
+
+std::string word(const json& obj, const char* key, const std::string& where) {
+  auto it = obj.find(key);
+  if (it == obj.end()) fail(where + ": missing \"" + key + "\"");
+  if (!it->is_string()) fail(where + ": " + key + " must be a string, not " + type_name(*it));
+  const auto& s = it->get_ref<const std::string&>();
+  if (s.empty()) fail(where + ": " + key + " must not be empty");
+  return s;
+}
+
+// An item object: colour, shape, optional id (checked for type here, uniqueness by the caller).
+ItemInfo item_info(const json& v, const std::string& where, std::optional<std::int64_t>& id) {
+  if (!v.is_object()) fail(where + " must be an object, not " + type_name(v));
+  ItemInfo info;
+  info.color = word(v, "color", where);
+  info.shape = word(v, "shape", where);
+  id.reset();
+  if (auto it = v.find("id"); it != v.end()) {
+    if (!it->is_number_integer()) fail(where + ": id must be an integer, not " + type_name(*it));
+    id = it->get<std::int64_t>();
+    if (*id < 0) fail(where + ": id must not be negative");
+  }
+  return info;
+}
+
+const json* member(const json& obj, const char* key) {
+  auto it = obj.find(key);
+  return it == obj.end() ? nullptr : &*it;
+}
+
+void grow(Bounds& b, const Cell& c) {
+  b.min = {std::min(b.min.x, c.x), std::min(b.min.y, c.y), std::min(b.min.z, c.z)};
+  b.max = {std::max(b.max.x, c.x), std::max(b.max.y, c.y), std::max(b.max.z, c.z)};
+}
+
+std::string placement_problem(const Cell& c, const Geometry& g) {
+  if (!g.in_bounds(c)) return "is outside the bounds";
+  if (!g.is_free(c)) return "is on a wall";
+  return {};
+}
+
+json point_value(const Cell& c, int dims) {
+  return dims == 3 ? json::array({c.x, c.y, c.z}) : json::array({c.x, c.y});
+}
+
+}  // namespace
+
+std::string describe(const Cell& c, int dims) {
+  std::string s = "(" + std::to_string(c.x) + "," + std::to_string(c.y);
+  if (dims == 3) s += "," + std::to_string(c.z);
+  return s + ")";
+}
+
+WorldDocument parse_world(std::string_view text, int dims) {
+  if (dims != 2 && dims != 3) throw Error(codes::kInternal, "parse_world: dims must be 2 or 3");
+  json root;
+  try {
+    DuplicateKeyCheck check;
+    root = json::parse(
+        text.begin(), text.end(),
+        [&check](int depth, json::parse_event_t e, json& v) { return check(depth, e, v); });
+  } catch (const json::parse_error& e) {
+    fail(std::string("world is not valid JSON: ") + e.what());
+  }
+  if (!root.is_object()) fail("world must be a JSON object, not " + type_name(root));
+
+  WorldDocument doc;
+  doc.dims = dims;
+  static const std::set<std::string> kKnown = {"walls", "octomap", "items",
+                                               "robot", "rooms",   "bounds"};
+  for (auto it = root.begin(); it != root.end(); ++it)
+    if (!kKnown.count(it.key())) doc.extra.emplace(it.key(), it.value().dump());
+
+  if (const json* walls = member(root, "walls")) {
+    doc.has_walls = true;
+    doc.walls = point_list(*walls, dims, "walls");
+  }
+  if (const json* octo = member(root, "octomap")) {
+    if (!octo->is_string()) fail("octomap must be a file name (string), not " + type_name(*octo));
+    doc.octomap = octo->get<std::string>();
+  }
+
+  // Items and held items, with the ids they carry; missing ids are filled in afterwards.
+  std::vector<std::optional<std::int64_t>> lying_ids, held_ids;
+  std::set<std::int64_t> used;
+  auto note_id = [&used](const std::optional<std::int64_t>& id, const std::string& where) {
+    if (id && !used.insert(*id).second) fail(where + ": duplicate id " + std::to_string(*id));
+  };
+  if (const json* items = member(root, "items")) {
+    if (!items->is_array()) fail("items must be an array, not " + type_name(*items));
+    for (std::size_t i = 0; i < items->size(); ++i) {
+      const std::string where = "items[" + std::to_string(i) + "]";
+      std::optional<std::int64_t> id;
+      LyingItem li;
+      li.item = item_info((*items)[i], where, id);
+      li.at = position((*items)[i], dims, where);
+      note_id(id, where);
+      lying_ids.push_back(id);
+      doc.items.push_back(std::move(li));
+    }
+  }
+  const json* robot = member(root, "robot");
+  if (robot == nullptr) fail("robot: missing (a world needs a robot)");
+  if (!robot->is_object()) fail("robot must be an object, not " + type_name(*robot));
+  doc.robot = position(*robot, dims, "robot");
+  if (const json* holding = member(*robot, "holding")) {
+    if (!holding->is_array())
+      fail("robot.holding must be an array of items, not " + type_name(*holding));
+    for (std::size_t i = 0; i < holding->size(); ++i) {
+      const std::string where = "robot.holding[" + std::to_string(i) + "]";
+      std::optional<std::int64_t> id;
+      doc.holding.push_back(item_info((*holding)[i], where, id));
+      note_id(id, where);
+      held_ids.push_back(id);
+    }
+  }
+  std::int64_t next = 0;
+  auto assign = [&](std::optional<std::int64_t>& id, ItemInfo& info) {
+    if (!id) {
+      while (used.count(next)) ++next;
+      id = next++;
+    }
+    info.id = *id;
+  };
+  for (std::size_t i = 0; i < doc.items.size(); ++i) assign(lying_ids[i], doc.items[i].item);
+  for (std::size_t i = 0; i < doc.holding.size(); ++i) assign(held_ids[i], doc.holding[i]);
+  doc.next_item_id = 0;
+  for (const auto& li : doc.items) doc.next_item_id = std::max(doc.next_item_id, li.item.id + 1);
+  for (const auto& h : doc.holding) doc.next_item_id = std::max(doc.next_item_id, h.id + 1);
+
+  if (const json* rooms = member(root, "rooms")) {
+    if (!rooms->is_object())
+      fail("rooms must be an object mapping names to points, not " + type_name(*rooms));
+    for (auto it = rooms->begin(); it != rooms->end(); ++it) {
+      if (it.key().empty()) fail("rooms: a room name must not be empty");
+      auto pts = point_list(it.value(), dims, "rooms." + it.key());
+      Area area = pts;
+      areas::normalize(area);
+      doc.rooms.emplace(it.key(), std::move(area));
+      doc.room_points.emplace_back(it.key(), std::move(pts));
+    }
+  }
+
+  if (const json* bounds = member(root, "bounds")) {
+    if (!bounds->is_object()) fail("bounds must be an object {\"min\": point, \"max\": point}");
+    const json* lo = member(*bounds, "min");
+    const json* hi = member(*bounds, "max");
+    if (lo == nullptr || hi == nullptr) fail("bounds: needs both \"min\" and \"max\"");
+    Bounds b{point(*lo, dims, "bounds.min"), point(*hi, dims, "bounds.max")};
+    if (b.max.x < b.min.x || b.max.y < b.min.y || b.max.z < b.min.z)
+      fail("bounds: min " + describe(b.min, dims) + " exceeds max " + describe(b.max, dims));
+    doc.bounds = b;
+  }
+  areas::normalize(doc.walls);
+  return doc;
+}
+
+Bounds default_bounds(const WorldDocument& doc) {
+  Bounds b{doc.robot, doc.robot};
+  for (const Cell& c : doc.walls) grow(b, c);
+  for (const auto& li : doc.items) grow(b, li.at);
+  for (const auto& [name, area] : doc.rooms)
+    for (const Cell& c : area) grow(b, c);
+  return b;
+}
+
+Bounds effective_bounds(const WorldDocument& doc) {
+  return doc.bounds ? *doc.bounds : default_bounds(doc);
+}
+
+void check_placement(const WorldDocument& doc, const Geometry& g) {
+  const int dims = doc.dims;
+  // Walls come sorted; report the first outside point by its value.
+  for (const Cell& c : doc.walls)
+    if (!g.in_bounds(c)) fail("walls: point " + describe(c, dims) + " is outside the bounds");
+  for (const auto& [name, pts] : doc.room_points)
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (!g.in_bounds(pts[i]))
+        fail("rooms." + name + "[" + std::to_string(i) + "] " + describe(pts[i], dims) +
+             " is outside the bounds");
+  if (auto p = placement_problem(doc.robot, g); !p.empty())
+    fail("robot " + describe(doc.robot, dims) + " " + p);
+  for (std::size_t i = 0; i < doc.items.size(); ++i) {
+    const auto& li = doc.items[i];
+    if (auto p = placement_problem(li.at, g); !p.empty())
+      fail("items[" + std::to_string(i) + "] (id " + std::to_string(li.item.id) + ") at " +
+           describe(li.at, dims) + " " + p);
+  }
+}
+
+WorldState make_state(WorldDocument&& doc, std::shared_ptr<const Geometry> geometry) {
+  WorldState s;
+  s.geometry = std::move(geometry);
+  s.rooms = std::make_shared<const RoomMap>(std::move(doc.rooms));
+  s.robot = doc.robot;
+  s.items = std::move(doc.items);
+  s.held = std::move(doc.holding);
+  s.next_item_id = doc.next_item_id;
+  return s;
+}
+
+std::string points_json(const std::vector<Cell>& points, int dims) {
+  json a = json::array();
+  for (const Cell& c : points) a.push_back(point_value(c, dims));
+  return a.dump();
+}
+
+std::string write_world(const WorldState& state, const std::vector<RawField>& fields) {
+  if (!state.geometry) throw Error(codes::kInternal, "write_world: the state has no geometry");
+  const int dims = state.geometry->dims();
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const auto& f : fields) {
+    try {
+      out[f.key] = nlohmann::ordered_json::parse(f.json);
+    } catch (const nlohmann::ordered_json::parse_error& e) {
+      throw Error(codes::kInternal, "write_world: field \"" + f.key + "\" is not JSON text");
+    }
+  }
+  auto items = nlohmann::ordered_json::array();
+  for (const auto& li : state.items) {
+    nlohmann::ordered_json o;
+    o["id"] = li.item.id;
+    o["x"] = li.at.x;
+    o["y"] = li.at.y;
+    if (dims == 3) o["z"] = li.at.z;
+    o["color"] = li.item.color;
+    o["shape"] = li.item.shape;
+    items.push_back(std::move(o));
+  }
+  out["items"] = std::move(items);
+  nlohmann::ordered_json robot;
+  robot["x"] = state.robot.x;
+  robot["y"] = state.robot.y;
+  if (dims == 3) robot["z"] = state.robot.z;
+  auto holding = nlohmann::ordered_json::array();
+  for (const auto& h : state.held)
+    holding.push_back({{"id", h.id}, {"color", h.color}, {"shape", h.shape}});
+  robot["holding"] = std::move(holding);
+  out["robot"] = std::move(robot);
+  auto rooms = nlohmann::ordered_json::object();
+  if (state.rooms)
+    for (const auto& [name, area] : *state.rooms) {
+      auto pts = nlohmann::ordered_json::array();
+      for (const Cell& c : area)
+        pts.push_back(dims == 3 ? nlohmann::ordered_json::array({c.x, c.y, c.z})
+                                : nlohmann::ordered_json::array({c.x, c.y}));
+      rooms[name] = std::move(pts);
+    }
+  out["rooms"] = std::move(rooms);
+  const Cell lo = state.geometry->min(), hi = state.geometry->max();
+  out["bounds"] = {{"min", dims == 3 ? nlohmann::ordered_json::array({lo.x, lo.y, lo.z})
+                                     : nlohmann::ordered_json::array({lo.x, lo.y})},
+                   {"max", dims == 3 ? nlohmann::ordered_json::array({hi.x, hi.y, hi.z})
+                                     : nlohmann::ordered_json::array({hi.x, hi.y})}};
+  return out.dump();
+}
+
+}  // namespace world_format
+}  // namespace v1
+}  // namespace flipper::sdk
