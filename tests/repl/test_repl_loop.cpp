@@ -1,0 +1,48 @@
+// The repl loop on a real session, reading a script (no terminal).
+#include <catch2/catch.hpp>
+#include <sstream>
+
+#include "../session/session_fixture.hpp"
+#include "flipper/kernel/repl.hpp"
+
+namespace {
+
+std::string run_script(flipper::kernel::Session& s, const std::string& script) {
+  std::istringstream in(script);
+  std::ostringstream out;
+  auto reader = flipper::kernel::repl::make_line_reader(in, false);
+  CHECK(flipper::kernel::repl::run(s, *reader, out) == 0);
+  return out.str();
+}
+
+}  // namespace
+
+TEST_CASE("repl: query, choose, the robot moves", "[repl][loop]") {
+  auto s = flipper::testsupport::bare_session();
+  const std::string out = run_script(*s, "move left\n1\n:quit\nmove up\n");
+  // The start map has the robot at [2,4]; after choosing 1 it is at [1,4].
+  CHECK_THAT(out, Catch::Contains(" 4 ##. . R "));
+  CHECK_THAT(out, Catch::Contains("[1] {move left}"));
+  CHECK_THAT(out, Catch::Contains("Done: 1 steps."));
+  CHECK_THAT(out, Catch::Contains(" 4 ##. R . "));
+  CHECK(s->world().robot.x == 1);
+  // Nothing after :quit ran.
+  CHECK(s->world().robot.y == 4);
+}
+
+TEST_CASE("repl: reject, unparsable, commands and errors", "[repl][loop]") {
+  auto s = flipper::testsupport::bare_session();
+  const std::string out =
+      run_script(*s,
+                 "move left\nr\n7\nzorp blah\n:user ana\n:help\n:rules\n"
+                 ":define zorp blah\nmove left\n\n:bogus\n:world /no/such.json\n");
+  CHECK_THAT(out, Catch::Contains("Rejected."));
+  CHECK(s->world().robot.x == 2);  // nothing was accepted
+  CHECK_THAT(out, Catch::Contains("I did not understand that"));
+  CHECK_THAT(out, Catch::Contains("You are ana."));
+  CHECK(s->user() == "ana");
+  CHECK_THAT(out, Catch::Contains(":define HEAD"));
+  CHECK_THAT(out, Catch::Contains("Defining \"zorp blah\""));
+  CHECK_THAT(out, Catch::Contains("Unknown command :bogus"));
+  CHECK_THAT(out, Catch::Contains("error (bad_world)"));
+}

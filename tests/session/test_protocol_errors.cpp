@@ -1,0 +1,183 @@
+// Protocol framing and every error case: bad lines never end the session or lose state.
+#include <catch2/catch.hpp>
+
+#include "session_fixture.hpp"
+
+using flipper::kernel::Json;
+using flipper::testsupport::ask;
+using flipper::testsupport::error_code;
+
+namespace {
+
+// Moves the robot so a lost state would show.
+void move_robot(flipper::kernel::Session& s) {
+  REQUIRE(ask(s, R"({"op":"query","text":"move up"})")["ok"] == true);
+  REQUIRE(ask(s, R"({"op":"accept","rank":0})")["ok"] == true);
+}
+
+}  // namespace
+
+TEST_CASE("blank lines get no answer", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session();
+  CHECK(s->handle_line("").empty());
+  CHECK(s->handle_line("   \t\r").empty());
+}
+
+TEST_CASE("malformed lines are bad_json and keep the state", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session();
+  move_robot(*s);
+  const Json before = ask(*s, R"({"op":"state"})")["world"];
+  for (const char* line : {"not json", "{\"op\":\"state\"", "[1,2,3]", "42", "\"state\"", "null"}) {
+    Json a = ask(*s, line);
+    INFO(line);
+    CHECK(a["ok"] == false);
+    CHECK(error_code(a) == "bad_json");
+    CHECK(a["error"]["message"].get<std::string>().size() > 10);
+  }
+  CHECK(ask(*s, R"({"op":"state"})")["world"] == before);
+}
+
+TEST_CASE("op and id are echoed; unknown ops and fields", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session();
+  Json a = ask(*s, R"({"op":"state","id":{"n":[1,"x"]},"extra":true})");
+  CHECK(a["ok"] == true);
+  CHECK(a["op"] == "state");
+  CHECK(a["id"] == Json::parse(R"({"n":[1,"x"]})"));
+  CHECK(a.contains("world"));
+
+  a = ask(*s, R"({"op":"fly","id":7})");
+  CHECK(a["ok"] == false);
+  CHECK(a["op"] == "fly");
+  CHECK(a["id"] == 7);
+  CHECK(error_code(a) == "unknown_op");
+  CHECK_THAT(a["error"]["message"].get<std::string>(), Catch::Contains("fly"));
+
+  a = ask(*s, R"({"id":"x"})");
+  CHECK(error_code(a) == "missing_field");
+  CHECK(a["id"] == "x");
+  CHECK_THAT(a["error"]["message"].get<std::string>(), Catch::Contains("'op'"));
+
+  CHECK(error_code(ask(*s, R"({"op":3})")) == "bad_request");
+  CHECK_FALSE(ask(*s, R"({"op":"state"})").contains("id"));
+}
+
+TEST_CASE("missing and mistyped fields name the field", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session();
+  struct Case {
+    const char* line;
+    const char* code;
+    const char* field;
+  };
+  const Case cases[] = {
+      {R"({"op":"query"})", "missing_field", "'text'"},
+      {R"({"op":"query","text":null})", "missing_field", "'text'"},
+      {R"({"op":"query","text":5})", "bad_request", "'text'"},
+      {R"({"op":"query","text":"move up","k":"two"})", "bad_request", "'k'"},
+      {R"({"op":"query","text":"move up","k":-1})", "bad_request", "'k'"},
+      {R"({"op":"user"})", "missing_field", "'name'"},
+      {R"({"op":"user","name":["a"]})", "bad_request", "'name'"},
+      {R"({"op":"user","name":""})", "bad_request", "'name'"},
+      {R"({"op":"accept"})", "missing_field", "'rank'"},
+      {R"({"op":"accept","rank":"first"})", "bad_request", "'rank'"},
+      {R"({"op":"accept","rank":0.5})", "bad_request", "'rank'"},
+      {R"({"op":"world"})", "missing_field", "'file'"},
+      {R"({"op":"world","world":[1]})", "bad_request", "'world'"},
+      {R"({"op":"world","file":7})", "bad_request", "'file'"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.line);
+    Json a = ask(*s, c.line);
+    CHECK(a["ok"] == false);
+    CHECK(error_code(a) == c.code);
+    CHECK_THAT(a["error"]["message"].get<std::string>(), Catch::Contains(c.field));
+  }
+}
+
+TEST_CASE("accept without a query, out of range, twice", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session();
+  CHECK(error_code(ask(*s, R"({"op":"accept","rank":0})")) == "no_query");
+  Json q = ask(*s, R"({"op":"query","text":"move left","k":1})");
+  REQUIRE(q["candidates"].size() == 1);
+  for (const char* line : {R"({"op":"accept","rank":1})", R"({"op":"accept","rank":-1})"}) {
+    Json a = ask(*s, line);
+    CHECK(error_code(a) == "rank_out_of_range");
+    CHECK_THAT(a["error"]["message"].get<std::string>(), Catch::Contains("1 candidate"));
+  }
+  CHECK(ask(*s, R"({"op":"accept","rank":0})")["ok"] == true);
+  // The query is consumed by the accept.
+  CHECK(error_code(ask(*s, R"({"op":"accept","rank":0})")) == "no_query");
+}
+
+TEST_CASE("an erroneous candidate is reported and cannot be accepted", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session({"execution.action_budget=50"});
+  Json q = ask(*s, R"({"op":"query","text":"repeat 99 times repeat 99 times move left"})");
+  REQUIRE(q["ok"] == true);
+  REQUIRE(!q["candidates"].empty());
+  const Json& c = q["candidates"][0];
+  REQUIRE(c.contains("error"));
+  CHECK(c["error"]["code"] == "budget_exceeded");
+  CHECK(c["realizable"] == false);
+  const Json before = ask(*s, R"({"op":"state"})")["world"];
+  CHECK(c["world"] == before);
+  Json a = ask(*s, R"({"op":"accept","rank":0})");
+  CHECK(error_code(a) == "not_acceptable");
+  CHECK(ask(*s, R"({"op":"state"})")["world"] == before);
+}
+
+TEST_CASE("input limits are input_too_long naming the limit", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session({"input.max_chars=40", "input.max_semicolons=3"});
+  Json a = ask(*s, Json{{"op", "query"}, {"text", std::string(41, 'a')}}.dump());
+  CHECK(error_code(a) == "input_too_long");
+  CHECK_THAT(a["error"]["message"].get<std::string>(), Catch::Contains("input.max_chars = 40"));
+  // The limit counts characters, not bytes: 40 two-byte letters pass it.
+  std::string accents;
+  for (int i = 0; i < 40; ++i) accents += "\xC3\xA9";
+  CHECK(ask(*s, Json{{"op", "query"}, {"text", accents}}.dump())["ok"] == true);
+  a = ask(*s, Json{{"op", "query"}, {"text", "move up ; move up ; move up"}}.dump());
+  CHECK(error_code(a) == "input_too_long");
+  CHECK_THAT(a["error"]["message"].get<std::string>(), Catch::Contains("input.max_semicolons = 3"));
+  CHECK(ask(*s, Json{{"op", "query"}, {"text", "move up ; move up"}}.dump())["ok"] == true);
+}
+
+TEST_CASE("define, rules and delete_rule refuse until naturalization is wired",
+          "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session();
+  for (const char* line : {R"({"op":"define","head":"x","body":["move up"]})", R"({"op":"rules"})",
+                           R"({"op":"delete_rule","rule":"r1"})"}) {
+    Json a = ask(*s, line);
+    CHECK(a["ok"] == false);
+    CHECK(error_code(a) == "not_implemented");
+  }
+}
+
+TEST_CASE("a throwing plugin call is plugin_error and the session goes on", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session();
+  // The visibility hook runs inside the parser plugin's parse call.
+  s->set_visibility([](const flipper::sdk::Rule&, const std::string&) -> bool {
+    throw std::runtime_error("lexicon unavailable");
+  });
+  Json a = ask(*s, R"({"op":"query","text":"move up"})");
+  CHECK(a["ok"] == false);
+  CHECK(error_code(a) == "plugin_error");
+  CHECK_THAT(a["error"]["message"].get<std::string>(), Catch::Contains("lexicon unavailable"));
+  s->set_visibility({});
+  CHECK(ask(*s, R"({"op":"query","text":"move up"})")["ok"] == true);
+}
+
+TEST_CASE("the op table takes new ops and wraps existing ones", "[session][protocol]") {
+  auto s = flipper::testsupport::bare_session();
+  s->set_op("echo", [](flipper::kernel::Session&, const Json& r) {
+    return Json{{"text", r["text"]}};
+  });
+  Json a = ask(*s, R"({"op":"echo","text":"hi","id":1})");
+  CHECK(a == Json::parse(R"({"ok":true,"op":"echo","id":1,"text":"hi"})"));
+  auto inner = *s->find_op("user");
+  int calls = 0;
+  s->set_op("user", [inner, &calls](flipper::kernel::Session& ss, const Json& r) {
+    ++calls;
+    return inner(ss, r);
+  });
+  CHECK(ask(*s, R"({"op":"user","name":"ana"})")["name"] == "ana");
+  CHECK(calls == 1);
+  CHECK(s->user() == "ana");
+}
