@@ -1,0 +1,48 @@
+// Executor: runs one program on a copy of a world with a fresh interpreter and turns errors
+// into Outcome::error (nothing of an erroneous execution is applied, §9).
+#include "flipper/kernel/executor.hpp"
+
+#include <utility>
+
+#include "flipper/sdk/errors.hpp"
+#include "interpreter.hpp"
+
+namespace flipper::kernel {
+
+Executor::Executor(std::shared_ptr<const sdk::Planner> planner, ExecLimits limits)
+    : planner_(std::move(planner)), limits_(limits) {
+  if (!planner_) throw sdk::Error(sdk::codes::kInternal, "Executor needs a planner");
+}
+
+sdk::Outcome Executor::run(const sdk::Program& program, const sdk::WorldState& world) const {
+  sdk::Outcome out;
+  out.world = world;
+  auto error = [&](const std::string& code, const std::string& message) {
+    out.world = world;
+    out.trace.clear();
+    out.warnings.clear();
+    out.realizable = false;
+    out.error = message;
+    out.error_code = code;
+  };
+  if (!program || program->sort != sdk::Sort::Action) {
+    error(sdk::codes::kExecution, "not a statement");
+    return out;
+  }
+  if (!world.geometry || !world.rooms) {
+    error(sdk::codes::kExecution, "the world state has no geometry");
+    return out;
+  }
+  detail::Interpreter interp(*planner_, limits_, world);
+  try {
+    out.realizable = interp.run(program, out.world, out.trace, out.warnings);
+  } catch (const sdk::Error& e) {
+    error(e.code(), e.what());
+  } catch (const std::exception& e) {
+    error(sdk::codes::kPluginError, std::string("planner failed: ") + e.what());
+  }
+  out.actions = interp.actions();
+  return out;
+}
+
+}  // namespace flipper::kernel

@@ -1,0 +1,87 @@
+#pragma once
+// The interpreter behind Executor: evaluates one program on one world state (core-language §4).
+// One Interpreter lives for one execution; trial runs (`possible`, `strict`) reuse it on scratch
+// copies of the state with the trace and warning sinks switched off or redirected.
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "flipper/kernel/executor.hpp"
+#include "flipper/sdk/ast.hpp"
+#include "flipper/sdk/execution.hpp"
+#include "flipper/sdk/planner.hpp"
+#include "flipper/sdk/world.hpp"
+
+namespace flipper::kernel::detail {
+
+/// A collection: a set of areas in first-occurrence order (order matters for §8 ties).
+using Collection = std::vector<sdk::Area>;
+
+class Interpreter {
+ public:
+  Interpreter(const sdk::Planner& planner, const ExecLimits& limits, const sdk::WorldState& start);
+
+  /// Runs a statement on `state` (the real run); fills trace and warnings. Returns success.
+  /// Throws sdk::Error(execution_error | budget_exceeded).
+  bool run(const sdk::Program& program, sdk::WorldState& state, std::vector<sdk::TraceStep>& trace,
+           std::vector<std::string>& warnings);
+  std::uint64_t actions() const { return actions_; }
+
+ private:
+  // Where a run writes; trials switch these off (possible) or redirect warnings (strict).
+  struct Sinks {
+    std::vector<sdk::TraceStep>* trace = nullptr;
+    std::vector<std::string>* warnings = nullptr;
+  };
+
+  const sdk::Planner& planner_;
+  const sdk::Geometry& geometry_;
+  const sdk::RoomMap& rooms_;
+  ExecLimits limits_;
+  sdk::StopCondition stop_;
+  std::uint64_t actions_ = 0;
+  std::uint64_t steps_ = 0;
+  std::vector<sdk::Cell> point_vars_;  // innermost last; popping restores the outer binding (§4.7)
+  std::vector<sdk::Area> area_vars_;
+
+  // statements.cpp
+  bool exec(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool exec_strict(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool exec_foreach_point(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool exec_foreach_area(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool trial(const sdk::Node& n, const sdk::WorldState& s, std::vector<std::string>* warnings);
+  void tick();  // loop-iteration budget check (time)
+
+  // actions.cpp: primitives
+  bool move(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool visit_point(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool visit_area(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool visit_collection(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool pick(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  bool drop(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  void count_action();
+  bool fail(const sdk::Node& n, Sinks& out, const std::string& reason);
+  void follow(const sdk::PathResult& path, sdk::WorldState& s, Sinks& out);
+  sdk::PathResult plan(sdk::Cell start, const sdk::Area& goals, const sdk::Area* avoid);
+
+  // locations.cpp
+  double number(const sdk::Node& n);
+  std::int32_t integer(const sdk::Node& n, const char* what);
+  sdk::Cell point(const sdk::Node& n, const sdk::WorldState& s);
+  sdk::Area area(const sdk::Node& n, const sdk::WorldState& s);
+  Collection collection(const sdk::Node& n, const sdk::WorldState& s);
+  const sdk::Area& room(const sdk::Node& n);
+
+  // conditions.cpp
+  bool condition(const sdk::Node& n, const sdk::WorldState& s);
+};
+
+/// Whether an item satisfies an item description (Item node: `item` or `item F`).
+bool matches(const sdk::Node& item, const sdk::ItemInfo& info);
+/// "red item", "item", "item {{is red} and {is circle}}" — for warning reasons.
+std::string describe(const sdk::Node& item);
+/// "[x,y]" or "[x,y,z]".
+std::string cell_text(const sdk::Geometry& g, sdk::Cell c);
+
+}  // namespace flipper::kernel::detail

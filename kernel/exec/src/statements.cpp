@@ -1,0 +1,166 @@
+// Composite statements (core-language §4.5), trials for `possible`/`strict`, loop variables
+// (§4.7) and the loop orders of §8.
+#include <algorithm>
+#include <numeric>
+#include <string>
+
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+#include "interpreter.hpp"
+
+namespace flipper::kernel::detail {
+
+using sdk::Area;
+using sdk::Cell;
+using sdk::Kind;
+using sdk::Node;
+using sdk::WorldState;
+
+Interpreter::Interpreter(const sdk::Planner& planner, const ExecLimits& limits,
+                         const WorldState& start)
+    : planner_(planner), geometry_(*start.geometry), rooms_(*start.rooms), limits_(limits) {
+  stop_.deadline = std::chrono::steady_clock::now() + limits.time_budget;
+}
+
+void Interpreter::tick() {
+  if (std::chrono::steady_clock::now() >= stop_.deadline)
+    throw sdk::Error(sdk::codes::kBudgetExceeded,
+                     "time budget exceeded: execution took longer than " +
+                         std::to_string(limits_.time_budget.count()) +
+                         " ms (execution.time_budget_ms)");
+}
+
+bool Interpreter::run(const sdk::Program& program, WorldState& state,
+                      std::vector<sdk::TraceStep>& trace, std::vector<std::string>& warnings) {
+  Sinks out{&trace, &warnings};
+  return exec(*program, state, out);
+}
+
+bool Interpreter::trial(const Node& n, const WorldState& s, std::vector<std::string>* warnings) {
+  WorldState scratch = s;
+  Sinks out{nullptr, warnings};
+  return exec(n, scratch, out);
+}
+
+bool Interpreter::exec(const Node& n, WorldState& s, Sinks& out) {
+  // Loops without primitive actions (`repeat 99 times if ...`) must also see the clock.
+  if ((++steps_ & 1023u) == 0) tick();
+  switch (n.kind) {
+    case Kind::Seq: {
+      bool ok = true;
+      for (const auto& k : n.kids) ok = exec(*k, s, out) && ok;
+      return ok;
+    }
+    case Kind::Strict:
+      return exec_strict(n, s, out);
+    case Kind::Move:
+      return move(n, s, out);
+    case Kind::VisitPoint:
+      return visit_point(n, s, out);
+    case Kind::VisitArea:
+      return visit_area(n, s, out);
+    case Kind::VisitCollection:
+      return visit_collection(n, s, out);
+    case Kind::Pick:
+      return pick(n, s, out);
+    case Kind::Drop:
+      return drop(n, s, out);
+    case Kind::ForeachPoint:
+      return exec_foreach_point(n, s, out);
+    case Kind::ForeachArea:
+      return exec_foreach_area(n, s, out);
+    case Kind::Repeat: {
+      const std::int32_t times = integer(*n.kids[0], "repeat count");
+      bool ok = true;
+      for (std::int32_t i = 0; i < times; ++i) ok = exec(*n.kids[1], s, out) && ok;
+      return ok;
+    }
+    case Kind::If:
+      return condition(*n.kids[0], s) ? exec(*n.kids[1], s, out) : true;
+    case Kind::While: {
+      bool ok = true;
+      for (int i = 0; i < limits_.while_limit && condition(*n.kids[0], s); ++i)
+        ok = exec(*n.kids[1], s, out) && ok;
+      return ok;
+    }
+    case Kind::Hole:
+      throw sdk::Error(sdk::codes::kExecution, "cannot execute a template with holes");
+    default:
+      throw sdk::Error(sdk::codes::kExecution,
+                       std::string("not a statement: ") + sdk::kind_name(n.kind));
+  }
+}
+
+bool Interpreter::exec_strict(const Node& n, WorldState& s, Sinks& out) {
+  std::vector<std::string> trial_warnings;
+  if (trial(*n.kids[0], s, out.warnings ? &trial_warnings : nullptr))
+    return exec(*n.kids[0], s, out);
+  if (out.warnings != nullptr) {
+    for (auto& w : trial_warnings) out.warnings->push_back(std::move(w));
+    out.warnings->push_back("Could not complete the action: " +
+                            sdk::render(sdk::Program(std::shared_ptr<const Node>(), &n)));
+  }
+  return false;
+}
+
+bool Interpreter::exec_foreach_point(const Node& n, WorldState& s, Sinks& out) {
+  const Area cells = area(*n.kids[0], s);
+  if (cells.empty()) return true;
+  const sdk::TourResult tour = planner_.tour(geometry_, s.robot, cells, stop_);
+  if (tour.status == sdk::PlanStatus::stopped) tick();
+  if (tour.status != sdk::PlanStatus::found || tour.order.size() != cells.size())
+    throw sdk::Error(sdk::codes::kExecution,
+                     "the planner gave no visiting order for 'foreach point'");
+  bool ok = true;
+  point_vars_.push_back(Cell{});
+  for (std::size_t i : tour.order) {
+    point_vars_.back() = cells[i];
+    ok = exec(*n.kids[1], s, out) && ok;
+  }
+  point_vars_.pop_back();  // restores the enclosing loop's binding (§4.7)
+  return ok;
+}
+
+bool Interpreter::exec_foreach_area(const Node& n, WorldState& s, Sinks& out) {
+  Collection areas = collection(*n.kids[0], s);
+  if (areas.empty()) return true;
+  // §8: one representative per area, the cell nearest to the robot by path; the tour orders
+  // the reachable areas, the rest follow in collection order.
+  std::vector<Cell> reps;
+  std::vector<std::size_t> reachable, unreachable;
+  for (std::size_t i = 0; i < areas.size(); ++i) {
+    if (sdk::areas::contains(areas[i], s.robot)) {
+      reps.push_back(s.robot);
+      reachable.push_back(i);
+      continue;
+    }
+    const sdk::PathResult r = plan(s.robot, areas[i], nullptr);
+    if (r.status == sdk::PlanStatus::found) {
+      reps.push_back(r.target);
+      reachable.push_back(i);
+    } else {
+      unreachable.push_back(i);
+    }
+  }
+  std::vector<std::size_t> order;
+  order.reserve(areas.size());
+  if (!reps.empty()) {
+    const sdk::TourResult tour = planner_.tour(geometry_, s.robot, reps, stop_);
+    if (tour.status == sdk::PlanStatus::stopped) tick();
+    if (tour.status != sdk::PlanStatus::found || tour.order.size() != reps.size())
+      throw sdk::Error(sdk::codes::kExecution,
+                       "the planner gave no visiting order for 'foreach area'");
+    for (std::size_t k : tour.order) order.push_back(reachable[k]);
+  }
+  order.insert(order.end(), unreachable.begin(), unreachable.end());
+  bool ok = true;
+  area_vars_.emplace_back();
+  for (std::size_t i : order) {
+    area_vars_.back() = std::move(areas[i]);
+    ok = exec(*n.kids[1], s, out) && ok;
+  }
+  area_vars_.pop_back();
+  return ok;
+}
+
+}  // namespace flipper::kernel::detail
