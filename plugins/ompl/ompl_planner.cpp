@@ -1,0 +1,156 @@
+// The ompl planner plugin: sampling-based paths (RRT-Connect by default) in the continuous space
+// of any world, snapped back onto the world's cell graph.
+//
+// Decisions (documented for users of the plugin):
+// - Goal: among the goal cells that are free, outside the avoid set and connected to the start
+//   on the cell graph, the nearest by straight-line distance (ties: smallest x, y, z). The
+//   connectivity check is one flood fill per request; it makes an infeasible request answer
+//   `no_path` at once instead of sampling until the time budget runs out.
+// - Path: the planner's path, simplified (vertex reduction + shortcuts), is snapped to cells: a
+//   sequence of neighbour steps (4/6-neighbourhood) through free, non-avoided cells, with short
+//   grid searches where the straight line cut a corner. Not shortest: traits().optimal is false.
+// - Tour: nearest neighbour + 2-opt on straight-line distances (see tour.hpp).
+// - Determinism: with a non-zero seed OMPL is reseeded before every request, so rrtconnect, rrt
+//   and rrtstar (which stops on an iteration budget) repeat exactly; prm grows its roadmap on
+//   two threads and is never deterministic.
+#include <ompl/util/Console.h>
+
+#include "cell_search.hpp"
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/planner.hpp"
+#include "flipper/sdk/plugin.hpp"
+#include "sampling.hpp"
+#include "snap.hpp"
+#include "tour.hpp"
+
+namespace flipper::omplplanner {
+
+using sdk::Cell;
+using sdk::PlanStatus;
+
+class OmplPlanner final : public sdk::Planner {
+ public:
+  explicit OmplPlanner(const sdk::Params& p) {
+    const std::string name = p.has("planner") ? p.get_string("planner") : "rrtconnect";
+    if (!parse_algorithm(name, settings_.algorithm))
+      throw sdk::Error(
+          sdk::codes::kBadConfig,
+          "ompl: planner must be one of rrtconnect, rrt, prm, rrtstar; got \"" + name + "\"");
+    if (p.has("time_budget_ms"))
+      settings_.time_budget = std::chrono::milliseconds(p.get_int("time_budget_ms"));
+    if (settings_.time_budget.count() < 1)
+      throw sdk::Error(sdk::codes::kBadConfig, "ompl: time_budget_ms must be at least 1");
+    if (p.has("range")) settings_.range = p.get_double("range");
+    if (settings_.range < 0) throw sdk::Error(sdk::codes::kBadConfig, "ompl: range must be >= 0");
+    if (p.has("seed")) {
+      const auto seed = p.get_int("seed");
+      if (seed < 0 || seed > 0xffffffffLL)
+        throw sdk::Error(sdk::codes::kBadConfig, "ompl: seed must be in [0, 4294967295]");
+      settings_.seed = static_cast<std::uint32_t>(seed);
+    }
+    if (p.has("iterations")) {
+      const auto it = p.get_int("iterations");
+      if (it < 0 || it > 100000000)
+        throw sdk::Error(sdk::codes::kBadConfig, "ompl: iterations must be in [0, 100000000]");
+      settings_.iterations = static_cast<std::uint32_t>(it);
+    }
+    if (p.has("simplify")) settings_.simplify = p.get_bool("simplify");
+    ompl::msg::setLogLevel(ompl::msg::LOG_NONE);  // failures come back as statuses instead
+  }
+
+  static sdk::ParamSchema schema() {
+    sdk::ParamSchema s;
+    s.add_string("planner", "rrtconnect", "OMPL planner", {"rrtconnect", "rrt", "prm", "rrtstar"});
+    s.add_int("time_budget_ms", 500, "time budget per path request (ms)", 1, 600000);
+    s.add_double("range", 0.0, "maximum motion length in cells (0: OMPL's default)", 0, 1e6);
+    s.add_int("seed", 1, "random seed; 0 = unseeded (non-deterministic)", 0, 4294967295.0);
+    s.add_int("iterations", 2000, "rrtstar: iteration budget (0: time budget only)", 0, 1e8);
+    s.add_bool("simplify", true, "simplify the sampled path before snapping it to cells");
+    return s;
+  }
+
+ protected:
+  sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& request,
+                          const sdk::StopCondition& stop) const override {
+    sdk::PathResult r;
+    if (request.goals == nullptr) {
+      r.status = PlanStatus::invalid;
+      r.message = "no goal set given";
+      return r;
+    }
+    if (stop.should_stop(0)) {
+      r.status = PlanStatus::stopped;
+      r.message = "stopped before planning";
+      return r;
+    }
+    const Cell start = request.start;
+    if (!g.is_free(start)) {
+      r.status = PlanStatus::invalid;
+      r.message = "start " + sdk::to_string(start, g.dims()) + " is not a free cell";
+      return r;
+    }
+    CellSearch search(g, request.avoid, start);
+    const Cell* goal = nullptr;
+    double best = 0;
+    bool any_passable = false;
+    for (const Cell& c : *request.goals) {
+      if (c == start) {  // already there (the start is exempt from the avoid set)
+        r.status = PlanStatus::found;
+        r.target = start;
+        return r;
+      }
+      if (!search.passable(c)) continue;
+      any_passable = true;
+      if (!search.reachable(c)) continue;
+      const double d = distance(start, c);
+      if (goal == nullptr || d < best - 1e-12) {  // goals are sorted: ties keep the smallest
+        goal = &c;
+        best = d;
+      }
+    }
+    if (goal == nullptr) {
+      r.status = PlanStatus::no_path;
+      r.message = any_passable ? "no goal cell is reachable from " + sdk::to_string(start, g.dims())
+                               : "no goal cell is free and outside the avoid set";
+      return r;
+    }
+    SamplingOutcome sampled = sample_path(search, *goal, settings_, stop);
+    r.expansions = sampled.states;
+    if (sampled.status != PlanStatus::found) {
+      r.status = sampled.status;
+      r.message = sampled.message + " to " + sdk::to_string(*goal, g.dims());
+      return r;
+    }
+    if (!snap_path(sampled.waypoints, *goal, search, r.path)) {  // excluded by the flood fill
+      r.status = PlanStatus::no_path;
+      r.message = "could not snap the path to cells";
+      r.path.clear();
+      return r;
+    }
+    r.status = PlanStatus::found;
+    r.target = *goal;
+    return r;
+  }
+
+  sdk::TourResult do_tour(const sdk::Geometry& g, Cell start, const std::vector<Cell>& points,
+                          const sdk::StopCondition& stop) const override {
+    return straight_line_tour(g, start, points, stop);
+  }
+
+  sdk::PlannerTraits do_traits() const override {
+    sdk::PlannerTraits t;
+    t.supports_2d = true;
+    t.supports_3d = true;
+    t.optimal = false;
+    t.deterministic = settings_.seed != 0 && settings_.algorithm != Algorithm::prm;
+    return t;
+  }
+
+ private:
+  SamplingSettings settings_;
+};
+
+}  // namespace flipper::omplplanner
+
+FLIPPER_PLUGIN(flipper::omplplanner::OmplPlanner, planner, "ompl", "1.0.0",
+               "OMPL sampling planner (RRT-Connect, RRT, PRM, RRT*) with paths snapped to cells")
