@@ -43,7 +43,9 @@ class GridSearch {
  private:
   bool should_stop(std::uint64_t expansions, const sdk::StopCondition& stop,
                    std::uint64_t budget) const {
-    return expansions >= budget || ((expansions & 1023u) == 0 && stop.should_stop(expansions));
+    // The clock and the cancel flag are polled every 1024 expansions; budgets are exact.
+    return expansions >= budget || expansions >= stop.max_expansions ||
+           ((expansions & 1023u) == 0 && stop.should_stop(expansions));
   }
   std::uint32_t next_generation();
 

@@ -1,0 +1,157 @@
+#pragma once
+/// @file world_conformance.hpp
+/// Conformance checks for world plugins (header-only, Catch2 v2; include <catch2/catch.hpp>
+/// first). In the spirit of OMPL's StateSpace::sanityChecks(): the save/load round trip is a
+/// fixpoint, malformed worlds are refused with `bad_world` naming the entry, copies are
+/// independent, and the free cells agree with the mask.
+///
+/// @code
+///   FLIPPER_WORLD_CONFORMANCE("grid2d", [] { return load_plugin<sdk::World>("grid2d"); },
+///                             kGoodWorldJson, {{R"({"robot": 3})", "robot"}})
+/// @endcode
+
+#include <algorithm>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/world.hpp"
+
+namespace flipper::testing {
+
+/// A malformed world and a piece of text its error message must contain (the offending entry).
+struct BadWorld {
+  std::string json;
+  std::string names;
+};
+
+using WorldFactory = std::function<std::shared_ptr<sdk::World>()>;
+
+/// Runs `load`, requires Error(bad_world) whose message contains `names`.
+inline void require_bad_world(const sdk::World& world, const BadWorld& bad) {
+  INFO("world: " << bad.json);
+  try {
+    (void)world.load(bad.json, ".");
+    FAIL("accepted a malformed world");
+  } catch (const sdk::Error& e) {
+    INFO("message: " << e.what());
+    REQUIRE(e.code() == sdk::codes::kBadWorld);
+    REQUIRE(std::string(e.what()).find(bad.names) != std::string::npos);
+  }
+}
+
+/// The mask, free_cells(), is_free() and the placement of robot and items agree; the
+/// neighbourhood is symmetric (so path distances are).
+inline void check_world_consistent(const sdk::WorldState& s) {
+  REQUIRE(s.geometry != nullptr);
+  REQUIRE(s.rooms != nullptr);
+  const sdk::Geometry& g = *s.geometry;
+  REQUIRE(g.cell_count() == g.size_x() * g.size_y() * g.size_z());
+  sdk::Area free;
+  for (std::size_t i = 0; i < g.cell_count(); ++i) {
+    const sdk::Cell c = g.cell_at(i);
+    REQUIRE(g.index(c) == i);
+    REQUIRE(g.in_bounds(c));
+    REQUIRE(g.is_free(c) == (g.free_mask()[i] != 0));
+    if (g.is_free(c)) free.push_back(c);
+  }
+  sdk::areas::normalize(free);
+  REQUIRE(free == g.free_cells());
+  REQUIRE(g.is_free(s.robot));
+  for (const auto& li : s.items) REQUIRE(g.is_free(li.at));
+  for (const sdk::Cell& o : g.neighbour_offsets()) {
+    const sdk::Cell back{-o.x, -o.y, -o.z};
+    REQUIRE(std::find(g.neighbour_offsets().begin(), g.neighbour_offsets().end(), back) !=
+            g.neighbour_offsets().end());
+  }
+  std::vector<std::int64_t> ids;
+  for (const auto& li : s.items) ids.push_back(li.item.id);
+  for (const auto& h : s.held) ids.push_back(h.id);
+  std::sort(ids.begin(), ids.end());
+  REQUIRE(std::adjacent_find(ids.begin(), ids.end()) == ids.end());
+  for (std::int64_t id : ids) REQUIRE(id < s.next_item_id);
+}
+
+/// Loads `good`, saves, loads the saved text and saves again: the texts agree and the states
+/// are equal (robot, items, held items, rooms, bounds and mask).
+inline void check_world_round_trip(const sdk::World& world, const std::string& good) {
+  const sdk::WorldState a = world.load(good, ".");
+  check_world_consistent(a);
+  REQUIRE(a.geometry->dims() == world.dims());
+  const std::string saved = world.save(a);
+  const sdk::WorldState b = world.load(saved, ".");
+  check_world_consistent(b);
+  REQUIRE(world.save(b) == saved);
+  REQUIRE(b.robot == a.robot);
+  REQUIRE(b.items == a.items);
+  REQUIRE(b.held == a.held);
+  REQUIRE(*b.rooms == *a.rooms);
+  REQUIRE(b.next_item_id == a.next_item_id);
+  REQUIRE(b.geometry->min() == a.geometry->min());
+  REQUIRE(b.geometry->max() == a.geometry->max());
+  REQUIRE(b.geometry->free_mask() == a.geometry->free_mask());
+  REQUIRE(b.geometry->neighbour_offsets() == a.geometry->neighbour_offsets());
+}
+
+/// Copies share the immutable parts and never see each other's changes.
+inline void check_world_copies(const sdk::World& world, const std::string& good) {
+  const sdk::WorldState a = world.load(good, ".");
+  sdk::WorldState b = a;
+  REQUIRE(b.geometry == a.geometry);  // shared, not copied
+  REQUIRE(b.same_state(a));
+  const sdk::Cell robot = a.robot;
+  const auto items = a.items;
+  const auto held = a.held;
+  b.robot.x += 1;
+  b.items.clear();
+  b.held.push_back({b.next_item_id++, "red", "circle"});
+  REQUIRE(a.robot == robot);
+  REQUIRE(a.items == items);
+  REQUIRE(a.held == held);
+  REQUIRE(!b.same_state(a));
+  // A second load of the same text gives the same contents.
+  const sdk::WorldState c = world.load(good, ".");
+  REQUIRE(c.robot == a.robot);
+  REQUIRE(c.items == a.items);
+}
+
+/// Malformed worlds every world plugin must refuse, whatever its space.
+inline std::vector<BadWorld> generic_bad_worlds() {
+  return {
+      {"{", "JSON"},
+      {"[]", "object"},
+      {R"({"walls": [], "items": []})", "robot"},
+      {R"({"robot": "here"})", "robot"},
+      {R"({"robot": {"x": 0, "y": 0, "z": 0}, "items": 5})", "items"},
+      {R"({"robot": {"x": 0, "y": 0, "z": 0}, "items": [{"x": 0, "y": 0, "z": 0, "color": 1, "shape": "circle"}]})",
+       "items[0]: color"},
+      {R"({"robot": {"x": 0.5, "y": 0, "z": 0}})", "robot: x"},
+      {R"({"robot": {"x": 0, "y": 0, "z": 0}, "rooms": {"a": [], "a": []}})",
+       "duplicate room name \"a\""},
+      {R"({"robot": {"x": 0, "y": 0, "z": 0}, "rooms": []})", "rooms"},
+      {R"({"robot": {"x": 0, "y": 0, "z": 0, "holding": [{"color": "red"}]}})", "robot.holding[0]"},
+  };
+}
+
+/// All checks: round trip of `good`, copies, generic and plugin-specific bad worlds.
+inline void check_world_conformance(const WorldFactory& factory, const std::string& good,
+                                    const std::vector<BadWorld>& bad) {
+  auto world = factory();
+  REQUIRE(world != nullptr);
+  check_world_round_trip(*world, good);
+  check_world_copies(*world, good);
+  for (const auto& b : generic_bad_worlds()) require_bad_world(*world, b);
+  for (const auto& b : bad) require_bad_world(*world, b);
+}
+
+}  // namespace flipper::testing
+
+/// Defines a Catch2 test case running every world check on the plugin from `factory`.
+#define FLIPPER_WORLD_CONFORMANCE(name, factory, good_json, ...)                     \
+  TEST_CASE(name ": world conformance", "[conformance][world]") {                    \
+    ::flipper::testing::check_world_conformance(                                     \
+        factory, good_json, std::vector<::flipper::testing::BadWorld>(__VA_ARGS__)); \
+  }

@@ -1,0 +1,106 @@
+#include <catch2/catch.hpp>
+#include <numeric>
+#include <random>
+
+#include "astar_support.hpp"
+
+using namespace flipper;
+using sdk::Cell;
+
+namespace {
+
+// Length of visiting `points` in `order` from `start`, measured with the planner's own paths.
+double walked_length(const sdk::Planner& p, const sdk::Geometry& g, Cell start,
+                     const std::vector<Cell>& points, const std::vector<std::size_t>& order) {
+  double total = 0;
+  Cell at = start;
+  for (std::size_t i : order) {
+    const sdk::Area goal{points[i]};
+    const auto r = p.plan(g, {at, &goal, nullptr}, sdk::StopCondition{});
+    if (r.status != sdk::PlanStatus::found) break;  // unreachable points come last
+    total += static_cast<double>(r.path.size());
+    at = points[i];
+  }
+  return total;
+}
+
+bool is_permutation_of(const std::vector<std::size_t>& order, std::size_t n) {
+  std::vector<std::size_t> s = order;
+  std::sort(s.begin(), s.end());
+  std::vector<std::size_t> id(n);
+  std::iota(id.begin(), id.end(), 0);
+  return s == id;
+}
+
+}  // namespace
+
+TEST_CASE("study map: foreach point in room3 starts at the robot", "[astar][tour][study]") {
+  const auto& w = testsupport::study_map();
+  const sdk::Area& room3 = w.rooms->at("room3");
+  const std::vector<Cell> points(room3.begin(), room3.end());
+  auto planner = testsupport::astar();
+  const auto t = planner->tour(*w.geometry, w.robot, points, sdk::StopCondition{});
+  REQUIRE(t.status == sdk::PlanStatus::found);
+  REQUIRE(is_permutation_of(t.order, points.size()));
+  REQUIRE(points[t.order.front()] == w.robot);  // (2,4) lies in room3: visited first
+  REQUIRE(t.length == walked_length(*planner, *w.geometry, w.robot, points, t.order));
+  // 32 cells, all reachable, one at the start: at least 31 steps.
+  REQUIRE(t.length >= 31);
+  REQUIRE(t.length <= 40);
+}
+
+TEST_CASE("tours put unreachable points last in (x, y) order", "[astar][tour]") {
+  const auto g = testsupport::grid_from_rows({"....#.", "....#.", "....##"});
+  const std::vector<Cell> points{{5, 2, 0}, {3, 0, 0}, {4, 1, 0}, {0, 2, 0},
+                                 {5, 1, 0}, {9, 9, 0}, {1, 1, 0}};
+  const auto t = testsupport::astar()->tour(*g, {2, 1, 0}, points, sdk::StopCondition{});
+  REQUIRE(t.status == sdk::PlanStatus::found);
+  REQUIRE(is_permutation_of(t.order, points.size()));
+  const std::vector<std::size_t> tail(t.order.end() - 4, t.order.end());
+  REQUIRE(tail == std::vector<std::size_t>{2, 4, 0, 5});  // (4,1) (5,1) (5,2) (9,9)
+}
+
+TEST_CASE("tour ties are broken by (x, y) order", "[astar][tour][ties]") {
+  const auto g = testsupport::grid_from_rows({"......."});
+  const std::vector<Cell> points{{6, 0, 0}, {0, 0, 0}};
+  const auto t = testsupport::astar()->tour(*g, {3, 0, 0}, points, sdk::StopCondition{});
+  REQUIRE(t.order == std::vector<std::size_t>{1, 0});
+  REQUIRE(t.length == 9);
+}
+
+TEST_CASE("points sharing a cell stay together, in their order", "[astar][tour]") {
+  const auto g = testsupport::grid_from_rows({"....."});
+  const std::vector<Cell> points{{4, 0, 0}, {1, 0, 0}, {4, 0, 0}, {2, 0, 0}};
+  const auto t = testsupport::astar()->tour(*g, {0, 0, 0}, points, sdk::StopCondition{});
+  REQUIRE(t.order == std::vector<std::size_t>{1, 3, 0, 2});
+  REQUIRE(t.length == 4);
+}
+
+TEST_CASE("2-opt and Or-opt never lengthen the Christofides tour", "[astar][tour]") {
+  auto improved = testsupport::astar();
+  auto plain = testsupport::astar(sdk::Params({{"two_opt", false}, {"or_opt", false}}));
+  int strictly_better = 0;
+  for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+    std::mt19937 rng(seed);
+    std::vector<std::string> rows(20, std::string(30, '.'));
+    std::bernoulli_distribution wall(0.25);
+    for (auto& r : rows)
+      for (auto& c : r)
+        if (wall(rng)) c = '#';
+    const auto g = testsupport::grid_from_rows(rows);
+    const auto& free = g->free_cells();
+    std::uniform_int_distribution<std::size_t> pick(0, free.size() - 1);
+    const Cell start = free[pick(rng)];
+    std::vector<Cell> points;
+    for (int k = 0; k < 40; ++k) points.push_back(free[pick(rng)]);
+    const auto a = improved->tour(*g, start, points, sdk::StopCondition{});
+    const auto b = plain->tour(*g, start, points, sdk::StopCondition{});
+    REQUIRE(is_permutation_of(a.order, points.size()));
+    REQUIRE(is_permutation_of(b.order, points.size()));
+    REQUIRE(a.length <= b.length);
+    REQUIRE(a.length == walked_length(*improved, *g, start, points, a.order));
+    REQUIRE(b.length == walked_length(*plain, *g, start, points, b.order));
+    if (a.length < b.length) ++strictly_better;
+  }
+  REQUIRE(strictly_better > 0);
+}
