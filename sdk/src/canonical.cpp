@@ -578,6 +578,12 @@ class Reader {
       fail_at(start, std::string("'item at' of ") + sort_name(x->sort));
     }
     Program first = term();
+    if (first->sort == Sort::Item && accept("at")) {  // a template `{$1 at $2}`
+      Program x = term();
+      if (x->sort == Sort::Point) return build(start, Kind::ItemAtPoint, {first, x});
+      if (x->sort == Sort::Area) return build(start, Kind::ItemAtArea, {first, x});
+      fail_at(start, std::string("'item at' of ") + sort_name(x->sort));
+    }
     if (at(";")) {
       std::vector<Program> stmts{expect_sort(start, first, Sort::Action, "a sequence element")};
       while (accept(";")) {

@@ -11,15 +11,28 @@
 ///   $Number -> @number                 # any number token (core-language §2.6)
 ///   $Color -> @color                   # any colour word of the `colors` list
 ///   $Shape -> @shape                   # any shape word of the `shapes` list
+///   $Direction -> @direction           # any direction word of the `directions` list
+///   $PointList -> $PointList , $Point => @append   # list append (built in)
 ///   $ROOT -> $Actions => $1            # the root category is $ROOT
 /// @endcode
 /// The template is canonical text (canonical.hpp) with `$1`, `$2`, ... naming the RHS
 /// categories in order; its sort is that of the LHS category.
+///
+/// Extensions:
+/// - A rule whose RHS is a single class symbol (`@number`, `@color`, `@shape`, `@direction`) has
+///   no template: its meaning is the matched token's value (`sem` is null).
+/// - `=> @append` (only for `$PointList`/`$AreaList` with RHS `$L , $X`): appends $2 to the list
+///   $1 (a template cannot splice); `sem` is null. A single-category RHS defaults to `=> $1`.
+/// - Auxiliary categories `$Cat.suffix` (e.g. `$Number.token`) have the sort of `$Cat` and
+///   normalise to it. The core grammar uses them to reproduce the original's derivation nodes
+///   (its `$TOKEN`, `$Property` and `$ItemActionFragment` nodes), so initial scores match.
+/// Use `apply_rule` to compute a derivation's meaning for any rule.
 
 #include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "flipper/sdk/ast.hpp"
@@ -36,6 +49,7 @@ struct Symbol {
     number,    ///< any number token; semantics Num(value)
     color,     ///< any colour word; semantics Color(word)
     shape,     ///< any shape word; semantics Shape(word)
+    direction, ///< any direction word; semantics Direction(word)
   };
   Type type = Type::token;
   std::string text;  ///< token text or category name ("$Area"); "@number" etc. for classes
@@ -76,6 +90,7 @@ struct Grammar {
   std::string root = "$ROOT";
   std::vector<std::string> colors;  ///< words matched by @color ("grey" maps to "gray")
   std::vector<std::string> shapes;  ///< words matched by @shape
+  std::vector<std::string> directions;  ///< words matched by @direction (default up/down/left/right)
   std::vector<RulePtr> rules;
 };
 
@@ -94,6 +109,22 @@ FLIPPER_SDK_API Grammar parse_grammar(const std::string& text, const std::string
                                       std::vector<std::string> shapes);
 FLIPPER_SDK_API Grammar load_grammar_file(const std::string& path, std::vector<std::string> colors,
                                           std::vector<std::string> shapes);
+
+/// Same, with the direction words matched by `@direction` (empty: up, down, left, right).
+FLIPPER_SDK_API Grammar parse_grammar(const std::string& text, const std::string& source,
+                                      std::vector<std::string> colors,
+                                      std::vector<std::string> shapes,
+                                      std::vector<std::string> directions);
+FLIPPER_SDK_API Grammar load_grammar_file(const std::string& path, std::vector<std::string> colors,
+                                          std::vector<std::string> shapes,
+                                          std::vector<std::string> directions);
+
+/// Whether `token` matches the class symbol `type` (number/color/shape/direction) in `grammar`.
+FLIPPER_SDK_API bool class_matches(const Grammar& grammar, Symbol::Type type, std::string_view token);
+/// The meaning of `rule` applied to `kids` (one per RHS category); `token` is the matched token
+/// of a class rule. Throws Error(bad_program) when a kid does not fit (callers drop the parse).
+FLIPPER_SDK_API Program apply_rule(const Rule& rule, const std::vector<Program>& kids,
+                                   std::string_view token = {});
 
 /// "LHS -> rhs tokens => template" for listings.
 FLIPPER_SDK_API std::string describe(const Rule& rule);

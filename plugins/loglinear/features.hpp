@@ -1,0 +1,68 @@
+#pragma once
+// The features of one derivation node (naturalization.md §3), written once for two sinks: a
+// hashing sink (score_node: no strings built, each feature name hashed part by part with FNV-1a)
+// and a naming sink (features(), learning: the readable name, whose FNV-1a hash is the same key).
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include "flipper/sdk/scorer.hpp"
+
+namespace flipper::loglinear {
+
+constexpr std::uint64_t kFnvOffset = 1469598103934665603ULL;
+constexpr std::uint64_t kFnvPrime = 1099511628211ULL;
+
+inline std::uint64_t fnv(std::uint64_t h, std::string_view s) {
+  for (unsigned char c : s) h = (h ^ c) * kFnvPrime;
+  return h;
+}
+
+/// Feature key of a name: FNV-1a of its bytes.
+inline std::uint64_t feature_key(std::string_view name) {
+  return fnv(kFnvOffset, name);
+}
+
+/// Calls sink(parts, value) for every feature of `node`; the name is the concatenation of parts.
+template <class Sink>
+void for_each_feature(const sdk::Derivation& node, const sdk::ScoreContext& ctx, Sink&& sink) {
+  const sdk::Rule& rule = *node.rule;
+  const std::string& cat = rule.lhs;
+  sink({"rule=", rule.id}, 1.0);
+  sink({"fired"}, 1.0);
+  if (!rule.induced) {
+    sink({"core"}, 1.0);
+  } else {
+    sink({"induced"}, 1.0);
+    const auto others = rule.usage ? rule.usage->by_others.load() : 0;
+    const auto own = rule.usage ? rule.usage->by_author.load() : 0;
+    if (others > 0) sink({"uses_by_others"}, static_cast<double>(others));
+    sink({others > 0 ? "used_by_others=yes" : "used_by_others=no"}, 1.0);
+    sink({own > 0 ? "used_by_author=yes" : "used_by_author=no"}, 1.0);
+    sink({rule.how == sdk::RuleOrigin::alignment ? "alignment=yes" : "alignment=no"}, 1.0);
+  }
+  if (!rule.author.empty()) {
+    sink({"author=", rule.author}, 1.0);
+    sink({"author_user=", rule.author, ",", ctx.user}, 1.0);
+    sink({rule.author == ctx.user ? "self=yes" : "self=no"}, 1.0);
+  }
+  if (ctx.tokens == nullptr || node.end <= node.start) return;
+  const auto& t = *ctx.tokens;
+  const int n = static_cast<int>(t.size());
+  if (node.end > n) return;
+  auto tok = [&](int i) -> std::string_view {
+    if (i < 0) return "^";
+    if (i >= n) return "$";
+    return t[static_cast<std::size_t>(i)];
+  };
+  const std::string len = std::to_string(node.end - node.start);
+  sink({"cat_len=", cat, ",", len}, 1.0);
+  sink({"cat_span=", cat, ",", tok(node.start), "...", tok(node.end - 1)}, 1.0);
+  sink({"ctx1=", tok(node.start - 1), ",", cat, ",", tok(node.end)}, 1.0);
+  sink({"ctx2=", tok(node.start - 2), " ", tok(node.start - 1), ",", cat, ",", tok(node.end), " ",
+        tok(node.end + 1)},
+       1.0);
+}
+
+}  // namespace flipper::loglinear

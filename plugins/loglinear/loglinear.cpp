@@ -1,0 +1,180 @@
+// The `loglinear` scorer: sparse linear model over node features, AdaGrad + L1 learning on
+// accept, marginalised over the derivations of the accepted program (naturalization.md §3).
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <unordered_map>
+
+#include "features.hpp"
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/plugin.hpp"
+
+namespace flipper::loglinear {
+
+namespace {
+
+using Parts = std::initializer_list<std::string_view>;
+
+struct Weight {
+  double w = 0;
+  double G = 0;  // AdaGrad: running sum of squared gradients
+};
+
+struct Model {
+  std::unordered_map<std::uint64_t, Weight> weights;
+  std::unordered_map<std::uint64_t, std::string> names;
+};
+
+std::string join(Parts parts) {
+  std::string s;
+  for (auto p : parts) s.append(p);
+  return s;
+}
+
+}  // namespace
+
+class LogLinear : public sdk::Scorer {
+ public:
+  explicit LogLinear(const sdk::Params& p) {
+    if (p.has("step")) step_ = p.get_double("step");
+    if (p.has("l1")) l1_ = p.get_double("l1");
+    if (p.has("per_user")) per_user_ = p.get_bool("per_user");
+  }
+
+  static sdk::ParamSchema schema() {
+    sdk::ParamSchema s;
+    s.add_double("step", 0.1, "AdaGrad step size", 0.0, 100.0);
+    s.add_double("l1", 1e-4, "L1 regularisation strength (scaled by the AdaGrad step)", 0.0, 1.0);
+    s.add_bool("per_user", false, "keep one weight vector per user instead of a global one");
+    return s;
+  }
+
+ protected:
+  double do_score_node(const sdk::Derivation& node, const sdk::ScoreContext& ctx) const override {
+    double s = node.core_only ? 1.0 : 0.0;
+    const Model* m = model_for(ctx);
+    if (m == nullptr || m->weights.empty()) return s;
+    for_each_feature(node, ctx, [&](Parts parts, double value) {
+      std::uint64_t h = kFnvOffset;
+      for (auto p : parts) h = fnv(h, p);
+      auto it = m->weights.find(h);
+      if (it != m->weights.end()) s += it->second.w * value;
+    });
+    return s;
+  }
+
+  void do_features(const sdk::Derivation& node, const sdk::ScoreContext& ctx,
+                   sdk::FeatureVector& out) const override {
+    for_each_feature(node, ctx,
+                     [&](Parts parts, double value) { out.emplace_back(join(parts), value); });
+  }
+
+  void do_learn(const std::vector<sdk::Candidate>& candidates, std::size_t accepted,
+                const sdk::ScoreContext& ctx) override {
+    if (accepted >= candidates.size())
+      throw sdk::Error(sdk::codes::kBadRequest,
+                       "loglinear: accepted index " + std::to_string(accepted) + " out of range (" +
+                           std::to_string(candidates.size()) + " candidates)");
+    // Softmax over every derivation of every candidate (model) and over the accepted program's
+    // derivations only (target); scores as computed at parse time.
+    double max_score = -INFINITY;
+    for (const auto& c : candidates)
+      for (const auto& d : c.derivations) max_score = std::max(max_score, d->score);
+    if (!std::isfinite(max_score)) return;
+    double z_model = 0, z_target = 0;
+    for (std::size_t ci = 0; ci < candidates.size(); ++ci)
+      for (const auto& d : candidates[ci].derivations) {
+        const double e = std::exp(d->score - max_score);
+        z_model += e;
+        if (ci == accepted) z_target += e;
+      }
+    if (z_target <= 0) return;
+    Model& m = model_for_update(ctx);
+    std::unordered_map<std::uint64_t, double> grad;
+    for (std::size_t ci = 0; ci < candidates.size(); ++ci)
+      for (const auto& d : candidates[ci].derivations) {
+        const double e = std::exp(d->score - max_score);
+        const double coef = (ci == accepted ? e / z_target : 0.0) - e / z_model;
+        if (coef == 0) continue;
+        accumulate(*d, ctx, coef, grad, m);
+      }
+    for (const auto& [key, g] : grad) {
+      if (g == 0) continue;
+      Weight& w = m.weights[key];
+      w.G += g * g;
+      const double rate = step_ / std::sqrt(w.G + 1.0);
+      w.w += rate * g;
+      const double shrink = rate * l1_;
+      w.w = w.w > 0 ? std::max(0.0, w.w - shrink) : std::min(0.0, w.w + shrink);
+    }
+  }
+
+  std::string do_save_state() const override {
+    nlohmann::json j;
+    j["format"] = "flipper.loglinear/1";
+    j["per_user"] = per_user_;
+    nlohmann::json models = nlohmann::json::object();
+    for (const auto& [user, m] : models_) {
+      nlohmann::json ws = nlohmann::json::object();
+      for (const auto& [key, w] : m.weights) {
+        auto name = m.names.find(key);
+        if (name == m.names.end()) continue;
+        ws[name->second] = {w.w, w.G};
+      }
+      models[user] = std::move(ws);
+    }
+    j["models"] = std::move(models);
+    return j.dump();
+  }
+
+  void do_load_state(std::string_view state) override {
+    std::unordered_map<std::string, Model> loaded;
+    try {
+      const auto j = nlohmann::json::parse(state);
+      if (j.value("format", "") != "flipper.loglinear/1")
+        throw sdk::Error(sdk::codes::kBadConfig, "loglinear: unknown state format");
+      for (const auto& [user, ws] : j.at("models").items()) {
+        Model& m = loaded[user];
+        for (const auto& [name, v] : ws.items()) {
+          const auto key = feature_key(name);
+          m.weights[key] = {v.at(0).get<double>(), v.at(1).get<double>()};
+          m.names[key] = name;
+        }
+      }
+    } catch (const nlohmann::json::exception& e) {
+      throw sdk::Error(sdk::codes::kBadConfig,
+                       std::string("loglinear: unreadable state: ") + e.what());
+    }
+    models_ = std::move(loaded);
+  }
+
+ private:
+  const Model* model_for(const sdk::ScoreContext& ctx) const {
+    auto it = models_.find(per_user_ ? ctx.user : std::string());
+    return it == models_.end() ? nullptr : &it->second;
+  }
+  Model& model_for_update(const sdk::ScoreContext& ctx) {
+    return models_[per_user_ ? ctx.user : std::string()];
+  }
+
+  // Adds coef * φ(d) (φ summed over every node of the tree) to grad, recording feature names.
+  static void accumulate(const sdk::Derivation& d, const sdk::ScoreContext& ctx, double coef,
+                         std::unordered_map<std::uint64_t, double>& grad, Model& m) {
+    for_each_feature(d, ctx, [&](Parts parts, double value) {
+      std::string name = join(parts);
+      const auto key = feature_key(name);
+      grad[key] += coef * value;
+      m.names.try_emplace(key, std::move(name));
+    });
+    for (const auto& k : d.kids) accumulate(*k, ctx, coef, grad, m);
+  }
+
+  double step_ = 0.1;
+  double l1_ = 1e-4;
+  bool per_user_ = false;
+  std::unordered_map<std::string, Model> models_;  // key: user ("" when global)
+};
+
+}  // namespace flipper::loglinear
+
+FLIPPER_PLUGIN(flipper::loglinear::LogLinear, scorer, "loglinear", "1.0.0",
+               "Log-linear ranking model with AdaGrad + L1 learning on accept")
