@@ -1,0 +1,146 @@
+#pragma once
+/// @file induction.hpp
+/// Grammar induction (naturalization.md §4): from a definition (head := body lines) to new
+/// rules. The pieces are free functions so that the generalizer and tests can use each one:
+/// matches of head-chart derivations against the body program, simple and best packing, rule
+/// construction, and alignment. `Inducer` runs the whole §4 pipeline against a parser.
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flipper/sdk/derivation.hpp"
+#include "flipper/sdk/grammar.hpp"
+#include "flipper/sdk/parser.hpp"
+#include "flipper/sdk/scorer.hpp"
+
+namespace flipper::kernel {
+
+/// Stable error codes of definitions.
+namespace induction_codes {
+inline constexpr const char* kEmptyHead = "empty_head";
+inline constexpr const char* kHeadIsCore = "head_is_core";
+inline constexpr const char* kBodyUnparsable = "body_unparsable";
+}  // namespace induction_codes
+
+/// A head-chart derivation whose (normalised category, program) is that of a body node.
+struct Match {
+  int start = 0;
+  int end = 0;
+  std::string category;  ///< normalised ($Actions -> $Action)
+  sdk::Program program;
+  double score = 0;  ///< best derivation's score for this (span, category, program)
+  bool core_only = true;
+};
+
+/// The category naming a sort ($Action, $Area, $CountedItem, ...).
+std::string category_of_sort(sdk::Sort sort);
+/// Whether a program of sort `program` may stand for `category`: same sort, or a plain item for a
+/// $CountedItem (the grammar's `$CountedItem -> $Item`). Unknown categories never fit.
+bool category_fits(const std::string& category, sdk::Sort program);
+/// Whether a normalised category is primitive ($Color, $Shape, $Number, $Direction, $Point).
+bool is_primitive_category(const std::string& category);
+
+/// Matches (§4.4), one per distinct (span, category, program) keeping the best score, ordered by
+/// (start, end, chart order). Derivations of the whole head (if present) are ignored.
+std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
+                                const sdk::Program& body, int head_length);
+
+/// Simple packing (§4.5): core-only, one-token, primitive matches; the first at each position.
+std::vector<Match> simple_packing(const std::vector<Match>& matches);
+/// Best packing (§4.6): non-overlapping, maximal, greatest total score (ties: leftmost first).
+std::vector<Match> best_packing(const std::vector<Match>& matches, int head_length);
+/// Total score of a packing.
+double packing_score(const std::vector<Match>& packing);
+/// Score of the best packing of `program` against a head chart (the generalizer's σ₁).
+double best_packing_score(const std::vector<sdk::DerivationPtr>& head_chart,
+                          const sdk::Program& program, int head_length);
+
+/// Why a packing yields no rule.
+enum class RuleRejection { none, single_category, too_many_categories };
+
+/// A rule built from a packing (§4.7); `rule` is empty when rejected.
+struct BuiltRule {
+  std::optional<sdk::Rule> rule;
+  RuleRejection rejection = RuleRejection::none;
+};
+inline constexpr std::size_t kMaxRuleCategories = 4;
+
+/// LHS = `lhs`; RHS = head tokens with packed spans replaced by their categories; template =
+/// body with every subtree equal to a packed (category, program) replaced by its hole (equal
+/// packed pairs share the first one's hole). Provenance fields are left for the caller.
+BuiltRule build_rule(const std::string& lhs, const std::vector<std::string>& head_tokens,
+                     const std::vector<Match>& packing, const sdk::Program& body,
+                     sdk::RuleOrigin how);
+
+/// Alignment (§4.8) of a one-line body: the differing stretch of head and body tokens mapped to
+/// the category of each body-derivation node spanning exactly the body stretch (outermost first,
+/// distinct categories, at most `max_rules`).
+std::vector<sdk::Rule> alignment_rules(const std::vector<std::string>& head_tokens,
+                                       const std::vector<std::string>& body_tokens,
+                                       const sdk::DerivationPtr& body_derivation,
+                                       std::size_t max_rules = 4);
+
+/// Same LHS, RHS and template (structurally).
+bool same_rule(const sdk::Rule& a, const sdk::Rule& b);
+
+struct InductionOptions {
+  bool alignment = true;  ///< config induction.alignment
+  int beam = 0;           ///< parser beam (0: plugin default)
+};
+
+/// A definition to induce from.
+struct DefinitionInput {
+  std::string head;
+  std::vector<std::string> body;
+  std::string author;
+  std::vector<int> body_ranks;  ///< optional: candidate rank per body line (default 0)
+};
+
+/// What parsing the definition gave, before rules are built (the generalizer needs it).
+struct PreparedDefinition {
+  std::vector<std::string> head_tokens;
+  std::vector<sdk::DerivationPtr> head_chart;
+  sdk::Program body;  ///< the body program (lines as one sequence)
+  std::vector<std::vector<std::string>> body_tokens;
+  std::vector<sdk::DerivationPtr> body_derivations;  ///< chosen derivation of each line
+  std::vector<sdk::Candidate> body_candidates;       ///< chosen candidate of each line
+};
+
+/// The rules a definition yields, with the matches that explain them.
+struct InductionResult {
+  std::vector<sdk::Rule> rules;  ///< ids/created unset: the caller assigns them
+  std::vector<Match> matches;
+  std::vector<Match> simple;
+  std::vector<Match> best;
+};
+
+class Inducer {
+ public:
+  /// `visible` restricts the rules used to parse head and body (the author's view).
+  Inducer(const sdk::Parser& parser, const sdk::Scorer& scorer, InductionOptions options = {});
+
+  /// §4.1–4.3: checks, body program, head chart. Throws sdk::Error with the codes above
+  /// (bad_request for a rank past the candidates).
+  PreparedDefinition prepare(const DefinitionInput& def,
+                             const std::function<bool(const sdk::Rule&)>& visible) const;
+
+  /// §4.4–4.8 for `winner` (the body, or a rewriting of it): simple packing of the original
+  /// body, best packing of the winner (tagged `rewriting` when `winner_is_rewriting`), then
+  /// alignment. `exists` tells whether an equal rule is already in the grammar. Within the
+  /// definition a rule whose RHS equals an earlier one's is dropped.
+  InductionResult induce(const PreparedDefinition& prepared, const sdk::Program& winner,
+                         bool winner_is_rewriting,
+                         const std::function<bool(const sdk::Rule&)>& exists) const;
+
+  const InductionOptions& options() const { return options_; }
+
+ private:
+  const sdk::Parser& parser_;
+  const sdk::Scorer& scorer_;
+  InductionOptions options_;
+};
+
+}  // namespace flipper::kernel
