@@ -1,0 +1,202 @@
+// Constructs of core-language §4, the paper's programs, bad and runaway programs.
+#include <catch2/catch.hpp>
+
+#include "flipper/kernel/protocol.hpp"
+#include "study_fixture.hpp"
+
+using namespace flipper;
+using flipper::testsupport::items_at;
+using flipper::testsupport::Study;
+using flipper::testsupport::trace_text;
+using S = std::vector<std::string>;
+
+TEST_CASE("pick and drop follow the item order rules", "[exec]") {
+  Study st;
+  auto o = st.run("{{pick every item {is green}};{pick item }}", st.state(7, 4));
+  CHECK(trace_text(o.trace) == "p(7,4)green square p(7,4)green circle p(7,4)red circle");
+  CHECK(items_at(o.world, 7, 4) == S{"blue circle"});
+  // Dropped items go to the end of the lying items; drop takes held items in pick order.
+  auto d = st.run("{{pick item {is red}};{drop item };{drop item }}", st.state(7, 4));
+  CHECK(items_at(d.world, 7, 4) == S{"blue circle", "green square", "green circle", "red circle"});
+  CHECK(d.warnings == S{"Could not complete the action: {drop item } (no item held)"});
+  auto h = st.run("{drop every item {not {is red}}}",
+                  st.state(2, 4, {{"red", "square"}, {"blue", "circle"}, {"gray", "circle"}}));
+  CHECK(trace_text(h.trace) == "d(2,4)blue circle d(2,4)gray circle");
+  CHECK(h.world.held.size() == 1);
+  auto f = st.run("{pick item {{not {is red}} and {is circle}}}", st.state(7, 4));
+  CHECK(trace_text(f.trace) == "p(7,4)blue circle");
+  auto none = st.run("{pick item {not {is pink}}}", st.state());  // [decision]: no error
+  CHECK_FALSE(none.error);
+  CHECK(none.warnings == S{"Could not complete the action: {pick item {not {is pink}}} (no item "
+                           "{not {is pink}} here)"});
+}
+
+TEST_CASE("visit of areas, collections and ties", "[exec]") {
+  Study st;
+  // Nearest cell of room1 from (10,8): through (9,6) down to ... room1 lies behind walls; via
+  // (8,0).
+  auto a = st.run("{visit {area with corners [0,0] and [2,2]}}", st.state());
+  CHECK(a.world.robot ==
+        sdk::Cell{1, 2, 0});  // 3 steps; (0,2) and (1,2) tie? (1,2) is 3, (0,2) is 4
+  auto cur = st.run("{visit current}", st.state());
+  CHECK(cur.trace.empty());
+  CHECK(cur.realizable);
+  auto wall = st.run("{visit [2,6]}", st.state());
+  CHECK(wall.warnings == S{"Could not complete the action: {visit [2,6]} ([2,6] is a wall)"});
+  auto out = st.run("{visit [20,20]}", st.state());
+  CHECK(out.warnings ==
+        S{"Could not complete the action: {visit [20,20]} ([20,20] is outside the world)"});
+  auto edge = st.run("{visit [13,4]}", st.state());  // [decision] §9: not an error
+  CHECK_FALSE(edge.error);
+  CHECK_FALSE(edge.realizable);
+  auto empty = st.run("{visit {world minus world}}", st.state());
+  CHECK(empty.warnings == S{"Could not complete the action: {visit {world minus world}} (no free "
+                            "cell in {world minus world})"});
+  // A collection: the nearest room wins ([decision] §4.4): room3 contains the robot.
+  auto rooms = st.run("{visit rooms}", st.state());
+  CHECK(rooms.trace.empty());
+  auto r5 = st.run("{visit {[room1, room5]}}", st.state());
+  CHECK(r5.world.robot == sdk::Cell{9, 7, 0});  // room5 through (9,6): 10 steps; room1: 13
+  // Avoid set for an area target is B minus A: room3 may be crossed when visiting room3 itself.
+  auto self = st.run("{visit room3 while avoiding room3}", st.state(1, 1));
+  CHECK(self.realizable);
+  auto in_avoid = st.run("{visit [3,4] while avoiding room3}", st.state());
+  CHECK(in_avoid.warnings == S{"Could not complete the action: {visit [3,4] while avoiding room3} "
+                               "([3,4] lies in the avoided area)"});
+  auto own = st.run("{visit [2,4] while avoiding room3}", st.state());
+  CHECK(own.realizable);
+  CHECK(own.warnings.empty());
+}
+
+TEST_CASE("loops, conditions and loop variables", "[exec]") {
+  Study st;
+  auto r = st.run("{repeat 3 times {move right}}", st.state());
+  CHECK(trace_text(r.trace) == "m(3,4) m(4,4) m(5,4)");
+  auto zero = st.run("{repeat -1 times {move left}}", st.state());
+  CHECK(zero.trace.empty());
+  CHECK(zero.realizable);
+  auto arith = st.run("{visit [{2 + 1},{5 - 1}]}", st.state());
+  CHECK(arith.world.robot == sdk::Cell{3, 4, 0});
+  auto w = st.run("{while {robot at [2,4]} {{move left};{move right}}}", st.state());
+  CHECK(w.trace.size() == 40);  // the while limit: 20 iterations, not a failure
+  CHECK(w.realizable);
+  auto p = st.run("{if {possible {move left}} {move right}}", st.state());
+  CHECK(trace_text(p.trace) == "m(3,4)");
+  auto np = st.run("{if {possible {{move up};{move up}}} {move right}}", st.state());
+  CHECK(np.trace.empty());
+  CHECK(np.warnings.empty());  // trials add nothing
+  // Loop variables: the inner loop shadows, and the outer binding is restored afterwards (§4.7).
+  auto v = st.run(
+      "{foreach point in {[[1,4], [3,4]]} {{foreach point in {[[5,4]]} {visit point}};{visit "
+      "point}}}",
+      st.state());
+  CHECK(v.warnings.empty());
+  // Tour from (2,4): (1,4) and (3,4) tie, (1,4) comes first in (x, y) order.
+  CHECK(
+      trace_text(v.trace) ==
+      "m(3,4) m(4,4) m(5,4) m(4,4) m(3,4) m(2,4) m(1,4) m(2,4) m(3,4) m(4,4) m(5,4) m(4,4) m(3,4)");
+  auto fa = st.run("{foreach area in rooms {visit area}}", st.state());
+  CHECK(fa.warnings.empty());
+  auto cond = st.run("{if {item {is red} at room3} {move left}}", st.state());
+  CHECK(trace_text(cond.trace) == "m(1,4)");
+  auto cond2 = st.run("{if {item {is red} at current} {move left}}", st.state());
+  CHECK(cond2.trace.empty());
+}
+
+TEST_CASE("paper programs", "[exec][paper]") {
+  Study st;
+  SECTION("sorting items by colour into rooms") {
+    auto o = st.run(
+        "{{foreach point in {world containing item } {{visit point};{pick every item }}};"
+        "{visit room1};{drop every item {is red}};{visit room4};{drop every item {is blue}}}",
+        st.state());
+    CHECK(o.warnings.empty());
+    CHECK(o.world.held.size() == 5);  // the green and yellow items stay held
+    int red_in_room1 = 0, blue_in_room4 = 0;
+    for (const auto& li : o.world.items) {
+      if (li.item.color == "red" && li.at.x >= 9 && li.at.y <= 2) ++red_in_room1;
+      if (li.item.color == "blue" && li.at.x <= 5 && li.at.y >= 7) ++blue_in_room4;
+    }
+    CHECK(red_in_room1 == 3);
+    CHECK(blue_in_room4 == 3);
+  }
+  SECTION("sorting with foreach area") {
+    auto o =
+        st.run("{foreach area in {rooms containing item {is red}} {{visit area};{drop item }}}",
+               st.state(2, 4, {{"pink", "square"}, {"pink", "circle"}, {"pink", "triangle"}}));
+    CHECK(o.warnings.empty());
+    CHECK(o.world.held.empty());  // rooms 2, 3 and 5 hold red items: one drop in each
+  }
+  SECTION("a line of items with while possible") {
+    auto o = st.run("{while {possible {{move right};{drop item }}} {{move right};{drop item }}}",
+                    st.state(2, 4, {{"red", "square"}, {"blue", "circle"}, {"gray", "circle"}}));
+    CHECK(trace_text(o.trace) ==
+          "m(3,4) d(3,4)red square m(4,4) d(4,4)blue circle m(5,4) d(5,4)gray circle");
+    CHECK(o.warnings.empty());
+  }
+  SECTION("strict pick-and-move") {
+    auto ok = st.run("{strict {{pick item {is red}};{move left}}}", st.state(7, 4));
+    CHECK(trace_text(ok.trace) == "p(7,4)red circle m(6,4)");
+    auto back = st.run("{strict {{pick item {is red}};{move left}}}", st.state(0, 4));
+    CHECK(back.trace.empty());
+    CHECK(back.warnings ==
+          S{"Could not complete the action: {pick item {is red}} (no red item here)",
+            "Could not complete the action: {move left} ([-1,4] is a wall)",
+            "Could not complete the action: {strict {{pick item {is red}};{move left}}}"});
+  }
+}
+
+TEST_CASE("bad programs are execution errors and change nothing", "[exec][errors]") {
+  Study st;
+  auto room = st.run("{{move right};{visit room9}}", st.state());
+  CHECK(room.error_code == "execution_error");
+  CHECK_THAT(*room.error, Catch::Contains("room9"));
+  CHECK(room.trace.empty());
+  CHECK(room.world.robot == sdk::Cell{2, 4, 0});
+  auto frac = st.run("{repeat 2.5 times {move left}}", st.state());
+  CHECK(frac.error_code == "execution_error");
+  CHECK_THAT(*frac.error, Catch::Contains("2.5"));
+  auto coord = st.run("{visit [2.5,4]}", st.state());
+  CHECK(coord.error_code == "execution_error");
+  auto loopvar = st.run("{visit point}", st.state());
+  CHECK(loopvar.error_code == "execution_error");
+  auto j = kernel::protocol::outcome_json(room, 2);
+  CHECK(j["error"]["code"] == "execution_error");
+  CHECK(j["realizable"] == false);
+}
+
+TEST_CASE("runaway programs hit a budget", "[exec][budget]") {
+  Study st;
+  auto o = st.run("{repeat 99 times {repeat 99 times {repeat 99 times {move left}}}}", st.state());
+  CHECK(o.error_code == "budget_exceeded");
+  CHECK_THAT(*o.error, Catch::Contains("action budget"));
+  CHECK(o.trace.empty());
+  CHECK(o.world.robot == sdk::Cell{2, 4, 0});
+  kernel::ExecLimits tight;
+  tight.action_budget = 1u << 30;
+  tight.time_budget = std::chrono::milliseconds(30);
+  auto t = st.run("{repeat 99 times {repeat 99 times {repeat 99 times {visit [9,8]}}}}", st.state(),
+                  tight);
+  CHECK(t.error_code == "budget_exceeded");
+  CHECK_THAT(*t.error, Catch::Contains("time budget"));
+  // Loops without primitive actions see the clock too.
+  auto idle = st.run(
+      "{repeat 99 times {repeat 99 times {repeat 99 times {if {robot at {world containing item }} "
+      "{move left}}}}}",
+      st.state(), tight);
+  CHECK(idle.error_code == "budget_exceeded");
+}
+
+TEST_CASE("protocol JSON of trace steps", "[protocol]") {
+  Study st;
+  auto o = st.run("{{visit [7,4]};{pick item }}", st.state(6, 4));
+  auto j = kernel::protocol::trace_json(o.trace, 2);
+  CHECK(
+      j.dump() ==
+      R"([{"act":"move","to":[7,4]},{"act":"pick","at":[7,4],"item":{"color":"red","id":4,"shape":"circle"}}])");
+  CHECK(kernel::protocol::trace_from_json(j) == o.trace);
+  CHECK(kernel::protocol::cell_json({1, 2, 3}, 3).dump() == "[1,2,3]");
+  CHECK_THROWS_AS(kernel::protocol::step_from_json(nlohmann::json{{"act", "fly"}}), sdk::Error);
+  CHECK(kernel::protocol::error_json("bad_world", "x").dump() ==
+        R"({"code":"bad_world","message":"x"})");
+}
