@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session.hpp"
-#include "flipper/kernel/session_json.hpp"
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -127,9 +127,9 @@ Json Session::op_query(const Json& req) {
     c["rules"] = std::move(rules);
     c["authors"] = std::move(authors);
     c["realizable"] = sc.outcome.realizable && !sc.outcome.error;
-    c["trace"] = protocol_json::trace(sc.outcome.trace, dims);
+    c["trace"] = Json(protocol::trace_json(sc.outcome.trace, dims));
     c["world"] = world_json(sc.outcome.world);
-    c["warnings"] = protocol_json::strings(sc.outcome.warnings);
+    c["warnings"] = Json(protocol::strings_json(sc.outcome.warnings));
     if (sc.error_code)
       c["error"] = Json{{"code", *sc.error_code}, {"message", sc.outcome.error.value_or("")}};
     list.push_back(std::move(c));
@@ -185,8 +185,8 @@ Json Session::op_accept(const Json& req) {
   const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
   Json answer;
   answer["world"] = world_json(outcome.world);
-  answer["trace"] = protocol_json::trace(outcome.trace, dims);
-  answer["warnings"] = protocol_json::strings(outcome.warnings);
+  answer["trace"] = Json(protocol::trace_json(outcome.trace, dims));
+  answer["warnings"] = Json(protocol::strings_json(outcome.warnings));
   world_ = outcome.world;
   if (on_accept_)
     on_accept_(*this, AcceptEvent{q, static_cast<std::size_t>(rank), sc, outcome, user_});
