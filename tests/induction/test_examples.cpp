@@ -1,0 +1,201 @@
+// The spec's induction examples (naturalization.md §4) end to end with the core grammar, the
+// chart parser and the loglinear scorer: define, then parse what the new rules should cover.
+#include <catch2/catch.hpp>
+
+#include "flipper/kernel/induction.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+#include "plugin_fixture.hpp"
+
+using namespace flipper;
+
+namespace {
+
+std::shared_ptr<const sdk::Grammar> core_grammar() {
+  static const auto g = std::make_shared<const sdk::Grammar>(sdk::load_grammar_file(
+      std::string(FLIPPER_SOURCE_DIR) + "/configs/grammars/core.grammar",
+      {"black", "blue", "gray", "green", "orange", "pink", "purple", "red", "yellow"},
+      {"triangle", "circle", "square"}, {"up", "down", "left", "right"}));
+  return g;
+}
+
+/// A fresh grammar per test (rules are added), parser and scorer loaded once.
+struct Lexicon {
+  std::shared_ptr<sdk::Parser> parser = testsupport::load_plugin<sdk::Parser>("chart");
+  std::shared_ptr<sdk::Scorer> scorer = testsupport::load_plugin<sdk::Scorer>("loglinear");
+  std::vector<sdk::RulePtr> rules;
+  std::int64_t next = 1;
+  explicit Lexicon(bool alignment = true) : options{alignment, 0} {
+    parser->set_grammar(core_grammar());
+  }
+  kernel::InductionOptions options;
+
+  std::vector<sdk::RulePtr> define(const std::string& head, std::vector<std::string> body,
+                                   const std::string& user = "ana") {
+    kernel::Inducer inducer(*parser, *scorer, options);
+    auto prepared = inducer.prepare({head, std::move(body), user, {}}, nullptr);
+    auto result = inducer.induce(prepared, prepared.body, false, [&](const sdk::Rule& r) {
+      for (const auto& e : rules)
+        if (kernel::same_rule(*e, r)) return true;
+      return false;
+    });
+    std::vector<sdk::RulePtr> added;
+    for (auto& r : result.rules) {
+      auto rule = std::make_shared<sdk::Rule>(std::move(r));
+      rule->created = next++;
+      rule->id = "r" + std::to_string(rule->created);
+      rule->author = user;
+      parser->add_rule(rule);
+      rules.push_back(rule);
+      added.push_back(rule);
+    }
+    return added;
+  }
+
+  /// Canonical texts of the candidates of `text`.
+  std::vector<std::string> parse(const std::string& text) const {
+    sdk::ParseRequest req;
+    req.tokens = sdk::tokenize(text);
+    req.scorer = scorer.get();
+    req.context.user = "ana";
+    std::vector<std::string> out;
+    for (const auto& c : parser->parse(req).candidates) out.push_back(sdk::render(c.program));
+    return out;
+  }
+  bool parses_to(const std::string& text, const std::string& core_text) const {
+    const auto want = sdk::render(sdk::read_canonical(core_text));
+    for (const auto& c : parse(text))
+      if (c == want) return true;
+    return false;
+  }
+  std::string core(const std::string& text) const {
+    sdk::ParseRequest req;
+    req.tokens = sdk::tokenize(text);
+    req.scorer = scorer.get();
+    auto r = parser->parse(req);
+    REQUIRE_FALSE(r.candidates.empty());
+    return sdk::render(r.candidates[0].program);
+  }
+};
+
+std::string rhs(const sdk::Rule& r) {
+  std::string s;
+  for (const auto& x : r.rhs) s += (s.empty() ? "" : " ") + x.text;
+  return s;
+}
+
+bool has_rule(const std::vector<sdk::RulePtr>& rules, sdk::RuleOrigin how,
+              const std::string& text) {
+  for (const auto& r : rules)
+    if (r->how == how && rhs(*r) == text) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("pick 3 items := repeat 3 times pick item", "[induction][examples]") {
+  Lexicon lex;
+  REQUIRE(lex.parse("pick 3 items").empty());
+  const auto rules = lex.define("pick 3 items", {"repeat 3 times pick item"});
+  CHECK(has_rule(rules, sdk::RuleOrigin::simple, "pick $Number items"));
+  CHECK(lex.parses_to("pick 5 items", lex.core("repeat 5 times pick item")));
+  // The core grammar has no category for `pick`/`drop` alone (its $ItemActionFragment node is
+  // $CountedItem.act, the object), so `drop 2 items` needs its own definition here.
+  CHECK(lex.parse("drop 2 items").empty());
+}
+
+TEST_CASE("visit red triangle := visit world containing item is red and is triangle",
+          "[induction][examples]") {
+  Lexicon lex;
+  const auto rules =
+      lex.define("visit red triangle", {"visit world containing item is red and is triangle"});
+  CHECK(has_rule(rules, sdk::RuleOrigin::simple, "visit $Color $Shape"));
+  CHECK(lex.parses_to("visit yellow circle",
+                      lex.core("visit world containing item is yellow and is circle")));
+}
+
+TEST_CASE("alignment: throw item := drop item, pick all := pick every item",
+          "[induction][examples]") {
+  Lexicon lex;
+  // No core node spans `drop` alone (pick/drop have no category of their own), so alignment's
+  // rule for the smallest node around the stretch, `$Action -> throw $CountedItem`, equals the
+  // best packing's and is not added twice; either way `throw` now takes any item.
+  const auto rules = lex.define("throw item", {"drop item"});
+  CHECK(has_rule(rules, sdk::RuleOrigin::best, "throw $CountedItem"));
+  CHECK(lex.parses_to("throw every item is red", lex.core("drop every item is red")));
+
+  const auto all = lex.define("pick all", {"pick every item"});
+  bool aligned = false;
+  for (const auto& r : all)
+    aligned = aligned || (r->how == sdk::RuleOrigin::alignment && rhs(*r) == "all");
+  CHECK(aligned);
+  CHECK(lex.parses_to("drop all", lex.core("drop every item")));
+
+  Lexicon off(false);
+  for (const auto& r : off.define("pick all", {"pick every item"}))
+    CHECK(r->how != sdk::RuleOrigin::alignment);
+  CHECK(off.parse("drop all").empty());
+}
+
+TEST_CASE("gather red; red to room1: definitions build on definitions", "[induction][examples]") {
+  Lexicon lex;
+  lex.define(
+      "gather red",
+      {"foreach point in world containing item is red {visit point; pick every item is red}"});
+  REQUIRE(lex.parses_to("gather blue",
+                        lex.core("foreach point in world containing item is blue {visit point; "
+                                 "pick every item is blue}")));
+  lex.define("red to room1", {"gather red", "visit room1", "drop every item is red"});
+  const std::string red1 = lex.core(
+      "foreach point in world containing item is red {visit point; pick every item is red}; "
+      "visit room1; drop every item is red");
+  const std::string green2 = lex.core(
+      "foreach point in world containing item is green {visit point; pick every item is green}; "
+      "visit room2; drop every item is green");
+  CHECK(lex.parses_to("red to room1", red1));
+  const auto both =
+      sdk::render(sdk::make_seq({sdk::read_canonical(red1), sdk::read_canonical(green2)}));
+  CHECK(lex.parses_to("red to room1; green to room2", both));
+  // `red` packs as $Color; a shape is another sort in this AST, so the spec's hoped-for
+  // `triangle to room1` does not follow from this definition (see the report).
+  CHECK(lex.parse("triangle to room1").empty());
+  CHECK(lex.parses_to("blue to room3",
+                      lex.core("foreach point in world containing item is blue {visit point; "
+                               "pick every item is blue}; visit room3; drop every item is blue")));
+}
+
+TEST_CASE("definition checks: empty head, core head, unparsable body line", "[induction]") {
+  Lexicon lex;
+  auto code_of = [&](const std::string& head, std::vector<std::string> body) {
+    try {
+      lex.define(head, std::move(body));
+    } catch (const sdk::Error& e) {
+      return std::string(e.code()) + ": " + e.what();
+    }
+    return std::string("accepted");
+  };
+  CHECK_THAT(code_of("  ", {"move left"}), Catch::StartsWith("empty_head"));
+  CHECK_THAT(code_of("move left", {"move right"}), Catch::StartsWith("head_is_core"));
+  const auto unparsable = code_of("do it", {"move left", "fly to the moon"});
+  CHECK_THAT(unparsable, Catch::StartsWith("body_unparsable") && Catch::Contains("line 2"));
+  // Redefining a head that parses only through induced rules is allowed.
+  REQUIRE(code_of("go west", {"move left"}) == "accepted");
+  CHECK(code_of("go west", {"move left; move left"}) == "accepted");
+}
+
+TEST_CASE("best_packing_score prefers bodies whose parts the head names", "[induction]") {
+  Lexicon lex;
+  kernel::Inducer inducer(*lex.parser, *lex.scorer);
+  auto prepared = inducer.prepare({"visit red triangle", {"move right"}, "ana", {}}, nullptr);
+  const int n = 3;
+  const auto plain = sdk::read_canonical("{visit {world containing item }}");
+  const auto both =
+      sdk::read_canonical("{visit {world containing item {{is red} and {is triangle}}}}");
+  const auto red = sdk::read_canonical("{visit {world containing item {is red}}}");
+  const double s_plain = kernel::best_packing_score(prepared.head_chart, plain, n);
+  const double s_red = kernel::best_packing_score(prepared.head_chart, red, n);
+  const double s_both = kernel::best_packing_score(prepared.head_chart, both, n);
+  CHECK(s_plain == 0);
+  CHECK(s_red > s_plain);
+  CHECK(s_both > s_red);
+}
