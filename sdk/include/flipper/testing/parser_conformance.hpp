@@ -1,0 +1,84 @@
+#pragma once
+/// @file parser_conformance.hpp
+/// Conformance checks for parser plugins (header-only, Catch2 v2). A plugin's test gives a parser
+/// (with the core grammar set), a scorer and some core-language utterances; it checks that
+/// - each utterance parses, its top candidate is core-only, and that program's canonical text
+///   reads back (read_canonical) to an equal program that is also among the candidates of
+///   parsing the canonical text itself;
+/// - candidates are distinct programs, ordered core first, then by score (desc), and every
+///   candidate's derivations yield its program and span the whole utterance;
+/// - unparsable input (gibberish, empty) gives no candidates and does not throw;
+/// - results depend on the inputs only: parsing twice gives the same programs in the same order
+///   with the same scores.
+
+#include <catch2/catch.hpp>
+#include <string>
+#include <vector>
+
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/parser.hpp"
+
+namespace flipper::testing {
+
+inline sdk::ParseResult conformance_parse(const sdk::Parser& parser, const sdk::Scorer& scorer,
+                                          const std::string& text) {
+  sdk::ParseRequest req;
+  req.tokens = sdk::tokenize(text);
+  req.scorer = &scorer;
+  req.context.user = "conformance";
+  return parser.parse(req);
+}
+
+inline void check_candidate_list(const sdk::ParseResult& r, std::size_t n_tokens) {
+  for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+    const auto& c = r.candidates[i];
+    REQUIRE(c.program != nullptr);
+    REQUIRE_FALSE(c.derivations.empty());
+    for (const auto& d : c.derivations) {
+      CHECK(sdk::equal(d->sem, c.program));
+      CHECK(d->start == 0);
+      CHECK(d->end == static_cast<int>(n_tokens));
+    }
+    for (std::size_t k = 0; k < i; ++k) CHECK_FALSE(sdk::equal(r.candidates[k].program, c.program));
+    if (i > 0) {
+      const auto& p = r.candidates[i - 1];
+      CHECK((p.core_only > c.core_only || (p.core_only == c.core_only && p.score >= c.score)));
+    }
+  }
+}
+
+inline void check_parser_conformance(const sdk::Parser& parser, const sdk::Scorer& scorer,
+                                     const std::vector<std::string>& core_utterances) {
+  for (const auto& u : core_utterances) {
+    INFO("utterance: " << u);
+    sdk::ParseResult r;
+    REQUIRE_NOTHROW(r = conformance_parse(parser, scorer, u));
+    REQUIRE_FALSE(r.candidates.empty());
+    check_candidate_list(r, sdk::tokenize(u).size());
+    const auto& top = r.candidates.front();
+    CHECK(top.core_only);
+    const std::string text = sdk::render(top.program);
+    INFO("canonical: " << text);
+    sdk::Program back;
+    REQUIRE_NOTHROW(back = sdk::read_canonical(text));
+    CHECK(sdk::equal(back, top.program));
+    const auto again = conformance_parse(parser, scorer, text);
+    bool found = false;
+    for (const auto& c : again.candidates) found = found || sdk::equal(c.program, top.program);
+    CHECK(found);
+    const auto twice = conformance_parse(parser, scorer, u);
+    REQUIRE(twice.candidates.size() == r.candidates.size());
+    for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+      CHECK(sdk::equal(twice.candidates[i].program, r.candidates[i].program));
+      CHECK(twice.candidates[i].score == r.candidates[i].score);
+    }
+  }
+  for (const std::string bad : {"", "flibber the gnorp", "move", "visit [1,", "} move left {"}) {
+    INFO("unparsable: '" << bad << "'");
+    sdk::ParseResult r;
+    REQUIRE_NOTHROW(r = conformance_parse(parser, scorer, bad));
+    CHECK(r.candidates.empty());
+  }
+}
+
+}  // namespace flipper::testing
