@@ -22,6 +22,14 @@ sdk::TourResult straight_line_tour(const sdk::Geometry& geometry, Cell start,
   };
   std::sort(unreachable.begin(), unreachable.end(), by_cell);
 
+  if (stop.should_stop(0)) {  // no time to order: reachable points in (x, y, z) order
+    std::sort(todo.begin(), todo.end(), by_cell);
+    result.order = todo;
+    result.order.insert(result.order.end(), unreachable.begin(), unreachable.end());
+    result.status = sdk::PlanStatus::stopped;
+    return result;
+  }
+
   // Nearest neighbour; ties by (x, y, z), then by index.
   std::vector<std::size_t> order;
   order.reserve(todo.size());
