@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+#include "flipper/sdk/params.hpp"
+
 namespace flipper::kernel {
 
 class Config {
@@ -54,6 +56,21 @@ class Config {
 
   /// Sets a key after loading (same syntax and validation as --set).
   void set(const std::string& assignment);
+
+  /// A Path-typed key resolved with resolve_path() ("grammar.file" -> absolute path).
+  std::string get_path(const std::string& key) const;
+  /// Whether a plugin section ("rewriter", "similarity", ...) is present.
+  bool has_section(const std::string& section) const { return has(section + ".plugin"); }
+  /// The plugin name a section selects ("planner" -> "astar"). Throws bad_config when absent.
+  std::string plugin_name(const std::string& section) const {
+    return get_string(section + ".plugin");
+  }
+  /// Validates `<section>.params` against a plugin's declared schema (unknown keys with a hint,
+  /// types, ranges, one_of, required), resolves Path params against base_dir() and fills
+  /// defaults. Throws sdk::Error(bad_config) naming the full key path.
+  sdk::Params plugin_params(const std::string& section, const sdk::ParamSchema& schema) const;
+  /// The plugin sections in schema order: world, planner, parser, scorer, rewriter, similarity.
+  static const std::vector<std::string>& plugin_sections();
 
   /// The effective config as YAML text (defaults included), for run records.
   std::string dump() const;

@@ -1,0 +1,450 @@
+// Config loading: file (or the embedded default) -> --set overrides -> drop nulls -> validate
+// against the kernel schema -> fill defaults -> reorder as the schema lists keys.
+#include "flipper/kernel/config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <charconv>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/param_check.hpp"
+#include "schema.hpp"
+
+namespace flipper::kernel {
+namespace detail {
+extern const char* const kEmbeddedDefaultConfig;  // generated from configs/default.yaml
+}
+
+namespace fs = std::filesystem;
+using detail::KeySpec;
+using detail::KeyType;
+using sdk::Error;
+namespace codes = sdk::codes;
+
+struct Config::Impl {
+  YAML::Node root;  // validated, defaults filled, schema order; never mutated once shared
+  std::string source;
+  std::string base_dir;
+};
+
+namespace {
+
+constexpr const char* kEmbeddedSource = "<embedded default>";
+
+[[noreturn]] void fail(const std::string& message) {
+  throw Error(codes::kBadConfig, message);
+}
+
+std::vector<std::string> split_key(const std::string& key) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = key.find('.', start);
+    out.push_back(key.substr(start, dot - start));
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return out;
+}
+
+// Looks a dotted key up without creating anything (yaml-cpp's Node assignment aliases, so
+// navigation is by recursion over fresh handles).
+std::optional<YAML::Node> lookup(const YAML::Node& node, const std::vector<std::string>& segs,
+                                 std::size_t i = 0) {
+  if (i == segs.size()) return node;
+  if (!node.IsMap()) return std::nullopt;
+  const YAML::Node child = node[segs[i]];
+  if (!child.IsDefined()) return std::nullopt;
+  return lookup(child, segs, i + 1);
+}
+
+void set_path(YAML::Node node, const std::vector<std::string>& segs, std::size_t i,
+              const YAML::Node& value) {
+  if (i + 1 == segs.size()) {
+    node[segs[i]] = value;
+    return;
+  }
+  YAML::Node child = node[segs[i]];
+  if (!child.IsMap()) child = YAML::Node(YAML::NodeType::Map);
+  set_path(child, segs, i + 1, value);
+}
+
+// A null value means "not set": `rewriter: ~` removes the optional section, `--set x=null`
+// restores a default.
+YAML::Node without_nulls(const YAML::Node& n) {
+  if (!n.IsMap()) return n;
+  YAML::Node out(YAML::NodeType::Map);
+  for (const auto& kv : n)
+    if (!kv.second.IsNull()) out[kv.first.Scalar()] = without_nulls(kv.second);
+  return out;
+}
+
+bool is_valid_key(const std::string& key) {
+  if (key.empty() || key.front() == '.' || key.back() == '.' || key.find("..") != std::string::npos)
+    return false;
+  for (char c : key)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
+      return false;
+  return true;
+}
+
+void apply_assignment(YAML::Node& root, const std::string& assignment) {
+  const std::size_t eq = assignment.find('=');
+  const std::string malformed = "malformed --set '" + assignment + "'";
+  if (eq == std::string::npos)
+    fail(malformed + ": expected key.path=value (e.g. --set planner.plugin=astar)");
+  const std::string key = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  if (!is_valid_key(key)) fail(malformed + ": '" + key + "' is not a dotted key path");
+  if (text.empty()) fail(malformed + ": the value is empty (use null to unset a key)");
+  YAML::Node value;
+  try {
+    value = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    fail(malformed + ": the value is not a YAML scalar or flow value (" + e.msg + ")");
+  }
+  if (!root.IsMap()) root = YAML::Node(YAML::NodeType::Map);
+  set_path(root, split_key(key), 0, value);
+}
+
+std::string scalar_text(const YAML::Node& n) {
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsSequence()) return "a list";
+  if (n.IsMap()) return "a map";
+  return "null";
+}
+
+std::optional<std::int64_t> parse_int(const std::string& s) {
+  std::int64_t v = 0;
+  const char* end = s.data() + s.size();
+  auto [p, ec] = std::from_chars(s.data(), end, v);
+  if (ec != std::errc() || p != end) return std::nullopt;
+  return v;
+}
+
+void check_value(const std::string& key, const KeySpec& spec, const YAML::Node& v) {
+  const auto wrong = [&] {
+    fail("config key '" + key + "' must be " + detail::describe(spec.type) + ", got " +
+         scalar_text(v));
+  };
+  switch (spec.type) {
+    case KeyType::Bool: {
+      bool b = false;
+      if (!v.IsScalar() || !YAML::convert<bool>::decode(v, b)) wrong();
+      break;
+    }
+    case KeyType::Int: {
+      const auto x = v.IsScalar() ? parse_int(v.Scalar()) : std::nullopt;
+      if (!x) wrong();
+      const std::string rule(spec.rule);
+      const std::size_t dots = rule.find("..");
+      if (dots != std::string::npos) {
+        const auto lo = parse_int(rule.substr(0, dots));
+        const auto hi = parse_int(rule.substr(dots + 2));
+        if ((lo && *x < *lo) || (hi && *x > *hi))
+          fail("config key '" + key + "' = " + v.Scalar() + " is out of range [" +
+               rule.substr(0, dots) + ", " + rule.substr(dots + 2) + "]");
+      }
+      break;
+    }
+    case KeyType::String:
+    case KeyType::Path: {
+      if (!v.IsScalar()) wrong();
+      if (!spec.rule.empty()) {
+        std::vector<std::string> allowed;
+        const std::string rule(spec.rule);
+        for (std::size_t s = 0, bar;; s = bar + 1) {
+          bar = rule.find('|', s);
+          allowed.push_back(rule.substr(s, bar - s));
+          if (bar == std::string::npos) break;
+        }
+        if (std::find(allowed.begin(), allowed.end(), v.Scalar()) == allowed.end()) {
+          std::string list;
+          for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+          fail("config key '" + key + "' = '" + v.Scalar() + "' must be one of: " + list +
+               sdk::did_you_mean(v.Scalar(), allowed));
+        }
+      }
+      break;
+    }
+    case KeyType::StringList:
+    case KeyType::PathList:
+      if (!v.IsSequence()) wrong();
+      for (const auto& e : v)
+        if (!e.IsScalar())
+          fail("config key '" + key + "' must be " + detail::describe(spec.type) +
+               ", but an element is " + scalar_text(e));
+      break;
+    case KeyType::Map:
+      if (!v.IsMap()) wrong();
+      break;
+  }
+}
+
+void validate(const YAML::Node& node, const std::string& prefix) {
+  if (!node.IsMap()) {
+    if (prefix.empty()) fail("a config must be a YAML map of sections, got " + scalar_text(node));
+    fail("config key '" + prefix + "' must be a map, got " + scalar_text(node));
+  }
+  for (const auto& kv : node) {
+    const std::string name = kv.first.Scalar();
+    const std::string key = prefix.empty() ? name : prefix + "." + name;
+    if (const KeySpec* spec = detail::find_key(key)) {
+      check_value(key, *spec, kv.second);
+    } else if (detail::is_section(key)) {
+      validate(kv.second, key);
+    } else {
+      std::vector<std::string> siblings = detail::child_names(prefix);
+      std::string hint = sdk::did_you_mean(name, siblings);
+      if (!hint.empty() && !prefix.empty()) {
+        // Show the full path in the hint: " (did you mean 'x.y'?)".
+        const std::string lead = " (did you mean '";
+        hint = lead + prefix + "." + hint.substr(lead.size());
+      }
+      fail("unknown config key '" + key + "'" + hint);
+    }
+  }
+}
+
+// Rebuilds the tree in schema order with defaults filled in (so dump() lists everything).
+YAML::Node complete(const YAML::Node& given) {
+  YAML::Node out(YAML::NodeType::Map);
+  for (const auto& spec : detail::kernel_schema()) {
+    const std::string key(spec.path);
+    const auto segs = split_key(key);
+    if (auto v = lookup(given, segs)) {
+      set_path(out, segs, 0, *v);
+      continue;
+    }
+    const bool section_present = segs.size() == 1 || lookup(given, {segs.front()}).has_value();
+    if (spec.optional_section && !section_present) continue;
+    if (spec.required && spec.default_yaml.empty())
+      fail("config section '" + segs.front() + "' is missing its key '" + key + "'");
+    if (!spec.default_yaml.empty())
+      set_path(out, segs, 0, YAML::Load(std::string(spec.default_yaml)));
+  }
+  return out;
+}
+
+std::string default_config_dir() {
+  // The source tree's configs/ when it exists (build tree), else the installed share dir next to
+  // the executable (an installed binary moved away from its sources).
+  const fs::path source_dir = FLIPPER_DEFAULT_CONFIG_DIR;
+  std::error_code ec;
+  if (fs::is_directory(source_dir, ec)) return source_dir.string();
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share/flipper/configs";
+    if (fs::is_directory(installed, ec)) return installed.string();
+  }
+  return source_dir.string();
+}
+
+Config build(YAML::Node root, std::string source, std::string base_dir,
+             const std::vector<std::string>& overrides) {
+  for (const auto& a : overrides) apply_assignment(root, a);
+  if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  const YAML::Node cleaned = without_nulls(root);
+  try {
+    validate(cleaned, "");
+  } catch (const Error& e) {
+    throw Error(e.code(), "config " + source + ": " + e.what());
+  }
+  auto impl = std::make_shared<Config::Impl>();
+  impl->root = complete(cleaned);
+  impl->source = std::move(source);
+  impl->base_dir = std::move(base_dir);
+  return Config(std::move(impl));
+}
+
+YAML::Node parse_yaml(const std::string& text, const std::string& source) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    fail("config " + source + ":" + std::to_string(e.mark.line + 1) + ":" +
+         std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
+}
+
+YAML::Node node_at(const Config::Impl& impl, const std::string& key) {
+  auto v = lookup(impl.root, split_key(key));
+  if (!v) fail("config key '" + key + "' is not set");
+  return *v;
+}
+
+}  // namespace
+
+Config::Config(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Config Config::load(const std::optional<std::string>& file,
+                    const std::vector<std::string>& overrides) {
+  if (!file) {
+    return build(parse_yaml(detail::kEmbeddedDefaultConfig, kEmbeddedSource), kEmbeddedSource,
+                 default_config_dir(), overrides);
+  }
+  std::ifstream in(*file);
+  if (!in) fail("cannot read config file '" + *file + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  const fs::path abs = fs::absolute(*file).lexically_normal();
+  return build(parse_yaml(text.str(), *file), *file, abs.parent_path().string(), overrides);
+}
+
+Config Config::embedded_default() {
+  return load(std::nullopt, {});
+}
+
+const std::string& Config::source() const {
+  return impl_->source;
+}
+const std::string& Config::base_dir() const {
+  return impl_->base_dir;
+}
+
+std::string Config::resolve_path(const std::string& path) const {
+  if (path.empty()) return path;
+  if (path == "~" || path.rfind("~/", 0) == 0) {
+    const char* home = std::getenv("HOME");
+    return (fs::path(home ? home : "") / path.substr(path.size() > 1 ? 2 : 1)).string();
+  }
+  const fs::path p(path);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (fs::path(impl_->base_dir) / p).lexically_normal().string();
+}
+
+bool Config::has(const std::string& key) const {
+  return lookup(impl_->root, split_key(key)).has_value();
+}
+
+std::string Config::get_string(const std::string& key) const {
+  const YAML::Node n = node_at(*impl_, key);
+  if (!n.IsScalar()) fail("config key '" + key + "' is not a string");
+  return n.Scalar();
+}
+
+std::int64_t Config::get_int(const std::string& key) const {
+  const YAML::Node n = node_at(*impl_, key);
+  const auto v = n.IsScalar() ? parse_int(n.Scalar()) : std::nullopt;
+  if (!v) fail("config key '" + key + "' is not an integer");
+  return *v;
+}
+
+double Config::get_double(const std::string& key) const {
+  const YAML::Node n = node_at(*impl_, key);
+  double d = 0;
+  if (!n.IsScalar() || !YAML::convert<double>::decode(n, d))
+    fail("config key '" + key + "' is not a number");
+  return d;
+}
+
+bool Config::get_bool(const std::string& key) const {
+  const YAML::Node n = node_at(*impl_, key);
+  bool b = false;
+  if (!n.IsScalar() || !YAML::convert<bool>::decode(n, b))
+    fail("config key '" + key + "' is not a boolean");
+  return b;
+}
+
+std::vector<std::string> Config::get_string_list(const std::string& key) const {
+  const YAML::Node n = node_at(*impl_, key);
+  if (!n.IsSequence()) fail("config key '" + key + "' is not a list");
+  std::vector<std::string> out;
+  for (const auto& e : n) out.push_back(e.Scalar());
+  return out;
+}
+
+std::string Config::get_path(const std::string& key) const {
+  return resolve_path(get_string(key));
+}
+
+void Config::set(const std::string& assignment) {
+  *this = build(YAML::Clone(impl_->root), impl_->source, impl_->base_dir, {assignment});
+}
+
+std::string Config::dump() const {
+  YAML::Emitter out;
+  out.SetSeqFormat(YAML::Flow);
+  out << impl_->root;
+  return std::string(out.c_str()) + "\n";
+}
+
+const std::vector<std::string>& Config::plugin_sections() {
+  static const std::vector<std::string> kSections = {"world",  "planner",  "parser",
+                                                     "scorer", "rewriter", "similarity"};
+  return kSections;
+}
+
+sdk::Params Config::plugin_params(const std::string& section,
+                                  const sdk::ParamSchema& schema) const {
+  const std::string where = section + ".params";
+  std::map<std::string, sdk::ParamValue> given;
+  if (auto node = lookup(impl_->root, split_key(where))) {
+    for (const auto& kv : *node) {
+      const std::string name = kv.first.Scalar();
+      const YAML::Node& v = kv.second;
+      const sdk::ParamSpec* spec = schema.find(name);
+      const auto wrong = [&](const char* what) {
+        fail("config " + impl_->source + ": parameter '" + where + "." + name + "' must be " +
+             what + ", got " + scalar_text(v));
+      };
+      if (spec == nullptr) {  // unknown: validate_params reports it with a hint
+        given[name] = std::string(v.IsScalar() ? v.Scalar() : "");
+        continue;
+      }
+      switch (spec->type) {
+        case sdk::ParamType::Bool: {
+          bool b = false;
+          if (!v.IsScalar() || !YAML::convert<bool>::decode(v, b)) wrong("a boolean");
+          given[name] = b;
+          break;
+        }
+        case sdk::ParamType::Int: {
+          const auto x = v.IsScalar() ? parse_int(v.Scalar()) : std::nullopt;
+          if (!x) wrong("an integer");
+          given[name] = *x;
+          break;
+        }
+        case sdk::ParamType::Double: {
+          double d = 0;
+          if (!v.IsScalar() || !YAML::convert<double>::decode(v, d)) wrong("a number");
+          given[name] = d;
+          break;
+        }
+        case sdk::ParamType::String:
+          if (!v.IsScalar()) wrong("a string");
+          given[name] = v.Scalar();
+          break;
+        case sdk::ParamType::Path:
+          if (!v.IsScalar()) wrong("a path");
+          given[name] = resolve_path(v.Scalar());
+          break;
+        case sdk::ParamType::StringList: {
+          if (!v.IsSequence()) wrong("a list of strings");
+          std::vector<std::string> list;
+          for (const auto& e : v) {
+            if (!e.IsScalar()) wrong("a list of strings");
+            list.push_back(e.Scalar());
+          }
+          given[name] = std::move(list);
+          break;
+        }
+      }
+    }
+  }
+  try {
+    sdk::Params params = sdk::validate_params(schema, given, where);
+    // Path defaults are relative to the config too.
+    for (const auto& spec : schema.params)
+      if (spec.type == sdk::ParamType::Path && !given.count(spec.name) && params.has(spec.name))
+        params.set(spec.name, resolve_path(params.get_string(spec.name)));
+    return params;
+  } catch (const Error& e) {
+    throw Error(e.code(), "config " + impl_->source + ": " + e.what());
+  }
+}
+
+}  // namespace flipper::kernel
