@@ -23,10 +23,21 @@ class AStarPlanner final : public sdk::Planner {
                     ? static_cast<std::uint64_t>(p.get_int("max_expansions"))
                     : std::numeric_limits<std::uint64_t>::max()),
         two_opt_(!p.has("two_opt") || p.get_bool("two_opt")),
-        or_opt_(!p.has("or_opt") || p.get_bool("or_opt")) {}
+        or_opt_(!p.has("or_opt") || p.get_bool("or_opt")),
+        manhattan_(p.has("heuristic") && p.get_string("heuristic") == "manhattan") {
+    if (p.has("heuristic") && !manhattan_ && p.get_string("heuristic") != "none")
+      throw sdk::Error(
+          sdk::codes::kBadConfig,
+          "astar: heuristic must be none or manhattan, not \"" + p.get_string("heuristic") + "\"");
+  }
 
   static sdk::ParamSchema schema() {
     sdk::ParamSchema s;
+    s.add_string("heuristic", "none",
+                 "none: breadth-first search, paths follow the core language's tie rule; "
+                 "manhattan: A* for single-cell goals, equally short paths but possibly a "
+                 "different one of several shortest paths",
+                 {"none", "manhattan"});
     s.add_int("max_expansions", 0,
               "expansion budget per search, on top of the caller's stop condition (0: none)", 0);
     s.add_bool("two_opt", true, "improve tours with 2-opt moves");
@@ -56,6 +67,8 @@ class AStarPlanner final : public sdk::Planner {
       return r;
     }
     if (req.avoid != nullptr) search_.block(*req.avoid, req.start);
+    if (manhattan_ && req.goals->size() == 1)
+      return search_.shortest_path_astar(req.start, req.goals->front(), stop, budget_);
     return search_.shortest_path(req.start, *req.goals, stop, budget_);
   }
 
@@ -156,6 +169,7 @@ class AStarPlanner final : public sdk::Planner {
   std::uint64_t budget_;
   bool two_opt_;
   bool or_opt_;
+  bool manhattan_;
   mutable std::mutex mutex_;
   mutable GridSearch search_;
 };

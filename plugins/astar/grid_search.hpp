@@ -1,8 +1,10 @@
 #pragma once
-// Breadth-first search over a Geometry's free cells, on flat arrays that are reused between calls.
-// The free mask is copied into a grid padded with blocked cells, so neighbour steps are plain
-// index offsets with no bounds checks; visited marks are generation stamps, so nothing is cleared
-// between searches. Not thread-safe: one GridSearch serves one call at a time.
+// Breadth-first search over a Geometry's free cells, on flat arrays reused between calls.
+// One byte per cell holds everything the search reads in its inner loop: blocked / free /
+// visited-from-direction-k, plus goal and target flags. The free mask is copied into a grid
+// padded with blocked cells, so neighbour steps are plain index offsets with no bounds checks,
+// and parents are recovered from the stored direction. Not thread-safe: one GridSearch serves
+// one call at a time (the planner serialises calls).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -14,11 +16,16 @@ namespace flipper::plugins::astar {
 class GridSearch {
  public:
   /// Copies `g`'s free mask into the padded grid (every free cell passable). False if the
-  /// padded grid would not fit 32-bit indexes.
+  /// padded grid would not fit 32-bit indexes or the neighbourhood has more than 6 offsets.
   bool prepare(const sdk::Geometry& g);
   /// Makes the cells of `avoid` impassable, except `exempt` (the start cell).
   void block(const sdk::Area& avoid, sdk::Cell exempt);
 
+  /// Whether `c` lies inside the geometry's box.
+  bool in_box(sdk::Cell c) const {
+    return c.x >= min_.x && c.y >= min_.y && c.z >= min_.z && c.x <= max_.x && c.y <= max_.y &&
+           c.z <= max_.z;
+  }
   std::uint32_t index(sdk::Cell c) const {
     return static_cast<std::uint32_t>(
         (c.x - min_.x + pad_.x) +
@@ -26,42 +33,65 @@ class GridSearch {
   }
   sdk::Cell cell(std::uint32_t i) const;
 
-  /// Shortest path from `start` (in bounds) to the nearest free cell of `goals` (ties: smallest
-  /// cell), following BFS parents with neighbours in offset order.
+  /// Whether a path search has used the grid since prepare() (then prepare() again first).
+  bool dirty() const { return dirty_; }
+
+  /// Shortest path from `start` (in the box) to the nearest free cell of `goals` (ties:
+  /// smallest cell), following BFS parents with neighbours in offset order.
   sdk::PathResult shortest_path(sdk::Cell start, const sdk::Area& goals,
                                 const sdk::StopCondition& stop, std::uint64_t budget);
 
-  /// Tour support: marks `cells` as targets 0..n-1 (cells must be in bounds).
+  /// As shortest_path, but for a single goal cell, searched by A* with the Manhattan distance
+  /// as heuristic: the path is as short, but where several shortest paths exist it may differ
+  /// from the breadth-first one (the tie rule of core-language §8 does not hold).
+  sdk::PathResult shortest_path_astar(sdk::Cell start, sdk::Cell goal,
+                                      const sdk::StopCondition& stop, std::uint64_t budget);
+
+  /// Tour support: marks `cells` (in the box) as targets 0..n-1.
   void set_targets(const std::vector<sdk::Cell>& cells);
   void clear_targets();
-  /// BFS from target `source` (or from `from` when source < 0); writes the distance to every
-  /// target reached into row[target] (others left untouched) and stops once every target with an
-  /// id greater than `source` has been reached. Returns false if `stop` fired.
+  /// BFS from `from`, which is target `source` (or no target when source < 0); writes the
+  /// distance to every target reached into row[target] (others left untouched) and stops once
+  /// every target with an id greater than `source` has been reached. False if `stop` fired.
   bool distances(sdk::Cell from, int source, std::int32_t* row, const sdk::StopCondition& stop,
                  std::uint64_t budget, std::uint64_t& expansions);
 
  private:
+  // Cell state bits. The low three bits: 0 blocked, 1 free and not yet reached, 2 + k reached
+  // through neighbour offset k.
+  static constexpr std::uint8_t kBlocked = 0, kOpen = 1, kReachedBase = 2, kStateMask = 7;
+  static constexpr std::uint8_t kGoal = 8, kTarget = 16, kClosed = 32;
+
   bool should_stop(std::uint64_t expansions, const sdk::StopCondition& stop,
                    std::uint64_t budget) const {
     // The clock and the cancel flag are polled every 1024 expansions; budgets are exact.
     return expansions >= budget || expansions >= stop.max_expansions ||
            ((expansions & 1023u) == 0 && stop.should_stop(expansions));
   }
-  std::uint32_t next_generation();
+  /// Puts every cell the last search reached back to kOpen (cheaper than a fresh copy).
+  void reset_reached();
+  // The search loops, specialised on the neighbour count (K = 0: any count).
+  template <int K>
+  bool bfs_to_goals(std::uint32_t s, const sdk::StopCondition& stop, std::uint64_t budget,
+                    std::uint32_t& best, bool& found, std::uint64_t& expansions);
+  template <int K>
+  bool bfs_distances(std::uint32_t s, int source, std::size_t wanted, std::int32_t* row,
+                     const sdk::StopCondition& stop, std::uint64_t budget,
+                     std::uint64_t& expansions);
 
-  sdk::Cell min_{};
+  sdk::Cell min_{}, max_{};
   sdk::Cell pad_{};
   std::int64_t px_ = 0, py_ = 0, pz_ = 0;
   std::vector<std::int64_t> deltas_;
-  std::vector<std::uint8_t> passable_;
-  std::vector<std::uint32_t> seen_;  // == generation_ when visited in the current search
-  std::uint32_t generation_ = 0;
-  std::vector<std::uint32_t> parent_;
-  std::vector<std::uint8_t> goal_;
-  std::vector<std::int32_t> target_;       // target id per cell, -1 if none
-  std::vector<std::uint32_t> goal_cells_;  // cells set in goal_, to reset them cheaply
-  std::vector<std::uint32_t> marked_;      // cells set in target_
-  std::vector<std::uint32_t> queue_;
+  std::vector<std::uint8_t> state_;
+  std::vector<std::uint32_t> goal_cells_;    // cells flagged kGoal
+  std::vector<std::uint32_t> target_cells_;  // cells flagged kTarget, by target id
+  std::vector<std::uint32_t> queue_;         // one slot per cell; [0, queue_len_) = cells reached
+  std::size_t queue_len_ = 0;
+  bool dirty_ = true;  // a path search left marks behind: prepare() before the next search
+  std::vector<std::int32_t> target_id_;              // valid where kTarget is set
+  std::vector<std::uint32_t> g_;                     // A*: path length, valid where reached
+  std::vector<std::vector<std::uint32_t>> buckets_;  // A*: open cells by f - f(start)
 };
 
 }  // namespace flipper::plugins::astar

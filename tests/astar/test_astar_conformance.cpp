@@ -10,3 +10,7 @@ FLIPPER_PLANNER_CONFORMANCE("astar", [] { return testsupport::astar(); })
 FLIPPER_PLANNER_CONFORMANCE("astar without tour improvement", [] {
   return testsupport::astar(sdk::Params({{"two_opt", false}, {"or_opt", false}}));
 })
+
+FLIPPER_PLANNER_CONFORMANCE("astar with the manhattan heuristic", [] {
+  return testsupport::astar(sdk::Params({{"heuristic", std::string("manhattan")}}));
+})

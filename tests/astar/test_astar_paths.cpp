@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "astar_support.hpp"
+#include "flipper/sdk/errors.hpp"
 
 using namespace flipper;
 using sdk::Cell;
@@ -114,4 +115,21 @@ TEST_CASE("paths in a 3-D world use its six neighbours", "[astar][3d]") {
   REQUIRE(t.status == sdk::PlanStatus::found);
   REQUIRE(t.path.size() == 3);
   REQUIRE(t.target == Cell{1, 1, 1});
+}
+
+TEST_CASE("the manhattan heuristic finds equally short paths to single cells", "[astar]") {
+  auto bfs = testsupport::astar();
+  auto astar = testsupport::astar(sdk::Params({{"heuristic", std::string("manhattan")}}));
+  const auto& w = testsupport::study_map();
+  for (const Cell& from : w.geometry->free_cells())
+    for (const Cell& to : {Cell{9, 8, 0}, Cell{0, 0, 0}, Cell{11, 1, 0}}) {
+      const sdk::Area goal{to};
+      const auto a = astar->plan(*w.geometry, {from, &goal, nullptr}, sdk::StopCondition{});
+      const auto b = bfs->plan(*w.geometry, {from, &goal, nullptr}, sdk::StopCondition{});
+      REQUIRE(a.status == sdk::PlanStatus::found);
+      REQUIRE(a.path.size() == b.path.size());
+      REQUIRE(a.expansions <= b.expansions + 1);
+    }
+  REQUIRE_THROWS_AS(testsupport::astar(sdk::Params({{"heuristic", std::string("euclid")}})),
+                    sdk::Error);
 }
