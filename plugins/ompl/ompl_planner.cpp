@@ -11,7 +11,8 @@
 //   grid searches where the straight line cut a corner. Not shortest: traits().optimal is false.
 // - Tour: nearest neighbour + 2-opt on straight-line distances (see tour.hpp).
 // - Determinism: with a non-zero seed OMPL is reseeded before every request, so rrtconnect, rrt
-//   and rrtstar (which stops on an iteration budget) repeat exactly; prm grows its roadmap on
+//   and rrtstar (which refines for a counted number of iterations) repeat exactly, as long as
+//   they finish within the time budget; prm grows its roadmap on
 //   two threads and is never deterministic.
 #include <ompl/util/Console.h>
 
@@ -64,7 +65,9 @@ class OmplPlanner final : public sdk::Planner {
     s.add_int("time_budget_ms", 500, "time budget per path request (ms)", 1, 600000);
     s.add_double("range", 0.0, "maximum motion length in cells (0: OMPL's default)", 0, 1e6);
     s.add_int("seed", 1, "random seed; 0 = unseeded (non-deterministic)", 0, 4294967295.0);
-    s.add_int("iterations", 2000, "rrtstar: iteration budget (0: time budget only)", 0, 1e8);
+    s.add_int("iterations", 500,
+              "rrtstar: refinement iterations after the first solution (0: until the time budget)",
+              0, 1e8);
     s.add_bool("simplify", true, "simplify the sampled path before snapping it to cells");
     return s;
   }
@@ -73,9 +76,9 @@ class OmplPlanner final : public sdk::Planner {
   sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& request,
                           const sdk::StopCondition& stop) const override {
     sdk::PathResult r;
-    if (request.goals == nullptr) {
+    if (request.goals == nullptr || request.goals->empty()) {
       r.status = PlanStatus::invalid;
-      r.message = "no goal set given";
+      r.message = "the goal set is empty";
       return r;
     }
     if (stop.should_stop(0)) {

@@ -217,18 +217,24 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
   // Stops on the caller's condition (deadline, cancel, expansion budget counted in planner
   // iterations), on the own time budget, and for RRT* on its iteration budget.
   const auto own_deadline = std::chrono::steady_clock::now() + settings.time_budget;
-  // Atomics: PRM evaluates the condition from two threads.
-  std::atomic<std::uint64_t> evaluations{0};
-  std::atomic<bool> caller_stopped{false}, own_timeout{false};
-  const std::uint64_t iteration_cap =
-      settings.algorithm == Algorithm::rrtstar && settings.iterations > 0
-          ? settings.iterations
-          : std::numeric_limits<std::uint64_t>::max();
+  // Atomics: PRM evaluates the condition from two threads. RRT* is anytime: after its first
+  // solution it refines for `iterations` more iterations (counted, not timed, so a seeded run
+  // repeats exactly); before that only the time budget and the caller stop it.
+  std::atomic<std::uint64_t> evaluations{0}, first_solution_at{0};
+  std::atomic<bool> caller_stopped{false};
+  const bool refine = settings.algorithm == Algorithm::rrtstar && settings.iterations > 0;
+  if (refine)
+    pdef->setIntermediateSolutionCallback(
+        [&](const ob::Planner*, const std::vector<const ob::State*>&, const ob::Cost&) {
+          std::uint64_t none = 0;
+          first_solution_at.compare_exchange_strong(none, evaluations.load());
+        });
   ob::PlannerTerminationCondition ptc([&] {
     const std::uint64_t n = ++evaluations;
     if (stop.should_stop(n)) return caller_stopped = true;
-    if (std::chrono::steady_clock::now() >= own_deadline) return own_timeout = true;
-    return n >= iteration_cap;
+    if (std::chrono::steady_clock::now() >= own_deadline) return true;
+    const std::uint64_t first = first_solution_at.load();
+    return refine && first > 0 && n - first >= settings.iterations;
   });
   planner->solve(ptc);
 
@@ -243,8 +249,7 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
     } else {
       out.status = sdk::PlanStatus::no_path;
       out.message = std::string("no path found by ") + algorithm_name(settings.algorithm) +
-                    (own_timeout ? " within " + std::to_string(settings.time_budget.count()) + " ms"
-                                 : " within its iteration budget");
+                    " within " + std::to_string(settings.time_budget.count()) + " ms";
     }
     return out;
   }

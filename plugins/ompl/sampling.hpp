@@ -19,9 +19,10 @@ enum class Algorithm { rrtconnect, rrt, prm, rrtstar };
 struct SamplingSettings {
   Algorithm algorithm = Algorithm::rrtconnect;
   std::chrono::milliseconds time_budget{500};
-  double range = 0;                 ///< maximum motion length in cells; 0 = OMPL's default
-  std::uint32_t seed = 1;           ///< 0 = not reseeded (non-deterministic)
-  std::uint32_t iterations = 2000;  ///< rrtstar: iteration budget (anytime planner); 0 = time only
+  double range = 0;        ///< maximum motion length in cells; 0 = OMPL's default
+  std::uint32_t seed = 1;  ///< 0 = not reseeded (non-deterministic)
+  std::uint32_t iterations =
+      500;  ///< rrtstar: refinement iterations after the first solution; 0 = time only
   bool simplify = true;
 };
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/world.hpp"
 #include "plugin_fixture.hpp"
 

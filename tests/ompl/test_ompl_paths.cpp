@@ -1,0 +1,164 @@
+#include <catch2/catch.hpp>
+
+#include "flipper/sdk/errors.hpp"
+#include "flipper/testing/planner_conformance.hpp"
+#include "space_worlds.hpp"
+
+using namespace flipper;
+using sdk::Cell;
+
+namespace {
+
+std::shared_ptr<sdk::Planner> ompl(const sdk::Params& p = {}) {
+  return testsupport::load_plugin<sdk::Planner>("ompl", p);
+}
+
+// Every step is a neighbour step into a free, non-avoided cell, and (3-D) the body can make it.
+void check_snapped(const sdk::Geometry& g, const sdk::PathRequest& req, const sdk::PathResult& r) {
+  testing::check_path_shape(g, req, r);
+  if (const sdk::ContinuousSpace* space = g.continuous()) {
+    Cell at = req.start;
+    for (const Cell& c : r.path) {
+      const double a[3] = {double(at.x), double(at.y), double(at.z)};
+      const double b[3] = {double(c.x), double(c.y), double(c.z)};
+      REQUIRE(space->is_state_valid(b));
+      REQUIRE(space->is_motion_valid(a, b));
+      at = c;
+    }
+  }
+}
+
+// 2-D mask: a 12 x 9 box with a wall x = 6 (y 0..7) open only at the top row y = 8.
+std::shared_ptr<const sdk::Geometry> u_turn() {
+  std::vector<std::uint8_t> mask(12 * 9, 1);
+  for (int y = 0; y <= 7; ++y) mask[static_cast<std::size_t>(6 + 12 * y)] = 0;
+  return std::make_shared<const sdk::Geometry>(
+      2, Cell{0, 0, 0}, Cell{11, 8, 0}, std::move(mask),
+      std::vector<Cell>{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}},
+      std::vector<std::pair<std::string, Cell>>{});
+}
+
+}  // namespace
+
+TEST_CASE("ompl: 3-D path between floors is snapped, connected and collision-free", "[ompl]") {
+  const sdk::WorldState s = testsupport::two_floors();
+  auto planner = ompl();
+  const sdk::PathRequest req{s.robot, &s.rooms->at("room4"), nullptr};
+  const sdk::PathResult r = planner->plan(*s.geometry, req, sdk::StopCondition{});
+  INFO(r.message);
+  check_snapped(*s.geometry, req, r);
+  // The goal is the nearest room4 cell by straight line: (1,5,2), sqrt(20) away.
+  REQUIRE(r.target == Cell{1, 5, 2});
+  REQUIRE(r.path.size() >= 23);  // never shorter than the BFS optimum
+  REQUIRE(std::find(r.path.begin(), r.path.end(), Cell{8, 1, 1}) != r.path.end());
+  REQUIRE(r.expansions > 0);
+}
+
+TEST_CASE("ompl: the avoid set is an obstacle; the start is exempt", "[ompl]") {
+  const auto g = u_turn();
+  auto planner = ompl();
+  // Avoid row y = 7 left of the wall except at x = 5: the way up to the opening (6,8) is the
+  // one lane (5,7).
+  sdk::Area avoid;
+  for (int x = 0; x <= 4; ++x) avoid.push_back({x, 7, 0});
+  sdk::areas::normalize(avoid);
+  const sdk::Area goal{{9, 1, 0}};
+  const sdk::PathRequest req{{1, 1, 0}, &goal, &avoid};
+  const sdk::PathResult r = planner->plan(*g, req, sdk::StopCondition{});
+  check_snapped(*g, req, r);
+  REQUIRE(r.path.size() >= 22);  // around the wall: up to y = 8 and back down
+  REQUIRE(std::find(r.path.begin(), r.path.end(), Cell{5, 7, 0}) != r.path.end());
+  // Start inside the avoid set: still allowed to leave it.
+  const sdk::PathRequest from_inside{{2, 7, 0}, &goal, &avoid};
+  const sdk::PathResult left = planner->plan(*g, from_inside, sdk::StopCondition{});
+  check_snapped(*g, from_inside, left);
+  // Blocking the only opening makes it infeasible: a status, at once, with a message.
+  sdk::Area gate{{6, 8, 0}};
+  const sdk::PathResult none = planner->plan(*g, {{1, 1, 0}, &goal, &gate}, sdk::StopCondition{});
+  REQUIRE(none.status == sdk::PlanStatus::no_path);
+  REQUIRE(none.message.find("reachable") != std::string::npos);
+}
+
+TEST_CASE("ompl: on the 3-D world, avoiding room2 leaves floor 1 unreachable", "[ompl]") {
+  const sdk::WorldState s = testsupport::two_floors();
+  const sdk::PathResult r = ompl()->plan(
+      *s.geometry, {s.robot, &s.rooms->at("room4"), &s.rooms->at("room2")}, sdk::StopCondition{});
+  REQUIRE(r.status == sdk::PlanStatus::no_path);
+  REQUIRE(!r.message.empty());
+}
+
+TEST_CASE("ompl: a goal inside the avoid set is not a goal unless it is the start", "[ompl]") {
+  const auto g = u_turn();
+  const sdk::Area goal{{2, 2, 0}};
+  sdk::PathResult r = ompl()->plan(*g, {{1, 1, 0}, &goal, &goal}, sdk::StopCondition{});
+  REQUIRE(r.status == sdk::PlanStatus::no_path);
+  REQUIRE(r.message.find("avoid") != std::string::npos);
+  const sdk::Area self{{1, 1, 0}};
+  r = ompl()->plan(*g, {{1, 1, 0}, &self, &self}, sdk::StopCondition{});
+  REQUIRE(r.status == sdk::PlanStatus::found);
+  REQUIRE(r.path.empty());
+}
+
+TEST_CASE("ompl: the same seed gives the same path; traits follow the seed", "[ompl]") {
+  const sdk::WorldState s = testsupport::two_floors();
+  const sdk::PathRequest req{s.robot, &s.rooms->at("room4"), nullptr};
+  for (const char* name : {"rrtconnect", "rrt", "rrtstar"}) {
+    INFO(name);
+    // RRT* checks many motions per iteration with FCL: it needs more time for the shaft.
+    const sdk::Params p({{"planner", std::string(name)},
+                         {"seed", std::int64_t{7}},
+                         {"time_budget_ms", std::int64_t{10000}}});
+    auto a = ompl(p);
+    auto b = ompl(p);
+    REQUIRE(a->traits().deterministic);
+    const auto ra = a->plan(*s.geometry, req, sdk::StopCondition{});
+    const auto rb = b->plan(*s.geometry, req, sdk::StopCondition{});
+    INFO(ra.message);
+    REQUIRE(ra.status == sdk::PlanStatus::found);
+    REQUIRE(ra.path == rb.path);
+    REQUIRE(a->plan(*s.geometry, req, sdk::StopCondition{}).path == ra.path);
+  }
+  REQUIRE_FALSE(ompl(sdk::Params({{"seed", std::int64_t{0}}}))->traits().deterministic);
+  REQUIRE_FALSE(ompl(sdk::Params({{"planner", std::string("prm")}}))->traits().deterministic);
+  const auto t = ompl()->traits();
+  REQUIRE(t.supports_2d);
+  REQUIRE(t.supports_3d);
+  REQUIRE_FALSE(t.optimal);
+}
+
+TEST_CASE("ompl: an expansion budget of one stops the planner", "[ompl]") {
+  const sdk::WorldState s = testsupport::two_floors();
+  sdk::StopCondition stop;
+  stop.max_expansions = 1;
+  const auto r = ompl()->plan(*s.geometry, {s.robot, &s.rooms->at("room4"), nullptr}, stop);
+  REQUIRE(r.status == sdk::PlanStatus::stopped);
+  REQUIRE(!r.message.empty());
+}
+
+TEST_CASE("ompl: study world (grid2d), core-language example 6", "[ompl][grid2d]") {
+  auto world = testsupport::load_plugin<sdk::World>("grid2d");
+  const sdk::WorldState s =
+      world->load(testsupport::read_text(testsupport::worlds_dir() + "/study2018.json"),
+                  testsupport::worlds_dir());
+  auto planner = ompl();
+  const sdk::Area target{{9, 8, 0}};
+  const sdk::Area& room3 = s.rooms->at("room3");
+  // From (2,4), inside room3, every neighbour is in room3: infeasible.
+  REQUIRE(planner->plan(*s.geometry, {{2, 4, 0}, &target, &room3}, sdk::StopCondition{}).status ==
+          sdk::PlanStatus::no_path);
+  // From (7,7) it works without touching room3.
+  const sdk::PathRequest req{{7, 7, 0}, &target, &room3};
+  check_snapped(*s.geometry, req, planner->plan(*s.geometry, req, sdk::StopCondition{}));
+  // Without avoid set, anywhere to anywhere free on the map.
+  testing::check_random_requests(*planner, *s.geometry, 5, 40);
+}
+
+TEST_CASE("ompl: bad parameters are bad_config", "[ompl]") {
+  try {
+    (void)ompl(sdk::Params({{"planner", std::string("astar")}}));
+    FAIL("accepted");
+  } catch (const sdk::Error& e) {
+    REQUIRE(e.code() == sdk::codes::kBadConfig);
+    REQUIRE(std::string(e.what()).find("astar") != std::string::npos);
+  }
+}
