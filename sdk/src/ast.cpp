@@ -70,6 +70,8 @@ constexpr KindInfo kKinds[] = {
     {Kind::Direction, Sort::Direction, "Direction"},
     {Kind::Color, Sort::Color, "Color"},
     {Kind::Shape, Sort::Shape, "Shape"},
+    {Kind::ItemAct, Sort::ItemAct, "ItemAct"},
+    {Kind::ItemAction, Sort::Action, "ItemAction"},
     {Kind::Hole, Sort::Action, "Hole"},
 };
 
@@ -101,7 +103,8 @@ void expect(Kind kind, const std::vector<Program>& kids,
     if (ok) return;
   }
   std::string got;
-  for (const auto& k : kids) got += std::string(got.empty() ? "" : ", ") + (k ? sort_name(k->sort) : "null");
+  for (const auto& k : kids)
+    got += std::string(got.empty() ? "" : ", ") + (k ? sort_name(k->sort) : "null");
   misuse(kind, "unexpected operands (" + got + ")");
 }
 
@@ -114,52 +117,115 @@ void expect_all(Kind kind, const std::vector<Program>& kids, Sort s, std::size_t
 void check(Kind kind, const std::vector<Program>& kids) {
   using S = Sort;
   switch (kind) {
-    case Kind::Seq: expect_all(kind, kids, S::Action, 2); break;
+    case Kind::Seq:
+      expect_all(kind, kids, S::Action, 2);
+      break;
     case Kind::Strict:
-    case Kind::Possible: expect(kind, kids, {{S::Action}}); break;
-    case Kind::Move: expect(kind, kids, {{S::Direction}}); break;
-    case Kind::VisitPoint: expect(kind, kids, {{S::Point}, {S::Point, S::Area}}); break;
-    case Kind::VisitArea: expect(kind, kids, {{S::Area}, {S::Area, S::Area}}); break;
+    case Kind::Possible:
+      expect(kind, kids, {{S::Action}});
+      break;
+    case Kind::Move:
+      expect(kind, kids, {{S::Direction}});
+      break;
+    case Kind::VisitPoint:
+      expect(kind, kids, {{S::Point}, {S::Point, S::Area}});
+      break;
+    case Kind::VisitArea:
+      expect(kind, kids, {{S::Area}, {S::Area, S::Area}});
+      break;
     case Kind::VisitCollection:
       expect(kind, kids, {{S::Collection}, {S::Collection, S::Area}});
       break;
     case Kind::Pick:
-    case Kind::Drop: expect(kind, kids, {{S::CountedItem}}); break;
-    case Kind::ForeachPoint: expect(kind, kids, {{S::Area, S::Action}}); break;
-    case Kind::ForeachArea: expect(kind, kids, {{S::Collection, S::Action}}); break;
-    case Kind::Repeat: expect(kind, kids, {{S::Number, S::Action}}); break;
+    case Kind::Drop:
+      expect(kind, kids, {{S::CountedItem}});
+      break;
+    case Kind::ForeachPoint:
+      expect(kind, kids, {{S::Area, S::Action}});
+      break;
+    case Kind::ForeachArea:
+      expect(kind, kids, {{S::Collection, S::Action}});
+      break;
+    case Kind::Repeat:
+      expect(kind, kids, {{S::Number, S::Action}});
+      break;
     case Kind::If:
-    case Kind::While: expect(kind, kids, {{S::Condition, S::Action}}); break;
+    case Kind::While:
+      expect(kind, kids, {{S::Condition, S::Action}});
+      break;
     case Kind::CondAnd:
-    case Kind::CondOr: expect(kind, kids, {{S::Condition, S::Condition}}); break;
-    case Kind::CondNot: expect(kind, kids, {{S::Condition}}); break;
-    case Kind::ItemAtPoint: expect(kind, kids, {{S::Item, S::Point}}); break;
-    case Kind::ItemAtArea: expect(kind, kids, {{S::Item, S::Area}}); break;
-    case Kind::RobotHas: expect(kind, kids, {{S::Item}}); break;
-    case Kind::RobotAtPoint: expect(kind, kids, {{S::Point}}); break;
-    case Kind::RobotAtArea: expect(kind, kids, {{S::Area}}); break;
+    case Kind::CondOr:
+      expect(kind, kids, {{S::Condition, S::Condition}});
+      break;
+    case Kind::CondNot:
+      expect(kind, kids, {{S::Condition}});
+      break;
+    case Kind::ItemAtPoint:
+      expect(kind, kids, {{S::Item, S::Point}});
+      break;
+    case Kind::ItemAtArea:
+      expect(kind, kids, {{S::Item, S::Area}});
+      break;
+    case Kind::RobotHas:
+      expect(kind, kids, {{S::Item}});
+      break;
+    case Kind::RobotAtPoint:
+      expect(kind, kids, {{S::Point}});
+      break;
+    case Kind::RobotAtArea:
+      expect(kind, kids, {{S::Area}});
+      break;
     case Kind::PointXY:
       expect(kind, kids, {{S::Number, S::Number}, {S::Number, S::Number, S::Number}});
       break;
-    case Kind::PointList: expect_all(kind, kids, S::Point, 1); break;
-    case Kind::Corners: expect(kind, kids, {{S::Point, S::Point}}); break;
+    case Kind::PointList:
+      expect_all(kind, kids, S::Point, 1);
+      break;
+    case Kind::Corners:
+      expect(kind, kids, {{S::Point, S::Point}});
+      break;
     case Kind::AreaOr:
     case Kind::AreaAnd:
-    case Kind::AreaMinus: expect(kind, kids, {{S::Area, S::Area}}); break;
-    case Kind::AreaContaining: expect(kind, kids, {{S::Area, S::Item}}); break;
-    case Kind::AreaList: expect_all(kind, kids, S::Area, 1); break;
+    case Kind::AreaMinus:
+      expect(kind, kids, {{S::Area, S::Area}});
+      break;
+    case Kind::AreaContaining:
+      expect(kind, kids, {{S::Area, S::Item}});
+      break;
+    case Kind::AreaList:
+      expect_all(kind, kids, S::Area, 1);
+      break;
     case Kind::CollOr:
     case Kind::CollAnd:
-    case Kind::CollMinus: expect(kind, kids, {{S::Collection, S::Collection}}); break;
-    case Kind::CollContaining: expect(kind, kids, {{S::Collection, S::Item}}); break;
-    case Kind::Item: expect(kind, kids, {{}, {S::Filter}}); break;
-    case Kind::Every: expect(kind, kids, {{S::Item}}); break;
-    case Kind::FilterIs: expect(kind, kids, {{S::Color}, {S::Shape}}); break;
+    case Kind::CollMinus:
+      expect(kind, kids, {{S::Collection, S::Collection}});
+      break;
+    case Kind::CollContaining:
+      expect(kind, kids, {{S::Collection, S::Item}});
+      break;
+    case Kind::Item:
+      expect(kind, kids, {{}, {S::Filter}});
+      break;
+    case Kind::Every:
+      expect(kind, kids, {{S::Item}});
+      break;
+    case Kind::FilterIs:
+      expect(kind, kids, {{S::Color}, {S::Shape}});
+      break;
     case Kind::FilterAnd:
-    case Kind::FilterOr: expect(kind, kids, {{S::Filter, S::Filter}}); break;
-    case Kind::FilterNot: expect(kind, kids, {{S::Filter}}); break;
+    case Kind::FilterOr:
+      expect(kind, kids, {{S::Filter, S::Filter}});
+      break;
+    case Kind::FilterNot:
+      expect(kind, kids, {{S::Filter}});
+      break;
     case Kind::Add:
-    case Kind::Sub: expect(kind, kids, {{S::Number, S::Number}}); break;
+    case Kind::Sub:
+      expect(kind, kids, {{S::Number, S::Number}});
+      break;
+    case Kind::ItemAction:
+      expect(kind, kids, {{S::ItemAct, S::CountedItem}});
+      break;
     case Kind::Current:
     case Kind::PointVar:
     case Kind::World:
@@ -172,11 +238,15 @@ void check(Kind kind, const std::vector<Program>& kids) {
     case Kind::Color:
     case Kind::Shape:
     case Kind::Room:
-    case Kind::Hole: misuse(kind, "is a leaf; use make_num/make_word/make_hole");
+    case Kind::ItemAct:
+    case Kind::Hole:
+      misuse(kind, "is a leaf; use make_num/make_word/make_hole");
   }
 }
 
-inline void mix(std::size_t& h, std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); }
+inline void mix(std::size_t& h, std::size_t v) {
+  h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+}
 
 Program finish(Node n) {
   std::size_t h = static_cast<std::size_t>(n.kind) * 1315423911u + static_cast<std::size_t>(n.sort);
@@ -195,23 +265,41 @@ Program finish(Node n) {
 
 }  // namespace
 
-Sort sort_of(Kind kind) { return kKinds[static_cast<std::size_t>(kind)].sort; }
-const char* kind_name(Kind kind) { return kKinds[static_cast<std::size_t>(kind)].name; }
+Sort sort_of(Kind kind) {
+  return kKinds[static_cast<std::size_t>(kind)].sort;
+}
+const char* kind_name(Kind kind) {
+  return kKinds[static_cast<std::size_t>(kind)].name;
+}
 
 const char* sort_name(Sort sort) {
   switch (sort) {
-    case Sort::Action: return "Action";
-    case Sort::Condition: return "Condition";
-    case Sort::Point: return "Point";
-    case Sort::Area: return "Area";
-    case Sort::Collection: return "Collection";
-    case Sort::Item: return "Item";
-    case Sort::CountedItem: return "CountedItem";
-    case Sort::Filter: return "Filter";
-    case Sort::Number: return "Number";
-    case Sort::Direction: return "Direction";
-    case Sort::Color: return "Color";
-    case Sort::Shape: return "Shape";
+    case Sort::Action:
+      return "Action";
+    case Sort::Condition:
+      return "Condition";
+    case Sort::Point:
+      return "Point";
+    case Sort::Area:
+      return "Area";
+    case Sort::Collection:
+      return "Collection";
+    case Sort::Item:
+      return "Item";
+    case Sort::CountedItem:
+      return "CountedItem";
+    case Sort::Filter:
+      return "Filter";
+    case Sort::Number:
+      return "Number";
+    case Sort::Direction:
+      return "Direction";
+    case Sort::Color:
+      return "Color";
+    case Sort::Shape:
+      return "Shape";
+    case Sort::ItemAct:
+      return "ItemAct";
   }
   return "?";
 }
@@ -228,6 +316,9 @@ Program make(Kind kind, std::vector<Program> kids) {
     kids = std::move(flat);
   }
   check(kind, kids);
+  // A verb that is a word decides the action: ItemAction(pick, I) is Pick(I).
+  if (kind == Kind::ItemAction && kids[0]->kind == Kind::ItemAct)
+    return make(kids[0]->text == "pick" ? Kind::Pick : Kind::Drop, {kids[1]});
   Node n;
   n.kind = kind;
   n.sort = sort_of(kind);
@@ -252,9 +343,12 @@ Program make_num(double value) {
 }
 
 Program make_word(Kind kind, std::string text) {
-  if (kind != Kind::Direction && kind != Kind::Color && kind != Kind::Shape && kind != Kind::Room)
-    misuse(kind, "make_word takes Direction, Color, Shape or Room");
+  if (kind != Kind::Direction && kind != Kind::Color && kind != Kind::Shape && kind != Kind::Room &&
+      kind != Kind::ItemAct)
+    misuse(kind, "make_word takes Direction, Color, Shape, Room or ItemAct");
   if (text.empty()) misuse(kind, "empty word");
+  if (kind == Kind::ItemAct && text != "pick" && text != "drop")
+    misuse(kind, "the verb of an item action is 'pick' or 'drop', not '" + text + "'");
   if (kind == Kind::Color && text == "grey") text = "gray";
   Node n;
   n.kind = kind;
@@ -288,7 +382,8 @@ Program substitute(const Program& t, const std::vector<Program>& args) {
   if (!t) return t;
   if (t->kind == Kind::Hole) {
     if (t->index >= static_cast<int>(args.size()) || !args[static_cast<std::size_t>(t->index)])
-      throw Error(codes::kBadProgram, "template hole $" + std::to_string(t->index + 1) + " has no argument");
+      throw Error(codes::kBadProgram,
+                  "template hole $" + std::to_string(t->index + 1) + " has no argument");
     const Program& a = args[static_cast<std::size_t>(t->index)];
     if (!fits(t->sort, a->sort))
       throw Error(codes::kBadProgram, "template hole $" + std::to_string(t->index + 1) +
@@ -319,8 +414,10 @@ bool has_holes(const Program& p) {
 namespace {
 bool bound_ok(const Program& p, int point_depth, int area_depth) {
   switch (p->kind) {
-    case Kind::PointVar: return point_depth > 0;
-    case Kind::AreaVar: return area_depth > 0;
+    case Kind::PointVar:
+      return point_depth > 0;
+    case Kind::AreaVar:
+      return area_depth > 0;
     case Kind::ForeachPoint:
       // The domain is evaluated outside the loop; the body inside it.
       return bound_ok(p->kids[0], point_depth, area_depth) &&
@@ -336,7 +433,45 @@ bool bound_ok(const Program& p, int point_depth, int area_depth) {
 }
 }  // namespace
 
-bool loop_variables_bound(const Program& p) { return p && bound_ok(p, 0, 0); }
+bool loop_variables_bound(const Program& p) {
+  return p && bound_ok(p, 0, 0);
+}
+
+Program full_form(const Program& p) {
+  if (!p || p->kids.empty()) return p;
+  std::vector<Program> kids;
+  kids.reserve(p->kids.size() + 1);
+  bool changed = false;
+  for (const auto& k : p->kids) {
+    kids.push_back(full_form(k));
+    changed = changed || kids.back() != k;
+  }
+  if (p->kind == Kind::Pick || p->kind == Kind::Drop) {
+    // Built directly: `make` would normalise it straight back to Pick/Drop.
+    Node n;
+    n.kind = Kind::ItemAction;
+    n.sort = Sort::Action;
+    n.kids = {make_word(Kind::ItemAct, p->kind == Kind::Pick ? "pick" : "drop"), kids[0]};
+    return finish(std::move(n));
+  }
+  if (!changed) return p;
+  Node n = *p;
+  n.kids = std::move(kids);
+  return finish(std::move(n));
+}
+
+Program normal_form(const Program& p) {
+  if (!p || p->kids.empty()) return p;
+  std::vector<Program> kids;
+  kids.reserve(p->kids.size());
+  bool changed = false;
+  for (const auto& k : p->kids) {
+    kids.push_back(normal_form(k));
+    changed = changed || kids.back() != k;
+  }
+  if (!changed && p->kind != Kind::ItemAction) return p;
+  return make(p->kind, std::move(kids));
+}
 
 }  // namespace v1
 }  // namespace flipper::sdk

@@ -300,6 +300,17 @@ void render_to(const Program& p, std::string& out) {
     case Kind::Hole:
       out += '$' + std::to_string(n.index + 1);
       return;
+    case Kind::ItemAct:
+      out += n.text;
+      return;
+    case Kind::ItemAction:
+      // Same text as Pick/Drop: `{pick item }`, or `{$1 item }` in a template.
+      out += '{';
+      render_to(n.kids[0], out);
+      out += ' ';
+      render_to(n.kids[1], out);
+      out += '}';
+      return;
   }
 }
 
@@ -411,6 +422,10 @@ class Reader {
       ++pos_;
       return make_word(Kind::Room, t);
     }
+    if (t == "pick" || t == "drop") {  // a bare verb: the template of `$ItemAct -> pick`
+      ++pos_;
+      return make_word(Kind::ItemAct, t);
+    }
     fail("unexpected '" + t + "'");
   }
 
@@ -504,6 +519,11 @@ class Reader {
       return build(start, Kind::Move, {make_word(Kind::Direction, d)});
     }
     if (w == "visit") return visit(start);
+    if (is_hole_of(Sort::ItemAct)) {  // `{$1 $2}`: a template whose verb is a hole
+      Program verb = hole();
+      Program what = term_of(Sort::CountedItem, "the object of pick/drop");
+      return build(start, Kind::ItemAction, {verb, what});
+    }
     if (w == "pick" || w == "drop") {
       ++pos_;
       Program what = term_of(Sort::CountedItem, "the object of pick/drop");

@@ -37,6 +37,7 @@ const std::unordered_map<std::string, Sort>& sort_table() {
       {"$Direction", Sort::Direction},
       {"$Color", Sort::Color},
       {"$Shape", Sort::Shape},
+      {"$ItemAct", Sort::ItemAct},
   };
   return table;
 }

@@ -227,3 +227,13 @@ TEST_CASE("templates read holes with their sorts", "[canonical]") {
                          {make_word(Kind::Direction, "up")}),
               mv("up")));
 }
+
+TEST_CASE("templates with a verb hole read and render", "[canonical]") {
+  const Program t = read_template("{repeat $2 times {$1 item }}", Sort::Action,
+                                  {Sort::ItemAct, Sort::Number});
+  CHECK(render(t) == "{repeat $2 times {$1 item }}");
+  const Program p = substitute(t, {make_word(Kind::ItemAct, "drop"), make_num(2)});
+  CHECK(render(p) == "{repeat 2 times {drop item }}");
+  CHECK(render(read_template("pick", Sort::ItemAct, {})) == "pick");
+  CHECK(render(full_form(read_canonical("{pick item {is red}}"))) == "{pick item {is red}}");
+}

@@ -52,3 +52,30 @@ TEST_CASE("loop variables must be bound by an enclosing loop body", "[ast]") {
   REQUIRE(loop_variables_bound(nested));
   REQUIRE(!loop_variables_bound(make(Kind::VisitArea, {make(Kind::AreaVar)})));
 }
+
+TEST_CASE("an item action with a known verb is pick or drop", "[ast]") {
+  auto pick = make(Kind::ItemAction, {make_word(Kind::ItemAct, "pick"), make(Kind::Item)});
+  REQUIRE(pick->kind == Kind::Pick);
+  REQUIRE(equal(pick, make(Kind::Pick, {make(Kind::Item)})));
+  REQUIRE_THROWS_AS(make_word(Kind::ItemAct, "throw"), Error);
+  // With a hole for the verb it stays an ItemAction (a rule template) until filled.
+  auto tmpl = make(Kind::Repeat,
+                   {make_hole(1, Sort::Number),
+                    make(Kind::ItemAction, {make_hole(0, Sort::ItemAct), make(Kind::Item)})});
+  REQUIRE(tmpl->kids[1]->kind == Kind::ItemAction);
+  auto drop2 = substitute(tmpl, {make_word(Kind::ItemAct, "drop"), make_num(2)});
+  REQUIRE(drop2->kids[1]->kind == Kind::Drop);
+}
+
+TEST_CASE("full form spells out the verb and normal form undoes it", "[ast]") {
+  auto body = make(Kind::Repeat, {make_num(3), make(Kind::Pick, {make(Kind::Item)})});
+  auto full = full_form(body);
+  REQUIRE(full->kids[1]->kind == Kind::ItemAction);
+  REQUIRE(full->kids[1]->kids[0]->kind == Kind::ItemAct);
+  REQUIRE(full->kids[1]->kids[0]->text == "pick");
+  REQUIRE(!equal(full, body));
+  REQUIRE(equal(normal_form(full), body));
+  // Programs without pick/drop are returned as they are.
+  auto mv = make(Kind::Move, {make_word(Kind::Direction, "up")});
+  REQUIRE(full_form(mv) == mv);
+}

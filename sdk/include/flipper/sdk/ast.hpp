@@ -36,6 +36,7 @@ enum class Sort : std::uint8_t {
   Direction,    ///< ($Direction)
   Color,        ///< ($Color)
   Shape,        ///< ($Shape)
+  ItemAct,      ///< the verb of an item action, `pick` or `drop` ($ItemAct)
 };
 
 enum class Kind : std::uint8_t {
@@ -99,6 +100,12 @@ enum class Kind : std::uint8_t {
   Direction,  ///< Sort::Direction, e.g. "up"
   Color,      ///< Sort::Color, e.g. "red" ("grey" is stored as "gray")
   Shape,      ///< Sort::Shape, e.g. "triangle"
+  ItemAct,    ///< Sort::ItemAct, "pick" or "drop"
+  /// Sort::Action; kids: [ItemAct, CountedItem]. The grammar's view of pick/drop, where the verb
+  /// is a node of its own (so an induced rule can abstract it: `$ItemAct $Number items`).
+  /// `make` normalises it to Pick/Drop as soon as the verb is a word; it survives only with a
+  /// Hole verb (templates) and in `full_form`.
+  ItemAction,
   // --- templates
   Hole,  ///< a template hole: `index` (0-based), sort in `sort`
 };
@@ -110,12 +117,12 @@ using Program = std::shared_ptr<const Node>;
 struct FLIPPER_SDK_API Node {
   Kind kind = Kind::Seq;
   Sort sort = Sort::Action;
-  double number = 0;         ///< Num: value
-  std::string text;          ///< word leaves: the word
-  int index = -1;            ///< Hole: 0-based hole index
+  double number = 0;  ///< Num: value
+  std::string text;   ///< word leaves: the word
+  int index = -1;     ///< Hole: 0-based hole index
   std::vector<Program> kids;
-  std::size_t hash = 0;      ///< structural hash (computed at construction)
-  std::uint32_t size = 1;    ///< number of nodes in this subtree
+  std::size_t hash = 0;    ///< structural hash (computed at construction)
+  std::uint32_t size = 1;  ///< number of nodes in this subtree
 };
 
 /// The sort a kind always has (Hole: Sort::Action; use node.sort).
@@ -127,7 +134,8 @@ FLIPPER_SDK_API const char* sort_name(Sort sort);
 /// nested Seq, normalises "grey" to "gray", computes hash and size.
 FLIPPER_SDK_API Program make(Kind kind, std::vector<Program> kids = {});
 FLIPPER_SDK_API Program make_num(double value);
-FLIPPER_SDK_API Program make_word(Kind kind, std::string text);  ///< Direction/Color/Shape/Room
+FLIPPER_SDK_API Program make_word(Kind kind,
+                                  std::string text);  ///< Direction/Color/Shape/Room/ItemAct
 FLIPPER_SDK_API Program make_hole(int index, Sort sort);
 /// Sequence of statements; a single statement is returned as is.
 FLIPPER_SDK_API Program make_seq(std::vector<Program> statements);
@@ -148,6 +156,12 @@ FLIPPER_SDK_API Program substitute(const Program& tmpl, const std::vector<Progra
 FLIPPER_SDK_API bool has_holes(const Program& p);
 /// Loop-variable check (core-language §3.7): `point`/`area` only inside an enclosing loop body.
 FLIPPER_SDK_API bool loop_variables_bound(const Program& p);
+
+/// The program with every Pick/Drop written as ItemAction(ItemAct verb, item): the form whose
+/// subtrees are exactly the grammar's categories, used by grammar induction to find and abstract
+/// the verb. Everything else is unchanged. `normal_form` undoes it (and is what `make` yields).
+FLIPPER_SDK_API Program full_form(const Program& p);
+FLIPPER_SDK_API Program normal_form(const Program& p);
 
 }  // namespace v1
 }  // namespace flipper::sdk
