@@ -1,0 +1,158 @@
+// One set of programs, four world x planner pairs. Expectations depend on the world (the maps
+// differ) but never on the planner: swapping astar for ompl changes paths, not effects.
+#include <catch2/catch.hpp>
+
+#include "flipper/kernel/executor.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "space_worlds.hpp"
+
+using namespace flipper;
+using sdk::Cell;
+
+namespace {
+
+struct Pair {
+  std::string world;    // grid2d | octomap3d
+  std::string planner;  // astar | ompl
+};
+
+sdk::WorldState start_world(const std::string& kind) {
+  if (kind == "grid2d")
+    return testsupport::load_plugin<sdk::World>("grid2d")->load(
+        testsupport::read_text(testsupport::worlds_dir() + "/study2018.json"),
+        testsupport::worlds_dir());
+  return testsupport::two_floors();
+}
+
+sdk::Outcome run(const Pair& p, const std::string& canonical, const sdk::WorldState& s) {
+  auto planner = testsupport::load_plugin<sdk::Planner>(p.planner);
+  const kernel::Executor exec(planner);
+  return exec.run(sdk::read_canonical(canonical), s);
+}
+
+bool in_room(const sdk::WorldState& s, const std::string& room) {
+  return sdk::areas::contains(s.rooms->at(room), s.robot);
+}
+
+std::size_t lying_in(const sdk::WorldState& s, const std::string& room, const std::string& color) {
+  std::size_t n = 0;
+  for (const auto& li : s.items)
+    if (li.item.color == color && sdk::areas::contains(s.rooms->at(room), li.at)) ++n;
+  return n;
+}
+
+// The trace is a walk of neighbour steps through free cells from the start.
+void check_trace(const sdk::WorldState& start, const sdk::Outcome& o) {
+  const sdk::Geometry& g = *start.geometry;
+  Cell at = start.robot;
+  for (const auto& step : o.trace) {
+    if (step.act != sdk::TraceStep::Act::move) {
+      REQUIRE(step.cell == at);
+      continue;
+    }
+    const Cell d{step.cell.x - at.x, step.cell.y - at.y, step.cell.z - at.z};
+    const auto& offs = g.neighbour_offsets();
+    REQUIRE(std::find(offs.begin(), offs.end(), d) != offs.end());
+    REQUIRE(g.is_free(step.cell));
+    at = step.cell;
+  }
+  REQUIRE(at == o.world.robot);
+}
+
+const std::vector<Pair> kPairs = {
+    {"grid2d", "astar"}, {"grid2d", "ompl"}, {"octomap3d", "astar"}, {"octomap3d", "ompl"}};
+
+}  // namespace
+
+TEST_CASE("swap: the same programs have the same effects on all four pairs", "[swap]") {
+  for (const Pair& p : kPairs) {
+    const bool flat = p.world == "grid2d";
+    DYNAMIC_SECTION(p.world << " x " << p.planner) {
+      const sdk::WorldState s = start_world(p.world);
+      const std::size_t total = s.items.size() + s.held.size();
+
+      // visits
+      sdk::Outcome o = run(p, "{visit room4}", s);
+      check_trace(s, o);
+      REQUIRE(o.realizable);
+      REQUIRE(in_room(o.world, "room4"));
+      if (!flat) {  // floor 1 is only reached through the shaft
+        REQUIRE(std::any_of(o.trace.begin(), o.trace.end(), [](const auto& t) {
+          return t.cell == Cell{8, 1, 1};
+        }));
+      }
+
+      // visit + pick
+      o = run(p, "{{visit {world containing item {is red}}};{pick item {is red}}}", s);
+      check_trace(s, o);
+      REQUIRE(o.realizable);
+      REQUIRE(o.world.held.size() == 1);
+      REQUIRE(o.world.held[0].color == "red");
+
+      // avoid: the study map reaches room4 without room2; the two-floor world cannot (the
+      // shaft is in room2), and the robot stays put.
+      o = run(p, "{visit room4 while avoiding room2}", s);
+      check_trace(s, o);
+      REQUIRE(o.realizable == flat);
+      if (flat) {
+        REQUIRE(in_room(o.world, "room4"));
+        for (const auto& t : o.trace) REQUIRE(!sdk::areas::contains(s.rooms->at("room2"), t.cell));
+      } else {
+        REQUIRE(o.world.robot == s.robot);
+        REQUIRE(o.warnings.size() == 1);
+      }
+
+      // foreach point + pick every: everything is collected
+      o = run(p, "{foreach point in {world containing item } {{visit point};{pick every item }}}",
+              s);
+      check_trace(s, o);
+      REQUIRE(o.realizable);
+      REQUIRE(o.world.items.empty());
+      REQUIRE(o.world.held.size() == total);
+
+      // pick / drop: one blue item more lies in room1, nothing is held
+      o = run(p,
+              "{{visit {world containing item {is blue}}};{pick item {is blue}};{visit room1};"
+              "{drop every item }}",
+              s);
+      check_trace(s, o);
+      REQUIRE(o.realizable);
+      REQUIRE(o.world.held.empty());
+      REQUIRE(in_room(o.world, "room1"));
+      REQUIRE(lying_in(o.world, "room1", "blue") == lying_in(s, "room1", "blue") + 1);
+
+      // strict: no purple item anywhere, so nothing at all happens
+      o = run(p, "{strict {{visit room4};{pick item {is purple}}}}", s);
+      REQUIRE(!o.realizable);
+      REQUIRE(o.trace.empty());
+      REQUIRE(o.world.same_state(s));
+      REQUIRE(!o.warnings.empty());
+
+      // foreach area: every room is visited, once each
+      o = run(p, "{foreach area in rooms {visit area}}", s);
+      check_trace(s, o);
+      REQUIRE(o.realizable);
+      REQUIRE(!o.error);
+    }
+  }
+}
+
+TEST_CASE("swap: 3-D moves use the plan-view words and ascend/descend", "[swap]") {
+  const sdk::WorldState s = testsupport::two_floors();
+  auto move = [](const char* dir) {
+    return sdk::make(sdk::Kind::Move, {sdk::make_word(sdk::Kind::Direction, dir)});
+  };
+  const kernel::Executor exec(testsupport::load_plugin<sdk::Planner>("astar"));
+  sdk::WorldState at_shaft = s;
+  at_shaft.robot = {8, 1, 0};
+  sdk::Outcome o = exec.run(move("ascend"), at_shaft);
+  REQUIRE(o.realizable);
+  REQUIRE(o.world.robot == Cell{8, 1, 1});
+  o = exec.run(move("ascend"), s);  // the slab is above (1,1,0)
+  REQUIRE(!o.realizable);
+  REQUIRE(o.world.robot == s.robot);
+  o = exec.run(move("up"), s);
+  REQUIRE(o.world.robot == Cell{1, 2, 0});
+  o = exec.run(move("left"), s);
+  REQUIRE(o.world.robot == Cell{0, 1, 0});
+}
