@@ -185,7 +185,11 @@ TEST_CASE("generalize: a body that errs keeps the body and rejects everything", 
   const auto r = Generalizer(fixed, nullptr, env.exec)
                      .generalize({}, P("{{visit room7};{visit room7}}"), env.at({9, 8}), {});
   CHECK(r.body_won);
-  CHECK_THAT(r.candidates[0].rejected_reason, Catch::StartsWith("execution error: "));
+  CHECK(r.candidates[0].rejected_reason.empty());
+  CHECK_FALSE(r.candidates[0].equivalent);
+  REQUIRE(r.candidates[0].failed_checks.size() == 1);
+  CHECK_THAT(r.candidates[0].failed_checks[0], Catch::StartsWith("execution error: "));
+  CHECK_THAT(r.candidates[1].rejected_reason, Catch::StartsWith("execution error of the body: "));
   CHECK_FALSE(r.candidates[1].equivalent);
 }
 

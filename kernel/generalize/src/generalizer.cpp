@@ -83,7 +83,9 @@ GeneralizeResult Generalizer::generalize(
   own.program = body;
   own.rewriting = "body";
   own.equivalent = !body_run.error;
-  if (body_run.error) own.rejected_reason = "execution error: " + *body_run.error;
+  // The body is never discarded (it is the fallback winner); its own failure is reported as a
+  // failed check, and every candidate is then rejected.
+  if (body_run.error) own.failed_checks.push_back("execution error: " + *body_run.error);
   own.perturbed_passed = result.perturbations;
   score(own);
   result.candidates.push_back(std::move(own));

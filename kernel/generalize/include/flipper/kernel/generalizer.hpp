@@ -30,7 +30,8 @@ struct GeneralizeCandidate {
   sdk::Program program;
   std::string rewriting;        ///< from the rewriter; "body" for the user's own body
   bool equivalent = false;      ///< equivalent to the body in the world of the definition
-  std::string rejected_reason;  ///< why it was discarded (empty when kept)
+                                ///< (the body: false only when it raised an execution error)
+  std::string rejected_reason;  ///< why it was discarded (empty when kept; always for the body)
   double packing_score = 0;
   double similarity = 0;
   int generality = 0;                      ///< minus the number of nodes
