@@ -35,6 +35,8 @@ std::string category_of_sort(sdk::Sort sort) {
       return "$Color";
     case Sort::Shape:
       return "$Shape";
+    case Sort::ItemAct:
+      return "$ItemAct";
   }
   return "$Action";
 }
@@ -71,8 +73,11 @@ std::string matching_category(const sdk::Derivation& d) {
 
 std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
                                 const sdk::Program& body, int head_length) {
+  // Chart meanings are in normal form (pick/drop as Pick/Drop); the verb of an item action is a
+  // node only in the full form (ItemAction(ItemAct, item)), so both forms' subtrees count.
   ProgramSet nodes;
   collect_subtrees(body, nodes);
+  collect_subtrees(sdk::full_form(body), nodes);
   std::vector<Match> out;
   for (const auto& d : chart) {
     if (!d || !d->sem || (d->start == 0 && d->end == head_length)) continue;

@@ -7,17 +7,22 @@ namespace {
 
 struct Slot {
   const Match* match;
-  int hole;  // RHS category index whose hole stands for this (category, program)
+  sdk::Program full;  // the match's program in full form, as it appears in the full-form body
+  int hole;           // RHS category index whose hole stands for this (category, program)
 };
+
+bool takes_counted_item(sdk::Kind parent) {
+  return parent == sdk::Kind::Pick || parent == sdk::Kind::Drop || parent == sdk::Kind::ItemAction;
+}
 
 /// Whether `p` (a kid of a `parent` node) is a packed program whose hole may stand there. A plain
 /// item packed as $CountedItem only stands for the object of pick/drop, where `every` may go.
 sdk::Program replace_packed(const sdk::Program& p, const std::vector<Slot>& slots,
                             sdk::Kind parent = sdk::Kind::Seq) {
   for (const auto& s : slots) {
-    if (p->sort != s.match->program->sort || !sdk::equal(p, s.match->program)) continue;
+    if (p->sort != s.full->sort || !sdk::equal(p, s.full)) continue;
     const sdk::Sort hole = sdk::category_sort(s.match->category);
-    if (hole != p->sort && parent != sdk::Kind::Pick && parent != sdk::Kind::Drop) continue;
+    if (hole != p->sort && !takes_counted_item(parent)) continue;
     return sdk::make_hole(s.hole, hole);
   }
   if (p->kids.empty()) return p;
@@ -56,7 +61,7 @@ BuiltRule build_rule(const std::string& lhs, const std::vector<std::string>& hea
       for (const auto& s : slots)
         shared =
             shared || (s.match->category == m.category && sdk::equal(s.match->program, m.program));
-      if (!shared) slots.push_back({&m, category_index});
+      if (!shared) slots.push_back({&m, sdk::full_form(m.program), category_index});
       ++category_index;
       i = m.end;
     } else {
@@ -68,7 +73,9 @@ BuiltRule build_rule(const std::string& lhs, const std::vector<std::string>& hea
     out.rejection = RuleRejection::single_category;
     return out;
   }
-  rule.sem = replace_packed(body, slots);
+  // Work on the full form so that the verb of pick/drop can become a hole; `make` turns every
+  // untouched ItemAction back into Pick/Drop.
+  rule.sem = sdk::normal_form(replace_packed(sdk::full_form(body), slots));
   out.rule = std::move(rule);
   return out;
 }
