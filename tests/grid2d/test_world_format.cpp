@@ -1,0 +1,57 @@
+// The SDK's world_format helpers on their own, in 3-D (the grid2d tests cover 2-D through the
+// plugin): what a 3-D world plugin relies on.
+#include <catch2/catch.hpp>
+
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/world_format.hpp"
+
+using namespace flipper::sdk;
+namespace wf = flipper::sdk::world_format;
+
+TEST_CASE("world_format reads 3-D points, keeps extra fields and writes z", "[world_format]") {
+  wf::WorldDocument doc = wf::parse_world(
+      R"({"octomap": "map.bt", "resolution": 0.05, "walls": [[1, 1, 1]],
+          "items": [{"x": 0, "y": 1, "z": 2, "color": "red", "shape": "cube"}],
+          "robot": {"x": 0, "y": 0, "z": 0}, "rooms": {"lab": [[0, 0, 2], [0, 0, 1]]}})",
+      3);
+  REQUIRE(doc.octomap == std::optional<std::string>("map.bt"));
+  REQUIRE(doc.extra.at("resolution") == "0.05");
+  REQUIRE(doc.walls == std::vector<Cell>{{1, 1, 1}});
+  REQUIRE(doc.items.at(0).at == Cell{0, 1, 2});
+  REQUIRE(doc.rooms.at("lab") == Area{{0, 0, 1}, {0, 0, 2}});
+  const wf::Bounds box = wf::effective_bounds(doc);
+  REQUIRE(box == wf::Bounds{{0, 0, 0}, {1, 1, 2}});
+  std::vector<std::uint8_t> mask(2 * 2 * 3, 1);
+  auto g = std::make_shared<const Geometry>(
+      3, box.min, box.max, mask,
+      std::vector<Cell>{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+      std::vector<std::pair<std::string, Cell>>{});
+  wf::check_placement(doc, *g);
+  const WorldState s = wf::make_state(std::move(doc), g);
+  REQUIRE(
+      wf::write_world(s, {{"octomap", "\"map.bt\""}}) ==
+      R"({"octomap":"map.bt","items":[{"id":0,"x":0,"y":1,"z":2,"color":"red","shape":"cube"}],)"
+      R"("robot":{"x":0,"y":0,"z":0,"holding":[]},"rooms":{"lab":[[0,0,1],[0,0,2]]},)"
+      R"("bounds":{"min":[0,0,0],"max":[1,1,2]}})");
+  REQUIRE(wf::points_json({{1, 2, 3}}, 3) == "[[1,2,3]]");
+  REQUIRE(wf::points_json({{1, 2, 3}}, 2) == "[[1,2]]");
+}
+
+TEST_CASE("world_format names the entry in 3-D errors", "[world_format]") {
+  auto message = [](const std::string& text) {
+    try {
+      (void)wf::parse_world(text, 3);
+    } catch (const Error& e) {
+      CHECK(e.code() == codes::kBadWorld);
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(message(R"({"robot": {"x": 0, "y": 0}})") == "robot: missing \"z\"");
+  CHECK(message(R"({"robot": {"x": 0, "y": 0, "z": 0}, "walls": [[1, 2]]})") ==
+        "walls[0]: a point must be an array of 3 integers");
+  CHECK(message(R"({"robot": {"x": 0, "y": 0, "z": 0}, "octomap": 3})") ==
+        "octomap must be a file name (string), not an integer");
+  CHECK(message(R"({"robot": {"x": 0, "y": 0, "z": 99999999999}})")
+            .find("robot: z is out of range") == 0);
+}
