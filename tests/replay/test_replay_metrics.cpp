@@ -1,0 +1,104 @@
+// Metric code on hand-made rows, the SVG writer, and the deletion mapping on the dev split.
+#include <catch2/catch.hpp>
+
+#include "flipper/kernel/replay/corpus.hpp"
+#include "flipper/kernel/replay/deletion_map.hpp"
+#include "flipper/kernel/replay/metrics.hpp"
+#include "flipper/kernel/replay/output.hpp"
+
+using namespace flipper::kernel::replay;
+
+namespace {
+QueryRow row(std::string group, std::string user, int tokens, std::string orig, std::string ours,
+             std::string orig_author = "", std::string our_author = "none") {
+  QueryRow r;
+  r.group = std::move(group);
+  r.user = std::move(user);
+  r.phase = "task";
+  r.in_authors_tables = true;
+  r.tokens = tokens;
+  r.original = std::move(orig);
+  r.ours = std::move(ours);
+  r.original_author = std::move(orig_author);
+  r.our_author = std::move(our_author);
+  return r;
+}
+}  // namespace
+
+TEST_CASE("figures count tokens, statuses and authors per participant") {
+  std::vector<QueryRow> rows = {
+      row("B", "u1", 3, "Core", "core"),
+      row("B", "u1", 4, "Induced", "unparsable", "Self"),
+      row("B", "u2", 5, "Nothing", "induced", "", "self"),
+      row("C", "c1", 2, "Induced", "induced", "Other", "other"),
+      row("C", "c1", 6, "Induced", "induced", "Self", "other"),
+      row("C", "c2", 1, "Nothing", "error"),
+  };
+  QueryRow warm = row("B", "u1", 100, "Core", "core");
+  warm.phase = "warmup";
+  rows.push_back(warm);
+
+  const Figures ours = figures(rows, true), orig = figures(rows, false);
+  CHECK(ours.tokens_all_sum.at("B") == 12);
+  CHECK(ours.tokens_successful_sum.at("B") == 8);   // 3 + 5
+  CHECK(orig.tokens_successful_sum.at("B") == 7);   // 3 + 4
+  CHECK(ours.tokens_successful.at("B").mean == Approx(4.0));
+  CHECK(ours.tokens_all.at("C").mean == Approx(4.5));
+  CHECK(ours.induced.at("B").mean == Approx(0.5));
+  CHECK(ours.induced.at("B").min == 0);
+  CHECK(ours.induced.at("B").max == 1);
+  CHECK(orig.core.at("B").mean == Approx(0.5));
+  CHECK(ours.others.mean == Approx(1.0));  // c1: 2, c2: 0
+  CHECK(ours.self.mean == Approx(0.0));
+  CHECK(orig.others.mean == Approx(0.5));
+  CHECK(orig.self.mean == Approx(0.5));
+  REQUIRE(ours.participants.size() == 4);
+  CHECK(ours.participants[0].user == "u1");
+  CHECK(ours.participants[0].agree == 1);
+
+  const Agreement a = agreement(rows);
+  CHECK(a.n == 7);
+  CHECK(a.agree == 5);  // an error (refused input) agrees with the original's Nothing
+  CHECK(a.confusion.at("Nothing").at("error") == 1);
+  CHECK(a.confusion.at("Induced").at("unparsable") == 1);
+}
+
+TEST_CASE("latency histogram uses half-decade bins") {
+  Latency l = latency({0.5, 50, 50, 2000, 1e9});
+  CHECK(l.histogram[3] == 1);  // [0.316, 1)
+  CHECK(l.histogram[7] == 2);  // [31.6, 100)
+  CHECK(l.histogram[10] == 1); // [1000, 3162)
+  CHECK(l.histogram.back() == 1);
+  CHECK(l.p50 == 50);
+}
+
+TEST_CASE("the SVG writer emits one bar per series and category") {
+  BarChart c{"t <1>", "y", {"A", "B"}, {"s1", "s2", "s3"}, {{1, 2}, {3, 4}, {5, 6}}, {}, {}};
+  const std::string svg = render_svg(c);
+  CHECK(svg.rfind("<svg", 0) == 0);
+  std::size_t bars = 0;
+  for (auto p = svg.find("<rect x="); p != std::string::npos; p = svg.find("<rect x=", p + 1))
+    ++bars;
+  CHECK(bars == 6 + 3);  // bars + legend swatches
+  CHECK(svg.find("t &lt;1&gt;") != std::string::npos);
+}
+
+TEST_CASE("dev split deletions map to the definitions that lost rules") {
+  const Corpus corpus = load_corpus(FLIPPER_SHARED_DIR "/corpus/dev");
+  const std::string run = "sep2018/FridayMorningC";
+  DeletionMap map;
+  for (const Definition* d : corpus.preloaded(run)) map.add_definition(*d, d->author(), {});
+  std::vector<std::string> mapped;
+  for (const auto& c : corpus.commands) {
+    if (c.source != run) continue;
+    if (c.kind.rfind("def", 0) == 0) {
+      const auto& d = corpus.definitions[corpus.definition_index.at(c.def_id)];
+      map.add_definition(d, c.user, {{"r-" + c.qid + "-s", "simple"}, {"r-" + c.qid + "-b", "best"}});
+    } else if (c.kind == "delete") {
+      mapped.push_back(map.map(c.user, c.rule_index).ids.at(0));
+    }
+  }
+  // #853 lost both rules (none in the final log); #961 and #1313 kept only their simple rule.
+  CHECK(mapped == std::vector<std::string>{"r-" + run + "#853-s", "r-" + run + "#853-b",
+                                           "r-" + run + "#961-b", "r-" + run + "#1313-b"});
+}

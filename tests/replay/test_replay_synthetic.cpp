@@ -1,0 +1,129 @@
+// The replay end to end on tests/replay/data: a core run with an accept, a private run with a
+// definition and its deletion, a shared run with a preloaded expert definition. Every figure is
+// known exactly.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+
+#include "flipper/kernel/replay/corpus.hpp"
+#include "flipper/kernel/replay/experiment.hpp"
+#include "flipper/kernel/replay/metrics.hpp"
+#include "flipper/kernel/replay/replayer.hpp"
+
+using namespace flipper::kernel::replay;
+
+namespace {
+const Corpus& corpus() {
+  static const Corpus c = load_corpus(FLIPPER_SOURCE_DIR "/tests/replay/data");
+  return c;
+}
+ReplayResult run(const std::vector<std::string>& runs = {}) {
+  ReplayOptions o;
+  o.sets = {"induction.generalize=false"};
+  o.runs = runs;
+  return replay(corpus(), o);
+}
+}  // namespace
+
+TEST_CASE("the synthetic corpus loads with runs and groups") {
+  const Corpus& c = corpus();
+  REQUIRE(c.runs.size() == 3);
+  CHECK(c.find_run("test/B")->group == "B");
+  CHECK(c.preloaded("test/C").size() == 1);
+  CHECK(c.worlds.size() == 3);
+}
+
+TEST_CASE("synthetic replay: statuses, accept, definitions, deletion") {
+  const ReplayResult r = run();
+  REQUIRE(r.queries.size() == 12);
+  std::vector<std::string> ours;
+  for (const auto& q : r.queries) ours.push_back(q.ours);
+  CHECK(ours == std::vector<std::string>{"core", "unparsable", "core", "core",  // A
+                                         "unparsable", "induced", "unparsable",  // B
+                                         "induced", "core", "induced", "induced", "core"});  // C
+  CHECK(r.queries[7].our_author == "other");  // the expert's rule
+  CHECK(r.queries[9].our_author == "self");
+  CHECK(r.queries[10].our_author == "other");  // c2 uses c1's rule (shared)
+
+  REQUIRE(r.accepts.size() == 1);
+  CHECK(r.accepts[0].matched);
+  CHECK(r.accepts[0].rank == 0);
+  CHECK(r.accepts[0].executed);
+  CHECK(r.accepts[0].compared);
+  CHECK((r.accepts[0].robot && r.accepts[0].held && r.accepts[0].floor));
+
+  REQUIRE(r.defines.size() == 3);
+  for (const auto& d : r.defines) CHECK(d.ok);
+  REQUIRE(r.deletes.size() == 1);
+  CHECK(r.deletes[0].definition == "d:test/B#2");
+  CHECK(r.deletes[0].deleted.size() == 1);
+
+  const Metrics m = compute_metrics(r);
+  CHECK(m.overall.n == 12);
+  CHECK(m.overall.agree == 11);
+  CHECK(m.overall.confusion.at("Core").at("core") == 4);
+  CHECK(m.overall.confusion.at("Nothing").at("core") == 1);
+  CHECK(m.overall.confusion.at("Nothing").at("unparsable") == 3);
+  CHECK(m.overall.confusion.at("Induced").at("induced") == 4);
+  // Tokens per participant (task, in tables): A a1 6 all, ours 4 successful, original 2.
+  CHECK(m.ours.tokens_all_sum.at("A") == 6);
+  CHECK(m.ours.tokens_successful_sum.at("A") == 4);
+  CHECK(m.original.tokens_successful_sum.at("A") == 2);
+  CHECK(m.ours.tokens_successful_sum.at("B") == 2);
+  CHECK(m.ours.tokens_successful.at("C").mean == Approx(4.0));  // c1 6, c2 2 (c3 not counted)
+  CHECK(m.ours.induced.at("C").mean == Approx(1.5));
+  CHECK(m.ours.induced.at("C").min == 1);
+  CHECK(m.ours.induced.at("C").max == 2);
+  CHECK(m.ours.core.at("C").mean == Approx(0.5));
+  CHECK(m.ours.induced.at("B").mean == Approx(1.0));
+  CHECK(m.ours.others.mean == Approx(1.0));
+  CHECK(m.ours.self.mean == Approx(0.5));
+  CHECK(m.original.others.mean == Approx(1.0));
+  CHECK(m.original.self.mean == Approx(0.5));
+  CHECK(m.exec.all == 1);
+  CHECK(m.original_latency.histogram[7] == 12);  // every walltime is 50 ms
+  CHECK(m.preloaded_ok == 1);
+  CHECK(m.defines_ok == 2);
+  CHECK(m.rules_deleted == 1);
+}
+
+TEST_CASE("replay is deterministic and --max-queries stops each run") {
+  ReplayOptions o;
+  o.sets = {"induction.generalize=false"};
+  o.max_queries = 1;
+  const ReplayResult a = replay(corpus(), o), b = replay(corpus(), o);
+  REQUIRE(a.queries.size() == 3);  // one per run
+  CHECK(a.accepts.size() == 1);    // A's accept follows its first query
+  for (std::size_t i = 0; i < a.queries.size(); ++i) CHECK(a.queries[i].ours == b.queries[i].ours);
+  CHECK_THROWS(run({"no/such-run"}));
+}
+
+TEST_CASE("an experiment writes metrics, CSV, SVG and the report") {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::path(FLIPPER_BINARY_DIR) / "replay-test-out";
+  fs::remove_all(out);
+  Experiment e;
+  e.corpus = FLIPPER_SOURCE_DIR "/tests/replay/data";
+  e.sets = {"induction.generalize=false"};
+  e.variants = {{"plain", {}}, {"beam5", {"parser.params.beam=5"}}};
+  const auto variants = run_experiment(e, out.string());
+  REQUIRE(variants.size() == 2);
+  for (const char* f : {"metrics.json", "queries.csv", "participants.csv", "groups.csv",
+                        "accepts.csv", "tokens.svg", "induced_core.svg", "others_self.svg",
+                        "latency.svg"})
+    CHECK(fs::exists(out / "plain" / f));
+  std::ifstream report(out / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(report)), {});
+  CHECK(text.find("Variants side by side") != std::string::npos);
+  CHECK(text.find("plain/tokens.svg") != std::string::npos);
+}
+
+TEST_CASE("experiment files are validated") {
+  namespace fs = std::filesystem;
+  const fs::path f = fs::path(FLIPPER_BINARY_DIR) / "replay-bad-experiment.yaml";
+  std::ofstream(f) << "corpus: x\nvariant: []\n";
+  CHECK_THROWS_WITH(load_experiment(f.string()), Catch::Contains("unknown key 'variant'"));
+  const Experiment e = load_experiment(FLIPPER_SOURCE_DIR "/configs/experiments/ablation.yaml");
+  CHECK(e.variants.size() == 5);
+  CHECK(e.corpus == resolve_repo_path("../shared/corpus/dev"));
+}
