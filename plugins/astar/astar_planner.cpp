@@ -24,7 +24,8 @@ class AStarPlanner final : public sdk::Planner {
                     : std::numeric_limits<std::uint64_t>::max()),
         two_opt_(!p.has("two_opt") || p.get_bool("two_opt")),
         or_opt_(!p.has("or_opt") || p.get_bool("or_opt")),
-        manhattan_(p.has("heuristic") && p.get_string("heuristic") == "manhattan") {
+        manhattan_(p.has("heuristic") && p.get_string("heuristic") == "manhattan"),
+        max_tour_points_(p.has("max_tour_points") ? p.get_int("max_tour_points") : 2000) {
     if (p.has("heuristic") && !manhattan_ && p.get_string("heuristic") != "none")
       throw sdk::Error(
           sdk::codes::kBadConfig,
@@ -40,6 +41,10 @@ class AStarPlanner final : public sdk::Planner {
                  {"none", "manhattan"});
     s.add_int("max_expansions", 0,
               "expansion budget per search, on top of the caller's stop condition (0: none)", 0);
+    s.add_int("max_tour_points", 2000,
+              "tours over more reachable points than this use greedy nearest-neighbour order "
+              "instead of tour T (which needs a distance matrix of that size squared)",
+              1);
     s.add_bool("two_opt", true, "improve tours with 2-opt moves");
     s.add_bool("or_opt", true, "improve tours with Or-opt moves (segments of 1-3 points)");
     return s;
@@ -108,6 +113,13 @@ class AStarPlanner final : public sdk::Planner {
     const int n = static_cast<int>(vertices.size());
     const int s = static_cast<int>(std::lower_bound(vertices.begin(), vertices.end(), start) -
                                    vertices.begin());
+    search_.clear_targets();
+    std::vector<int> path;
+    if (n > max_tour_points_) {
+      if (!greedy_path(vertices, s, stop, expansions, path, r.length)) return stopped(r, by_cell);
+      r.status = sdk::PlanStatus::found;
+      return finish(r, path, vertices, points, by_cell);
+    }
     DistanceMatrix m;
     m.n = n;
     m.d.assign(static_cast<std::size_t>(n) * n, 0.0);
@@ -127,12 +139,41 @@ class AStarPlanner final : public sdk::Planner {
       }
     }
     search_.clear_targets();
-    std::vector<int> path = open_path_from_cycle(m, christofides_cycle(m, s));
+    path = open_path_from_cycle(m, christofides_cycle(m, s));
     const bool complete =
         improve_open_path(m, path, two_opt_, or_opt_, [&] { return stop.should_stop(expansions); });
     r.status = complete ? sdk::PlanStatus::found : sdk::PlanStatus::stopped;
     r.length = open_length(m, path);
-    // Points per vertex in path order, then the unreachable ones in (cell, index) order.
+    return finish(r, path, vertices, points, by_cell);
+  }
+
+  // Greedy nearest neighbour from vertex s by repeated breadth-first searches (ties: smallest
+  // cell): for point sets too large for a distance matrix.
+  bool greedy_path(const std::vector<Cell>& vertices, int s, const sdk::StopCondition& stop,
+                   std::uint64_t& expansions, std::vector<int>& path, double& length) const {
+    search_.set_goals(vertices);
+    search_.unset_goal(vertices[s]);
+    path.assign(1, s);
+    length = 0;
+    Cell at = vertices[s];
+    for (std::size_t k = 1; k < vertices.size(); ++k) {
+      Cell next;
+      bool halted = false;
+      const std::int32_t d = search_.nearest_goal(at, next, stop, budget_, expansions, halted);
+      if (d < 0) return false;  // stopped (every vertex is reachable)
+      search_.unset_goal(next);
+      path.push_back(static_cast<int>(std::lower_bound(vertices.begin(), vertices.end(), next) -
+                                      vertices.begin()));
+      length += d;
+      at = next;
+    }
+    return true;
+  }
+
+  // Points per vertex in path order, then the unreachable ones in (cell, index) order.
+  static sdk::TourResult& finish(sdk::TourResult& r, const std::vector<int>& path,
+                                 const std::vector<Cell>& vertices, const std::vector<Cell>& points,
+                                 const std::vector<std::size_t>& by_cell) {
     std::vector<char> placed(points.size(), 0);
     auto first_at = [&](const Cell& c) {
       return std::lower_bound(by_cell.begin(), by_cell.end(), c,
@@ -170,6 +211,7 @@ class AStarPlanner final : public sdk::Planner {
   bool two_opt_;
   bool or_opt_;
   bool manhattan_;
+  std::int64_t max_tour_points_;
   mutable std::mutex mutex_;
   mutable GridSearch search_;
 };

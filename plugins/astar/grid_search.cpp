@@ -340,6 +340,56 @@ sdk::PathResult GridSearch::shortest_path_astar(Cell start, Cell goal,
   return r;
 }
 
+void GridSearch::set_goals(const std::vector<Cell>& cells) {
+  for (const Cell& c : cells) {
+    const std::uint32_t i = index(c);
+    state_[i] |= kGoal;
+    goal_cells_.push_back(i);
+  }
+}
+
+void GridSearch::unset_goal(Cell c) {
+  state_[index(c)] &= static_cast<std::uint8_t>(~kGoal);
+}
+
+std::int32_t GridSearch::nearest_goal(Cell from, Cell& goal, const sdk::StopCondition& stop,
+                                      std::uint64_t budget, std::uint64_t& expansions,
+                                      bool& stopped) {
+  const std::uint32_t s = index(from);
+  const std::uint8_t s0 = state_[s];
+  state_[s] = static_cast<std::uint8_t>((s0 & ~kStateMask) | kOpen);
+  std::uint32_t best = 0;
+  bool found = false, completed = true;
+  if (s0 & kGoal) {
+    found = true;
+    best = s;
+  } else {
+    switch (deltas_.size()) {
+      case 4:
+        completed = bfs_to_goals<4>(s, stop, budget, best, found, expansions);
+        break;
+      case 6:
+        completed = bfs_to_goals<6>(s, stop, budget, best, found, expansions);
+        break;
+      default:
+        completed = bfs_to_goals<0>(s, stop, budget, best, found, expansions);
+        break;
+    }
+  }
+  // Distance of the goal: walk its parents back before the marks are reset.
+  std::int32_t d = 0;
+  if (completed && found)
+    for (std::uint32_t v = best; v != s; ++d)
+      v = static_cast<std::uint32_t>(static_cast<std::int64_t>(v) -
+                                     deltas_[(state_[v] & kStateMask) - kReachedBase]);
+  reset_reached();
+  state_[s] = s0;
+  stopped = !completed;
+  if (!completed || !found) return -1;
+  goal = cell(best);
+  return d;
+}
+
 void GridSearch::set_targets(const std::vector<Cell>& cells) {
   clear_targets();
   for (std::size_t k = 0; k < cells.size(); ++k) {

@@ -47,6 +47,15 @@ class GridSearch {
   sdk::PathResult shortest_path_astar(sdk::Cell start, sdk::Cell goal,
                                       const sdk::StopCondition& stop, std::uint64_t budget);
 
+  /// Greedy tours: flags `cells` (in the box) as goals for nearest_goal().
+  void set_goals(const std::vector<sdk::Cell>& cells);
+  void unset_goal(sdk::Cell c);
+  /// BFS from `from` to the nearest flagged goal (ties: smallest cell), leaving the grid as it
+  /// was (flags included). Returns the distance, or -1 if no goal is reachable or `stop` fired
+  /// (then `stopped` is set).
+  std::int32_t nearest_goal(sdk::Cell from, sdk::Cell& goal, const sdk::StopCondition& stop,
+                            std::uint64_t budget, std::uint64_t& expansions, bool& stopped);
+
   /// Tour support: marks `cells` (in the box) as targets 0..n-1.
   void set_targets(const std::vector<sdk::Cell>& cells);
   void clear_targets();

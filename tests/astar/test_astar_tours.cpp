@@ -104,3 +104,20 @@ TEST_CASE("2-opt and Or-opt never lengthen the Christofides tour", "[astar][tour
   }
   REQUIRE(strictly_better > 0);
 }
+
+TEST_CASE("tours over more than max_tour_points points go greedily to the nearest",
+          "[astar][tour]") {
+  auto greedy = testsupport::astar(sdk::Params({{"max_tour_points", std::int64_t{2}}}));
+  const auto g = testsupport::grid_from_rows({"..........", "########.#"});
+  // Robot at (4,1); (0,0) is a wall, so last. Nearest first: (5,1), then (2,1) and (1,1) back west
+  // (3 and 1 steps), then (8,1) and (8,0) east.
+  const std::vector<Cell> points{{8, 0, 0}, {1, 1, 0}, {5, 1, 0}, {0, 0, 0}, {2, 1, 0}, {8, 1, 0}};
+  const auto t = greedy->tour(*g, {4, 1, 0}, points, sdk::StopCondition{});
+  REQUIRE(t.status == sdk::PlanStatus::found);
+  REQUIRE(t.order == std::vector<std::size_t>{2, 4, 1, 5, 0, 3});
+  REQUIRE(t.length == 1 + 3 + 1 + 7 + 1);
+  REQUIRE(t.length == walked_length(*greedy, *g, {4, 1, 0}, points, t.order));
+  sdk::StopCondition past;
+  past.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  REQUIRE(greedy->tour(*g, {4, 1, 0}, points, past).status == sdk::PlanStatus::stopped);
+}
