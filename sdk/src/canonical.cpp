@@ -320,8 +320,13 @@ void render_to(const Program& p, std::string& out) {
 bool is_shape_word(const std::string& w) {
   return w == "triangle" || w == "circle" || w == "square";
 }
+// Direction words are the world's business (a 3-D world adds `ascend`/`descend`; the grammar
+// takes them from config), so canonical text accepts any word of letters after `move`.
 bool is_direction_word(const std::string& w) {
-  return w == "up" || w == "down" || w == "left" || w == "right";
+  if (w.empty()) return false;
+  for (char c : w)
+    if (c < 'a' || c > 'z') return false;
+  return true;
 }
 bool is_room_name(const std::string& w) {
   if (w.size() < 5 || w.compare(0, 4, "room") != 0) return false;

@@ -199,7 +199,7 @@ TEST_CASE("reader reports errors with a position", "[canonical]") {
       CHECK_THAT(e.what(), Catch::Contains("position"));
     }
   };
-  fails("{move sideways}", "direction");
+  fails("{move 3}", "direction");
   fails("{move up", "expected '}'");
   fails("{visit item }", "cannot visit");
   fails("{move up} {move up}", "after the end");
@@ -236,4 +236,10 @@ TEST_CASE("templates with a verb hole read and render", "[canonical]") {
   CHECK(render(p) == "{repeat 2 times {drop item }}");
   CHECK(render(read_template("pick", Sort::ItemAct, {})) == "pick");
   CHECK(render(full_form(read_canonical("{pick item {is red}}"))) == "{pick item {is red}}");
+}
+
+TEST_CASE("move takes any direction word a world may define", "[canonical]") {
+  CHECK(render(read_canonical("{move ascend}")) == "{move ascend}");
+  CHECK_THROWS_AS(read_canonical("{move 3}"), Error);
+  CHECK_THROWS_AS(read_canonical("{move [1,2]}"), Error);
 }
