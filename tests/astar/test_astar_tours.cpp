@@ -121,3 +121,40 @@ TEST_CASE("tours over more than max_tour_points points go greedily to the neares
   past.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
   REQUIRE(greedy->tour(*g, {4, 1, 0}, points, past).status == sdk::PlanStatus::stopped);
 }
+
+TEST_CASE("small tours are close to the best open path", "[astar][tour]") {
+  auto planner = testsupport::astar();
+  int optimal = 0;
+  for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(seed);
+    std::vector<std::string> rows(12, std::string(16, '.'));
+    std::bernoulli_distribution wall(0.2);
+    for (auto& r : rows)
+      for (auto& c : r)
+        if (wall(rng)) c = '#';
+    const auto g = testsupport::grid_from_rows(rows);
+    const auto& free = g->free_cells();
+    std::uniform_int_distribution<std::size_t> pick(0, free.size() - 1);
+    const Cell start = free[pick(rng)];
+    std::vector<Cell> points;
+    for (int k = 0; k < 6; ++k) points.push_back(free[pick(rng)]);
+    const auto t = planner->tour(*g, start, points, sdk::StopCondition{});
+    // The best open path over the reachable points, by trying every order.
+    std::vector<std::size_t> order;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const sdk::Area goal{points[i]};
+      if (planner->plan(*g, {start, &goal, nullptr}, sdk::StopCondition{}).status ==
+          sdk::PlanStatus::found)
+        order.push_back(i);
+    }
+    double best = 1e18;
+    do {
+      best = std::min(best, walked_length(*planner, *g, start, points, order));
+    } while (std::next_permutation(order.begin(), order.end()));
+    INFO("seed " << seed);
+    REQUIRE(t.length >= best);
+    REQUIRE(t.length <= 1.5 * best);
+    if (t.length == best) ++optimal;
+  }
+  REQUIRE(optimal >= 15);
+}
