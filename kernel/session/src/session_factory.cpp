@@ -1,12 +1,15 @@
 // Session construction for front ends.
 #include "flipper/kernel/session_factory.hpp"
 
+#include "flipper/kernel/naturalize_ops.hpp"
+
 namespace flipper::kernel {
 
 std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime) {
-  auto session = std::make_unique<Session>(std::move(runtime));
-  // Other modules install their ops and hooks here (naturalization: define, rules, delete_rule,
-  // visibility, accept persistence).
+  auto session = std::make_unique<Session>(runtime);
+  // Other modules install their ops and hooks here. Naturalization: define, rules, delete_rule,
+  // visibility, accept persistence (opens the lexicon store, restores rules and weights).
+  install_naturalization(*session, std::move(runtime));
   return session;
 }
 

@@ -1,0 +1,274 @@
+#include "flipper/kernel/naturalizer.hpp"
+
+#include <algorithm>
+#include <ctime>
+
+#include "flipper/kernel/generalizer.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel {
+
+namespace {
+
+sdk::RuleOrigin origin_from_string(const std::string& how) {
+  if (how == "simple") return sdk::RuleOrigin::simple;
+  if (how == "best") return sdk::RuleOrigin::best;
+  if (how == "alignment") return sdk::RuleOrigin::alignment;
+  if (how == "rewriting") return sdk::RuleOrigin::rewriting;
+  throw sdk::Error(lexicon_codes::kBadLexicon, "unknown rule origin '" + how + "'");
+}
+
+std::string symbol_text(const sdk::Symbol& s) {
+  return s.text;
+}
+
+}  // namespace
+
+std::string rule_shape(const sdk::Rule& rule) {
+  std::string key = rule.lhs + " ->";
+  for (const auto& s : rule.rhs) key += " " + symbol_text(s);
+  return key;
+}
+
+StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
+  StoredRule s;
+  s.id = rule.id;
+  s.lhs = rule.lhs;
+  for (const auto& sym : rule.rhs) s.rhs.push_back(symbol_text(sym));
+  s.semantics = sdk::render(rule.sem);
+  s.author = rule.author;
+  s.head = rule.head;
+  s.body = rule.body;
+  s.how = sdk::to_string(rule.how);
+  s.created = rule.created;
+  s.definition = definition;
+  s.uses_by_author = rule.usage->by_author.load();
+  s.uses_by_others = rule.usage->by_others.load();
+  return s;
+}
+
+sdk::RulePtr rule_from_stored(const StoredRule& s) {
+  auto rule = std::make_shared<sdk::Rule>();
+  rule->id = s.id;
+  rule->lhs = s.lhs;
+  std::vector<sdk::Sort> holes;
+  for (const auto& text : s.rhs) {
+    // Induced RHS hold plain tokens and categories only; a token never starts with '$'.
+    if (!text.empty() && text[0] == '$') {
+      rule->rhs.push_back({sdk::Symbol::Type::category, text});
+      holes.push_back(sdk::category_sort(sdk::normalize_category(text)));
+    } else {
+      rule->rhs.push_back({sdk::Symbol::Type::token, text});
+    }
+  }
+  rule->sem =
+      sdk::read_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
+  rule->induced = true;
+  rule->how = origin_from_string(s.how);
+  rule->author = s.author;
+  rule->head = s.head;
+  rule->body = s.body;
+  rule->created = s.created;
+  rule->usage->by_author = s.uses_by_author;
+  rule->usage->by_others = s.uses_by_others;
+  return rule;
+}
+
+Sharing parse_sharing(const std::string& text) {
+  if (text == "shared") return Sharing::shared;
+  if (text == "private") return Sharing::private_;
+  if (text == "core") return Sharing::core;
+  throw sdk::Error(sdk::codes::kBadConfig,
+                   "lexicon.sharing must be shared, private or core, not '" + text + "'");
+}
+
+const char* to_string(Sharing s) {
+  switch (s) {
+    case Sharing::shared:
+      return "shared";
+    case Sharing::private_:
+      return "private";
+    case Sharing::core:
+      return "core";
+  }
+  return "shared";
+}
+
+Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions options)
+    : runtime_(std::move(runtime)), options_(std::move(options)) {
+  if (!runtime_ || !runtime_->parser || !runtime_->scorer)
+    throw sdk::Error(sdk::codes::kInternal,
+                     "naturalization needs a runtime with parser and scorer");
+  store_ = std::make_unique<LexiconStore>(options_.store_path);
+  restore();
+  if (!options_.preload.empty()) preload(options_.preload);
+}
+
+Naturalizer::~Naturalizer() = default;
+
+void Naturalizer::restore() {
+  for (const auto& stored : store_->rules()) {
+    sdk::RulePtr rule;
+    try {
+      rule = rule_from_stored(stored);
+    } catch (const sdk::Error& e) {
+      throw sdk::Error(lexicon_codes::kBadLexicon, "lexicon store '" + store_->path() + "': rule " +
+                                                       stored.id + ": " + e.what());
+    }
+    runtime_->parser->add_rule(rule);
+    add_live(std::move(rule));
+  }
+  next_created_ = store_->max_created() + 1;
+  initial_weights_ = runtime_->scorer->save_state();
+  weights_user_.clear();
+  if (!options_.per_user_weights) {
+    if (auto state = store_->load_weights(weights_key({}))) runtime_->scorer->load_state(*state);
+  }
+}
+
+std::string Naturalizer::weights_key(const std::string& user) const {
+  return options_.per_user_weights ? "user:" + user : "global";
+}
+
+void Naturalizer::select_user(const std::string& user) {
+  if (!options_.per_user_weights || user == weights_user_) return;
+  auto state = store_->load_weights(weights_key(user));
+  runtime_->scorer->load_state(state ? *state : initial_weights_);
+  weights_user_ = user;
+}
+
+void Naturalizer::add_live(sdk::RulePtr rule) {
+  by_id_[rule->id] = rule;
+  by_shape_.emplace(rule_shape(*rule), rule);
+  rules_.push_back(std::move(rule));
+}
+
+bool Naturalizer::visible(const sdk::Rule& rule, const std::string& user) const {
+  if (!rule.induced) return true;
+  switch (options_.sharing) {
+    case Sharing::shared:
+      return true;
+    case Sharing::private_:
+      return rule.author == user;
+    case Sharing::core:
+      return false;
+  }
+  return true;
+}
+
+std::function<bool(const sdk::Rule&)> Naturalizer::visibility_for(const std::string& user) const {
+  if (options_.sharing == Sharing::shared) return {};  // every rule: no filter cost
+  return [this, user](const sdk::Rule& r) { return visible(r, user); };
+}
+
+bool Naturalizer::exists_for(const sdk::Rule& rule, const std::string& author) const {
+  auto [lo, hi] = by_shape_.equal_range(rule_shape(rule));
+  for (auto it = lo; it != hi; ++it)
+    if (visible(*it->second, author) && same_rule(*it->second, rule)) return true;
+  return false;
+}
+
+sdk::RulePtr Naturalizer::find_rule(const std::string& id) const {
+  auto it = by_id_.find(id);
+  return it == by_id_.end() ? nullptr : it->second;
+}
+
+DefineOutcome Naturalizer::define(const DefineRequest& req) {
+  Inducer inducer(*runtime_->parser, *runtime_->scorer, options_.induction);
+  const auto visible_rules = visibility_for(req.user);
+  PreparedDefinition prepared =
+      inducer.prepare({req.head, req.body, req.user, req.body_ranks}, visible_rules);
+
+  DefineOutcome out;
+  sdk::Program winner = prepared.body;
+  bool rewritten = false;
+  if (options_.generalize && runtime_->rewriter && req.before && req.exec) {
+    GeneralizeOptions gopts;
+    gopts.perturbed_checks = options_.perturbed_checks;
+    Generalizer generalizer(*runtime_->rewriter, runtime_->similarity.get(), *req.exec, gopts);
+    const int n = static_cast<int>(prepared.head_tokens.size());
+    GeneralizeResult g = generalizer.generalize(
+        prepared.head_tokens, prepared.body, *req.before,
+        [&](const sdk::Program& p) { return best_packing_score(prepared.head_chart, p, n); });
+    out.generalization_ran = true;
+    if (!g.body_won && g.winner) {
+      winner = g.winner;
+      rewritten = true;
+      out.generalized = g.winner;
+      out.generalized_rewriting = g.winner_rewriting;
+    }
+    for (const auto& c : g.candidates)
+      if (!c.rejected_reason.empty())
+        out.discarded.push_back({c.program, c.rewriting, c.rejected_reason});
+  }
+
+  InductionResult induced = inducer.induce(
+      prepared, winner, rewritten, [&](const sdk::Rule& r) { return exists_for(r, req.user); });
+
+  // Give the rules their identity, then commit definition + rules in one transaction before
+  // anything becomes visible: a failed commit leaves parser and store unchanged.
+  const std::int64_t now = static_cast<std::int64_t>(std::time(nullptr));
+  std::vector<sdk::RulePtr> rules;
+  std::vector<StoredRule> stored;
+  std::int64_t created = next_created_;
+  for (auto& r : induced.rules) {
+    auto rule = std::make_shared<sdk::Rule>(std::move(r));
+    rule->created = created++;
+    rule->id = "r" + std::to_string(rule->created);
+    rule->author = req.user;
+    rule->head = req.head;
+    rule->body = req.body;
+    stored.push_back(stored_from_rule(*rule, 0));
+    rules.push_back(std::move(rule));
+  }
+  out.definition = store_->add_definition({0, req.head, req.body, req.user, now}, stored);
+  next_created_ = created;
+  for (const auto& rule : rules) {
+    runtime_->parser->add_rule(rule);
+    add_live(rule);
+  }
+  out.rules = std::move(rules);
+  return out;
+}
+
+std::vector<RuleListing> Naturalizer::rules(const std::string& user,
+                                            const std::optional<std::string>& author) const {
+  std::vector<RuleListing> out;
+  for (const auto& r : rules_) {
+    if (!visible(*r, user) || (author && r->author != *author)) continue;
+    out.push_back({r, r->usage->by_author.load(), r->usage->by_others.load()});
+  }
+  return out;
+}
+
+void Naturalizer::delete_rule(const std::string& user, const std::string& id) {
+  auto rule = find_rule(id);
+  if (!rule) throw sdk::Error(naturalize_codes::kNotFound, "no rule with id '" + id + "'");
+  if (rule->author != user)
+    throw sdk::Error(naturalize_codes::kForbidden, "rule " + id + " belongs to '" + rule->author +
+                                                       "'; only its author may delete it");
+  store_->mark_deleted(id, static_cast<std::int64_t>(std::time(nullptr)));
+  runtime_->parser->remove_rule(id);
+  by_id_.erase(id);
+  auto [lo, hi] = by_shape_.equal_range(rule_shape(*rule));
+  for (auto it = lo; it != hi; ++it)
+    if (it->second == rule) {
+      by_shape_.erase(it);
+      break;
+    }
+  rules_.erase(std::remove(rules_.begin(), rules_.end(), rule), rules_.end());
+}
+
+void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::RulePtr>& used) {
+  std::vector<RuleUses> uses;
+  for (const auto& r : used) {
+    if (!r || !r->induced || !by_id_.count(r->id)) continue;
+    if (std::any_of(uses.begin(), uses.end(), [&](const RuleUses& u) { return u.rule == r->id; }))
+      continue;
+    uses.push_back({r->id, r->usage->by_author.load(), r->usage->by_others.load()});
+  }
+  store_->record_accept(uses, weights_key(user), runtime_->scorer->save_state());
+}
+
+}  // namespace flipper::kernel

@@ -1,0 +1,187 @@
+// define / rules / delete_rule through the session protocol: sharing modes, authorship,
+// deletion history, generalization, persistence across restarts, preload.
+#include <catch2/catch.hpp>
+
+#include "flipper/kernel/lexicon_store.hpp"
+#include "naturalize_fixture.hpp"
+
+using namespace flipper;
+using namespace flipper::naturalizetest;
+using kernel::Json;
+
+TEST_CASE("define answers the rules it added and the next query uses them", "[naturalize]") {
+  auto s = open(scratch("lex") + ".sqlite");
+  user(*s, "ana");
+  CHECK(status(*s, "pick 3 items") == "unparsable");
+  const Json a = define(*s, "pick 3 items", {"repeat 3 times pick item"});
+  REQUIRE(a["ok"] == true);
+  REQUIRE(a["rules"].size() >= 1);
+  const Json& r = a["rules"][0];
+  for (const char* f : {"id", "lhs", "rhs", "semantics", "author", "how"}) CHECK(r.contains(f));
+  CHECK(r["author"] == "ana");
+  CHECK(r["lhs"] == "$Action");
+  CHECK(a.contains("generalized"));
+  CHECK(status(*s, "pick 5 items") == "induced");
+  const Json q = s->handle({{"op", "query"}, {"text", "pick 5 items"}});
+  CHECK(q["candidates"][0]["formula"] == "{repeat 5 times {pick item }}");
+}
+
+TEST_CASE("definition errors have their codes", "[naturalize]") {
+  auto s = open(scratch("lex") + ".sqlite");
+  CHECK(code(define(*s, " ", {"move left"})) == "empty_head");
+  CHECK(code(define(*s, "move left", {"move right"})) == "head_is_core");
+  const Json bad = define(*s, "do it", {"move left", "fly away"});
+  CHECK(code(bad) == "body_unparsable");
+  CHECK_THAT(bad["error"]["message"].get<std::string>(), Catch::Contains("line 2"));
+  CHECK(code(s->handle({{"op", "define"}, {"head", "x"}})) == "missing_field");
+  CHECK(s->handle({{"op", "rules"}})["rules"].empty());  // nothing was added by the failures
+}
+
+TEST_CASE("sharing modes decide whose rules a user parses with", "[naturalize]") {
+  for (const std::string mode : {"shared", "private", "core"}) {
+    DYNAMIC_SECTION("lexicon.sharing=" << mode) {
+      auto s = open(scratch("lex") + ".sqlite", {"lexicon.sharing=" + mode});
+      user(*s, "ana");
+      REQUIRE(define(*s, "go west", {"move left"})["ok"] == true);
+      const std::string own = status(*s, "go west");
+      user(*s, "bob");
+      const std::string other = status(*s, "go west");
+      const auto listed = s->handle({{"op", "rules"}})["rules"].size();
+      if (mode == "shared") {
+        CHECK(own == "induced");
+        CHECK(other == "induced");
+        CHECK(listed >= 1);
+      } else if (mode == "private") {
+        CHECK(own == "induced");
+        CHECK(other == "unparsable");
+        CHECK(listed == 0);
+        user(*s, "ana");
+        CHECK(s->handle({{"op", "rules"}})["rules"].size() >= 1);
+      } else {
+        CHECK(own == "unparsable");
+        CHECK(other == "unparsable");
+        CHECK(listed == 0);
+      }
+      // head_is_core applies in every mode
+      CHECK(code(define(*s, "move up", {"move down"})) == "head_is_core");
+    }
+  }
+}
+
+TEST_CASE("only the author deletes a rule; the store keeps the history", "[naturalize]") {
+  const std::string store = scratch("lex") + ".sqlite";
+  std::string id;
+  {
+    auto s = open(store);
+    user(*s, "ana");
+    const Json a = define(*s, "go west", {"move left"});
+    REQUIRE(a["rules"].size() == 1);
+    id = a["rules"][0]["id"];
+    user(*s, "bob");
+    CHECK(code(s->handle({{"op", "delete_rule"}, {"rule", id}})) == "forbidden");
+    CHECK(code(s->handle({{"op", "delete_rule"}, {"rule", "r999"}})) == "not_found");
+    CHECK(status(*s, "go west") == "induced");
+    user(*s, "ana");
+    const Json d = s->handle({{"op", "delete_rule"}, {"rule", id}});
+    CHECK(d["deleted"] == id);
+    CHECK(status(*s, "go west") == "unparsable");
+    CHECK(s->handle({{"op", "rules"}})["rules"].empty());
+    CHECK(code(s->handle({{"op", "delete_rule"}, {"rule", id}})) == "not_found");
+  }
+  kernel::LexiconStore reopened(store);
+  CHECK(reopened.rules().empty());
+  REQUIRE(reopened.rules(true).size() == 1);
+  CHECK(reopened.rules(true)[0].deleted);
+  CHECK(reopened.definitions().size() == 1);
+}
+
+TEST_CASE("rules lists provenance and uses, filtered by author", "[naturalize]") {
+  auto s = open(scratch("lex") + ".sqlite");
+  user(*s, "ana");
+  define(*s, "go west", {"move left"});
+  user(*s, "bob");
+  define(*s, "go east", {"move right"});
+  REQUIRE(status(*s, "go west") == "induced");
+  REQUIRE(s->handle({{"op", "accept"}, {"rank", 0}})["ok"] == true);
+  const Json all = s->handle({{"op", "rules"}});
+  REQUIRE(all["rules"].size() == 2);
+  const Json ana = s->handle({{"op", "rules"}, {"author", "ana"}});
+  REQUIRE(ana["rules"].size() == 1);
+  const Json& r = ana["rules"][0];
+  CHECK(r["head"] == "go west");
+  CHECK(r["body"] == Json::array({"move left"}));
+  CHECK(r["how"] == "simple");
+  CHECK(r["uses_by_others"] == 1);  // bob accepted ana's rule
+  CHECK(r["uses_by_author"] == 0);
+  CHECK(r["uses"] == 1);
+}
+
+TEST_CASE("rules, counters and weights survive a restart", "[naturalize]") {
+  const std::string store = scratch("lex") + ".sqlite";
+  std::string weights;
+  {
+    auto s = open(store);
+    user(*s, "ana");
+    define(*s, "pick 3 items", {"repeat 3 times pick item"});
+    REQUIRE(status(*s, "pick 2 items") == "induced");
+    REQUIRE(s->handle({{"op", "accept"}, {"rank", 0}})["ok"] == true);
+    weights = s->runtime().scorer->save_state();
+  }
+  auto s = open(store);
+  CHECK(s->runtime().scorer->save_state() == weights);
+  user(*s, "ana");
+  CHECK(status(*s, "pick 4 items") == "induced");
+  const Json rules = s->handle({{"op", "rules"}});
+  REQUIRE(rules["rules"].size() >= 1);
+  int uses = 0;  // the accepted derivation used one of the definition's rules, once
+  for (const auto& r : rules["rules"]) uses += r["uses_by_author"].get<int>();
+  CHECK(uses == 1);
+  // New rules continue the id sequence instead of reusing ids.
+  const Json more = define(*s, "go west", {"move left"});
+  REQUIRE(more["rules"].size() == 1);
+  for (const auto& r : rules["rules"]) CHECK(r["id"] != more["rules"][0]["id"]);
+}
+
+TEST_CASE("a preload file is replayed once through induction", "[naturalize]") {
+  const std::string store = scratch("lex") + ".sqlite";
+  const std::string preload = scratch("preload") + ".jsonl";
+  {
+    std::ofstream out(preload);
+    out << R"({"head":"go west","body":["move left"],"author":"expert"})"
+        << "\n"
+        << R"({"head":"move left","body":["move right"],"author":"expert"})"
+        << "\n"
+        << R"({"head":"gather red","body":["foreach point in world containing item is red {visit point; pick every item is red}"],"author":"expert"})"
+        << "\n";
+  }
+  for (int start = 0; start < 2; ++start) {
+    auto s = open(store, {"lexicon.preload=" + preload});
+    user(*s, "ana");
+    CHECK(status(*s, "go west") == "induced");
+    CHECK(status(*s, "gather blue") == "induced");
+    const Json rules = s->handle({{"op", "rules"}, {"author", "expert"}});
+    CHECK(rules["rules"].size() >= 2);
+  }
+  kernel::LexiconStore reopened(store);
+  CHECK(reopened.definitions().size() == 2);  // the core head failed; no replay on restart
+}
+
+TEST_CASE("define generalizes a too specific body before inducing", "[naturalize]") {
+  auto s = open(scratch("lex") + ".sqlite");
+  Json world = s->handle({{"op", "state"}})["world"];
+  world["robot"]["x"] = 9;
+  world["robot"]["y"] = 8;
+  REQUIRE(s->handle({{"op", "world"}, {"world", world}})["ok"] == true);
+  user(*s, "ana");
+  const Json a = define(*s, "visit red triangle", {"move right"});
+  REQUIRE(a["ok"] == true);
+  CHECK(a["generalized"] == "{visit {world containing item {{is red} and {is triangle}}}}");
+  REQUIRE(a.contains("discarded"));
+  bool rewriting = false;
+  for (const auto& r : a["rules"]) rewriting = rewriting || r["how"] == "rewriting";
+  CHECK(rewriting);
+  const Json q = s->handle({{"op", "query"}, {"text", "visit blue circle"}});
+  REQUIRE(q["status"] == "induced");
+  CHECK(q["candidates"][0]["formula"] ==
+        "{visit {world containing item {{is blue} and {is circle}}}}");
+}
