@@ -1,17 +1,153 @@
-// flipper run: placeholder until its module lands (owner replaces this file).
+// flipper run [--config F] [--set k=v] [--world W] [--json] PROGRAM
+// Runs one program on the default world (or W): canonical text is read directly; anything else
+// goes through the runtime's parser and the top candidate is taken. Prints the interpretation,
+// the trace, the warnings and the final world (or one JSON object with --json).
 #include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "flipper/kernel/config.hpp"
+#include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/protocol.hpp"
+#include "flipper/kernel/runtime.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
 
 namespace flipper::cli {
-void add_run_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("run", "(not available yet)");
-  static CommonOptions opts;
-  add_common_options(*cmd, opts);
-  cmd->callback([] {
-    std::cerr << "flipper run: not available in this build yet\n";
-    std::exit(2);
-  });
+namespace {
+
+struct RunOptions {
+  CommonOptions common;
+  std::string world_file;
+  bool json = false;
+  std::string program;
+};
+
+kernel::ExecLimits limits_from(const kernel::Config& c) {
+  kernel::ExecLimits l;
+  if (c.has("execution.action_budget"))
+    l.action_budget = static_cast<std::uint64_t>(c.get_int("execution.action_budget"));
+  if (c.has("execution.time_budget_ms"))
+    l.time_budget = std::chrono::milliseconds(c.get_int("execution.time_budget_ms"));
+  if (c.has("execution.while_limit"))
+    l.while_limit = static_cast<int>(c.get_int("execution.while_limit"));
+  return l;
 }
+
+// Canonical text first (deterministic); otherwise the parser's best candidate.
+sdk::Program interpret(const kernel::Runtime& rt, const std::string& text) {
+  if (rt.config.has("input.max_chars") &&
+      static_cast<std::int64_t>(text.size()) > rt.config.get_int("input.max_chars"))
+    throw sdk::Error(sdk::codes::kInputTooLong,
+                     "the program has " + std::to_string(text.size()) +
+                         " characters; the limit is " +
+                         std::to_string(rt.config.get_int("input.max_chars")));
+  try {
+    return sdk::read_canonical(text);
+  } catch (const sdk::Error&) {
+  }
+  sdk::ParseRequest req;
+  req.tokens = sdk::tokenize(text);
+  req.scorer = rt.scorer.get();
+  req.beam = 0;
+  const sdk::ParseResult res = rt.parser->parse(req);
+  if (res.candidates.empty())
+    throw sdk::Error(
+        sdk::codes::kBadProgram,
+        "cannot understand '" + text + "': it is neither canonical text nor core language");
+  return res.candidates.front().program;
+}
+
+const char* act_name(sdk::TraceStep::Act a) {
+  return a == sdk::TraceStep::Act::move ? "move" : a == sdk::TraceStep::Act::pick ? "pick" : "drop";
+}
+
+void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
+  std::cout << "interpretation: " << sdk::render(program) << "\n";
+  std::cout << "trace (" << o.trace.size() << " steps):\n";
+  for (const auto& s : o.trace) {
+    std::cout << "  " << act_name(s.act) << " " << sdk::to_string(s.cell, dims);
+    if (s.act != sdk::TraceStep::Act::move)
+      std::cout << " " << s.item.color << " " << s.item.shape << " (id " << s.item.id << ")";
+    std::cout << "\n";
+  }
+  for (const auto& w : o.warnings) std::cout << "warning: " << w << "\n";
+  std::cout << "realizable: " << (o.realizable ? "yes" : "no") << "\n";
+  const sdk::WorldState& w = o.world;
+  std::cout << "robot: " << sdk::to_string(w.robot, dims) << ", holding " << w.held.size()
+            << (w.held.empty() ? "" : ":");
+  for (const auto& h : w.held) std::cout << " " << h.color << " " << h.shape;
+  std::cout << "\nitems (" << w.items.size() << "):";
+  for (const auto& li : w.items)
+    std::cout << " " << li.item.color << " " << li.item.shape << "@" << sdk::to_string(li.at, dims);
+  std::cout << "\n";
+}
+
+int run(const RunOptions& opts) {
+  std::unique_ptr<kernel::Runtime> rt;
+  try {
+    rt = kernel::make_runtime(kernel::Config::load(
+        opts.common.config_file.empty() ? std::nullopt
+                                        : std::optional<std::string>(opts.common.config_file),
+        opts.common.overrides));
+  } catch (const sdk::Error& e) {
+    std::cerr << "flipper run: error [" << e.code() << "]: " << e.what() << "\n";
+    return kExitUsage;
+  }
+  const int dims = rt->world->dims();
+  auto fail = [&](const std::string& code, const std::string& message, int exit_code) {
+    if (opts.json)
+      std::cout << nlohmann::json{{"ok", false},
+                                  {"error", kernel::protocol::error_json(code, message)}}
+                       .dump()
+                << "\n";
+    else
+      std::cerr << "flipper run: error [" << code << "]: " << message << "\n";
+    return exit_code;
+  };
+  sdk::WorldState world;
+  try {
+    world =
+        opts.world_file.empty() ? rt->default_world : kernel::load_world_file(*rt, opts.world_file);
+  } catch (const sdk::Error& e) {
+    return fail(e.code(), e.what(), kExitUsage);
+  }
+  sdk::Program program;
+  try {
+    program = interpret(*rt, opts.program);
+  } catch (const sdk::Error& e) {
+    return fail(e.code(), e.what(), kExitFailed);
+  }
+  const kernel::Executor executor(rt->planner, limits_from(rt->config));
+  const sdk::Outcome o = executor.run(program, world);
+  if (o.error) return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed);
+  if (opts.json) {
+    nlohmann::json j = kernel::protocol::outcome_json(o, dims);
+    j["ok"] = true;
+    j["formula"] = sdk::render(program);
+    j["world"] = nlohmann::json::parse(rt->world->save(o.world));
+    std::cout << j.dump() << "\n";
+  } else {
+    print_human(program, o, dims);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  auto* cmd =
+      app.add_subcommand("run", "Run one program (canonical text or core language) on a world");
+  static RunOptions opts;
+  add_common_options(*cmd, opts.common);
+  cmd->add_option("--world", opts.world_file, "World file (default: the config's world.file)");
+  cmd->add_flag("--json", opts.json, "Print one JSON object (protocol shapes)");
+  cmd->add_option("program", opts.program, "The program, e.g. 'visit world containing item is red'")
+      ->required();
+  cmd->callback([] { std::exit(run(opts)); });
+}
+
 }  // namespace flipper::cli
