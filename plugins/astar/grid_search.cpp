@@ -29,7 +29,6 @@ bool GridSearch::prepare(const sdk::Geometry& g) {
   const std::int64_t total = px_ * py_ * pz_;
   if (total >= std::numeric_limits<std::uint32_t>::max()) return false;
   const auto n = static_cast<std::size_t>(total);
-  if (target_id_.size() != n) target_id_.resize(n);
   state_.assign(n, kBlocked);
   const std::uint8_t* mask = g.free_mask().data();
   for (std::int64_t z = 0; z < sz; ++z)
@@ -392,6 +391,7 @@ std::int32_t GridSearch::nearest_goal(Cell from, Cell& goal, const sdk::StopCond
 
 void GridSearch::set_targets(const std::vector<Cell>& cells) {
   clear_targets();
+  if (target_id_.size() != state_.size()) target_id_.resize(state_.size());
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const std::uint32_t i = index(cells[k]);
     state_[i] |= kTarget;

@@ -142,11 +142,40 @@ bool two_opt_pass(const DistanceMatrix& m, std::vector<int>& p) {
   return improved;
 }
 
+// Above this many vertices Or-opt only tries insertion points next to the kNeighbours nearest
+// vertices of the segment's ends (a full scan is cubic per sweep there); 2-opt always scans all.
+constexpr int kFullScanLimit = 200;
+constexpr int kNeighbours = 10;
+
+// The kNeighbours nearest other vertices of each vertex (ties: smaller vertex).
+std::vector<std::vector<int>> nearest_neighbours(const DistanceMatrix& m) {
+  std::vector<std::vector<int>> out(m.n);
+  std::vector<int> others;
+  for (int v = 0; v < m.n; ++v) {
+    others.clear();
+    for (int u = 0; u < m.n; ++u)
+      if (u != v) others.push_back(u);
+    const int k = std::min<int>(kNeighbours, static_cast<int>(others.size()));
+    std::partial_sort(others.begin(), others.begin() + k, others.end(), [&](int a, int b) {
+      return m(v, a) < m(v, b) || (m(v, a) == m(v, b) && a < b);
+    });
+    out[v].assign(others.begin(), others.begin() + k);
+  }
+  return out;
+}
+
 // One sweep of Or-opt moves: a segment p[i..i+len-1] moves between p[k] and p[k+1] (or to the
-// end), as it is or reversed.
-bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p) {
+// end), as it is or reversed. With `nbrs`, k ranges over the positions next to the ends'
+// neighbours (and the end of the path) only.
+bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p,
+                 const std::vector<std::vector<int>>* nbrs) {
   bool improved = false;
   const int n = static_cast<int>(p.size());
+  std::vector<int> pos(m.n, -1), candidates;
+  auto index_positions = [&] {
+    for (int k = 0; k < n; ++k) pos[p[k]] = k;
+  };
+  if (nbrs) index_positions();
   for (int seg = 1; seg <= 3; ++seg)
     for (int i = 1; i + seg <= n; ++i) {
       const int first = p[i], last = p[i + seg - 1];
@@ -154,10 +183,23 @@ bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p) {
       const bool at_end = i + seg == n;
       const double removal =
           at_end ? m(prev, first) : m(prev, first) + m(last, p[i + seg]) - m(prev, p[i + seg]);
+      candidates.clear();
+      if (nbrs) {
+        for (int end : {first, last})
+          for (int q : (*nbrs)[end]) {
+            candidates.push_back(pos[q]);
+            if (pos[q] > 0) candidates.push_back(pos[q] - 1);
+          }
+        candidates.push_back(n - 1);
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      } else {
+        for (int k = 0; k < n; ++k) candidates.push_back(k);
+      }
       double best = -kEps;
       int best_k = -1;
       bool best_rev = false;
-      for (int k = 0; k < n; ++k) {
+      for (const int k : candidates) {
         if (k >= i - 1 && k <= i + seg - 1) continue;  // insertion point inside or next to it
         const int q = p[k];
         const bool end = k == n - 1;
@@ -177,6 +219,7 @@ bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p) {
       p.erase(p.begin() + i, p.begin() + i + seg);
       const int k = best_k < i ? best_k : best_k - seg;
       p.insert(p.begin() + k + 1, segment.begin(), segment.end());
+      if (nbrs) index_positions();
       improved = true;
     }
   return improved;
@@ -187,11 +230,13 @@ bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p) {
 bool improve_open_path(const DistanceMatrix& m, std::vector<int>& p, bool two_opt, bool or_opt,
                        const std::function<bool()>& should_stop) {
   if (p.size() < 3) return true;
+  std::vector<std::vector<int>> nbrs;
+  if (or_opt && m.n > kFullScanLimit) nbrs = nearest_neighbours(m);
   for (;;) {
     if (should_stop && should_stop()) return false;
     bool improved = false;
     if (two_opt) improved = two_opt_pass(m, p) || improved;
-    if (or_opt) improved = or_opt_pass(m, p) || improved;
+    if (or_opt) improved = or_opt_pass(m, p, nbrs.empty() ? nullptr : &nbrs) || improved;
     if (!improved) return true;
   }
 }

@@ -29,9 +29,10 @@ std::vector<int> open_path_from_cycle(const DistanceMatrix& m, const std::vector
 double open_length(const DistanceMatrix& m, const std::vector<int>& p);
 
 /// 2-opt (segment reversal) and, if `or_opt`, Or-opt (moving segments of 1-3 vertices, either
-/// way round) on the open path `p` with p[0] fixed, until no move shortens it. First improving
-/// move in scan order wins (deterministic). `should_stop` is polled once per pass; returns
-/// false if it fired (p is then still a valid, partly improved path).
+/// way round) on the open path `p` with p[0] fixed, until no move shortens it. 2-opt scans
+/// every move; above 200 vertices Or-opt only tries insertion next to the 10 nearest neighbours
+/// of the segment's ends. First improving move in scan order wins (deterministic). `should_stop` is
+/// polled once per pass; returns false if it fired (p is then still a valid, partly improved path).
 bool improve_open_path(const DistanceMatrix& m, std::vector<int>& p, bool two_opt, bool or_opt,
                        const std::function<bool()>& should_stop);
 
