@@ -20,46 +20,6 @@ using nlohmann::json;
 
 namespace {
 
-// One comparable step: "m x y" or "p x y colour shape" / "d ...".
-using Steps = std::vector<std::string>;
-
-Steps ours(const std::vector<sdk::TraceStep>& trace) {
-  Steps out;
-  for (const auto& s : trace) {
-    std::string t = s.act == sdk::TraceStep::Act::move   ? "m"
-                    : s.act == sdk::TraceStep::Act::pick ? "p"
-                                                         : "d";
-    t += " " + std::to_string(s.cell.x) + " " + std::to_string(s.cell.y);
-    if (s.act != sdk::TraceStep::Act::move) t += " " + s.item.color + " " + s.item.shape;
-    out.push_back(t);
-  }
-  return out;
-}
-
-// §5: drop start entries and zero-length destinations (entries on the current cell) and
-// possible=false entries.
-Steps theirs(const json& path, sdk::Cell robot) {
-  Steps out;
-  int x = robot.x, y = robot.y;
-  for (const auto& e : path) {
-    const int ex = e[0], ey = e[1];
-    const std::string act = e[2];
-    const bool ok = e[5];
-    if (!ok) continue;
-    if (act == "path" || act == "destination") {
-      if (ex == x && ey == y) continue;
-      x = ex;
-      y = ey;
-      out.push_back("m " + std::to_string(ex) + " " + std::to_string(ey));
-    } else {
-      const std::string c = e[3], s = e[4];
-      out.push_back(std::string(act == "pickitem" ? "p" : "d") + " " + std::to_string(ex) + " " +
-                    std::to_string(ey) + " " + c + " " + s);
-    }
-  }
-  return out;
-}
-
 bool contains_kind(const sdk::Program& p, sdk::Kind k) {
   if (p->kind == k) return true;
   for (const auto& c : p->kids)
