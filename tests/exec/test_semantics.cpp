@@ -175,8 +175,9 @@ TEST_CASE("runaway programs hit a budget", "[exec][budget]") {
   kernel::ExecLimits tight;
   tight.action_budget = 1u << 30;
   tight.time_budget = std::chrono::milliseconds(30);
-  auto t = st.run("{repeat 99 times {repeat 99 times {repeat 99 times {visit [9,8]}}}}", st.state(),
-                  tight);
+  auto t =
+      st.run("{repeat 99 times {repeat 99 times {repeat 99 times {{visit [9,8]};{visit [2,4]}}}}}",
+             st.state(), tight);
   CHECK(t.error_code == "budget_exceeded");
   CHECK_THAT(*t.error, Catch::Contains("time budget"));
   // Loops without primitive actions see the clock too.
