@@ -1,19 +1,29 @@
-# flipper_add_plugin(<name> KIND <kind> SOURCES <src>... [LIBRARIES <lib>...] [VERSION <v>])
+# flipper_add_plugin(<name> KIND <kind> SOURCES <src>... [LIBRARIES <lib>...] [VERSION <v>]
+#                    [OUTPUT_DIRECTORY <dir>] [NAME <id>] [NO_INSTALL])
 #
 # Builds a Flipper plugin: a MODULE library linked against the SDK only, with hidden visibility,
 # -fno-gnu-unique (so g++ does not pin it in memory, see docs) and -z nodelete (the kernel never
 # unloads within a process), written to the plugin directory together with a sidecar manifest
 # <name>.flipper.yaml that lets the kernel index plugins without loading their code.
 # Works in tree (target flipper_sdk) and out of tree (after find_package(FlipperSDK)).
+# NAME overrides the plugin id written to the sidecar (default: <name>; tests use it to build
+# two files declaring one id). Unless NO_INSTALL, `cmake --install` puts the plugin and its
+# sidecar in <prefix>/lib/flipper/plugins, where an installed kernel looks.
 include_guard(GLOBAL)
+include(GNUInstallDirs)
+set(FLIPPER_PLUGIN_INSTALL_DIR "lib/flipper/plugins" CACHE STRING
+  "Plugin install directory, relative to the prefix (the kernel searches <exe>/../lib/flipper/plugins)")
 
 function(flipper_add_plugin name)
-  cmake_parse_arguments(FAP "" "KIND;VERSION;OUTPUT_DIRECTORY" "SOURCES;LIBRARIES" ${ARGN})
+  cmake_parse_arguments(FAP "NO_INSTALL" "KIND;VERSION;OUTPUT_DIRECTORY;NAME" "SOURCES;LIBRARIES" ${ARGN})
   if(NOT FAP_KIND)
     message(FATAL_ERROR "flipper_add_plugin(${name}): KIND is required")
   endif()
   if(NOT FAP_SOURCES)
     message(FATAL_ERROR "flipper_add_plugin(${name}): SOURCES is required")
+  endif()
+  if(NOT FAP_NAME)
+    set(FAP_NAME ${name})
   endif()
   if(NOT FAP_VERSION)
     set(FAP_VERSION "1.0.0")
@@ -60,9 +70,17 @@ function(flipper_add_plugin name)
   target_compile_options(${target} PRIVATE -fno-gnu-unique -Wall -Wextra)
   target_link_options(${target} PRIVATE -Wl,-z,nodelete -Wl,--no-undefined)
   file(GENERATE OUTPUT ${FAP_OUTPUT_DIRECTORY}/${name}.flipper.yaml CONTENT
-"name: ${name}
+"name: ${FAP_NAME}
 kind: ${FAP_KIND}
 version: ${FAP_VERSION}
 library: ${name}.so
 ")
+  if(NOT FAP_NO_INSTALL)
+    # Installed plugins find libflipper_sdk in <prefix>/<libdir> (3 levels up from the plugin).
+    set_target_properties(${target} PROPERTIES INSTALL_RPATH "$ORIGIN/../../../${CMAKE_INSTALL_LIBDIR}")
+    install(TARGETS ${target} LIBRARY DESTINATION ${FLIPPER_PLUGIN_INSTALL_DIR})
+    install(FILES ${FAP_OUTPUT_DIRECTORY}/${name}.flipper.yaml DESTINATION ${FLIPPER_PLUGIN_INSTALL_DIR})
+  endif()
 endfunction()
+
+include(${CMAKE_CURRENT_LIST_DIR}/FlipperTesting.cmake)

@@ -78,7 +78,7 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
 
   rt->core_grammar = std::make_shared<const sdk::Grammar>(sdk::load_grammar_file(
       config.get_path("grammar.file"), config.get_string_list("grammar.colors"),
-      config.get_string_list("grammar.shapes")));
+      config.get_string_list("grammar.shapes"), config.get_string_list("grammar.directions")));
   guarded(config.plugin_name("parser"), [&] { rt->parser->set_grammar(rt->core_grammar); });
 
   rt->default_world = load_world(*rt->world, world_name, config.get_path("world.file"));

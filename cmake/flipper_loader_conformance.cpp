@@ -1,0 +1,7 @@
+// The loader-layer conformance test of one plugin; flipper_add_conformance_test() compiles it
+// with FLIPPER_CONFORMANCE_PLUGIN (name) and FLIPPER_CONFORMANCE_PLUGIN_PATH (built .so).
+#include "flipper/testing/loader.hpp"
+
+TEST_CASE("loader conformance: " FLIPPER_CONFORMANCE_PLUGIN, "[conformance][loader]") {
+  flipper::testing::check_loader_conformance(FLIPPER_CONFORMANCE_PLUGIN_PATH);
+}

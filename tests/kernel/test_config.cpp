@@ -1,0 +1,205 @@
+// Config: the embedded default, schema defaults, --set, dump, paths, and table-driven bad
+// configs asserting the exact code and the key words of each message.
+#include <cstdlib>
+
+#include "kernel_test_support.hpp"
+
+using namespace flipper;
+using kernel::Config;
+using kerneltest::require_error;
+
+TEST_CASE("embedded default config has the documented values", "[config]") {
+  const Config c = Config::embedded_default();
+  CHECK(c.source() == "<embedded default>");
+  CHECK(c.plugin_name("world") == "grid2d");
+  CHECK(c.plugin_name("planner") == "astar");
+  CHECK(c.plugin_name("parser") == "chart");
+  CHECK(c.plugin_name("scorer") == "loglinear");
+  CHECK(c.plugin_name("rewriter") == "rewrites");
+  CHECK(c.plugin_name("similarity") == "wordnet");
+  CHECK(c.get_path("world.file") ==
+        std::string(FLIPPER_SOURCE_DIR) + "/configs/worlds/study2018.json");
+  CHECK(c.get_path("grammar.file") ==
+        std::string(FLIPPER_SOURCE_DIR) + "/configs/grammars/core.grammar");
+  CHECK(c.get_string_list("grammar.colors").size() == 9);
+  CHECK(c.get_string_list("grammar.shapes") ==
+        std::vector<std::string>{"triangle", "circle", "square"});
+  CHECK(c.get_string_list("grammar.directions") ==
+        std::vector<std::string>{"up", "down", "left", "right"});
+  CHECK(c.get_string("lexicon.sharing") == "shared");
+  CHECK(c.get_string("lexicon.weights") == "global");
+  CHECK(c.get_string("lexicon.preload").empty());
+  CHECK(c.get_path("lexicon.path") ==
+        std::string(std::getenv("HOME")) + "/.local/share/flipper/lexicon.sqlite");
+  CHECK(c.get_bool("induction.alignment"));
+  CHECK(c.get_bool("induction.generalize"));
+  CHECK(c.get_int("induction.perturbed_checks") == 0);
+  CHECK(c.get_int("execution.action_budget") == 100000);
+  CHECK(c.get_int("execution.time_budget_ms") == 2000);
+  CHECK(c.get_int("execution.while_limit") == 20);
+  CHECK(c.get_int("input.max_chars") == 2000);
+  CHECK(c.get_int("input.max_semicolons") == 30);
+  CHECK(c.get_int("session.k") == 3);
+  CHECK(c.get_string_list("plugin_paths").empty());
+}
+
+TEST_CASE("the embedded default is configs/default.yaml", "[config]") {
+  const Config file = Config::load(std::string(FLIPPER_SOURCE_DIR) + "/configs/default.yaml", {});
+  CHECK(file.dump() == Config::embedded_default().dump());
+  CHECK(file.base_dir() == std::string(FLIPPER_SOURCE_DIR) + "/configs");
+}
+
+TEST_CASE("a small file gets schema defaults; optional sections stay absent", "[config]") {
+  const auto path = kerneltest::write_temp("small.yaml", "session: {k: 5}\n");
+  const Config c = Config::load(path, {});
+  CHECK(c.get_int("session.k") == 5);
+  CHECK(c.get_int("execution.while_limit") == 20);
+  CHECK(c.plugin_name("planner") == "astar");
+  CHECK_FALSE(c.has_section("rewriter"));
+  CHECK_FALSE(c.has_section("similarity"));
+  CHECK(c.resolve_path("worlds/x.json") ==
+        (std::filesystem::path(path).parent_path() / "worlds/x.json").string());
+}
+
+TEST_CASE("overrides (--set) apply after the file and are validated the same way", "[config]") {
+  const auto path = kerneltest::write_temp("set.yaml", "session: {k: 5}\n");
+  const Config c = Config::load(path, {"session.k=7", "plugin_paths=[a, /b]",
+                                       "planner.params.heuristic=manhattan", "rewriter.plugin=rw"});
+  CHECK(c.get_int("session.k") == 7);
+  CHECK(c.get_string_list("plugin_paths") == std::vector<std::string>{"a", "/b"});
+  CHECK(c.get_string("planner.params.heuristic") == "manhattan");
+  CHECK(c.plugin_name("rewriter") == "rw");
+  const Config removed = Config::load(std::nullopt, {"rewriter=null", "session.k=~"});
+  CHECK_FALSE(removed.has_section("rewriter"));
+  CHECK(removed.get_int("session.k") == 3);  // null restores the default
+
+  Config later = Config::embedded_default();
+  later.set("execution.while_limit=5");
+  CHECK(later.get_int("execution.while_limit") == 5);
+  require_error([&] { later.set("execution.while_limit=-1"); }, "bad_config",
+                {"execution.while_limit", "out of range"});
+  CHECK(later.get_int("execution.while_limit") == 5);  // a failed set changes nothing
+}
+
+TEST_CASE("dump is the effective config and loads back to itself", "[config]") {
+  const Config c = Config::load(std::nullopt, {"session.k=9"});
+  const std::string text = c.dump();
+  CHECK(text.find("k: 9") != std::string::npos);
+  CHECK(text.find("action_budget: 100000") != std::string::npos);
+  const auto path = kerneltest::write_temp("dumped.yaml", text);
+  CHECK(Config::load(path, {}).dump() == text);
+}
+
+namespace {
+struct BadCase {
+  const char* what;
+  const char* file_text;  // null: embedded default
+  std::vector<std::string> overrides;
+  std::vector<std::string> words;
+};
+}  // namespace
+
+TEST_CASE("bad configs are refused with bad_config and a precise message", "[config]") {
+  const std::vector<BadCase> cases = {
+      {"unknown top-level key",
+       "planer: {plugin: astar}\n",
+       {},
+       {"unknown config key 'planer'", "did you mean 'planner'"}},
+      {"unknown nested key",
+       "execution: {action_budgt: 5}\n",
+       {},
+       {"unknown config key 'execution.action_budgt'", "did you mean 'execution.action_budget'"}},
+      {"unknown key without a close match",
+       "lexicon: {colour_scheme: 1}\n",
+       {},
+       {"unknown config key 'lexicon.colour_scheme'"}},
+      {"wrong type (int)",
+       "execution: {action_budget: lots}\n",
+       {},
+       {"execution.action_budget", "must be an integer", "'lots'"}},
+      {"wrong type (bool)",
+       "induction: {alignment: maybe}\n",
+       {},
+       {"induction.alignment", "boolean"}},
+      {"wrong type (list)", "grammar: {colors: red}\n", {}, {"grammar.colors", "list of strings"}},
+      {"section is not a map", "world: grid2d\n", {}, {"'world' must be a map"}},
+      {"out of range", "session: {k: 0}\n", {}, {"session.k", "out of range", "[1, 1000]"}},
+      {"bad enum",
+       "lexicon: {sharing: public}\n",
+       {},
+       {"lexicon.sharing", "'public'", "shared, private, core"}},
+      {"bad enum with hint",
+       "lexicon: {weights: per-user}\n",
+       {},
+       {"lexicon.weights", "did you mean 'per_user'"}},
+      {"optional section without plugin",
+       "rewriter: {params: {}}\n",
+       {},
+       {"rewriter", "missing", "rewriter.plugin"}},
+      {"YAML syntax error", "world: [\n", {}, {"kernel_bad.yaml:"}},
+      {"config is not a map", "- a\n- b\n", {}, {"must be a YAML map"}},
+      {"--set without =",
+       nullptr,
+       {"execution.action_budget"},
+       {"malformed --set", "key.path=value"}},
+      {"--set with bad YAML",
+       nullptr,
+       {"plugin_paths=[a,"},
+       {"malformed --set 'plugin_paths=[a,'"}},
+      {"--set with a bad key", nullptr, {"a..b=1"}, {"malformed --set", "not a dotted key path"}},
+      {"--set with empty value", nullptr, {"session.k="}, {"malformed --set", "empty"}},
+      {"--set unknown key",
+       nullptr,
+       {"execution.budget=3"},
+       {"unknown config key 'execution.budget'"}},
+      {"--set wrong type", nullptr, {"session.k=abc"}, {"session.k", "must be an integer"}},
+  };
+  for (const auto& c : cases) {
+    SECTION(c.what) {
+      std::optional<std::string> file;
+      if (c.file_text != nullptr) file = kerneltest::write_temp("kernel_bad.yaml", c.file_text);
+      require_error([&] { (void)Config::load(file, c.overrides); }, "bad_config", c.words);
+    }
+  }
+  SECTION("missing config file") {
+    require_error([] { (void)Config::load(std::string("/nonexistent/flipper.yaml"), {}); },
+                  "bad_config", {"cannot read config file", "/nonexistent/flipper.yaml"});
+  }
+}
+
+TEST_CASE("plugin params are validated against the plugin's schema", "[config][params]") {
+  sdk::ParamSchema schema;
+  schema.add_string("heuristic", "octile", "", {"octile", "manhattan"});
+  schema.add_int("max_expansions", 1000, "", 1, 1000000);
+  schema.add_double("weight", 1.0, "", 0.0, 5.0);
+  schema.add_path("map", std::nullopt, "", true);
+  schema.add_string_list("tags", {}, "");
+  const auto with = [&](const std::string& params) {
+    const auto path =
+        kerneltest::write_temp("params.yaml", "planner: {plugin: p, params: " + params + "}\n");
+    return Config::load(path, {}).plugin_params("planner", schema);
+  };
+
+  const sdk::Params ok = with("{map: maps/a.bt, weight: 2, tags: [x, y]}");
+  CHECK(ok.get_string("heuristic") == "octile");
+  CHECK(ok.get_int("max_expansions") == 1000);
+  CHECK(ok.get_double("weight") == 2.0);
+  CHECK(ok.get_string_list("tags") == std::vector<std::string>{"x", "y"});
+  CHECK(ok.get_string("map") ==
+        (std::filesystem::path(FLIPPER_BINARY_DIR) / "tests/tmp/maps/a.bt").string());
+
+  require_error([&] { (void)with("{map: m, heuristc: manhattan}"); }, "bad_config",
+                {"unknown parameter 'planner.params.heuristc'", "did you mean 'heuristic'"});
+  require_error([&] { (void)with("{map: m, max_expansions: many}"); }, "bad_config",
+                {"planner.params.max_expansions", "must be an integer"});
+  require_error([&] { (void)with("{map: m, max_expansions: 0}"); }, "bad_config",
+                {"planner.params.max_expansions", "out of range"});
+  require_error([&] { (void)with("{map: m, weight: 9.5}"); }, "bad_config",
+                {"planner.params.weight", "out of range", "[0, 5]"});
+  require_error([&] { (void)with("{map: m, heuristic: euclid}"); }, "bad_config",
+                {"planner.params.heuristic", "one of: octile, manhattan"});
+  require_error([&] { (void)with("{}"); }, "bad_config",
+                {"missing required parameter 'planner.params.map'"});
+  require_error([&] { (void)with("{map: m, tags: x}"); }, "bad_config",
+                {"planner.params.tags", "list of strings"});
+}
