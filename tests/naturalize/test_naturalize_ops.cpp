@@ -185,3 +185,23 @@ TEST_CASE("define generalizes a too specific body before inducing", "[naturalize
   CHECK(q["candidates"][0]["formula"] ==
         "{visit {world containing item {{is blue} and {is circle}}}}");
 }
+
+TEST_CASE("per-user weights: each user's accepts train only their own model", "[naturalize]") {
+  const std::string store = scratch("lex") + ".sqlite";
+  auto s = open(store, {"lexicon.weights=per_user"});
+  const std::string initial = s->runtime().scorer->save_state();
+  user(*s, "ana");
+  const Json q = s->handle({{"op", "query"}, {"text", "pick item not is red and is green"}});
+  REQUIRE(q["candidates"].size() >= 2);
+  REQUIRE(s->handle({{"op", "accept"}, {"rank", 1}})["ok"] == true);
+  const std::string ana = s->runtime().scorer->save_state();
+  CHECK(ana != initial);
+  user(*s, "bob");
+  CHECK(s->runtime().scorer->save_state() == initial);
+  user(*s, "ana");
+  CHECK(s->runtime().scorer->save_state() == ana);
+  kernel::LexiconStore reopened(store);
+  CHECK(reopened.load_weights("user:ana") == std::optional<std::string>(ana));
+  CHECK_FALSE(reopened.load_weights("user:bob"));
+  CHECK_FALSE(reopened.load_weights("global"));
+}
