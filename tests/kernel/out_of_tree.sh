@@ -26,6 +26,7 @@ echo "$listing" | grep -Eq "^\* bfs_example +planner +0\.1\.0 +1 \(sdk 1\.[0-9]+
 # A full check instantiates it with the kernel test plugins, and with the default config.
 "$build/bin/flipper" config check --config "$src/tests/kernel/data/kernel_test.yaml" \
   --set "plugin_paths=[$plugins, $build/tests/plugins/good]" --set planner.plugin=bfs_example \
+  --set planner.params=null \
   | grep -q "plugin: bfs_example"
 "$build/bin/flipper" config check --set "plugin_paths=[$plugins]" --set planner.plugin=bfs_example \
   | grep -q "plugin: bfs_example"

@@ -365,10 +365,21 @@ void Config::set(const std::string& assignment) {
   *this = build(YAML::Clone(impl_->root), impl_->source, impl_->base_dir, {assignment});
 }
 
+namespace {
+// Empty maps print as `params: {}` on one line (block style would put `{}` on its own line).
+void flow_empty_maps(YAML::Node node) {
+  if (!node.IsMap()) return;
+  if (node.size() == 0) node.SetStyle(YAML::EmitterStyle::Flow);
+  for (auto kv : node) flow_empty_maps(kv.second);
+}
+}  // namespace
+
 std::string Config::dump() const {
+  YAML::Node copy = YAML::Clone(impl_->root);
+  flow_empty_maps(copy);
   YAML::Emitter out;
   out.SetSeqFormat(YAML::Flow);
-  out << impl_->root;
+  out << copy;
   return std::string(out.c_str()) + "\n";
 }
 
