@@ -63,12 +63,13 @@ TEST_CASE("search path: plugin_paths, then FLIPPER_PLUGIN_PATH, then built-in di
   ::setenv("FLIPPER_PLUGIN_PATH", "/env/one::/env/two", 1);
   const auto path = PluginLoader::search_path_for(kerneltest::test_config());
   ::unsetenv("FLIPPER_PLUGIN_PATH");
-  REQUIRE(path.size() >= 5);
+  REQUIRE(path.size() == 6);
   CHECK(path[0] == kerneltest::good_dir());
   CHECK(path[1] == kerneltest::bad_dir());
   CHECK(path[2] == "/env/one");
   CHECK(path[3] == "/env/two");
-  CHECK(path[4] == FLIPPER_PLUGIN_DIR);
+  CHECK(path[4] == std::string(FLIPPER_BINARY_DIR) + "/lib/flipper/plugins");  // <exe>/../lib/...
+  CHECK(path[5] == FLIPPER_PLUGIN_DIR);
 }
 
 TEST_CASE("an earlier directory shadows a same-named plugin in a later one", "[loader]") {

@@ -132,12 +132,14 @@ std::vector<std::string> PluginLoader::search_path_for(const Config& config) {
       if (colon == std::string::npos) break;
     }
   }
-  path.push_back(FLIPPER_PLUGIN_BUILD_DIR);
+  // The install dir next to the executable comes first: for the build-tree binary it does not
+  // exist, and an installed binary must prefer its own plugins over a build tree that may linger.
   const std::string exe = detail::executable_path();
   if (!exe.empty())
     path.push_back((fs::path(exe).parent_path() / ".." / "lib" / "flipper" / "plugins")
                        .lexically_normal()
                        .string());
+  path.push_back(FLIPPER_PLUGIN_BUILD_DIR);
   return path;
 }
 
