@@ -39,12 +39,12 @@ class Progress {
     if (tty_) {
       const int width = 30, filled = percent * width / 100;
       std::fprintf(stderr, "\r%-10s [%-*s] %3d%% %zu/%zu %-28s", variant.c_str(), width,
-                   std::string(static_cast<std::size_t>(filled), '#').c_str(), percent, done,
-                   total, run.c_str());
+                   std::string(static_cast<std::size_t>(filled), '#').c_str(), percent, done, total,
+                   run.c_str());
       if (done == total) std::fputc('\n', stderr);
     } else if (percent / 5 != last_ / 5 || done == total || variant != variant_) {
-      std::fprintf(stderr, "replay %s: %d%% (%zu/%zu) %s\n", variant.c_str(), percent, done,
-                   total, run.c_str());
+      std::fprintf(stderr, "replay %s: %d%% (%zu/%zu) %s\n", variant.c_str(), percent, done, total,
+                   run.c_str());
     }
     last_ = percent;
     variant_ = variant;

@@ -1,5 +1,6 @@
-// A reduced replay of the dev split (two September runs, the first queries of each) with a
-// status-agreement floor set from the measured full replay (see the report of scripts/replay-dev).
+// A reduced replay of the dev split (every run, its first 150 queries) with floors set from the
+// measurements: 1170/1200 statuses agree (97.5 %), 290/293 accepted programs found, 229/286
+// executions agree on robot, held items and floor (full split: 96.4 %, 782/807, 568/770).
 #include <catch2/catch.hpp>
 
 #include "flipper/kernel/replay/corpus.hpp"
@@ -12,14 +13,15 @@ TEST_CASE("reduced dev replay agrees with the original's statuses above the floo
   const Corpus corpus = load_corpus(FLIPPER_SHARED_DIR "/corpus/dev");
   ReplayOptions o;
   o.sets = {"induction.generalize=false"};
-  o.runs = {"sep2018/FridayMorningC", "sep2018/TuesdayAfternoon"};
-  o.max_queries = 120;
+  o.max_queries = 150;
   const ReplayResult r = replay(corpus, o);
   const Metrics m = compute_metrics(r);
   INFO("agreement " << m.overall.agree << "/" << m.overall.n << ", accepts matched "
                     << m.exec.matched << "/" << m.exec.accepts);
-  CHECK(m.overall.n == 240);
-  CHECK(m.preloaded_ok >= 35);  // of the 42 expert definitions
-  CHECK(m.overall.rate() >= 0.85);
-  CHECK(m.exec.matched >= m.exec.accepts * 8 / 10);
+  CHECK(m.overall.n == 8 * 150);
+  CHECK(m.preloaded == 73);
+  CHECK(m.preloaded_ok >= 70);
+  CHECK(m.overall.rate() >= 0.95);
+  CHECK(m.exec.matched >= m.exec.accepts * 95 / 100);
+  CHECK(m.exec.all >= m.exec.compared * 3 / 4);
 }

@@ -40,8 +40,8 @@ TEST_CASE("figures count tokens, statuses and authors per participant") {
 
   const Figures ours = figures(rows, true), orig = figures(rows, false);
   CHECK(ours.tokens_all_sum.at("B") == 12);
-  CHECK(ours.tokens_successful_sum.at("B") == 8);   // 3 + 5
-  CHECK(orig.tokens_successful_sum.at("B") == 7);   // 3 + 4
+  CHECK(ours.tokens_successful_sum.at("B") == 8);  // 3 + 5
+  CHECK(orig.tokens_successful_sum.at("B") == 7);  // 3 + 4
   CHECK(ours.tokens_successful.at("B").mean == Approx(4.0));
   CHECK(ours.tokens_all.at("C").mean == Approx(4.5));
   CHECK(ours.induced.at("B").mean == Approx(0.5));
@@ -65,9 +65,9 @@ TEST_CASE("figures count tokens, statuses and authors per participant") {
 
 TEST_CASE("latency histogram uses half-decade bins") {
   Latency l = latency({0.5, 50, 50, 2000, 1e9});
-  CHECK(l.histogram[3] == 1);  // [0.316, 1)
-  CHECK(l.histogram[7] == 2);  // [31.6, 100)
-  CHECK(l.histogram[10] == 1); // [1000, 3162)
+  CHECK(l.histogram[3] == 1);   // [0.316, 1)
+  CHECK(l.histogram[7] == 2);   // [31.6, 100)
+  CHECK(l.histogram[10] == 1);  // [1000, 3162)
   CHECK(l.histogram.back() == 1);
   CHECK(l.p50 == 50);
 }
@@ -93,7 +93,8 @@ TEST_CASE("dev split deletions map to the definitions that lost rules") {
     if (c.source != run) continue;
     if (c.kind.rfind("def", 0) == 0) {
       const auto& d = corpus.definitions[corpus.definition_index.at(c.def_id)];
-      map.add_definition(d, c.user, {{"r-" + c.qid + "-s", "simple"}, {"r-" + c.qid + "-b", "best"}});
+      map.add_definition(d, c.user,
+                         {{"r-" + c.qid + "-s", "simple"}, {"r-" + c.qid + "-b", "best"}});
     } else if (c.kind == "delete") {
       mapped.push_back(map.map(c.user, c.rule_index).ids.at(0));
     }

@@ -38,8 +38,8 @@ TEST_CASE("synthetic replay: statuses, accept, definitions, deletion") {
   REQUIRE(r.queries.size() == 12);
   std::vector<std::string> ours;
   for (const auto& q : r.queries) ours.push_back(q.ours);
-  CHECK(ours == std::vector<std::string>{"core", "unparsable", "core", "core",  // A
-                                         "unparsable", "induced", "unparsable",  // B
+  CHECK(ours == std::vector<std::string>{"core", "unparsable", "core", "core",               // A
+                                         "unparsable", "induced", "unparsable",              // B
                                          "induced", "core", "induced", "induced", "core"});  // C
   CHECK(r.queries[7].our_author == "other");  // the expert's rule
   CHECK(r.queries[9].our_author == "self");
@@ -108,9 +108,9 @@ TEST_CASE("an experiment writes metrics, CSV, SVG and the report") {
   e.variants = {{"plain", {}}, {"beam5", {"parser.params.beam=5"}}};
   const auto variants = run_experiment(e, out.string());
   REQUIRE(variants.size() == 2);
-  for (const char* f : {"metrics.json", "queries.csv", "participants.csv", "groups.csv",
-                        "accepts.csv", "tokens.svg", "induced_core.svg", "others_self.svg",
-                        "latency.svg"})
+  for (const char* f :
+       {"metrics.json", "queries.csv", "participants.csv", "groups.csv", "accepts.csv",
+        "tokens.svg", "induced_core.svg", "others_self.svg", "latency.svg"})
     CHECK(fs::exists(out / "plain" / f));
   std::ifstream report(out / "report.md");
   const std::string text((std::istreambuf_iterator<char>(report)), {});

@@ -98,7 +98,8 @@ Definition definition_of(const json& j) {
   d.line = integer(j, "line");
   d.body = body_of(j);
   if (auto it = j.find("induced_rules"); it != j.end() && it->is_array())
-    for (const auto& r : *it) d.rules.push_back({integer(r, "line"), r.value("simple_packing", false)});
+    for (const auto& r : *it)
+      d.rules.push_back({integer(r, "line"), r.value("simple_packing", false)});
   return d;
 }
 

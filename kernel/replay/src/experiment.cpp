@@ -44,8 +44,8 @@ Experiment load_experiment(const std::string& path) {
   try {
     for (const auto& kv : root) {
       const auto key = kv.first.as<std::string>();
-      static const char* known[] = {"name", "config", "corpus", "runs", "max_queries", "set",
-                                    "variants"};
+      static const char* known[] = {"name",        "config", "corpus",  "runs",
+                                    "max_queries", "set",    "variants"};
       if (std::find(std::begin(known), std::end(known), key) == std::end(known))
         throw sdk::Error(sdk::codes::kBadConfig,
                          where + "unknown key '" + key +
@@ -59,7 +59,8 @@ Experiment load_experiment(const std::string& path) {
     if (root["max_queries"]) e.max_queries = root["max_queries"].as<int>();
     e.sets = string_list(root["set"], where + "'set'");
     if (const auto v = root["variants"]) {
-      if (!v.IsSequence()) throw sdk::Error(sdk::codes::kBadConfig, where + "'variants' must be a list");
+      if (!v.IsSequence())
+        throw sdk::Error(sdk::codes::kBadConfig, where + "'variants' must be a list");
       for (std::size_t i = 0; i < v.size(); ++i) {
         ExperimentVariant var;
         if (!v[i]["name"])

@@ -12,7 +12,9 @@ std::string as_original_status(const std::string& ours) {
   return "Nothing";
 }
 
-bool figure_row(const QueryRow& r) { return r.phase == "task" && r.in_authors_tables; }
+bool figure_row(const QueryRow& r) {
+  return r.phase == "task" && r.in_authors_tables;
+}
 
 Summary summarize(const std::vector<double>& v) {
   Summary s;

@@ -36,10 +36,16 @@ J agreement_json(const Agreement& a) {
 J figures_json(const Figures& f) {
   J parts = J::array();
   for (const auto& p : f.participants)
-    parts.push_back(J{{"group", p.group}, {"user", p.user}, {"queries", p.queries},
-                      {"core", p.core}, {"induced", p.induced}, {"failed", p.failed},
-                      {"tokens_all", p.tokens_all}, {"tokens_successful", p.tokens_successful},
-                      {"by_self", p.by_self}, {"by_others", p.by_others}});
+    parts.push_back(J{{"group", p.group},
+                      {"user", p.user},
+                      {"queries", p.queries},
+                      {"core", p.core},
+                      {"induced", p.induced},
+                      {"failed", p.failed},
+                      {"tokens_all", p.tokens_all},
+                      {"tokens_successful", p.tokens_successful},
+                      {"by_self", p.by_self},
+                      {"by_others", p.by_others}});
   return J{{"tokens_successful", map_json(f.tokens_successful)},
            {"tokens_all", map_json(f.tokens_all)},
            {"tokens_successful_sum", map_json(f.tokens_successful_sum)},
@@ -52,8 +58,12 @@ J figures_json(const Figures& f) {
 }
 
 J latency_json(const Latency& l) {
-  return J{{"summary", summary_json(l.summary)}, {"p50", l.p50}, {"p90", l.p90},
-           {"p99", l.p99}, {"bin_edges_ms", latency_bins()}, {"histogram", l.histogram}};
+  return J{{"summary", summary_json(l.summary)},
+           {"p50", l.p50},
+           {"p90", l.p90},
+           {"p99", l.p99},
+           {"bin_edges_ms", latency_bins()},
+           {"histogram", l.histogram}};
 }
 
 std::string csv(const std::string& s) {
@@ -80,16 +90,23 @@ nlohmann::ordered_json metrics_json(const Metrics& m) {
            {"agreement_by_group", groups},
            {"figures_ours", figures_json(m.ours)},
            {"figures_original", figures_json(m.original)},
-           {"execution", J{{"accepts", e.accepts}, {"matched", e.matched},
-                           {"executed", e.executed}, {"compared", e.compared},
-                           {"robot", e.robot}, {"held", e.held}, {"floor", e.floor},
+           {"execution", J{{"accepts", e.accepts},
+                           {"matched", e.matched},
+                           {"executed", e.executed},
+                           {"compared", e.compared},
+                           {"robot", e.robot},
+                           {"held", e.held},
+                           {"floor", e.floor},
                            {"all", e.all}}},
            {"latency_ours_ms", latency_json(m.our_latency)},
            {"latency_original_ms", latency_json(m.original_latency)},
-           {"definitions", J{{"defines", m.defines}, {"ok", m.defines_ok},
-                             {"preloaded", m.preloaded}, {"preloaded_ok", m.preloaded_ok},
+           {"definitions", J{{"defines", m.defines},
+                             {"ok", m.defines_ok},
+                             {"preloaded", m.preloaded},
+                             {"preloaded_ok", m.preloaded_ok},
                              {"errors", map_json(m.define_errors)}}},
-           {"deletions", J{{"deletes", m.deletes}, {"mapped", m.deletes_mapped},
+           {"deletions", J{{"deletes", m.deletes},
+                           {"mapped", m.deletes_mapped},
                            {"rules_deleted", m.rules_deleted}}}};
 }
 
@@ -101,12 +118,11 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
   q << "qid,run,group,user,phase,in_authors_tables,tokens,original,ours,agree,original_author,"
        "our_author,original_parses,our_candidates,ms,original_ms,utterance\n";
   for (const auto& r : result.queries)
-    q << csv(r.qid) << ',' << csv(r.run) << ',' << r.group << ',' << csv(r.user) << ','
-      << r.phase << ',' << r.in_authors_tables << ',' << r.tokens << ',' << r.original << ','
-      << r.ours << ',' << (as_original_status(r.ours) == r.original) << ','
-      << r.original_author << ',' << r.our_author << ',' << r.original_parses << ','
-      << r.our_candidates << ',' << r.ms << ',' << r.original_ms << ',' << csv(r.utterance)
-      << "\n";
+    q << csv(r.qid) << ',' << csv(r.run) << ',' << r.group << ',' << csv(r.user) << ',' << r.phase
+      << ',' << r.in_authors_tables << ',' << r.tokens << ',' << r.original << ',' << r.ours << ','
+      << (as_original_status(r.ours) == r.original) << ',' << r.original_author << ','
+      << r.our_author << ',' << r.original_parses << ',' << r.our_candidates << ',' << r.ms << ','
+      << r.original_ms << ',' << csv(r.utterance) << "\n";
 
   auto p = open(dir, "participants.csv");
   p << "group,user,queries,agree,ours_core,ours_induced,ours_failed,orig_core,orig_induced,"
@@ -115,11 +131,10 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
   for (std::size_t i = 0; i < m.ours.participants.size(); ++i) {
     const auto& a = m.ours.participants[i];
     const auto& b = m.original.participants[i];  // same filter, same order
-    p << a.group << ',' << csv(a.user) << ',' << a.queries << ',' << a.agree << ',' << a.core
-      << ',' << a.induced << ',' << a.failed << ',' << b.core << ',' << b.induced << ','
-      << b.failed << ',' << a.tokens_successful << ',' << b.tokens_successful << ','
-      << a.tokens_all << ',' << a.by_self << ',' << a.by_others << ',' << b.by_self << ','
-      << b.by_others << "\n";
+    p << a.group << ',' << csv(a.user) << ',' << a.queries << ',' << a.agree << ',' << a.core << ','
+      << a.induced << ',' << a.failed << ',' << b.core << ',' << b.induced << ',' << b.failed << ','
+      << a.tokens_successful << ',' << b.tokens_successful << ',' << a.tokens_all << ','
+      << a.by_self << ',' << a.by_others << ',' << b.by_self << ',' << b.by_others << "\n";
   }
 
   auto g = open(dir, "groups.csv");
@@ -141,14 +156,14 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
   acc << "qid,run,group,user,matched,rank,executed,compared,robot,held,floor,note\n";
   for (const auto& r : result.accepts)
     acc << csv(r.qid) << ',' << csv(r.run) << ',' << r.group << ',' << csv(r.user) << ','
-        << r.matched << ',' << r.rank << ',' << r.executed << ',' << r.compared << ','
-        << r.robot << ',' << r.held << ',' << r.floor << ',' << csv(r.note) << "\n";
+        << r.matched << ',' << r.rank << ',' << r.executed << ',' << r.compared << ',' << r.robot
+        << ',' << r.held << ',' << r.floor << ',' << csv(r.note) << "\n";
 
   auto d = open(dir, "definitions.csv");
   d << "qid,run,user,preloaded,ok,error,rules,head\n";
   for (const auto& r : result.defines)
-    d << csv(r.qid) << ',' << csv(r.run) << ',' << csv(r.user) << ',' << r.preloaded << ','
-      << r.ok << ',' << r.error_code << ',' << r.rules << ',' << csv(r.head) << "\n";
+    d << csv(r.qid) << ',' << csv(r.run) << ',' << csv(r.user) << ',' << r.preloaded << ',' << r.ok
+      << ',' << r.error_code << ',' << r.rules << ',' << csv(r.head) << "\n";
   auto del = open(dir, "deletions.csv");
   del << "qid,run,user,rule_index,definition,deleted,note\n";
   for (const auto& r : result.deletes) {

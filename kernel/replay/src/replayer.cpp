@@ -50,8 +50,7 @@ WorldDigest digest(const J& w) {
 
 class RunReplay {
  public:
-  RunReplay(const Corpus& corpus, const Run& run, const ReplayOptions& options,
-            ReplayResult& out)
+  RunReplay(const Corpus& corpus, const Run& run, const ReplayOptions& options, ReplayResult& out)
       : corpus_(corpus), run_(run), out_(out) {
     std::vector<std::string> sets = mode_overrides(run.group);
     sets.insert(sets.end(), options.sets.begin(), options.sets.end());
@@ -68,6 +67,7 @@ class RunReplay {
   }
 
   void command(const Command& c) {
+    if (c.kind != "q" && c.kind != "accept") last_qid_.clear();  // defines/deletes change parses
     set_user(c.user);
     set_world(c.world_id);
     if (c.kind == "q")
@@ -116,6 +116,7 @@ class RunReplay {
     row.original_parses = c.n_parses;
     row.original_ms = c.walltime_s * 1000.0;
     Json a = call(Json{{"op", "query"}, {"text", c.utterance}});
+    last_qid_ = c.qid;
     if (a.value("ok", false)) {
       row.ours = a.value("status", std::string("error"));
       row.ms = a.value("ms", 0.0);
@@ -147,7 +148,17 @@ class RunReplay {
   }
 
   void accept(const Command& c) {
-    AcceptRow row{c.qid, c.source, c.group, c.user};
+    // Users of one run interleave: another user's command may have replaced the session's last
+    // query since this user's `q`, so ask it again (same user, same logged world; not recorded).
+    if ((last_qid_ != c.for_qid || !session_->last_query()) && !c.utterance.empty()) {
+      call(Json{{"op", "query"}, {"text", c.utterance}});
+      last_qid_ = c.for_qid;
+    }
+    AcceptRow row;
+    row.qid = c.qid;
+    row.run = c.source;
+    row.group = c.group;
+    row.user = c.user;
     const LastQuery* q = session_->last_query();
     const auto text = accepted_text(c);
     if (!q || q->parse.candidates.empty()) {
@@ -201,7 +212,7 @@ class RunReplay {
     if (it != corpus_.definition_index.end())
       define(corpus_.definitions[it->second], c.head, c.body, row);
     else
-      define(Definition{c.def_id}, c.head, c.body, row);
+      define(Definition{}, c.head, c.body, row);
   }
 
   void define(const Definition& def, const std::string& head, const std::vector<BodyLine>& body,
@@ -244,6 +255,7 @@ class RunReplay {
   const Run& run_;
   ReplayResult& out_;
   std::unique_ptr<Session> session_;
+  std::string last_qid_;  ///< the `q` the session's last query answers
   std::string world_id_;  ///< the logged world the session holds ("" after our own accept)
   std::unordered_map<std::string, sdk::WorldState> world_cache_;
   DeletionMap deletions_;
@@ -262,8 +274,8 @@ std::size_t kept_commands(const Corpus& corpus, const Run& run, int max_queries)
 
 std::vector<std::string> mode_overrides(const std::string& group) {
   const char* sharing = group == "A" ? "core" : group == "B" ? "private" : "shared";
-  return {"lexicon.path=:memory:", std::string("lexicon.sharing=") + sharing,
-          "lexicon.preload=", "induction.alignment=false"};
+  return {"lexicon.path=\":memory:\"", std::string("lexicon.sharing=") + sharing,
+          "lexicon.preload=\"\"", "induction.alignment=false"};
 }
 
 ReplayResult replay(const Corpus& corpus, const ReplayOptions& options) {
@@ -276,8 +288,8 @@ ReplayResult replay(const Corpus& corpus, const ReplayOptions& options) {
       if (!r) {
         std::string known;
         for (const auto& k : corpus.runs) known += (known.empty() ? "" : ", ") + k.source;
-        throw sdk::Error(sdk::codes::kBadRequest,
-                         "unknown run '" + name + "' in corpus " + corpus.dir + " (runs: " + known + ")");
+        throw sdk::Error(sdk::codes::kBadRequest, "unknown run '" + name + "' in corpus " +
+                                                      corpus.dir + " (runs: " + known + ")");
       }
       runs.push_back(r);
     }

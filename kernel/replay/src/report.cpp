@@ -49,12 +49,13 @@ void variant_section(std::ostream& o, const Variant& v) {
     o << "\n\n";
   }
   o << "Files: [metrics.json](" << v.dir << "/metrics.json), [queries.csv](" << v.dir
-    << "/queries.csv), [participants.csv](" << v.dir << "/participants.csv), [groups.csv]("
-    << v.dir << "/groups.csv), [accepts.csv](" << v.dir << "/accepts.csv)\n\n";
+    << "/queries.csv), [participants.csv](" << v.dir << "/participants.csv), [groups.csv](" << v.dir
+    << "/groups.csv), [accepts.csv](" << v.dir << "/accepts.csv)\n\n";
 
   o << "### Tokens per participant (task queries of the authors' participants)\n\n"
     << "![tokens](" << v.dir << "/tokens.svg)\n\n"
-    << "| group | participants | successful: ours | successful: original | all | paper (whole study) successful / all |\n"
+    << "| group | participants | successful: ours | successful: original | all | paper (whole "
+       "study) successful / all |\n"
     << "|---|---|---|---|---|---|\n";
   for (const auto& p : kPaperTokens) {
     auto it = m.ours.tokens_all.find(p.group);
@@ -66,7 +67,8 @@ void variant_section(std::ostream& o, const Variant& v) {
   }
   o << "\n### Induced vs core commands per participant: mean (min–max)\n\n"
     << "![induced vs core](" << v.dir << "/induced_core.svg)\n\n"
-    << "| group | induced: ours | induced: original | core: ours | core: original | paper induced / core |\n"
+    << "| group | induced: ours | induced: original | core: ours | core: original | paper induced "
+       "/ core |\n"
     << "|---|---|---|---|---|---|\n";
   o << "| B | " << range(m.ours.induced, "B") << " | " << range(m.original.induced, "B") << " | "
     << range(m.ours.core, "B") << " | " << range(m.original.core, "B") << " | 54.6 / 72.9 |\n";
@@ -106,13 +108,14 @@ void variant_section(std::ostream& o, const Variant& v) {
     << "| " << e.robot << " | " << e.held << " | " << e.floor << " | " << e.all << " |\n";
   o << "\n### Latency (ms per query)\n\n![latency](" << v.dir << "/latency.svg)\n\n"
     << "| | n | p50 | p90 | p99 | max |\n|---|---|---|---|---|---|\n";
-  for (const auto& [name, l] : {std::pair<const char*, const Latency*>{"ours (`ms`)", &m.our_latency},
-                                {"original (`walltime_s`)", &m.original_latency}})
+  for (const auto& [name, l] :
+       {std::pair<const char*, const Latency*>{"ours (`ms`)", &m.our_latency},
+        {"original (`walltime_s`)", &m.original_latency}})
     o << "| " << name << " | " << l->summary.n << " | " << f1(l->p50) << " | " << f1(l->p90)
       << " | " << f1(l->p99) << " | " << f1(l->summary.max) << " |\n";
   o << "\n### Definitions and deletions\n\n"
-    << "Preloaded: " << m.preloaded_ok << " / " << m.preloaded << " defined. Users' definitions: "
-    << m.defines_ok << " / " << m.defines << " accepted.";
+    << "Preloaded: " << m.preloaded_ok << " / " << m.preloaded
+    << " defined. Users' definitions: " << m.defines_ok << " / " << m.defines << " accepted.";
   if (!m.define_errors.empty()) {
     o << " Refusals:";
     for (const auto& [code, n] : m.define_errors) o << " `" << code << "` " << n << ";";
@@ -144,12 +147,12 @@ void write_report(const std::string& dir, const std::string& title,
       o << "| " << v.name << " | " << pct(m.overall.rate()) << " | "
         << f1(mean_of(m.ours.tokens_successful, "A")) << " / "
         << f1(mean_of(m.ours.tokens_successful, "B")) << " / "
-        << f1(mean_of(m.ours.tokens_successful, "C")) << " | "
-        << f1(mean_of(m.ours.induced, "B")) << " / " << f1(mean_of(m.ours.induced, "C")) << " | "
-        << f1(mean_of(m.ours.core, "B")) << " / " << f1(mean_of(m.ours.core, "C")) << " | "
-        << f1(m.ours.others.mean) << " / " << f1(m.ours.self.mean) << " | " << m.exec.matched
-        << "/" << m.exec.accepts << " | " << m.exec.all << "/" << m.exec.compared << " | "
-        << f1(m.our_latency.p50) << " | " << f1(m.our_latency.p99) << " |\n";
+        << f1(mean_of(m.ours.tokens_successful, "C")) << " | " << f1(mean_of(m.ours.induced, "B"))
+        << " / " << f1(mean_of(m.ours.induced, "C")) << " | " << f1(mean_of(m.ours.core, "B"))
+        << " / " << f1(mean_of(m.ours.core, "C")) << " | " << f1(m.ours.others.mean) << " / "
+        << f1(m.ours.self.mean) << " | " << m.exec.matched << "/" << m.exec.accepts << " | "
+        << m.exec.all << "/" << m.exec.compared << " | " << f1(m.our_latency.p50) << " | "
+        << f1(m.our_latency.p99) << " |\n";
     }
     o << "\n";
   }

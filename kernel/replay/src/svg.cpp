@@ -15,10 +15,14 @@ namespace {
 std::string escape(const std::string& s) {
   std::string out;
   for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else
+      out += c;
   }
   return out;
 }
@@ -66,8 +70,8 @@ std::string render_svg(const BarChart& c) {
     const double v = vmax * i / 5, yy = y(v);
     o << "<line x1=\"" << num(left) << "\" x2=\"" << num(left + plot_w) << "\" y1=\"" << num(yy)
       << "\" y2=\"" << num(yy) << "\" stroke=\"#ddd\"/>\n";
-    o << "<text x=\"" << num(left - 6) << "\" y=\"" << num(yy + 4)
-      << "\" text-anchor=\"end\">" << num(v) << "</text>\n";
+    o << "<text x=\"" << num(left - 6) << "\" y=\"" << num(yy + 4) << "\" text-anchor=\"end\">"
+      << num(v) << "</text>\n";
   }
   o << "<text transform=\"translate(14," << num(top + plot_h / 2)
     << ") rotate(-90)\" text-anchor=\"middle\">" << escape(c.y_label) << "</text>\n";
@@ -80,13 +84,12 @@ std::string render_svg(const BarChart& c) {
       const double x = x0 + bar * s;
       o << "<rect x=\"" << num(x) << "\" y=\"" << num(y(v)) << "\" width=\"" << num(bar * 0.9)
         << "\" height=\"" << num(top + plot_h - y(v)) << "\" fill=\"" << kColors[s % 6]
-        << "\"><title>" << escape(c.series[s]) << ", " << escape(c.categories[k]) << ": "
-        << num(v) << "</title></rect>\n";
+        << "\"><title>" << escape(c.series[s]) << ", " << escape(c.categories[k]) << ": " << num(v)
+        << "</title></rect>\n";
       if (s < c.low.size() && k < c.low[s].size()) {
         const double cx = x + bar * 0.45;
-        o << "<line x1=\"" << num(cx) << "\" x2=\"" << num(cx) << "\" y1=\""
-          << num(y(c.low[s][k])) << "\" y2=\"" << num(y(c.high[s][k]))
-          << "\" stroke=\"black\"/>\n";
+        o << "<line x1=\"" << num(cx) << "\" x2=\"" << num(cx) << "\" y1=\"" << num(y(c.low[s][k]))
+          << "\" y2=\"" << num(y(c.high[s][k])) << "\" stroke=\"black\"/>\n";
       }
     }
     o << "<text x=\"" << num(left + cluster * (k + 0.5)) << "\" y=\"" << num(top + plot_h + 16)
@@ -97,9 +100,9 @@ std::string render_svg(const BarChart& c) {
   // Legend below the axis.
   for (std::size_t s = 0; s < c.series.size(); ++s) {
     const double lx = left + 150.0 * s, ly = height - 24;
-    o << "<rect x=\"" << num(lx) << "\" y=\"" << num(ly - 10) << "\" width=\"12\" height=\"12\" fill=\""
-      << kColors[s % 6] << "\"/><text x=\"" << num(lx + 16) << "\" y=\"" << num(ly) << "\">"
-      << escape(c.series[s]) << "</text>\n";
+    o << "<rect x=\"" << num(lx) << "\" y=\"" << num(ly - 10)
+      << "\" width=\"12\" height=\"12\" fill=\"" << kColors[s % 6] << "\"/><text x=\""
+      << num(lx + 16) << "\" y=\"" << num(ly) << "\">" << escape(c.series[s]) << "</text>\n";
   }
   o << "</svg>\n";
   return o.str();
@@ -122,9 +125,13 @@ double mean_of(const std::map<std::string, Summary>& m, const std::string& g) {
 
 void write_figures(const std::string& dir, const Metrics& m) {
   std::filesystem::create_directories(dir);
-  BarChart tokens{"Tokens per participant (task queries)", "tokens", {"A", "B", "C"},
+  BarChart tokens{"Tokens per participant (task queries)",
+                  "tokens",
+                  {"A", "B", "C"},
                   {"successful (original)", "successful (ours)", "all (original)", "all (ours)"},
-                  {}, {}, {}};
+                  {},
+                  {},
+                  {}};
   for (const auto* side : {&m.original.tokens_successful, &m.ours.tokens_successful,
                            &m.original.tokens_all, &m.ours.tokens_all}) {
     std::vector<double> row;
@@ -133,9 +140,13 @@ void write_figures(const std::string& dir, const Metrics& m) {
   }
   save(dir, "tokens.svg", tokens);
 
-  BarChart ic{"Induced vs core commands per participant (mean, min-max)", "commands",
-              {"B", "C"}, {"induced (original)", "induced (ours)", "core (original)", "core (ours)"},
-              {}, {}, {}};
+  BarChart ic{"Induced vs core commands per participant (mean, min-max)",
+              "commands",
+              {"B", "C"},
+              {"induced (original)", "induced (ours)", "core (original)", "core (ours)"},
+              {},
+              {},
+              {}};
   for (const auto* side : {&m.original.induced, &m.ours.induced, &m.original.core, &m.ours.core}) {
     std::vector<double> v, lo, hi;
     for (const auto& g : ic.categories) {
@@ -151,20 +162,28 @@ void write_figures(const std::string& dir, const Metrics& m) {
   }
   save(dir, "induced_core.svg", ic);
 
-  BarChart os{"Group C: induced commands using rules by others vs by self", "commands per participant",
-              {"others", "self"}, {"original", "ours"},
-              {{m.original.others.mean, m.original.self.mean}, {m.ours.others.mean, m.ours.self.mean}},
-              {{m.original.others.min, m.original.self.min}, {m.ours.others.min, m.ours.self.min}},
-              {{m.original.others.max, m.original.self.max}, {m.ours.others.max, m.ours.self.max}}};
+  BarChart os{
+      "Group C: induced commands using rules by others vs by self",
+      "commands per participant",
+      {"others", "self"},
+      {"original", "ours"},
+      {{m.original.others.mean, m.original.self.mean}, {m.ours.others.mean, m.ours.self.mean}},
+      {{m.original.others.min, m.original.self.min}, {m.ours.others.min, m.ours.self.min}},
+      {{m.original.others.max, m.original.self.max}, {m.ours.others.max, m.ours.self.max}}};
   save(dir, "others_self.svg", os);
 
-  BarChart lat{"Query latency (log-scale bins, ms)", "queries", {}, {"original walltime", "ours"},
-               {{}, {}}, {}, {}};
+  BarChart lat{"Query latency (log-scale bins, ms)",
+               "queries",
+               {},
+               {"original walltime", "ours"},
+               {{}, {}},
+               {},
+               {}};
   const auto& edges = latency_bins();
   for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
     char label[48];
-    std::snprintf(label, sizeof label, "%g", edges[i] < 1 ? std::round(edges[i] * 1000) / 1000
-                                                           : std::round(edges[i]));
+    std::snprintf(label, sizeof label, "%g",
+                  edges[i] < 1 ? std::round(edges[i] * 1000) / 1000 : std::round(edges[i]));
     lat.categories.push_back(std::string(label) + "+");
     lat.values[0].push_back(m.original_latency.histogram[i]);
     lat.values[1].push_back(m.our_latency.histogram[i]);

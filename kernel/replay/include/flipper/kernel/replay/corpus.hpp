@@ -22,7 +22,7 @@ struct BodyLine {
 
 /// One induced rule of the original's grammar log (only what the deletion mapping needs).
 struct LoggedRule {
-  int line = 0;               ///< line in the run's grammar log (identity)
+  int line = 0;  ///< line in the run's grammar log (identity)
   bool simple_packing = false;
 };
 
@@ -71,7 +71,7 @@ struct OriginalAnswer {
 /// One server run: its commands in log order and its group.
 struct Run {
   std::string source;
-  std::string group;  ///< the most frequent group of its commands (A/B/C)
+  std::string group;                  ///< the most frequent group of its commands (A/B/C)
   std::vector<std::size_t> commands;  ///< indices into Corpus::commands
 };
 
@@ -85,7 +85,8 @@ struct Corpus {
   std::vector<Run> runs;                                          ///< in order of first command
 
   const Run* find_run(const std::string& source) const;
-  /// The preloaded definitions of a run (origin preloaded or grammar_log_only), in grammar-log order.
+  /// The preloaded definitions of a run (origin preloaded or grammar_log_only), in grammar-log
+  /// order.
   std::vector<const Definition*> preloaded(const std::string& source) const;
 };
 

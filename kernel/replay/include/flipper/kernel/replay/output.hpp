@@ -20,8 +20,8 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
 struct BarChart {
   std::string title, y_label;
   std::vector<std::string> categories, series;
-  std::vector<std::vector<double>> values;        ///< [series][category]
-  std::vector<std::vector<double>> low, high;     ///< optional whiskers, same shape
+  std::vector<std::vector<double>> values;     ///< [series][category]
+  std::vector<std::vector<double>> low, high;  ///< optional whiskers, same shape
 };
 std::string render_svg(const BarChart& chart);
 

@@ -12,15 +12,15 @@ namespace flipper::kernel::replay {
 struct QueryRow {
   std::string qid, run, group, user, phase, utterance;
   bool in_authors_tables = false;
-  int tokens = 0;                ///< sdk::tokenize(utterance).size()
-  std::string original;          ///< Core / Induced / Nothing
-  std::string ours;              ///< core / induced / unparsable / error
-  std::string original_author;   ///< None / Self / Other ("" when not logged)
-  std::string our_author;        ///< none / self / other (authors of our top candidate)
+  int tokens = 0;               ///< sdk::tokenize(utterance).size()
+  std::string original;         ///< Core / Induced / Nothing
+  std::string ours;             ///< core / induced / unparsable / error
+  std::string original_author;  ///< None / Self / Other ("" when not logged)
+  std::string our_author;       ///< none / self / other (authors of our top candidate)
   int original_parses = 0;
   int our_candidates = 0;
-  double ms = 0;                 ///< our query answer's `ms`
-  double original_ms = 0;        ///< the original's walltime_s * 1000
+  double ms = 0;           ///< our query answer's `ms`
+  double original_ms = 0;  ///< the original's walltime_s * 1000
 };
 
 /// A `:accept`: whether we had the accepted program, and what executing it did.
@@ -31,7 +31,7 @@ struct AcceptRow {
   bool executed = false;  ///< our accept succeeded
   bool compared = false;  ///< the original's next world is known
   bool robot = false, held = false, floor = false;  ///< agreement after executing
-  std::string note;       ///< why not matched/executed
+  std::string note;                                 ///< why not matched/executed
 };
 
 /// A definition (`def`, `def_ret`, `def_iso`, or a preloaded one).
@@ -47,8 +47,8 @@ struct DefineRow {
 struct DeleteRow {
   std::string qid, run, user;
   int rule_index = -1;
-  std::string definition;              ///< def_id the index was mapped to ("" if none)
-  std::vector<std::string> deleted;    ///< our rule ids deleted
+  std::string definition;            ///< def_id the index was mapped to ("" if none)
+  std::vector<std::string> deleted;  ///< our rule ids deleted
   std::string note;
 };
 
