@@ -25,7 +25,9 @@ class Tmux {
  public:
   explicit Tmux(const std::string& command)
       : socket_("flipper-repl-test-" + std::to_string(getpid())) {
-    run(base() + " new-session -d -x 120 -y 60 -s t '" + command + "' 2>&1");
+    // The pane outlives the repl (sleep) so its last screen can still be read.
+    run(base() + " new-session -d -x 120 -y 60 -s t \"" + command +
+        "; echo repl-exited-$?; sleep 60\" 2>&1");
   }
   ~Tmux() { run(base() + " kill-server 2>/dev/null"); }
   void send(const std::string& text) {
@@ -33,7 +35,7 @@ class Tmux {
     key("Enter");
   }
   void key(const std::string& name) { run(base() + " send-keys -t t " + name); }
-  std::string screen() { return run(base() + " capture-pane -p -t t -S -200"); }
+  std::string screen() { return run(base() + " capture-pane -p -t t -S -200 2>/dev/null"); }
   /// Polls the pane until `text` appears `count` times (up to 30 s).
   bool wait_for(const std::string& text, int count = 1) {
     for (int i = 0; i < 300; ++i) {
@@ -58,7 +60,7 @@ TEST_CASE("repl in a terminal: map, candidates, choosing moves the robot", "[rep
   std::string cmd = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper repl";
   for (const auto& o : flipper::testsupport::test_overrides()) cmd += " --set " + o;
   Tmux tmux(cmd);
-  REQUIRE(tmux.wait_for("flipper> "));
+  REQUIRE(tmux.wait_for("flipper>"));
   std::string start = tmux.screen();
   CHECK_THAT(start, Catch::Contains(" 4 ##. . R "));
   CHECK_THAT(start, Catch::Contains("Legend:"));
@@ -77,4 +79,5 @@ TEST_CASE("repl in a terminal: map, candidates, choosing moves the robot", "[rep
   REQUIRE(tmux.wait_for("Legend:", 4));
   tmux.send(":quit");
   CHECK(tmux.wait_for("bye"));
+  CHECK(tmux.wait_for("repl-exited-0"));
 }
