@@ -20,6 +20,7 @@
 
 #include "flipper/kernel/session.hpp"
 #include "flipper/kernel/session_factory.hpp"
+#include "flipper/sdk/canonical.hpp"
 
 using flipper::kernel::Json;
 using Clock = std::chrono::steady_clock;
@@ -149,6 +150,21 @@ int main(int argc, char** argv) {
       if (variant == 0 && answer.find("\"ok\":true") == std::string::npos) ++errors;
     }
   }
+  // The parser alone (same requests), to separate parsing from planning and answer building.
+  std::vector<double> parse_ms;
+  {
+    auto& rt = session->runtime();
+    for (const auto& q : queries) {
+      flipper::sdk::ParseRequest pr;
+      pr.tokens = flipper::sdk::tokenize(q.text);
+      pr.context.tokens = &pr.tokens;
+      pr.context.user = session->user();
+      pr.scorer = rt.scorer.get();
+      auto t0 = Clock::now();
+      auto result = rt.parser->parse(pr);
+      parse_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+  }
   const double o50 = percentile(original_ms, 0.5), o99 = percentile(original_ms, 0.99);
   auto row = [&](const char* name, const std::vector<double>& v) {
     double p50 = percentile(v, 0.5), p99 = percentile(v, 0.99);
@@ -161,6 +177,7 @@ int main(int argc, char** argv) {
               "original server", o50, o99);
   row(("query op, k=" + std::to_string(k) + " (parse+plan shown)").c_str(), shown_ms);
   row("query op, every candidate planned", all_ms);
+  row("parser plugin alone", parse_ms);
   std::printf("answers with ok=false: %zu\n", errors);
 
   // Start-up to first answer, spawned.

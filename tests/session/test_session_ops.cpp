@@ -132,3 +132,21 @@ TEST_CASE("accept executes the candidate on the current world", "[session][ops]"
   CHECK(a["world"]["robot"]["holding"].size() == 1);
   CHECK(ask(*s, R"({"op":"state"})")["world"] == a["world"]);
 }
+
+TEST_CASE("handle_line and handle give the same answers (worlds spliced as text)",
+          "[session][ops]") {
+  auto line_session = flipper::testsupport::bare_session();
+  auto tree_session = flipper::testsupport::bare_session();
+  for (const char* text :
+       {R"({"op":"query","text":"visit room1 or room2 containing item","k":5,"id":"\u0001w1:0"})",
+        R"({"op":"accept","rank":1})", R"({"op":"state"})",
+        R"({"op":"query","text":"move down ; move down"})"}) {
+    INFO(text);
+    Json from_line = ask(*line_session, text);
+    Json from_tree = tree_session->handle(Json::parse(text));
+    from_line.erase("ms");
+    from_tree.erase("ms");
+    CHECK(from_line == from_tree);
+    CHECK(from_line["ok"] == true);
+  }
+}

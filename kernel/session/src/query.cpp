@@ -128,7 +128,7 @@ Json Session::op_query(const Json& req) {
     c["authors"] = std::move(authors);
     c["realizable"] = sc.outcome.realizable && !sc.outcome.error;
     c["trace"] = Json(protocol::trace_json(sc.outcome.trace, dims));
-    c["world"] = world_json(sc.outcome.world);
+    c["world"] = answer_world(sc.outcome.world);
     c["warnings"] = Json(protocol::strings_json(sc.outcome.warnings));
     if (sc.error_code)
       c["error"] = Json{{"code", *sc.error_code}, {"message", sc.outcome.error.value_or("")}};
@@ -184,7 +184,7 @@ Json Session::op_accept(const Json& req) {
 
   const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
   Json answer;
-  answer["world"] = world_json(outcome.world);
+  answer["world"] = answer_world(outcome.world);
   answer["trace"] = Json(protocol::trace_json(outcome.trace, dims));
   answer["warnings"] = Json(protocol::strings_json(outcome.warnings));
   world_ = outcome.world;

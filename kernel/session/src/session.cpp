@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "flipper/kernel/session_request.hpp"
@@ -52,6 +53,9 @@ Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)
       options_(options),
       executor_(runtime_->planner, options_.limits),
       world_(runtime_->default_world) {
+  // A control character and a random tag: no request value can collide with a placeholder.
+  std::random_device rd;
+  marker_ = "\x01w" + std::to_string(rd()) + std::to_string(rd()) + ":";
   install_default_ops();
 }
 
@@ -96,6 +100,47 @@ Json Session::world_json(const sdk::WorldState& state) const {
   return Json::parse(text);
 }
 
+const std::string& Session::world_text(const sdk::WorldState& state) {
+  for (std::size_t i = 0; i < world_cache_.size(); ++i)
+    if (world_cache_[i].state.same_state(state)) {
+      if (i != 0) std::swap(world_cache_[i], world_cache_[0]);
+      return world_cache_[0].text;
+    }
+  std::string text = request::call_plugin("world", [&] { return runtime_->world->save(state); });
+  // The answer is one line: normalise a plugin that writes multi-line text.
+  if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
+  constexpr std::size_t kCacheSize = 8;
+  if (world_cache_.size() == kCacheSize) world_cache_.pop_back();
+  world_cache_.insert(world_cache_.begin(), CachedWorld{state, std::move(text)});
+  return world_cache_[0].text;
+}
+
+Json Session::answer_world(const sdk::WorldState& state) {
+  if (!line_mode_) return Json::parse(world_text(state));
+  spliced_.push_back(world_text(state));
+  return marker_ + std::to_string(spliced_.size() - 1);
+}
+
+// Replaces each placeholder string ("\u0001w<tag>:<i>" once dumped) by world text i.
+std::string Session::splice_worlds(std::string answer) const {
+  if (spliced_.empty()) return answer;
+  const std::string needle = "\"\\u0001" + marker_.substr(1);
+  std::string out;
+  out.reserve(answer.size() + spliced_.size() * (spliced_.front().size() + 8));
+  std::size_t from = 0;
+  for (std::size_t at = answer.find(needle); at != std::string::npos;
+       at = answer.find(needle, from)) {
+    out.append(answer, from, at - from);
+    std::size_t digits = at + needle.size();
+    std::size_t end = answer.find('"', digits);
+    std::size_t index = std::stoul(answer.substr(digits, end - digits));
+    out += spliced_.at(index);
+    from = end + 1;
+  }
+  out.append(answer, from, std::string::npos);
+  return out;
+}
+
 std::string Session::handle_line(std::string_view line) {
   if (is_blank(line)) return {};
   Json request;
@@ -107,7 +152,11 @@ std::string Session::handle_line(std::string_view line) {
                         std::string("the line is not valid JSON: ") + e.what())
         .dump();
   }
-  return handle(request).dump(-1, ' ', false, Json::error_handler_t::replace);
+  spliced_.clear();
+  line_mode_ = true;
+  Json answer = handle(request);
+  line_mode_ = false;
+  return splice_worlds(answer.dump(-1, ' ', false, Json::error_handler_t::replace));
 }
 
 Json Session::handle(const Json& request) {
@@ -168,7 +217,7 @@ Json Session::op_world(const Json& req) {
     std::string base = path.parent_path().string();
     state = request::call_plugin("world", [&] { return runtime_->world->load(text, base); });
   }
-  Json normalised = world_json(state);
+  Json normalised = answer_world(state);
   set_world(std::move(state));
   return Json{{"world", std::move(normalised)}};
 }
@@ -181,7 +230,7 @@ Json Session::op_user(const Json& req) {
 }
 
 Json Session::op_state(const Json&) {
-  return Json{{"world", world_json(world_)}};
+  return Json{{"world", answer_world(world_)}};
 }
 
 }  // namespace flipper::kernel

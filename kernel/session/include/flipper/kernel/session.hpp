@@ -133,8 +133,21 @@ class Session {
 
   /// The world object of a state, as the world plugin writes it.
   Json world_json(const sdk::WorldState& state) const;
+  /// The world of a state for an answer payload. While handle_line runs this is a placeholder
+  /// that handle_line replaces by the plugin's text, so worlds skip the JSON tree entirely;
+  /// otherwise it is world_json(state).
+  Json answer_world(const sdk::WorldState& state);
 
  private:
+  struct CachedWorld {
+    sdk::WorldState state;
+    std::string text;
+  };
+  /// The plugin's compact text for a state; the last few are cached (candidates often end in
+  /// the same world, and the current world is written again and again).
+  const std::string& world_text(const sdk::WorldState& state);
+  std::string splice_worlds(std::string answer) const;
+
   void install_default_ops();
   Json op_world(const Json& request);
   Json op_user(const Json& request);
@@ -151,6 +164,10 @@ class Session {
   std::map<std::string, OpHandler, std::less<>> ops_;
   VisibilityHook visibility_;
   AcceptHook on_accept_;
+  std::vector<CachedWorld> world_cache_;  // most recent first
+  bool line_mode_ = false;                // inside handle_line: answer_world gives placeholders
+  std::vector<std::string> spliced_;      // world texts of the answer being built
+  std::string marker_;                    // placeholder prefix, unique per session
 };
 
 }  // namespace flipper::kernel
