@@ -46,3 +46,18 @@ TEST_CASE("repl: reject, unparsable, commands and errors", "[repl][loop]") {
   CHECK_THAT(out, Catch::Contains("Unknown command :bogus"));
   CHECK_THAT(out, Catch::Contains("error (bad_world)"));
 }
+
+TEST_CASE("repl: define an unparsable utterance, then use it", "[repl][loop]") {
+  // open_session installs every module's ops (naturalization: define, rules).
+  auto s = flipper::kernel::open_session(flipper::testsupport::test_runtime());
+  const std::string out =
+      run_script(*s, "zig zag\n:define\nmove up\nmove right\n\nzig zag\n1\n:rules\n");
+  CHECK_THAT(out, Catch::Contains("I did not understand that"));
+  CHECK_THAT(out, Catch::Contains("Defining \"zig zag\""));
+  CHECK_THAT(out, Catch::Contains("Learned 1 rule"));
+  CHECK_THAT(out, Catch::Contains("[1] {{move up};{move right}}"));
+  CHECK_THAT(out, Catch::Contains("uses definitions:"));
+  CHECK_THAT(out, Catch::Contains("zig zag  =>  {{move up};{move right}}  (by anonymous"));
+  CHECK(s->world().robot.x == 3);
+  CHECK(s->world().robot.y == 5);
+}

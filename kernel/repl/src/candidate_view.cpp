@@ -40,7 +40,7 @@ std::string describe_candidate(const Json& c, int number) {
   if (!c.value("realizable", true)) out << "; NOT fully realizable";
   out << '\n';
   if (c.value("induced", false)) {
-    out << "      uses your/others' definitions:";
+    out << "      uses definitions:";
     for (const auto& r : c.value("rules", Json::array())) out << ' ' << r.get<std::string>();
     out << " (by";
     for (const auto& a : c.value("authors", Json::array())) out << ' ' << a.get<std::string>();

@@ -25,6 +25,18 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+// "r1  zig zag  =>  {...}  (by ana, used 2x)"; tolerant of missing fields.
+std::string describe_rule(const Json& r) {
+  std::string rhs;
+  for (const auto& t : r.value("rhs", Json::array()))
+    rhs += (rhs.empty() ? "" : " ") + (t.is_string() ? t.get<std::string>() : t.dump());
+  std::string line = "  " + r.value("id", std::string("?")) + "  " + r.value("lhs", std::string()) +
+                     " -> " + rhs + "  =>  " + r.value("semantics", std::string());
+  line += "  (by " + r.value("author", std::string("?"));
+  if (r.contains("uses") && r["uses"].is_number()) line += ", used " + r["uses"].dump() + "x";
+  return line + ")\n";
+}
+
 class Repl {
  public:
   Repl(Session& s, LineReader& r, std::ostream& o) : session_(s), reader_(r), out_(o) {}
@@ -136,7 +148,7 @@ class Repl {
       if (a.value("ok", false)) {
         const Json rules = a.value("rules", Json::array());
         if (rules.empty()) out_ << "No rules.\n";
-        for (const auto& r : rules) out_ << "  " << r.dump() << '\n';
+        for (const auto& r : rules) out_ << describe_rule(r);
       }
     } else if (cmd == ":define") {
       define(arg.empty() ? last_text_ : arg);
