@@ -83,7 +83,7 @@ static_assert(sizeof(kKinds) / sizeof(kKinds[0]) == static_cast<std::size_t>(Kin
 }
 
 bool fits(Sort expected, Sort actual) {
-  return expected == actual || (expected == Sort::CountedItem && actual == Sort::Item);
+  return sort_fits(expected, actual);
 }
 
 // Checks that kids match one of the allowed sort signatures.
@@ -210,7 +210,8 @@ void check(Kind kind, const std::vector<Program>& kids) {
       expect(kind, kids, {{S::Item}});
       break;
     case Kind::FilterIs:
-      expect(kind, kids, {{S::Color}, {S::Shape}});
+      // A Color or Shape word, or a Property hole of a template (`{is $1}`).
+      expect(kind, kids, {{S::Property}});
       break;
     case Kind::FilterAnd:
     case Kind::FilterOr:
@@ -265,6 +266,13 @@ Program finish(Node n) {
 
 }  // namespace
 
+bool sort_fits(Sort expected, Sort actual) {
+  if (expected == actual) return true;
+  if (expected == Sort::CountedItem) return actual == Sort::Item;
+  if (expected == Sort::Property) return actual == Sort::Color || actual == Sort::Shape;
+  return false;
+}
+
 Sort sort_of(Kind kind) {
   return kKinds[static_cast<std::size_t>(kind)].sort;
 }
@@ -300,6 +308,8 @@ const char* sort_name(Sort sort) {
       return "Shape";
     case Sort::ItemAct:
       return "ItemAct";
+    case Sort::Property:
+      return "Property";
   }
   return "?";
 }

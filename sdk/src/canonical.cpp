@@ -354,9 +354,7 @@ class Reader {
   const std::vector<Sort>* holes_;
   std::size_t pos_ = 0;
 
-  static bool fits(Sort expected, Sort actual) {
-    return expected == actual || (expected == Sort::CountedItem && actual == Sort::Item);
-  }
+  static bool fits(Sort expected, Sort actual) { return sort_fits(expected, actual); }
   std::size_t here() const { return pos_ < tokens_.size() ? tokens_[pos_].pos : end_pos_; }
   [[noreturn]] void fail(const std::string& what) const { fail_at(here(), what); }
   const std::string* peek(std::size_t ahead = 0) const {
@@ -621,7 +619,7 @@ class Reader {
   }
 
   Program filter_word(std::size_t start, std::optional<Kind> kind) {
-    if (is_hole_of(Sort::Color) || is_hole_of(Sort::Shape))
+    if (is_hole_of(Sort::Color) || is_hole_of(Sort::Shape) || is_hole_of(Sort::Property))
       return build(start, Kind::FilterIs, {hole()});
     const std::size_t wpos = here();
     std::string v = word();

@@ -38,6 +38,7 @@ const std::unordered_map<std::string, Sort>& sort_table() {
       {"$Color", Sort::Color},
       {"$Shape", Sort::Shape},
       {"$ItemAct", Sort::ItemAct},
+      {"$Property", Sort::Property},
   };
   return table;
 }

@@ -243,3 +243,25 @@ TEST_CASE("move takes any direction word a world may define", "[canonical]") {
   CHECK_THROWS_AS(read_canonical("{move 3}"), Error);
   CHECK_THROWS_AS(read_canonical("{move [1,2]}"), Error);
 }
+
+TEST_CASE("templates with a Property hole read and render", "[canonical]") {
+  const std::string gather =
+      "{foreach point in {world containing item {is $1}} {{visit point}; {pick every item {is "
+      "$1}}}}";
+  const Program t = read_template(gather, Sort::Action, {Sort::Property});
+  CHECK(equal(read_template(render(t), Sort::Action, {Sort::Property}), t));
+  auto with = [&](const std::string& word) {
+    std::string s = gather;
+    for (auto at = s.find("$1"); at != std::string::npos; at = s.find("$1")) s.replace(at, 2, word);
+    return read_canonical(s);
+  };
+  const Program tri = substitute(t, {make_word(Kind::Shape, "triangle")});
+  CHECK(equal(tri, with("triangle")));
+  CHECK(tri->kids[0]->kids[1]->kids[0]->kids[0]->kind == Kind::Shape);
+  CHECK(equal(substitute(t, {make_word(Kind::Color, "red")}), with("red")));
+  CHECK(!equal(tri, with("red")));
+  // `has color $1` of a Property hole reads as `is $1`; the meaning of `$Property -> $Color` is $1.
+  CHECK(render(read_template("{has color $1}", Sort::Filter, {Sort::Property})) == "{is $1}");
+  CHECK(read_template("$1", Sort::Property, {Sort::Color})->sort == Sort::Color);
+  CHECK_THROWS_AS(read_template("$1", Sort::Property, {Sort::Number}), Error);
+}

@@ -79,3 +79,31 @@ TEST_CASE("full form spells out the verb and normal form undoes it", "[ast]") {
   auto mv = make(Kind::Move, {make_word(Kind::Direction, "up")});
   REQUIRE(full_form(mv) == mv);
 }
+
+TEST_CASE("a colour or a shape fills a Property hole, nothing else does", "[ast]") {
+  REQUIRE(sort_fits(Sort::Property, Sort::Color));
+  REQUIRE(sort_fits(Sort::Property, Sort::Shape));
+  REQUIRE(!sort_fits(Sort::Color, Sort::Shape));
+  REQUIRE(!sort_fits(Sort::Color, Sort::Property));  // a Property is not always a colour
+  REQUIRE(!sort_fits(Sort::Property, Sort::Number));
+  REQUIRE(sort_fits(Sort::CountedItem, Sort::Item));
+  REQUIRE(std::string(sort_name(Sort::Property)) == "Property");
+
+  // `pick every item is $1`: the template of `collect $Property`.
+  auto tmpl =
+      make(Kind::Pick,
+           {make(Kind::Every,
+                 {make(Kind::Item, {make(Kind::FilterIs, {make_hole(0, Sort::Property)})})})});
+  auto red = substitute(tmpl, {make_word(Kind::Color, "red")});
+  auto tri = substitute(tmpl, {make_word(Kind::Shape, "triangle")});
+  auto filter = [](const Program& p) { return p->kids[0]->kids[0]->kids[0]->kids[0]; };
+  REQUIRE(filter(red)->kind == Kind::Color);
+  REQUIRE(filter(tri)->kind == Kind::Shape);
+  REQUIRE(filter(tri)->text == "triangle");
+  REQUIRE_THROWS_AS(substitute(tmpl, {make_num(2)}), Error);
+  REQUIRE_THROWS_AS(substitute(tmpl, {make_word(Kind::Direction, "up")}), Error);
+  // A Color hole still takes colours only.
+  auto color_only = make(Kind::FilterIs, {make_hole(0, Sort::Color)});
+  REQUIRE_THROWS_AS(substitute(color_only, {make_word(Kind::Shape, "circle")}), Error);
+  REQUIRE_THROWS_AS(make(Kind::FilterIs, {make_num(1)}), Error);
+}

@@ -37,6 +37,10 @@ enum class Sort : std::uint8_t {
   Color,        ///< ($Color)
   Shape,        ///< ($Shape)
   ItemAct,      ///< the verb of an item action, `pick` or `drop` ($ItemAct)
+  /// A colour or a shape word ($Property): the sort of template holes that either may fill
+  /// (`is $1`), so an induced rule can abstract `red` and still take `triangle`. No program
+  /// node has this sort; Color and Shape words fit it (see `sort_fits`).
+  Property,
 };
 
 enum class Kind : std::uint8_t {
@@ -88,7 +92,7 @@ enum class Kind : std::uint8_t {
   // --- items
   Item,       ///< Sort::Item; kids: [] or [filter]
   Every,      ///< Sort::CountedItem; kids: [item]
-  FilterIs,   ///< Sort::Filter; kids: [Color or Shape]
+  FilterIs,   ///< Sort::Filter; kids: [Color or Shape] (a template: a Property hole)
   FilterAnd,  ///< kids: [f, g]
   FilterOr,   ///< kids: [f, g]
   FilterNot,  ///< kids: [f]
@@ -125,6 +129,11 @@ struct FLIPPER_SDK_API Node {
   std::uint32_t size = 1;  ///< number of nodes in this subtree
 };
 
+/// Whether a program of sort `actual` may stand where `expected` is wanted (a kid, a hole's
+/// argument, a category): the same sort, a plain Item for a CountedItem, or a Color or Shape word
+/// for a Property.
+FLIPPER_SDK_API bool sort_fits(Sort expected, Sort actual);
+
 /// The sort a kind always has (Hole: Sort::Action; use node.sort).
 FLIPPER_SDK_API Sort sort_of(Kind kind);
 FLIPPER_SDK_API const char* kind_name(Kind kind);
@@ -150,7 +159,7 @@ struct ProgramEqual {
 };
 
 /// Replaces every Hole(i) by args[i]. Throws Error(bad_program) on a missing argument or a sort
-/// mismatch (an Item may fill a CountedItem hole).
+/// mismatch (an Item may fill a CountedItem hole, a Color or Shape a Property hole).
 FLIPPER_SDK_API Program substitute(const Program& tmpl, const std::vector<Program>& args);
 /// Whether the tree contains a Hole.
 FLIPPER_SDK_API bool has_holes(const Program& p);
