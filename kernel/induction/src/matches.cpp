@@ -37,14 +37,16 @@ std::string category_of_sort(sdk::Sort sort) {
       return "$Shape";
     case Sort::ItemAct:
       return "$ItemAct";
+    case Sort::Property:
+      return "$Property";
   }
   return "$Action";
 }
 
 bool category_fits(const std::string& category, sdk::Sort program) {
   try {
-    const sdk::Sort want = sdk::category_sort(category);
-    return want == program || (want == sdk::Sort::CountedItem && program == sdk::Sort::Item);
+    // A plain item may stand for a $CountedItem, a colour or shape word for a $Property.
+    return sdk::sort_fits(sdk::category_sort(category), program);
   } catch (const sdk::Error&) {
     return false;  // $ROOT or a grammar-private category: nothing in a program has it
   }

@@ -15,14 +15,22 @@ bool takes_counted_item(sdk::Kind parent) {
   return parent == sdk::Kind::Pick || parent == sdk::Kind::Drop || parent == sdk::Kind::ItemAction;
 }
 
-/// Whether `p` (a kid of a `parent` node) is a packed program whose hole may stand there. A plain
-/// item packed as $CountedItem only stands for the object of pick/drop, where `every` may go.
+/// Whether a hole of sort `hole` may replace a `p` that is a kid of a `parent` node. A plain item
+/// packed as $CountedItem only stands for the object of pick/drop, where `every` may go; a colour
+/// or shape packed as $Property stands for any property word (its only parent is `is`).
+bool hole_may_stand(sdk::Sort hole, const sdk::Program& p, sdk::Kind parent) {
+  if (hole == p->sort) return true;
+  if (hole == sdk::Sort::CountedItem) return takes_counted_item(parent);
+  return hole == sdk::Sort::Property && sdk::sort_fits(hole, p->sort);
+}
+
+/// `p` with every subtree equal to a packed program replaced by its hole.
 sdk::Program replace_packed(const sdk::Program& p, const std::vector<Slot>& slots,
                             sdk::Kind parent = sdk::Kind::Seq) {
   for (const auto& s : slots) {
     if (p->sort != s.full->sort || !sdk::equal(p, s.full)) continue;
     const sdk::Sort hole = sdk::category_sort(s.match->category);
-    if (hole != p->sort && !takes_counted_item(parent)) continue;
+    if (!hole_may_stand(hole, p, parent)) continue;
     return sdk::make_hole(s.hole, hole);
   }
   if (p->kids.empty()) return p;

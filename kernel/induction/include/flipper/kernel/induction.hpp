@@ -37,8 +37,9 @@ struct Match {
 
 /// The category naming a sort ($Action, $Area, $CountedItem, ...).
 std::string category_of_sort(sdk::Sort sort);
-/// Whether a program of sort `program` may stand for `category`: same sort, or a plain item for a
-/// $CountedItem (the grammar's `$CountedItem -> $Item`). Unknown categories never fit.
+/// Whether a program of sort `program` may stand for `category`: same sort, a plain item for a
+/// $CountedItem (the grammar's `$CountedItem -> $Item`), a colour or shape word for a $Property
+/// (`$Property -> $Color`). Unknown categories never fit.
 bool category_fits(const std::string& category, sdk::Sort program);
 /// Whether a normalised category is primitive ($Color, $Shape, $Number, $Direction, $Point).
 bool is_primitive_category(const std::string& category);
