@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "corpus_data.hpp"
+#include "flipper/kernel/corpus/original_text.hpp"
 #include "flipper/kernel/executor.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
-#include "original_text.hpp"
 #include "plugin_fixture.hpp"
 
 using namespace flipper;
@@ -54,7 +54,7 @@ int main() {
     for (const auto& c : ans->second["candidates"]) {
       if (c["formula"] != q["formula"]) continue;
       try {
-        const std::string text = normalize_original_pretty(c["pretty"]);
+        const std::string text = kernel::corpus::normalize_original_pretty(c["pretty"]);
         const std::string wid = q["world_id"];
         if (!loaded.count(wid)) loaded.emplace(wid, world->load(worlds.at(wid).dump(), "."));
         const bool loop =

@@ -5,12 +5,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "flipper/kernel/corpus/original_text.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
-#include "original_text.hpp"
 
 using namespace flipper::sdk;
-using flipper::testsupport::normalize_original_pretty;
+using flipper::kernel::corpus::normalize_original_pretty;
 
 TEST_CASE("normalising the original's printing", "[canonical][probes]") {
   CHECK(normalize_original_pretty("{visit [9.0,8.0] while avoiding room3}") ==

@@ -4,65 +4,24 @@
 // interpretation (`pretty`, in core-language text after normalising the original's printing) — run
 // it on the world before
 // (`world_id`) and compare robot, held items and items on the floor with the world the client sent
-// next (`next_world_id`). Differences are classified; none may stay unexplained.
+// next (`next_world_id`). Differences are classified with the replay's classifier
+// (kernel/corpus/accept_diff.hpp); none may stay unexplained.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <iostream>
 #include <map>
 
-#include "../core/original_text.hpp"
 #include "corpus_data.hpp"
+#include "flipper/kernel/corpus/accept_diff.hpp"
+#include "flipper/kernel/corpus/original_text.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "study_fixture.hpp"
 
 using namespace flipper;
 using namespace flipper::testsupport;
 using nlohmann::json;
-
-namespace {
-
-struct Snapshot {
-  int x = 0, y = 0;
-  std::vector<std::string> held, floor;  // sorted multisets
-  bool operator==(const Snapshot&) const = default;
-};
-
-Snapshot snap(const json& w) {
-  Snapshot s;
-  s.x = w["robot"]["x"];
-  s.y = w["robot"]["y"];
-  for (const auto& h : w["robot"]["holding"])
-    s.held.push_back(h["color"].get<std::string>() + " " + h["shape"].get<std::string>());
-  for (const auto& i : w["items"])
-    s.floor.push_back(std::to_string(i["x"].get<int>()) + "," + std::to_string(i["y"].get<int>()) +
-                      " " + i["color"].get<std::string>() + " " + i["shape"].get<std::string>());
-  std::sort(s.held.begin(), s.held.end());
-  std::sort(s.floor.begin(), s.floor.end());
-  return s;
-}
-
-Snapshot snap(const sdk::WorldState& w) {
-  Snapshot s;
-  s.x = w.robot.x;
-  s.y = w.robot.y;
-  for (const auto& h : w.held) s.held.push_back(h.color + " " + h.shape);
-  for (const auto& li : w.items)
-    s.floor.push_back(std::to_string(li.at.x) + "," + std::to_string(li.at.y) + " " +
-                      li.item.color + " " + li.item.shape);
-  std::sort(s.held.begin(), s.held.end());
-  std::sort(s.floor.begin(), s.floor.end());
-  return s;
-}
-
-bool contains_kind(const sdk::Program& p, sdk::Kind k) {
-  if (p->kind == k) return true;
-  for (const auto& c : p->kids)
-    if (contains_kind(c, k)) return true;
-  return false;
-}
-
-}  // namespace
+namespace corpus = flipper::kernel::corpus;
 
 TEST_CASE("corpus accepts: world after our execution against the logged next world",
           "[exec][differential][corpus]") {
@@ -103,7 +62,7 @@ TEST_CASE("corpus accepts: world after our execution against the logged next wor
     }
     const int k = (*cand)["core_only"].get<bool>() ? 0 : 1;
     ++total[k];
-    const std::string text = normalize_original_pretty((*cand)["pretty"]);
+    const std::string text = kernel::corpus::normalize_original_pretty((*cand)["pretty"]);
     const std::string what = q["qid"].get<std::string>() + " " + text;
     const json& before = worlds.at(q["world_id"]);
     const json& after = worlds.at(q["next_world_id"]);
@@ -111,57 +70,19 @@ TEST_CASE("corpus accepts: world after our execution against the logged next wor
     try {
       prog = sdk::read_canonical(text);
     } catch (const sdk::Error& e) {
-      note(k, "UNEXPLAINED: unreadable interpretation", what + " / " + e.what());
+      note(k, corpus::class_label(corpus::AcceptClass::unreadable), what + " / " + e.what());
       continue;
     }
     const sdk::WorldState start = st.world->load(before.dump(), ".");
     kernel::Executor exec(st.planner);
     const sdk::Outcome o = exec.run(prog, start);
-    const Snapshot want = snap(after), got = snap(o.world), was = snap(before);
-    if (o.error) {
-      note(k,
-           o.error_code == "budget_exceeded" ? "ours: budget exceeded (§9 [decision])"
-                                             : "ours: execution error (§4.2/§9 [decision])",
-           what + " / " + *o.error);
-      continue;
-    }
-    if (got == want) {
-      note(k, "agree", what);
-      continue;
-    }
-    // A reset: the client sent a world that the command cannot have produced (other layout, or
-    // items that appear from nowhere), e.g. the study's start world again.
-    const bool layout_changed = before["layout_id"] != after["layout_id"];
-    const bool items_changed =
-        want.floor.size() + want.held.size() != was.floor.size() + was.held.size();
-    bool failed_move = false;
-    for (const auto& w : o.warnings)
-      if (w.find("{move ") != std::string::npos || w.find("{visit ") != std::string::npos)
-        failed_move = true;
-    if (layout_changed || items_changed || q["next_world_id"] == "wdd05b0e5ff41")
-      note(k, "reset: the next world is not reachable by a command", what);
-    else if (want == was)
-      note(k, "no change logged: the next world equals the world before (client did not apply it)",
-           what);
-    else if ((*cand)["result"].is_object() &&
-             ours(o.trace) == theirs((*cand)["result"]["path"], start.robot))
-      note(k, "same trace as the original's own run; the logged next world differs (client state)",
-           what);
-    else if (failed_move)
-      note(k, "failed movement leaves the robot in place (§6)", what);
-    else if (contains_kind(prog, sdk::Kind::ForeachArea) ||
-             contains_kind(prog, sdk::Kind::ForeachPoint))
-      note(k, "loop order: tour T (§8 [decision])", what);
-    else if (contains_kind(prog, sdk::Kind::VisitCollection))
-      note(k, "visit of a collection: shortest (§4.4 [decision])", what);
-    else if (got.x == want.x && got.y == want.y && got.held.size() == want.held.size())
-      note(k, "tie rules: item choice (§8 [decision])", what);
-    else if (contains_kind(prog, sdk::Kind::VisitArea))
-      note(k, "tie rules: nearest cell of an area (§8 [decision])", what);
-    else
-      note(k, "UNEXPLAINED: worlds differ", what);
+    const json* path = (*cand)["result"].is_object() ? &(*cand)["result"]["path"] : nullptr;
+    const corpus::AcceptClass cls = corpus::classify_accept(
+        {before, after, q["next_world_id"].get<std::string>(), prog, start, o, path});
+    note(k, corpus::class_label(cls), o.error ? what + " / " + *o.error : what);
+    if (cls == corpus::AcceptClass::agree || o.error) continue;
     if (std::getenv("FLIPPER_DIFF_VERBOSE")) {
-      auto show = [](const char* tag, const Snapshot& s) {
+      auto show = [](const char* tag, const corpus::WorldSnapshot& s) {
         std::cout << "  " << tag << " robot " << s.x << "," << s.y << " held:";
         for (auto& h : s.held) std::cout << " " << h << ";";
         std::cout << " floor:";
@@ -169,9 +90,9 @@ TEST_CASE("corpus accepts: world after our execution against the logged next wor
         std::cout << "\n";
       };
       std::cout << what << "\n";
-      show("before", was);
-      show("ours  ", got);
-      show("after ", want);
+      show("before", corpus::snapshot(before));
+      show("ours  ", corpus::snapshot(o.world));
+      show("after ", corpus::snapshot(after));
     }
   }
   const char* names[2] = {"core", "induced"};

@@ -10,8 +10,9 @@
 
 #include "flipper/sdk/errors.hpp"
 
-#include "../core/original_text.hpp"
 #include "corpus_data.hpp"
+#include "flipper/kernel/corpus/accept_diff.hpp"
+#include "flipper/kernel/corpus/original_text.hpp"
 #include "study_fixture.hpp"
 
 using namespace flipper;
@@ -53,7 +54,7 @@ TEST_CASE("probe candidates: our traces against the original's paths", "[exec][d
     const sdk::WorldState start = st.world->load(doc.dump(), ".");
     for (const auto& cand : probe["candidates"]) {
       ++total;
-      const std::string text = normalize_original_pretty(cand["pretty"]);
+      const std::string text = kernel::corpus::normalize_original_pretty(cand["pretty"]);
       const std::string what = probe["id"].get<std::string>() + " " + text;
       sdk::Program prog;
       try {
@@ -95,7 +96,9 @@ TEST_CASE("probe candidates: our traces against the original's paths", "[exec][d
           note("UNEXPLAINED: only ours failed", what + " / " + *o.error);
         continue;
       }
-      const Steps a = ours(o.trace), b = theirs(result["path"], start.robot);
+      using kernel::corpus::Steps;
+      const Steps a = kernel::corpus::our_steps(o.trace),
+                  b = kernel::corpus::original_steps(result["path"], start.robot);
       if (a == b) {
         note("agree", what);
         continue;

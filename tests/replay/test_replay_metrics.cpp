@@ -63,6 +63,43 @@ TEST_CASE("figures count tokens, statuses and authors per participant") {
   CHECK(a.confusion.at("Induced").at("unparsable") == 1);
 }
 
+TEST_CASE("execution agreement counts accept classes and the unexplained ones") {
+  auto accept = [](bool compared, bool all, std::string diff) {
+    AcceptRow r;
+    r.matched = r.executed = compared;
+    r.compared = compared;
+    r.robot = r.held = r.floor = all;
+    r.diff = std::move(diff);
+    return r;
+  };
+  const std::vector<AcceptRow> rows = {
+      accept(true, true, "agree"),
+      accept(true, true, "agree"),
+      accept(true, false, "loop_order"),
+      accept(true, false, "unexplained"),
+      accept(false, false, "budget_exceeded"),  // failed, next world known
+      accept(true, false, "start_differs"),
+      accept(true, false, "made_up"),
+      accept(false, false, "")};  // not matched
+  const ExecAgreement e = exec_agreement(rows);
+  CHECK(e.accepts == 8);
+  CHECK(e.compared == 6);
+  CHECK(e.all == 2);
+  CHECK(e.classified == 7);
+  CHECK(e.classes == std::map<std::string, int>{{"agree", 2},
+                                                {"budget_exceeded", 1},
+                                                {"loop_order", 1},
+                                                {"made_up", 1},
+                                                {"start_differs", 1},
+                                                {"unexplained", 1}});
+  CHECK(e.unexplained == 3);  // unexplained, start_differs and the unknown id
+  Metrics m;
+  m.exec = e;
+  const auto j = metrics_json(m);
+  CHECK(j["execution"]["classes"]["loop_order"] == 1);
+  CHECK(j["execution"]["unexplained"] == 3);
+}
+
 TEST_CASE("latency histogram uses half-decade bins") {
   Latency l = latency({0.5, 50, 50, 2000, 1e9});
   CHECK(l.histogram[3] == 1);   // [0.316, 1)

@@ -51,6 +51,7 @@ TEST_CASE("synthetic replay: statuses, accept, definitions, deletion") {
   CHECK(r.accepts[0].executed);
   CHECK(r.accepts[0].compared);
   CHECK((r.accepts[0].robot && r.accepts[0].held && r.accepts[0].floor));
+  CHECK(r.accepts[0].diff == "agree");
 
   REQUIRE(r.defines.size() == 3);
   for (const auto& d : r.defines) CHECK(d.ok);
@@ -116,6 +117,8 @@ TEST_CASE("an experiment writes metrics, CSV, SVG and the report") {
   const std::string text((std::istreambuf_iterator<char>(report)), {});
   CHECK(text.find("Variants side by side") != std::string::npos);
   CHECK(text.find("plain/tokens.svg") != std::string::npos);
+  CHECK(text.find("| `agree` | 1 | agree |") != std::string::npos);  // the class table
+  CHECK(text.find("Unexplained: 0.") != std::string::npos);
 }
 
 TEST_CASE("experiment files are validated") {

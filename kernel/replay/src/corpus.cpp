@@ -149,8 +149,13 @@ Corpus load_corpus(const std::string& dir) {
   for_each_line(dir + "/original-answers.jsonl", false, [&](const json& j) {
     OriginalAnswer a;
     if (auto it = j.find("candidates"); it != j.end() && it->is_array())
-      for (const auto& k : *it)
-        a.candidates.push_back({str(k, "pretty"), str(k, "formula"), k.value("core_only", false)});
+      for (const auto& k : *it) {
+        OriginalAnswer::Candidate cand{str(k, "pretty"), str(k, "formula"),
+                                       k.value("core_only", false), json()};
+        if (auto r = k.find("result"); r != k.end() && r->is_object() && r->contains("path"))
+          cand.path = (*r)["path"];
+        a.candidates.push_back(std::move(cand));
+      }
     if (auto it = j.find("accepted_rank"); it != j.end() && it->is_number())
       a.accepted_rank = it->get<int>();
     c.answers.emplace(str(j, "qid"), std::move(a));

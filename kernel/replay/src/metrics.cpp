@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "flipper/kernel/corpus/accept_diff.hpp"
+
 namespace flipper::kernel::replay {
 
 std::string as_original_status(const std::string& ours) {
@@ -85,12 +87,22 @@ Agreement agreement(const std::vector<QueryRow>& rows, const std::string& group)
   return a;
 }
 
+bool unexplained_class(const std::string& id) {
+  const auto c = corpus::class_from_id(id);
+  return !c || corpus::is_unexplained(*c);  // an unknown id explains nothing
+}
+
 ExecAgreement exec_agreement(const std::vector<AcceptRow>& rows) {
   ExecAgreement e;
   for (const auto& r : rows) {
     ++e.accepts;
     e.matched += r.matched;
     e.executed += r.executed;
+    if (!r.diff.empty()) {
+      ++e.classes[r.diff];
+      ++e.classified;
+      e.unexplained += unexplained_class(r.diff);
+    }
     if (!r.compared) continue;
     ++e.compared;
     e.robot += r.robot;

@@ -97,7 +97,10 @@ nlohmann::ordered_json metrics_json(const Metrics& m) {
                            {"robot", e.robot},
                            {"held", e.held},
                            {"floor", e.floor},
-                           {"all", e.all}}},
+                           {"all", e.all},
+                           {"classified", e.classified},
+                           {"unexplained", e.unexplained},
+                           {"classes", map_json(e.classes)}}},
            {"latency_ours_ms", latency_json(m.our_latency)},
            {"latency_original_ms", latency_json(m.original_latency)},
            {"definitions", J{{"defines", m.defines},
@@ -153,11 +156,11 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
   }
 
   auto acc = open(dir, "accepts.csv");
-  acc << "qid,run,group,user,matched,rank,executed,compared,robot,held,floor,note\n";
+  acc << "qid,run,group,user,matched,rank,executed,compared,robot,held,floor,class,note\n";
   for (const auto& r : result.accepts)
     acc << csv(r.qid) << ',' << csv(r.run) << ',' << r.group << ',' << csv(r.user) << ','
         << r.matched << ',' << r.rank << ',' << r.executed << ',' << r.compared << ',' << r.robot
-        << ',' << r.held << ',' << r.floor << ',' << csv(r.note) << "\n";
+        << ',' << r.held << ',' << r.floor << ',' << r.diff << ',' << csv(r.note) << "\n";
 
   auto d = open(dir, "definitions.csv");
   d << "qid,run,user,preloaded,ok,error,rules,head\n";

@@ -5,8 +5,9 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "flipper/kernel/corpus/accept_diff.hpp"
+#include "flipper/kernel/corpus/original_text.hpp"
 #include "flipper/kernel/replay/deletion_map.hpp"
-#include "flipper/kernel/replay/original_text.hpp"
 #include "flipper/kernel/session_factory.hpp"
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -135,16 +136,16 @@ class RunReplay {
     out_.queries.push_back(std::move(row));
   }
 
-  // The accepted program as canonical text, from the original's answer for that query.
-  std::optional<std::string> accepted_text(const Command& c) const {
+  // The original's candidate that was accepted (its printed text is the accepted program).
+  const OriginalAnswer::Candidate* accepted_candidate(const Command& c) const {
     auto it = corpus_.answers.find(c.for_qid);
-    if (it == corpus_.answers.end()) return std::nullopt;
+    if (it == corpus_.answers.end()) return nullptr;
     const auto& cands = it->second.candidates;
     for (const auto& k : cands)
-      if (k.formula == c.formula) return normalize_original_pretty(k.pretty);
+      if (k.formula == c.formula) return &k;
     if (auto r = it->second.accepted_rank; r && *r >= 0 && *r < static_cast<int>(cands.size()))
-      return normalize_original_pretty(cands[*r].pretty);
-    return std::nullopt;
+      return &cands[*r];
+    return nullptr;
   }
 
   void accept(const Command& c) {
@@ -160,19 +161,20 @@ class RunReplay {
     row.group = c.group;
     row.user = c.user;
     const LastQuery* q = session_->last_query();
-    const auto text = accepted_text(c);
+    const OriginalAnswer::Candidate* original = accepted_candidate(c);
     if (!q || q->parse.candidates.empty()) {
       row.note = "no candidates";
-    } else if (!text) {
+    } else if (!original) {
       row.note = "accepted formula not in the original's answers";
     } else {
+      const std::string text = corpus::normalize_original_pretty(original->pretty);
       sdk::Program program;
       try {
-        program = sdk::read_canonical(*text);
+        program = sdk::read_canonical(text);
       } catch (const sdk::Error&) {
         // Unreadable: fall back to rendered-text comparison below.
       }
-      const std::string flat = strip_spaces(*text);
+      const std::string flat = strip_spaces(text);
       const auto& cands = q->parse.candidates;
       for (std::size_t i = 0; i < cands.size() && row.rank < 0; ++i)
         if ((program && sdk::equal(program, cands[i].program)) ||
@@ -181,29 +183,49 @@ class RunReplay {
       row.matched = row.rank >= 0;
       if (!row.matched) row.note = "accepted program not among our candidates";
     }
-    if (row.matched) execute(c, row);
+    if (row.matched) execute(c, *original, row);
     out_.accepts.push_back(std::move(row));
   }
 
-  void execute(const Command& c, AcceptRow& row) {
+  void execute(const Command& c, const OriginalAnswer::Candidate& original, AcceptRow& row) {
     if (row.rank >= static_cast<int>(session_->last_query()->shown.size())) {
       const std::string text = session_->last_query()->text;  // copy: re-querying replaces it
       call(Json{{"op", "query"}, {"text", text}, {"k", row.rank + 1}});
     }
+    // What the classification needs, before the accept consumes the query: the shown
+    // candidate's outcome is the execution the accept commits (same program, same world).
+    const LastQuery& q = *session_->last_query();
+    const sdk::Outcome outcome = q.shown[static_cast<std::size_t>(row.rank)].outcome;
+    const sdk::WorldState start = q.world;
+    const sdk::Program program = q.parse.candidates[static_cast<std::size_t>(row.rank)].program;
+
     Json a = call(Json{{"op", "accept"}, {"rank", row.rank}});
     row.executed = a.value("ok", false);
-    if (!row.executed) {
+    if (row.executed) {
+      world_id_.clear();  // the session now holds our world, not a logged one
+    } else {
       row.note = a.contains("error") ? a["error"].value("code", std::string()) : "accept failed";
-      return;
     }
-    world_id_.clear();  // the session now holds our world, not a logged one
-    auto it = corpus_.worlds.find(c.next_world_id);
-    if (it == corpus_.worlds.end()) return;
-    row.compared = true;
-    const WorldDigest ours = digest(a["world"]), theirs = digest(it->second);
-    row.robot = ours.robot == theirs.robot;
-    row.held = ours.held == theirs.held;
-    row.floor = ours.floor == theirs.floor;
+    auto after = corpus_.worlds.find(c.next_world_id);
+    if (after == corpus_.worlds.end()) return;
+    if (row.executed) {
+      row.compared = true;
+      const WorldDigest ours = digest(a["world"]), theirs = digest(after->second);
+      row.robot = ours.robot == theirs.robot;
+      row.held = ours.held == theirs.held;
+      row.floor = ours.floor == theirs.floor;
+    }
+    // Without a logged world before, the world we started from stands in for it (the
+    // classification then cannot detect a wrong start).
+    auto before = corpus_.worlds.find(c.world_id);
+    const nlohmann::json start_json =
+        before == corpus_.worlds.end() ? nlohmann::json::parse(session_->world_json(start).dump())
+                                       : nlohmann::json();
+    const nlohmann::json& before_json =
+        before == corpus_.worlds.end() ? start_json : before->second;
+    row.diff = corpus::class_id(
+        corpus::classify_accept({before_json, after->second, c.next_world_id, program, start,
+                                 outcome, original.path.is_array() ? &original.path : nullptr}));
   }
 
   void define_command(const Command& c) {
@@ -274,8 +296,8 @@ std::size_t kept_commands(const Corpus& corpus, const Run& run, int max_queries)
 
 std::vector<std::string> mode_overrides(const std::string& group) {
   const char* sharing = group == "A" ? "core" : group == "B" ? "private" : "shared";
-  return {"lexicon.path=\":memory:\"", std::string("lexicon.sharing=") + sharing,
-          "lexicon.preload=\"\"", "induction.alignment=false"};
+  return {"lexicon.path=:memory:", std::string("lexicon.sharing=") + sharing,
+          "lexicon.preload=", "induction.alignment=false"};
 }
 
 ReplayResult replay(const Corpus& corpus, const ReplayOptions& options) {

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "flipper/kernel/corpus/accept_diff.hpp"
 #include "flipper/kernel/replay/output.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -106,6 +107,18 @@ void variant_section(std::ostream& o, const Variant& v) {
     << "; executed: " << e.executed << "; compared with the logged next world: " << e.compared
     << ".\n\n| robot position | held items | items on the floor | all three |\n|---|---|---|---|\n"
     << "| " << e.robot << " | " << e.held << " | " << e.floor << " | " << e.all << " |\n";
+  o << "\nWhy the worlds differ (" << e.classified
+    << " classified accepts: compared, or failed with a known next world; "
+       "kernel/corpus/accept_diff.hpp; `class` column of accepts.csv):\n\n"
+    << "| class | accepts | explanation |\n|---|---|---|\n";
+  for (corpus::AcceptClass c : corpus::all_classes()) {
+    auto it = e.classes.find(corpus::class_id(c));
+    if (it != e.classes.end())
+      o << "| `" << it->first << "` | " << it->second << " | " << corpus::class_label(c) << " |\n";
+  }
+  for (const auto& [id, n] : e.classes)
+    if (!corpus::class_from_id(id)) o << "| `" << id << "` | " << n << " | unknown class |\n";
+  o << "\nUnexplained: " << e.unexplained << ".\n";
   o << "\n### Latency (ms per query)\n\n![latency](" << v.dir << "/latency.svg)\n\n"
     << "| | n | p50 | p90 | p99 | max |\n|---|---|---|---|---|---|\n";
   for (const auto& [name, l] :

@@ -63,6 +63,7 @@ struct OriginalAnswer {
   struct Candidate {
     std::string pretty, formula;
     bool core_only = false;
+    nlohmann::json path;  ///< the original's own run (`result.path`); null when not logged
   };
   std::vector<Candidate> candidates;
   std::optional<int> accepted_rank;

@@ -57,8 +57,15 @@ Agreement agreement(const std::vector<QueryRow>& rows, const std::string& group 
 struct ExecAgreement {
   int accepts = 0, matched = 0, executed = 0, compared = 0;
   int robot = 0, held = 0, floor = 0, all = 0;
+  /// AcceptRow::diff -> rows (every classified accept: compared, or failed with a known next
+  /// world); "agree" counts the same rows as `all`.
+  std::map<std::string, int> classes;
+  int classified = 0;
+  int unexplained = 0;  ///< rows whose class is corpus::is_unexplained
 };
 ExecAgreement exec_agreement(const std::vector<AcceptRow>& rows);
+/// Whether a class id (AcceptRow::diff) is one nothing in the spec explains (unknown ids too).
+bool unexplained_class(const std::string& id);
 
 struct Latency {
   Summary summary;

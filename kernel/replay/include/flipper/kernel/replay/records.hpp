@@ -32,6 +32,10 @@ struct AcceptRow {
   bool compared = false;  ///< the original's next world is known
   bool robot = false, held = false, floor = false;  ///< agreement after executing
   std::string note;                                 ///< why not matched/executed
+  /// Why the worlds differ (corpus::class_id of kernel/corpus/accept_diff.hpp; "agree" when
+  /// they do not): set when the accepted program was executed or failed and the next world is
+  /// known; "" otherwise.
+  std::string diff;
 };
 
 /// A definition (`def`, `def_ret`, `def_iso`, or a preloaded one).

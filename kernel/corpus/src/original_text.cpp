@@ -1,9 +1,9 @@
 // Original pretty text -> canonical text (see original_text.hpp).
-#include "flipper/kernel/replay/original_text.hpp"
+#include "flipper/kernel/corpus/original_text.hpp"
 
 #include <regex>
 
-namespace flipper::kernel::replay {
+namespace flipper::kernel::corpus {
 
 std::string normalize_original_pretty(std::string s) {
   static const std::regex dot_zero(R"((-?\d+)\.0\b)");
@@ -33,4 +33,4 @@ std::string normalize_original_pretty(std::string s) {
   return s;
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::kernel::corpus
