@@ -203,3 +203,94 @@ TEST_CASE("plugin params are validated against the plugin's schema", "[config][p
   require_error([&] { (void)with("{map: m, tags: x}"); }, "bad_config",
                 {"planner.params.tags", "list of strings"});
 }
+
+namespace {
+struct SetCase {
+  const char* assignment;
+  const char* key;
+  const char* expected;  // get_string after the assignment
+};
+}  // namespace
+
+TEST_CASE("--set takes text keys verbatim unless quoted; other keys are YAML", "[config][set]") {
+  const std::vector<SetCase> cases = {
+      {"lexicon.path=:memory:", "lexicon.path", ":memory:"},
+      {"lexicon.path=\":memory:\"", "lexicon.path", ":memory:"},
+      {"lexicon.path='it''s here'", "lexicon.path", "it's here"},
+      {"lexicon.path=a: b", "lexicon.path", "a: b"},
+      {"lexicon.path=a #b", "lexicon.path", "a #b"},
+      {"lexicon.path=[x]", "lexicon.path", "[x]"},
+      {"lexicon.path=\"null\"", "lexicon.path", "null"},
+      {"lexicon.preload=", "lexicon.preload", ""},
+      {"lexicon.preload=''", "lexicon.preload", ""},
+      {"world.file=w: 1.json", "world.file", "w: 1.json"},
+      {"lexicon.sharing=private", "lexicon.sharing", "private"},
+      {"planner.plugin=astar", "planner.plugin", "astar"},
+      {"planner.params.label=:x:", "planner.params.label", ":x:"},
+      {"planner.params.label=", "planner.params.label", ""},
+      {"planner.params.label=\"a: b\"", "planner.params.label", "a: b"},
+  };
+  for (const auto& c : cases) {
+    SECTION(c.assignment) {
+      const Config config = Config::load(std::nullopt, {c.assignment});
+      CHECK(config.get_string(c.key) == c.expected);
+      // The effective config written out loads back to the same value.
+      const auto path = kerneltest::write_temp("set_dump.yaml", config.dump());
+      CHECK(Config::load(path, {}).get_string(c.key) == c.expected);
+    }
+  }
+  SECTION("a null word still unsets a text key (restoring its default)") {
+    const Config c = Config::load(std::nullopt, {"lexicon.sharing=private", "lexicon.sharing=~"});
+    CHECK(c.get_string("lexicon.sharing") == "shared");
+    CHECK(Config::load(std::nullopt, {"lexicon.path=x", "lexicon.path=null"}).dump() ==
+          Config::embedded_default().dump());
+  }
+  SECTION("enum text keys are still checked") {
+    require_error([] { (void)Config::load(std::nullopt, {"lexicon.sharing=:all:"}); }, "bad_config",
+                  {"lexicon.sharing", "':all:'", "shared, private, core"});
+  }
+  SECTION("non-text keys keep YAML parsing") {
+    const Config c = Config::load(
+        std::nullopt, {"plugin_paths=[a, 'b c']", "session.k=4", "induction.alignment=off"});
+    CHECK(c.get_string_list("plugin_paths") == std::vector<std::string>{"a", "b c"});
+    CHECK(c.get_int("session.k") == 4);
+    CHECK_FALSE(c.get_bool("induction.alignment"));
+    require_error([] { (void)Config::load(std::nullopt, {"session.k=:3:"}); }, "bad_config",
+                  {"session.k", "must be an integer"});
+  }
+  SECTION("Config::set follows the same rule") {
+    Config c = Config::embedded_default();
+    c.set("lexicon.path=:memory:");
+    CHECK(c.get_string("lexicon.path") == ":memory:");
+  }
+}
+
+TEST_CASE("--set plugin params: String/Path verbatim, other types as before", "[config][set]") {
+  sdk::ParamSchema schema;
+  schema.add_string("label", "none", "");
+  schema.add_path("map", std::string("maps/default.bt"), "");
+  schema.add_int("max_expansions", 1000, "", 1, 1000000);
+  schema.add_bool("diagonal", true, "");
+  schema.add_string_list("tags", {}, "");
+  const auto params = [&](std::vector<std::string> sets) {
+    return Config::load(std::nullopt, std::move(sets)).plugin_params("planner", schema);
+  };
+  const sdk::Params p = params({"planner.params.label=a: b #c", "planner.params.map=/m/:x:.bt",
+                                "planner.params.max_expansions=12", "planner.params.diagonal=false",
+                                "planner.params.tags=[x, 'y z']"});
+  CHECK(p.get_string("label") == "a: b #c");
+  CHECK(p.get_string("map") == "/m/:x:.bt");
+  CHECK(p.get_int("max_expansions") == 12);
+  CHECK_FALSE(p.get_bool("diagonal"));
+  CHECK(p.get_string_list("tags") == std::vector<std::string>{"x", "y z"});
+  CHECK(params({"planner.params.label="}).get_string("label").empty());
+  CHECK(params({"planner.params.label='[x]'"}).get_string("label") == "[x]");
+  CHECK(params({"planner.params.label=x", "planner.params.label=null"}).get_string("label") ==
+        "none");
+  require_error([&] { (void)params({"planner.params.max_expansions=a: b"}); }, "bad_config",
+                {"planner.params.max_expansions", "must be an integer", "'a: b'"});
+  require_error([&] { (void)params({"planner.params.tags=x"}); }, "bad_config",
+                {"planner.params.tags", "list of strings"});
+  require_error([&] { (void)params({"planner.params.tags=[x,"}); }, "bad_config",
+                {"malformed --set 'planner.params.tags=[x,'"});
+}

@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
@@ -92,6 +93,57 @@ bool is_valid_key(const std::string& key) {
   return true;
 }
 
+bool is_null_word(const std::string& text) {
+  return text == "~" || text == "null" || text == "Null" || text == "NULL";
+}
+
+bool is_quoted(const std::string& text) {
+  return text.size() >= 2 && (text.front() == '"' || text.front() == '\'') &&
+         text.back() == text.front();
+}
+
+// `<plugin section>.params.<name>`: a plugin parameter, whose type only the plugin's schema knows.
+bool is_plugin_param(const std::vector<std::string>& segs) {
+  if (segs.size() != 3 || segs[1] != "params") return false;
+  const auto& sections = Config::plugin_sections();
+  return std::find(sections.begin(), sections.end(), segs[0]) != sections.end();
+}
+
+YAML::Node parse_value(const std::string& text, const std::string& malformed) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    fail(malformed + ": the value is not a YAML scalar or flow value (" + e.msg + ")");
+  }
+}
+
+// The value of one --set. Text keys (kernel String/Path keys, plugin params) take the text
+// verbatim — YAML would read `:memory:` as a map and `a #b` as `a` — unless it is quoted (then
+// unquoted as YAML does), a null word (unsets), or, for a plugin param, a flow list or map (its
+// type is unknown here; a StringList param needs `[a, b]`). Other keys are parsed as YAML.
+YAML::Node assignment_value(const std::vector<std::string>& segs, const std::string& text,
+                            const std::string& malformed) {
+  std::string key;
+  for (const auto& s : segs) key += (key.empty() ? "" : ".") + s;
+  const KeySpec* spec = detail::find_key(key);
+  const bool text_key =
+      spec != nullptr && (spec->type == KeyType::String || spec->type == KeyType::Path);
+  const bool param = is_plugin_param(segs);
+  if (!text_key && !param) {
+    if (text.empty()) fail(malformed + ": the value is empty (use null to unset a key)");
+    return parse_value(text, malformed);
+  }
+  if (is_null_word(text)) return YAML::Node(YAML::NodeType::Null);
+  if (is_quoted(text)) {
+    const YAML::Node v = parse_value(text, malformed);
+    if (!v.IsScalar()) fail(malformed + ": the quoted value is not one string");
+    return YAML::Node(v.Scalar());
+  }
+  if (param && !text.empty() && (text.front() == '[' || text.front() == '{'))
+    return parse_value(text, malformed);
+  return YAML::Node(text);
+}
+
 void apply_assignment(YAML::Node& root, const std::string& assignment) {
   const std::size_t eq = assignment.find('=');
   const std::string malformed = "malformed --set '" + assignment + "'";
@@ -100,15 +152,10 @@ void apply_assignment(YAML::Node& root, const std::string& assignment) {
   const std::string key = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
   if (!is_valid_key(key)) fail(malformed + ": '" + key + "' is not a dotted key path");
-  if (text.empty()) fail(malformed + ": the value is empty (use null to unset a key)");
-  YAML::Node value;
-  try {
-    value = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    fail(malformed + ": the value is not a YAML scalar or flow value (" + e.msg + ")");
-  }
+  const auto segs = split_key(key);
+  const YAML::Node value = assignment_value(segs, text, malformed);
   if (!root.IsMap()) root = YAML::Node(YAML::NodeType::Map);
-  set_path(root, split_key(key), 0, value);
+  set_path(root, segs, 0, value);
 }
 
 std::string scalar_text(const YAML::Node& n) {
