@@ -11,4 +11,5 @@ void add_run_command(CLI::App& app);      // run.cpp
 void add_session_command(CLI::App& app);  // session.cpp
 void add_repl_command(CLI::App& app);     // repl.cpp
 void add_replay_command(CLI::App& app);   // replay.cpp
+void add_lexicon_command(CLI::App& app);  // lexicon.cpp  (lexicon list|export|import)
 }  // namespace flipper::cli

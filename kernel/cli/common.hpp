@@ -1,28 +1,52 @@
 #pragma once
-// Options every subcommand shares, and the uniform error exit.
+// Options every subcommand shares, loading the config they name, and the uniform exit.
 #include <CLI/CLI.hpp>
+#include <cstdlib>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "flipper/kernel/config.hpp"
+
 namespace flipper::cli {
 
 struct CommonOptions {
-  std::string config_file;            ///< empty: the embedded default (configs/default.yaml)
-  std::vector<std::string> overrides; ///< "key.path=value", applied after the file
+  std::string config_file;             ///< empty: the embedded default (configs/default.yaml)
+  std::vector<std::string> overrides;  ///< "key.path=value", applied after the file
 };
 
 /// Adds --config and --set to a subcommand.
 inline void add_common_options(CLI::App& cmd, CommonOptions& opts) {
   cmd.add_option("--config", opts.config_file, "YAML config file (default: the embedded default)");
-  cmd.add_option("--set", opts.overrides, "Override a config key: --set key.path=value (repeatable)")
+  cmd.add_option("--set", opts.overrides,
+                 "Override a config key: --set key.path=value (repeatable)")
       ->take_all()
       ->allow_extra_args(false);
+}
+
+/// The --config file, or nothing for the embedded default.
+inline std::optional<std::string> config_file(const CommonOptions& opts) {
+  if (opts.config_file.empty()) return std::nullopt;
+  return opts.config_file;
+}
+
+/// The validated config the options name (throws sdk::Error(bad_config)).
+inline kernel::Config load_config(const CommonOptions& opts) {
+  return kernel::Config::load(config_file(opts), opts.overrides);
 }
 
 /// Exit codes.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;
 inline constexpr int kExitUsage = 2;
+
+/// Makes `action` the subcommand's callback; a non-zero status ends the process with exactly that
+/// status (a CLI::RuntimeError would reach main's handler, which maps every failure to 2).
+inline void on_run(CLI::App& cmd, std::function<int()> action) {
+  cmd.callback([action = std::move(action)] {
+    if (const int rc = action(); rc != kExitOk) std::exit(rc);
+  });
+}
 
 }  // namespace flipper::cli

@@ -1,14 +1,20 @@
 // flipper plugins: the plugin index as a table (name, kind, version, ABI, path, status). Each
 // library is actually opened and checked so the status is real; a bad plugin shows its error
 // instead of crashing the listing. '*' marks the plugins the config selects.
+// `flipper plugins --params` adds every plugin's declared parameters (name, type, default,
+// allowed values, description) — what a config's `<section>.params` may hold; `flipper plugins
+// NAME` prints only NAME's.
+#include <array>
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <sstream>
 
 #include "commands.hpp"
 #include "common.hpp"
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/loader.hpp"
+#include "flipper/sdk/param_check.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -37,11 +43,106 @@ void print_table(const std::vector<Row>& rows) {
   for (const auto& r : rows) line(r);
 }
 
-int list_plugins(const CommonOptions& opts) {
-  const auto config = kernel::Config::load(
-      opts.config_file.empty() ? std::nullopt : std::optional<std::string>(opts.config_file),
-      opts.overrides);
+const char* type_name(sdk::ParamType t) {
+  switch (t) {
+    case sdk::ParamType::Bool:
+      return "bool";
+    case sdk::ParamType::Int:
+      return "int";
+    case sdk::ParamType::Double:
+      return "double";
+    case sdk::ParamType::String:
+      return "string";
+    case sdk::ParamType::StringList:
+      return "string list";
+    case sdk::ParamType::Path:
+      return "path";
+  }
+  return "?";
+}
+
+std::string number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// "[1, 100]", ">= 0", "<= 5", "one of: a, b", or "-".
+std::string allowed(const sdk::ParamSpec& p) {
+  if (p.min && p.max) return "[" + number(*p.min) + ", " + number(*p.max) + "]";
+  if (p.min) return ">= " + number(*p.min);
+  if (p.max) return "<= " + number(*p.max);
+  if (!p.one_of.empty()) {
+    std::string out = "one of: ";
+    for (std::size_t i = 0; i < p.one_of.size(); ++i) out += (i ? ", " : "") + p.one_of[i];
+    return out;
+  }
+  return "-";
+}
+
+void print_params(const kernel::LoadedPlugin& p) {
+  const auto* d = p.descriptor;
+  std::cout << "\n"
+            << d->name << " (" << sdk::kind_name(static_cast<sdk::PluginKind>(d->kind)) << " "
+            << (d->version ? d->version : "?") << ")"
+            << (d->description && *d->description ? std::string(": ") + d->description : "")
+            << "\n";
+  const sdk::ParamSchema schema = p.schema();
+  if (schema.params.empty()) {
+    std::cout << "  (no parameters)\n";
+    return;
+  }
+  std::vector<std::array<std::string, 5>> rows = {
+      {"PARAM", "TYPE", "DEFAULT", "ALLOWED", "DESCRIPTION"}};
+  for (const auto& s : schema.params)
+    rows.push_back({s.name, type_name(s.type),
+                    s.default_value ? sdk::to_string(*s.default_value)
+                    : s.required    ? "(required)"
+                                    : "(none)",
+                    allowed(s), s.description});
+  std::size_t w[4] = {0, 0, 0, 0};
+  for (const auto& r : rows)
+    for (int i = 0; i < 4; ++i) w[i] = std::max(w[i], r[static_cast<std::size_t>(i)].size());
+  for (const auto& r : rows) {
+    std::cout << "  ";
+    for (int i = 0; i < 4; ++i)
+      std::cout << std::left << std::setw(static_cast<int>(w[i] + 2))
+                << r[static_cast<std::size_t>(i)];
+    std::cout << r[4] << "\n";
+  }
+}
+
+// The parameter schemas of every loadable plugin, or of `only`; exit 2 when `only` is unknown
+// or does not load.
+int list_params(const kernel::PluginLoader& loader, const std::string& only) {
+  bool found = false, ok = true;
+  for (const auto& e : loader.entries()) {
+    if (!e.shadowed_by.empty() || (!only.empty() && e.name != only)) continue;
+    found = true;
+    try {
+      print_params(loader.open_entry(e, std::nullopt));
+    } catch (const sdk::Error& err) {
+      if (!only.empty()) {
+        std::cerr << "flipper: plugin '" << only << "': error [" << err.code()
+                  << "]: " << err.what() << "\n";
+        ok = false;
+      }
+    }
+  }
+  if (!only.empty() && !found) {
+    std::vector<std::string> names;
+    for (const auto& e : loader.entries()) names.push_back(e.name);
+    std::cerr << "flipper: no plugin named '" << only << "'" << sdk::did_you_mean(only, names)
+              << "\n";
+    return kExitUsage;
+  }
+  return ok ? kExitOk : kExitUsage;
+}
+
+int list_plugins(const CommonOptions& opts, bool params, const std::string& only) {
+  const auto config = load_config(opts);
   const kernel::PluginLoader loader(kernel::PluginLoader::search_path_for(config));
+  if (!only.empty()) return list_params(loader, only);
   std::vector<Row> rows;
   bool selected_ok = true;
   for (const auto& e : loader.entries()) {
@@ -85,6 +186,7 @@ int list_plugins(const CommonOptions& opts) {
       selected_ok = false;
     }
   }
+  if (params && list_params(loader, "") != kExitOk) selected_ok = false;
   return selected_ok ? kExitOk : kExitUsage;
 }
 
@@ -93,9 +195,13 @@ int list_plugins(const CommonOptions& opts) {
 void add_plugins_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("plugins", "List discovered plugins and whether they load");
   static CommonOptions opts;
+  static bool params = false;
+  static std::string only;
   add_common_options(*cmd, opts);
+  cmd->add_flag("--params", params, "Also print each plugin's parameters (name, type, default...)");
+  cmd->add_option("name", only, "Print only this plugin's parameters");
   cmd->callback([] {
-    const int rc = list_plugins(opts);
+    const int rc = list_plugins(opts, params, only);
     if (rc != kExitOk) throw CLI::RuntimeError(rc);
   });
 }

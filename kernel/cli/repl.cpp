@@ -13,15 +13,12 @@ void add_repl_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("repl", "Interactive terminal: give tasks, choose plans, teach");
   static CommonOptions opts;
   add_common_options(*cmd, opts);
-  cmd->callback([] {
-    std::optional<std::string> config;
-    if (!opts.config_file.empty()) config = opts.config_file;
-    auto session = kernel::open_session(config, opts.overrides);
+  on_run(*cmd, [] {
+    auto session = kernel::open_session(config_file(opts), opts.overrides);
     // Readline only on a terminal; piped input is read line by line without prompts.
     bool terminal = isatty(STDIN_FILENO) != 0;
     auto reader = kernel::repl::make_line_reader(std::cin, terminal);
-    int rc = kernel::repl::run(*session, *reader, std::cout);
-    if (rc != kExitOk) std::exit(rc);
+    return kernel::repl::run(*session, *reader, std::cout);
   });
 }
 }  // namespace flipper::cli

@@ -92,9 +92,6 @@ void add_replay_command(CLI::App& app) {
   cmd->add_option("--experiment", args.experiment, "Experiment file (configs/experiments/*.yaml)");
   cmd->add_option("--runs", args.runs, "Runs to replay, comma-separated (default: all)");
   cmd->add_option("--max-queries", args.max_queries, "Per run: stop before the (N+1)-th query");
-  cmd->callback([] {
-    int rc = run_replay(opts, args);
-    if (rc != kExitOk) std::exit(rc);
-  });
+  on_run(*cmd, [] { return run_replay(opts, args); });
 }
 }  // namespace flipper::cli

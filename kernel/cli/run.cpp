@@ -89,10 +89,7 @@ void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
 int run(const RunOptions& opts) {
   std::unique_ptr<kernel::Runtime> rt;
   try {
-    rt = kernel::make_runtime(kernel::Config::load(
-        opts.common.config_file.empty() ? std::nullopt
-                                        : std::optional<std::string>(opts.common.config_file),
-        opts.common.overrides));
+    rt = kernel::make_runtime(load_config(opts.common));
   } catch (const sdk::Error& e) {
     std::cerr << "flipper run: error [" << e.code() << "]: " << e.what() << "\n";
     return kExitUsage;

@@ -23,9 +23,7 @@ int run_session(const CommonOptions& opts, const std::string& script) {
     }
     in = &file;
   }
-  std::optional<std::string> config;
-  if (!opts.config_file.empty()) config = opts.config_file;
-  auto session = kernel::open_session(config, opts.overrides);
+  auto session = kernel::open_session(config_file(opts), opts.overrides);
   std::string line;
   while (std::getline(*in, line)) {
     std::string answer = session->handle_line(line);
@@ -46,10 +44,9 @@ void add_session_command(CLI::App& app) {
   static std::string script;
   add_common_options(*cmd, opts);
   cmd->add_option("script", script, "Script of JSON lines ('-' or omitted: standard input)");
-  cmd->callback([] {
+  on_run(*cmd, [] {
     std::ios::sync_with_stdio(false);
-    int rc = run_session(opts, script);
-    if (rc != kExitOk) std::exit(rc);
+    return run_session(opts, script);
   });
 }
 }  // namespace flipper::cli

@@ -1,0 +1,60 @@
+#pragma once
+// Runs build/bin/flipper like a user (through the shell) and gives back status and output.
+#include <sys/wait.h>
+
+#include <array>
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace flipper::clitest {
+
+struct Run {
+  int status = -1;
+  std::string out;  ///< stdout, then stderr when `merge` (the default)
+};
+
+inline Run run_flipper(const std::string& args, bool merge = true) {
+  const std::string cmd =
+      std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args + (merge ? " 2>&1" : " 2>/dev/null");
+  Run r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), p) != nullptr) r.out += buf.data();
+  const int raw = ::pclose(p);
+  REQUIRE(WIFEXITED(raw));  // never killed by a signal
+  r.status = WEXITSTATUS(raw);
+  return r;
+}
+
+/// A fresh path under build/tests/tmp/cli (any old file removed).
+inline std::string scratch(const std::string& name) {
+  const auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "cli";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path.string() + suffix);
+  return path.string();
+}
+
+inline std::string write_file(const std::string& name, const std::string& text) {
+  const std::string path = scratch(name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+inline std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+inline bool contains(const std::string& text, const std::string& word) {
+  return text.find(word) != std::string::npos;
+}
+
+}  // namespace flipper::clitest
