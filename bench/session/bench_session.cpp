@@ -4,10 +4,12 @@
 //   original server's logged walltime_s for the same queries;
 // - start-up of `flipper session` to its first answer (spawned, median of runs);
 // - peak resident memory (VmHWM) of a `flipper session` process that answered every query.
-// Usage: bench_session [--corpus FILE] [--flipper BIN] [--runs N]
+// Usage: bench_session [--corpus FILE] [--flipper BIN] [--runs N] [--latency-only 1]
+//                      [--slowest N]   (lists the N queries with the most CPU time, k shown)
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -44,6 +46,13 @@ std::vector<Query> load_queries(const std::string& path) {
     out.push_back(std::move(q));
   }
   return out;
+}
+
+// Thread CPU time: on a shared machine wall time also measures the other processes.
+double cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) / 1e6;
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -123,11 +132,15 @@ int main(int argc, char** argv) {
   std::string corpus = std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/queries.jsonl";
   std::string flipper = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper";
   int runs = 10;
+  bool latency_only = false;
+  std::size_t slowest = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
     std::string a = argv[i];
     if (a == "--corpus") corpus = argv[i + 1];
     if (a == "--flipper") flipper = argv[i + 1];
     if (a == "--runs") runs = std::stoi(argv[i + 1]);
+    if (a == "--latency-only") latency_only = std::string(argv[i + 1]) != "0";
+    if (a == "--slowest") slowest = std::stoul(argv[i + 1]);
   }
   const auto queries = load_queries(corpus);
   std::printf("queries: %zu dev-corpus q utterances (%s)\n", queries.size(), corpus.c_str());
@@ -137,16 +150,18 @@ int main(int argc, char** argv) {
   auto session = flipper::kernel::open_session(std::nullopt,
                                                {"lexicon.path=/tmp/flipper-bench-session.sqlite"});
   const int k = session->options().k;
-  std::vector<double> shown_ms, all_ms, original_ms;
+  std::vector<double> shown_ms, all_ms, original_ms, shown_cpu_ms;
   std::size_t errors = 0;
   for (const auto& q : queries) {
     if (q.original_s >= 0) original_ms.push_back(q.original_s * 1000.0);
     for (int variant = 0; variant < 2; ++variant) {
       std::string line = query_line(q.text, variant == 0 ? k : 1000000);
+      const double c0 = cpu_ms();
       auto t0 = Clock::now();
       std::string answer = session->handle_line(line);
       double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
       (variant == 0 ? shown_ms : all_ms).push_back(ms);
+      if (variant == 0) shown_cpu_ms.push_back(cpu_ms() - c0);
       if (variant == 0 && answer.find("\"ok\":true") == std::string::npos) ++errors;
     }
   }
@@ -178,7 +193,18 @@ int main(int argc, char** argv) {
   row(("query op, k=" + std::to_string(k) + " (parse+plan shown)").c_str(), shown_ms);
   row("query op, every candidate planned", all_ms);
   row("parser plugin alone", parse_ms);
+  row("query op, k shown, thread CPU time", shown_cpu_ms);
   std::printf("answers with ok=false: %zu\n", errors);
+  if (slowest > 0) {
+    std::vector<std::size_t> order(queries.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return shown_cpu_ms[a] > shown_cpu_ms[b]; });
+    for (std::size_t i = 0; i < std::min(slowest, order.size()); ++i)
+      std::printf("slow %8.3f ms cpu  %s\n", shown_cpu_ms[order[i]],
+                  Json(queries[order[i]].text).dump().c_str());
+  }
+  if (latency_only) return 0;
 
   // Start-up to first answer, spawned.
   std::vector<double> startup;

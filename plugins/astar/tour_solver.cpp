@@ -125,20 +125,34 @@ double open_length(const DistanceMatrix& m, const std::vector<int>& p) {
 
 namespace {
 
-// One improving 2-opt move (reverse p[i..j]); false if there is none.
-bool two_opt_pass(const DistanceMatrix& m, std::vector<int>& p) {
+// Path edge lengths: e[k] = m(p[k], p[k+1]).
+void edge_lengths(const DistanceMatrix& m, const std::vector<int>& p, std::vector<double>& e) {
+  e.resize(p.size());
+  for (std::size_t k = 0; k + 1 < p.size(); ++k) e[k] = m(p[k], p[k + 1]);
+}
+
+// One sweep of improving 2-opt moves (reverse p[i..j]); false if there is none. The matrix is
+// symmetric, so every lookup is made along a row (m(x, y) == m(y, x) exactly) and the old edges
+// come from the edge array: same values, same arithmetic, a fraction of the cache misses.
+bool two_opt_pass(const DistanceMatrix& m, std::vector<int>& p, std::vector<double>& e) {
   const int len = static_cast<int>(p.size());
   bool improved = false;
-  for (int i = 1; i + 1 < len; ++i)
+  edge_lengths(m, p, e);
+  for (int i = 1; i + 1 < len; ++i) {
+    const int a = p[i - 1];
+    const double* row_a = &m.d[static_cast<std::size_t>(a) * m.n];
     for (int j = i + 1; j < len; ++j) {
-      const int a = p[i - 1], b = p[i], c = p[j];
-      double delta = m(a, c) - m(a, b);
-      if (j + 1 < len) delta += m(b, p[j + 1]) - m(c, p[j + 1]);
+      const int b = p[i], c = p[j];
+      const double* row_b = &m.d[static_cast<std::size_t>(b) * m.n];
+      double delta = row_a[c] - e[i - 1];
+      if (j + 1 < len) delta += row_b[p[j + 1]] - e[j];
       if (delta < -kEps) {
         std::reverse(p.begin() + i, p.begin() + j + 1);
+        edge_lengths(m, p, e);
         improved = true;
       }
     }
+  }
   return improved;
 }
 
@@ -166,9 +180,10 @@ std::vector<std::vector<int>> nearest_neighbours(const DistanceMatrix& m) {
 
 // One sweep of Or-opt moves: a segment p[i..i+len-1] moves between p[k] and p[k+1] (or to the
 // end), as it is or reversed. With `nbrs`, k ranges over the positions next to the ends'
-// neighbours (and the end of the path) only.
+// neighbours (and the end of the path) only. Lookups go along the rows of the segment's ends
+// (symmetric matrix) and old edges come from the edge array, as in two_opt_pass.
 bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p,
-                 const std::vector<std::vector<int>>* nbrs) {
+                 const std::vector<std::vector<int>>* nbrs, std::vector<double>& e) {
   bool improved = false;
   const int n = static_cast<int>(p.size());
   std::vector<int> pos(m.n, -1), candidates;
@@ -176,6 +191,7 @@ bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p,
     for (int k = 0; k < n; ++k) pos[p[k]] = k;
   };
   if (nbrs) index_positions();
+  edge_lengths(m, p, e);
   for (int seg = 1; seg <= 3; ++seg)
     for (int i = 1; i + seg <= n; ++i) {
       const int first = p[i], last = p[i + seg - 1];
@@ -183,8 +199,28 @@ bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p,
       const bool at_end = i + seg == n;
       const double removal =
           at_end ? m(prev, first) : m(prev, first) + m(last, p[i + seg]) - m(prev, p[i + seg]);
-      candidates.clear();
+      const double* row_first = &m.d[static_cast<std::size_t>(first) * m.n];
+      const double* row_last = &m.d[static_cast<std::size_t>(last) * m.n];
+      double best = -kEps;
+      int best_k = -1;
+      bool best_rev = false;
+      // Both orientations of the insertion after p[k]; scan order and ties as a plain k loop.
+      auto consider = [&](int k) {
+        const int q = p[k];
+        if (k == n - 1) {
+          const double add0 = row_first[q], add1 = row_last[q];
+          if (add0 - removal < best) best = add0 - removal, best_k = k, best_rev = false;
+          if (add1 - removal < best) best = add1 - removal, best_k = k, best_rev = true;
+          return;
+        }
+        const int r = p[k + 1];
+        const double add0 = row_first[q] + row_last[r] - e[k];
+        const double add1 = row_last[q] + row_first[r] - e[k];
+        if (add0 - removal < best) best = add0 - removal, best_k = k, best_rev = false;
+        if (add1 - removal < best) best = add1 - removal, best_k = k, best_rev = true;
+      };
       if (nbrs) {
+        candidates.clear();
         for (int end : {first, last})
           for (int q : (*nbrs)[end]) {
             candidates.push_back(pos[q]);
@@ -193,25 +229,11 @@ bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p,
         candidates.push_back(n - 1);
         std::sort(candidates.begin(), candidates.end());
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+        for (const int k : candidates)
+          if (k < i - 1 || k > i + seg - 1) consider(k);  // not inside or next to the segment
       } else {
-        for (int k = 0; k < n; ++k) candidates.push_back(k);
-      }
-      double best = -kEps;
-      int best_k = -1;
-      bool best_rev = false;
-      for (const int k : candidates) {
-        if (k >= i - 1 && k <= i + seg - 1) continue;  // insertion point inside or next to it
-        const int q = p[k];
-        const bool end = k == n - 1;
-        for (int rev = 0; rev < 2; ++rev) {
-          const int in = rev ? last : first, out = rev ? first : last;
-          const double add = end ? m(q, in) : m(q, in) + m(out, p[k + 1]) - m(q, p[k + 1]);
-          if (add - removal < best) {
-            best = add - removal;
-            best_k = k;
-            best_rev = rev != 0;
-          }
-        }
+        for (int k = 0; k < i - 1; ++k) consider(k);
+        for (int k = i + seg; k < n; ++k) consider(k);
       }
       if (best_k < 0) continue;
       std::vector<int> segment(p.begin() + i, p.begin() + i + seg);
@@ -220,6 +242,7 @@ bool or_opt_pass(const DistanceMatrix& m, std::vector<int>& p,
       const int k = best_k < i ? best_k : best_k - seg;
       p.insert(p.begin() + k + 1, segment.begin(), segment.end());
       if (nbrs) index_positions();
+      edge_lengths(m, p, e);
       improved = true;
     }
   return improved;
@@ -231,12 +254,13 @@ bool improve_open_path(const DistanceMatrix& m, std::vector<int>& p, bool two_op
                        const std::function<bool()>& should_stop) {
   if (p.size() < 3) return true;
   std::vector<std::vector<int>> nbrs;
+  std::vector<double> edges;  // reused by every pass
   if (or_opt && m.n > kFullScanLimit) nbrs = nearest_neighbours(m);
   for (;;) {
     if (should_stop && should_stop()) return false;
     bool improved = false;
-    if (two_opt) improved = two_opt_pass(m, p) || improved;
-    if (or_opt) improved = or_opt_pass(m, p, nbrs.empty() ? nullptr : &nbrs) || improved;
+    if (two_opt) improved = two_opt_pass(m, p, edges) || improved;
+    if (or_opt) improved = or_opt_pass(m, p, nbrs.empty() ? nullptr : &nbrs, edges) || improved;
     if (!improved) return true;
   }
 }
