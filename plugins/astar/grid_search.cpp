@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 namespace flipper::plugins::astar {
 
@@ -70,6 +71,11 @@ void GridSearch::reset_reached() {
   for (std::size_t k = 0; k < queue_len_; ++k)
     st[queue_[k]] = static_cast<std::uint8_t>((st[queue_[k]] & ~kStateMask) | kOpen);
   queue_len_ = 0;
+}
+
+void GridSearch::trace_path(std::uint32_t v, std::uint32_t root, std::vector<Cell>& path) const {
+  for (; v != root; v = parent(v)) path.push_back(cell(v));
+  std::reverse(path.begin(), path.end());
 }
 
 template <int K>
@@ -160,9 +166,62 @@ bool GridSearch::bfs_distances(std::uint32_t s, int source, std::size_t wanted, 
   return completed;
 }
 
+template <class Search>
+bool GridSearch::for_neighbour_count(Search&& search) const {
+  switch (deltas_.size()) {
+    case 4:
+      return search(std::integral_constant<int, 4>{});
+    case 6:
+      return search(std::integral_constant<int, 6>{});
+    default:
+      return search(std::integral_constant<int, 0>{});
+  }
+}
+
+namespace {
+
+sdk::PathResult no_free_goal() {
+  sdk::PathResult r;
+  r.status = sdk::PlanStatus::no_path;
+  r.message = "no goal cell is free (walls, outside the bounds or avoided)";
+  return r;
+}
+
+sdk::PathResult stopped_before_search() {
+  sdk::PathResult r;
+  r.status = sdk::PlanStatus::stopped;
+  r.message = "stopped before the search began";
+  return r;
+}
+
+sdk::PathResult stopped_after(std::uint64_t expansions) {
+  sdk::PathResult r;
+  r.status = sdk::PlanStatus::stopped;
+  r.expansions = expansions;
+  r.message = "stopped after " + std::to_string(expansions) + " expansions";
+  return r;
+}
+
+sdk::PathResult unreachable(Cell start, std::uint64_t expansions) {
+  sdk::PathResult r;
+  r.status = sdk::PlanStatus::no_path;
+  r.expansions = expansions;
+  r.message = "no goal cell is reachable from " + sdk::to_string(start, 3);
+  return r;
+}
+
+sdk::PathResult found_at(Cell target, std::uint64_t expansions) {
+  sdk::PathResult r;
+  r.status = sdk::PlanStatus::found;
+  r.target = target;
+  r.expansions = expansions;
+  return r;
+}
+
+}  // namespace
+
 sdk::PathResult GridSearch::shortest_path(Cell start, const sdk::Area& goals,
                                           const sdk::StopCondition& stop, std::uint64_t budget) {
-  sdk::PathResult r;
   std::uint8_t* st = state_.data();
   const std::uint32_t s = index(start);
   // The start is passable whatever the mask says (it is where the robot stands).
@@ -185,80 +244,30 @@ sdk::PathResult GridSearch::shortest_path(Cell start, const sdk::Area& goals,
       self.dirty_ = true;
     }
   } forget{*this};
-  if (goal_cells_.empty()) {
-    r.status = sdk::PlanStatus::no_path;
-    r.message = "no goal cell is free (walls, outside the bounds or avoided)";
-    return r;
-  }
-  if (should_stop(0, stop, budget)) {
-    r.status = sdk::PlanStatus::stopped;
-    r.message = "stopped before the search began";
-    return r;
-  }
-  if (st[s] & kGoal) {
-    r.status = sdk::PlanStatus::found;
-    r.target = start;
-    return r;
-  }
+  if (goal_cells_.empty()) return no_free_goal();
+  if (should_stop(0, stop, budget)) return stopped_before_search();
+  if (st[s] & kGoal) return found_at(start, 0);
   std::uint32_t best = 0;
   std::uint64_t expansions = 0;
-  bool found = false, completed = false;
-  switch (deltas_.size()) {
-    case 4:
-      completed = bfs_to_goals<4>(s, stop, budget, best, found, expansions);
-      break;
-    case 6:
-      completed = bfs_to_goals<6>(s, stop, budget, best, found, expansions);
-      break;
-    default:
-      completed = bfs_to_goals<0>(s, stop, budget, best, found, expansions);
-      break;
-  }
-  if (!completed) {
-    r.status = sdk::PlanStatus::stopped;
-    r.expansions = expansions;
-    r.message = "stopped after " + std::to_string(expansions) + " expansions";
-    return r;
-  }
-  const std::int64_t* deltas = deltas_.data();
-  r.expansions = expansions;
-  if (!found) {
-    r.status = sdk::PlanStatus::no_path;
-    r.message = "no goal cell is reachable from " + sdk::to_string(start, 3);
-    return r;
-  }
-  r.status = sdk::PlanStatus::found;
-  r.target = cell(best);
-  for (std::uint32_t v = best; v != s;) {
-    r.path.push_back(cell(v));
-    v = static_cast<std::uint32_t>(static_cast<std::int64_t>(v) -
-                                   deltas[(st[v] & kStateMask) - kReachedBase]);
-  }
-  std::reverse(r.path.begin(), r.path.end());
+  bool found = false;
+  const bool completed = for_neighbour_count([&](auto k) {
+    return bfs_to_goals<decltype(k)::value>(s, stop, budget, best, found, expansions);
+  });
+  if (!completed) return stopped_after(expansions);
+  if (!found) return unreachable(start, expansions);
+  sdk::PathResult r = found_at(cell(best), expansions);
+  trace_path(best, s, r.path);
   return r;
 }
 
 sdk::PathResult GridSearch::shortest_path_astar(Cell start, Cell goal,
                                                 const sdk::StopCondition& stop,
                                                 std::uint64_t budget) {
-  sdk::PathResult r;
   std::uint8_t* st = state_.data();
   const std::uint32_t s = index(start);
-  if (start == goal) {
-    r.status = sdk::PlanStatus::found;
-    r.target = start;
-    return r;
-  }
-  if (!in_box(goal) || (st[index(goal)] & kStateMask) != kOpen) {
-    r.status = sdk::PlanStatus::no_path;
-    r.message = "no goal cell is free (walls, outside the bounds or avoided)";
-    return r;
-  }
-  if (should_stop(0, stop, budget)) {
-    r.status = sdk::PlanStatus::stopped;
-    r.message = "stopped before the search began";
-    return r;
-  }
+  if (start == goal) return found_at(start, 0);
+  if (!in_box(goal) || (st[index(goal)] & kStateMask) != kOpen) return no_free_goal();
+  if (should_stop(0, stop, budget)) return stopped_before_search();
   if (g_.size() != state_.size()) g_.resize(state_.size());
   const std::uint32_t t = index(goal);
   auto h = [&](std::uint32_t i) {
@@ -300,12 +309,7 @@ sdk::PathResult GridSearch::shortest_path_astar(Cell start, Cell goal,
         found = true;
         break;
       }
-      if (should_stop(expansions, stop, budget)) {
-        r.status = sdk::PlanStatus::stopped;
-        r.expansions = expansions;
-        r.message = "stopped after " + std::to_string(expansions) + " expansions";
-        return r;
-      }
+      if (should_stop(expansions, stop, budget)) return stopped_after(expansions);
       st[u] |= kClosed;
       ++expansions;
       const std::uint32_t gu = g_[u] + 1;
@@ -322,20 +326,9 @@ sdk::PathResult GridSearch::shortest_path_astar(Cell start, Cell goal,
       }
     }
   }
-  r.expansions = expansions;
-  if (!found) {
-    r.status = sdk::PlanStatus::no_path;
-    r.message = "no goal cell is reachable from " + sdk::to_string(start, 3);
-    return r;
-  }
-  r.status = sdk::PlanStatus::found;
-  r.target = goal;
-  for (std::uint32_t v = t; v != s;) {
-    r.path.push_back(cell(v));
-    v = static_cast<std::uint32_t>(static_cast<std::int64_t>(v) -
-                                   deltas[(st[v] & kStateMask) - kReachedBase]);
-  }
-  std::reverse(r.path.begin(), r.path.end());
+  if (!found) return unreachable(start, expansions);
+  sdk::PathResult r = found_at(goal, expansions);
+  trace_path(t, s, r.path);
   return r;
 }
 
@@ -363,24 +356,14 @@ std::int32_t GridSearch::nearest_goal(Cell from, Cell& goal, const sdk::StopCond
     found = true;
     best = s;
   } else {
-    switch (deltas_.size()) {
-      case 4:
-        completed = bfs_to_goals<4>(s, stop, budget, best, found, expansions);
-        break;
-      case 6:
-        completed = bfs_to_goals<6>(s, stop, budget, best, found, expansions);
-        break;
-      default:
-        completed = bfs_to_goals<0>(s, stop, budget, best, found, expansions);
-        break;
-    }
+    completed = for_neighbour_count([&](auto k) {
+      return bfs_to_goals<decltype(k)::value>(s, stop, budget, best, found, expansions);
+    });
   }
   // Distance of the goal: walk its parents back before the marks are reset.
   std::int32_t d = 0;
   if (completed && found)
-    for (std::uint32_t v = best; v != s; ++d)
-      v = static_cast<std::uint32_t>(static_cast<std::int64_t>(v) -
-                                     deltas_[(state_[v] & kStateMask) - kReachedBase]);
+    for (std::uint32_t v = best; v != s; v = parent(v)) ++d;
   reset_reached();
   state_[s] = s0;
   stopped = !completed;
@@ -418,17 +401,10 @@ bool GridSearch::distances(Cell from, int source, std::int32_t* row, const sdk::
     if (t > source) --wanted;
   }
   bool completed = true;
-  if (wanted > 0) switch (deltas_.size()) {
-      case 4:
-        completed = bfs_distances<4>(s, source, wanted, row, stop, budget, expansions);
-        break;
-      case 6:
-        completed = bfs_distances<6>(s, source, wanted, row, stop, budget, expansions);
-        break;
-      default:
-        completed = bfs_distances<0>(s, source, wanted, row, stop, budget, expansions);
-        break;
-    }
+  if (wanted > 0)
+    completed = for_neighbour_count([&](auto k) {
+      return bfs_distances<decltype(k)::value>(s, source, wanted, row, stop, budget, expansions);
+    });
   // The start cell is restored to what it was (it may be a wall in odd requests).
   reset_reached();
   st[s] = s0;

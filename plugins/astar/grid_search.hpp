@@ -79,6 +79,14 @@ class GridSearch {
   }
   /// Puts every cell the last search reached back to kOpen (cheaper than a fresh copy).
   void reset_reached();
+  /// The cell a search reached `v` from (v must have been reached, and not be the root).
+  std::uint32_t parent(std::uint32_t v) const {
+    return static_cast<std::uint32_t>(static_cast<std::int64_t>(v) -
+                                      deltas_[(state_[v] & kStateMask) - kReachedBase]);
+  }
+  /// The cells from `root` (excluded) to `v` (included), following parents.
+  void trace_path(std::uint32_t v, std::uint32_t root, std::vector<sdk::Cell>& path) const;
+
   // The search loops, specialised on the neighbour count (K = 0: any count).
   template <int K>
   bool bfs_to_goals(std::uint32_t s, const sdk::StopCondition& stop, std::uint64_t budget,
@@ -87,6 +95,10 @@ class GridSearch {
   bool bfs_distances(std::uint32_t s, int source, std::size_t wanted, std::int32_t* row,
                      const sdk::StopCondition& stop, std::uint64_t budget,
                      std::uint64_t& expansions);
+  /// Calls `search(std::integral_constant<int, K>)` with K = this grid's neighbour count when a
+  /// loop is specialised for it, else K = 0.
+  template <class Search>
+  bool for_neighbour_count(Search&& search) const;
 
   sdk::Cell min_{}, max_{};
   sdk::Cell pad_{};

@@ -32,6 +32,30 @@ bool is_permutation_of(const std::vector<std::size_t>& order, std::size_t n) {
   return s == id;
 }
 
+/// A tour instance: a w x h grid with walls drawn at rate `walls`, a free start and `n` free
+/// points (repeats allowed), all drawn from one generator seeded with `seed`.
+struct RandomTour {
+  std::shared_ptr<const sdk::Geometry> grid;
+  Cell start;
+  std::vector<Cell> points;
+};
+
+RandomTour random_tour(std::uint32_t seed, int w, int h, double walls, int n) {
+  std::mt19937 rng(seed);
+  std::vector<std::string> rows(static_cast<std::size_t>(h),
+                                std::string(static_cast<std::size_t>(w), '.'));
+  std::bernoulli_distribution wall(walls);
+  for (auto& r : rows)
+    for (auto& c : r)
+      if (wall(rng)) c = '#';
+  RandomTour t{testsupport::grid_from_rows(rows), {}, {}};
+  const auto& free = t.grid->free_cells();
+  std::uniform_int_distribution<std::size_t> pick(0, free.size() - 1);
+  t.start = free[pick(rng)];
+  for (int k = 0; k < n; ++k) t.points.push_back(free[pick(rng)]);
+  return t;
+}
+
 }  // namespace
 
 TEST_CASE("study map: foreach point in room3 starts at the robot", "[astar][tour][study]") {
@@ -83,18 +107,8 @@ TEST_CASE("2-opt and Or-opt never lengthen the Christofides tour", "[astar][tour
   for (std::uint32_t seed = 1; seed <= 13; ++seed) {
     // The last instance has more than 200 points: Or-opt then uses neighbour lists.
     const bool large = seed == 13;
-    std::mt19937 rng(seed);
-    std::vector<std::string> rows(large ? 40 : 20, std::string(large ? 50 : 30, '.'));
-    std::bernoulli_distribution wall(0.25);
-    for (auto& r : rows)
-      for (auto& c : r)
-        if (wall(rng)) c = '#';
-    const auto g = testsupport::grid_from_rows(rows);
-    const auto& free = g->free_cells();
-    std::uniform_int_distribution<std::size_t> pick(0, free.size() - 1);
-    const Cell start = free[pick(rng)];
-    std::vector<Cell> points;
-    for (int k = 0; k < (large ? 300 : 40); ++k) points.push_back(free[pick(rng)]);
+    const auto [g, start, points] =
+        random_tour(seed, large ? 50 : 30, large ? 40 : 20, 0.25, large ? 300 : 40);
     const auto a = improved->tour(*g, start, points, sdk::StopCondition{});
     const auto b = plain->tour(*g, start, points, sdk::StopCondition{});
     REQUIRE(is_permutation_of(a.order, points.size()));
@@ -128,18 +142,7 @@ TEST_CASE("small tours are close to the best open path", "[astar][tour]") {
   auto planner = testsupport::astar();
   int optimal = 0;
   for (std::uint32_t seed = 1; seed <= 20; ++seed) {
-    std::mt19937 rng(seed);
-    std::vector<std::string> rows(12, std::string(16, '.'));
-    std::bernoulli_distribution wall(0.2);
-    for (auto& r : rows)
-      for (auto& c : r)
-        if (wall(rng)) c = '#';
-    const auto g = testsupport::grid_from_rows(rows);
-    const auto& free = g->free_cells();
-    std::uniform_int_distribution<std::size_t> pick(0, free.size() - 1);
-    const Cell start = free[pick(rng)];
-    std::vector<Cell> points;
-    for (int k = 0; k < 6; ++k) points.push_back(free[pick(rng)]);
+    const auto [g, start, points] = random_tour(seed, 16, 12, 0.2, 6);
     const auto t = planner->tour(*g, start, points, sdk::StopCondition{});
     // The best open path over the reachable points, by trying every order.
     std::vector<std::size_t> order;
