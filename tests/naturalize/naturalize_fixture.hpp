@@ -1,28 +1,18 @@
 #pragma once
 // Sessions over the real runtime (embedded default config, plugins of this build) with the
 // naturalization ops wired in, and a lexicon in a scratch file.
-#include <unistd.h>
-
-#include <atomic>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "flipper/kernel/session.hpp"
 #include "flipper/kernel/session_factory.hpp"
+#include "session_fixture.hpp"
 
 namespace flipper::naturalizetest {
 
-inline std::string scratch(const std::string& stem) {
-  static std::atomic<int> counter{0};
-  auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "scratch";
-  std::filesystem::create_directories(dir);
-  auto p = dir / (stem + "-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-  std::filesystem::remove(p);
-  return p.string();
-}
+using testsupport::error_code;
+using testsupport::scratch_path;
 
 /// A session whose lexicon lives at `store` (plus any extra --set overrides).
 inline std::unique_ptr<kernel::Session> open(const std::string& store,
@@ -33,10 +23,6 @@ inline std::unique_ptr<kernel::Session> open(const std::string& store,
 
 inline kernel::Json ask(kernel::Session& s, const kernel::Json& request) {
   return s.handle(request);
-}
-
-inline std::string code(const kernel::Json& answer) {
-  return answer.contains("error") ? answer["error"].value("code", std::string()) : std::string();
 }
 
 inline kernel::Json user(kernel::Session& s, const std::string& name) {
@@ -50,7 +36,7 @@ inline kernel::Json define(kernel::Session& s, const std::string& head,
 
 inline std::string status(kernel::Session& s, const std::string& text) {
   auto a = s.handle({{"op", "query"}, {"text", text}});
-  return a.value("status", std::string("error: ") + code(a));
+  return a.value("status", std::string("error: ") + error_code(a));
 }
 
 }  // namespace flipper::naturalizetest

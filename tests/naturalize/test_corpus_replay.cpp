@@ -60,7 +60,7 @@ TEST_CASE("replay of the corpus definitions", "[naturalize][corpus]") {
     for (const auto& d : defs)
       if (d["group"] != "expert") group = d["group"];
     const std::string sharing = group == "A" ? "core" : group == "C" ? "shared" : "private";
-    auto s = open(scratch("replay") + ".sqlite",
+    auto s = open(scratch_path("replay") + ".sqlite",
                   {"lexicon.sharing=" + sharing, "induction.alignment=false"});
     for (const auto& d : defs) {
       ++total;
@@ -71,7 +71,7 @@ TEST_CASE("replay of the corpus definitions", "[naturalize][corpus]") {
       for (const auto& line : d["body"]) body.push_back(line["utterance"]);
       const Json a = define(*s, d["head"], body);
       if (a["ok"] != true) {
-        classes["refused: " + code(a)]++;
+        classes["refused: " + error_code(a)]++;
         if (std::getenv("REPLAY_VERBOSE"))
           std::cout << run << " | " << d["head"] << " := " << Json(body).dump() << " -> "
                     << a["error"]["message"] << "\n";

@@ -10,7 +10,7 @@ using namespace flipper::naturalizetest;
 using kernel::Json;
 
 TEST_CASE("define answers the rules it added and the next query uses them", "[naturalize]") {
-  auto s = open(scratch("lex") + ".sqlite");
+  auto s = open(scratch_path("lex") + ".sqlite");
   user(*s, "ana");
   CHECK(status(*s, "pick 3 items") == "unparsable");
   const Json a = define(*s, "pick 3 items", {"repeat 3 times pick item"});
@@ -27,20 +27,20 @@ TEST_CASE("define answers the rules it added and the next query uses them", "[na
 }
 
 TEST_CASE("definition errors have their codes", "[naturalize]") {
-  auto s = open(scratch("lex") + ".sqlite");
-  CHECK(code(define(*s, " ", {"move left"})) == "empty_head");
-  CHECK(code(define(*s, "move left", {"move right"})) == "head_is_core");
+  auto s = open(scratch_path("lex") + ".sqlite");
+  CHECK(error_code(define(*s, " ", {"move left"})) == "empty_head");
+  CHECK(error_code(define(*s, "move left", {"move right"})) == "head_is_core");
   const Json bad = define(*s, "do it", {"move left", "fly away"});
-  CHECK(code(bad) == "body_unparsable");
+  CHECK(error_code(bad) == "body_unparsable");
   CHECK_THAT(bad["error"]["message"].get<std::string>(), Catch::Contains("line 2"));
-  CHECK(code(s->handle({{"op", "define"}, {"head", "x"}})) == "missing_field");
+  CHECK(error_code(s->handle({{"op", "define"}, {"head", "x"}})) == "missing_field");
   CHECK(s->handle({{"op", "rules"}})["rules"].empty());  // nothing was added by the failures
 }
 
 TEST_CASE("sharing modes decide whose rules a user parses with", "[naturalize]") {
   for (const std::string mode : {"shared", "private", "core"}) {
     DYNAMIC_SECTION("lexicon.sharing=" << mode) {
-      auto s = open(scratch("lex") + ".sqlite", {"lexicon.sharing=" + mode});
+      auto s = open(scratch_path("lex") + ".sqlite", {"lexicon.sharing=" + mode});
       user(*s, "ana");
       REQUIRE(define(*s, "go west", {"move left"})["ok"] == true);
       const std::string own = status(*s, "go west");
@@ -63,13 +63,13 @@ TEST_CASE("sharing modes decide whose rules a user parses with", "[naturalize]")
         CHECK(listed == 0);
       }
       // head_is_core applies in every mode
-      CHECK(code(define(*s, "move up", {"move down"})) == "head_is_core");
+      CHECK(error_code(define(*s, "move up", {"move down"})) == "head_is_core");
     }
   }
 }
 
 TEST_CASE("only the author deletes a rule; the store keeps the history", "[naturalize]") {
-  const std::string store = scratch("lex") + ".sqlite";
+  const std::string store = scratch_path("lex") + ".sqlite";
   std::string id;
   {
     auto s = open(store);
@@ -78,15 +78,15 @@ TEST_CASE("only the author deletes a rule; the store keeps the history", "[natur
     REQUIRE(a["rules"].size() == 1);
     id = a["rules"][0]["id"];
     user(*s, "bob");
-    CHECK(code(s->handle({{"op", "delete_rule"}, {"rule", id}})) == "forbidden");
-    CHECK(code(s->handle({{"op", "delete_rule"}, {"rule", "r999"}})) == "not_found");
+    CHECK(error_code(s->handle({{"op", "delete_rule"}, {"rule", id}})) == "forbidden");
+    CHECK(error_code(s->handle({{"op", "delete_rule"}, {"rule", "r999"}})) == "not_found");
     CHECK(status(*s, "go west") == "induced");
     user(*s, "ana");
     const Json d = s->handle({{"op", "delete_rule"}, {"rule", id}});
     CHECK(d["deleted"] == id);
     CHECK(status(*s, "go west") == "unparsable");
     CHECK(s->handle({{"op", "rules"}})["rules"].empty());
-    CHECK(code(s->handle({{"op", "delete_rule"}, {"rule", id}})) == "not_found");
+    CHECK(error_code(s->handle({{"op", "delete_rule"}, {"rule", id}})) == "not_found");
   }
   kernel::LexiconStore reopened(store);
   CHECK(reopened.rules().empty());
@@ -96,7 +96,7 @@ TEST_CASE("only the author deletes a rule; the store keeps the history", "[natur
 }
 
 TEST_CASE("rules lists provenance and uses, filtered by author", "[naturalize]") {
-  auto s = open(scratch("lex") + ".sqlite");
+  auto s = open(scratch_path("lex") + ".sqlite");
   user(*s, "ana");
   define(*s, "go west", {"move left"});
   user(*s, "bob");
@@ -117,7 +117,7 @@ TEST_CASE("rules lists provenance and uses, filtered by author", "[naturalize]")
 }
 
 TEST_CASE("rules, counters and weights survive a restart", "[naturalize]") {
-  const std::string store = scratch("lex") + ".sqlite";
+  const std::string store = scratch_path("lex") + ".sqlite";
   std::string weights;
   {
     auto s = open(store);
@@ -143,8 +143,8 @@ TEST_CASE("rules, counters and weights survive a restart", "[naturalize]") {
 }
 
 TEST_CASE("a preload file is replayed once through induction", "[naturalize]") {
-  const std::string store = scratch("lex") + ".sqlite";
-  const std::string preload = scratch("preload") + ".jsonl";
+  const std::string store = scratch_path("lex") + ".sqlite";
+  const std::string preload = scratch_path("preload") + ".jsonl";
   {
     std::ofstream out(preload);
     out << R"({"head":"go west","body":["move left"],"author":"expert"})"
@@ -167,7 +167,7 @@ TEST_CASE("a preload file is replayed once through induction", "[naturalize]") {
 }
 
 TEST_CASE("define generalizes a too specific body before inducing", "[naturalize]") {
-  auto s = open(scratch("lex") + ".sqlite");
+  auto s = open(scratch_path("lex") + ".sqlite");
   Json world = s->handle({{"op", "state"}})["world"];
   world["robot"]["x"] = 9;
   world["robot"]["y"] = 8;
@@ -187,7 +187,7 @@ TEST_CASE("define generalizes a too specific body before inducing", "[naturalize
 }
 
 TEST_CASE("per-user weights: each user's accepts train only their own model", "[naturalize]") {
-  const std::string store = scratch("lex") + ".sqlite";
+  const std::string store = scratch_path("lex") + ".sqlite";
   auto s = open(store, {"lexicon.weights=per_user"});
   const std::string initial = s->runtime().scorer->save_state();
   user(*s, "ana");

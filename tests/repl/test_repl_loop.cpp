@@ -2,8 +2,8 @@
 #include <catch2/catch.hpp>
 #include <sstream>
 
-#include "../session/session_fixture.hpp"
 #include "flipper/kernel/repl.hpp"
+#include "session_fixture.hpp"
 
 namespace {
 

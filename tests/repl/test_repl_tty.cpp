@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <thread>
 
-#include "../session/session_fixture.hpp"
+#include "session_fixture.hpp"
 
 namespace {
 
