@@ -142,9 +142,10 @@ bool FclSpace::is_motion_valid(const double a[3], const double b[3]) const {
 }
 
 std::vector<std::uint8_t> FclSpace::free_mask() const {
-  const std::size_t sx = static_cast<std::size_t>(bounds_.max.x - bounds_.min.x + 1);
-  const std::size_t sy = static_cast<std::size_t>(bounds_.max.y - bounds_.min.y + 1);
-  const std::size_t sz = static_cast<std::size_t>(bounds_.max.z - bounds_.min.z + 1);
+  // Extents in 64 bits: max - min + 1 overflows int for boxes wider than 2^31 cells.
+  const auto sx = static_cast<std::size_t>(std::int64_t{bounds_.max.x} - bounds_.min.x + 1);
+  const auto sy = static_cast<std::size_t>(std::int64_t{bounds_.max.y} - bounds_.min.y + 1);
+  const auto sz = static_cast<std::size_t>(std::int64_t{bounds_.max.z} - bounds_.min.z + 1);
   std::vector<std::uint8_t> mask(sx * sy * sz, 0);
   std::size_t i = 0;
   for (auto z = bounds_.min.z; z <= bounds_.max.z; ++z)

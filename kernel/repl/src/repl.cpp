@@ -65,7 +65,7 @@ class Repl {
   }
 
  private:
-  Json call(Json request) {
+  Json call(const Json& request) {
     Json answer = session_.handle(request);
     if (!answer.value("ok", false)) {
       const Json& e = answer["error"];
