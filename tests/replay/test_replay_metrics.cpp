@@ -93,6 +93,7 @@ TEST_CASE("execution agreement counts accept classes and the unexplained ones") 
                                                 {"start_differs", 1},
                                                 {"unexplained", 1}});
   CHECK(e.unexplained == 3);  // unexplained, start_differs and the unknown id
+  CHECK(e.not_executed == std::map<std::string, int>{{"unknown", 2}});
   Metrics m;
   m.exec = e;
   const auto j = metrics_json(m);

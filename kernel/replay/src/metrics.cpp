@@ -98,6 +98,7 @@ ExecAgreement exec_agreement(const std::vector<AcceptRow>& rows) {
     ++e.accepts;
     e.matched += r.matched;
     e.executed += r.executed;
+    if (!r.executed) ++e.not_executed[r.note.empty() ? "unknown" : r.note];
     if (!r.diff.empty()) {
       ++e.classes[r.diff];
       ++e.classified;

@@ -107,6 +107,11 @@ void variant_section(std::ostream& o, const Variant& v) {
     << "; executed: " << e.executed << "; compared with the logged next world: " << e.compared
     << ".\n\n| robot position | held items | items on the floor | all three |\n|---|---|---|---|\n"
     << "| " << e.robot << " | " << e.held << " | " << e.floor << " | " << e.all << " |\n";
+  if (!e.not_executed.empty()) {
+    o << "\nNot executed:";
+    for (const auto& [note, n] : e.not_executed) o << " " << note << ": " << n << ";";
+    o << "\n";
+  }
   o << "\nWhy the worlds differ (" << e.classified
     << " classified accepts: compared, or failed with a known next world; "
        "kernel/corpus/accept_diff.hpp; `class` column of accepts.csv):\n\n"

@@ -62,6 +62,9 @@ struct ExecAgreement {
   std::map<std::string, int> classes;
   int classified = 0;
   int unexplained = 0;  ///< rows whose class is corpus::is_unexplained
+  /// Accepts not executed, by AcceptRow::note (e.g. the accepted formula is not among the
+  /// original's logged candidates, so its program is unknown).
+  std::map<std::string, int> not_executed;
 };
 ExecAgreement exec_agreement(const std::vector<AcceptRow>& rows);
 /// Whether a class id (AcceptRow::diff) is one nothing in the spec explains (unknown ids too).
