@@ -44,6 +44,28 @@ Json trace_json(const std::vector<sdk::TraceStep>& trace, int dims) {
   return out;
 }
 
+void append_trace_text(std::string& out, const std::vector<sdk::TraceStep>& trace, int dims) {
+  out += '[';
+  for (std::size_t i = 0; i < trace.size(); ++i) {
+    const sdk::TraceStep& s = trace[i];
+    if (i != 0) out += ',';
+    if (s.act != sdk::TraceStep::Act::move) {  // items carry strings: let nlohmann escape them
+      out += step_json(s, dims).dump(-1, ' ', false, Json::error_handler_t::replace);
+      continue;
+    }
+    out += R"({"act":"move","to":[)";
+    out += std::to_string(s.cell.x);
+    out += ',';
+    out += std::to_string(s.cell.y);
+    if (dims == 3) {
+      out += ',';
+      out += std::to_string(s.cell.z);
+    }
+    out += "]}";
+  }
+  out += ']';
+}
+
 Json strings_json(const std::vector<std::string>& values) {
   Json out = Json::array();
   for (const auto& v : values) out.push_back(v);

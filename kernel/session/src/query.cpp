@@ -127,7 +127,7 @@ Json Session::op_query(const Json& req) {
     c["rules"] = std::move(rules);
     c["authors"] = std::move(authors);
     c["realizable"] = sc.outcome.realizable && !sc.outcome.error;
-    c["trace"] = Json(protocol::trace_json(sc.outcome.trace, dims));
+    c["trace"] = answer_trace(sc.outcome.trace, dims);
     c["world"] = answer_world(sc.outcome.world);
     c["warnings"] = Json(protocol::strings_json(sc.outcome.warnings));
     if (sc.error_code)
@@ -185,7 +185,7 @@ Json Session::op_accept(const Json& req) {
   const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
   Json answer;
   answer["world"] = answer_world(outcome.world);
-  answer["trace"] = Json(protocol::trace_json(outcome.trace, dims));
+  answer["trace"] = answer_trace(outcome.trace, dims);
   answer["warnings"] = Json(protocol::strings_json(outcome.warnings));
   world_ = outcome.world;
   if (on_accept_)

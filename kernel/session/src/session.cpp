@@ -6,6 +6,7 @@
 #include <random>
 #include <sstream>
 
+#include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -118,6 +119,15 @@ const std::string& Session::world_text(const sdk::WorldState& state) {
 Json Session::answer_world(const sdk::WorldState& state) {
   if (!line_mode_) return Json::parse(world_text(state));
   spliced_.push_back(world_text(state));
+  return marker_ + std::to_string(spliced_.size() - 1);
+}
+
+Json Session::answer_trace(const std::vector<sdk::TraceStep>& trace, int dims) {
+  if (!line_mode_) return protocol::trace_json(trace, dims);
+  std::string text;
+  text.reserve(trace.size() * 28 + 2);
+  protocol::append_trace_text(text, trace, dims);
+  spliced_.push_back(std::move(text));
   return marker_ + std::to_string(spliced_.size() - 1);
 }
 

@@ -23,6 +23,9 @@ Json cell_json(const sdk::Cell& c, int dims);
 Json item_json(const sdk::ItemInfo& item);
 Json step_json(const sdk::TraceStep& step, int dims);
 Json trace_json(const std::vector<sdk::TraceStep>& trace, int dims);
+/// Appends trace_json(trace, dims) as compact text, exactly as nlohmann's dump writes it (invalid
+/// UTF-8 replaced), without building the tree: long traces are most of a big answer.
+void append_trace_text(std::string& out, const std::vector<sdk::TraceStep>& trace, int dims);
 Json strings_json(const std::vector<std::string>& values);
 /// {"code", "message"}.
 Json error_json(const std::string& code, const std::string& message);

@@ -147,6 +147,8 @@ class Session {
   /// the same world, and the current world is written again and again).
   const std::string& world_text(const sdk::WorldState& state);
   std::string splice_worlds(std::string answer) const;
+  /// A trace for an answer payload: like answer_world, a placeholder for its text in line mode.
+  Json answer_trace(const std::vector<sdk::TraceStep>& trace, int dims);
 
   void install_default_ops();
   Json op_world(const Json& request);
@@ -166,7 +168,7 @@ class Session {
   AcceptHook on_accept_;
   std::vector<CachedWorld> world_cache_;  // most recent first
   bool line_mode_ = false;                // inside handle_line: answer_world gives placeholders
-  std::vector<std::string> spliced_;      // world texts of the answer being built
+  std::vector<std::string> spliced_;      // world and trace texts of the answer being built
   std::string marker_;                    // placeholder prefix, unique per session
 };
 
