@@ -4,7 +4,7 @@
 
 using namespace flipper::clitest;
 
-TEST_CASE("--set lexicon.path=:memory: and an empty preload work unquoted", "[cli][set]") {
+TEST_CASE("set lexicon.path=:memory: and an empty preload work unquoted", "[cli][set]") {
   const Run check = run_flipper("config check --set lexicon.path=:memory: --set lexicon.preload=");
   INFO(check.out);
   REQUIRE(check.status == 0);

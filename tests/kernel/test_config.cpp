@@ -212,7 +212,7 @@ struct SetCase {
 };
 }  // namespace
 
-TEST_CASE("--set takes text keys verbatim unless quoted; other keys are YAML", "[config][set]") {
+TEST_CASE("set overrides take text keys verbatim unless quoted; other keys are YAML", "[config][set]") {
   const std::vector<SetCase> cases = {
       {"lexicon.path=:memory:", "lexicon.path", ":memory:"},
       {"lexicon.path=\":memory:\"", "lexicon.path", ":memory:"},
@@ -265,7 +265,7 @@ TEST_CASE("--set takes text keys verbatim unless quoted; other keys are YAML", "
   }
 }
 
-TEST_CASE("--set plugin params: String/Path verbatim, other types as before", "[config][set]") {
+TEST_CASE("set overrides of plugin params: String/Path verbatim, other types as before", "[config][set]") {
   sdk::ParamSchema schema;
   schema.add_string("label", "none", "");
   schema.add_path("map", std::string("maps/default.bt"), "");

@@ -1,6 +1,7 @@
 // define / rules / delete_rule through the session protocol: sharing modes, authorship,
 // deletion history, generalization, persistence across restarts, preload.
 #include <catch2/catch.hpp>
+#include <fstream>
 
 #include "flipper/kernel/lexicon_store.hpp"
 #include "naturalize_fixture.hpp"
