@@ -341,6 +341,15 @@ class Reader {
       : tokens_(lex(text)), end_pos_(text.size()), holes_(holes) {}
 
   Program read(Sort sort) {
+    // A word sort is just the word: `red` as a Color, `up` as a Direction (templates of induced
+    // rules such as `$Color -> crimson => red` are stored this way).
+    if ((sort == Sort::Color || sort == Sort::Shape || sort == Sort::Direction) &&
+        tokens_.size() == 1 && is_direction_word(tokens_[0].text)) {
+      const Kind kind = sort == Sort::Color   ? Kind::Color
+                        : sort == Sort::Shape ? Kind::Shape
+                                              : Kind::Direction;
+      return make_word(kind, tokens_[pos_++].text);
+    }
     Program p = term();
     if (pos_ < tokens_.size()) fail("unexpected '" + tokens_[pos_].text + "' after the end");
     if (!fits(sort, p->sort))

@@ -265,3 +265,12 @@ TEST_CASE("templates with a Property hole read and render", "[canonical]") {
   CHECK(read_template("$1", Sort::Property, {Sort::Color})->sort == Sort::Color);
   CHECK_THROWS_AS(read_template("$1", Sort::Property, {Sort::Number}), Error);
 }
+
+TEST_CASE("word-sorted templates read back as the word (stored alignment rules)", "[canonical]") {
+  CHECK(equal(read_template("red", Sort::Color, {}), make_word(Kind::Color, "red")));
+  CHECK(equal(read_template("grey", Sort::Color, {}), make_word(Kind::Color, "gray")));
+  CHECK(equal(read_template("circle", Sort::Shape, {}), make_word(Kind::Shape, "circle")));
+  CHECK(equal(read_canonical("up", Sort::Direction), make_word(Kind::Direction, "up")));
+  CHECK_THROWS_AS(read_canonical("red blue", Sort::Color), Error);
+  CHECK_THROWS_AS(read_canonical("3", Sort::Color), Error);
+}
