@@ -1,30 +1,11 @@
 // CLI: build/bin/flipper `plugins` and `config check` as a user runs them; exit status 2 for a
 // missing plugin and an unknown key, and a listing that survives broken plugins.
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
-
+#include "cli_test_support.hpp"
 #include "kernel_test_support.hpp"
 
 namespace {
-struct Run {
-  int status = -1;
-  std::string out;  // stdout and stderr
-};
-
-Run run_flipper(const std::string& args) {
-  const std::string cmd = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args + " 2>&1";
-  Run r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p) != nullptr) r.out += buf.data();
-  const int raw = ::pclose(p);
-  REQUIRE(WIFEXITED(raw));  // never killed by a signal (no crash)
-  r.status = WEXITSTATUS(raw);
-  return r;
-}
+using flipper::clitest::Run;
+using flipper::clitest::run_flipper;
 
 std::string test_args() {
   return "--config " + flipper::kerneltest::test_config_file() + " --set 'plugin_paths=[" +
