@@ -1,7 +1,7 @@
 // flipper lexicon list|export|import: the lexicon store of the config's lexicon.path.
 //   list [--author A]       live rules: id, author, how, uses (by author/by others), the rule
 //   export FILE|-           JSON Lines copy of the whole store (LexiconStore::export_jsonl)
-//   import FILE|-           definitions replayed through induction (naturalization.md §5: rules
+//   import FILE|-           definitions replayed through induction (docs/naturalization.md §5: rules
 //                           are always induced by this system), one durable transaction each,
 //                           definitions the store already holds skipped; nothing stored changes
 //   import --restore FILE   verbatim copy (rules, counters, deletions, weights) into an EMPTY

@@ -1,5 +1,5 @@
 #pragma once
-// The `chart` parser: exhaustive bottom-up CKY-style chart parsing (naturalization.md §2).
+// The `chart` parser: exhaustive bottom-up CKY-style chart parsing (docs/naturalization.md §2).
 #include "flipper/sdk/parser.hpp"
 #include "rule_index.hpp"
 

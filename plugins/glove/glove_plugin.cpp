@@ -1,4 +1,4 @@
-// The `glove` similarity plugin (naturalization.md §6): cosine of the averaged word vectors of
+// The `glove` similarity plugin (docs/naturalization.md §6): cosine of the averaged word vectors of
 // two token sequences. Unknown words contribute zero vectors; all-zero averages give 0.
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 #pragma once
-// The features of one derivation node (naturalization.md §3), written once for two sinks: a
+// The features of one derivation node (docs/naturalization.md §3), written once for two sinks: a
 // hashing sink (score_node: no strings built, each feature name hashed part by part with FNV-1a)
 // and a naming sink (features(), learning: the readable name, whose FNV-1a hash is the same key).
 #include <cstdint>

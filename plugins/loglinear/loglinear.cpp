@@ -1,5 +1,5 @@
 // The `loglinear` scorer: sparse linear model over node features, AdaGrad + L1 learning on
-// accept, marginalised over the derivations of the accepted program (naturalization.md §3).
+// accept, marginalised over the derivations of the accepted program (docs/naturalization.md §3).
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <unordered_map>

@@ -1,6 +1,6 @@
 #pragma once
 /// @file loop_rolling.hpp
-/// Rewriting 1 of naturalization.md §6: consecutive repeats of a statement or of a block of
+/// Rewriting 1 of docs/naturalization.md §6: consecutive repeats of a statement or of a block of
 /// statements become `repeat n times ...`, in every sequence of the program, never dropping a
 /// statement.
 

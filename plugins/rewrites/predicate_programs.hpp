@@ -1,6 +1,6 @@
 #pragma once
 /// @file predicate_programs.hpp
-/// Builders for the programs rewritings 2-4 of naturalization.md §6 propose, and the checks
+/// Builders for the programs rewritings 2-4 of docs/naturalization.md §6 propose, and the checks
 /// that decide which of them apply to a body.
 
 #include <string>

@@ -1,4 +1,4 @@
-// The `rewrites` rewriter plugin: the four rewritings of naturalization.md §6, in generation
+// The `rewrites` rewriter plugin: the four rewritings of docs/naturalization.md §6, in generation
 // order. It only proposes; the kernel's generalizer checks equivalence and selects.
 #include <algorithm>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// The study map of the 2018 user studies (core-language.md §10) and what the generalization tests
+// The study map of the 2018 user studies (docs/core-language.md §10) and what the generalization tests
 // need around it: the grid2d world, the astar planner, the kernel executor and the rewriter.
 #include <memory>
 #include <string>

@@ -1,4 +1,4 @@
-// The generalizer on the paper's examples (naturalization.md §6) with the real executor.
+// The generalizer on the paper's examples (docs/naturalization.md §6) with the real executor.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>

@@ -1,4 +1,4 @@
-// The spec's induction examples (naturalization.md §4) end to end with the core grammar, the
+// The spec's induction examples (docs/naturalization.md §4) end to end with the core grammar, the
 // chart parser and the loglinear scorer: define, then parse what the new rules should cover.
 #include <catch2/catch.hpp>
 

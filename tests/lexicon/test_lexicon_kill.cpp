@@ -1,4 +1,4 @@
-// Kill test (naturalization.md §5): a writer killed with SIGKILL at random moments never loses an
+// Kill test (docs/naturalization.md §5): a writer killed with SIGKILL at random moments never loses an
 // acknowledged definition and never corrupts the store.
 #include <catch2/catch.hpp>
 #include <chrono>

@@ -1,4 +1,4 @@
-// `$Property` through the session protocol (naturalization.md §4 example): `gather red` and
+// `$Property` through the session protocol (docs/naturalization.md §4 example): `gather red` and
 // `red to room1` are defined with a colour, and a shape then works in their place — the rule holes
 // are Property holes — also after a restart (the stored templates read back).
 #include <catch2/catch.hpp>

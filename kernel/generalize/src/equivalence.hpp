@@ -1,5 +1,5 @@
 #pragma once
-// Equivalence of two executions (naturalization.md §6): identical traces and final worlds, and
+// Equivalence of two executions (docs/naturalization.md §6): identical traces and final worlds, and
 // neither raised an error. Returns why they differ, for the `define` answer.
 #include <optional>
 #include <string>

@@ -1,4 +1,4 @@
-// The word lists the similarity compares (naturalization.md §6).
+// The word lists the similarity compares (docs/naturalization.md §6).
 #include <algorithm>
 #include <array>
 #include <string_view>

@@ -1,4 +1,4 @@
-// Alignment (naturalization.md §4.8, after the February 2018 code): a head that differs from a
+// Alignment (docs/naturalization.md §4.8, after the February 2018 code): a head that differs from a
 // one-line body in one short stretch teaches a lexical rule for that stretch.
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-// Matches (naturalization.md §4.4): head-chart derivations that yield a node of the body.
+// Matches (docs/naturalization.md §4.4): head-chart derivations that yield a node of the body.
 #include <algorithm>
 #include <tuple>
 #include <unordered_set>

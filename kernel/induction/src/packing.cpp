@@ -1,4 +1,4 @@
-// Packings (naturalization.md §4.5, §4.6): which matched head spans become RHS categories.
+// Packings (docs/naturalization.md §4.5, §4.6): which matched head spans become RHS categories.
 #include <algorithm>
 #include <limits>
 

@@ -1,4 +1,4 @@
-// Rule construction from a packing (naturalization.md §4.7).
+// Rule construction from a packing (docs/naturalization.md §4.7).
 #include "flipper/kernel/induction.hpp"
 
 namespace flipper::kernel {

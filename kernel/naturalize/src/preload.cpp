@@ -1,4 +1,4 @@
-// Preloading a definitions file (naturalization.md §5): replayed through induction so rules are
+// Preloading a definitions file (docs/naturalization.md §5): replayed through induction so rules are
 // always induced by this system, never copied.
 #include <fstream>
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-// The protocol ops of naturalization (session-protocol.md: define, rules, delete_rule).
+// The protocol ops of naturalization (docs/protocol.md: define, rules, delete_rule).
 #include "flipper/kernel/naturalize_ops.hpp"
 
 #include "flipper/kernel/session_request.hpp"

@@ -1,4 +1,4 @@
-// Session settings from the config (defaults per core-language.md §9 when a key is absent).
+// Session settings from the config (defaults per docs/core-language.md §9 when a key is absent).
 #include "flipper/kernel/session.hpp"
 
 namespace flipper::kernel {

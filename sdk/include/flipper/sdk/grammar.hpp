@@ -1,6 +1,6 @@
 #pragma once
 /// @file grammar.hpp
-/// Grammar rules `LHS -> RHS => template` (naturalization.md §1), shared by parser, scorer,
+/// Grammar rules `LHS -> RHS => template` (docs/naturalization.md §1), shared by parser, scorer,
 /// inducer and lexicon. Core rules come from a grammar file (data, not code); induced rules come
 /// from definitions and carry their provenance and use counters.
 ///
@@ -99,7 +99,7 @@ struct Grammar {
 FLIPPER_SDK_API Sort category_sort(const std::string& category);
 /// List categories normalised to their element category ($Actions -> $Action, $Areas -> $Area,
 /// $Numbers -> $Number, $Situations -> $Situation, $PropertySets -> $PropertySet,
-/// $AreaCollections -> $AreaCollection); others unchanged (naturalization.md §4.4).
+/// $AreaCollections -> $AreaCollection); others unchanged (docs/naturalization.md §4.4).
 FLIPPER_SDK_API std::string normalize_category(const std::string& category);
 
 /// Parses grammar text (format above). `source` names the file in error messages; errors throw

@@ -1,6 +1,6 @@
 #pragma once
 /// @file parser.hpp
-/// Parser plugins: utterance tokens -> ranked candidates (naturalization.md §2).
+/// Parser plugins: utterance tokens -> ranked candidates (docs/naturalization.md §2).
 
 #include <cstdint>
 #include <functional>

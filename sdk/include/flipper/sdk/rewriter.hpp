@@ -1,6 +1,6 @@
 #pragma once
 /// @file rewriter.hpp
-/// Rewriter plugins: propose more general bodies for a definition (naturalization.md §6). The
+/// Rewriter plugins: propose more general bodies for a definition (docs/naturalization.md §6). The
 /// kernel checks each proposal for equivalence and selects; the rewriter only generates.
 
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 /// @file scorer.hpp
-/// Scorer plugins: the ranking model (naturalization.md §3). The parser asks for each new
+/// Scorer plugins: the ranking model (docs/naturalization.md §3). The parser asks for each new
 /// derivation node's local score while it builds the chart; the kernel asks the scorer to learn
 /// when the user accepts a candidate, and to save/restore its state with the lexicon.
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file similarity.hpp
-/// Similarity models: how alike two word sequences are (naturalization.md §6), used by the
+/// Similarity models: how alike two word sequences are (docs/naturalization.md §6), used by the
 /// generalization step to prefer rewritings that read like the user's utterance.
 
 #include <string>

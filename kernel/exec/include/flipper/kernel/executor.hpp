@@ -1,6 +1,6 @@
 #pragma once
 /// @file executor.hpp
-/// The executor of the core language (core-language.md §4-§9): the only place that knows what
+/// The executor of the core language (docs/core-language.md §4-§9): the only place that knows what
 /// programs mean. Lenient by default; `strict` and `possible` run trials on scratch copies.
 /// Uses a planner plugin for paths and tours; knows nothing of the world's kind of space.
 

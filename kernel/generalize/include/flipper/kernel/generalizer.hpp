@@ -1,6 +1,6 @@
 #pragma once
 /// @file generalizer.hpp
-/// Generalization by rewriting (naturalization.md §6): asks the rewriter plugin for alternative
+/// Generalization by rewriting (docs/naturalization.md §6): asks the rewriter plugin for alternative
 /// bodies, keeps those equivalent to the user's body in the world where the definition was made
 /// (same trace and final world, run from the world before the first body line; optionally also on
 /// perturbed copies of that world), and selects the best by
@@ -73,7 +73,7 @@ class Generalizer {
   GeneralizeOptions options_;
 };
 
-/// Words of the head for the similarity: its tokens without `, [ ] { }` (naturalization.md §6).
+/// Words of the head for the similarity: its tokens without `, [ ] { }` (docs/naturalization.md §6).
 std::vector<std::string> head_words(const std::vector<std::string>& head_tokens);
 /// Words of a candidate: its canonical text's tokens without `{ } [ ] , ;` and the words
 /// `is containing in item items and`.

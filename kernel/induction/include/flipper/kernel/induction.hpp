@@ -1,6 +1,6 @@
 #pragma once
 /// @file induction.hpp
-/// Grammar induction (naturalization.md §4): from a definition (head := body lines) to new
+/// Grammar induction (docs/naturalization.md §4): from a definition (head := body lines) to new
 /// rules. The pieces are free functions so that the generalizer and tests can use each one:
 /// matches of head-chart derivations against the body program, simple and best packing, rule
 /// construction, and alignment. `Inducer` runs the whole §4 pipeline against a parser.

@@ -1,6 +1,6 @@
 #pragma once
 /// @file lexicon_store.hpp
-/// The durable lexicon (naturalization.md §5): one SQLite file holding every definition, the
+/// The durable lexicon (docs/naturalization.md §5): one SQLite file holding every definition, the
 /// rules induced from it (with their deletion history), the rules' use counters and the scorer
 /// state. WAL journal with synchronous=FULL: a call that returned has reached the disk, so a
 /// definition acknowledged after add_definition() survives a kill at any moment.

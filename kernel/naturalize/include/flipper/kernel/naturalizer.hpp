@@ -1,6 +1,6 @@
 #pragma once
 /// @file naturalizer.hpp
-/// The naturalization façade (naturalization.md §4–§6, session-protocol `define`, `rules`,
+/// The naturalization façade (docs/naturalization.md §4–§6, session-protocol `define`, `rules`,
 /// `delete_rule`): owns the lexicon store and the induced rules, keeps the parser's grammar in
 /// step with the store, and decides which rules a user sees (sharing modes).
 ///

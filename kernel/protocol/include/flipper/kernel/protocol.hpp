@@ -1,6 +1,6 @@
 #pragma once
 /// @file protocol.hpp
-/// JSON shapes of session-protocol.md for execution results, shared by `flipper run`, the session
+/// JSON shapes of docs/protocol.md for execution results, shared by `flipper run`, the session
 /// and replay: cells `[x, y]` / `[x, y, z]`, items `{"id","color","shape"}`, trace steps
 /// `{"act":"move","to":P}` / `{"act":"pick"|"drop","at":P,"item":ITEM}` (core-language §5),
 /// errors `{"code","message"}`, and an outcome's pieces. Readers accept exactly these shapes and

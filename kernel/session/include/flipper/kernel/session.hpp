@@ -1,6 +1,6 @@
 #pragma once
 /// @file session.hpp
-/// One protocol session (session-protocol.md): the runtime, the current world and user, and the
+/// One protocol session (docs/protocol.md): the runtime, the current world and user, and the
 /// last query's full parse result. `handle_line` turns one request line into exactly one answer
 /// line; every front end (`flipper session`, `flipper repl`, experiment runs) goes through it.
 ///
