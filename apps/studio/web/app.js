@@ -25,6 +25,7 @@ const state = {
 const api = new Api(new URLSearchParams(location.search).get('group') || '');
 const map = new MapView($('map'));
 const goalMap = new MapView($('goal-map'));
+map.onFloorChange = () => renderFloors();
 
 function toast(text) {
   const t = $('toast');
@@ -534,6 +535,11 @@ async function main() {
   const who = await api.request({ op: 'rules' });
   $('sharing').textContent = `${state.info.study?.sharing ?? state.info.sharing} lexicon`;
   const select = $('world-select');
+  const current = document.createElement('option');
+  current.value = '';
+  current.textContent = '(start world)';
+  current.disabled = true;
+  select.append(current);
   for (const w of state.info.worlds) {
     const o = document.createElement('option');
     o.value = w;
@@ -542,7 +548,7 @@ async function main() {
   }
   setWorld(st.world);
   state.startWorld = st.world;
-  if (select.options.length && state.info.worlds.includes('study2018.json')) select.value = 'study2018.json';
+  select.value = '';
   // The session's user: the server names each new session's guest user (Flipper-User header).
   state.user = api.user;
   const saved = sessionStorage.getItem('flipper.user');

@@ -237,7 +237,10 @@ export class MapView {
       if (s.act === 'move') {
         [robot.x, robot.y] = s.to;
         if (s.to.length === 3) robot.z = s.to[2];
-        if (this.geo.dims === 3 && robot.z !== undefined && robot.z !== this.floor) this.floor = robot.z;
+        if (this.geo.dims === 3 && robot.z !== undefined && robot.z !== this.floor) {
+          this.floor = robot.z;
+          this.onFloorChange?.(this.floor);
+        }
       } else if (s.act === 'pick') {
         const at = items.findIndex((it) => it.x === s.at[0] && it.y === s.at[1] &&
           it.color === s.item.color && it.shape === s.item.shape);

@@ -40,9 +40,9 @@ export function summary() {
 }
 
 // Starts the server; resolves to {url, stop, dir, output}. `sets` are --set assignments.
-export async function startServer(flipper, sets = [], { dir, cwd } = {}) {
+export async function startServer(flipper, sets = [], { dir, cwd, config } = {}) {
   dir ??= mkdtempSync(join(tmpdir(), 'flipper-studio-'));
-  const all = ['serve', '--set', 'serve.host=127.0.0.1', '--set', 'serve.port=0',
+  const all = ['serve', ...(config ? ['--config', config] : []), '--set', 'serve.host=127.0.0.1', '--set', 'serve.port=0',
     '--set', `lexicon.path=${join(dir, 'lexicon.sqlite')}`, '--set', 'lexicon.preload=',
     ...sets.flatMap((s) => ['--set', s])];
   const proc = spawn(flipper, all, { cwd, stdio: ['ignore', 'pipe', 'pipe'] });
