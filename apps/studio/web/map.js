@@ -190,6 +190,12 @@ export class MapView {
   }
 
   drawPlan(L, plan) {
+    this.ctx.save(); // line styles stay with the plan
+    this.drawPlanLines(L, plan);
+    this.ctx.restore();
+  }
+
+  drawPlanLines(L, plan) {
     const ctx = this.ctx, { cell } = L;
     const steps = plan.trace.slice(0, plan.upTo);
     const start = plan.start;

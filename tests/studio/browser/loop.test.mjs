@@ -16,6 +16,11 @@ run(async () => {
     await shot(page, opt.artifacts, 'loop-1-start');
     // The study map (§10): robot at (2,4) holding nothing; rooms labelled.
     equal(await robot(page), { x: 2, y: 4, holding: [] }, 'the page shows the study map with the robot at (2,4)');
+    // The plain world, drawn again once the page's fonts are in (labels are text).
+    await page.evaluate(async () => {
+      await document.fonts.ready;
+      window.flipperStudio.map.draw(window.flipperStudio.state.world);
+    });
     const before = await canvasData(page);
 
     // §10 example 2: the nearest red item is at (7,4), a red circle is picked there.
@@ -23,7 +28,16 @@ run(async () => {
     equal(a.status, 'core', 'a core command parses');
     await page.waitForSelector('[data-testid=candidates] li.selected');
     await waitAnimation(page);
-    check(await canvasData(page) !== before, 'the selected candidate is drawn on the map');
+    // The map shows the plan, not just the world: compare with the plain world drawn now.
+    const [shown, plain] = await page.evaluate(() => {
+      const { map, state } = window.flipperStudio;
+      const now = map.canvas.toDataURL();
+      map.draw(state.world);
+      return [now, map.canvas.toDataURL()];
+    });
+    check(shown !== plain && shown !== before, 'the selected candidate is drawn on the map');
+    await page.evaluate(() => window.flipperStudio.selectCandidate(0));
+    await waitAnimation(page);
     await shot(page, opt.artifacts, 'loop-2-candidate');
     await accept(page);
     await page.waitForFunction(() => window.flipperStudio.state.world.robot.x === 7);
