@@ -120,3 +120,40 @@ TEST_CASE("private mode: deleting a rule hidden from the user answers not_found"
   CHECK(status(*s, "go west") == "induced");  // still there for its author
   CHECK(s->handle({{"op", "delete_rule"}, {"rule", id}})["ok"] == true);
 }
+
+TEST_CASE("an accept whose lexicon transaction fails applies nothing, and a retry applies it once",
+          "[naturalize][writers]") {
+  const std::string store = scratch_path("accept") + ".sqlite";
+  auto s = open(store, {"lexicon.busy_timeout_ms=100"});
+  user(*s, "ana");
+  REQUIRE(define(*s, "go west", {"move left"})["ok"] == true);
+  const Json before = s->handle({{"op", "state"}})["world"];
+  const std::string weights = s->runtime().scorer->save_state();
+  const Json q = s->handle({{"op", "query"}, {"text", "go west"}});
+  REQUIRE(q["status"] == "induced");
+  const Json expected = q["candidates"][0]["world"];
+  REQUIRE(expected != before);
+  auto uses = [&] {
+    int n = 0;
+    const Json listed = s->handle({{"op", "rules"}});
+    for (const auto& r : listed["rules"]) n += r["uses"].get<int>();
+    return n;
+  };
+  {
+    LockHolder other(store);
+    const Json failed = s->handle({{"op", "accept"}, {"rank", 0}});
+    CHECK(error_code(failed) == "lexicon_busy");
+    CHECK_THAT(failed["error"]["message"].get<std::string>(), Catch::Contains(store));
+    CHECK(s->handle({{"op", "state"}})["world"] == before);  // world unchanged
+    CHECK(s->runtime().scorer->save_state() == weights);     // nothing learned
+  }
+  CHECK(uses() == 0);
+  const Json retried = s->handle({{"op", "accept"}, {"rank", 0}});
+  REQUIRE(retried["ok"] == true);
+  CHECK(s->handle({{"op", "state"}})["world"] == expected);  // applied exactly once
+  CHECK(s->runtime().scorer->save_state() != weights);
+  CHECK(uses() == 1);
+  CHECK(error_code(s->handle({{"op", "accept"}, {"rank", 0}})) == "no_query");
+  kernel::LexiconStore reopened(store);
+  CHECK(reopened.rules()[0].uses_by_author == 1);
+}
