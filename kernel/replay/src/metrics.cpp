@@ -174,6 +174,11 @@ Metrics compute_metrics(const ReplayResult& result) {
     (d.preloaded ? m.preloaded_ok : m.defines_ok) += d.ok;
     if (!d.ok) ++m.define_errors[d.error_code.empty() ? "unknown" : d.error_code];
   }
+  for (const auto& r : result.queries)
+    if (r.floating) {
+      ++m.floating;
+      ++m.floating_by_group[r.group];
+    }
   for (const auto& d : result.deletes) {
     ++m.deletes;
     m.deletes_mapped += !d.definition.empty();

@@ -124,7 +124,8 @@ class RunReplay {
       row.our_author = "none";
       const auto& cands = a["candidates"];
       if (!cands.empty() && cands[0].value("induced", false)) {
-        row.our_author = "self";
+        row.floating = cands[0]["rules"].empty();
+        if (!row.floating) row.our_author = "self";
         for (const auto& author : cands[0]["authors"])
           if (author.get<std::string>() != c.user) row.our_author = "other";
       }
