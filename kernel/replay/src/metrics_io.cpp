@@ -113,6 +113,7 @@ nlohmann::ordered_json metrics_json(const Metrics& m) {
                            {"mapped", m.deletes_mapped},
                            {"rules_deleted", m.rules_deleted}}}};
   metric["floating_top"] = J{{"all", m.floating}, {"by_group", map_json(m.floating_by_group)}};
+  metric["accepted_rank"] = J{{"top1", m.accepted_top1}, {"top3", m.accepted_top3}};
   return metric;
 }
 

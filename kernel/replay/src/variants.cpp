@@ -1,5 +1,6 @@
 // The cross-variant comparison of an experiment (ablations such as parser x scorer): one SVG
 // with a panel per measure and one bar per variant, and the report section around it.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -100,8 +101,17 @@ void write_variant_figure(const std::string& dir, const std::vector<Variant>& va
                     {},
                     {},
                     {}};
+  BarChart ranking{"The accepted program among our candidates (matched accepts)",
+                   "% of accepts",
+                   {"ranked first", "in the first three"},
+                   names(variants),
+                   {},
+                   {},
+                   {}};
   for (const auto& v : variants) {
     const Metrics& m = v.metrics;
+    const double matched = std::max(1, m.exec.matched);
+    ranking.values.push_back({100 * m.accepted_top1 / matched, 100 * m.accepted_top3 / matched});
     agreement.values.push_back({100 * group_rate(m, "A"), 100 * group_rate(m, "B"),
                                 100 * group_rate(m, "C"), 100 * m.overall.rate()});
     tokens.values.push_back({mean_of(m.ours.tokens_successful, "A"),
@@ -112,7 +122,8 @@ void write_variant_figure(const std::string& dir, const std::vector<Variant>& va
   }
   const std::string path = dir + "/variants.svg";
   std::ofstream out(path);
-  out << stack({render_svg(agreement), render_svg(tokens), render_svg(commands)});
+  out << stack(
+      {render_svg(agreement), render_svg(ranking), render_svg(tokens), render_svg(commands)});
   if (!out) throw sdk::Error(sdk::codes::kBadRequest, "cannot write '" + path + "'");
 }
 
@@ -120,12 +131,13 @@ void write_variant_section(std::ostream& o, const std::vector<Variant>& variants
   o << "## Variants compared\n\n![variants](variants.svg)\n\n"
     << "Status agreement with the original by group; the original's Core queries we parse as "
        "core; the original's Nothing queries we give a reading (core or induced); queries whose "
-       "top reading floats (not core, no induced rule: words left out by the `floating` "
-       "parser); tokens of successful commands and induced / core commands per participant "
-       "(task queries).\n\n"
+       "top reading leaves words out (the `floating` parser); accepts whose program is our "
+       "first / among our first three candidates (of the matched accepts: the ranking); tokens "
+       "of successful commands and induced / core commands per participant (task queries).\n\n"
     << "| variant | agreement all / A / B / C | Core → core | Nothing → reading | floating "
-       "tops | tokens succ. A / B / C | induced B / C | core B / C |\n"
-    << "|---|---|---|---|---|---|---|---|\n";
+       "tops | accepted: first / top 3 / matched | tokens succ. A / B / C | induced B / C | core "
+       "B / C |\n"
+    << "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& v : variants) {
     const Metrics& m = v.metrics;
     o << "| " << v.name << " | " << f1(100 * m.overall.rate()) << " / "
@@ -133,7 +145,8 @@ void write_variant_section(std::ostream& o, const std::vector<Variant>& variants
       << f1(100 * group_rate(m, "C")) << " % | " << confusion(m, "Core", "core") << " / "
       << row_total(m, "Core") << " | "
       << confusion(m, "Nothing", "core") + confusion(m, "Nothing", "induced") << " / "
-      << row_total(m, "Nothing") << " | " << m.floating << " | "
+      << row_total(m, "Nothing") << " | " << m.floating << " | " << m.accepted_top1 << " / "
+      << m.accepted_top3 << " / " << m.exec.matched << " | "
       << f1(mean_of(m.ours.tokens_successful, "A")) << " / "
       << f1(mean_of(m.ours.tokens_successful, "B")) << " / "
       << f1(mean_of(m.ours.tokens_successful, "C")) << " | " << f1(mean_of(m.ours.induced, "B"))

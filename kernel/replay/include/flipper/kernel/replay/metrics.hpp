@@ -91,6 +91,8 @@ struct Metrics {
   /// Queries whose top reading floats (QueryRow::floating), overall and by group.
   int floating = 0;
   std::map<std::string, int> floating_by_group;
+  /// Matched accepts whose program is our first (first three) candidate: the ranking's quality.
+  int accepted_top1 = 0, accepted_top3 = 0;
 };
 Metrics compute_metrics(const ReplayResult& result);
 

@@ -17,8 +17,8 @@ struct QueryRow {
   std::string ours;             ///< core / induced / unparsable / error
   std::string original_author;  ///< None / Self / Other ("" when not logged)
   std::string our_author;       ///< none / self / other (authors of our top candidate)
-  /// Our top candidate is not core yet uses no induced rule: a reading that leaves words out
-  /// (the `floating` parser); its author is "none".
+  /// Our top candidate's best derivation leaves words out (the `floating` parser); a non-core
+  /// top candidate that uses no induced rule has author "none".
   bool floating = false;
   int original_parses = 0;
   int our_candidates = 0;
