@@ -80,13 +80,15 @@ std::vector<std::string> names(const std::vector<Variant>& variants) {
 
 void write_variant_figure(const std::string& dir, const std::vector<Variant>& variants) {
   std::filesystem::create_directories(dir);
-  BarChart agreement{"Status agreement with the original",
-                     "% of queries",
-                     {"A", "B", "C", "all"},
-                     names(variants),
-                     {},
-                     {},
-                     {}};
+  // Percentages share one panel: status agreement by group, then how often the accepted program
+  // (of the matched accepts) was our first / among our first three candidates.
+  BarChart percent{"Status agreement with the original; rank of the accepted program",
+                   "%",
+                   {"agree A", "agree B", "agree C", "agree all", "accepted 1st", "accepted top 3"},
+                   names(variants),
+                   {},
+                   {},
+                   {}};
   BarChart tokens{"Tokens of successful commands per participant (task queries)",
                   "tokens",
                   {"A", "B", "C"},
@@ -101,19 +103,12 @@ void write_variant_figure(const std::string& dir, const std::vector<Variant>& va
                     {},
                     {},
                     {}};
-  BarChart ranking{"The accepted program among our candidates (matched accepts)",
-                   "% of accepts",
-                   {"ranked first", "in the first three"},
-                   names(variants),
-                   {},
-                   {},
-                   {}};
   for (const auto& v : variants) {
     const Metrics& m = v.metrics;
     const double matched = std::max(1, m.exec.matched);
-    ranking.values.push_back({100 * m.accepted_top1 / matched, 100 * m.accepted_top3 / matched});
-    agreement.values.push_back({100 * group_rate(m, "A"), 100 * group_rate(m, "B"),
-                                100 * group_rate(m, "C"), 100 * m.overall.rate()});
+    percent.values.push_back({100 * group_rate(m, "A"), 100 * group_rate(m, "B"),
+                              100 * group_rate(m, "C"), 100 * m.overall.rate(),
+                              100 * m.accepted_top1 / matched, 100 * m.accepted_top3 / matched});
     tokens.values.push_back({mean_of(m.ours.tokens_successful, "A"),
                              mean_of(m.ours.tokens_successful, "B"),
                              mean_of(m.ours.tokens_successful, "C")});
@@ -122,8 +117,7 @@ void write_variant_figure(const std::string& dir, const std::vector<Variant>& va
   }
   const std::string path = dir + "/variants.svg";
   std::ofstream out(path);
-  out << stack(
-      {render_svg(agreement), render_svg(ranking), render_svg(tokens), render_svg(commands)});
+  out << stack({render_svg(percent), render_svg(tokens), render_svg(commands)});
   if (!out) throw sdk::Error(sdk::codes::kBadRequest, "cannot write '" + path + "'");
 }
 
