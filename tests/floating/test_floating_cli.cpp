@@ -24,6 +24,13 @@ std::vector<nlohmann::json> answers(const std::string& out) {
   return a;
 }
 
+// A fresh output directory under build/tests/tmp/cli.
+std::string scratch_dir(const std::string& name) {
+  const std::string dir = std::string(FLIPPER_BINARY_DIR) + "/tests/tmp/cli/" + name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
 }  // namespace
 
 TEST_CASE("run: floating + perceptron read extra words; chart refuses them") {
@@ -91,8 +98,7 @@ TEST_CASE("repl: a floating reading is shown and chosen") {
 }
 
 TEST_CASE("replay: floating + perceptron on the synthetic corpus") {
-  const std::string out = clitest::scratch("floating-replay");
-  std::filesystem::remove_all(out);
+  const std::string out = scratch_dir("floating-replay");
   const auto r = run_flipper("replay --corpus tests/replay/data --out " + out +
                              " --set induction.generalize=false" + kSwap);
   INFO(r.out);
@@ -110,8 +116,7 @@ TEST_CASE("the parser x scorer experiment writes the cross-variant figure and se
   REQUIRE(e.variants.size() == 4);
   auto small = e;
   small.corpus = FLIPPER_SOURCE_DIR "/tests/replay/data";
-  const std::string out = clitest::scratch("floating-experiment");
-  fs::remove_all(out);
+  const std::string out = scratch_dir("floating-experiment");
   const auto variants = kernel::replay::run_experiment(small, out);
   REQUIRE(variants.size() == 4);
   const std::string svg = clitest::read_file(out + "/variants.svg");
