@@ -74,7 +74,7 @@ class Run {
       classes_.push_back(index.classes_of(t));
       fixed_before_.push_back(fixed_before_.back() + (skippable(t) ? 0 : 1));
     }
-    cells_.resize(static_cast<std::size_t>((n_ + 1) * (n_ + 1)));
+    cells_.resize(static_cast<std::size_t>(n_ + 1) * static_cast<std::size_t>(n_ + 1));
     visible_.assign(index.rules().size(), -1);
     tried_.assign(index.rules().size(), 0);
   }
@@ -99,7 +99,10 @@ class Run {
   }
 
  private:
-  Cell& cell(int i, int j) { return cells_[static_cast<std::size_t>(i * (n_ + 1) + j)]; }
+  Cell& cell(int i, int j) {
+    return cells_[static_cast<std::size_t>(i) * static_cast<std::size_t>(n_ + 1) +
+                  static_cast<std::size_t>(j)];
+  }
 
   // Every token of [a, b) may be skipped.
   bool all_skippable(int a, int b) const { return fixed_before_[b] == fixed_before_[a]; }
@@ -243,8 +246,14 @@ class Run {
 
   // `d` wrapped out to [start, end) by one skip node per left-out word (left words first).
   DerivationPtr extend(DerivationPtr d, int start, int end) {
-    while (d && d->start > start) d = skip_node(std::move(d), d->start - 1);
-    while (d && d->end < end) d = skip_node(std::move(d), d->end);
+    while (d && d->start > start) {
+      const int word = d->start - 1;
+      d = skip_node(std::move(d), word);
+    }
+    while (d && d->end < end) {
+      const int word = d->end;
+      d = skip_node(std::move(d), word);
+    }
     return d;
   }
 

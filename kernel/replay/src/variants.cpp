@@ -72,6 +72,7 @@ std::string stack(const std::vector<std::string>& panels) {
 
 std::vector<std::string> names(const std::vector<Variant>& variants) {
   std::vector<std::string> out;
+  out.reserve(variants.size());
   for (const auto& v : variants) out.push_back(v.name);
   return out;
 }
