@@ -121,9 +121,8 @@ TEST_CASE("broken plugins are refused cleanly, naming file and values", "[loader
       {"bad_sdk_major",
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
-       // The bad plugin declares the next major with the current minor ("2.1" since SDK 1.1).
-       {"Wrong SDK version on plugin 'bad_sdk_major'",
-        "Got version 2." + std::to_string(FLIPPER_SDK_VERSION_MINOR), "supported version is 1."}},
+       {"Wrong SDK version on plugin 'bad_sdk_major'", "Got version 2.",  // 2.<the SDK minor>
+        "supported version is 1."}},
       {"bad_sdk_minor",
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
