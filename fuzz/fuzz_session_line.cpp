@@ -37,7 +37,11 @@ bool changes_state(const std::string& answer) {
 }
 
 bool known_class(std::string_view text) {
-  if (fz::known::has_invalid_utf8(text)) return known::skip(known::Class::InvalidUtf8);
+  if (known::has_invalid_utf8(text)) return known::skip(known::Class::BadJsonUtf8);
+  if (known::has_non_ascii(text))
+    for (std::string_view line : fz::split_lines(text, 4))
+      if (known::has_non_ascii(line) && !nlohmann::json::accept(line))
+        return known::skip(known::Class::BadJsonUtf8);
   if (known::has_huge_number(text)) return known::skip(known::Class::HugeNumber);
   if (known::nesting_deeper_than(text, 256)) return known::skip(known::Class::DeepJson);
   if (known::more_words_than(text, 60000)) return known::skip(known::Class::LongLine);

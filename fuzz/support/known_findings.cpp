@@ -14,7 +14,7 @@ namespace flipper::fuzz::known {
 namespace {
 
 constexpr std::array<const char*, static_cast<int>(Class::kCount)> kNames = {
-    "invalid_utf8", "huge_number", "deep_json", "long_line",
+    "bad_json_utf8", "huge_number", "deep_json", "long_line",
     "parse_budget", "huge_world",  "non_regular"};
 
 struct Counters {
@@ -76,6 +76,12 @@ bool has_invalid_utf8(std::string_view s) {
     if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return true;
     i += static_cast<std::size_t>(extra) + 1;
   }
+  return false;
+}
+
+bool has_non_ascii(std::string_view s) {
+  for (char c : s)
+    if (static_cast<unsigned char>(c) >= 0x80) return true;
   return false;
 }
 

@@ -12,7 +12,9 @@
 namespace flipper::fuzz::known {
 
 enum class Class {
-  InvalidUtf8,  ///< session: invalid UTF-8 in a request; the bad_json answer fails to serialise
+  /// session: non-ASCII bytes in a line that is not valid JSON: the bad_json answer quotes the
+  /// text around the error (a bad byte, or a cut multi-byte sequence) and fails to serialise
+  BadJsonUtf8,
   HugeNumber,   ///< session: a number beyond double range (1e999, 400 digits) ends the session
   DeepJson,     ///< session: `id` nested thousands deep (recursive copy when echoing)
   LongLine,     ///< session: a define head/body of >= 65,535 tokens (chart index wraps)
@@ -30,6 +32,7 @@ bool skip(Class c);
 
 /// Detectors used by the targets' guards.
 bool has_invalid_utf8(std::string_view text);
+bool has_non_ascii(std::string_view text);
 /// A JSON-style number literal whose value overflows a double.
 bool has_huge_number(std::string_view text);
 /// Bracket nesting ([ and {) deeper than `limit`.
