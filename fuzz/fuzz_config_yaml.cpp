@@ -56,7 +56,8 @@ void read_everything(Config& config) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  g_loader = std::make_unique<PluginLoader>(PluginLoader::search_path_for(Config::embedded_default()));
+  g_loader =
+      std::make_unique<PluginLoader>(PluginLoader::search_path_for(Config::embedded_default()));
   return 0;
 }
 

@@ -84,7 +84,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     state = flipper::kernel::load_world_file(*g_runtime, text);
   } catch (const sdk::Error& e) {
-    if (e.code() != sdk::codes::kBadWorld) fail("error code is not bad_world", e.code() + ": " + e.what());
+    if (e.code() != sdk::codes::kBadWorld)
+      fail("error code is not bad_world", e.code() + ": " + e.what());
     return 0;
   }
   const std::string saved = g_runtime->world->save(state);

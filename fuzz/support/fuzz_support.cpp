@@ -77,6 +77,8 @@ void write_file(const std::string& path, std::string_view text) {
   }
 }
 
-std::string source_dir() { return FLIPPER_SOURCE_DIR; }
+std::string source_dir() {
+  return FLIPPER_SOURCE_DIR;
+}
 
 }  // namespace flipper::fuzz

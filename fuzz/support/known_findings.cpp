@@ -14,8 +14,8 @@ namespace flipper::fuzz::known {
 namespace {
 
 constexpr std::array<const char*, static_cast<int>(Class::kCount)> kNames = {
-    "bad_json_utf8", "huge_number", "deep_json", "long_line",
-    "parse_budget", "huge_world",  "non_regular"};
+    "bad_json_utf8", "huge_number", "deep_json",  "long_line",
+    "parse_budget",  "huge_world",  "non_regular"};
 
 struct Counters {
   std::array<unsigned long, static_cast<int>(Class::kCount)> skipped{};
