@@ -15,7 +15,8 @@ enum class Class {
   /// session: non-ASCII bytes in a line that is not valid JSON: the bad_json answer quotes the
   /// text around the error (a bad byte, or a cut multi-byte sequence) and fails to serialise
   BadJsonUtf8,
-  HugeNumber,   ///< session: a number beyond double range (1e999, 400 digits) ends the session
+  HugeNumber,   ///< session, world: a number beyond double range (1e999, 400 digits) ends the
+                ///< session; in a world it escapes parse_world as out_of_range (plugin_error)
   DeepJson,     ///< session: `id` nested thousands deep (recursive copy when echoing)
   LongLine,     ///< session: a define head/body of >= 65,535 tokens (chart index wraps)
   ParseBudget,  ///< session: parse time is not bounded by the time budget ({ x990, not ... and)
