@@ -67,8 +67,12 @@ function(flipper_add_plugin name)
     POSITION_INDEPENDENT_CODE ON
     CXX_STANDARD 20
     CXX_STANDARD_REQUIRED ON)
-  target_compile_options(${target} PRIVATE -fno-gnu-unique -Wall -Wextra)
-  target_link_options(${target} PRIVATE -Wl,-z,nodelete -Wl,--no-undefined)
+  # g++ only: clang never emits STB_GNU_UNIQUE symbols (and has no such flag).
+  target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-fno-gnu-unique> -Wall -Wextra)
+  target_link_options(${target} PRIVATE -Wl,-z,nodelete)
+  if(NOT FLIPPER_PLUGIN_ALLOW_UNDEFINED)  # sanitizer builds: see FlipperSanitize.cmake
+    target_link_options(${target} PRIVATE -Wl,--no-undefined)
+  endif()
   file(GENERATE OUTPUT ${FAP_OUTPUT_DIRECTORY}/${name}.flipper.yaml CONTENT
 "name: ${FAP_NAME}
 kind: ${FAP_KIND}

@@ -167,7 +167,12 @@ TEST_CASE("bad programs are execution errors and change nothing", "[exec][errors
 
 TEST_CASE("runaway programs hit a budget", "[exec][budget]") {
   Study st;
-  auto o = st.run("{repeat 99 times {repeat 99 times {repeat 99 times {move left}}}}", st.state());
+  // The default action budget, with time to spare: a slow (sanitizer, loaded) build must still
+  // hit the action budget, not the 2 s time budget.
+  kernel::ExecLimits actions;
+  actions.time_budget = std::chrono::minutes(10);
+  auto o = st.run("{repeat 99 times {repeat 99 times {repeat 99 times {move left}}}}", st.state(),
+                  actions);
   CHECK(o.error_code == "budget_exceeded");
   CHECK_THAT(*o.error, Catch::Contains("action budget"));
   CHECK(o.trace.empty());

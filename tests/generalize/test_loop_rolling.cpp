@@ -91,8 +91,8 @@ TEST_CASE("loop rolling never drops a statement", "[rewrites][loop]") {
       "{{drop item};{drop item};{drop item}}",
       "{{move left};{move up};{move left};{move up};{move left}}",
       "{{move up};{move up};{pick item };{move up};{move up};{pick item };{move left}}",
-      "{{if {robot has item } {drop item}};{if {robot has item } {drop item}};{move left};"
-      "{while {robot has item } {drop item}};{while {robot has item } {drop item}};{move left}}",
+      ("{{if {robot has item } {drop item}};{if {robot has item } {drop item}};{move left};"
+       "{while {robot has item } {drop item}};{while {robot has item } {drop item}};{move left}}"),
       "{{repeat 2 times {move up}};{repeat 2 times {move up}};{strict {move left}};{move left}}",
       "{{pick item };{move up};{pick item };{move up};{pick item };{drop item};{drop item}}",
       "{{move up};{move down};{move up};{move down};{move up};{move up};{move up}}",

@@ -13,7 +13,6 @@ namespace {
 
 struct Pt {
   int x = 0, y = 0, z = 0;
-  friend auto operator<=>(const Pt&, const Pt&) = default;
 };
 
 Pt point_of(const Json& p) {

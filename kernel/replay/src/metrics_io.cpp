@@ -148,8 +148,9 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
   g << "group,queries,agree,rate,ours_tokens_successful_mean,orig_tokens_successful_mean,"
        "tokens_all_mean,participants\n";
   for (const auto& [name, a] : m.by_group) {
+    const std::string& group = name;  // clang 14 cannot capture a structured binding
     auto mean = [&](const std::map<std::string, Summary>& s) {
-      auto it = s.find(name);
+      auto it = s.find(group);
       return it == s.end() ? 0.0 : it->second.mean;
     };
     auto it = m.ours.tokens_all.find(name);

@@ -1,0 +1,31 @@
+# Sanitizer and fuzzing builds (README "Fuzzing and sanitizers").
+#
+#   FLIPPER_SANITIZE=ON  ASan + UBSan (-fno-sanitize-recover=undefined) on every target: the SDK,
+#                        the kernel, the plugins and the tests get the same flags, so the plugins
+#                        the kernel dlopen()s run instrumented inside an instrumented process.
+#   FLIPPER_FUZZ=ON      clang only; implies FLIPPER_SANITIZE and adds libFuzzer coverage
+#                        (-fsanitize=fuzzer-no-link) everywhere, and builds the fuzz/ targets.
+# Use a build dir of its own: CC=clang-14 CXX=clang++-14 cmake -B build-fuzz -DFLIPPER_FUZZ=ON
+include_guard(GLOBAL)
+option(FLIPPER_SANITIZE "Build everything with ASan + UBSan" OFF)
+option(FLIPPER_FUZZ "Build the libFuzzer targets in fuzz/ (clang; implies FLIPPER_SANITIZE)" OFF)
+
+if(FLIPPER_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "FLIPPER_FUZZ needs clang (libFuzzer): "
+                        "CC=clang-14 CXX=clang++-14 cmake -B build-fuzz -DFLIPPER_FUZZ=ON")
+  endif()
+  set(FLIPPER_SANITIZE ON CACHE BOOL "Build everything with ASan + UBSan" FORCE)
+endif()
+
+if(FLIPPER_SANITIZE)
+  set(flipper_sanitizers -fsanitize=address,undefined -fno-sanitize-recover=undefined)
+  add_compile_options(${flipper_sanitizers} -fno-omit-frame-pointer -g1)
+  add_link_options(${flipper_sanitizers})
+  if(FLIPPER_FUZZ)
+    add_compile_options(-fsanitize=fuzzer-no-link)
+  endif()
+  # Shared objects do not carry the sanitizer runtime (the executable does), so with clang their
+  # __asan_*/__ubsan_* references stay undefined until load: plugins drop -Wl,--no-undefined.
+  set(FLIPPER_PLUGIN_ALLOW_UNDEFINED ON)
+endif()

@@ -1,0 +1,83 @@
+// Fuzz target: the session line handler (kernel/session, docs/protocol.md) with the embedded
+// default config (study map, every default plugin) and an in-memory lexicon.
+// Input: up to 4 request lines (so `query` + `accept` and `define` + `query` pairs are reached).
+// Oracle: handle_line never throws and answers every non-blank line with one JSON object line
+// that has "ok"; sanitizers catch memory errors and UB.
+// State: the world and user are reset after each input; a session whose lexicon, scorer or world
+// history changed (a successful define, delete_rule or accept) is rebuilt, so an input's outcome
+// does not depend on earlier inputs.
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "flipper/kernel/session_factory.hpp"
+#include "support/fuzz_support.hpp"
+#include "support/known_findings.hpp"
+
+namespace fz = flipper::fuzz;
+namespace known = flipper::fuzz::known;
+using flipper::kernel::Session;
+
+namespace {
+
+std::unique_ptr<Session> g_session;
+
+std::unique_ptr<Session> make_session() {
+  return flipper::kernel::open_session(std::nullopt, {"lexicon.path=:memory:"});
+}
+
+bool changes_state(const std::string& answer) {
+  for (const char* op : {"define", "delete_rule", "accept"})
+    if (answer.rfind(std::string("{\"ok\":true,\"op\":\"") + op + "\"", 0) == 0) return true;
+  return false;
+}
+
+bool known_class(std::string_view text) {
+  if (known::has_invalid_utf8(text)) return known::skip(known::Class::BadJsonUtf8);
+  if (known::has_non_ascii(text))
+    for (std::string_view line : fz::split_lines(text, 4))
+      if (known::has_non_ascii(line) && !nlohmann::json::accept(line))
+        return known::skip(known::Class::BadJsonUtf8);
+  if (known::has_huge_number(text)) return known::skip(known::Class::HugeNumber);
+  if (known::nesting_deeper_than(text, 256)) return known::skip(known::Class::DeepJson);
+  if (known::more_words_than(text, 60000)) return known::skip(known::Class::LongLine);
+  if (known::names_special_path(text)) return known::skip(known::Class::NonRegular);
+  return false;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  // Relative world files in requests (configs/worlds/...) resolve against the repository root.
+  if (chdir(fz::source_dir().c_str()) != 0) std::abort();
+  g_session = make_session();
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string_view input = fz::as_text(data, size);
+  if (known_class(input)) return -1;  // -1: not added to the corpus
+  bool dirty = false;
+  for (std::string_view line : fz::split_lines(input, 4)) {
+    const std::string answer = g_session->handle_line(line);
+    if (answer.empty()) continue;  // a blank line gets no answer
+    const auto parsed = nlohmann::json::parse(answer, nullptr, /*allow_exceptions=*/false);
+    if (!parsed.is_object() || !parsed.contains("ok") || answer.find('\n') != std::string::npos) {
+      std::fprintf(stderr, "session_line: malformed answer: %s\n", answer.c_str());
+      std::abort();
+    }
+    dirty = dirty || changes_state(answer);
+  }
+  if (dirty) {
+    g_session.reset();
+    g_session = make_session();
+  } else {
+    g_session->set_world(g_session->runtime().default_world);
+    g_session->set_user("anonymous");
+  }
+  return 0;
+}
