@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session.hpp"
@@ -152,6 +153,20 @@ Json Session::op_query(const Json& req) {
   return answer;
 }
 
+void Session::notify_plan_observers(const LastQuery& q, const ShownCandidate& sc,
+                                    const sdk::Outcome& outcome) {
+  if (plan_observers_.empty()) return;
+  const std::string formula = sdk::render(q.parse.candidates[sc.index].program);
+  const AcceptedPlan plan{q.world, outcome, formula, user_, ++accepted_plans_};
+  for (const auto& observer : plan_observers_) {
+    try {
+      observer->on_accepted_plan(plan);
+    } catch (const std::exception& e) {
+      std::cerr << "flipper: accepted-plan observer failed: " << e.what() << "\n";
+    }
+  }
+}
+
 Json Session::op_accept(const Json& req) {
   std::int64_t rank = request::require_int(req, "rank", "index into the last query's candidates");
   if (!last_query_)
@@ -190,6 +205,7 @@ Json Session::op_accept(const Json& req) {
   world_ = outcome.world;
   if (on_accept_)
     on_accept_(*this, AcceptEvent{q, static_cast<std::size_t>(rank), sc, outcome, user_});
+  notify_plan_observers(q, sc, outcome);
   // The query is consumed: accepting again would apply it twice.
   last_query_.reset();
   return answer;

@@ -19,4 +19,19 @@ std::unique_ptr<Session> open_session(const std::optional<std::string>& config_f
   return open_session(std::move(runtime));
 }
 
+std::unique_ptr<Session> SessionHost::open() const {
+  auto session = std::make_unique<Session>(runtime);
+  install_naturalization(*session, naturalizer);
+  return session;
+}
+
+SessionHost open_host(const std::optional<std::string>& config_file,
+                      const std::vector<std::string>& overrides) {
+  SessionHost host;
+  host.runtime = make_runtime(Config::load(config_file, overrides));
+  host.naturalizer = std::make_shared<Naturalizer>(
+      host.runtime, NaturalizeOptions::from_config(host.runtime->config));
+  return host;
+}
+
 }  // namespace flipper::kernel
