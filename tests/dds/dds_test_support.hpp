@@ -75,18 +75,12 @@ struct Site {
        std::vector<std::string> extra = {})
       : name(std::move(site)), store((dir / (name + ".sqlite")).string()) {
     ensure_loopback_env();
-    args = {flipper_bin(),
-            "session",
-            "--set",
-            "lexicon.replication=dds",
-            "--set",
-            "lexicon.site=" + name,
-            "--set",
-            "lexicon.path=" + store,
-            "--set",
-            "dds.domain=" + std::to_string(domain),
-            "--set",
-            "rewriter=null"};
+    args = {flipper_bin(), "session",
+            "--set",       "lexicon.replication=dds",
+            "--set",       "lexicon.site=" + name,
+            "--set",       "lexicon.path=" + store,
+            "--set",       "dds.domain=" + std::to_string(domain),
+            "--set",       "rewriter=null"};
     args.insert(args.end(), extra.begin(), extra.end());
     start();
   }

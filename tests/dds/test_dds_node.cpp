@@ -20,12 +20,12 @@ struct Client {
     dds::Qos qos;
     dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(10));
     dds_qset_history(qos.q, DDS_HISTORY_KEEP_ALL, DDS_LENGTH_UNLIMITED);
-    writer = dds_create_writer(
-        p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, dds::kRequestTopic), qos.q,
-        nullptr);
-    reader = dds_create_reader(
-        p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, dds::kAnswerTopic), qos.q,
-        nullptr);
+    writer = dds_create_writer(p.handle(),
+                               p.topic(&flipper_msg_dds__SessionLine__desc, dds::kRequestTopic),
+                               qos.q, nullptr);
+    reader = dds_create_reader(p.handle(),
+                               p.topic(&flipper_msg_dds__SessionLine__desc, dds::kAnswerTopic),
+                               qos.q, nullptr);
     REQUIRE(writer > 0);
     REQUIRE(reader > 0);
   }
@@ -78,8 +78,8 @@ TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]
       R"({"op":"nonsense"})",
       R"({"op":"state"})"};
   // The reference: flipper session on its own lexicon.
-  testsupport::ChildProcess reference({flipper_bin(), "session", "--set",
-                                       "lexicon.path=" + (dir / "ref.sqlite").string()});
+  testsupport::ChildProcess reference(
+      {flipper_bin(), "session", "--set", "lexicon.path=" + (dir / "ref.sqlite").string()});
   std::vector<json> expected;
   for (const auto& line : script) {
     REQUIRE(reference.write_line(line));
@@ -115,7 +115,7 @@ TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]
     client.send("s1", 502, std::string(2 << 20, 'x'));
     REQUIRE(client.wait_for(502));
     CHECK(json::parse(client.answers[502].second)["error"]["code"] == "input_too_long");
-    client.send("", 503, R"({"op":"state"})");            // no session name: dropped
+    client.send("", 503, R"({"op":"state"})");           // no session name: dropped
     client.send("bad\nname", 504, R"({"op":"state"})");  // control characters: dropped
     client.send("s2", 505, R"({"op":"user","name":"bo"})");
     REQUIRE(client.wait_for(505));  // the node is alive and a new session works

@@ -71,10 +71,10 @@ TEST_CASE("accepted visit room3 arrives on rt/flipper/plan as a ROS 2 Path in me
   CHECK(std::string(nav_msgs_msg_dds__Path__desc.m_typename) == "nav_msgs::msg::dds_::Path_");
   CHECK(std::string(dds::kPlanTopic) == "rt/flipper/plan");
 
-  testsupport::ChildProcess session(
-      {flipper_bin(), "session", "--set", "publish.plans=dds", "--set",
-       "dds.domain=" + std::to_string(kDomain), "--set", "lexicon.path=:memory:", "--set",
-       "world.resolution=0.25", "--set", "world.origin=[1.5, -2.0]"});
+  testsupport::ChildProcess session({flipper_bin(), "session", "--set", "publish.plans=dds",
+                                     "--set", "dds.domain=" + std::to_string(kDomain), "--set",
+                                     "lexicon.path=:memory:", "--set", "world.resolution=0.25",
+                                     "--set", "world.origin=[1.5, -2.0]"});
   const auto call = [&](const json& r) {
     REQUIRE(session.write_line(r.dump()));
     return json::parse(session.read_line());

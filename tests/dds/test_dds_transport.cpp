@@ -47,9 +47,8 @@ TEST_CASE("interfaces named in dds.interfaces are the explicit way off loopback"
   CHECK(t.interfaces == std::vector<std::string>{"eth0"});
   CHECK(dds::selected_interfaces(t.xml) == std::vector<std::string>{"eth0"});
   // A dds.config selecting eth0 is allowed only when dds.interfaces names it.
-  CHECK_THROWS_WITH(
-      dds::choose_transport(config({std::string("dds.config=") + kEth0}), nullptr),
-      Catch::Contains("not loopback"));
+  CHECK_THROWS_WITH(dds::choose_transport(config({std::string("dds.config=") + kEth0}), nullptr),
+                    Catch::Contains("not loopback"));
   CHECK_NOTHROW(dds::choose_transport(
       config({std::string("dds.config=") + kEth0, "dds.interfaces=[eth0]"}), nullptr));
 }
@@ -61,7 +60,7 @@ TEST_CASE("flipper session refuses a non-loopback DDS config with exit 2", "[dds
   CHECK(p.finish() == 2);
 }
 
-TEST_CASE("replication needs a site name; world.resolution must be positive", "[dds]") {
+TEST_CASE("replication needs a site name, world.resolution must be positive", "[dds]") {
   CHECK_THROWS_WITH(config({"world.resolution=0"}), Catch::Contains("greater than 0"));
   CHECK_THROWS_WITH(config({"world.origin=[a, 1]"}), Catch::Contains("list of numbers"));
   testsupport::ChildProcess p({ddstest::flipper_bin(), "session", "--set",

@@ -2,6 +2,7 @@
 // A child process with its stdin and stdout on pipes, for tests and benchmarks that drive a built
 // binary line by line (`flipper session`, the lexicon kill driver). Free of Catch2 so benchmarks
 // can use it too: failures to start throw std::runtime_error.
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -49,6 +50,10 @@ class ChildProcess {
     close(out[1]);
     to_ = in[1];
     from_ = out[0];
+    // Children started later must not inherit this child's pipe ends: a copy of the input's
+    // write end would keep this child from ever seeing the end of its input.
+    fcntl(to_, F_SETFD, FD_CLOEXEC);
+    fcntl(from_, F_SETFD, FD_CLOEXEC);
   }
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
