@@ -35,6 +35,7 @@ const std::vector<KeySpec> kSchema = {
     {"lexicon.sharing", T::String, "shared", "shared|private|core"},
     {"lexicon.preload", T::Path, "''", ""},
     {"lexicon.weights", T::String, "global", "global|per_user"},
+    {"lexicon.busy_timeout_ms", T::Int, "10000", "1..600000"},
     {"lexicon.replication", T::String, "none", "none|dds"},
     {"lexicon.site", T::String, "''", ""},
     {"publish.plans", T::String, "none", "none|dds"},
