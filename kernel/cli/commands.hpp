@@ -13,4 +13,5 @@ void add_repl_command(CLI::App& app);     // repl.cpp
 void add_replay_command(CLI::App& app);   // replay.cpp
 void add_lexicon_command(CLI::App& app);  // lexicon.cpp  (lexicon list|export|import)
 void add_serve_command(CLI::App& app);    // serve.cpp    (apps/studio: HTTP + the web page)
+void add_dds_command(CLI::App& app);      // dds.cpp      (DDS request node)
 }  // namespace flipper::cli

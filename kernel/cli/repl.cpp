@@ -5,6 +5,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "dds_services.hpp"
 #include "flipper/kernel/repl.hpp"
 #include "flipper/kernel/session_factory.hpp"
 
@@ -14,7 +15,9 @@ void add_repl_command(CLI::App& app) {
   static CommonOptions opts;
   add_common_options(*cmd, opts);
   on_run(*cmd, [] {
-    auto session = kernel::open_session(config_file(opts), opts.overrides);
+    kernel::SessionHost host = kernel::open_host(config_file(opts), opts.overrides);
+    const DdsServices dds = DdsServices::start(host);  // publish.plans, lexicon.replication
+    auto session = dds.open(host);
     // Readline only on a terminal; piped input is read line by line without prompts.
     bool terminal = isatty(STDIN_FILENO) != 0;
     auto reader = kernel::repl::make_line_reader(std::cin, terminal);

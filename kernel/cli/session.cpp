@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "dds_services.hpp"
 #include "flipper/kernel/session_factory.hpp"
 
 namespace flipper::cli {
@@ -23,7 +24,9 @@ int run_session(const CommonOptions& opts, const std::string& script) {
     }
     in = &file;
   }
-  auto session = kernel::open_session(config_file(opts), opts.overrides);
+  kernel::SessionHost host = kernel::open_host(config_file(opts), opts.overrides);
+  const DdsServices dds = DdsServices::start(host);  // publish.plans, lexicon.replication
+  auto session = dds.open(host);
   std::string line;
   while (std::getline(*in, line)) {
     std::string answer = session->handle_line(line);

@@ -52,6 +52,10 @@ class ChildProcess {
     close(out[1]);
     to_ = in[1];
     from_ = out[0];
+    // Children started later must not inherit this child's pipe ends: a copy of the input's
+    // write end would keep this child from ever seeing the end of its input.
+    fcntl(to_, F_SETFD, FD_CLOEXEC);
+    fcntl(from_, F_SETFD, FD_CLOEXEC);
   }
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

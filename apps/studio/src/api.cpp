@@ -90,7 +90,7 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
   for (const auto& [group, config] : kernels) {
     Kernel k;
     k.runtime = kernel::make_runtime(config);
-    k.factory = std::make_unique<kernel::SessionFactory>(k.runtime);
+    k.factory = std::make_unique<kernel::SessionHost>(kernel::open_host(k.runtime));
     std::error_code ec;
     k.world_root =
         fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();

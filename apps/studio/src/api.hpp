@@ -38,7 +38,7 @@ class Recorder;
 /// One kernel per lexicon mode: a plain server has one ("" group), a study one per group.
 struct Kernel {
   std::shared_ptr<kernel::Runtime> runtime;
-  std::unique_ptr<kernel::SessionFactory> factory;
+  std::unique_ptr<kernel::SessionHost> factory;
   std::string world_root;  ///< `world` requests may name files under this directory only
 };
 

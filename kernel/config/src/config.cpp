@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -198,6 +199,22 @@ void check_value(const std::string& key, const KeySpec& spec, const YAML::Node& 
       }
       break;
     }
+    case KeyType::Number: {
+      double d = 0;
+      if (!v.IsScalar() || !YAML::convert<double>::decode(v, d) || !std::isfinite(d)) wrong();
+      if (spec.rule == ">0" && !(d > 0))
+        fail("config key '" + key + "' = " + v.Scalar() + " must be greater than 0");
+      break;
+    }
+    case KeyType::NumberList:
+      if (!v.IsSequence()) wrong();
+      for (const auto& e : v) {
+        double d = 0;
+        if (!e.IsScalar() || !YAML::convert<double>::decode(e, d) || !std::isfinite(d))
+          fail("config key '" + key + "' must be a list of numbers, but an element is " +
+               scalar_text(e));
+      }
+      break;
     case KeyType::String:
     case KeyType::Path: {
       if (!v.IsScalar()) wrong();

@@ -14,6 +14,8 @@ const std::vector<KeySpec> kSchema = {
     {"world.plugin", T::String, "grid2d", "", kRequired},
     {"world.file", T::Path, "worlds/study2018.json", ""},
     {"world.params", T::Map, "{}", ""},
+    {"world.resolution", T::Number, "1.0", ">0"},      // metres per cell (plans over DDS)
+    {"world.origin", T::NumberList, "[0, 0, 0]", ""},  // metres of cell (0,0,0)
     {"planner.plugin", T::String, "astar", "", kRequired},
     {"planner.params", T::Map, "{}", ""},
     {"parser.plugin", T::String, "chart", "", kRequired},
@@ -34,6 +36,12 @@ const std::vector<KeySpec> kSchema = {
     {"lexicon.preload", T::Path, "''", ""},
     {"lexicon.weights", T::String, "global", "global|per_user"},
     {"lexicon.busy_timeout_ms", T::Int, "10000", "1..600000"},
+    {"lexicon.replication", T::String, "none", "none|dds"},
+    {"lexicon.site", T::String, "''", ""},
+    {"publish.plans", T::String, "none", "none|dds"},
+    {"dds.domain", T::Int, "0", "0..232"},
+    {"dds.interfaces", T::StringList, "[]", ""},
+    {"dds.config", T::String, "''", ""},
     {"induction.alignment", T::Bool, "true", ""},
     {"induction.generalize", T::Bool, "true", ""},
     {"induction.perturbed_checks", T::Int, "0", "0..1000"},
@@ -95,6 +103,10 @@ const char* describe(KeyType type) {
       return "a boolean (true/false)";
     case T::Int:
       return "an integer";
+    case T::Number:
+      return "a number";
+    case T::NumberList:
+      return "a list of numbers";
     case T::String:
       return "a string";
     case T::Path:

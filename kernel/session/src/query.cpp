@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session.hpp"
@@ -153,6 +154,20 @@ Json Session::op_query(const Json& req) {
   return answer;
 }
 
+void Session::notify_plan_observers(const LastQuery& q, const ShownCandidate& sc,
+                                    const sdk::Outcome& outcome) {
+  if (plan_observers_.empty()) return;
+  const std::string formula = sdk::render(q.parse.candidates[sc.index].program);
+  const AcceptedPlan plan{q.world, outcome, formula, user_, ++accepted_plans_};
+  for (const auto& observer : plan_observers_) {
+    try {
+      observer->on_accepted_plan(plan);
+    } catch (const std::exception& e) {
+      std::cerr << "flipper: accepted-plan observer failed: " << e.what() << "\n";
+    }
+  }
+}
+
 Json Session::op_accept(const Json& req) {
   std::int64_t rank = request::require_int(req, "rank", "index into the last query's candidates");
   if (!last_query_)
@@ -208,6 +223,7 @@ Json Session::op_accept(const Json& req) {
   }
 
   world_ = outcome.world;
+  notify_plan_observers(q, sc, outcome);  // after the commit: the accept stands
   // The query is consumed: accepting again would apply it twice.
   last_query_.reset();
   return answer;

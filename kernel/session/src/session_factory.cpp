@@ -6,7 +6,7 @@
 namespace flipper::kernel {
 
 std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime) {
-  return SessionFactory(std::move(runtime)).open();
+  return open_host(std::move(runtime)).open();
 }
 
 std::unique_ptr<Session> open_session(const std::optional<std::string>& config_file,
@@ -15,24 +15,30 @@ std::unique_ptr<Session> open_session(const std::optional<std::string>& config_f
   return open_session(std::move(runtime));
 }
 
-SessionFactory::SessionFactory(std::shared_ptr<Runtime> runtime)
-    : runtime_(std::move(runtime)),
-      // Naturalization: the lexicon store, its rules restored into the parser, weights, preload.
-      naturalizer_(std::make_shared<Naturalizer>(
-          runtime_, NaturalizeOptions::from_config(runtime_->config))) {}
-
-SessionFactory::~SessionFactory() = default;
-
-std::unique_ptr<Session> SessionFactory::open() const {
-  auto session = std::make_unique<Session>(runtime_);
+std::unique_ptr<Session> SessionHost::open() const {
+  auto session = std::make_unique<Session>(runtime);
   // Other modules install their ops and hooks here. Naturalization: define, rules, delete_rule,
   // visibility, accept persistence, per-user weights on `user`.
-  install_naturalization(*session, naturalizer_);
+  install_naturalization(*session, naturalizer);
   return session;
 }
 
-void SessionFactory::activate(const Session& session) const {
-  if (naturalizer_->options().per_user_weights) naturalizer_->select_user(session.user());
+void SessionHost::activate(const Session& session) const {
+  if (naturalizer->options().per_user_weights) naturalizer->select_user(session.user());
+}
+
+SessionHost open_host(std::shared_ptr<Runtime> runtime) {
+  SessionHost host;
+  host.runtime = std::move(runtime);
+  // Naturalization: the lexicon store, its rules restored into the parser, weights, preload.
+  host.naturalizer = std::make_shared<Naturalizer>(
+      host.runtime, NaturalizeOptions::from_config(host.runtime->config));
+  return host;
+}
+
+SessionHost open_host(const std::optional<std::string>& config_file,
+                      const std::vector<std::string>& overrides) {
+  return open_host(make_runtime(Config::load(config_file, overrides)));
 }
 
 }  // namespace flipper::kernel

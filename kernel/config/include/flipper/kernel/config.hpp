@@ -6,11 +6,13 @@
 /// plugin declares; unknown keys are errors with a "did you mean" hint (code bad_config).
 ///
 /// Layout (Nav2-style named instances):
-///   world:    {plugin: grid2d, params: {...}, file: worlds/study2018.json}
+///   world:    {plugin: grid2d, params: {...}, file: worlds/study2018.json, resolution, origin}
 ///   planner:  {plugin: astar, params: {...}}
 ///   parser / scorer / rewriter / similarity: {plugin: NAME, params: {...}}
 ///   grammar:  {file, colors, shapes}
-///   lexicon:  {path, sharing: shared|private|core, preload, weights: global|per_user}
+///   lexicon:  {path, sharing: shared|private|core, preload, weights: global|per_user,
+///              replication: none|dds, site}
+///   publish:  {plans: none|dds}      dds: {domain, interfaces, config}   (apps/dds)
 ///   induction:{alignment, generalize, perturbed_checks}
 ///   execution:{action_budget, time_budget_ms, while_limit}
 ///   input:    {max_chars, max_semicolons}

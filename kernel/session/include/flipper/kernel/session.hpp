@@ -24,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "flipper/kernel/accepted_plan.hpp"
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/derivation.hpp"
@@ -117,6 +118,10 @@ class Session {
   /// before the world changes; when it throws, the accept is undone (scorer state, counters),
   /// the world and the last query stay, and the error is the answer (a retry applies it once).
   void set_on_accept(AcceptHook hook) { on_accept_ = std::move(hook); }
+  /// Adds an observer told about every accepted plan, after the accept hook.
+  void add_plan_observer(std::shared_ptr<AcceptedPlanObserver> observer) {
+    plan_observers_.push_back(std::move(observer));
+  }
 
   Runtime& runtime() { return *runtime_; }
   const Runtime& runtime() const { return *runtime_; }
@@ -158,6 +163,8 @@ class Session {
   Json op_state(const Json& request);
   Json op_query(const Json& request);
   Json op_accept(const Json& request);
+  void notify_plan_observers(const LastQuery& q, const ShownCandidate& sc,
+                             const sdk::Outcome& outcome);
 
   std::shared_ptr<Runtime> runtime_;
   SessionOptions options_;
@@ -168,6 +175,8 @@ class Session {
   std::map<std::string, OpHandler, std::less<>> ops_;
   VisibilityHook visibility_;
   AcceptHook on_accept_;
+  std::vector<std::shared_ptr<AcceptedPlanObserver>> plan_observers_;
+  std::uint64_t accepted_plans_ = 0;
   std::vector<CachedWorld> world_cache_;  // most recent first
   bool line_mode_ = false;                // inside handle_line: answer_world gives placeholders
   std::vector<std::string> spliced_;      // world and trace texts of the answer being built

@@ -22,24 +22,24 @@ std::unique_ptr<Session> open_session(const std::optional<std::string>& config_f
 /// A session over an existing runtime, with every module's ops installed.
 std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime);
 
-/// Many sessions over one runtime and one lexicon (a server's users): each session has its own
-/// world, user and pending query; the lexicon store, the parser's grammar and the scorer are
-/// shared, so the sharing mode applies across sessions exactly as between users of one session.
-/// Not thread-safe: the caller serialises every call into the factory and its sessions.
-class SessionFactory {
- public:
-  /// Opens the lexicon (lexicon.*) once. Throws sdk::Error like open_session.
-  explicit SessionFactory(std::shared_ptr<Runtime> runtime);
-  ~SessionFactory();
+/// One runtime and one lexicon (naturalizer) that several sessions share: the front ends that
+/// serve many callers (`flipper serve`, the DDS node, the repl and session with DDS services) and
+/// services that change the lexicon from outside a session (replication). Each session has its own
+/// world, user and pending query; the lexicon store, the parser's grammar and the scorer are shared,
+/// so the sharing mode applies across sessions exactly as between users of one session.
+/// Not thread-safe: the owner serialises every call into the host and its sessions.
+struct SessionHost {
+  std::shared_ptr<Runtime> runtime;
+  std::shared_ptr<Naturalizer> naturalizer;
+  /// A new session over the shared runtime and lexicon, with every module's ops installed.
   std::unique_ptr<Session> open() const;
   /// Call before handling a request of `session` when sessions interleave: with per-user
   /// weights (lexicon.weights: per_user) the scorer must hold this session's user's weights.
   void activate(const Session& session) const;
-  Runtime& runtime() const { return *runtime_; }
-
- private:
-  std::shared_ptr<Runtime> runtime_;
-  std::shared_ptr<Naturalizer> naturalizer_;
 };
+/// Opens the lexicon (lexicon.*) once over `runtime`. Throws sdk::Error like open_session.
+SessionHost open_host(std::shared_ptr<Runtime> runtime);
+SessionHost open_host(const std::optional<std::string>& config_file,
+                      const std::vector<std::string>& overrides);
 
 }  // namespace flipper::kernel

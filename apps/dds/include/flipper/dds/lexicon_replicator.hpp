@@ -1,0 +1,103 @@
+#pragma once
+/// @file lexicon_replicator.hpp
+/// `lexicon.replication: dds`: one lexicon across sites. Every definition and deletion made at
+/// this site (lexicon.site) is published on rt/flipper/lexicon (reliable, TRANSIENT_LOCAL,
+/// keep-all) as a LexiconEvent with its identity (site, version), author and a Lamport clock;
+/// every event from another site is applied to this site's own store:
+///   - definitions are replayed through induction (as `flipper lexicon import` does), in the
+///     world they were made in when the event carries it (so generalization runs too);
+///   - idempotent: an event whose (site, version) is in the replication log is skipped, and a
+///     kill between the store's commit and the log's is recovered at start-up (replication_log);
+///   - catch-up: at start-up every site re-publishes its whole log, so a late or restarted site
+///     gets every event any live site has seen;
+///   - deletions: only the author's site may delete a definition's rules (a local delete_rule of
+///     another site's rule is refused with `forbidden`; a received deletion from another site is
+///     refused); both are logged;
+///   - conflicts: a definition is retired (its rules deleted here, status superseded) as soon as
+///     a definition of the same head from ANOTHER site with a larger (lamport, site) is known.
+///     The live set is therefore a function of the events alone: every site converges to it.
+/// A definition whose body does not parse yet (it uses a rule still on its way) waits (pending)
+/// and is retried after each applied event; so do deletions that arrive before their definition.
+/// Malformed samples are logged and dropped.
+///
+/// Thread model: a reader thread applies events under one mutex; attach() wraps every op of a
+/// session in the same mutex, so sessions and replication never touch the lexicon at once.
+
+#include <atomic>
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "flipper/dds/lexicon_event.hpp"
+#include "flipper/dds/participant.hpp"
+#include "flipper/dds/replication_log.hpp"
+#include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/session.hpp"
+#include "flipper/kernel/session_factory.hpp"
+
+namespace flipper::dds {
+
+inline constexpr const char* kLexiconTopic = "rt/flipper/lexicon";
+
+class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator> {
+ public:
+  /// Recovers the log, re-publishes the history and starts the reader thread.
+  static std::shared_ptr<LexiconReplicator> start(std::shared_ptr<Participant> participant,
+                                                  const kernel::SessionHost& host,
+                                                  std::ostream& log);
+  ~LexiconReplicator();
+  LexiconReplicator(const LexiconReplicator&) = delete;
+  LexiconReplicator& operator=(const LexiconReplicator&) = delete;
+
+  /// Wraps the session's ops: every op under the replication mutex; define and delete_rule
+  /// publish what they did (delete_rule refuses other sites' rules).
+  void attach(kernel::Session& session);
+  const std::string& site() const { return site_; }
+  /// Received events applied, and samples dropped as malformed (for tests and benchmarks).
+  std::uint64_t applied() const { return applied_.load(); }
+  std::uint64_t dropped() const { return dropped_.load(); }
+
+ private:
+  LexiconReplicator(std::shared_ptr<Participant> participant, const kernel::SessionHost& host,
+                    std::ostream& log);
+  void recover();
+  void loop();
+  void take_available();
+  void receive(const LexiconEvent& e);
+  bool apply(LogRow row);  // false: left pending
+  bool apply_define(LogRow& row);
+  bool apply_delete(LogRow& row);
+  void retry_pending();
+  void settle(const std::string& head);
+  bool dominated(const LexiconEvent& e) const;
+  void retire(LogRow& row);
+  void publish(const LexiconEvent& e);
+  LexiconEvent next_local_event(const std::string& kind) const;
+  kernel::Json define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
+                         const kernel::Json& req);
+  kernel::Json delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
+                         const kernel::Json& req);
+
+  std::shared_ptr<Participant> participant_;
+  kernel::SessionHost host_;
+  std::ostream& log_;
+  std::string site_;
+  kernel::Executor executor_;
+  std::unique_ptr<ReplicationLog> log_db_;
+  std::recursive_mutex mutex_;
+  dds_entity_t reader_ = 0;
+  dds_entity_t writer_ = 0;
+  dds_entity_t waitset_ = 0;
+  std::atomic<bool> stop_{false};
+  std::atomic<std::uint64_t> applied_{0};
+  std::atomic<std::uint64_t> dropped_{0};
+  std::thread thread_;
+};
+
+/// "lhs -> rhs => semantics": how events name a rule across sites (never by local id).
+std::string rule_description(const sdk::Rule& rule);
+
+}  // namespace flipper::dds

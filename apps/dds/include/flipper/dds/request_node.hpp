@@ -1,0 +1,67 @@
+#pragma once
+/// @file request_node.hpp
+/// `flipper dds`: session-protocol requests in on rt/flipper/request, answers out on
+/// rt/flipper/answer (type flipper::msg::dds_::SessionLine_: session, request_id, line). Each
+/// session name is its own Flipper session (world, user, last query), made on first use, all
+/// sharing one runtime and lexicon; the answer line is exactly what `flipper session` writes for
+/// the same request line. QoS of both topics: reliable, volatile, keep-all.
+///
+/// Bad samples never stop the node: a session name that is empty, longer than 256 bytes or
+/// holds control characters, is logged and dropped (no answer: there is no safe name to answer
+/// to); a line longer than kMaxLine bytes, or a new session beyond the limit, gets an error
+/// answer (codes input_too_long, too_many_sessions); a line that is not JSON gets the session's
+/// own bad_json answer.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "flipper/dds/participant.hpp"
+#include "flipper/kernel/session.hpp"
+
+namespace flipper::dds {
+
+inline constexpr const char* kRequestTopic = "rt/flipper/request";
+inline constexpr const char* kAnswerTopic = "rt/flipper/answer";
+
+class RequestNode {
+ public:
+  using SessionMaker = std::function<std::unique_ptr<kernel::Session>()>;
+  static constexpr std::size_t kMaxLine = 1 << 20;
+  static constexpr std::size_t kMaxSessionName = 256;
+
+  RequestNode(std::shared_ptr<Participant> participant, SessionMaker make_session,
+              std::ostream& log, std::size_t max_sessions = 64);
+  ~RequestNode();
+  RequestNode(const RequestNode&) = delete;
+  RequestNode& operator=(const RequestNode&) = delete;
+
+  /// Serves until `stop` becomes true (checked at least every 100 ms).
+  void run(const std::atomic<bool>& stop);
+  /// One request -> the answer line, or nothing when the sample is dropped. Never throws.
+  std::optional<std::string> answer(const std::string& session, std::uint64_t request_id,
+                                    const std::string& line);
+  std::uint64_t answered() const { return answered_; }
+  std::uint64_t dropped() const { return dropped_; }
+
+ private:
+  void serve_available();
+
+  std::shared_ptr<Participant> participant_;
+  SessionMaker make_session_;
+  std::ostream& log_;
+  std::size_t max_sessions_;
+  std::map<std::string, std::unique_ptr<kernel::Session>, std::less<>> sessions_;
+  dds_entity_t reader_ = 0;
+  dds_entity_t writer_ = 0;
+  dds_entity_t waitset_ = 0;
+  std::uint64_t answered_ = 0;
+  std::uint64_t dropped_ = 0;
+};
+
+}  // namespace flipper::dds

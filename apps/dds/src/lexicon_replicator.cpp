@@ -1,0 +1,456 @@
+#include "flipper/dds/lexicon_replicator.hpp"
+
+#include <algorithm>
+#include <ctime>
+#include <ostream>
+#include <set>
+
+#include "flipper/kernel/naturalizer.hpp"
+#include "flipper/kernel/runtime.hpp"
+#include "flipper/msg/LexiconEvent.h"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::dds {
+namespace {
+
+using kernel::Json;
+
+std::string text(const char* s) {
+  return s != nullptr ? s : "";
+}
+
+LexiconEvent from_sample(const flipper_msg_dds__LexiconEvent_& s) {
+  LexiconEvent e;
+  e.site = text(s.site_);
+  e.version = s.version_;
+  e.kind = text(s.kind_);
+  e.lamport = s.lamport_;
+  e.time = s.time_;
+  e.author = text(s.author_);
+  e.head = text(s.head_);
+  for (uint32_t i = 0; i < s.body_._length; ++i) e.body.push_back(text(s.body_._buffer[i]));
+  for (uint32_t i = 0; i < s.ranks_._length; ++i) e.ranks.push_back(s.ranks_._buffer[i]);
+  e.world = text(s.world_);
+  for (uint32_t i = 0; i < s.rules_._length; ++i) e.rules.push_back(text(s.rules_._buffer[i]));
+  e.target_site = text(s.target_site_);
+  e.target_version = s.target_version_;
+  e.target_rule = text(s.target_rule_);
+  return e;
+}
+
+char* c(const std::string& s) {
+  return const_cast<char*>(s.c_str());
+}
+
+dds_sequence_string strings(std::vector<char*>& holder, const std::vector<std::string>& v) {
+  holder.clear();
+  for (const auto& s : v) holder.push_back(c(s));
+  dds_sequence_string seq{};
+  seq._length = seq._maximum = static_cast<uint32_t>(holder.size());
+  seq._buffer = holder.data();
+  seq._release = false;
+  return seq;
+}
+
+const std::set<std::string> kLive = {"applied"};
+
+}  // namespace
+
+std::string rule_description(const sdk::Rule& rule) {
+  return kernel::rule_shape(rule) + " => " + sdk::render(rule.sem);
+}
+
+std::shared_ptr<LexiconReplicator> LexiconReplicator::start(
+    std::shared_ptr<Participant> participant, const kernel::SessionHost& host, std::ostream& log) {
+  std::shared_ptr<LexiconReplicator> r(new LexiconReplicator(std::move(participant), host, log));
+  r->thread_ = std::thread([raw = r.get()] { raw->loop(); });
+  return r;
+}
+
+LexiconReplicator::LexiconReplicator(std::shared_ptr<Participant> participant,
+                                     const kernel::SessionHost& host, std::ostream& log)
+    : participant_(std::move(participant)),
+      host_(host),
+      log_(log),
+      site_(host.runtime->config.get_string("lexicon.site")),
+      executor_(host.runtime->planner,
+                kernel::SessionOptions::from_config(host.runtime->config).limits) {
+  log_db_ = std::make_unique<ReplicationLog>(host_.naturalizer->store().path());
+  Qos qos;
+  history_qos(qos);
+  auto& p = *participant_;
+  const dds_entity_t topic = p.topic(&flipper_msg_dds__LexiconEvent__desc, kLexiconTopic);
+  writer_ =
+      check(dds_create_writer(p.handle(), topic, qos.q, nullptr), "creating the lexicon writer");
+  reader_ =
+      check(dds_create_reader(p.handle(), topic, qos.q, nullptr), "creating the lexicon reader");
+  waitset_ = check(dds_create_waitset(p.handle()), "creating a waitset");
+  check(dds_set_status_mask(reader_, DDS_DATA_AVAILABLE_STATUS), "reader status mask");
+  check(dds_waitset_attach(waitset_, reader_, reader_), "attaching the lexicon reader");
+  std::lock_guard lock(mutex_);
+  recover();
+  // Catch-up for late and restarted sites: the whole log, every site's events as they were.
+  for (const auto& [key, row] : log_db_->rows()) publish(row.event);
+  log_ << "flipper: lexicon replication: site '" << site_ << "', " << log_db_->rows().size()
+       << " events in the log, topic " << kLexiconTopic << std::endl;
+}
+
+LexiconReplicator::~LexiconReplicator() {
+  stop_.store(true);
+  if (thread_.joinable()) thread_.join();
+  for (dds_entity_t e : {waitset_, reader_, writer_})
+    if (e > 0) dds_delete(e);
+}
+
+void LexiconReplicator::recover() {
+  auto& store = host_.naturalizer->store();
+  std::set<std::int64_t> claimed;
+  for (const auto& [key, row] : log_db_->rows())
+    if (row.definition != 0) claimed.insert(row.definition);
+  const auto definitions = store.definitions();
+  const auto rules_of = [&](std::int64_t definition) {
+    std::vector<std::string> ids;
+    for (const auto& r : store.rules(true))
+      if (r.definition == definition) ids.push_back(r.id);
+    return ids;
+  };
+  // Killed between the store's commit and the log's: the definition is there, unclaimed.
+  std::vector<LogRow> redo;
+  for (const auto& [key, row] : log_db_->rows()) {
+    if (row.status != "applying") continue;
+    LogRow fixed = row;
+    for (const auto& d : definitions)
+      if (!claimed.count(d.id) && d.head == row.event.head && d.body == row.event.body &&
+          d.author == row.event.author) {
+        fixed.definition = d.id;
+        fixed.local_rules = rules_of(d.id);
+        fixed.status = "applied";
+        claimed.insert(d.id);
+        break;
+      }
+    if (fixed.status == "applied")
+      log_db_->put(fixed);
+    else
+      redo.push_back(fixed);
+  }
+  for (auto& row : redo) apply(row);
+  // Definitions made here before replication was on (or killed before their log row): ours.
+  for (const auto& d : definitions) {
+    if (claimed.count(d.id)) continue;
+    LogRow row;
+    row.event = next_local_event("define");
+    row.event.author = d.author;
+    row.event.head = d.head;
+    row.event.body = d.body;
+    row.event.time = d.time;
+    row.definition = d.id;
+    row.local_rules = rules_of(d.id);
+    for (const auto& id : row.local_rules)
+      if (auto rule = host_.naturalizer->find_rule(id))
+        row.event.rules.push_back(rule_description(*rule));
+    row.status = "applied";
+    log_db_->put(row);
+  }
+  retry_pending();
+}
+
+LexiconEvent LexiconReplicator::next_local_event(const std::string& kind) const {
+  LexiconEvent e;
+  e.site = site_;
+  e.version = log_db_->max_version(site_) + 1;
+  e.kind = kind;
+  e.lamport = log_db_->max_lamport() + 1;
+  e.time = static_cast<std::int64_t>(std::time(nullptr));
+  return e;
+}
+
+void LexiconReplicator::publish(const LexiconEvent& e) {
+  std::vector<char*> body, rules;
+  flipper_msg_dds__LexiconEvent_ s{};
+  s.site_ = c(e.site);
+  s.version_ = e.version;
+  s.kind_ = c(e.kind);
+  s.lamport_ = e.lamport;
+  s.time_ = e.time;
+  s.author_ = c(e.author);
+  s.head_ = c(e.head);
+  s.body_ = strings(body, e.body);
+  std::vector<int32_t> ranks(e.ranks.begin(), e.ranks.end());
+  s.ranks_._length = s.ranks_._maximum = static_cast<uint32_t>(ranks.size());
+  s.ranks_._buffer = ranks.data();
+  s.ranks_._release = false;
+  s.world_ = c(e.world);
+  s.rules_ = strings(rules, e.rules);
+  s.target_site_ = c(e.target_site);
+  s.target_version_ = e.target_version;
+  s.target_rule_ = c(e.target_rule);
+  if (const dds_return_t rc = dds_write(writer_, &s); rc < 0)
+    log_ << "flipper: lexicon replication: publishing " << e.identity()
+         << " failed: " << dds_strretcode(rc) << std::endl;
+}
+
+void LexiconReplicator::loop() {
+  while (!stop_.load()) {
+    dds_attach_t triggered = 0;
+    if (dds_waitset_wait(waitset_, &triggered, 1, DDS_MSECS(100)) < 0) return;
+    take_available();
+  }
+}
+
+void LexiconReplicator::take_available() {
+  constexpr int kBatch = 32;
+  void* samples[kBatch] = {};
+  dds_sample_info_t infos[kBatch];
+  for (;;) {
+    const dds_return_t n = dds_take(reader_, samples, infos, kBatch, kBatch);
+    if (n <= 0) return;
+    std::vector<LexiconEvent> events;
+    for (dds_return_t i = 0; i < n; ++i)
+      if (infos[i].valid_data)
+        events.push_back(from_sample(*static_cast<flipper_msg_dds__LexiconEvent_*>(samples[i])));
+    dds_return_loan(reader_, samples, n);
+    for (const auto& e : events) {
+      if (auto why = malformed(e)) {
+        ++dropped_;
+        log_ << "flipper: lexicon replication: dropped a malformed event from site '"
+             << e.site.substr(0, 64) << "': " << *why << std::endl;
+        continue;
+      }
+      std::lock_guard lock(mutex_);
+      try {
+        receive(e);
+      } catch (const std::exception& ex) {
+        log_ << "flipper: lexicon replication: event " << e.identity()
+             << " not applied: " << ex.what() << std::endl;
+      }
+    }
+  }
+}
+
+void LexiconReplicator::receive(const LexiconEvent& e) {
+  if (log_db_->find({e.site, e.version}) != nullptr) return;  // replay: already here
+  LogRow row;
+  row.event = e;
+  if (apply(row)) {
+    ++applied_;
+    retry_pending();
+  }
+}
+
+bool LexiconReplicator::apply(LogRow row) {
+  const bool done = row.event.kind == "define" ? apply_define(row) : apply_delete(row);
+  if (!done) {
+    row.status = "pending";
+    log_db_->put(row);
+  }
+  return done;
+}
+
+bool LexiconReplicator::dominated(const LexiconEvent& e) const {
+  for (const auto& [key, other] : log_db_->rows())
+    if (other.event.kind == "define" && other.event.head == e.head && other.event.site != e.site &&
+        other.status != "refused" && other.event.wins_over(e))
+      return true;
+  return false;
+}
+
+bool LexiconReplicator::apply_define(LogRow& row) {
+  if (dominated(row.event)) {
+    row.status = "superseded";
+    log_db_->put(row);
+    log_ << "flipper: lexicon replication: " << row.event.identity() << " ('" << row.event.head
+         << "') superseded by a later definition of the same head from another site" << std::endl;
+    return true;
+  }
+  row.status = "applying";  // durable before the store commits: recover() finds a kill here
+  log_db_->put(row);
+  kernel::DefineRequest req;
+  req.user = row.event.author;
+  req.head = row.event.head;
+  req.body = row.event.body;
+  req.body_ranks = row.event.ranks;
+  std::optional<sdk::WorldState> world;
+  if (!row.event.world.empty()) {
+    try {
+      world = host_.runtime->world->load(row.event.world, ".");
+      req.before = &*world;
+      req.exec = &executor_;
+    } catch (const std::exception& ex) {
+      log_ << "flipper: lexicon replication: " << row.event.identity()
+           << ": its world does not load here (" << ex.what() << "); induced without it"
+           << std::endl;
+    }
+  }
+  try {
+    const kernel::DefineOutcome out = host_.naturalizer->define(req);
+    row.definition = out.definition;
+    row.local_rules.clear();
+    for (const auto& r : out.rules) row.local_rules.push_back(r->id);
+  } catch (const sdk::Error& ex) {
+    if (ex.code() == "body_unparsable") return false;  // waits for the rules it uses
+    if (ex.code() == "bad_lexicon") throw;
+    row.status = "refused";
+    log_db_->put(row);
+    log_ << "flipper: lexicon replication: refused " << row.event.identity() << ": " << ex.code()
+         << ": " << ex.what() << std::endl;
+    return true;
+  }
+  row.status = "applied";
+  log_db_->put(row);
+  settle(row.event.head);
+  return true;
+}
+
+bool LexiconReplicator::apply_delete(LogRow& row) {
+  const LexiconEvent& e = row.event;
+  if (e.site != e.target_site) {
+    row.status = "refused";
+    log_db_->put(row);
+    log_ << "flipper: lexicon replication: refused deletion " << e.identity() << ": site '"
+         << e.site << "' may not delete definition " << e.target_site << "#" << e.target_version
+         << " (only its author's site may)" << std::endl;
+    return true;
+  }
+  const LogRow* target = log_db_->find({e.target_site, e.target_version});
+  if (target == nullptr || target->status == "pending" || target->status == "applying")
+    return false;
+  for (const auto& id : target->local_rules) {
+    auto rule = host_.naturalizer->find_rule(id);
+    if (rule && (e.target_rule.empty() || rule_description(*rule) == e.target_rule))
+      host_.naturalizer->delete_rule(rule->author, id);
+  }
+  row.status = "applied";
+  log_db_->put(row);
+  return true;
+}
+
+void LexiconReplicator::retry_pending() {
+  for (bool progress = true; progress;) {
+    progress = false;
+    std::vector<LogRow> pending;
+    for (const auto& [key, row] : log_db_->rows())
+      if (row.status == "pending") pending.push_back(row);
+    for (auto& row : pending)
+      if (apply(row)) {
+        ++applied_;
+        progress = true;
+      }
+  }
+}
+
+void LexiconReplicator::retire(LogRow& row) {
+  for (const auto& id : row.local_rules)
+    if (auto rule = host_.naturalizer->find_rule(id))
+      host_.naturalizer->delete_rule(rule->author, id);
+  row.status = "superseded";
+  log_db_->put(row);
+  log_ << "flipper: lexicon replication: " << row.event.identity() << " ('" << row.event.head
+       << "') superseded by a later definition of the same head from another site" << std::endl;
+}
+
+void LexiconReplicator::settle(const std::string& head) {
+  std::vector<LogRow> losers;
+  for (const auto& [key, row] : log_db_->rows())
+    if (row.event.kind == "define" && row.event.head == head && row.status == "applied" &&
+        dominated(row.event))
+      losers.push_back(row);
+  for (auto& row : losers) retire(row);
+}
+
+void LexiconReplicator::attach(kernel::Session& session) {
+  std::weak_ptr<LexiconReplicator> weak = weak_from_this();
+  for (const auto& name : session.op_names()) {
+    kernel::Session::OpHandler inner = *session.find_op(name);
+    kernel::Session::OpHandler wrapped;
+    if (name == "define")
+      wrapped = [weak, inner](kernel::Session& s, const Json& r) {
+        auto self = weak.lock();
+        if (!self) return inner(s, r);
+        std::lock_guard lock(self->mutex_);
+        return self->define_op(inner, s, r);
+      };
+    else if (name == "delete_rule")
+      wrapped = [weak, inner](kernel::Session& s, const Json& r) {
+        auto self = weak.lock();
+        if (!self) return inner(s, r);
+        std::lock_guard lock(self->mutex_);
+        return self->delete_op(inner, s, r);
+      };
+    else
+      wrapped = [weak, inner](kernel::Session& s, const Json& r) {
+        auto self = weak.lock();
+        if (!self) return inner(s, r);
+        std::lock_guard lock(self->mutex_);
+        return inner(s, r);
+      };
+    session.set_op(name, std::move(wrapped));
+  }
+}
+
+Json LexiconReplicator::define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
+                                  const Json& req) {
+  const std::string world = s.world_json(s.world()).dump();
+  Json answer = inner(s, req);  // committed to the store when it returns
+  LogRow row;
+  row.event = next_local_event("define");
+  row.event.author = s.user();
+  row.event.head = req.at("head").get<std::string>();
+  row.event.body = req.at("body").get<std::vector<std::string>>();
+  if (req.contains("ranks") && req["ranks"].is_array())
+    row.event.ranks = req["ranks"].get<std::vector<int>>();
+  row.event.world = world;
+  const auto definitions = host_.naturalizer->store().definitions();
+  row.definition = definitions.empty() ? 0 : definitions.back().id;
+  for (const auto& r : answer.at("rules")) {
+    const std::string id = r.at("id").get<std::string>();
+    row.local_rules.push_back(id);
+    if (auto rule = host_.naturalizer->find_rule(id))
+      row.event.rules.push_back(rule_description(*rule));
+  }
+  row.status = "applied";
+  log_db_->put(row);
+  publish(row.event);
+  return answer;
+}
+
+Json LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
+                                  const Json& req) {
+  const auto rule_field = req.find("rule");
+  if (rule_field == req.end() || !rule_field->is_string()) return inner(s, req);
+  const std::string id = rule_field->get<std::string>();
+  const LogRow* origin = nullptr;
+  for (const auto& [key, row] : log_db_->rows())
+    if (row.event.kind == "define" &&
+        std::find(row.local_rules.begin(), row.local_rules.end(), id) != row.local_rules.end())
+      origin = &row;
+  const auto rule = host_.naturalizer->find_rule(id);
+  if (origin != nullptr && rule && origin->event.site != site_) {
+    log_ << "flipper: lexicon replication: refused deleting " << id << " at site '" << site_
+         << "': it comes from site '" << origin->event.site << "'" << std::endl;
+    throw sdk::Error(kernel::naturalize_codes::kForbidden, "rule " + id + " was defined at site '" +
+                                                               origin->event.site +
+                                                               "'; only that site may delete it");
+  }
+  const std::string description = rule ? rule_description(*rule) : std::string();
+  const LogRow* target = origin;
+  LexiconEvent e;
+  if (target != nullptr) {
+    e = next_local_event("delete");
+    e.target_site = target->event.site;
+    e.target_version = target->event.version;
+  }
+  Json answer = inner(s, req);  // refuses (forbidden, not_found) before anything is published
+  if (target != nullptr) {
+    e.author = s.user();
+    e.target_rule = description;
+    LogRow row;
+    row.event = e;
+    row.status = "applied";
+    log_db_->put(row);
+    publish(e);
+  }
+  return answer;
+}
+
+}  // namespace flipper::dds

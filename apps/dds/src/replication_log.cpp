@@ -1,0 +1,135 @@
+#include "flipper/dds/replication_log.hpp"
+
+#include <sqlite3.h>
+
+#include <nlohmann/json.hpp>
+
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::dds {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(sqlite3* db, const std::string& what) {
+  throw sdk::Error("bad_lexicon", "replication log: " + what + ": " +
+                                      (db != nullptr ? sqlite3_errmsg(db) : "out of memory"));
+}
+
+const char* kSchema =
+    "CREATE TABLE IF NOT EXISTS dds_replication("
+    " site TEXT NOT NULL, version INTEGER NOT NULL, status TEXT NOT NULL,"
+    " definition INTEGER NOT NULL DEFAULT 0, local_rules TEXT NOT NULL DEFAULT '[]',"
+    " event TEXT NOT NULL, PRIMARY KEY(site, version))";
+
+json event_json(const LexiconEvent& e) {
+  return json{{"site", e.site},
+              {"version", e.version},
+              {"kind", e.kind},
+              {"lamport", e.lamport},
+              {"time", e.time},
+              {"author", e.author},
+              {"head", e.head},
+              {"body", e.body},
+              {"ranks", e.ranks},
+              {"world", e.world},
+              {"rules", e.rules},
+              {"target_site", e.target_site},
+              {"target_version", e.target_version},
+              {"target_rule", e.target_rule}};
+}
+
+LexiconEvent event_from(const json& j) {
+  LexiconEvent e;
+  e.site = j.at("site");
+  e.version = j.at("version");
+  e.kind = j.at("kind");
+  e.lamport = j.at("lamport");
+  e.time = j.at("time");
+  e.author = j.at("author");
+  e.head = j.at("head");
+  e.body = j.at("body").get<std::vector<std::string>>();
+  e.ranks = j.at("ranks").get<std::vector<int>>();
+  e.world = j.at("world");
+  e.rules = j.at("rules").get<std::vector<std::string>>();
+  e.target_site = j.at("target_site");
+  e.target_version = j.at("target_version");
+  e.target_rule = j.at("target_rule");
+  return e;
+}
+
+}  // namespace
+
+struct ReplicationLog::Db {
+  sqlite3* db = nullptr;
+  ~Db() { sqlite3_close(db); }
+};
+
+ReplicationLog::ReplicationLog(const std::string& path) : db_(std::make_unique<Db>()) {
+  if (sqlite3_open_v2(path.c_str(), &db_->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE,
+                      nullptr) != SQLITE_OK)
+    fail(db_->db, "cannot open '" + path + "'");
+  sqlite3_busy_timeout(db_->db, 10000);  // the store's connection writes to the same file
+  for (const char* sql : {"PRAGMA journal_mode=WAL", "PRAGMA synchronous=FULL", kSchema})
+    if (sqlite3_exec(db_->db, sql, nullptr, nullptr, nullptr) != SQLITE_OK)
+      fail(db_->db, std::string("setting up (") + sql + ")");
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_->db,
+                         "SELECT status, definition, local_rules, event FROM dds_replication", -1,
+                         &st, nullptr) != SQLITE_OK)
+    fail(db_->db, "reading");
+  while (sqlite3_step(st) == SQLITE_ROW) {
+    LogRow row;
+    row.status = reinterpret_cast<const char*>(sqlite3_column_text(st, 0));
+    row.definition = sqlite3_column_int64(st, 1);
+    row.local_rules = json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 2)))
+                          .get<std::vector<std::string>>();
+    row.event = event_from(json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 3))));
+    rows_[{row.event.site, row.event.version}] = std::move(row);
+  }
+  sqlite3_finalize(st);
+}
+
+ReplicationLog::~ReplicationLog() = default;
+
+void ReplicationLog::put(const LogRow& row) {
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_->db,
+                         "INSERT OR REPLACE INTO dds_replication(site, version, status, "
+                         "definition, local_rules, event) VALUES(?,?,?,?,?,?)",
+                         -1, &st, nullptr) != SQLITE_OK)
+    fail(db_->db, "preparing a write");
+  const std::string rules = json(row.local_rules).dump();
+  const std::string event =
+      event_json(row.event).dump(-1, ' ', false, json::error_handler_t::replace);
+  sqlite3_bind_text(st, 1, row.event.site.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_int64(st, 2, static_cast<sqlite3_int64>(row.event.version));
+  sqlite3_bind_text(st, 3, row.status.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_int64(st, 4, row.definition);
+  sqlite3_bind_text(st, 5, rules.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_text(st, 6, event.c_str(), -1, SQLITE_TRANSIENT);
+  const int rc = sqlite3_step(st);
+  sqlite3_finalize(st);
+  if (rc != SQLITE_DONE) fail(db_->db, "writing " + row.event.identity());
+  rows_[{row.event.site, row.event.version}] = row;
+}
+
+const LogRow* ReplicationLog::find(const Key& key) const {
+  auto it = rows_.find(key);
+  return it == rows_.end() ? nullptr : &it->second;
+}
+
+std::uint64_t ReplicationLog::max_version(const std::string& site) const {
+  std::uint64_t v = 0;
+  for (auto it = rows_.lower_bound({site, 0}); it != rows_.end() && it->first.first == site; ++it)
+    v = std::max(v, it->first.second);
+  return v;
+}
+
+std::uint64_t ReplicationLog::max_lamport() const {
+  std::uint64_t v = 0;
+  for (const auto& [k, row] : rows_) v = std::max(v, row.event.lamport);
+  return v;
+}
+
+}  // namespace flipper::dds

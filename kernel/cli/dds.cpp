@@ -1,0 +1,45 @@
+// flipper dds [--config F] [--set k=v]: a DDS node answering session-protocol requests from
+// rt/flipper/request on rt/flipper/answer (apps/dds/request_node.hpp), with the config's other
+// DDS services (plans, lexicon replication). Runs until SIGINT/SIGTERM.
+#include <atomic>
+#include <csignal>
+#include <iostream>
+
+#include "commands.hpp"
+#include "common.hpp"
+#include "dds_services.hpp"
+#include "flipper/dds/request_node.hpp"
+
+namespace flipper::cli {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) {
+  g_stop.store(true);
+}
+
+int run_node(const CommonOptions& opts) {
+  kernel::SessionHost host = kernel::open_host(config_file(opts), opts.overrides);
+  const DdsServices services = DdsServices::start(host, /*force_participant=*/true);
+  dds::RequestNode node(
+      services.participant, [&] { return services.open(host); }, std::cerr);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::cerr << "flipper dds: serving " << dds::kRequestTopic << " -> " << dds::kAnswerTopic
+            << " on DDS domain " << services.participant->domain() << std::endl;
+  node.run(g_stop);
+  std::cerr << "flipper dds: stopped after " << node.answered() << " answers, " << node.dropped()
+            << " dropped requests" << std::endl;
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_dds_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "dds", "Serve session-protocol requests over Cyclone DDS (rt/flipper/request -> answer)");
+  static CommonOptions opts;
+  add_common_options(*cmd, opts);
+  on_run(*cmd, [] { return run_node(opts); });
+}
+}  // namespace flipper::cli

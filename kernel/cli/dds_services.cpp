@@ -1,0 +1,47 @@
+#include "dds_services.hpp"
+
+#include <iostream>
+
+#include "flipper/dds/lexicon_replicator.hpp"
+#include "flipper/dds/participant.hpp"
+#include "flipper/dds/plan_publisher.hpp"
+#include "flipper/kernel/runtime.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::cli {
+
+DdsServices DdsServices::start(kernel::SessionHost& host, bool force_participant) {
+  const kernel::Config& config = host.runtime->config;
+  const bool plans = config.get_string("publish.plans") == "dds";
+  const bool replicate = config.get_string("lexicon.replication") == "dds";
+  DdsServices s;
+  if (!plans && !replicate && !force_participant) return s;
+  const int dims =
+      host.runtime->default_world.geometry ? host.runtime->default_world.geometry->dims() : 2;
+  // Check everything before the participant exists.
+  std::optional<dds::PlanFrame> frame;
+  if (plans) frame = dds::PlanFrame::from_config(config, dims);
+  if (replicate && config.get_string("lexicon.site").empty())
+    throw sdk::Error(sdk::codes::kBadConfig,
+                     "lexicon.replication: dds needs this site's name in lexicon.site");
+  s.participant = std::make_shared<dds::Participant>(config, std::cerr);
+  if (plans) s.plans = std::make_shared<dds::PlanPublisher>(s.participant, *frame);
+  if (replicate) s.replicator = dds::LexiconReplicator::start(s.participant, host, std::cerr);
+  return s;
+}
+
+std::unique_ptr<kernel::Session> DdsServices::open(const kernel::SessionHost& host) const {
+  auto session = host.open();
+  if (plans) session->add_plan_observer(plans);
+  if (replicator) replicator->attach(*session);
+  return session;
+}
+
+DdsServices::~DdsServices() {
+  // The replicator's thread stops before the participant it reads from goes.
+  replicator.reset();
+  plans.reset();
+  participant.reset();
+}
+
+}  // namespace flipper::cli

@@ -1,0 +1,186 @@
+// One lexicon across sites (apps/dds/lexicon_replicator.hpp), with real `flipper session`
+// processes on one DDS domain per test: a definition, a deletion, a refused deletion and a
+// conflicting pair replicate between three sites; a site killed with SIGKILL mid-stream
+// catches up after a restart with no definition lost and none duplicated; malformed events
+// are dropped. Expected formulas are the core language's (docs/protocol.md example), and the
+// conflict winner follows from the rule: larger (lamport, site) wins, so site "b" on a tie.
+#include <csignal>
+#include <set>
+
+#include "dds_test_support.hpp"
+#include "flipper/dds/lexicon_replicator.hpp"
+#include "flipper/msg/LexiconEvent.h"
+#include "sqlite_integrity.hpp"
+
+using namespace flipper;
+using namespace flipper::ddstest;
+
+namespace {
+
+std::set<std::string> rule_shapes(Site& site, const std::string& head = {}) {
+  std::set<std::string> out;
+  for (const auto& r : site.rules())
+    if (head.empty() || r["head"] == head)
+      out.insert(r["lhs"].get<std::string>() + " -> " + r["rhs"].dump() + " => " +
+                 r["semantics"].get<std::string>());
+  return out;
+}
+
+/// Definitions per head in a store, read through `flipper lexicon export`.
+std::map<std::string, int> definitions_per_head(const std::string& store) {
+  testsupport::ChildProcess p(
+      {flipper_bin(), "lexicon", "export", "-", "--set", "lexicon.path=" + store});
+  std::map<std::string, int> out;
+  std::istringstream lines(p.read_all());
+  for (std::string line; std::getline(lines, line);) {
+    const json j = json::parse(line);
+    if (j["type"] == "definition") ++out[j["head"].get<std::string>()];
+  }
+  REQUIRE(p.finish() == 0);
+  return out;
+}
+
+void publish_raw(dds::Participant& p, const dds::LexiconEvent& e) {
+  dds::Qos qos;
+  dds::history_qos(qos);
+  const dds_entity_t w = dds_create_writer(
+      p.handle(), p.topic(&flipper_msg_dds__LexiconEvent__desc, dds::kLexiconTopic), qos.q,
+      nullptr);
+  REQUIRE(w > 0);
+  flipper_msg_dds__LexiconEvent_ s{};
+  std::vector<char*> body;
+  for (const auto& b : e.body) body.push_back(const_cast<char*>(b.c_str()));
+  s.site_ = const_cast<char*>(e.site.c_str());
+  s.version_ = e.version;
+  s.kind_ = const_cast<char*>(e.kind.c_str());
+  s.lamport_ = e.lamport;
+  s.author_ = const_cast<char*>(e.author.c_str());
+  s.head_ = const_cast<char*>(e.head.c_str());
+  s.body_._buffer = body.data();
+  s.body_._length = s.body_._maximum = static_cast<uint32_t>(body.size());
+  s.world_ = const_cast<char*>(e.world.c_str());
+  s.target_site_ = const_cast<char*>(e.target_site.c_str());
+  s.target_version_ = e.target_version;
+  s.target_rule_ = const_cast<char*>(e.target_rule.c_str());
+  REQUIRE(dds_write(w, &s) == DDS_RETCODE_OK);
+  // Keep the writer until its (transient-local) sample is delivered to the sites.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  dds_delete(w);
+}
+
+}  // namespace
+
+TEST_CASE("three sites share a definition, a deletion and a conflicting pair", "[dds]") {
+  const auto dir = scratch_dir("three");
+  constexpr int kDomain = 163;
+  Site a("a", dir, kDomain), b("b", dir, kDomain), c("c", dir, kDomain);
+  for (Site* s : {&a, &b, &c}) s->call({{"op", "user"}, {"name", "ana"}});
+
+  // A definition at a: usable at b and c (the 1 s figure is in bench/dds).
+  REQUIRE(a.call({{"op", "define"},
+                  {"head", "pick 3 items"},
+                  {"body", {"repeat 3 times pick item"}}})["ok"] == true);
+  const std::string drop2 = "{repeat 2 times {drop item }}";
+  CHECK(a.top("drop 2 items") == drop2);
+  for (Site* s : {&b, &c}) CHECK(wait_until([&] { return s->top("drop 2 items") == drop2; }));
+  CHECK(rule_shapes(b) == rule_shapes(a));
+  CHECK(rule_shapes(c) == rule_shapes(a));
+
+  // Only the author's site may delete: b refuses to delete its copy of a's rule.
+  const json b_rule = b.rules().at(0);
+  const json refused = b.call({{"op", "delete_rule"}, {"rule", b_rule["id"]}});
+  CHECK(refused["error"]["code"] == "forbidden");
+  CHECK(rule_shapes(b) == rule_shapes(a));
+
+  // A deletion at a reaches b and c: every rule of the definition goes.
+  for (const auto& r : a.rules())
+    REQUIRE(a.call({{"op", "delete_rule"}, {"rule", r["id"]}})["ok"] == true);
+  CHECK(a.rules().empty());
+  for (Site* s : {&b, &c}) CHECK(wait_until([&] { return s->rules().empty(); }));
+  CHECK(c.top("drop 2 items") != drop2);
+
+  // A conflicting pair: a and b define "go home" at once. Equal clocks (both saw the same
+  // history), so the larger site name, b, wins everywhere.
+  REQUIRE(a.child->write_line(
+      json{{"op", "define"}, {"head", "go home"}, {"body", {"visit room1"}}}.dump()));
+  REQUIRE(b.child->write_line(
+      json{{"op", "define"}, {"head", "go home"}, {"body", {"visit room2"}}}.dump()));
+  CHECK(json::parse(a.child->read_line())["ok"] == true);
+  CHECK(json::parse(b.child->read_line())["ok"] == true);
+  for (Site* s : {&a, &b, &c})
+    CHECK(wait_until([&] { return s->top("go home") == "{visit room2}"; }));
+  const auto winner = rule_shapes(b, "go home");
+  CHECK(winner.size() == 1);
+  CHECK(rule_shapes(a, "go home") == winner);
+  CHECK(rule_shapes(c, "go home") == winner);
+
+  // Malformed and forged events are dropped or refused; the sites go on.
+  auto participant = test_participant(kDomain);
+  dds::LexiconEvent bad;
+  bad.site = "mallory";
+  bad.kind = "define";
+  bad.author = "eve";
+  bad.head = "steal";
+  bad.body = {"move up"};
+  publish_raw(*participant, bad);  // version 0
+  bad.version = 1;
+  bad.kind = "zap";
+  publish_raw(*participant, bad);
+  dds::LexiconEvent forged;
+  forged.site = "mallory";
+  forged.version = 2;
+  forged.kind = "delete";
+  forged.author = "eve";
+  forged.target_site = "b";
+  forged.target_version = 1;  // b's "go home"
+  publish_raw(*participant, forged);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  for (Site* s : {&a, &b, &c}) {
+    CHECK(s->top("go home") == "{visit room2}");
+    CHECK(s->top("steal") == "");
+  }
+  for (Site* s : {&a, &b, &c}) CHECK(s->child->finish() == 0);
+  for (Site* s : {&a, &b, &c}) CHECK(testsupport::sqlite_integrity(s->store) == "ok");
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a site killed mid-stream catches up with 0 lost and 0 duplicate definitions", "[dds]") {
+  const auto dir = scratch_dir("kill");
+  constexpr int kDomain = 164;
+  const std::vector<std::string> words = {"alpha",   "bravo",  "charlie", "delta",    "echo",
+                                          "foxtrot", "golf",   "hotel",   "india",    "juliet",
+                                          "kilo",    "lima",   "mike",    "november", "oscar",
+                                          "papa",    "quebec", "romeo",   "sierra",   "tango"};
+  Site a("a", dir, kDomain), c("c", dir, kDomain);
+  a.call({{"op", "user"}, {"name", "ana"}});
+  const auto define = [&](std::size_t i) {
+    const json r = a.call({{"op", "define"},
+                           {"head", "chore " + words[i]},
+                           {"body", {i % 2 ? "move left" : "move right", "move up"}}});
+    REQUIRE(r["ok"] == true);
+  };
+  for (std::size_t i = 0; i < 7; ++i) define(i);
+  // c has at least started receiving, then dies mid-stream.
+  REQUIRE(wait_until([&] { return !c.top("chore alpha").empty(); }));
+  for (std::size_t i = 7; i < 10; ++i) define(i);
+  c.child->kill_now();
+  for (std::size_t i = 10; i < words.size(); ++i) define(i);
+  c.start();  // same store, same site
+  for (const auto& w : words) CHECK(wait_until([&] { return !c.top("chore " + w).empty(); }));
+  CHECK(rule_shapes(c) == rule_shapes(a));
+  // Replays after the restart (the whole history comes again) add nothing.
+  Site late("d", dir, kDomain);
+  for (const auto& w : words) CHECK(wait_until([&] { return !late.top("chore " + w).empty(); }));
+  CHECK(rule_shapes(late) == rule_shapes(a));
+  for (Site* s : {&a, &c, &late}) CHECK(s->child->finish() == 0);
+  for (Site* s : {&a, &c, &late}) {
+    const auto per_head = definitions_per_head(s->store);
+    CHECK(per_head.size() == words.size());
+    for (const auto& [head, n] : per_head) {
+      INFO(s->name << ": " << head);
+      CHECK(n == 1);
+    }
+    CHECK(testsupport::sqlite_integrity(s->store) == "ok");
+  }
+  std::filesystem::remove_all(dir);
+}
