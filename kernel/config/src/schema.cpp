@@ -41,7 +41,14 @@ const std::vector<KeySpec> kSchema = {
     {"execution.while_limit", T::Int, "20", "0..1000000"},
     {"input.max_chars", T::Int, "2000", "1..100000000"},
     {"input.max_semicolons", T::Int, "30", "1..1000000"},
+    {"input.max_line_bytes", T::Int, "1048576", "64..1073741824"},
+    {"input.max_json_depth", T::Int, "64", "2..10000"},
+    {"input.max_tokens", T::Int, "400", "1..65534"},
+    {"input.max_body_lines", T::Int, "100", "1..100000"},
+    {"input.max_file_bytes", T::Int, "67108864", "1..1099511627776"},
+    {"world.max_cells", T::Int, "4194304", "1..268435456"},
     {"session.k", T::Int, "3", "1..1000"},
+    {"session.deadline_ms", T::Int, "5000", "1..86400000"},
     {"plugin_paths", T::PathList, "[]", ""},
 };
 }  // namespace
