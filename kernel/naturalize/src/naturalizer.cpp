@@ -11,6 +11,12 @@ namespace flipper::kernel {
 
 namespace {
 
+sdk::StopCondition stop_at(std::chrono::steady_clock::time_point deadline) {
+  sdk::StopCondition stop;
+  stop.deadline = deadline;
+  return stop;
+}
+
 sdk::RuleOrigin origin_from_string(const std::string& how) {
   if (how == "simple") return sdk::RuleOrigin::simple;
   if (how == "best") return sdk::RuleOrigin::best;
@@ -177,8 +183,8 @@ sdk::RulePtr Naturalizer::find_rule(const std::string& id) const {
 DefineOutcome Naturalizer::define(const DefineRequest& req) {
   Inducer inducer(*runtime_->parser, *runtime_->scorer, options_.induction);
   const auto visible_rules = visibility_for(req.user);
-  PreparedDefinition prepared =
-      inducer.prepare({req.head, req.body, req.user, req.body_ranks}, visible_rules);
+  PreparedDefinition prepared = inducer.prepare(
+      {req.head, req.body, req.user, req.body_ranks, stop_at(req.deadline)}, visible_rules);
 
   DefineOutcome out;
   sdk::Program winner = prepared.body;
@@ -205,6 +211,11 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
 
   InductionResult induced = inducer.induce(
       prepared, winner, rewritten, [&](const sdk::Rule& r) { return exists_for(r, req.user); });
+
+  if (std::chrono::steady_clock::now() >= req.deadline)
+    throw sdk::Error(sdk::codes::kDeadlineExceeded,
+                     "deadline exceeded before the definition was stored (session.deadline_ms); "
+                     "nothing was stored");
 
   // Give the rules their identity, then commit definition + rules in one transaction before
   // anything becomes visible: a failed commit leaves parser and store unchanged.

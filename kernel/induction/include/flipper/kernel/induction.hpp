@@ -98,6 +98,8 @@ struct DefinitionInput {
   std::vector<std::string> body;
   std::string author;
   std::vector<int> body_ranks;  ///< optional: candidate rank per body line (default 0)
+  /// Head and body parses stop here; a stopped parse refuses the definition (deadline_exceeded).
+  sdk::StopCondition stop;
 };
 
 /// What parsing the definition gave, before rules are built (the generalizer needs it).

@@ -9,6 +9,7 @@
 /// store already holds are skipped, so a restart does not replay them twice).
 /// Every definition is committed to the store in one transaction before define() returns.
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -54,6 +55,9 @@ struct DefineRequest {
   std::vector<int> body_ranks;                  ///< optional per line
   const sdk::WorldState* before = nullptr;      ///< world before the first body line
   const sdk::ExecutionService* exec = nullptr;  ///< both needed for generalization
+  /// The request's deadline: parses stop at it, and a definition that reaches it before its
+  /// commit is refused (deadline_exceeded) with nothing stored.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 /// A rewriter candidate that generalization discarded.
