@@ -2,6 +2,7 @@
 // A child process with its stdin and stdout on pipes, for tests and benchmarks that drive a built
 // binary line by line (`flipper session`, the lexicon kill driver). Free of Catch2 so benchmarks
 // can use it too: failures to start throw std::runtime_error.
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -26,8 +27,9 @@ class ChildProcess {
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     int in[2], out[2];
-    if (pipe(in) != 0) throw std::runtime_error("ChildProcess: pipe failed");
-    if (pipe(out) != 0) {
+    // O_CLOEXEC: a later child must not inherit this one's pipe ends (it would hold its stdin open).
+    if (pipe2(in, O_CLOEXEC) != 0) throw std::runtime_error("ChildProcess: pipe failed");
+    if (pipe2(out, O_CLOEXEC) != 0) {
       close_pair(in);
       throw std::runtime_error("ChildProcess: pipe failed");
     }
