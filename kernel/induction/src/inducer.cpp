@@ -9,7 +9,8 @@ Inducer::Inducer(const sdk::Parser& parser, const sdk::Scorer& scorer, Induction
     : parser_(parser), scorer_(scorer), options_(options) {}
 
 PreparedDefinition Inducer::prepare(const DefinitionInput& def,
-                                    const std::function<bool(const sdk::Rule&)>& visible) const {
+                                    const std::function<bool(const sdk::Rule&)>& visible,
+                                    const sdk::StopCondition& stop) const {
   PreparedDefinition out;
   out.head_tokens = sdk::tokenize(def.head);
   if (out.head_tokens.empty())
@@ -22,7 +23,7 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
   req.context.user = def.author;
   req.visible = visible;
   req.beam = options_.beam;
-  req.stop = def.stop;
+  req.stop = stop;
   auto refuse_if_stopped = [&](const sdk::ParseResult& r, const std::string& what) {
     if (r.stopped)
       throw sdk::Error(

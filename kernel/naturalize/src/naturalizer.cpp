@@ -183,8 +183,8 @@ sdk::RulePtr Naturalizer::find_rule(const std::string& id) const {
 DefineOutcome Naturalizer::define(const DefineRequest& req) {
   Inducer inducer(*runtime_->parser, *runtime_->scorer, options_.induction);
   const auto visible_rules = visibility_for(req.user);
-  PreparedDefinition prepared = inducer.prepare(
-      {req.head, req.body, req.user, req.body_ranks, stop_at(req.deadline)}, visible_rules);
+  PreparedDefinition prepared = inducer.prepare({req.head, req.body, req.user, req.body_ranks},
+                                                visible_rules, stop_at(req.deadline));
 
   DefineOutcome out;
   sdk::Program winner = prepared.body;
