@@ -101,6 +101,13 @@ const std::vector<SessionRow>& session_rows() {
          for (int i = 1; i < 30; ++i) text += " and not is red";
          return query(text);
        }},
+      {"a define whose body line parses longer than the deadline (nothing stored)",
+       "deadline_exceeded", "deadline exceeded while parsing body line 1 of the definition", none,
+       [](const Scratch&) {
+         std::string body = "pick item not is red";
+         for (int i = 1; i < 30; ++i) body += " and not is red";
+         return define("glorb", {body});
+       }},
       {"`k` beyond 64 bits", "bad_request",
        "field 'k' is out of range: integers go from -9223372036854775808 to 9223372036854775807",
        none,

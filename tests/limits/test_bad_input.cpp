@@ -114,6 +114,9 @@ TEST_CASE("a running session answers every bad-input row with its code and keeps
     REQUIRE(session.write_line(R"({"op":"user","name":"after"})"));
     CHECK(json::parse(session.read_line()).at("ok") == true);
   }
+  // Nothing of the refused definitions was stored.
+  REQUIRE(limited.write_line(R"({"op":"rules"})"));
+  CHECK(json::parse(limited.read_line()).at("rules").empty());
   CHECK(limited.finish() == 0);
   CHECK(defaults.finish() == 0);
 }
