@@ -2,6 +2,7 @@
 // one `flipper session` (which must answer each with its code and keep going) or run as a command
 // (which must exit with its status and code, never die of a signal).
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -30,7 +31,10 @@ void write(const std::string& path, const std::string& text) {
 const Scratch& scratch() {
   static const Scratch s = [] {
     Scratch s;
-    s.dir = (fs::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "limits").string();
+    // One directory per process: ctest runs the test cases in parallel processes.
+    s.dir =
+        (fs::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / ("limits-" + std::to_string(::getpid())))
+            .string();
     fs::remove_all(s.dir);
     fs::create_directories(s.dir);
     s.fifo = s.dir + "/fifo";
@@ -191,7 +195,7 @@ TEST_CASE("ids come back exactly as sent, however large") {
   CHECK(session.finish() == 0);
 }
 
-TEST_CASE("a k beyond the candidates shows them all; a 2.0 rank is rank 2") {
+TEST_CASE("a k beyond the candidates shows them all and a 2.0 rank is rank 2") {
   ChildProcess session({kFlipper, "session", "--set", "lexicon.path=:memory:"});
   REQUIRE(session.write_line(R"({"op":"query","text":"move left","k":9223372036854775807})"));
   const json q = json::parse(session.read_line());

@@ -3,6 +3,7 @@
 #include "flipper/kernel/runtime.hpp"
 
 #include <filesystem>
+#include <optional>
 
 #include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/loader.hpp"
@@ -51,10 +52,15 @@ sdk::WorldState load_world(const sdk::World& world, const std::string& who, cons
   const InputLimits limits = InputLimits::from_config(config);
   // The shared part of the format gives the explicit or default bounds: a 110-byte world can
   // name a box of 16382^2 cells, which the plugin would allocate before anything else.
+  // A world plugin with a format of its own may refuse what the shared reader cannot read: then
+  // only the check after loading applies.
   const int dims = guarded(who, [&] { return world.dims(); });
-  const sdk::world_format::Bounds box =
-      sdk::world_format::effective_bounds(sdk::world_format::parse_world(text, dims));
-  refuse_large(cells_of(box.min, box.max), limits.max_world_cells);
+  std::optional<sdk::world_format::Bounds> box;
+  try {
+    box = sdk::world_format::effective_bounds(sdk::world_format::parse_world(text, dims));
+  } catch (const Error&) {
+  }
+  if (box) refuse_large(cells_of(box->min, box->max), limits.max_world_cells);
   sdk::WorldState state = guarded(who, [&] { return world.load(text, base_dir); });
   // The plugin may grow the box (an octree's extent): check what it built as well.
   if (state.geometry) refuse_large(state.geometry->cell_count(), limits.max_world_cells);
