@@ -26,8 +26,9 @@ class ChildProcess {
     std::vector<char*> argv;  // built before fork: the child only calls async-signal-safe code
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
+    // Close-on-exec: a sibling started at the same time from another thread must not inherit
+    // these ends (it would keep this child's input open, and this child would never see EOF).
     int in[2], out[2];
-    // O_CLOEXEC: a later child must not inherit this one's pipe ends (it would hold its stdin open).
     if (pipe2(in, O_CLOEXEC) != 0) throw std::runtime_error("ChildProcess: pipe failed");
     if (pipe2(out, O_CLOEXEC) != 0) {
       close_pair(in);
