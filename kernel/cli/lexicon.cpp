@@ -7,6 +7,9 @@
 //                           definitions the store already holds skipped; nothing stored changes
 //   import --restore FILE   verbatim copy (rules, counters, deletions, weights) into an EMPTY
 //                           store only, for backups; every rule is checked before the commit
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -104,15 +107,26 @@ int list_rules(const LexiconArgs& a) {
 
 int export_store(const LexiconArgs& a) {
   const auto store = open_existing(store_path(load_config(a.common)));
+  // A full device must be an error, not a silently short export (code write_failed).
   if (a.file == "-") {
     store->export_jsonl(std::cout, kernel::quarantine_reason);
-    return std::cout.flush() ? kExitOk : kExitFailed;
+    std::cout.flush();
+    if (!std::cout || std::fflush(stdout) != 0)
+      return error("export", sdk::codes::kWriteFailed,
+                   std::string("cannot write standard output: ") + std::strerror(errno),
+                   kExitFailed);
+    return kExitOk;
   }
   std::ofstream out(a.file);
-  if (!out) return error("export", "io", "cannot write '" + a.file + "'", kExitFailed);
+  if (!out)
+    return error("export", sdk::codes::kWriteFailed,
+                 "cannot write '" + a.file + "': " + std::strerror(errno), kExitFailed);
   store->export_jsonl(out, kernel::quarantine_reason);
   out.flush();
-  if (!out) return error("export", "io", "cannot write '" + a.file + "'", kExitFailed);
+  if (out) out.close();
+  if (!out)
+    return error("export", sdk::codes::kWriteFailed,
+                 "cannot write '" + a.file + "': " + std::strerror(errno), kExitFailed);
   std::cerr << "exported " << store->definitions().size() << " definitions and "
             << store->rules(true).size() << " rules of " << store->path() << " to " << a.file
             << "\n";

@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "dds_services.hpp"
+#include "flipper/kernel/line_reader.hpp"
 #include "flipper/kernel/session_factory.hpp"
 
 namespace flipper::cli {
@@ -27,9 +28,14 @@ int run_session(const CommonOptions& opts, const std::string& script) {
   kernel::SessionHost host = kernel::open_host(config_file(opts), opts.overrides);
   const DdsServices dds = DdsServices::start(host);  // publish.plans, lexicon.replication
   auto session = dds.open(host);
+  const std::uint64_t max_bytes = session->options().input.max_line_bytes;
   std::string line;
-  while (std::getline(*in, line)) {
-    std::string answer = session->handle_line(line);
+  std::uint64_t bytes = 0;
+  for (;;) {
+    const kernel::LineRead read = kernel::read_request_line(*in, max_bytes, line, bytes);
+    if (read == kernel::LineRead::eof) break;
+    std::string answer = read == kernel::LineRead::too_long ? session->line_too_long(bytes)
+                                                            : session->handle_line(line);
     if (answer.empty()) continue;
     answer.push_back('\n');
     std::fwrite(answer.data(), 1, answer.size(), stdout);

@@ -84,9 +84,21 @@ class AStarPlanner final : public sdk::Planner {
     // of points that share a cell.
     std::vector<std::size_t> by_cell(points.size());
     std::iota(by_cell.begin(), by_cell.end(), 0);
-    std::stable_sort(by_cell.begin(), by_cell.end(),
-                     [&](std::size_t a, std::size_t b) { return points[a] < points[b]; });
+    // Sorting millions of points (foreach point in a large world) takes seconds: the comparison
+    // polls the stop condition, so the caller's deadline holds here too.
+    struct SortStopped {};
+    std::uint64_t comparisons = 0;
+    try {
+      std::stable_sort(by_cell.begin(), by_cell.end(), [&](std::size_t a, std::size_t b) {
+        if ((++comparisons & 0xFFFFu) == 0 && stop.expired()) throw SortStopped{};
+        return points[a] < points[b];
+      });
+    } catch (const SortStopped&) {
+      std::iota(by_cell.begin(), by_cell.end(), 0);
+      return stopped(r, by_cell);
+    }
     if (points.empty()) return r;
+    if (stop.expired()) return stopped(r, by_cell);
     std::lock_guard<std::mutex> lock(mutex_);
     if (!g.in_bounds(start) || !search_.prepare(g)) {
       r.status = sdk::PlanStatus::invalid;
@@ -99,6 +111,7 @@ class AStarPlanner final : public sdk::Planner {
       if (g.is_free(points[i]) && (cells.empty() || cells.back() != points[i]))
         cells.push_back(points[i]);
     std::uint64_t expansions = 0;
+    if (stop.expired()) return stopped(r, by_cell);
     search_.set_targets(cells);
     std::vector<std::int32_t> from_start(cells.size(), -1);
     if (!search_.distances(start, -1, from_start.data(), stop, budget_, expansions)) {

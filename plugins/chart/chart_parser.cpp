@@ -49,7 +49,8 @@ class Run {
       token_ids_.push_back(index.token_id(t));
       classes_.push_back(index.classes_of(t));
     }
-    cells_.resize(static_cast<std::size_t>((n_ + 1) * (n_ + 1)));
+    // (n + 1)^2 cells in size_t: with int the index wraps at 65,535 tokens (do_parse bounds n).
+    cells_.resize(static_cast<std::size_t>(n_ + 1) * static_cast<std::size_t>(n_ + 1));
     visible_.assign(index.rules().size(), -1);
     tried_.assign(index.rules().size(), 0);
   }
@@ -74,7 +75,17 @@ class Run {
   }
 
  private:
-  Cell& cell(int i, int j) { return cells_[static_cast<std::size_t>(i * (n_ + 1) + j)]; }
+  Cell& cell(int i, int j) {
+    return cells_[static_cast<std::size_t>(i) * static_cast<std::size_t>(n_ + 1) +
+                  static_cast<std::size_t>(j)];
+  }
+
+  // Matching can run long without building anything (deep nesting): poll the stop condition
+  // every 1024 steps there too.
+  bool poll() {
+    if ((++steps_ & 1023u) == 0 && req_.stop.should_stop(built_)) stopped_ = true;
+    return stopped_;
+  }
 
   bool visible(int r) {
     if (!req_.visible) return true;
@@ -132,7 +143,7 @@ class Run {
   }
 
   void match(int r, const CompiledRule& rule, std::size_t k, int p, int i, int j) {
-    if (stopped_) return;
+    if (poll()) return;
     const std::size_t nsym = rule.rhs.size();
     if (k == nsym) {
       if (p == j) {
@@ -255,6 +266,7 @@ class Run {
   std::vector<int> tried_;
   int span_stamp_ = 0;
   std::uint64_t built_ = 0;
+  std::uint64_t steps_ = 0;
   bool stopped_ = false;
 };
 
@@ -265,6 +277,10 @@ sdk::ParseResult ChartParser::do_parse(const sdk::ParseRequest& request) const {
     throw sdk::Error(sdk::codes::kBadRequest, "chart parser: the parse request has no scorer");
   const int beam = request.beam > 0 ? request.beam : beam_;
   if (request.tokens.empty()) return {};
+  if (request.tokens.size() > max_tokens_)
+    throw sdk::Error(sdk::codes::kInputTooLong,
+                     "chart parser: " + std::to_string(request.tokens.size()) +
+                         " tokens; the limit is max_tokens = " + std::to_string(max_tokens_));
   return Run(index_, request, beam).run();
 }
 

@@ -19,6 +19,7 @@ class ChartParser : public sdk::Parser {
  private:
   RuleIndex index_;
   int beam_ = 50;
+  std::size_t max_tokens_ = 4096;  // the chart has (n + 1)^2 cells
 };
 
 }  // namespace flipper::chart

@@ -4,11 +4,16 @@ namespace flipper::chart {
 
 ChartParser::ChartParser(const sdk::Params& params) {
   if (params.has("beam")) beam_ = static_cast<int>(params.get_int("beam"));
+  if (params.has("max_tokens"))
+    max_tokens_ = static_cast<std::size_t>(params.get_int("max_tokens"));
 }
 
 sdk::ParamSchema ChartParser::schema() {
   sdk::ParamSchema s;
   s.add_int("beam", 50, "derivations kept per (category, span), best first by score", 1, 100000);
+  s.add_int("max_tokens", 4096,
+            "longest token sequence parsed (the chart has (n+1)^2 cells); longer: input_too_long",
+            1, 65534);
   return s;
 }
 

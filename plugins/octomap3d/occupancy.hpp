@@ -23,9 +23,11 @@ struct Body {
 
 /// Builds the octree at `resolution`: the .bt file (resolved against base_dir; its own
 /// resolution is kept) plus every box and wall cell marked occupied.
-/// Throws sdk::Error(bad_world) if the file cannot be read.
+/// Throws sdk::Error(bad_world) if the file cannot be read, not_a_regular_file for a FIFO,
+/// device or directory (which would hang or never end), file_too_large above `max_file_bytes`.
 std::shared_ptr<octomap::OcTree> build_octree(const Obstacles& obstacles,
-                                              const std::string& base_dir, double resolution);
+                                              const std::string& base_dir, double resolution,
+                                              std::uint64_t max_file_bytes);
 
 /// Cells covered by the octree's occupied voxels (empty box if none): used for default bounds.
 bool occupied_cell_box(const octomap::OcTree& tree, double resolution, CellBox& out);

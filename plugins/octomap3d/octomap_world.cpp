@@ -33,6 +33,8 @@ class OctomapWorld final : public sdk::World {
       throw sdk::Error(sdk::codes::kBadConfig,
                        "octomap3d: body must be box or sphere, got \"" + shape + "\"");
     body_.size = p.has("body_size") ? p.get_double("body_size") : 0.5;
+    if (p.has("max_file_bytes"))
+      max_file_bytes_ = static_cast<std::uint64_t>(p.get_int("max_file_bytes"));
     if (!(body_.size > 0))
       throw sdk::Error(sdk::codes::kBadConfig, "octomap3d: body_size must be positive");
   }
@@ -43,6 +45,9 @@ class OctomapWorld final : public sdk::World {
                  "edge of one cell (and of the octree voxels built from boxes), metres", 1e-3, 1e3);
     s.add_string("body", "box", "robot body shape used for collision checks", {"box", "sphere"});
     s.add_double("body_size", 0.5, "robot body: box edge or sphere diameter, metres", 1e-3, 1e3);
+    s.add_int("max_file_bytes", 268435456,
+              "largest .bt file read (regular files only): file_too_large / not_a_regular_file", 1,
+              std::int64_t{1} << 40);
     return s;
   }
 
@@ -50,7 +55,7 @@ class OctomapWorld final : public sdk::World {
   sdk::WorldState do_load(std::string_view world_json, const std::string& base_dir) const override {
     wf::WorldDocument doc = wf::parse_world(world_json, 3);
     Obstacles obstacles = take_obstacles(doc);
-    auto tree = build_octree(obstacles, base_dir, resolution_);
+    auto tree = build_octree(obstacles, base_dir, resolution_, max_file_bytes_);
 
     CellBox bounds;
     if (doc.bounds) {
@@ -119,6 +124,7 @@ class OctomapWorld final : public sdk::World {
   }
 
   double resolution_ = 1.0;
+  std::uint64_t max_file_bytes_ = 268435456;
   Body body_;
 };
 

@@ -18,39 +18,41 @@ using json = nlohmann::json;
   throw Error(codes::kBadWorld, message);
 }
 
-// nlohmann keeps only the last of duplicate keys, silently. The parser callback sees every key,
-// so a stack of key sets (one per open object) finds duplicates and names where they are.
-class DuplicateKeyCheck {
+// nlohmann keeps only the last of duplicate keys, silently. A SAX pass sees every key, so a stack
+// of key sets (one per open object) finds duplicates and names where they are. (A parser callback
+// did the same, but nlohmann's callback parser rescans an array's elements at the end of every
+// object in it: 30,000 items took seconds.)
+class DuplicateKeyCheck : public nlohmann::json_sax<json> {
  public:
-  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
-    switch (event) {
-      case json::parse_event_t::object_start:
-        frames_.push_back({false, child_path(), {}, {}, 0});
-        break;
-      case json::parse_event_t::array_start:
-        frames_.push_back({true, child_path(), {}, {}, 0});
-        break;
-      case json::parse_event_t::key: {
-        Frame& f = frames_.back();
-        const std::string& key = parsed.get_ref<const std::string&>();
-        if (!f.keys.insert(key).second) {
-          if (f.path == "rooms") fail("rooms: duplicate room name \"" + key + "\"");
-          if (f.path.empty()) fail("duplicate key \"" + key + "\"");
-          fail(f.path + ": duplicate key \"" + key + "\"");
-        }
-        f.last_key = key;
-        break;
-      }
-      case json::parse_event_t::value:
-        if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
-        break;
-      case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        frames_.pop_back();
-        if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
-        break;
-    }
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override {
+    frames_.push_back({false, child_path(), {}, {}, 0});
     return true;
+  }
+  bool start_array(std::size_t) override {
+    frames_.push_back({true, child_path(), {}, {}, 0});
+    return true;
+  }
+  bool key(string_t& key) override {
+    Frame& f = frames_.back();
+    if (!f.keys.insert(key).second) {
+      if (f.path == "rooms") fail("rooms: duplicate room name \"" + key + "\"");
+      if (f.path.empty()) fail("duplicate key \"" + key + "\"");
+      fail(f.path + ": duplicate key \"" + key + "\"");
+    }
+    f.last_key = key;
+    return true;
+  }
+  bool end_object() override { return end(); }
+  bool end_array() override { return end(); }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
+    fail(std::string("world is not valid JSON: ") + e.what());
   }
 
  private:
@@ -61,6 +63,14 @@ class DuplicateKeyCheck {
     std::string last_key;
     std::size_t index;
   };
+  bool value() {
+    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
+    return true;
+  }
+  bool end() {
+    frames_.pop_back();
+    return value();
+  }
   std::string child_path() const {
     if (frames_.empty()) return {};
     const Frame& f = frames_.back();
@@ -176,10 +186,9 @@ WorldDocument parse_world(std::string_view text, int dims) {
   json root;
   try {
     DuplicateKeyCheck check;
-    root = json::parse(
-        text.begin(), text.end(),
-        [&check](int depth, json::parse_event_t e, json& v) { return check(depth, e, v); });
-  } catch (const json::parse_error& e) {
+    json::sax_parse(text.begin(), text.end(), &check);
+    root = json::parse(text.begin(), text.end());
+  } catch (const json::exception& e) {  // syntax, and numbers beyond double range (1e999)
     fail(std::string("world is not valid JSON: ") + e.what());
   }
   if (!root.is_object()) fail("world must be a JSON object, not " + type_name(root));

@@ -10,8 +10,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
+#include "flipper/kernel/limits.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/param_check.hpp"
 #include "schema.hpp"
@@ -325,9 +327,29 @@ Config build(YAML::Node root, std::string source, std::string base_dir,
   return Config(std::move(impl));
 }
 
+// yaml-cpp keeps both entries of a duplicated key and lookups see the first: a config that says
+// `k: 3` twice would silently ignore one. Refused, naming the key and both lines.
+void check_unique_keys(const YAML::Node& node, const std::string& source) {
+  if (node.IsSequence())
+    for (const auto& kid : node) check_unique_keys(kid, source);
+  if (!node.IsMap()) return;
+  std::map<std::string, int> seen;  // key -> line (1-based)
+  for (const auto& kv : node) {
+    const std::string key = kv.first.Scalar();
+    const int line = kv.first.Mark().line + 1;
+    auto [it, fresh] = seen.emplace(key, line);
+    if (!fresh)
+      fail("config " + source + ":" + std::to_string(line) + ": duplicate key '" + key +
+           "' (first at line " + std::to_string(it->second) + ")");
+    check_unique_keys(kv.second, source);
+  }
+}
+
 YAML::Node parse_yaml(const std::string& text, const std::string& source) {
   try {
-    return YAML::Load(text);
+    YAML::Node root = YAML::Load(text);
+    check_unique_keys(root, source);
+    return root;
   } catch (const YAML::ParserException& e) {
     fail("config " + source + ":" + std::to_string(e.mark.line + 1) + ":" +
          std::to_string(e.mark.column + 1) + ": " + e.msg);
@@ -350,12 +372,17 @@ Config Config::load(const std::optional<std::string>& file,
     return build(parse_yaml(detail::kEmbeddedDefaultConfig, kEmbeddedSource), kEmbeddedSource,
                  default_config_dir(), overrides);
   }
-  std::ifstream in(*file);
-  if (!in) fail("cannot read config file '" + *file + "'");
-  std::stringstream text;
-  text << in.rdbuf();
+  // A config file is small: regular files of at most 16 MiB (a fixed limit, since the config
+  // cannot set its own), so /dev/zero or a FIFO is an error, not a hang.
+  constexpr std::uint64_t kMaxConfigBytes = 16u << 20;
+  std::string text;
+  try {
+    text = read_regular_file(*file, kMaxConfigBytes, "config file", codes::kBadConfig);
+  } catch (const Error& e) {
+    fail(e.what());  // every config problem is bad_config (exit status 2)
+  }
   const fs::path abs = fs::absolute(*file).lexically_normal();
-  return build(parse_yaml(text.str(), *file), *file, abs.parent_path().string(), overrides);
+  return build(parse_yaml(text, *file), *file, abs.parent_path().string(), overrides);
 }
 
 Config Config::embedded_default() {

@@ -203,20 +203,23 @@ bool Interpreter::pick(const Node& n, WorldState& s, Sinks& out) {
   const Node& what = *n.kids[0];
   const bool every = what.kind == Kind::Every;
   bool any = false;
-  // §8: eligible items in world order; a picked item joins the end of the held list.
-  for (std::size_t i = 0; i < s.items.size();) {
-    const sdk::LyingItem& li = s.items[i];
-    if (li.at == s.robot && matches(what, li.item)) {
+  // §8: eligible items in world order; a picked item joins the end of the held list. One
+  // compacting pass (erasing one by one was quadratic: 30,000 items on a cell took seconds).
+  std::size_t keep = 0;
+  for (std::size_t i = 0; i < s.items.size(); ++i) {
+    if ((i & 4095u) == 4095u) tick();
+    sdk::LyingItem& li = s.items[i];
+    if ((every || !any) && li.at == s.robot && matches(what, li.item)) {
       any = true;
       if (out.trace != nullptr)
         out.trace->push_back(TraceStep{TraceStep::Act::pick, li.at, li.item});
-      s.held.push_back(li.item);
-      s.items.erase(s.items.begin() + static_cast<std::ptrdiff_t>(i));
-      if (!every) break;
+      s.held.push_back(std::move(li.item));
     } else {
-      ++i;
+      if (keep != i) s.items[keep] = std::move(li);
+      ++keep;
     }
   }
+  s.items.resize(keep);
   if (!any) return fail(n, out, out.warnings ? "no " + describe(what) + " here" : "");
   return true;
 }
@@ -226,19 +229,22 @@ bool Interpreter::drop(const Node& n, WorldState& s, Sinks& out) {
   const Node& what = *n.kids[0];
   const bool every = what.kind == Kind::Every;
   bool any = false;
-  // §8: held items in pick order; a dropped item goes to the end of the lying items.
-  for (std::size_t i = 0; i < s.held.size();) {
-    if (matches(what, s.held[i])) {
+  // §8: held items in pick order; a dropped item goes to the end of the lying items (one
+  // compacting pass, as in pick).
+  std::size_t keep = 0;
+  for (std::size_t i = 0; i < s.held.size(); ++i) {
+    if ((i & 4095u) == 4095u) tick();
+    if ((every || !any) && matches(what, s.held[i])) {
       any = true;
       if (out.trace != nullptr)
         out.trace->push_back(TraceStep{TraceStep::Act::drop, s.robot, s.held[i]});
-      s.items.push_back(sdk::LyingItem{s.held[i], s.robot});
-      s.held.erase(s.held.begin() + static_cast<std::ptrdiff_t>(i));
-      if (!every) break;
+      s.items.push_back(sdk::LyingItem{std::move(s.held[i]), s.robot});
     } else {
-      ++i;
+      if (keep != i) s.held[keep] = std::move(s.held[i]);
+      ++keep;
     }
   }
+  s.held.resize(keep);
   if (!any) return fail(n, out, out.warnings ? "no " + describe(what) + " held" : "");
   return true;
 }

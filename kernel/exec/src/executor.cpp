@@ -15,6 +15,11 @@ Executor::Executor(std::shared_ptr<const sdk::Planner> planner, ExecLimits limit
 }
 
 sdk::Outcome Executor::run(const sdk::Program& program, const sdk::WorldState& world) const {
+  return run(program, world, std::chrono::steady_clock::time_point::max());
+}
+
+sdk::Outcome Executor::run(const sdk::Program& program, const sdk::WorldState& world,
+                           std::chrono::steady_clock::time_point deadline) const {
   sdk::Outcome out;
   out.world = world;
   auto error = [&](const std::string& code, const std::string& message) {
@@ -33,7 +38,7 @@ sdk::Outcome Executor::run(const sdk::Program& program, const sdk::WorldState& w
     error(sdk::codes::kExecution, "the world state has no geometry");
     return out;
   }
-  detail::Interpreter interp(*planner_, limits_, world);
+  detail::Interpreter interp(*planner_, limits_, world, deadline);
   try {
     out.realizable = interp.run(program, out.world, out.trace, out.warnings);
   } catch (const sdk::Error& e) {

@@ -20,7 +20,9 @@ using Collection = std::vector<sdk::Area>;
 
 class Interpreter {
  public:
-  Interpreter(const sdk::Planner& planner, const ExecLimits& limits, const sdk::WorldState& start);
+  Interpreter(const sdk::Planner& planner, const ExecLimits& limits, const sdk::WorldState& start,
+              std::chrono::steady_clock::time_point request_deadline =
+                  std::chrono::steady_clock::time_point::max());
 
   /// Runs a statement on `state` (the real run); fills trace and warnings. Returns success.
   /// Throws sdk::Error(execution_error | budget_exceeded).
@@ -40,6 +42,7 @@ class Interpreter {
   const sdk::RoomMap& rooms_;
   ExecLimits limits_;
   sdk::StopCondition stop_;
+  bool request_deadline_binds_ = false;  // the request deadline comes before the time budget
   std::uint64_t actions_ = 0;
   std::uint64_t steps_ = 0;
   std::vector<sdk::Cell> point_vars_;  // innermost last; popping restores the outer binding (§4.7)

@@ -17,17 +17,25 @@ using sdk::Node;
 using sdk::WorldState;
 
 Interpreter::Interpreter(const sdk::Planner& planner, const ExecLimits& limits,
-                         const WorldState& start)
+                         const WorldState& start,
+                         std::chrono::steady_clock::time_point request_deadline)
     : planner_(planner), geometry_(*start.geometry), rooms_(*start.rooms), limits_(limits) {
   stop_.deadline = std::chrono::steady_clock::now() + limits.time_budget;
+  if (request_deadline < stop_.deadline) {
+    stop_.deadline = request_deadline;
+    request_deadline_binds_ = true;
+  }
 }
 
 void Interpreter::tick() {
-  if (std::chrono::steady_clock::now() >= stop_.deadline)
-    throw sdk::Error(sdk::codes::kBudgetExceeded,
-                     "time budget exceeded: execution took longer than " +
-                         std::to_string(limits_.time_budget.count()) +
-                         " ms (execution.time_budget_ms)");
+  if (std::chrono::steady_clock::now() < stop_.deadline) return;
+  if (request_deadline_binds_)
+    throw sdk::Error(sdk::codes::kDeadlineExceeded,
+                     "deadline exceeded: the request took longer than session.deadline_ms");
+  throw sdk::Error(sdk::codes::kBudgetExceeded,
+                   "time budget exceeded: execution took longer than " +
+                       std::to_string(limits_.time_budget.count()) +
+                       " ms (execution.time_budget_ms)");
 }
 
 bool Interpreter::run(const sdk::Program& program, WorldState& state,

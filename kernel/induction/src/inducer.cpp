@@ -9,7 +9,8 @@ Inducer::Inducer(const sdk::Parser& parser, const sdk::Scorer& scorer, Induction
     : parser_(parser), scorer_(scorer), options_(options) {}
 
 PreparedDefinition Inducer::prepare(const DefinitionInput& def,
-                                    const std::function<bool(const sdk::Rule&)>& visible) const {
+                                    const std::function<bool(const sdk::Rule&)>& visible,
+                                    const sdk::StopCondition& stop) const {
   PreparedDefinition out;
   out.head_tokens = sdk::tokenize(def.head);
   if (out.head_tokens.empty())
@@ -22,12 +23,20 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
   req.context.user = def.author;
   req.visible = visible;
   req.beam = options_.beam;
+  req.stop = stop;
+  auto refuse_if_stopped = [&](const sdk::ParseResult& r, const std::string& what) {
+    if (r.stopped)
+      throw sdk::Error(
+          sdk::codes::kDeadlineExceeded,
+          "deadline exceeded while parsing " + what + " of the definition (session.deadline_ms)");
+  };
 
   // One parse of the head gives both the core check (whole span) and the head chart.
   req.tokens = out.head_tokens;
   req.want_chart = true;
   req.whole_span = true;
   sdk::ParseResult head = parser_.parse(req);
+  refuse_if_stopped(head, "the head");
   for (const auto& c : head.candidates)
     if (c.core_only)
       throw sdk::Error(induction_codes::kHeadIsCore, "'" + def.head + "' already means " +
@@ -42,6 +51,7 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
     const std::string line = "body line " + std::to_string(i + 1) + " '" + def.body[i] + "'";
     sdk::ParseResult r;
     if (!req.tokens.empty()) r = parser_.parse(req);
+    refuse_if_stopped(r, "body line " + std::to_string(i + 1));
     if (r.candidates.empty())
       throw sdk::Error(induction_codes::kBodyUnparsable, line + " does not parse");
     const int rank = i < def.body_ranks.size() ? def.body_ranks[i] : 0;

@@ -3,6 +3,7 @@
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
 
+#include "elf_check.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::kernel::detail {
@@ -10,6 +11,7 @@ namespace flipper::kernel::detail {
 OpenedLibrary open_library(const std::string& path) {
   namespace dll = boost::dll;
   std::shared_ptr<dll::shared_library> lib;
+  check_elf_file(path);  // a truncated file would be mapped and crash with SIGBUS
   try {
     lib = std::make_shared<dll::shared_library>(
         path, dll::load_mode::rtld_now | dll::load_mode::rtld_local);

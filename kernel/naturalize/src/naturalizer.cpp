@@ -12,6 +12,12 @@ namespace flipper::kernel {
 
 namespace {
 
+sdk::StopCondition stop_at(std::chrono::steady_clock::time_point deadline) {
+  sdk::StopCondition stop;
+  stop.deadline = deadline;
+  return stop;
+}
+
 sdk::RuleOrigin origin_from_string(const std::string& how) {
   if (how == "simple") return sdk::RuleOrigin::simple;
   if (how == "best") return sdk::RuleOrigin::best;
@@ -243,8 +249,8 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   refresh();  // induce against every rule committed so far, by any process
   Inducer inducer(*runtime_->parser, *runtime_->scorer, options_.induction);
   const auto visible_rules = visibility_for(req.user);
-  PreparedDefinition prepared =
-      inducer.prepare({req.head, req.body, req.user, req.body_ranks}, visible_rules);
+  PreparedDefinition prepared = inducer.prepare({req.head, req.body, req.user, req.body_ranks},
+                                                visible_rules, stop_at(req.deadline));
 
   DefineOutcome out;
   sdk::Program winner = prepared.body;
@@ -271,6 +277,11 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
 
   InductionResult induced = inducer.induce(
       prepared, winner, rewritten, [&](const sdk::Rule& r) { return exists_for(r, req.user); });
+
+  if (std::chrono::steady_clock::now() >= req.deadline)
+    throw sdk::Error(sdk::codes::kDeadlineExceeded,
+                     "deadline exceeded before the definition was stored (session.deadline_ms); "
+                     "nothing was stored");
 
   // Commit definition + rules in one transaction, where the store assigns their ids, before
   // anything becomes visible: a failed commit leaves parser and store unchanged.

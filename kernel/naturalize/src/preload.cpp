@@ -1,17 +1,19 @@
 // Preloading a definitions file (docs/naturalization.md §5): replayed through induction so rules
 // are always induced by this system, never copied.
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 
+#include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::kernel {
 
 void Naturalizer::preload(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw sdk::Error(sdk::codes::kBadConfig, "lexicon.preload: cannot read '" + path + "'");
+  std::istringstream in(read_regular_file(path,
+                                          InputLimits::from_config(runtime_->config).max_file_bytes,
+                                          "lexicon.preload file", sdk::codes::kBadConfig));
   // A restart must not replay what the store already holds.
   std::set<std::tuple<std::string, std::vector<std::string>, std::string>> stored;
   for (const auto& d : store_->definitions()) stored.emplace(d.head, d.body, d.author);

@@ -17,22 +17,58 @@ Json rule_json(const sdk::Rule& rule) {
 
 namespace {
 
+// The session's executor bound to the request's deadline (generalization runs many programs).
+class DeadlineExecution : public sdk::ExecutionService {
+ public:
+  DeadlineExecution(const Executor& exec, std::chrono::steady_clock::time_point deadline)
+      : exec_(exec), deadline_(deadline) {}
+  sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override {
+    return exec_.run(program, world, deadline_);
+  }
+
+ private:
+  const Executor& exec_;
+  std::chrono::steady_clock::time_point deadline_;
+};
+
+// Head and body lines are parsed into a chart of (n + 1)^2 cells: bounded by input.max_tokens.
+void check_length(const InputLimits& limits, const std::string& text, const std::string& what) {
+  const std::size_t n = sdk::tokenize(text).size();
+  if (n > limits.max_tokens)
+    throw sdk::Error(sdk::codes::kInputTooLong, what + " has " + std::to_string(n) +
+                                                    " tokens; the limit is input.max_tokens = " +
+                                                    std::to_string(limits.max_tokens));
+}
+
 Json op_define(Naturalizer& nat, Session& s, const Json& req) {
   DefineRequest d;
   d.user = s.user();
   d.head = request::require_string(req, "head", "the utterance to define");
   d.body = request::require_string_list(req, "body", "a list of utterances");
+  const InputLimits& limits = s.options().input;
+  check_length(limits, d.head, "the head");
+  if (d.body.size() > limits.max_body_lines)
+    throw sdk::Error(sdk::codes::kInputTooLong, "the body has " + std::to_string(d.body.size()) +
+                                                    " lines; the limit is input.max_body_lines = " +
+                                                    std::to_string(limits.max_body_lines));
+  for (std::size_t i = 0; i < d.body.size(); ++i)
+    check_length(limits, d.body[i], "body line " + std::to_string(i + 1));
   if (req.contains("ranks") && !req["ranks"].is_null()) {
     if (!req["ranks"].is_array())
       throw sdk::Error(sdk::codes::kBadRequest, "field 'ranks' must be a list of integers");
     for (const auto& r : req["ranks"]) {
-      if (!r.is_number_integer())
-        throw sdk::Error(sdk::codes::kBadRequest, "field 'ranks' must be a list of integers");
+      // get<int> would wrap a large rank into a small (even valid) one.
+      if (!r.is_number_integer() || r < 0 || r > 1000000)
+        throw sdk::Error(
+            sdk::codes::kBadRequest,
+            "field 'ranks' must be a list of integers from 0 to 1000000, got " + r.dump());
       d.body_ranks.push_back(r.get<int>());
     }
   }
+  const DeadlineExecution exec(s.executor(), s.deadline());
   d.before = &s.world();
-  d.exec = &s.executor();
+  d.exec = &exec;
+  d.deadline = s.deadline();
   DefineOutcome out = nat.define(d);
   Json rules = Json::array();
   for (const auto& r : out.rules) rules.push_back(rule_json(*r));

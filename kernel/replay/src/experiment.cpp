@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 
 #include "flipper/kernel/replay/corpus.hpp"
@@ -27,6 +28,22 @@ std::vector<std::string> string_list(const YAML::Node& node, const std::string& 
     throw sdk::Error(sdk::codes::kBadConfig, where + " must be a list of strings");
   for (const auto& n : node) out.push_back(n.as<std::string>());
   return out;
+}
+
+// A variant's name is a directory under --out: one path component of letters, digits, '.', '_',
+// '-', '+' and '=', so `../../x` or `/etc` cannot write outside --out.
+void check_variant_name(const std::string& name, const std::string& where) {
+  const bool ok = !name.empty() && name != "." && name != ".." && name.size() <= 100 &&
+                  std::all_of(name.begin(), name.end(), [](char c) {
+                    return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' ||
+                           c == '+' || c == '=' || c == '-';
+                  });
+  if (!ok)
+    throw sdk::Error(
+        sdk::codes::kBadConfig,
+        where + "variant name '" + name +
+            "' must be one directory name (letters, digits, '.', '_', '-', '+', '='; not '.' "
+            "or '..'; at most 100 characters): it names the output folder under --out");
 }
 
 }  // namespace
@@ -67,6 +84,11 @@ Experiment load_experiment(const std::string& path) {
           throw sdk::Error(sdk::codes::kBadConfig,
                            where + "variant " + std::to_string(i) + " needs a 'name'");
         var.name = v[i]["name"].as<std::string>();
+        check_variant_name(var.name, where);
+        for (const auto& other : e.variants)
+          if (other.name == var.name)
+            throw sdk::Error(sdk::codes::kBadConfig, where + "two variants are named '" + var.name +
+                                                         "' (one output folder each)");
         var.sets = string_list(v[i]["set"], where + "variant '" + var.name + "' 'set'");
         e.variants.push_back(std::move(var));
       }

@@ -5,6 +5,7 @@
 
 #include "flipper/kernel/replay/output.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "out_file.hpp"
 
 namespace flipper::kernel::replay {
 namespace {
@@ -73,12 +74,6 @@ std::string csv(const std::string& s) {
   return out + "\"";
 }
 
-std::ofstream open(const std::string& dir, const std::string& name) {
-  std::ofstream out(dir + "/" + name);
-  if (!out) throw sdk::Error(sdk::codes::kBadRequest, "cannot write '" + dir + "/" + name + "'");
-  out << std::setprecision(6);
-  return out;
-}
 
 }  // namespace
 
@@ -119,9 +114,11 @@ nlohmann::ordered_json metrics_json(const Metrics& m) {
 
 void write_metrics(const std::string& dir, const ReplayResult& result, const Metrics& m) {
   std::filesystem::create_directories(dir);
-  open(dir, "metrics.json") << metrics_json(m).dump(1) << "\n";
+  OutFile json(dir + "/metrics.json");
+  json << metrics_json(m).dump(1) << "\n";
+  json.close();
 
-  auto q = open(dir, "queries.csv");
+  OutFile q(dir + "/queries.csv");
   q << "qid,run,group,user,phase,in_authors_tables,tokens,original,ours,agree,original_author,"
        "our_author,original_parses,our_candidates,ms,original_ms,utterance\n";
   for (const auto& r : result.queries)
@@ -131,7 +128,7 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
       << r.our_author << ',' << r.original_parses << ',' << r.our_candidates << ',' << r.ms << ','
       << r.original_ms << ',' << csv(r.utterance) << "\n";
 
-  auto p = open(dir, "participants.csv");
+  OutFile p(dir + "/participants.csv");
   p << "group,user,queries,agree,ours_core,ours_induced,ours_failed,orig_core,orig_induced,"
        "orig_failed,ours_tokens_successful,orig_tokens_successful,tokens_all,ours_by_self,"
        "ours_by_others,orig_by_self,orig_by_others\n";
@@ -144,7 +141,7 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
       << a.by_self << ',' << a.by_others << ',' << b.by_self << ',' << b.by_others << "\n";
   }
 
-  auto g = open(dir, "groups.csv");
+  OutFile g(dir + "/groups.csv");
   g << "group,queries,agree,rate,ours_tokens_successful_mean,orig_tokens_successful_mean,"
        "tokens_all_mean,participants\n";
   for (const auto& [name, a] : m.by_group) {
@@ -160,19 +157,19 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
       << "\n";
   }
 
-  auto acc = open(dir, "accepts.csv");
+  OutFile acc(dir + "/accepts.csv");
   acc << "qid,run,group,user,matched,rank,executed,compared,robot,held,floor,class,note\n";
   for (const auto& r : result.accepts)
     acc << csv(r.qid) << ',' << csv(r.run) << ',' << r.group << ',' << csv(r.user) << ','
         << r.matched << ',' << r.rank << ',' << r.executed << ',' << r.compared << ',' << r.robot
         << ',' << r.held << ',' << r.floor << ',' << r.diff << ',' << csv(r.note) << "\n";
 
-  auto d = open(dir, "definitions.csv");
+  OutFile d(dir + "/definitions.csv");
   d << "qid,run,user,preloaded,ok,error,rules,head\n";
   for (const auto& r : result.defines)
     d << csv(r.qid) << ',' << csv(r.run) << ',' << csv(r.user) << ',' << r.preloaded << ',' << r.ok
       << ',' << r.error_code << ',' << r.rules << ',' << csv(r.head) << "\n";
-  auto del = open(dir, "deletions.csv");
+  OutFile del(dir + "/deletions.csv");
   del << "qid,run,user,rule_index,definition,deleted,note\n";
   for (const auto& r : result.deletes) {
     std::string ids;
@@ -180,6 +177,7 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
     del << csv(r.qid) << ',' << csv(r.run) << ',' << csv(r.user) << ',' << r.rule_index << ','
         << csv(r.definition) << ',' << csv(ids) << ',' << csv(r.note) << "\n";
   }
+  for (OutFile* f : {&q, &p, &g, &acc, &d, &del}) f->close();
 }
 
 }  // namespace flipper::kernel::replay

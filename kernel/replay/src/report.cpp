@@ -7,6 +7,7 @@
 #include "flipper/kernel/corpus/accept_diff.hpp"
 #include "flipper/kernel/replay/output.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "out_file.hpp"
 
 namespace flipper::kernel::replay {
 namespace {
@@ -148,8 +149,8 @@ void write_report(const std::string& dir, const std::string& title,
                   const std::vector<Variant>& variants, const std::string& corpus,
                   const std::vector<std::string>& runs) {
   std::filesystem::create_directories(dir);
-  std::ofstream o(dir + "/report.md");
-  if (!o) throw sdk::Error(sdk::codes::kBadRequest, "cannot write '" + dir + "/report.md'");
+  OutFile file(dir + "/report.md");
+  std::ostream& o = file.stream();
   o << "# " << title << "\n\nCorpus: `" << corpus << "`. Runs:";
   for (const auto& r : runs) o << " `" << r << "`";
   o << ".\n\nFigures count `q` commands with phase `task` of participants with "
@@ -176,6 +177,7 @@ void write_report(const std::string& dir, const std::string& title,
     write_variant_section(o, variants);
   }
   for (const auto& v : variants) variant_section(o, v);
+  file.close();
 }
 
 }  // namespace flipper::kernel::replay

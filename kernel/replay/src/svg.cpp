@@ -8,6 +8,7 @@
 
 #include "flipper/kernel/replay/output.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "out_file.hpp"
 
 namespace flipper::kernel::replay {
 namespace {
@@ -111,9 +112,9 @@ std::string render_svg(const BarChart& c) {
 namespace {
 
 void save(const std::string& dir, const std::string& name, const BarChart& c) {
-  std::ofstream out(dir + "/" + name);
-  if (!out) throw sdk::Error(sdk::codes::kBadRequest, "cannot write '" + dir + "/" + name + "'");
+  OutFile out(dir + "/" + name);
   out << render_svg(c);
+  out.close();
 }
 
 double mean_of(const std::map<std::string, Summary>& m, const std::string& g) {

@@ -3,11 +3,12 @@
 #include "flipper/kernel/runtime.hpp"
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <optional>
 
+#include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/loader.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/world_format.hpp"
 
 namespace flipper::kernel {
 
@@ -32,24 +33,49 @@ auto guarded(const std::string& who, F&& f) -> decltype(f()) {
   }
 }
 
-std::string read_file(const std::string& path, const char* code, const char* what) {
-  std::ifstream in(path);
-  if (!in) throw Error(code, std::string("cannot read ") + what + " '" + path + "'");
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+std::uint64_t cells_of(const sdk::Cell& lo, const sdk::Cell& hi) {
+  auto extent = [](std::int64_t a, std::int64_t b) {
+    return b < a ? std::uint64_t{0} : static_cast<std::uint64_t>(b - a) + 1;
+  };
+  return extent(lo.x, hi.x) * extent(lo.y, hi.y) * extent(lo.z, hi.z);
 }
 
-sdk::WorldState load_world(const sdk::World& world, const std::string& who,
-                           const std::string& path_or_json) {
-  std::string text = path_or_json;
-  std::string base_dir = fs::current_path().string();
-  const auto first = path_or_json.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos || path_or_json[first] != '{') {
-    text = read_file(path_or_json, codes::kBadWorld, "world file");
-    base_dir = fs::absolute(path_or_json).parent_path().string();
+void refuse_large(std::uint64_t cells, std::uint64_t limit) {
+  if (cells > limit)
+    throw Error(codes::kWorldTooLarge,
+                "the world has " + std::to_string(cells) +
+                    " cells; the limit is world.max_cells = " + std::to_string(limit));
+}
+
+sdk::WorldState load_world(const sdk::World& world, const std::string& who, const Config& config,
+                           const std::string& text, const std::string& base_dir) {
+  const InputLimits limits = InputLimits::from_config(config);
+  // The shared part of the format gives the explicit or default bounds: a 110-byte world can
+  // name a box of 16382^2 cells, which the plugin would allocate before anything else.
+  // A world plugin with a format of its own may refuse what the shared reader cannot read: then
+  // only the check after loading applies.
+  const int dims = guarded(who, [&] { return world.dims(); });
+  std::optional<sdk::world_format::Bounds> box;
+  try {
+    box = sdk::world_format::effective_bounds(sdk::world_format::parse_world(text, dims));
+  } catch (const Error&) {
   }
-  return guarded(who, [&] { return world.load(text, base_dir); });
+  if (box) refuse_large(cells_of(box->min, box->max), limits.max_world_cells);
+  sdk::WorldState state = guarded(who, [&] { return world.load(text, base_dir); });
+  // The plugin may grow the box (an octree's extent): check what it built as well.
+  if (state.geometry) refuse_large(state.geometry->cell_count(), limits.max_world_cells);
+  return state;
+}
+
+sdk::WorldState load_world_path(const sdk::World& world, const std::string& who,
+                                const Config& config, const std::string& path_or_json) {
+  const auto first = path_or_json.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && path_or_json[first] == '{')
+    return load_world(world, who, config, path_or_json, fs::current_path().string());
+  const std::string text =
+      read_regular_file(path_or_json, InputLimits::from_config(config).max_file_bytes, "world file",
+                        codes::kBadWorld);
+  return load_world(world, who, config, text, fs::absolute(path_or_json).parent_path().string());
 }
 
 }  // namespace
@@ -76,17 +102,26 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
                                        world_name + "'; choose a planner with " +
                                        (dims == 3 ? "supports_3d" : "supports_2d"));
 
+  const std::string grammar_file = config.get_path("grammar.file");
+  check_regular_file(grammar_file, InputLimits::from_config(config).max_file_bytes, "grammar file",
+                     codes::kBadGrammar);
   rt->core_grammar = std::make_shared<const sdk::Grammar>(sdk::load_grammar_file(
       config.get_path("grammar.file"), config.get_string_list("grammar.colors"),
       config.get_string_list("grammar.shapes"), config.get_string_list("grammar.directions")));
   guarded(config.plugin_name("parser"), [&] { rt->parser->set_grammar(rt->core_grammar); });
 
-  rt->default_world = load_world(*rt->world, world_name, config.get_path("world.file"));
+  rt->default_world =
+      load_world_path(*rt->world, world_name, config, config.get_path("world.file"));
   return rt;
 }
 
 sdk::WorldState load_world_file(const Runtime& rt, const std::string& path) {
-  return load_world(*rt.world, rt.config.plugin_name("world"), path);
+  return load_world_path(*rt.world, rt.config.plugin_name("world"), rt.config, path);
+}
+
+sdk::WorldState load_world_text(const Runtime& rt, const std::string& text,
+                                const std::string& base_dir) {
+  return load_world(*rt.world, rt.config.plugin_name("world"), rt.config, text, base_dir);
 }
 
 }  // namespace flipper::kernel

@@ -20,6 +20,8 @@ SessionOptions SessionOptions::from_config(const Config& c) {
   o.limits.time_budget = std::chrono::milliseconds(
       int_or(c, "execution.time_budget_ms", o.limits.time_budget.count()));
   o.limits.while_limit = static_cast<int>(int_or(c, "execution.while_limit", o.limits.while_limit));
+  o.input = InputLimits::from_config(c);
+  o.max_chars = static_cast<std::size_t>(int_or(c, "input.max_chars", 2000));
   return o;
 }
 

@@ -51,11 +51,13 @@ void collect_induced(const sdk::DerivationPtr& d, std::vector<sdk::RulePtr>& out
   for (const auto& kid : d->kids) collect_induced(kid, out);
 }
 
-// Runs a program; a throwing planner becomes an erroneous outcome, not a failed query.
+// Runs a program within the request's deadline; a throwing planner becomes an erroneous outcome,
+// not a failed query.
 sdk::Outcome run_guarded(const Executor& exec, const sdk::Program& program,
-                         const sdk::WorldState& world) {
+                         const sdk::WorldState& world,
+                         std::chrono::steady_clock::time_point deadline) {
   try {
-    return request::call_plugin("planner", [&] { return exec.run(program, world); });
+    return request::call_plugin("planner", [&] { return exec.run(program, world, deadline); });
   } catch (const sdk::Error& e) {
     sdk::Outcome o;
     o.world = world;
@@ -91,13 +93,20 @@ Json Session::op_query(const Json& req) {
                      "the utterance has " + std::to_string(semicolons) +
                          " ';' tokens; the limit is input.max_semicolons = " +
                          std::to_string(options_.max_semicolons) + " (refused at that many)");
+  if (pr.tokens.size() > options_.input.max_tokens)
+    throw sdk::Error(sdk::codes::kInputTooLong, "the utterance has " +
+                                                    std::to_string(pr.tokens.size()) +
+                                                    " tokens; the limit is input.max_tokens = " +
+                                                    std::to_string(options_.input.max_tokens));
   q->tokens = pr.tokens;
   pr.context.tokens = &q->tokens;
   pr.context.user = user_;
   pr.scorer = runtime_->scorer.get();
   pr.visible = visible_rules();
   pr.beam = options_.beam;
+  pr.stop.deadline = deadline();
   q->parse = request::call_plugin("parser", [&] { return runtime_->parser->parse(pr); });
+  if (q->parse.stopped) check_deadline("parsing");
   q->probs = softmax(q->parse.candidates);
   q->world = world_;
 
@@ -111,7 +120,9 @@ Json Session::op_query(const Json& req) {
     sc.index = i;
     sc.derivation = credited_derivation(cands[i]);
     collect_induced(sc.derivation, sc.induced_rules);
-    sc.outcome = run_guarded(executor_, cands[i].program, world_);
+    sc.outcome = run_guarded(executor_, cands[i].program, world_, deadline());
+    // A candidate cut by the request's deadline cannot be shown: the whole query is refused.
+    if (sc.outcome.error_code == sdk::codes::kDeadlineExceeded) check_deadline("executing");
     if (sc.outcome.error) sc.error_code = sc.outcome.error_code.value_or(sdk::codes::kExecution);
 
     Json rules = Json::array(), authors = Json::array();
@@ -138,6 +149,7 @@ Json Session::op_query(const Json& req) {
     q->shown.push_back(std::move(sc));
   }
 
+  check_deadline("writing the answer");
   const char* status = "unparsable";
   if (!cands.empty())
     status =
@@ -169,7 +181,8 @@ void Session::notify_plan_observers(const LastQuery& q, const ShownCandidate& sc
 }
 
 Json Session::op_accept(const Json& req) {
-  std::int64_t rank = request::require_int(req, "rank", "index into the last query's candidates");
+  std::int64_t rank = request::require_int(req, "rank", "index into the last query's candidates",
+                                           session_codes::kRankOutOfRange);
   if (!last_query_)
     throw sdk::Error(session_codes::kNoQuery, "there is no query to accept a candidate of");
   LastQuery& q = *last_query_;
@@ -183,7 +196,8 @@ Json Session::op_accept(const Json& req) {
                      "candidate " + std::to_string(rank) +
                          " cannot be accepted: its execution failed (" +
                          sc.outcome.error.value_or(*sc.error_code) + ")");
-  sdk::Outcome outcome = run_guarded(executor_, q.parse.candidates[sc.index].program, world_);
+  sdk::Outcome outcome =
+      run_guarded(executor_, q.parse.candidates[sc.index].program, world_, deadline());
   if (outcome.error)
     throw sdk::Error(session_codes::kNotAcceptable, "candidate " + std::to_string(rank) +
                                                         " cannot be accepted: " + *outcome.error);

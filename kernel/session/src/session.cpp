@@ -2,9 +2,7 @@
 #include "flipper/kernel/session.hpp"
 
 #include <filesystem>
-#include <fstream>
 #include <random>
-#include <sstream>
 
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session_request.hpp"
@@ -29,13 +27,60 @@ Json not_implemented(Session&, const Json& req) {
                    "op '" + req.value("op", std::string()) + "' is not available in this build");
 }
 
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw sdk::Error(sdk::codes::kBadWorld, "cannot read world file '" + path.string() + "'");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+// Answers are dumped with invalid UTF-8 replaced (U+FFFD): a message may quote the request's bytes.
+std::string dump_answer(const Json& answer) {
+  return answer.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+// The text of the top-level "id" when it is a number: a 25-digit id or 1.10 must come back as
+// sent, and the parsed double would not (nlohmann hands its SAX the number's raw text).
+class RawIdSax : public nlohmann::json_sax<Json> {
+ public:
+  std::string raw;
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t& s) override {
+    if (depth_ == 1 && in_id_) raw = s;
+    return value();
+  }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override { return open(); }
+  bool key(string_t& k) override {
+    in_id_ = depth_ == 1 && k == "id";
+    return true;
+  }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(); }
+  bool end_array() override { return close(); }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    return false;
+  }
+
+ private:
+  bool value() {
+    if (depth_ == 1) in_id_ = false;
+    return true;
+  }
+  bool open() {
+    value();
+    ++depth_;
+    return true;
+  }
+  bool close() {
+    --depth_;
+    return true;
+  }
+  int depth_ = 0;
+  bool in_id_ = false;
+};
+
+std::string raw_id_text(std::string_view line) {
+  RawIdSax sax;
+  Json::sax_parse(line, &sax);
+  return sax.raw;
 }
 
 bool is_blank(std::string_view s) {
@@ -151,25 +196,64 @@ std::string Session::splice_worlds(std::string answer) const {
   return out;
 }
 
+std::string Session::line_too_long(std::uint64_t bytes) const {
+  return dump_answer(error_answer(nullptr, nullptr, sdk::codes::kInputTooLong,
+                                  "the request line has " + std::to_string(bytes) +
+                                      " bytes; the limit is input.max_line_bytes = " +
+                                      std::to_string(options_.input.max_line_bytes)));
+}
+
+void Session::check_deadline(const char* stage) const {
+  if (std::chrono::steady_clock::now() >= deadline_)
+    throw sdk::Error(sdk::codes::kDeadlineExceeded,
+                     std::string("deadline exceeded while ") + stage +
+                         ": the request took longer than session.deadline_ms = " +
+                         std::to_string(options_.input.deadline.count()));
+}
+
 std::string Session::handle_line(std::string_view line) {
   if (is_blank(line)) return {};
-  Json request;
-  try {
-    request = Json::parse(line);
-  } catch (const Json::parse_error& e) {
-    // nlohmann's message carries the byte position of the problem.
-    return error_answer(nullptr, nullptr, session_codes::kBadJson,
-                        std::string("the line is not valid JSON: ") + e.what())
-        .dump();
-  }
-  spliced_.clear();
-  line_mode_ = true;
-  Json answer = handle(request);
   line_mode_ = false;
-  return splice_worlds(answer.dump(-1, ' ', false, Json::error_handler_t::replace));
+  try {
+    if (line.size() > options_.input.max_line_bytes) return line_too_long(line.size());
+    // Nesting is checked before parsing: the tree of a deeply nested value is copied and
+    // destroyed recursively, and no request needs more than a few levels.
+    const int limit = options_.input.max_json_depth;
+    if (int depth = json_depth(line, limit); depth > limit)
+      return dump_answer(error_answer(nullptr, nullptr, sdk::codes::kTooDeep,
+                                      "the request is nested deeper than input.max_json_depth = " +
+                                          std::to_string(limit) + " levels"));
+    Json request;
+    try {
+      request = Json::parse(line);
+    } catch (const Json::exception& e) {
+      // Syntax errors and numbers beyond double range (1e999); nlohmann's message carries the
+      // byte position and may quote bytes that are not UTF-8 (dump_answer replaces them).
+      return dump_answer(error_answer(nullptr, nullptr, session_codes::kBadJson,
+                                      std::string("the line is not valid JSON: ") + e.what()));
+    }
+    spliced_.clear();
+    if (request.is_object())
+      if (auto id = request.find("id"); id != request.end() && id->is_number_float())
+        if (std::string raw = raw_id_text(line); !raw.empty()) {
+          spliced_.push_back(std::move(raw));
+          *id = marker_ + std::to_string(spliced_.size() - 1);
+        }
+    line_mode_ = true;
+    Json answer = handle(request);
+    line_mode_ = false;
+    return splice_worlds(dump_answer(answer));
+  } catch (const std::exception& e) {
+    line_mode_ = false;
+    return dump_answer(error_answer(nullptr, nullptr, sdk::codes::kInternal,
+                                    std::string("internal error: ") + e.what()));
+  }
 }
 
 Json Session::handle(const Json& request) {
+  deadline_ = options_.input.deadline.count() > 0
+                  ? std::chrono::steady_clock::now() + options_.input.deadline
+                  : std::chrono::steady_clock::time_point::max();
   if (!request.is_object())
     return error_answer(nullptr, nullptr, session_codes::kBadJson,
                         "a request must be a JSON object, got " + std::string(request.type_name()));
@@ -215,18 +299,21 @@ Json Session::op_world(const Json& req) {
       throw sdk::Error(sdk::codes::kBadRequest, "field 'world' must be a world object");
     const std::string base = std::filesystem::current_path().string();
     std::string text = world_field->dump();
-    state = request::call_plugin("world", [&] { return runtime_->world->load(text, base); });
+    state = request::call_plugin("world", [&] { return load_world_text(*runtime_, text, base); });
   } else {
     std::string file =
         request::require_string(req, "file", "a world object 'world' or a path 'file'");
     std::filesystem::path path(file);
     // Relative paths: the caller's directory first, then the config's.
-    if (path.is_relative() && !std::filesystem::exists(path))
+    std::error_code ec;
+    if (path.is_relative() && !std::filesystem::exists(path, ec))
       path = runtime_->config.resolve_path(file);
-    std::string text = read_file(path);
+    std::string text = read_regular_file(path.string(), options_.input.max_file_bytes, "world file",
+                                         sdk::codes::kBadWorld);
     std::string base = path.parent_path().string();
-    state = request::call_plugin("world", [&] { return runtime_->world->load(text, base); });
+    state = request::call_plugin("world", [&] { return load_world_text(*runtime_, text, base); });
   }
+  check_deadline("loading the world");
   Json normalised = answer_world(state);
   set_world(std::move(state));
   return Json{{"world", std::move(normalised)}};

@@ -29,6 +29,13 @@ inline constexpr const char* kExecution = "execution_error";
 inline constexpr const char* kBudgetExceeded = "budget_exceeded";
 inline constexpr const char* kInputTooLong = "input_too_long";
 inline constexpr const char* kInternal = "internal";
+// Limits on hostile input (SDK 1.1; README "Bad input"):
+inline constexpr const char* kTooDeep = "too_deep";               ///< JSON nested too deep
+inline constexpr const char* kWorldTooLarge = "world_too_large";  ///< more cells than allowed
+inline constexpr const char* kFileTooLarge = "file_too_large";
+inline constexpr const char* kNotARegularFile = "not_a_regular_file";  ///< a FIFO, device, dir
+inline constexpr const char* kDeadlineExceeded = "deadline_exceeded";  ///< the request's deadline
+inline constexpr const char* kWriteFailed = "write_failed";            ///< e.g. the device is full
 }  // namespace codes
 
 /// An error with a stable code. Plugins throw it (or any std::exception; the kernel wraps those

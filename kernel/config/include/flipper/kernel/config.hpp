@@ -6,7 +6,8 @@
 /// plugin declares; unknown keys are errors with a "did you mean" hint (code bad_config).
 ///
 /// Layout (Nav2-style named instances):
-///   world:    {plugin: grid2d, params: {...}, file: worlds/study2018.json, resolution, origin}
+///   world:    {plugin: grid2d, params: {...}, file: worlds/study2018.json, resolution, origin,
+///             max_cells}
 ///   planner:  {plugin: astar, params: {...}}
 ///   parser / scorer / rewriter / similarity: {plugin: NAME, params: {...}}
 ///   grammar:  {file, colors, shapes}
@@ -15,8 +16,9 @@
 ///   publish:  {plans: none|dds}      dds: {domain, interfaces, config}   (apps/dds)
 ///   induction:{alignment, generalize, perturbed_checks}
 ///   execution:{action_budget, time_budget_ms, while_limit}
-///   input:    {max_chars, max_semicolons}
-///   session:  {k}
+///   input:    {max_chars, max_semicolons, max_line_bytes, max_json_depth, max_tokens,
+///              max_body_lines, max_file_bytes}
+///   session:  {k, deadline_ms}
 ///   plugin_paths: [dirs]
 /// Relative paths resolve against the config file's directory (the embedded default behaves as
 /// if it lived in the source tree's configs/).

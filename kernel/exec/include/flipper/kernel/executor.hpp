@@ -14,9 +14,9 @@
 namespace flipper::kernel {
 
 struct ExecLimits {
-  std::uint64_t action_budget = 100000;             ///< primitive actions per execution
-  std::chrono::milliseconds time_budget{2000};      ///< wall time per execution
-  int while_limit = 20;                             ///< iterations of `while`
+  std::uint64_t action_budget = 100000;         ///< primitive actions per execution
+  std::chrono::milliseconds time_budget{2000};  ///< wall time per execution
+  int while_limit = 20;                         ///< iterations of `while`
 };
 
 class Executor : public sdk::ExecutionService {
@@ -26,6 +26,10 @@ class Executor : public sdk::ExecutionService {
   /// (unknown room, fractional count, budget exceeded) come back in Outcome::error, with
   /// Outcome::world equal to the start world.
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override;
+  /// The same within a request's deadline as well: execution stops at the earlier of
+  /// execution.time_budget_ms and `deadline`; hitting `deadline` gives `deadline_exceeded`.
+  sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world,
+                   std::chrono::steady_clock::time_point deadline) const;
   const ExecLimits& limits() const { return limits_; }
 
  private:

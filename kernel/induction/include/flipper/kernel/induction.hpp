@@ -124,9 +124,11 @@ class Inducer {
   Inducer(const sdk::Parser& parser, const sdk::Scorer& scorer, InductionOptions options = {});
 
   /// §4.1–4.3: checks, body program, head chart. Throws sdk::Error with the codes above
-  /// (bad_request for a rank past the candidates).
+  /// (bad_request for a rank past the candidates). Head and body parses stop at `stop`; a
+  /// stopped parse refuses the definition (deadline_exceeded).
   PreparedDefinition prepare(const DefinitionInput& def,
-                             const std::function<bool(const sdk::Rule&)>& visible) const;
+                             const std::function<bool(const sdk::Rule&)>& visible,
+                             const sdk::StopCondition& stop = {}) const;
 
   /// §4.4–4.8 for `winner` (the body, or a rewriting of it): simple packing of the original
   /// body, best packing of the winner (tagged `rewriting` when `winner_is_rewriting`), then

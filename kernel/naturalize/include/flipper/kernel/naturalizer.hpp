@@ -13,6 +13,7 @@
 /// Many processes may share the store: refresh() (called before every parse, define, listing
 /// and delete) picks up the rules and deletions other processes committed, incrementally.
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -63,6 +64,9 @@ struct DefineRequest {
   std::vector<int> body_ranks;                  ///< optional per line
   const sdk::WorldState* before = nullptr;      ///< world before the first body line
   const sdk::ExecutionService* exec = nullptr;  ///< both needed for generalization
+  /// The request's deadline: parses stop at it, and a definition that reaches it before its
+  /// commit is refused (deadline_exceeded) with nothing stored.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 /// A rewriter candidate that generalization discarded.

@@ -27,7 +27,7 @@ struct Runtime {
   std::shared_ptr<sdk::Rewriter> rewriter;      ///< null when the config has no rewriter
   std::shared_ptr<sdk::Similarity> similarity;  ///< null when the config has no similarity
   std::shared_ptr<const sdk::Grammar> core_grammar;
-  sdk::WorldState default_world;                ///< from world.file (loaded by the world plugin)
+  sdk::WorldState default_world;  ///< from world.file (loaded by the world plugin)
 };
 
 /// Loads every plugin the config selects and builds the runtime. Throws sdk::Error with codes
@@ -35,7 +35,14 @@ struct Runtime {
 /// bad_world, bad_grammar; messages name the plugin, file and what was expected.
 std::unique_ptr<Runtime> make_runtime(const Config& config);
 
-/// Loads a world file (or JSON text) with the runtime's world plugin.
+/// Loads a world file (or JSON text) with the runtime's world plugin. A file must be a regular
+/// file of at most input.max_file_bytes (not_a_regular_file, file_too_large).
 sdk::WorldState load_world_file(const Runtime& rt, const std::string& path);
+
+/// Loads world JSON text with the runtime's world plugin, refusing worlds of more than
+/// world.max_cells cells (their explicit or default bounds) with world_too_large before the
+/// plugin allocates them. `base_dir` resolves the world's own file references.
+sdk::WorldState load_world_text(const Runtime& rt, const std::string& text,
+                                const std::string& base_dir);
 
 }  // namespace flipper::kernel

@@ -26,6 +26,7 @@
 
 #include "flipper/kernel/accepted_plan.hpp"
 #include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/derivation.hpp"
 #include "flipper/sdk/execution.hpp"
@@ -55,6 +56,7 @@ struct SessionOptions {
   int max_semicolons = 30;       ///< input.max_semicolons: refused at this many `;` tokens
   int beam = 0;                  ///< parser beam (0: the parser's default)
   ExecLimits limits;             ///< execution.*
+  InputLimits input;             ///< input.max_*, world.max_cells, session.deadline_ms
   static SessionOptions from_config(const Config& config);
 };
 
@@ -101,8 +103,16 @@ class Session {
   Session& operator=(const Session&) = delete;
 
   /// One request line -> one answer line (no trailing newline). Empty (blank) lines give an empty
-  /// string: no answer. Never throws.
+  /// string: no answer. Never throws. Lines longer than input.max_line_bytes or nested deeper
+  /// than input.max_json_depth are refused before they are parsed.
   std::string handle_line(std::string_view line);
+  /// The answer to a line a front end did not keep because it was longer than
+  /// input.max_line_bytes (`bytes` read so far, at least the limit + 1).
+  std::string line_too_long(std::uint64_t bytes) const;
+  /// The deadline of the request being handled (session.deadline_ms after it arrived).
+  std::chrono::steady_clock::time_point deadline() const { return deadline_; }
+  /// Throws sdk::Error(deadline_exceeded) naming `stage` when the deadline has passed.
+  void check_deadline(const char* stage) const;
   /// The same for an already parsed request. Never throws.
   Json handle(const Json& request);
 
@@ -181,6 +191,7 @@ class Session {
   bool line_mode_ = false;                // inside handle_line: answer_world gives placeholders
   std::vector<std::string> spliced_;      // world and trace texts of the answer being built
   std::string marker_;                    // placeholder prefix, unique per session
+  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
 };
 
 }  // namespace flipper::kernel

@@ -16,10 +16,14 @@ namespace flipper::kernel::request {
 /// The field's value; throws missing_field when absent (or null).
 const Json& require(const Json& req, const char* field, const char* what);
 std::string require_string(const Json& req, const char* field, const char* what);
-std::int64_t require_int(const Json& req, const char* field, const char* what);
+/// An integer (2.0 counts as 2). A whole number beyond 64 bits (a 20-digit integer, 1e300) is
+/// refused with `out_of_range_code` (default bad_request), never wrapped or saturated.
+std::int64_t require_int(const Json& req, const char* field, const char* what,
+                         const char* out_of_range_code = nullptr);
 std::vector<std::string> require_string_list(const Json& req, const char* field, const char* what);
 std::optional<std::string> optional_string(const Json& req, const char* field, const char* what);
-std::optional<std::int64_t> optional_int(const Json& req, const char* field, const char* what);
+std::optional<std::int64_t> optional_int(const Json& req, const char* field, const char* what,
+                                         const char* out_of_range_code = nullptr);
 
 /// Runs a plugin call: sdk::Error passes through with its code, any other exception becomes
 /// `plugin_error` naming the plugin.

@@ -1,0 +1,44 @@
+#pragma once
+/// @file limits.hpp
+/// Limits on what a user or a file may make the kernel do (README "Bad input"): every limit is a
+/// config key with a documented default, and every refusal has a stable code (sdk::codes).
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace flipper::kernel {
+
+class Config;
+
+struct InputLimits {
+  std::uint64_t max_line_bytes = 1 << 20;    ///< input.max_line_bytes: one request line
+  int max_json_depth = 64;                   ///< input.max_json_depth: nesting of a request
+  std::size_t max_tokens = 400;              ///< input.max_tokens: query, head, each body line
+  std::size_t max_body_lines = 100;          ///< input.max_body_lines: lines of a definition
+  std::uint64_t max_file_bytes = 64 << 20;   ///< input.max_file_bytes: world/grammar/preload files
+  std::uint64_t max_world_cells = 1 << 22;   ///< world.max_cells
+  std::chrono::milliseconds deadline{5000};  ///< session.deadline_ms: one request, end to end
+
+  /// From the config's keys (schema defaults when absent).
+  static InputLimits from_config(const Config& config);
+};
+
+/// Reads a whole file that must be a regular file (not a FIFO, device or directory) of at most
+/// `max_bytes` bytes; `what` names it in messages ("world file"). Throws sdk::Error with
+/// `not_a_regular_file`, `file_too_large`, or `missing_code` when it cannot be opened/read.
+/// The size is checked on the open descriptor, and reading stops at max_bytes + 1 regardless,
+/// so a file that grows meanwhile cannot make it read more.
+std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
+                              const std::string& what, const char* missing_code);
+
+/// Checks the same for a file another library will read (e.g. an OctoMap .bt) without reading it.
+void check_regular_file(const std::string& path, std::uint64_t max_bytes, const std::string& what,
+                        const char* missing_code);
+
+/// Depth of the deepest array/object nesting in JSON text (strings skipped), stopping early once
+/// it exceeds `stop_above`: no recursion, O(length).
+int json_depth(std::string_view text, int stop_above);
+
+}  // namespace flipper::kernel

@@ -1,0 +1,232 @@
+// The rows of the bad-input table (see bad_input_cases.hpp). Each message excerpt was checked
+// against the answer the fixed binary gives; each row failed (crash, hang, wrong code or message)
+// before the fix it guards.
+#include "bad_input_cases.hpp"
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace flipper::limitstest {
+namespace {
+
+using Json = nlohmann::json;
+
+std::string words(const std::string& word, std::size_t n) {
+  std::string out;
+  out.reserve(n * (word.size() + 1));
+  for (std::size_t i = 0; i < n; ++i) out += (i ? " " : "") + word;
+  return out;
+}
+
+std::string query(const std::string& text) {
+  return Json{{"op", "query"}, {"text", text}}.dump();
+}
+
+std::string define(const std::string& head, const std::vector<std::string>& body) {
+  return Json{{"op", "define"}, {"head", head}, {"body", body}}.dump();
+}
+
+std::string world_file(const std::string& path) {
+  return Json{{"op", "world"}, {"file", path}}.dump();
+}
+
+std::vector<std::string> none(const Scratch&) {
+  return {};
+}
+
+}  // namespace
+
+std::vector<std::string> session_settings() {
+  return {"--set", "lexicon.path=:memory:",   "--set", "session.deadline_ms=1000",
+          "--set", "world.max_cells=9000000", "--set", "input.max_file_bytes=2000000",
+          "--set", "input.max_tokens=2000",   "--set", "induction.generalize=false"};
+}
+
+const std::vector<SessionRow>& session_rows() {
+  static const std::vector<SessionRow> rows = {
+      {"invalid UTF-8 in a request line", "bad_json", "the line is not valid JSON", none,
+       [](const Scratch&) { return std::string("{\"op\":\"query\",\"text\":\"\xff\"}"); }},
+      {"a number beyond double range (`1e999`)", "bad_json", "number overflow parsing '1e999'",
+       none,
+       [](const Scratch&) {
+         return std::string(R"({"op":"query","text":"move left","k":1e999})");
+       }},
+      {"a 400-digit integer", "bad_json", "number overflow parsing", none,
+       [](const Scratch&) { return R"({"op":"state","id":)" + std::string(400, '9') + "}"; }},
+      {"`id` nested 50,000 deep", "too_deep", "nested deeper than input.max_json_depth = 64 levels",
+       none,
+       [](const Scratch&) {
+         return R"({"op":"state","id":)" + std::string(50000, '[') + "1" + std::string(50000, ']') +
+                "}";
+       }},
+      {"a request line over `input.max_line_bytes` (2 MiB here)", "input_too_long",
+       "the limit is input.max_line_bytes = 1048576", none,
+       [](const Scratch&) { return query(std::string(2 << 20, 'a')); }},
+      {"a query over `input.max_tokens` (default 400)", "input_too_long",
+       "the utterance has 450 tokens; the limit is input.max_tokens = 400", none,
+       [](const Scratch&) { return query(words("a", 450)); }, true},
+      {"`'{'`×990 + `move left` + `'}'`×990 at the default limits", "input_too_long",
+       "the utterance has 1982 tokens; the limit is input.max_tokens = 400", none,
+       [](const Scratch&) {
+         return query(std::string(990, '{') + "move left" + std::string(990, '}'));
+       },
+       true},
+      {"a query over `input.max_chars`", "input_too_long",
+       "the utterance has 3000 characters; the limit is input.max_chars = 2000", none,
+       [](const Scratch&) { return query(std::string(3000, 'a')); }},
+      {"a define head of 65,535 tokens", "input_too_long",
+       "the head has 65535 tokens; the limit is input.max_tokens = 2000", none,
+       [](const Scratch&) { return define(words("zz", 65535), {"move left"}); }},
+      {"a define head of 110 KB", "input_too_long",
+       "the head has 55000 tokens; the limit is input.max_tokens = 2000", none,
+       [](const Scratch&) { return define(words("a", 55000), {"move left"}); }},
+      {"a define body line of 65,535 tokens", "input_too_long",
+       "body line 2 has 65535 tokens; the limit is input.max_tokens = 2000", none,
+       [](const Scratch&) {
+         return define("glorb", {"move left", words("up", 65535)});
+       }},
+      {"a define body over `input.max_body_lines`", "input_too_long",
+       "the body has 101 lines; the limit is input.max_body_lines = 100", none,
+       [](const Scratch&) { return define("glorb", std::vector<std::string>(101, "move left")); }},
+      {"`'{'`×990 + `move left` + `'}'`×990 with `input.max_tokens` 2000", "deadline_exceeded",
+       "deadline exceeded while parsing: the request took longer than session.deadline_ms = 1000",
+       none,
+       [](const Scratch&) {
+         return query(std::string(990, '{') + "move left" + std::string(990, '}'));
+       }},
+      {"`pick item not is red and …` ×30", "deadline_exceeded", "deadline exceeded while parsing",
+       none,
+       [](const Scratch&) {
+         std::string text = "pick item not is red";
+         for (int i = 1; i < 30; ++i) text += " and not is red";
+         return query(text);
+       }},
+      {"a define whose body line parses longer than the deadline (nothing stored)",
+       "deadline_exceeded", "deadline exceeded while parsing body line 1 of the definition", none,
+       [](const Scratch&) {
+         std::string body = "pick item not is red";
+         for (int i = 1; i < 30; ++i) body += " and not is red";
+         return define("glorb", {body});
+       }},
+      {"`k` beyond 64 bits", "bad_request",
+       "field 'k' is out of range: integers go from -9223372036854775808 to 9223372036854775807",
+       none,
+       [](const Scratch&) {
+         return std::string(R"({"op":"query","text":"move left","k":99999999999999999999})");
+       }},
+      {"`rank` 1e300", "rank_out_of_range",
+       "field 'rank' is out of range: integers go from -9223372036854775808 to "
+       "9223372036854775807",
+       [](const Scratch&) { return std::vector<std::string>{query("move left")}; },
+       [](const Scratch&) { return std::string(R"({"op":"accept","rank":1e300})"); }},
+      {"`ranks` beyond `int` (4294967296)", "bad_request",
+       "field 'ranks' must be a list of integers from 0 to 1000000, got 4294967296", none,
+       [](const Scratch&) {
+         return std::string(
+             R"({"op":"define","head":"glorb","body":["move left"],"ranks":[4294967296]})");
+       }},
+      {"`world` bounds 16382² (a 89-byte request)", "world_too_large",
+       "the world has 268369924 cells; the limit is world.max_cells = 9000000", none,
+       [](const Scratch&) {
+         return std::string(
+             R"({"op":"world","world":{"bounds":{"min":[0,0],"max":[16381,16381]},"robot":{"x":0,"y":0}}})");
+       }},
+      {"`/dev/zero` as a world file", "not_a_regular_file",
+       "world file '/dev/zero' is not a regular file", none,
+       [](const Scratch&) { return world_file("/dev/zero"); }},
+      {"a FIFO as a world file", "not_a_regular_file", "is not a regular file", none,
+       [](const Scratch& s) { return world_file(s.fifo); }},
+      {"a world file over `input.max_file_bytes`", "file_too_large",
+       "bytes; the limit is input.max_file_bytes = 2000000", none,
+       [](const Scratch& s) { return world_file(s.big_world); }},
+      {"`foreach point in world` on 1500²", "deadline_exceeded",
+       "deadline exceeded while executing",
+       [](const Scratch&) {
+         return std::vector<std::string>{
+             R"({"op":"world","world":{"bounds":{"min":[0,0],"max":[1499,1499]},"robot":{"x":0,"y":0}}})"};
+       },
+       [](const Scratch&) { return query("foreach point in world visit point"); }},
+  };
+  return rows;
+}
+
+const std::vector<CliRow>& cli_rows() {
+  static const std::vector<CliRow> rows = {
+      {"a truncated plugin `.so` on the search path (`flipper plugins`)", "plugin_load_failed",
+       "truncated or damaged", 2,
+       [](const Scratch& s) {
+         return "{flipper} plugins --set 'plugin_paths=[" + s.truncated_dir + "]'";
+       }},
+      {"a truncated plugin `.so` on the search path (`flipper run`)", "plugin_load_failed",
+       "truncated or damaged", 2,
+       [](const Scratch& s) {
+         return "{flipper} run --set 'plugin_paths=[" + s.truncated_dir + "]' 'move left'";
+       }},
+      {"a duplicate key in a config file", "bad_config", "duplicate key 'k' (first at line 2)", 2,
+       [](const Scratch& s) { return "{flipper} config check " + s.dup_config; }},
+      {"`/dev/zero` as the config file", "bad_config",
+       "config file '/dev/zero' is not a regular file", 2,
+       [](const Scratch&) { return std::string("{flipper} run --config /dev/zero 'move left'"); }},
+      {"a FIFO as `grammar.file`", "not_a_regular_file", "grammar file", 2,
+       [](const Scratch& s) {
+         return "{flipper} run --set grammar.file=" + s.fifo + " 'move left'";
+       }},
+      {"`/dev/zero` as `world.file`", "not_a_regular_file",
+       "world file '/dev/zero' is not a regular file", 2,
+       [](const Scratch&) {
+         return std::string("{flipper} run --set world.file=/dev/zero 'move left'");
+       }},
+      {"a FIFO as `lexicon.preload`", "not_a_regular_file", "lexicon.preload file", 1,
+       [](const Scratch& s) {
+         return "{flipper} session --set lexicon.path=:memory: --set lexicon.preload=" + s.fifo +
+                " < /dev/null";
+       }},
+      {"a FIFO as a world's OctoMap (`octomap3d`)", "not_a_regular_file", "is not a regular file",
+       2,
+       [](const Scratch& s) {
+         return "{flipper} run --config configs/octomap-ompl.yaml --world " + s.octo_world +
+                " 'move left'";
+       }},
+      {"a replay variant named `../../x`", "bad_config",
+       "variant name '../../x' must be one directory name", 2,
+       [](const Scratch& s) {
+         return "{flipper} replay --experiment " + s.bad_variant + " --out " + s.dir + "/out";
+       }},
+      {"replay output on a full device", "write_failed", "File too large", 1,
+       [](const Scratch& s) {
+         // The file-size limit makes every write past 1 KiB fail (EFBIG), like a full disk.
+         return "trap '' XFSZ; ulimit -f 1; {flipper} replay --experiment " + s.experiment +
+                " --out " + s.dir + "/full";
+       }},
+      {"lexicon export to a full device (`/dev/full`)", "write_failed", "cannot write '/dev/full'",
+       1,
+       [](const Scratch& s) {
+         return "{flipper} lexicon export /dev/full --set lexicon.path=" + s.lexicon;
+       }},
+      {"lexicon export to standard output on a full device", "write_failed",
+       "cannot write standard output", 1,
+       [](const Scratch& s) {
+         return "{flipper} lexicon export - --set lexicon.path=" + s.lexicon + " > /dev/full";
+       }},
+  };
+  return rows;
+}
+
+std::string render_table() {
+  std::ostringstream o;
+  o << "| Bad input | Where | Code | Message (excerpt) |\n|---|---|---|---|\n";
+  auto cell = [](std::string s) {
+    std::string out;
+    for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
+    return out;
+  };
+  for (const auto& r : session_rows())
+    o << "| " << cell(r.input) << " | session" << (r.default_limits ? " (defaults)" : "") << " | `"
+      << r.code << "` | " << cell(r.message) << " |\n";
+  for (const auto& r : cli_rows())
+    o << "| " << cell(r.input) << " | CLI, exit " << r.status << " | `" << r.code << "` | "
+      << cell(r.message) << " |\n";
+  return o.str();
+}
+
+}  // namespace flipper::limitstest
