@@ -77,8 +77,9 @@ TEST_CASE("corpus accepts: world after our execution against the logged next wor
     kernel::Executor exec(st.planner);
     const sdk::Outcome o = exec.run(prog, start);
     const json* path = (*cand)["result"].is_object() ? &(*cand)["result"]["path"] : nullptr;
-    const corpus::AcceptClass cls = corpus::classify_accept(
-        {before, after, q["next_world_id"].get<std::string>(), prog, start, o, path});
+    const corpus::AcceptClass cls =
+        corpus::classify_accept({before, after, q["next_world_id"].get<std::string>(), prog, start,
+                                 o, path, st.planner.get()});
     note(k, corpus::class_label(cls), o.error ? what + " / " + *o.error : what);
     if (cls == corpus::AcceptClass::agree || o.error) continue;
     if (std::getenv("FLIPPER_DIFF_VERBOSE")) {

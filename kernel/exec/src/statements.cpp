@@ -18,7 +18,11 @@ using sdk::WorldState;
 
 Interpreter::Interpreter(const sdk::Planner& planner, const ExecLimits& limits,
                          const WorldState& start)
-    : planner_(planner), geometry_(*start.geometry), rooms_(*start.rooms), limits_(limits) {
+    : planner_(planner),
+      planner_optimal_(planner.traits().optimal),
+      geometry_(*start.geometry),
+      rooms_(*start.rooms),
+      limits_(limits) {
   stop_.deadline = std::chrono::steady_clock::now() + limits.time_budget;
 }
 

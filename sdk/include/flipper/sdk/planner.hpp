@@ -54,10 +54,10 @@ struct PathRequest {
 
 struct PathResult {
   PlanStatus status = PlanStatus::no_path;
-  Cell target;               ///< the goal cell reached (status == found)
-  std::vector<Cell> path;    ///< cells entered, in order, excluding start (empty if start is a goal)
+  Cell target;             ///< the goal cell reached (status == found)
+  std::vector<Cell> path;  ///< cells entered, in order, excluding start (empty if start is a goal)
   std::uint64_t expansions = 0;
-  std::string message;       ///< a short reason when not found
+  std::string message;  ///< a short reason when not found
 };
 
 /// A visiting order over `points`: indexes into the request's vector.
@@ -74,6 +74,10 @@ struct PlannerTraits {
   bool supports_3d = false;
   bool optimal = true;        ///< paths are shortest on the cell graph
   bool deterministic = true;  ///< same input, same output
+  /// Sampling-based: may miss an existing path within its own budget. Every other planner
+  /// must find a path to every reachable goal; the conformance kit holds a sampling planner to
+  /// paths for at least 9 in 10 reachable requests.
+  bool sampling = false;
 };
 
 class FLIPPER_SDK_API Planner : public Plugin {
