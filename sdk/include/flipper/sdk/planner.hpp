@@ -30,6 +30,12 @@ struct StopCondition {
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
     return std::chrono::steady_clock::now() >= deadline;
   }
+  /// The deadline passed or the cancel flag is set (the budget is not consulted; SDK 1.1).
+  bool expired() const {
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
+    return deadline != std::chrono::steady_clock::time_point::max() &&
+           std::chrono::steady_clock::now() >= deadline;
+  }
   static StopCondition within(std::chrono::milliseconds ms) {
     StopCondition s;
     s.deadline = std::chrono::steady_clock::now() + ms;
