@@ -1,4 +1,5 @@
-// `flipper session` processes over one lexicon file: rules come back in a new process, and a
+// `flipper session` processes over one lexicon file: rules come back in a new process, a rule or
+// deletion acknowledged in one process is seen by the others before their next parse, and a
 // session killed with SIGKILL at random moments never loses a definition it answered.
 #include <catch2/catch.hpp>
 #include <chrono>
@@ -111,4 +112,31 @@ TEST_CASE("SIGKILL of flipper session loses no answered definition",
   }
   CHECK(kills_mid_stream == 30);
   CHECK(answered.size() >= 30);
+}
+
+TEST_CASE("a rule acknowledged in one process serves a running other one, and so does its deletion",
+          "[naturalize][process][writers]") {
+  const std::string store = scratch_path("two") + ".sqlite";
+  Session a(store), b(store);
+  REQUIRE(a.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
+  REQUIRE(b.ask({{"op", "user"}, {"name", "bob"}})["ok"] == true);
+  CHECK(b.ask({{"op", "query"}, {"text", "glorp left"}})["status"] == "unparsable");
+  const Json d = a.ask({{"op", "define"}, {"head", "glorp left"}, {"body", {"move left"}}});
+  REQUIRE(d["ok"] == true);
+  REQUIRE(d["rules"].size() == 1);
+  const std::string id = d["rules"][0]["id"];
+  const Json q = b.ask({{"op", "query"}, {"text", "glorp left"}});
+  CHECK(q["status"] == "induced");  // acknowledged in a, usable in b at once
+  CHECK(q["candidates"][0]["rules"] == Json::array({id}));
+  CHECK(b.ask({{"op", "rules"}})["rules"].size() == 1);
+  const Json refused = b.ask({{"op", "delete_rule"}, {"rule", id}});
+  CHECK(refused["error"]["code"] == "forbidden");
+  // b defines too: its id follows a's, assigned by the store (no per-process counter).
+  const Json d2 = b.ask({{"op", "define"}, {"head", "glorq left"}, {"body", {"move left"}}});
+  REQUIRE(d2["ok"] == true);
+  CHECK(d2["rules"][0]["id"] != id);
+  CHECK(a.ask({{"op", "query"}, {"text", "glorq left"}})["status"] == "induced");
+  REQUIRE(a.ask({{"op", "delete_rule"}, {"rule", id}})["ok"] == true);
+  CHECK(b.ask({{"op", "query"}, {"text", "glorp left"}})["status"] == "unparsable");
+  CHECK(b.ask({{"op", "rules"}})["rules"].size() == 1);
 }

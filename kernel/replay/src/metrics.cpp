@@ -175,6 +175,15 @@ Metrics compute_metrics(const ReplayResult& result) {
     if (!d.ok) ++m.define_errors[d.error_code.empty() ? "unknown" : d.error_code];
     if (!d.rule_match.empty()) ++m.rule_match[d.rule_match];
   }
+  for (const auto& a : result.accepts) {
+    m.accepted_top1 += a.matched && a.rank == 0;
+    m.accepted_top3 += a.matched && a.rank >= 0 && a.rank < 3;
+  }
+  for (const auto& r : result.queries)
+    if (r.floating) {
+      ++m.floating;
+      ++m.floating_by_group[r.group];
+    }
   for (const auto& d : result.deletes) {
     ++m.deletes;
     m.deletes_mapped += !d.definition.empty();
