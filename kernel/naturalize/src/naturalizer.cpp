@@ -75,7 +75,7 @@ StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
 
 sdk::RulePtr rule_from_stored(const StoredRule& s) {
   // Older versions induced `$Action -> $ROOT thrice`-like rules, whose hole takes a whole
-  // sequence; they cannot be read with their old meaning kept, so the store is refused.
+  // sequence; such a rule is not read (so it is quarantined, with this message).
   const std::string root = sdk::Grammar{}.root;
   if (s.lhs == root || std::find(s.rhs.begin(), s.rhs.end(), root) != s.rhs.end())
     throw sdk::Error(lexicon_codes::kBadLexicon,
