@@ -145,6 +145,7 @@ class OmplPlanner final : public sdk::Planner {
     t.supports_2d = true;
     t.supports_3d = true;
     t.optimal = false;
+    t.sampling = true;  // may miss a path within time_budget_ms / iterations
     t.deterministic = settings_.seed != 0 && settings_.algorithm != Algorithm::prm;
     return t;
   }

@@ -62,6 +62,44 @@ bool only_moves(const Program& program) {
   }
 }
 
+bool only_movement(const Program& program) {
+  switch (program->kind) {
+    case Kind::Move:
+    case Kind::VisitPoint:
+    case Kind::VisitArea:
+    case Kind::VisitCollection:
+      return true;
+    case Kind::Seq:
+      return std::all_of(program->kids.begin(), program->kids.end(),
+                         [](const Program& k) { return only_movement(k); });
+    case Kind::Strict:
+      return only_movement(program->kids[0]);
+    case Kind::Repeat:
+    case Kind::ForeachPoint:
+    case Kind::ForeachArea:
+    case Kind::If:
+    case Kind::While:
+      return only_movement(program->kids[1]);
+    default:
+      return false;
+  }
+}
+
+bool only_item_actions(const Program& program, Kind kind) {
+  if (program->kind == kind) return true;
+  switch (program->kind) {
+    case Kind::Seq:
+      return std::all_of(program->kids.begin(), program->kids.end(),
+                         [kind](const Program& k) { return only_item_actions(k, kind); });
+    case Kind::Strict:
+      return only_item_actions(program->kids[0], kind);
+    case Kind::Repeat:
+      return only_item_actions(program->kids[1], kind);
+    default:
+      return false;
+  }
+}
+
 bool trace_only(const std::vector<sdk::TraceStep>& trace, sdk::TraceStep::Act act) {
   return !trace.empty() && std::all_of(trace.begin(), trace.end(),
                                        [act](const sdk::TraceStep& s) { return s.act == act; });

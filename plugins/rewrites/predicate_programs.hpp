@@ -32,6 +32,13 @@ sdk::Program pick_or_drop(sdk::Kind kind, const ItemPredicate& p, bool every);
 
 /// Whether every statement of `program` is a move (inside sequences and repeats).
 bool only_moves(const sdk::Program& program);
+/// Whether every primitive statement of `program` is a move or a visit (inside sequences,
+/// repeats, strict blocks, conditionals and loops): a visit by predicate replaces all of them.
+bool only_movement(const sdk::Program& program);
+/// Whether every statement of `program` is a `pick` (kind Pick) or every one a `drop` (Drop),
+/// inside sequences, repeats and strict blocks: a pick/drop by predicate replaces all of them.
+/// Judged on the program, never on the trace: a visit that moved nothing is still a statement.
+bool only_item_actions(const sdk::Program& program, sdk::Kind kind);
 /// Whether the trace is non-empty and every step has act `act`.
 bool trace_only(const std::vector<sdk::TraceStep>& trace, sdk::TraceStep::Act act);
 

@@ -84,7 +84,10 @@ class Rewrites : public sdk::Rewriter {
       const int dims = run.world.geometry ? run.world.geometry->dims() : 2;
       list.add(visit_cell(final_cell, dims), "moves_to_visit");
     }
-    if (enabled_[2] && trace_only(run.trace, sdk::TraceStep::Act::move)) {
+    // Rewritings 3 and 4 replace the whole body, so they apply only when every statement of the
+    // program is of their kind (issue 13: a visit that left no trace step is still a statement).
+    if (enabled_[2] && only_movement(req.body) &&
+        trace_only(run.trace, sdk::TraceStep::Act::move)) {
       std::vector<sdk::ItemInfo> here;
       for (const auto& lying : run.world.items)
         if (lying.at == final_cell) here.push_back(lying.item);
@@ -95,7 +98,7 @@ class Rewrites : public sdk::Rewriter {
     if (enabled_[3]) {
       for (auto [act, kind] : {std::pair{sdk::TraceStep::Act::pick, Kind::Pick},
                                std::pair{sdk::TraceStep::Act::drop, Kind::Drop}}) {
-        if (!trace_only(run.trace, act)) continue;
+        if (!only_item_actions(req.body, kind) || !trace_only(run.trace, act)) continue;
         std::vector<sdk::ItemInfo> moved;
         moved.reserve(run.trace.size());
         for (const auto& step : run.trace) moved.push_back(step.item);

@@ -3,7 +3,9 @@
 #include <catch2/catch.hpp>
 #include <set>
 
+#include "../generalize/study_env.hpp"
 #include "flipper/kernel/corpus/accept_diff.hpp"
+#include "flipper/kernel/executor.hpp"
 #include "flipper/sdk/canonical.hpp"
 
 using namespace flipper;
@@ -120,28 +122,83 @@ TEST_CASE("each class is reached by its case") {
         json::parse(R"([[3,3,"path","null","null",true],[1,3,"destination","null","null",true]])");
     CHECK(c.classify() == AcceptClass::unexplained);
   }
-  SECTION("spec decisions by program shape") {
+  SECTION("a failed movement; no tie class without a proof") {
     c.after = world(1, 3, {{5, 5, "red"}});
     c.warnings = {"{move left} failed: blocked"};
     CHECK(c.classify() == AcceptClass::failed_movement);
     c.warnings.clear();
-    c.program = "{foreach point in room1 {move left}}";
-    CHECK(c.classify() == AcceptClass::loop_order);
-    c.program = "{visit rooms}";
-    CHECK(c.classify() == AcceptClass::visit_collection);
-    c.program = "{visit room1}";
-    CHECK(c.classify() == AcceptClass::nearest_cell);
-    c.program = "{move left}";
-    CHECK(c.classify() == AcceptClass::unexplained);
+    // The program's shape proves nothing: without a planner no alternative is re-executed.
+    for (const char* program : {"{foreach point in room1 {move left}}", "{visit rooms}",
+                                "{visit room1}", "{move left}"}) {
+      c.program = program;
+      CHECK(c.classify() == AcceptClass::unexplained);
+    }
     CHECK(is_unexplained(AcceptClass::unexplained));
   }
-  SECTION("same cell and held count, other items: item choice") {
-    c.before = world(3, 3, {{5, 5, "red"}, {2, 3, "blue"}});
-    c.start = state(3, 3, {{5, 5, "red"}, {2, 3, "blue"}});
-    c.ours = state(2, 3, {{5, 5, "red"}, {2, 3, "green"}});
-    c.after = world(2, 3, {{5, 5, "red"}, {2, 3, "blue"}});
-    CHECK(c.classify() == AcceptClass::item_choice);
-  }
+}
+
+namespace {
+
+/// A world object (as the corpus logs them) of a state: robot, held and lying items.
+json as_json(const sdk::WorldState& s) {
+  json w{{"robot", {{"x", s.robot.x}, {"y", s.robot.y}, {"holding", json::array()}}},
+         {"items", json::array()}};
+  for (const auto& h : s.held)
+    w["robot"]["holding"].push_back({{"color", h.color}, {"shape", h.shape}});
+  for (const auto& li : s.items)
+    w["items"].push_back(
+        {{"x", li.at.x}, {"y", li.at.y}, {"color", li.item.color}, {"shape", li.item.shape}});
+  return w;
+}
+
+/// Classifies `program` run from `start` on the study map (astar) against a logged next world
+/// in which the robot ends at `robot` holding `held` (the lying items follow from them).
+AcceptClass classify_study(const std::string& program, sdk::Cell start_cell, sdk::Cell robot,
+                           const std::vector<std::string>& held_colors_shapes) {
+  static const auto world = testsupport::load_plugin<sdk::World>("grid2d");
+  static const std::shared_ptr<const sdk::Planner> planner =
+      testsupport::load_plugin<sdk::Planner>("astar");
+  sdk::WorldState start = world->load(testsupport::kStudyMap, ".");
+  start.robot = start_cell;
+  const sdk::Program p = sdk::read_canonical(program);
+  const sdk::Outcome o = kernel::Executor(planner).run(p, start);
+  REQUIRE_FALSE(o.error);
+  // The logged world: the robot at `robot`, the named items taken from the floor at its cell.
+  sdk::WorldState logged = start;
+  logged.robot = robot;
+  for (const auto& name : held_colors_shapes)
+    for (auto it = logged.items.begin(); it != logged.items.end(); ++it)
+      if (it->at == robot && it->item.color + " " + it->item.shape == name) {
+        logged.held.push_back(it->item);
+        logged.items.erase(it);
+        break;
+      }
+  const json before = as_json(start), after = as_json(logged);
+  return classify_accept({before, after, "w1", p, start, o, nullptr, planner.get()});
+}
+
+}  // namespace
+
+TEST_CASE("tie classes are proofs: the alternative choice, re-executed, gives the logged world",
+          "[issue13]") {
+  // [7,4] holds a red circle, a blue circle, a green square and a green circle (in that order):
+  // we pick the green square; a log with the green circle is the other item choice.
+  CHECK(classify_study("{pick item {is green}}", {7, 4, 0}, {7, 4, 0}, {"green circle"}) ==
+        AcceptClass::item_choice);
+  // No tie rule picks the red circle for `pick item is green`.
+  CHECK(classify_study("{pick item {is green}}", {7, 4, 0}, {7, 4, 0}, {"red circle"}) ==
+        AcceptClass::unexplained);
+  // From [2,4], [1,4] and [3,4] are equally near: we go to [1,4] (smallest x); [3,4] is the
+  // other nearest cell, [4,4] is not a nearest cell at all.
+  CHECK(classify_study("{visit {[[1,4], [3,4], [4,4]]}}", {2, 4, 0}, {3, 4, 0}, {}) ==
+        AcceptClass::nearest_cell);
+  CHECK(classify_study("{visit {[[1,4], [3,4], [4,4]]}}", {2, 4, 0}, {4, 4, 0}, {}) ==
+        AcceptClass::unexplained);
+  // Tour T visits [1,4] then [3,4]; a log that ends at [1,4] is the other loop order.
+  CHECK(classify_study("{foreach point in {[[1,4], [3,4]]} {visit point}}", {2, 4, 0}, {1, 4, 0},
+                       {}) == AcceptClass::loop_order);
+  CHECK(classify_study("{foreach point in {[[1,4], [3,4]]} {visit point}}", {2, 4, 0}, {0, 4, 0},
+                       {}) == AcceptClass::unexplained);
 }
 
 TEST_CASE("class ids round-trip and are distinct") {

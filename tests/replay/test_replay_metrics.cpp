@@ -5,6 +5,7 @@
 #include "flipper/kernel/replay/deletion_map.hpp"
 #include "flipper/kernel/replay/metrics.hpp"
 #include "flipper/kernel/replay/output.hpp"
+#include "flipper/kernel/replay/rule_oracle.hpp"
 
 using namespace flipper::kernel::replay;
 
@@ -140,4 +141,25 @@ TEST_CASE("dev split deletions map to the definitions that lost rules") {
   // #853 lost both rules (none in the final log); #961 and #1313 kept only their simple rule.
   CHECK(mapped == std::vector<std::string>{"r-" + run + "#853-s", "r-" + run + "#853-b",
                                            "r-" + run + "#961-b", "r-" + run + "#1313-b"});
+}
+
+TEST_CASE("rule oracle: identical, subset, overlap, missing", "[replay][issue13]") {
+  using flipper::kernel::replay::compare_rules;
+  using flipper::kernel::replay::LoggedRule;
+  using flipper::kernel::replay::RuleShape;
+  const LoggedRule simple{1, true, false, "$Action", {"pick", "any", "$Color", "item"}};
+  const LoggedRule best{2, false, false, "$Action", {"$ItemActionFragment", "any", "$Property"}};
+  const LoggedRule aligned{3, false, true, "$ItemActionFragment", {"grab"}};
+  const RuleShape our_simple{"$Action", {"pick", "any", "$Color", "item"}};
+  const RuleShape our_best{"$Action", {"$ItemAct", "any", "$Property"}};
+  const RuleShape other{"$Action", {"pick", "any", "$Property", "item"}};
+  CHECK(compare_rules({simple, best}, {our_simple, our_best}) == "identical");
+  CHECK(compare_rules({simple, best, aligned}, {our_best, our_simple}) == "identical");
+  CHECK(compare_rules({simple, best}, {our_best}) == "subset");
+  CHECK(compare_rules({simple, best}, {our_best, other}) == "overlap");
+  CHECK(compare_rules({simple, best}, {our_simple, our_best, other}) == "overlap");
+  CHECK(compare_rules({simple, best}, {other}) == "missing");
+  CHECK(compare_rules({simple, best}, {}) == "missing");
+  CHECK(compare_rules({aligned}, {our_simple}).empty());
+  CHECK(compare_rules({}, {our_simple}).empty());
 }

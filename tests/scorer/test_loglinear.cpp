@@ -1,5 +1,7 @@
 // The loglinear scorer: conformance kit, features of §3, per-user weights, state round trip.
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "../parser/parse_support.hpp"
 #include "flipper/testing/scorer_conformance.hpp"
@@ -90,4 +92,58 @@ TEST_CASE("per-user weights learn separately; bad accept index is rejected") {
   req.context.user = "alice";
   auto again = parser->parse(req);
   CHECK(again.candidates[0].score == mine.candidates[0].score);
+}
+
+namespace {
+
+/// A one-node derivation of a core rule `id` over no tokens (features: rule=id, fired, core).
+sdk::Candidate one_node_candidate(const std::string& id, double score) {
+  auto rule = std::make_shared<sdk::Rule>();
+  rule->id = id;
+  rule->lhs = "$Action";
+  auto d = std::make_shared<sdk::Derivation>();
+  d->rule = rule;
+  d->score = score;
+  sdk::Candidate c;
+  c.derivations.push_back(d);
+  c.score = score;
+  return c;
+}
+
+/// (weight, AdaGrad sum) of a feature in the scorer's saved state.
+std::pair<double, double> weight_of(const sdk::Scorer& scorer, const std::string& feature) {
+  const auto j = nlohmann::json::parse(scorer.save_state());
+  const auto& w = j.at("models").at("").at(feature);
+  return {w.at(0).get<double>(), w.at(1).get<double>()};
+}
+
+}  // namespace
+
+TEST_CASE("the AdaGrad + L1 update is pinned to hand-computed values (naturalization §3)",
+          "[scorer][issue13]") {
+  auto scorer = testsupport::load_plugin<sdk::Scorer>("loglinear");
+  const std::vector<std::string> tokens;
+  const sdk::ScoreContext ctx{&tokens, "ana"};
+  // Accept A between two tied candidates: p_model = 1/2 each, so g = +1/2 for rule=a,
+  // -1/2 for rule=b, 0 for the shared `fired` and `core` (not updated at all).
+  // G = 1/4; rate = 0.1 / sqrt(1/4 + 1); w = rate * 1/2, then L1 moves it rate * 1e-4 toward 0:
+  // w_a = 0.1 / sqrt(1.25) * (0.5 - 1e-4) = 0.0447124152780858, w_b = -w_a.
+  scorer->learn({one_node_candidate("a", 0), one_node_candidate("b", 0)}, 0, ctx);
+  auto [wa, ga] = weight_of(*scorer, "rule=a");
+  auto [wb, gb] = weight_of(*scorer, "rule=b");
+  CHECK(ga == 0.25);
+  CHECK(gb == 0.25);
+  CHECK(wa == Approx(0.0447124152780858).epsilon(1e-12));
+  CHECK(wb == Approx(-0.0447124152780858).epsilon(1e-12));
+  const auto saved = nlohmann::json::parse(scorer->save_state());
+  CHECK_FALSE(saved.at("models").at("").contains("fired"));
+  CHECK_FALSE(saved.at("models").at("").contains("core"));
+
+  // A second accept of A, scored with those weights: p_A = e^w_a / (e^w_a + e^-w_a),
+  // g = 1 - p_A = 0.47765867863418177, G = 0.25 + g^2 = 0.47815781327455253,
+  // w_a += 0.1 / sqrt(G + 1) * (g - 1e-4) = 0.08399195048958408.
+  scorer->learn({one_node_candidate("a", wa), one_node_candidate("b", wb)}, 0, ctx);
+  std::tie(wa, ga) = weight_of(*scorer, "rule=a");
+  CHECK(ga == Approx(0.47815781327455253).epsilon(1e-12));
+  CHECK(wa == Approx(0.08399195048958408).epsilon(1e-12));
 }

@@ -1,6 +1,8 @@
 // One set of programs, four world x planner pairs. Expectations depend on the world (the maps
 // differ) but never on the planner: swapping astar for ompl changes paths, not effects.
 #include <catch2/catch.hpp>
+#include <deque>
+#include <map>
 
 #include "flipper/kernel/executor.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -57,6 +59,41 @@ void check_trace(const sdk::WorldState& start, const sdk::Outcome& o) {
     at = step.cell;
   }
   REQUIRE(at == o.world.robot);
+}
+
+/// Independent oracle for `visit` of several goal cells (core-language §4.4, §8): breadth-first
+/// path distances over the free cells and the world's neighbours; the nearest goal, ties by the
+/// smallest (x, y, z). Returns the start when no goal is reachable.
+Cell nearest_by_path(const sdk::WorldState& s, const std::vector<Cell>& goals) {
+  const sdk::Geometry& g = *s.geometry;
+  std::map<Cell, int> dist{{s.robot, 0}};
+  std::deque<Cell> todo{s.robot};
+  while (!todo.empty()) {
+    const Cell c = todo.front();
+    todo.pop_front();
+    for (const Cell& d : g.neighbour_offsets()) {
+      const Cell n = c + d;
+      if (g.is_free(n) && dist.emplace(n, dist[c] + 1).second) todo.push_back(n);
+    }
+  }
+  Cell best = s.robot;
+  int best_d = -1;
+  for (const Cell& goal : goals) {
+    auto it = dist.find(goal);
+    if (it == dist.end()) continue;
+    if (best_d < 0 || it->second < best_d || (it->second == best_d && goal < best)) {
+      best = goal;
+      best_d = it->second;
+    }
+  }
+  return best;
+}
+
+std::vector<Cell> cells_with(const sdk::WorldState& s, const std::string& color) {
+  std::vector<Cell> out;
+  for (const auto& li : s.items)
+    if (color.empty() || li.item.color == color) out.push_back(li.at);
+  return out;
 }
 
 const std::vector<Pair> kPairs = {
@@ -133,6 +170,53 @@ TEST_CASE("swap: the same programs have the same effects on all four pairs", "[s
       check_trace(s, o);
       REQUIRE(o.realizable);
       REQUIRE(!o.error);
+    }
+  }
+}
+
+TEST_CASE("swap: visiting one of several goals goes to the nearest by path on all four pairs",
+          "[swap][issue13]") {
+  for (const Pair& p : kPairs) {
+    DYNAMIC_SECTION(p.world << " x " << p.planner) {
+      const sdk::WorldState s = start_world(p.world);
+      // On the study map the red triangle at [4,0] is nearer in a straight line than the red
+      // circle at [7,4], but 4 steps farther by path.
+      if (p.world == "grid2d") {
+        const sdk::Outcome o =
+            run(p, "{{visit {world containing item {is red}}};{pick item {is red}}}", s);
+        REQUIRE(o.realizable);
+        CHECK(o.world.robot == Cell{7, 4, 0});
+        REQUIRE(o.world.held.size() == 1);
+        CHECK(o.world.held[0].shape == "circle");
+      }
+      for (const std::string color : {"", "red", "blue", "green", "yellow"}) {
+        const std::string filter = color.empty() ? "" : "{is " + color + "}";
+        const std::vector<Cell> goals = cells_with(s, color);
+        if (goals.empty()) continue;
+        const Cell want = nearest_by_path(s, goals);
+        INFO("visit world containing item " << filter << " from " << sdk::to_string(s.robot, 3));
+        const sdk::Outcome o = run(p, "{visit {world containing item " + filter + "}}", s);
+        check_trace(s, o);
+        REQUIRE(o.realizable);
+        INFO("reached " << sdk::to_string(o.world.robot, 3) << ", nearest by path "
+                        << sdk::to_string(want, 3));
+        CHECK(o.world.robot == want);
+        // Then the same from the goal area's far side: start at the farthest goal.
+        sdk::WorldState there = s;
+        there.robot = goals.back();
+        const sdk::Outcome back =
+            run(p,
+                "{visit {{world containing item " + filter + "} minus {[" +
+                    sdk::to_string(goals.back(), p.world == "grid2d" ? 2 : 3) + "]}}}",
+                there);
+        std::vector<Cell> others;
+        for (const Cell& c : goals)
+          if (c != goals.back()) others.push_back(c);
+        if (others.empty()) continue;
+        check_trace(there, back);
+        INFO("from the farthest goal: reached " << sdk::to_string(back.world.robot, 3));
+        CHECK(back.world.robot == nearest_by_path(there, others));
+      }
     }
   }
 }

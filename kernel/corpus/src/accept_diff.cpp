@@ -4,14 +4,10 @@
 #include <algorithm>
 #include <iterator>
 
+#include "tie_proofs.hpp"
+
 namespace flipper::kernel::corpus {
 namespace {
-
-bool contains_kind(const sdk::Program& p, sdk::Kind k) {
-  if (p->kind == k) return true;
-  return std::any_of(p->kids.begin(), p->kids.end(),
-                     [k](const sdk::Program& c) { return contains_kind(c, k); });
-}
 
 std::string item_text(const nlohmann::json& i) {
   return i.value("color", std::string()) + " " + i.value("shape", std::string());
@@ -167,13 +163,10 @@ AcceptClass classify_accept(const AcceptCase& c) {
     return w.find("{move ") != std::string::npos || w.find("{visit ") != std::string::npos;
   });
   if (failed_move) return AcceptClass::failed_movement;
-  if (contains_kind(c.program, sdk::Kind::ForeachArea) ||
-      contains_kind(c.program, sdk::Kind::ForeachPoint))
-    return AcceptClass::loop_order;
-  if (contains_kind(c.program, sdk::Kind::VisitCollection)) return AcceptClass::visit_collection;
-  if (got.x == want.x && got.y == want.y && got.held.size() == want.held.size())
-    return AcceptClass::item_choice;
-  if (contains_kind(c.program, sdk::Kind::VisitArea)) return AcceptClass::nearest_cell;
+  // The tie-rule classes are proofs: another item choice, nearest cell or loop order, executed,
+  // yields the logged world. Nothing else explains a difference.
+  if (c.planner != nullptr)
+    if (auto proven = detail::prove_tie(c.program, c.start, *c.planner, want)) return *proven;
   return AcceptClass::unexplained;
 }
 

@@ -7,6 +7,7 @@
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "interpreter.hpp"
+#include "nearest.hpp"
 
 namespace flipper::kernel::detail {
 
@@ -76,13 +77,30 @@ bool Interpreter::fail(const Node& n, Sinks& out, const std::string& reason) {
   return false;
 }
 
-sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avoid) {
+sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avoid,
+                                  std::size_t* distance) {
   sdk::PathRequest req;
   req.start = start;
   req.goals = &goals;
   req.avoid = (avoid != nullptr && !avoid->empty()) ? avoid : nullptr;
+  Area nearest;
+  if (!planner_optimal_ && (goals.size() > 1 || distance != nullptr)) {
+    // Which goal is semantics (§4.4): decided here from path distances, whatever the planner.
+    const NearestGoal n = nearest_goal(geometry_, start, goals, req.avoid, stop_);
+    if (n.status != sdk::PlanStatus::found) {
+      if (n.status == sdk::PlanStatus::stopped) tick();
+      sdk::PathResult none;
+      none.status = n.status;
+      none.message = "no goal cell is reachable";
+      return none;
+    }
+    nearest = {n.target};
+    req.goals = &nearest;
+    if (distance != nullptr) *distance = n.distance;
+  }
   sdk::PathResult r = planner_.plan(geometry_, req, stop_);
   if (r.status == sdk::PlanStatus::stopped) tick();  // the deadline fired inside the planner
+  if (distance != nullptr && planner_optimal_) *distance = r.path.size();
   return r;
 }
 
@@ -173,15 +191,18 @@ bool Interpreter::visit_collection(const Node& n, WorldState& s, Sinks& out) {
   // §4.4 [decision]: the shortest candidate over all areas; ties: smallest target, then the
   // first area in collection order.
   sdk::PathResult best;
+  std::size_t best_distance = 0;
   bool found = false;
   for (const Area& x : areas) {
     if (sdk::areas::contains(x, s.robot)) return true;
     const Area avoid = n.kids.size() > 1 ? sdk::areas::subtract(avoid_all, x) : Area{};
-    sdk::PathResult r = plan(s.robot, x, &avoid);
+    std::size_t distance = 0;
+    sdk::PathResult r = plan(s.robot, x, &avoid, &distance);
     if (r.status != sdk::PlanStatus::found) continue;
-    if (!found || r.path.size() < best.path.size() ||
-        (r.path.size() == best.path.size() && r.target < best.target)) {
+    if (!found || distance < best_distance ||
+        (distance == best_distance && r.target < best.target)) {
       best = std::move(r);
+      best_distance = distance;
       found = true;
     }
   }

@@ -38,6 +38,7 @@ class Interpreter {
   };
 
   const sdk::Planner& planner_;
+  bool planner_optimal_;  // the planner's paths are shortest (else the kernel picks goals)
   const sdk::Geometry& geometry_;
   const sdk::RoomMap& rooms_;
   ExecLimits limits_;
@@ -66,7 +67,11 @@ class Interpreter {
   void count_action();
   bool fail(const sdk::Node& n, Sinks& out, const std::string& reason);
   void follow(const sdk::PathResult& path, sdk::WorldState& s, Sinks& out);
-  sdk::PathResult plan(sdk::Cell start, const sdk::Area& goals, const sdk::Area* avoid);
+  /// A path to the goal nearest by path (§4.4, §8). For planners that are not `optimal` the
+  /// kernel picks that goal itself (nearest.hpp) and asks only for a path to it. `distance`,
+  /// when given, receives the goal's path distance (what `visit C` compares across areas).
+  sdk::PathResult plan(sdk::Cell start, const sdk::Area& goals, const sdk::Area* avoid,
+                       std::size_t* distance = nullptr);
 
   // locations.cpp
   double number(const sdk::Node& n);

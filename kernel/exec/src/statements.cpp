@@ -19,7 +19,11 @@ using sdk::WorldState;
 Interpreter::Interpreter(const sdk::Planner& planner, const ExecLimits& limits,
                          const WorldState& start,
                          std::chrono::steady_clock::time_point request_deadline)
-    : planner_(planner), geometry_(*start.geometry), rooms_(*start.rooms), limits_(limits) {
+    : planner_(planner),
+      planner_optimal_(planner.traits().optimal),
+      geometry_(*start.geometry),
+      rooms_(*start.rooms),
+      limits_(limits) {
   stop_.deadline = std::chrono::steady_clock::now() + limits.time_budget;
   if (request_deadline < stop_.deadline) {
     stop_.deadline = request_deadline;

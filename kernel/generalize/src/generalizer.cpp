@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <exception>
+#include <set>
 #include <unordered_set>
 #include <utility>
 
@@ -32,6 +33,26 @@ bool valid_statement(const sdk::Program& p) {
   return p && p->sort == sdk::Sort::Action && !sdk::has_holes(p) && sdk::loop_variables_bound(p);
 }
 
+void collect_property_words(const sdk::Program& p, std::set<std::string>& out) {
+  if (p->kind == sdk::Kind::Color || p->kind == sdk::Kind::Shape || p->kind == sdk::Kind::Room)
+    out.insert(p->text);
+  for (const auto& k : p->kids) collect_property_words(k, out);
+}
+
+/// The colour, shape and room words of `candidate` that neither the head nor the body mentions:
+/// a candidate using one narrows the meaning to what the definition's world happened to hold
+/// (`drop the lot` := `drop every item` while holding only blue items must not become
+/// `drop every item {is blue}`, issue 13). World-equivalence cannot see this: in that world the
+/// two agree.
+std::string unmentioned_words(const sdk::Program& candidate, const std::set<std::string>& known) {
+  std::set<std::string> words;
+  collect_property_words(candidate, words);
+  std::string out;
+  for (const auto& w : words)
+    if (!known.count(w)) out += (out.empty() ? "'" : ", '") + w + "'";
+  return out;
+}
+
 // A body run on one perturbed world (perturbations where the body errs are left out: they say
 // nothing about the body's meaning).
 struct PerturbedRun {
@@ -53,6 +74,9 @@ GeneralizeResult Generalizer::generalize(
     throw sdk::Error(sdk::codes::kBadRequest, "generalize: the body must be a complete statement");
 
   const std::vector<std::string> head = head_words(head_tokens);
+  std::set<std::string> mentioned(head_tokens.begin(), head_tokens.end());
+  if (mentioned.count("grey")) mentioned.insert("gray");  // core-language §1
+  collect_property_words(body, mentioned);
   auto score = [&](GeneralizeCandidate& c) {
     c.packing_score = packing_score ? packing_score(c.program) : 0.0;
     c.generality = -static_cast<int>(c.program->size);
@@ -108,6 +132,9 @@ GeneralizeResult Generalizer::generalize(
       c.rejected_reason = "not a complete statement";
     } else if (auto why = generalize::difference(body_run, exec_.run(c.program, before))) {
       c.rejected_reason = std::move(*why);
+    } else if (auto words = unmentioned_words(c.program, mentioned); !words.empty()) {
+      c.rejected_reason =
+          "narrows the meaning with " + words + ", which neither the head nor the body mentions";
     } else {
       c.equivalent = true;
       for (std::size_t k = 0; k < perturbed.size(); ++k) {

@@ -65,10 +65,14 @@ void collect_subtrees(const sdk::Program& p, ProgramSet& out) {
   for (const auto& k : p->kids) collect_subtrees(k, out);
 }
 
-/// The derivation's normalised category when it fits its program, else empty.
+/// The derivation's normalised category when it fits its program, else empty. Every category of
+/// statements ($ROOT, $Actions, $Action) is $Action: an induced rule's statement hole must not be
+/// the grammar's root, which would swallow a whole `a ; b` sequence (issue 13).
 std::string matching_category(const sdk::Derivation& d) {
   std::string cat = sdk::normalize_category(d.category());
-  return category_fits(cat, d.sem->sort) ? cat : std::string();
+  if (!category_fits(cat, d.sem->sort)) return {};
+  if (sdk::category_sort(cat) == sdk::Sort::Action) return "$Action";
+  return cat;
 }
 
 }  // namespace

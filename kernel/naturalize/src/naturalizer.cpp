@@ -7,6 +7,7 @@
 #include "flipper/kernel/generalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/grammar.hpp"
 
 namespace flipper::kernel {
 
@@ -47,6 +48,12 @@ std::string symbol_text(const sdk::Symbol& s) {
   return s.text;
 }
 
+std::string rule_shape_text(const StoredRule& s) {
+  std::string text = s.lhs + " ->";
+  for (const auto& sym : s.rhs) text += " " + sym;
+  return text;
+}
+
 }  // namespace
 
 std::string rule_shape(const sdk::Rule& rule) {
@@ -73,6 +80,15 @@ StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
 }
 
 sdk::RulePtr rule_from_stored(const StoredRule& s) {
+  // Older versions induced `$Action -> $ROOT thrice`-like rules, whose hole takes a whole
+  // sequence; such a rule is not read (so it is quarantined, with this message).
+  const std::string root = sdk::Grammar{}.root;
+  if (s.lhs == root || std::find(s.rhs.begin(), s.rhs.end(), root) != s.rhs.end())
+    throw sdk::Error(lexicon_codes::kBadLexicon,
+                     "'" + rule_shape_text(s) + "' uses the grammar root " + root +
+                         " as a hole (induced by an older Flipper); re-induce the store's "
+                         "definitions: flipper lexicon export FILE, then flipper lexicon import "
+                         "FILE into a new lexicon.path");
   auto rule = std::make_shared<sdk::Rule>();
   rule->id = s.id;
   rule->lhs = s.lhs;

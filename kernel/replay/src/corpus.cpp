@@ -98,8 +98,17 @@ Definition definition_of(const json& j) {
   d.line = integer(j, "line");
   d.body = body_of(j);
   if (auto it = j.find("induced_rules"); it != j.end() && it->is_array())
-    for (const auto& r : *it)
-      d.rules.push_back({integer(r, "line"), r.value("simple_packing", false)});
+    for (const auto& r : *it) {
+      LoggedRule rule{integer(r, "line"),
+                      r.value("simple_packing", false),
+                      r.value("align", false),
+                      str(r, "lhs"),
+                      {}};
+      if (auto rhs = r.find("rhs"); rhs != r.end() && rhs->is_array())
+        for (const auto& s : *rhs)
+          if (s.is_string()) rule.rhs.push_back(s.get<std::string>());
+      d.rules.push_back(std::move(rule));
+    }
   return d;
 }
 

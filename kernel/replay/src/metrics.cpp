@@ -173,6 +173,7 @@ Metrics compute_metrics(const ReplayResult& result) {
     (d.preloaded ? m.preloaded : m.defines) += 1;
     (d.preloaded ? m.preloaded_ok : m.defines_ok) += d.ok;
     if (!d.ok) ++m.define_errors[d.error_code.empty() ? "unknown" : d.error_code];
+    if (!d.rule_match.empty()) ++m.rule_match[d.rule_match];
   }
   for (const auto& a : result.accepts) {
     m.accepted_top1 += a.matched && a.rank == 0;

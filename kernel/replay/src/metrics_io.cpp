@@ -103,7 +103,8 @@ nlohmann::ordered_json metrics_json(const Metrics& m) {
                              {"ok", m.defines_ok},
                              {"preloaded", m.preloaded},
                              {"preloaded_ok", m.preloaded_ok},
-                             {"errors", map_json(m.define_errors)}}},
+                             {"errors", map_json(m.define_errors)},
+                             {"rule_match", map_json(m.rule_match)}}},
            {"deletions", J{{"deletes", m.deletes},
                            {"mapped", m.deletes_mapped},
                            {"rules_deleted", m.rules_deleted}}}};
@@ -165,10 +166,10 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
         << ',' << r.held << ',' << r.floor << ',' << r.diff << ',' << csv(r.note) << "\n";
 
   OutFile d(dir + "/definitions.csv");
-  d << "qid,run,user,preloaded,ok,error,rules,head\n";
+  d << "qid,run,user,preloaded,ok,error,rules,rule_match,head\n";
   for (const auto& r : result.defines)
     d << csv(r.qid) << ',' << csv(r.run) << ',' << csv(r.user) << ',' << r.preloaded << ',' << r.ok
-      << ',' << r.error_code << ',' << r.rules << ',' << csv(r.head) << "\n";
+      << ',' << r.error_code << ',' << r.rules << ',' << r.rule_match << ',' << csv(r.head) << "\n";
   OutFile del(dir + "/deletions.csv");
   del << "qid,run,user,rule_index,definition,deleted,note\n";
   for (const auto& r : result.deletes) {

@@ -8,6 +8,7 @@
 #include "flipper/kernel/corpus/accept_diff.hpp"
 #include "flipper/kernel/corpus/original_text.hpp"
 #include "flipper/kernel/replay/deletion_map.hpp"
+#include "flipper/kernel/replay/rule_oracle.hpp"
 #include "flipper/kernel/session_factory.hpp"
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -72,7 +73,7 @@ class RunReplay {
   void preload() {
     if (run_.group != "C") return;
     for (const Definition* d : corpus_.preloaded(run_.source)) {
-      DefineRow row{d->def_id, run_.source, d->author(), d->head, true, false, "", 0};
+      DefineRow row{d->def_id, run_.source, d->author(), d->head, true, false, "", 0, ""};
       set_user(d->author());
       define(*d, d->head, d->body, row);
     }
@@ -238,13 +239,13 @@ class RunReplay {
                                        : nlohmann::json();
     const nlohmann::json& before_json =
         before == corpus_.worlds.end() ? start_json : before->second;
-    row.diff = corpus::class_id(
-        corpus::classify_accept({before_json, after->second, c.next_world_id, program, start,
-                                 outcome, original.path.is_array() ? &original.path : nullptr}));
+    row.diff = corpus::class_id(corpus::classify_accept(
+        {before_json, after->second, c.next_world_id, program, start, outcome,
+         original.path.is_array() ? &original.path : nullptr, session_->runtime().planner.get()}));
   }
 
   void define_command(const Command& c) {
-    DefineRow row{c.qid, c.source, c.user, c.head, false, false, "", 0};
+    DefineRow row{c.qid, c.source, c.user, c.head, false, false, "", 0, ""};
     auto it = corpus_.definition_index.find(c.def_id);
     if (it != corpus_.definition_index.end())
       define(corpus_.definitions[it->second], c.head, c.body, row);
@@ -258,14 +259,19 @@ class RunReplay {
     for (const auto& b : body) lines.push_back(b.utterance);
     Json a = call(Json{{"op", "define"}, {"head", head}, {"body", std::move(lines)}});
     std::vector<OurRule> ours;
+    std::vector<RuleShape> shapes;
     row.ok = a.value("ok", false);
     if (row.ok) {
-      for (const auto& r : a["rules"])
+      for (const auto& r : a["rules"]) {
         ours.push_back({r.value("id", std::string()), r.value("how", std::string())});
+        shapes.push_back(
+            {r.value("lhs", std::string()), r.value("rhs", std::vector<std::string>{})});
+      }
     } else if (a.contains("error")) {
       row.error_code = a["error"].value("code", std::string());
     }
     row.rules = static_cast<int>(ours.size());
+    row.rule_match = compare_rules(def.rules, shapes);
     // Definitions not in definitions.jsonl have no logged rules: they only take part in the
     // deletion model as empty entries.
     if (!def.def_id.empty() && corpus_.definition_index.count(def.def_id))

@@ -139,6 +139,10 @@ void variant_section(std::ostream& o, const Variant& v) {
     o << " Refusals:";
     for (const auto& [code, n] : m.define_errors) o << " `" << code << "` " << n << ";";
   }
+  if (!m.rule_match.empty()) {
+    o << " Induced rules against the original's logged rules (lhs -> rhs per definition):";
+    for (const auto& [match, n] : m.rule_match) o << " " << match << " " << n << ";";
+  }
   o << " Deletions: " << m.deletes << ", mapped to a definition: " << m.deletes_mapped
     << ", our rules deleted: " << m.rules_deleted << ".\n\n";
 }

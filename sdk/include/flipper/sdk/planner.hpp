@@ -80,6 +80,10 @@ struct PlannerTraits {
   bool supports_3d = false;
   bool optimal = true;        ///< paths are shortest on the cell graph
   bool deterministic = true;  ///< same input, same output
+  /// Sampling-based: may miss an existing path within its own budget. Every other planner
+  /// must find a path to every reachable goal; the conformance kit holds a sampling planner to
+  /// paths for at least 9 in 10 reachable requests.
+  bool sampling = false;
 };
 
 class FLIPPER_SDK_API Planner : public Plugin {

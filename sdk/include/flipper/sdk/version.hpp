@@ -10,6 +10,8 @@
 ///
 /// History: 1.1 — Parser::parse honours ParseRequest::stop in the non-virtual wrapper (and
 /// StopCondition::expired); plugins built against 1.0 load unchanged.
+/// Also 1.1: PlannerTraits::sampling (a field at the end; only the planner conformance kit reads
+/// it, so a 1.0 planner's traits lose nothing the kernel uses).
 
 #include <boost/version.hpp>
 

@@ -4,9 +4,11 @@
 /// first), after OMPL's PlannerTest: on seeded random mazes (2-D, and 3-D when the traits claim
 /// it) every path found is connected, enters only free cells and no avoided cell, ends in a goal
 /// and — for planners whose traits say `optimal` — is as short as a reference breadth-first
-/// search says, which also decides reachability; "no path" is a status, never an exception; a
-/// stop condition that is already true stops at once; `deterministic` planners answer the same
-/// twice; tours are permutations with unreachable points last in (x, y, z) order.
+/// search says, which also decides reachability; other planners must find a path to every
+/// reachable goal (`sampling` ones: at least 9 in 10 within their budget); "no path" is a status,
+/// never an exception; a stop condition that is already true stops at once; `deterministic`
+/// planners answer the same twice; tours are permutations with unreachable points last in (x, y, z)
+/// order.
 ///
 /// @code
 ///   FLIPPER_PLANNER_CONFORMANCE("astar", [] { return load_plugin<sdk::Planner>("astar"); })
@@ -96,6 +98,7 @@ inline void check_random_requests(const sdk::Planner& planner, const sdk::Geomet
   std::mt19937 rng(seed);
   std::uniform_int_distribution<std::size_t> pick_free(0, free.size() - 1);
   std::uniform_int_distribution<std::size_t> pick_any(0, g.cell_count() - 1);
+  int reachable = 0, found = 0;  // non-optimal planners: requests with a path, paths found
   for (int n = 0; n < requests; ++n) {
     const sdk::Cell start = free[pick_free(rng)];
     sdk::Area goals, avoid;
@@ -117,8 +120,17 @@ inline void check_random_requests(const sdk::Planner& planner, const sdk::Geomet
         check_path_shape(g, req, r);
         REQUIRE(static_cast<int>(r.path.size()) == expected);
       }
-    } else if (r.status == sdk::PlanStatus::found) {
-      check_path_shape(g, req, r);
+    } else {
+      if (expected < 0) REQUIRE(r.status != sdk::PlanStatus::found);
+      if (expected >= 0) {
+        ++reachable;
+        // Only a sampling planner may miss a reachable goal (counted below).
+        if (!traits.sampling) REQUIRE(r.status == sdk::PlanStatus::found);
+      }
+      if (r.status == sdk::PlanStatus::found) {
+        ++found;
+        check_path_shape(g, req, r);
+      }
     }
     if (traits.deterministic) {
       const sdk::PathResult again = planner.plan(g, req, sdk::StopCondition{});
@@ -127,6 +139,9 @@ inline void check_random_requests(const sdk::Planner& planner, const sdk::Geomet
       if (r.status == sdk::PlanStatus::found) REQUIRE(again.target == r.target);
     }
   }
+  // A planner that never (or seldom) finds a path fails here, sampling or not.
+  INFO("non-optimal planner: " << found << " paths for " << reachable << " reachable requests");
+  REQUIRE(found * 10 >= reachable * 9);
 }
 
 inline void check_tour(const sdk::Planner& planner, const sdk::Geometry& g, std::uint32_t seed) {

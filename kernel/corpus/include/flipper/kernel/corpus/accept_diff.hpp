@@ -15,11 +15,13 @@
 /// - client_state: our trace equals the original's own run of that candidate (its `result`),
 ///   so the logged next world reflects client state, not the program;
 /// - failed_movement: a move/visit failed and left the robot in place (§6);
-/// - loop_order: the program loops over points or areas (tour T, §8 [decision]);
-/// - visit_collection: the program visits a collection (shortest, §4.4 [decision]);
-/// - item_choice: same robot cell and held count, other items (item tie rules, §8);
-/// - nearest_cell: the program visits an area (nearest-cell tie rules, §8);
-/// - unexplained: none of the above; unreadable: the original's text does not read.
+/// - item_choice / nearest_cell / loop_order (tie rules and tour T, §8 [decision]): proven by
+///   re-executing the program with another tie choice — an eligible item the log shows moved
+///   instead of the first, an equally near cell the log shows visited instead of the smallest, a
+///   loop order that ends at the logged robot cell — and getting the logged next world exactly
+///   (src/tie_proofs.hpp);
+/// - visit_collection: kept as an id for old outputs; no proof reaches it any more;
+/// - unexplained: none of the above proves it; unreadable: the original's text does not read.
 
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -29,6 +31,7 @@
 
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/execution.hpp"
+#include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::kernel::corpus {
@@ -92,6 +95,9 @@ struct AcceptCase {
   const sdk::Outcome& outcome;   ///< our execution
   /// The original's own run of the candidate (`result.path` in original-answers.jsonl), or null.
   const nlohmann::json* original_path = nullptr;
+  /// The planner of our execution; without one no tie-rule proof runs (such differences are
+  /// unexplained).
+  const sdk::Planner* planner = nullptr;
 };
 
 AcceptClass classify_accept(const AcceptCase& c);

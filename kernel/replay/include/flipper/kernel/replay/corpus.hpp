@@ -20,10 +20,14 @@ struct BodyLine {
   std::string formula;  ///< the original's internal formula (not used to parse)
 };
 
-/// One induced rule of the original's grammar log (only what the deletion mapping needs).
+/// One induced rule of the original's grammar log (what the deletion mapping and the rule
+/// oracle need).
 struct LoggedRule {
   int line = 0;  ///< line in the run's grammar log (identity)
   bool simple_packing = false;
+  bool alignment = false;        ///< induced by alignment (`align`)
+  std::string lhs;               ///< e.g. "$Action"
+  std::vector<std::string> rhs;  ///< tokens and the original's category names
 };
 
 /// One non-context command of queries.jsonl.

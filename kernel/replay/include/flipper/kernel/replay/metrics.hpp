@@ -87,6 +87,8 @@ struct Metrics {
   Latency our_latency, original_latency;
   int defines = 0, defines_ok = 0, preloaded = 0, preloaded_ok = 0;
   std::map<std::string, int> define_errors;
+  /// Definitions (users' and preloaded) by DefineRow::rule_match, compared ones only.
+  std::map<std::string, int> rule_match;
   int deletes = 0, deletes_mapped = 0, rules_deleted = 0;
   /// Queries whose top reading floats (QueryRow::floating), overall and by group.
   int floating = 0;

@@ -48,6 +48,9 @@ struct DefineRow {
   bool ok = false;
   std::string error_code;
   int rules = 0;
+  /// Our rules against the original's logged ones (rule_oracle.hpp): identical, subset,
+  /// overlap, missing; "" when the original logged no comparable rule.
+  std::string rule_match;
 };
 
 /// A `:delete`, mapped to the rules of one definition (see deletion_map.hpp).
