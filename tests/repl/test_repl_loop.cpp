@@ -23,7 +23,7 @@ TEST_CASE("repl: query, choose, the robot moves", "[repl][loop]") {
   // The start map has the robot at [2,4]; after choosing 1 it is at [1,4].
   CHECK_THAT(out, Catch::Contains(" 4 ##. . R "));
   CHECK_THAT(out, Catch::Contains("[1] {move left}"));
-  CHECK_THAT(out, Catch::Contains("Done: 1 steps."));
+  CHECK_THAT(out, Catch::Contains("Done: 1 step."));
   CHECK_THAT(out, Catch::Contains(" 4 ##. R . "));
   CHECK(s->world().robot.x == 1);
   // Nothing after :quit ran.
