@@ -52,6 +52,17 @@ sdk::WorldState load_world(const sdk::World& world, const std::string& who,
   return guarded(who, [&] { return world.load(text, base_dir); });
 }
 
+// A missing file named by a path key: the message names the resolved path and the rule that
+// resolved it (a copied config otherwise fails with a puzzling "cannot read").
+void require_file(const Config& config, const std::string& key, const char* code,
+                  const char* what) {
+  const std::string path = config.get_path(key);
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw Error(code, std::string("no ") + what + " at '" + path + "' (" +
+                          config.path_origin(key) + ")");
+}
+
 }  // namespace
 
 std::unique_ptr<Runtime> make_runtime(const Config& config) {
@@ -76,11 +87,13 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
                                        world_name + "'; choose a planner with " +
                                        (dims == 3 ? "supports_3d" : "supports_2d"));
 
+  require_file(config, "grammar.file", codes::kBadGrammar, "grammar file");
   rt->core_grammar = std::make_shared<const sdk::Grammar>(sdk::load_grammar_file(
       config.get_path("grammar.file"), config.get_string_list("grammar.colors"),
       config.get_string_list("grammar.shapes"), config.get_string_list("grammar.directions")));
   guarded(config.plugin_name("parser"), [&] { rt->parser->set_grammar(rt->core_grammar); });
 
+  require_file(config, "world.file", codes::kBadWorld, "world file");
   rt->default_world = load_world(*rt->world, world_name, config.get_path("world.file"));
   return rt;
 }
