@@ -24,9 +24,13 @@ struct ParseRequest {
   const Scorer* scorer = nullptr;   ///< required
   /// Which rules may be used (sharing modes); null means every rule.
   std::function<bool(const Rule&)> visible;
-  int beam = 0;                ///< derivations kept per (category, span); 0 = plugin default
-  bool want_chart = false;     ///< also return every derivation of every proper sub-span
-  bool whole_span = true;      ///< false: no root candidates needed (head charts)
+  int beam = 0;             ///< derivations kept per (category, span); 0 = plugin default
+  bool want_chart = false;  ///< also return every derivation of every proper sub-span
+  bool whole_span = true;   ///< false: no root candidates needed (head charts)
+  /// When to give up (SDK 1.1): the caller's deadline, cancel flag and derivation budget. The
+  /// wrapper Parser::parse does not call the plugin when it has already fired and marks the
+  /// result `stopped` when it fired during the parse; a plugin polls `should_stop(derivations)`
+  /// in its inner loops (every few thousand steps at most) and returns what it has.
   StopCondition stop;
 };
 
@@ -36,8 +40,8 @@ struct ParseResult {
   std::vector<Candidate> candidates;
   /// With want_chart: derivations of every span except the whole utterance, every category.
   std::vector<DerivationPtr> chart;
-  bool stopped = false;             ///< the stop condition fired; results may be partial
-  std::uint64_t derivations = 0;    ///< derivations built (statistics)
+  bool stopped = false;  ///< the stop condition fired; results may be partial (callers refuse)
+  std::uint64_t derivations = 0;  ///< derivations built (statistics)
 };
 
 class FLIPPER_SDK_API Parser : public Plugin {
@@ -51,8 +55,19 @@ class FLIPPER_SDK_API Parser : public Plugin {
   void add_rule(RulePtr rule) { do_add_rule(std::move(rule)); }
   /// Removes a rule by id (a deleted induced rule); unknown ids are ignored.
   void remove_rule(const std::string& id) { do_remove_rule(id); }
-  /// Parses. Never throws for "no parse": returns no candidates.
-  ParseResult parse(const ParseRequest& request) const { return do_parse(request); }
+  /// Parses. Never throws for "no parse": returns no candidates. Honours `request.stop` (see
+  /// ParseRequest::stop) even for a plugin that never polls it: a stop that fired before or
+  /// during the parse gives `stopped == true`.
+  ParseResult parse(const ParseRequest& request) const {
+    if (request.stop.should_stop(0)) {
+      ParseResult none;
+      none.stopped = true;
+      return none;
+    }
+    ParseResult result = do_parse(request);
+    if (!result.stopped && request.stop.expired()) result.stopped = true;
+    return result;
+  }
 
  protected:
   virtual void do_set_grammar(std::shared_ptr<const Grammar> grammar) = 0;

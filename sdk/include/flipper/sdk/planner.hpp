@@ -30,6 +30,12 @@ struct StopCondition {
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
     return std::chrono::steady_clock::now() >= deadline;
   }
+  /// The deadline passed or the cancel flag is set (the budget is not consulted; SDK 1.1).
+  bool expired() const {
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
+    return deadline != std::chrono::steady_clock::time_point::max() &&
+           std::chrono::steady_clock::now() >= deadline;
+  }
   static StopCondition within(std::chrono::milliseconds ms) {
     StopCondition s;
     s.deadline = std::chrono::steady_clock::now() + ms;
@@ -54,10 +60,10 @@ struct PathRequest {
 
 struct PathResult {
   PlanStatus status = PlanStatus::no_path;
-  Cell target;               ///< the goal cell reached (status == found)
-  std::vector<Cell> path;    ///< cells entered, in order, excluding start (empty if start is a goal)
+  Cell target;             ///< the goal cell reached (status == found)
+  std::vector<Cell> path;  ///< cells entered, in order, excluding start (empty if start is a goal)
   std::uint64_t expansions = 0;
-  std::string message;       ///< a short reason when not found
+  std::string message;  ///< a short reason when not found
 };
 
 /// A visiting order over `points`: indexes into the request's vector.

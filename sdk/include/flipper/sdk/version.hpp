@@ -7,12 +7,15 @@
 ///   the kernel's (a plugin built against a newer SDK minor may use what the kernel lacks).
 /// Plus a build fingerprint (compiler, libstdc++ ABI, Boost and Eigen versions) that Boost.DLL
 /// itself does not check: a mismatch there would crash instead of failing cleanly.
+///
+/// History: 1.1 — Parser::parse honours ParseRequest::stop in the non-virtual wrapper (and
+/// StopCondition::expired); plugins built against 1.0 load unchanged.
 
 #include <boost/version.hpp>
 
 #define FLIPPER_PLUGIN_ABI 1
 #define FLIPPER_SDK_VERSION_MAJOR 1
-#define FLIPPER_SDK_VERSION_MINOR 0
+#define FLIPPER_SDK_VERSION_MINOR 1
 #define FLIPPER_SDK_VERSION_PATCH 0
 
 #define FLIPPER_STRINGIFY_IMPL(x) #x
