@@ -34,7 +34,7 @@ TEST_CASE("repl: reject, unparsable, commands and errors", "[repl][loop]") {
   auto s = flipper::testsupport::bare_session();
   const std::string out =
       run_script(*s,
-                 "move left\nr\n7\nzorp blah\n:user ana\n:help\n:rules\n"
+                 "move left\nr\n7\nzorp blah\n:user ana\n:help\n:examples\n:rules\n"
                  ":define zorp blah\nmove left\n\n:bogus\n:world /no/such.json\n");
   CHECK_THAT(out, Catch::Contains("Rejected."));
   CHECK(s->world().robot.x == 2);  // nothing was accepted
@@ -42,6 +42,9 @@ TEST_CASE("repl: reject, unparsable, commands and errors", "[repl][loop]") {
   CHECK_THAT(out, Catch::Contains("You are ana."));
   CHECK(s->user() == "ana");
   CHECK_THAT(out, Catch::Contains(":define HEAD"));
+  // :examples is the language guide's table (docs/language.md), embedded in the binary.
+  CHECK_THAT(out, Catch::Contains("  strict {move left; move left; move left}\n"
+                                  "      strict: all or nothing: ends at [2,4], 0 moves; 2 warnings"));
   CHECK_THAT(out, Catch::Contains("Defining \"zorp blah\""));
   CHECK_THAT(out, Catch::Contains("Unknown command :bogus"));
   CHECK_THAT(out, Catch::Contains("error (bad_world)"));

@@ -28,6 +28,7 @@ const char* kHelp =
     "  :delete ID     delete a rule you defined (ids from :rules)\n"
     "  :world FILE    load a world file         :user NAME   set the current user\n"
     "  :map           show the world            :floor Z     show floor Z of a 3-D world\n"
+    "  :examples      one example of every construct of the language (docs/language.md)\n"
     "  :help          this text                 :quit        leave (also Ctrl-D)\n"
     "Ctrl-C cancels the line being typed. docs/language.md explains every construct.\n";
 
@@ -233,6 +234,8 @@ class Repl {
     if (cmd == ":quit" || cmd == ":q" || cmd == ":exit") return false;
     if (cmd == ":help" || cmd == ":h") {
       out_ << kHelp;
+    } else if (cmd == ":examples") {
+      out_ << examples_text();
     } else if (cmd == ":map" || cmd == ":state") {
       show_map();
     } else if (cmd == ":floor") {

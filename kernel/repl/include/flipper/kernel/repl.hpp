@@ -40,6 +40,17 @@ std::vector<std::string> collapse_warnings(const Json& warnings);
 std::vector<std::string> unknown_words(const std::vector<std::string>& tokens,
                                        const std::vector<std::string>& vocabulary);
 
+/// One row of the language guide's example table (docs/language.md).
+struct GuideExample {
+  std::string construct;  ///< "move one cell"
+  std::string example;    ///< "move up"
+  std::string result;     ///< "ends at [2,5], 1 move" on the study map
+};
+/// The guide's examples, in its order (the guide is embedded in the binary).
+std::vector<GuideExample> guide_examples();
+/// The text of `:examples`.
+std::string examples_text();
+
 /// Reads lines with a prompt; nullopt at end of input.
 class LineReader {
  public:
