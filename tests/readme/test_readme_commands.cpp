@@ -29,6 +29,22 @@ struct Expected {
 
 // One entry per marked README command (exact text).
 const std::map<std::string, Expected> kExpected = {
+    // Your first ten minutes. room1 is x 9..11, y 0..2; its nearest cell by path from [2,4] is
+    // [9,0], 13 moves: down the x=1 corridor to y=0 (5), then right along y=0 to x=9 (8).
+    {R"(build/bin/flipper run "visit room1")",
+     {0, {"interpretation: {visit room1}", "trace (13 steps):", "robot: [9,0]"}}},
+    {R"(printf "visit room3 or room5 containing item is red\n2\n" | build/bin/flipper repl)",
+     {0, {"2 of 2 shown. Choose 1..2, or r", "Done: 5 steps.", "Robot at [7,4]"}}},
+    {R"(printf "zig zag\n:define\nmove up\nmove right\n\nzig zag\n1\n" | build/bin/flipper repl)",
+     {0, {"I did not understand that.", "Learned 1 rule:",
+          "$Action -> zig zag  =>  {{move up};{move right}}", "[1] {{move up};{move right}}",
+          "Done: 2 steps.", "Robot at [3,5]"}}},
+    {R"(build/bin/flipper run --set planner.plugin=ompl "visit room1")",
+     {0, {"interpretation: {visit room1}", "realizable: yes", "robot: [9,"}}},
+    {R"(build/bin/flipper replay --experiment configs/experiments/dev-replay.yaml --out out/first-replay)",
+     {0, {"plain: status agreement ", "/3950, accepts matched ", "/807",
+          "report: out/first-replay/report.md"}}},
+
     // Using it
     {R"(build/bin/flipper run "visit world containing item is red; pick item is red")",
      // The nearest red item from [2,4] is the red circle 5 cells right at [7,4] (the red
@@ -44,7 +60,8 @@ const std::map<std::string, Expected> kExpected = {
      {0, {"  move [8,1,1]\n", "  pick [8,6,2] yellow circle", "realizable: yes",
           "robot: [8,6,2], holding 1: yellow circle"}}},
     {R"(build/bin/flipper session examples/session.jsonl)",
-     {0, {R"({"ok":true,"op":"define","rules":[{"id":"r1")",
+     // r2: "zig zag" of the ten-minute walkthrough above is r1 in the same (HOME) store.
+     {0, {R"({"ok":true,"op":"define","rules":[{"id":"r2")",
           R"({"ok":true,"op":"query","status":"induced")", R"({"ok":true,"op":"accept")"}}},
     {R"(build/bin/flipper repl < /dev/null)", {0, {"Legend:", "Robot at [2,4]", "bye"}}},
     {R"(build/bin/flipper replay --experiment configs/experiments/dev-replay.yaml --max-queries 5 --out out/replay-dev)",
@@ -53,12 +70,12 @@ const std::map<std::string, Expected> kExpected = {
     {R"(build/bin/flipper plugins --params)", {0, {"astar (planner", "heuristic"}}},
     {R"(build/bin/flipper plugins astar)", {0, {"astar (planner", "max_expansions"}}},
     {R"(build/bin/flipper lexicon list --author ana)",
-     {0, {"r1  ana ", "$Action -> pick $Number items => {repeat $1 times {pick item }}",
+     {0, {"r2  ana ", "$Action -> pick $Number items => {repeat $1 times {pick item }}",
           "home/.local/share/flipper/lexicon.sqlite"}}},
     {R"(build/bin/flipper lexicon export lexicon.jsonl)",
-     {0, {"exported 1 definitions", "to lexicon.jsonl"}}},
+     {0, {"exported 2 definitions and 3 rules", "to lexicon.jsonl"}}},
     {R"(build/bin/flipper lexicon import lexicon.jsonl --set lexicon.path=other.sqlite)",
-     {0, {"imported 1 definitions", "into ", "/other.sqlite"}}},
+     {0, {"imported 2 definitions (3 rules induced)", "into ", "/other.sqlite"}}},
     {R"(build/bin/flipper lexicon delete r1 --user bob)",
      {1, {"flipper lexicon delete: [forbidden] "}}},
     {R"(build/bin/flipper config check configs/grid-ompl.yaml)",
@@ -141,6 +158,7 @@ TEST_CASE("every command of the README's marked blocks runs and prints what it s
   }
   // Item 9 of the path rule: `--set lexicon.path=other.sqlite` wrote into the current directory.
   CHECK(fs::exists(dir / "other.sqlite"));
+  CHECK(fs::exists(dir / "out" / "first-replay" / "report.md"));
   CHECK_FALSE(fs::exists(src / "configs" / "other.sqlite"));
   // No stale expectations: each entry is a README command.
   for (const auto& [cmd, expected] : kExpected) {
