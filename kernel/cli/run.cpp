@@ -4,6 +4,7 @@
 // and the top candidate is taken, saying so when there were several. Prints the interpretation,
 // the trace, the warnings and the final world (or one JSON object with --json).
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/kernel/session_factory.hpp"
+#include "flipper/kernel/svg.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -26,6 +28,7 @@ struct RunOptions {
   CommonOptions common;
   std::string world_file;
   std::string user;
+  std::string svg_file;
   bool json = false;
   std::string program;
 };
@@ -140,6 +143,14 @@ int run(const RunOptions& opts) {
   const kernel::Executor executor(rt.planner, limits_from(rt.config));
   const sdk::Outcome o = executor.run(program, world);
   if (o.error) return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed);
+  if (!opts.svg_file.empty()) {
+    const kernel::Json before = kernel::Json::parse(rt.world->save(world));
+    const kernel::Json trace = kernel::Json::parse(kernel::protocol::outcome_json(o, dims)["trace"].dump());
+    std::ofstream f(opts.svg_file);
+    f << kernel::svg::world_picture(before, &trace, sdk::render(program));
+    f.flush();
+    if (!f) return fail("io", "cannot write '" + opts.svg_file + "'", kExitFailed);
+  }
   if (opts.json) {
     nlohmann::json j = kernel::protocol::outcome_json(o, dims);
     j["ok"] = true;
@@ -164,6 +175,7 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--user", opts.user,
                   "Whose lexicon view to parse with (lexicon.sharing decides what is visible)");
   cmd->add_flag("--json", opts.json, "Print one JSON object (protocol shapes)");
+  cmd->add_option("--svg", opts.svg_file, "Also draw the world and the plan into this SVG file");
   cmd->add_option("program", opts.program, "The program, e.g. 'visit world containing item is red'")
       ->required();
   cmd->callback([] { std::exit(run(opts)); });

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.hpp"
+#include "flipper/sdk/version.hpp"
 
 using namespace flipper::clitest;
 
@@ -20,7 +21,9 @@ using nlohmann::json;
 TEST_CASE("errors have one format and the documented exit status", "[cli][format]") {
   const Run version = run_flipper("--version");
   CHECK(version.status == 0);
-  CHECK(version.out == "flipper 0.1.0 (plugin SDK 1.0.0)\n");
+  CHECK(version.out == "flipper 0.1.0 (plugin SDK " + std::to_string(FLIPPER_SDK_VERSION_MAJOR) +
+                          "." + std::to_string(FLIPPER_SDK_VERSION_MINOR) + "." +
+                          std::to_string(FLIPPER_SDK_VERSION_PATCH) + ")\n");
 
   const Run unknown = run_flipper("bogus");
   CHECK(unknown.status == 2);

@@ -1,5 +1,7 @@
 // The repl loop on a real session, reading a script (no terminal).
 #include <catch2/catch.hpp>
+#include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "flipper/kernel/repl.hpp"
@@ -63,4 +65,18 @@ TEST_CASE("repl: define an unparsable utterance, then use it", "[repl][loop]") {
   CHECK_THAT(out, Catch::Contains("zig zag  =>  {{move up};{move right}}  (by anonymous"));
   CHECK(s->world().robot.x == 3);
   CHECK(s->world().robot.y == 5);
+}
+
+TEST_CASE("repl: :save draws the plan just chosen", "[repl][loop]") {
+  auto s = flipper::testsupport::bare_session();
+  const std::string file = std::string(FLIPPER_BINARY_DIR) + "/tests/tmp/repl-save.svg";
+  std::remove(file.c_str());
+  const std::string out = run_script(*s, "visit [5,4]\n1\n:save " + file + "\n");
+  CHECK_THAT(out, Catch::Contains("Saved the plan and its world to " + file));
+  std::ifstream in(file);
+  std::stringstream svg;
+  svg << in.rdbuf();
+  // From [2,4] three cells right: four points, 28 px apart.
+  CHECK_THAT(svg.str(), Catch::Contains("points=\"134.0,198.0 162.0,198.0 190.0,198.0 218.0,198.0 \""));
+  CHECK_THAT(svg.str(), Catch::Contains(">{visit [5,4]}</text>"));
 }

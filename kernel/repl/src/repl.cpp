@@ -6,7 +6,10 @@
 #include <ostream>
 #include <vector>
 
+#include <fstream>
+
 #include "flipper/kernel/repl.hpp"
+#include "flipper/kernel/svg.hpp"
 #include "flipper/sdk/canonical.hpp"
 
 namespace flipper::kernel::repl {
@@ -28,6 +31,7 @@ const char* kHelp =
     "  :delete ID     delete a rule you defined (ids from :rules)\n"
     "  :world FILE    load a world file         :user NAME   set the current user\n"
     "  :map           show the world            :floor Z     show floor Z of a 3-D world\n"
+    "  :save FILE     the world (and the plan just chosen) as an SVG picture\n"
     "  :examples      one example of every construct of the language (docs/language.md)\n"
     "  :help          this text                 :quit        leave (also Ctrl-D)\n"
     "Ctrl-C cancels the line being typed. docs/language.md explains every construct.\n";
@@ -154,6 +158,7 @@ class Repl {
 
   void query(const std::string& text) {
     last_text_ = text;
+    trail_ = Json();
     readings_ = Json::array();
     shown_ = 0;
     const Json state = session_.handle(Json{{"op", "state"}});
@@ -218,6 +223,9 @@ class Repl {
     Json a = call(Json{{"op", "accept"}, {"rank", *n - 1}});
     if (!a.value("ok", false)) return true;
     undo_.push_back(before);
+    trail_ = a["trace"];
+    trail_title_ = readings_[static_cast<std::size_t>(*n - 1)].value("formula", std::string());
+    trail_world_ = query_world_;
     readings_ = Json::array();
     std::size_t steps = 0;
     for (const auto& s : a["trace"]) steps += s.value("act", std::string()) == "move";
@@ -259,6 +267,8 @@ class Repl {
         floor_.reset();
         out_ << render_map(a["world"], map_options());
       }
+    } else if (cmd == ":save") {
+      save(arg);
     } else if (cmd == ":undo") {
       undo();
     } else if (cmd == ":user") {
@@ -289,6 +299,30 @@ class Repl {
       out_ << "Unknown command " << cmd << ". :help lists the commands.\n";
     }
     return true;
+  }
+
+  // The picture: the plan just chosen on the world it started from, else the current world.
+  void save(const std::string& file) {
+    if (file.empty()) {
+      out_ << "usage: :save FILE (an SVG picture of the world and the plan just chosen)\n";
+      return;
+    }
+    std::string picture;
+    if (trail_.is_array()) {
+      picture = svg::world_picture(trail_world_, &trail_, trail_title_);
+    } else {
+      const Json state = session_.handle(Json{{"op", "state"}});
+      picture = svg::world_picture(state.value("world", Json::object()), nullptr, "world");
+    }
+    std::ofstream f(file);
+    f << picture;
+    f.flush();
+    if (!f) {
+      out_ << "error (io): cannot write '" << file << "'\n";
+      return;
+    }
+    out_ << "Saved " << (trail_.is_array() ? "the plan and its world" : "the world") << " to "
+         << file << ".\n";
   }
 
   void undo() {
@@ -377,6 +411,9 @@ class Repl {
            << " -> " << rhs_text(r) << "  =>  " << r.value("semantics", std::string()) << '\n';
     if (a.contains("generalized") && !a["generalized"].is_null())
       out_ << "(generalized the body to: " << a["generalized"].dump() << ")\n";
+    // Each process loads the store's rules when it starts (no live reload yet).
+    out_ << "(Stored in the lexicon; another repl or session on the same store sees it after a "
+            "restart.)\n";
     readings_ = Json::array();
   }
 
@@ -390,6 +427,9 @@ class Repl {
   Json query_world_;
   std::string last_text_;
   std::vector<sdk::WorldState> undo_;
+  Json trail_;        // the trace of the reading just chosen (null after the next query)
+  Json trail_world_;  // the world it started from
+  std::string trail_title_;
   std::optional<int> floor_;
 };
 
