@@ -2,7 +2,8 @@
 //   list [--author A] [--json]  live rules: id, author, how, uses (by author/by others), the rule
 //   delete ID --user U      deletes U's rule ID (forbidden for others' rules; history kept)
 //   export FILE|-           JSON Lines copy of the whole store (LexiconStore::export_jsonl)
-//   import FILE|-           definitions replayed through induction (docs/naturalization.md §5: rules
+//   import FILE|-           definitions replayed through induction (docs/naturalization.md §5:
+//   rules
 //                           are always induced by this system), one durable transaction each,
 //                           definitions the store already holds skipped; nothing stored changes
 //   import --restore FILE   verbatim copy (rules, counters, deletions, weights) into an EMPTY
@@ -64,8 +65,14 @@ std::string join(const std::vector<std::string>& v) {
 int list_rules(const LexiconArgs& a) {
   const auto store = open_existing(store_path(load_config(a.common)));
   std::vector<kernel::StoredRule> rules;
-  for (auto& r : store->rules())
-    if (a.author.empty() || r.author == a.author) rules.push_back(std::move(r));
+  std::vector<std::pair<kernel::StoredRule, std::string>> quarantined;
+  for (auto& r : store->rules()) {
+    if (!a.author.empty() && r.author != a.author) continue;
+    if (auto why = kernel::quarantine_reason(r))
+      quarantined.emplace_back(std::move(r), *why);
+    else
+      rules.push_back(std::move(r));
+  }
   std::size_t w_id = 2, w_author = 6, w_how = 3, w_uses = 4;
   std::vector<std::string> uses;
   for (const auto& r : rules) {
@@ -104,18 +111,24 @@ int list_rules(const LexiconArgs& a) {
   }
   std::cout << rules.size() << (rules.size() == 1 ? " rule" : " rules") << " in " << store->path()
             << "\n";
+  // Kept in the file but not served: they no longer load (docs/naturalization.md §5).
+  for (const auto& [r, why] : quarantined)
+    std::cout << "QUARANTINED " << r.id << " (author '" << r.author << "', head '" << r.head
+              << "'): " << r.lhs << " -> " << join(r.rhs) << " => " << r.semantics << ": " << why
+              << "\n";
+  if (!quarantined.empty()) std::cout << quarantined.size() << " quarantined (not served)\n";
   return kExitOk;
 }
 
 int export_store(const LexiconArgs& a) {
   const auto store = open_existing(store_path(load_config(a.common)));
   if (a.file == "-") {
-    store->export_jsonl(std::cout);
+    store->export_jsonl(std::cout, kernel::quarantine_reason);
     return std::cout.flush() ? kExitOk : kExitFailed;
   }
   std::ofstream out(a.file);
   if (!out) return error("export", "io", "cannot write '" + a.file + "'", kExitFailed);
-  store->export_jsonl(out);
+  store->export_jsonl(out, kernel::quarantine_reason);
   out.flush();
   if (!out) return error("export", "io", "cannot write '" + a.file + "'", kExitFailed);
   std::cerr << "exported " << store->definitions().size() << " definitions and "
@@ -143,7 +156,17 @@ int restore_store(const LexiconArgs& a, const std::string& path, const std::stri
   kernel::LexiconStore scratch(":memory:");
   std::istringstream check(text);
   scratch.import_jsonl(check);
+  std::set<std::string> quarantined;  // flagged by the export: copied, and stay quarantined
+  {
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+      const auto j = nlohmann::json::parse(line, nullptr, false);
+      if (j.is_object() && j.contains("quarantined") && j.contains("id") && j["id"].is_string())
+        quarantined.insert(j["id"].get<std::string>());
+    }
+  }
   for (const auto& r : scratch.rules(true)) {
+    if (quarantined.count(r.id)) continue;
     try {
       (void)kernel::rule_from_stored(r);
     } catch (const sdk::Error& e) {
@@ -212,7 +235,7 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
       rules += naturalizer.define(d).rules.size();
       ++added;
     } catch (const sdk::Error& e) {
-      if (e.code() == kernel::lexicon_codes::kBadLexicon) throw;
+      if (kernel::lexicon_codes::is_store_fault(e.code())) throw;
       failures.push_back("'" + d.head + "' (" + d.user + "): " + e.code() + ": " + e.what());
     }
   }

@@ -12,7 +12,7 @@ namespace flipper::loglinear {
 
 namespace {
 
-using Parts = std::initializer_list<std::string_view>;
+using features::feature_key;
 
 struct Weight {
   double w = 0;
@@ -21,14 +21,8 @@ struct Weight {
 
 struct Model {
   std::unordered_map<std::uint64_t, Weight> weights;
-  std::unordered_map<std::uint64_t, std::string> names;
+  features::FeatureNames names;
 };
-
-std::string join(Parts parts) {
-  std::string s;
-  for (auto p : parts) s.append(p);
-  return s;
-}
 
 }  // namespace
 
@@ -53,19 +47,15 @@ class LogLinear : public sdk::Scorer {
     double s = node.core_only ? 1.0 : 0.0;
     const Model* m = model_for(ctx);
     if (m == nullptr || m->weights.empty()) return s;
-    for_each_feature(node, ctx, [&](Parts parts, double value) {
-      std::uint64_t h = kFnvOffset;
-      for (auto p : parts) h = fnv(h, p);
-      auto it = m->weights.find(h);
-      if (it != m->weights.end()) s += it->second.w * value;
+    return features::weighted_sum(s, node, ctx, [&](std::uint64_t key) {
+      auto it = m->weights.find(key);
+      return it == m->weights.end() ? 0.0 : it->second.w;
     });
-    return s;
   }
 
   void do_features(const sdk::Derivation& node, const sdk::ScoreContext& ctx,
                    sdk::FeatureVector& out) const override {
-    for_each_feature(node, ctx,
-                     [&](Parts parts, double value) { out.emplace_back(join(parts), value); });
+    features::node_features(node, ctx, out);
   }
 
   void do_learn(const std::vector<sdk::Candidate>& candidates, std::size_t accepted,
@@ -89,13 +79,13 @@ class LogLinear : public sdk::Scorer {
       }
     if (z_target <= 0) return;
     Model& m = model_for_update(ctx);
-    std::unordered_map<std::uint64_t, double> grad;
+    features::SparseVector grad;
     for (std::size_t ci = 0; ci < candidates.size(); ++ci)
       for (const auto& d : candidates[ci].derivations) {
         const double e = std::exp(d->score - max_score);
         const double coef = (ci == accepted ? e / z_target : 0.0) - e / z_model;
         if (coef == 0) continue;
-        accumulate(*d, ctx, coef, grad, m);
+        features::add_tree_features(*d, ctx, coef, grad, m.names);
       }
     for (const auto& [key, g] : grad) {
       if (g == 0) continue;
@@ -154,18 +144,6 @@ class LogLinear : public sdk::Scorer {
   }
   Model& model_for_update(const sdk::ScoreContext& ctx) {
     return models_[per_user_ ? ctx.user : std::string()];
-  }
-
-  // Adds coef * φ(d) (φ summed over every node of the tree) to grad, recording feature names.
-  static void accumulate(const sdk::Derivation& d, const sdk::ScoreContext& ctx, double coef,
-                         std::unordered_map<std::uint64_t, double>& grad, Model& m) {
-    for_each_feature(d, ctx, [&](Parts parts, double value) {
-      std::string name = join(parts);
-      const auto key = feature_key(name);
-      grad[key] += coef * value;
-      m.names.try_emplace(key, std::move(name));
-    });
-    for (const auto& k : d.kids) accumulate(*k, ctx, coef, grad, m);
   }
 
   double step_ = 0.1;

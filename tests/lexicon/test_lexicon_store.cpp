@@ -159,7 +159,7 @@ TEST_CASE("a corrupt or foreign file is refused by name and left untouched", "[l
     LexiconStore store(garbage.string());
     FAIL("opened a garbage file");
   } catch (const flipper::sdk::Error& e) {
-    CHECK(e.code() == "bad_lexicon");
+    CHECK(e.code() == "lexicon_corrupt");
     CHECK_THAT(e.what(), Catch::Contains(garbage.string()));
   }
   CHECK(slurp(garbage) == before);

@@ -2,6 +2,7 @@
 // A child process with its stdin and stdout on pipes, for tests and benchmarks that drive a built
 // binary line by line (`flipper session`, the lexicon kill driver). Free of Catch2 so benchmarks
 // can use it too: failures to start throw std::runtime_error.
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -25,9 +26,11 @@ class ChildProcess {
     std::vector<char*> argv;  // built before fork: the child only calls async-signal-safe code
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
+    // Close-on-exec: a sibling started at the same time from another thread must not inherit
+    // these ends (it would keep this child's input open, and this child would never see EOF).
     int in[2], out[2];
-    if (pipe(in) != 0) throw std::runtime_error("ChildProcess: pipe failed");
-    if (pipe(out) != 0) {
+    if (pipe2(in, O_CLOEXEC) != 0) throw std::runtime_error("ChildProcess: pipe failed");
+    if (pipe2(out, O_CLOEXEC) != 0) {
       close_pair(in);
       throw std::runtime_error("ChildProcess: pipe failed");
     }

@@ -33,6 +33,7 @@ const std::vector<KeySpec> kSchema = {
     {"lexicon.sharing", T::String, "shared", "shared|private|core"},
     {"lexicon.preload", T::Path, "''", ""},
     {"lexicon.weights", T::String, "global", "global|per_user"},
+    {"lexicon.busy_timeout_ms", T::Int, "10000", "1..600000"},
     {"induction.alignment", T::Bool, "true", ""},
     {"induction.generalize", T::Bool, "true", ""},
     {"induction.perturbed_checks", T::Int, "0", "0..1000"},

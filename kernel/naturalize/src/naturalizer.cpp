@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <ctime>
+#include <iostream>
 
 #include "flipper/kernel/generalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -17,6 +18,23 @@ sdk::RuleOrigin origin_from_string(const std::string& how) {
   if (how == "alignment") return sdk::RuleOrigin::alignment;
   if (how == "rewriting") return sdk::RuleOrigin::rewriting;
   throw sdk::Error(lexicon_codes::kBadLexicon, "unknown rule origin '" + how + "'");
+}
+
+/// Whether a rule of `author` serves `user` under `sharing` (induced rules only).
+bool visible_author(Sharing sharing, const std::string& author, const std::string& user) {
+  switch (sharing) {
+    case Sharing::shared:
+      return true;
+    case Sharing::private_:
+      return author == user;
+    case Sharing::core:
+      return false;
+  }
+  return true;
+}
+
+void warn_stderr(const std::string& message) {
+  std::cerr << "flipper: warning: " << message << "\n";
 }
 
 std::string symbol_text(const sdk::Symbol& s) {
@@ -75,6 +93,24 @@ sdk::RulePtr rule_from_stored(const StoredRule& s) {
   return rule;
 }
 
+std::optional<std::string> quarantine_reason(const StoredRule& stored) {
+  try {
+    (void)rule_from_stored(stored);
+    return std::nullopt;
+  } catch (const std::exception& e) {
+    return std::string(e.what());
+  }
+}
+
+void check_head_tokens(const std::string& head) {
+  for (const auto& token : sdk::tokenize(head))
+    if (!token.empty() && token[0] == '$')
+      throw sdk::Error(naturalize_codes::kHeadReservedToken,
+                       "the head token '" + token +
+                           "' starts with '$', which marks grammar categories in rules; a head is "
+                           "plain words (write the word itself, e.g. 'red', not '$Color')");
+}
+
 Sharing parse_sharing(const std::string& text) {
   if (text == "shared") return Sharing::shared;
   if (text == "private") return Sharing::private_;
@@ -100,7 +136,8 @@ Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions opt
   if (!runtime_ || !runtime_->parser || !runtime_->scorer)
     throw sdk::Error(sdk::codes::kInternal,
                      "naturalization needs a runtime with parser and scorer");
-  store_ = std::make_unique<LexiconStore>(options_.store_path);
+  if (!options_.warn) options_.warn = warn_stderr;
+  store_ = std::make_unique<LexiconStore>(options_.store_path, options_.store);
   restore();
   if (!options_.preload.empty()) preload(options_.preload);
 }
@@ -108,23 +145,45 @@ Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions opt
 Naturalizer::~Naturalizer() = default;
 
 void Naturalizer::restore() {
-  for (const auto& stored : store_->rules()) {
-    sdk::RulePtr rule;
-    try {
-      rule = rule_from_stored(stored);
-    } catch (const sdk::Error& e) {
-      throw sdk::Error(lexicon_codes::kBadLexicon, "lexicon store '" + store_->path() + "': rule " +
-                                                       stored.id + ": " + e.what());
-    }
-    runtime_->parser->add_rule(rule);
-    add_live(std::move(rule));
-  }
-  next_created_ = store_->max_created() + 1;
+  store_->changed_elsewhere();  // the baseline for refresh(), taken before reading
+  apply(store_->changes_since({}));
   initial_weights_ = runtime_->scorer->save_state();
   weights_user_.clear();
   if (!options_.per_user_weights) {
     if (auto state = store_->load_weights(weights_key({}))) runtime_->scorer->load_state(*state);
   }
+}
+
+void Naturalizer::refresh() {
+  // data_version is read before the changes, so a commit racing with this read shows next time.
+  if (store_->changed_elsewhere()) apply(store_->changes_since(mark_));
+}
+
+void Naturalizer::apply(const LexiconChanges& changes, const std::vector<sdk::RulePtr>& own) {
+  for (const auto& stored : changes.added) {
+    if (by_id_.count(stored.id)) continue;
+    auto mine = std::find_if(own.begin(), own.end(),
+                             [&](const sdk::RulePtr& r) { return r->id == stored.id; });
+    sdk::RulePtr rule;
+    if (mine != own.end()) {
+      rule = *mine;
+    } else {
+      try {
+        rule = rule_from_stored(stored);
+      } catch (const std::exception& e) {
+        // One bad rule must not lock everyone out of a shared lexicon: skip it, say which.
+        quarantined_.push_back({stored, e.what()});
+        options_.warn("lexicon store '" + store_->path() + "': rule " + stored.id + " (author '" +
+                      stored.author + "', head '" + stored.head +
+                      "') is quarantined, not served: " + e.what());
+        continue;
+      }
+    }
+    runtime_->parser->add_rule(rule);
+    add_live(std::move(rule));
+  }
+  for (const auto& id : changes.deleted) remove_live(id);
+  mark_ = changes.mark;
 }
 
 std::string Naturalizer::weights_key(const std::string& user) const {
@@ -144,17 +203,22 @@ void Naturalizer::add_live(sdk::RulePtr rule) {
   rules_.push_back(std::move(rule));
 }
 
+void Naturalizer::remove_live(const std::string& id) {
+  auto rule = find_rule(id);
+  if (!rule) return;
+  runtime_->parser->remove_rule(id);
+  by_id_.erase(id);
+  auto [lo, hi] = by_shape_.equal_range(rule_shape(*rule));
+  for (auto it = lo; it != hi; ++it)
+    if (it->second == rule) {
+      by_shape_.erase(it);
+      break;
+    }
+  rules_.erase(std::remove(rules_.begin(), rules_.end(), rule), rules_.end());
+}
+
 bool Naturalizer::visible(const sdk::Rule& rule, const std::string& user) const {
-  if (!rule.induced) return true;
-  switch (options_.sharing) {
-    case Sharing::shared:
-      return true;
-    case Sharing::private_:
-      return rule.author == user;
-    case Sharing::core:
-      return false;
-  }
-  return true;
+  return !rule.induced || visible_author(options_.sharing, rule.author, user);
 }
 
 std::function<bool(const sdk::Rule&)> Naturalizer::visibility_for(const std::string& user) const {
@@ -175,6 +239,8 @@ sdk::RulePtr Naturalizer::find_rule(const std::string& id) const {
 }
 
 DefineOutcome Naturalizer::define(const DefineRequest& req) {
+  check_head_tokens(req.head);
+  refresh();  // induce against every rule committed so far, by any process
   Inducer inducer(*runtime_->parser, *runtime_->scorer, options_.induction);
   const auto visible_rules = visibility_for(req.user);
   PreparedDefinition prepared =
@@ -206,28 +272,30 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   InductionResult induced = inducer.induce(
       prepared, winner, rewritten, [&](const sdk::Rule& r) { return exists_for(r, req.user); });
 
-  // Give the rules their identity, then commit definition + rules in one transaction before
+  // Commit definition + rules in one transaction, where the store assigns their ids, before
   // anything becomes visible: a failed commit leaves parser and store unchanged.
   const std::int64_t now = static_cast<std::int64_t>(std::time(nullptr));
-  std::vector<sdk::RulePtr> rules;
+  std::vector<std::shared_ptr<sdk::Rule>> fresh;
   std::vector<StoredRule> stored;
-  std::int64_t created = next_created_;
   for (auto& r : induced.rules) {
     auto rule = std::make_shared<sdk::Rule>(std::move(r));
-    rule->created = created++;
-    rule->id = "r" + std::to_string(rule->created);
     rule->author = req.user;
     rule->head = req.head;
     rule->body = req.body;
     stored.push_back(stored_from_rule(*rule, 0));
-    rules.push_back(std::move(rule));
+    fresh.push_back(std::move(rule));
   }
-  out.definition = store_->add_definition({0, req.head, req.body, req.user, now}, stored);
-  next_created_ = created;
-  for (const auto& rule : rules) {
-    runtime_->parser->add_rule(rule);
-    add_live(rule);
+  DefinitionCommit commit =
+      store_->commit_definition({0, req.head, req.body, req.user, now}, std::move(stored));
+  out.definition = commit.definition;
+  std::vector<sdk::RulePtr> rules;
+  for (std::size_t i = 0; i < fresh.size(); ++i) {
+    fresh[i]->id = commit.rules[i].id;
+    fresh[i]->created = commit.rules[i].created;
+    rules.push_back(fresh[i]);
   }
+  // Everything up to this commit, others' rules first (creation order), then ours.
+  apply(store_->changes_since(mark_), rules);
   out.rules = std::move(rules);
   return out;
 }
@@ -243,32 +311,36 @@ std::vector<RuleListing> Naturalizer::rules(const std::string& user,
 }
 
 void Naturalizer::delete_rule(const std::string& user, const std::string& id) {
-  auto rule = find_rule(id);
-  if (!rule) throw sdk::Error(naturalize_codes::kNotFound, "no rule with id '" + id + "'");
-  if (rule->author != user)
-    throw sdk::Error(naturalize_codes::kForbidden, "rule " + id + " belongs to '" + rule->author +
+  const DeleteResult r = store_->delete_rule(
+      id, user, static_cast<std::int64_t>(std::time(nullptr)),
+      [&](const std::string& author) { return visible_author(options_.sharing, author, user); });
+  if (r.status == DeleteStatus::not_found)
+    throw sdk::Error(naturalize_codes::kNotFound, "no rule with id '" + id + "'");
+  if (r.status == DeleteStatus::forbidden)
+    throw sdk::Error(naturalize_codes::kForbidden, "rule " + id + " belongs to '" + r.author +
                                                        "'; only its author may delete it");
-  store_->mark_deleted(id, static_cast<std::int64_t>(std::time(nullptr)));
-  runtime_->parser->remove_rule(id);
-  by_id_.erase(id);
-  auto [lo, hi] = by_shape_.equal_range(rule_shape(*rule));
-  for (auto it = lo; it != hi; ++it)
-    if (it->second == rule) {
-      by_shape_.erase(it);
-      break;
-    }
-  rules_.erase(std::remove(rules_.begin(), rules_.end(), rule), rules_.end());
+  apply(store_->changes_since(mark_));  // removes it here (and picks up others' changes)
 }
 
 void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::RulePtr>& used) {
-  std::vector<RuleUses> uses;
+  std::vector<RuleUses> deltas;
+  std::vector<sdk::RulePtr> rules;
   for (const auto& r : used) {
     if (!r || !r->induced || !by_id_.count(r->id)) continue;
-    if (std::any_of(uses.begin(), uses.end(), [&](const RuleUses& u) { return u.rule == r->id; }))
+    if (std::any_of(deltas.begin(), deltas.end(),
+                    [&](const RuleUses& u) { return u.rule == r->id; }))
       continue;
-    uses.push_back({r->id, r->usage->by_author.load(), r->usage->by_others.load()});
+    const bool own = r->author == user;
+    deltas.push_back({r->id, own ? 1u : 0u, own ? 0u : 1u});
+    rules.push_back(r);
   }
-  store_->record_accept(uses, weights_key(user), runtime_->scorer->save_state());
+  const auto totals =
+      store_->record_accept(deltas, weights_key(user), runtime_->scorer->save_state());
+  // The stored totals include other processes' uses.
+  for (std::size_t i = 0; i < rules.size(); ++i) {
+    rules[i]->usage->by_author.store(totals[i].by_author);
+    rules[i]->usage->by_others.store(totals[i].by_others);
+  }
 }
 
 }  // namespace flipper::kernel

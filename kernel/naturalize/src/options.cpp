@@ -24,6 +24,8 @@ NaturalizeOptions NaturalizeOptions::from_config(const Config& config) {
                        "lexicon.weights must be global or per_user, not '" + w + "'");
     o.per_user_weights = w == "per_user";
   }
+  if (config.has("lexicon.busy_timeout_ms"))
+    o.store.busy_timeout_ms = static_cast<int>(config.get_int("lexicon.busy_timeout_ms"));
   if (config.has("induction.alignment"))
     o.induction.alignment = config.get_bool("induction.alignment");
   if (config.has("induction.generalize")) o.generalize = config.get_bool("induction.generalize");

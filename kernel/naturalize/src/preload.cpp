@@ -1,5 +1,5 @@
-// Preloading a definitions file (docs/naturalization.md §5): replayed through induction so rules are
-// always induced by this system, never copied.
+// Preloading a definitions file (docs/naturalization.md §5): replayed through induction so rules
+// are always induced by this system, never copied.
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -40,7 +40,7 @@ void Naturalizer::preload(const std::string& path) {
       define(req);
       ++preload_report_.replayed;
     } catch (const sdk::Error& e) {
-      if (e.code() == lexicon_codes::kBadLexicon) throw;
+      if (lexicon_codes::is_store_fault(e.code())) throw;
       preload_report_.failures.push_back("line " + std::to_string(line_no) + ": " + e.code() +
                                          ": " + e.what());
     }

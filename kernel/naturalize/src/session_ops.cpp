@@ -74,7 +74,18 @@ Json op_delete_rule(Naturalizer& nat, Session& s, const Json& req) {
 
 void install_naturalization(Session& session, std::shared_ptr<Naturalizer> nat) {
   session.set_op("define", [nat](Session& s, const Json& r) { return op_define(*nat, s, r); });
-  session.set_op("rules", [nat](Session& s, const Json& r) { return op_rules(*nat, s, r); });
+  session.set_op("rules", [nat](Session& s, const Json& r) {
+    nat->refresh();
+    return op_rules(*nat, s, r);
+  });
+  // Every parse sees the rules and deletions other processes committed before it.
+  if (const auto* query_op = session.find_op("query")) {
+    Session::OpHandler inner = *query_op;
+    session.set_op("query", [nat, inner](Session& s, const Json& r) {
+      nat->refresh();
+      return inner(s, r);
+    });
+  }
   session.set_op("delete_rule",
                  [nat](Session& s, const Json& r) { return op_delete_rule(*nat, s, r); });
   if (nat->options().sharing != Sharing::shared)

@@ -78,7 +78,10 @@ std::string describe_candidate(const Json& c, int number) {
       << "; drops: " << (drops.empty() ? "none" : drops);
   if (!c.value("realizable", true)) out << "; NOT fully realizable";
   out << '\n';
-  if (c.value("induced", false)) {
+  // Not core yet no rules: a reading that leaves words out (the floating parser).
+  if (c.value("induced", false) && c.value("rules", Json::array()).empty()) {
+    out << "      leaves words out (no definition used)\n";
+  } else if (c.value("induced", false)) {
     out << "      uses definitions:";
     for (const auto& r : c.value("rules", Json::array())) out << ' ' << r.get<std::string>();
     out << " (by";

@@ -107,6 +107,7 @@ std::vector<Variant> run_experiment(
     write_figures(out + "/" + v.name, out_v.metrics);
     results.push_back(std::move(out_v));
   }
+  if (results.size() > 1) write_variant_figure(out, results);
   write_report(out, experiment.name, results, experiment.corpus, runs);
   return results;
 }

@@ -174,6 +174,15 @@ Metrics compute_metrics(const ReplayResult& result) {
     (d.preloaded ? m.preloaded_ok : m.defines_ok) += d.ok;
     if (!d.ok) ++m.define_errors[d.error_code.empty() ? "unknown" : d.error_code];
   }
+  for (const auto& a : result.accepts) {
+    m.accepted_top1 += a.matched && a.rank == 0;
+    m.accepted_top3 += a.matched && a.rank >= 0 && a.rank < 3;
+  }
+  for (const auto& r : result.queries)
+    if (r.floating) {
+      ++m.floating;
+      ++m.floating_by_group[r.group];
+    }
   for (const auto& d : result.deletes) {
     ++m.deletes;
     m.deletes_mapped += !d.definition.empty();

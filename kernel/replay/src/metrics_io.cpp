@@ -86,7 +86,7 @@ nlohmann::ordered_json metrics_json(const Metrics& m) {
   J groups = J::object();
   for (const auto& [g, a] : m.by_group) groups[g] = agreement_json(a);
   const auto& e = m.exec;
-  return J{{"agreement", agreement_json(m.overall)},
+  J metric{{"agreement", agreement_json(m.overall)},
            {"agreement_by_group", groups},
            {"figures_ours", figures_json(m.ours)},
            {"figures_original", figures_json(m.original)},
@@ -112,6 +112,9 @@ nlohmann::ordered_json metrics_json(const Metrics& m) {
            {"deletions", J{{"deletes", m.deletes},
                            {"mapped", m.deletes_mapped},
                            {"rules_deleted", m.rules_deleted}}}};
+  metric["floating_top"] = J{{"all", m.floating}, {"by_group", map_json(m.floating_by_group)}};
+  metric["accepted_rank"] = J{{"top1", m.accepted_top1}, {"top3", m.accepted_top3}};
+  return metric;
 }
 
 void write_metrics(const std::string& dir, const ReplayResult& result, const Metrics& m) {

@@ -16,6 +16,17 @@
 namespace flipper::kernel::replay {
 namespace {
 
+// Words a derivation leaves out (any parser): its span minus the tokens its rules consume.
+int words_left_out(const sdk::Derivation& d) {
+  int consumed = 0;
+  auto walk = [&](const sdk::Derivation& n, auto& self) -> void {
+    for (const auto& s : n.rule->rhs) consumed += s.type != sdk::Symbol::Type::category;
+    for (const auto& k : n.kids) self(*k, self);
+  };
+  walk(d, walk);
+  return d.end - d.start - consumed;
+}
+
 std::string strip_spaces(std::string s) {
   s.erase(std::remove_if(s.begin(), s.end(), [](unsigned char c) { return std::isspace(c); }),
           s.end());
@@ -123,13 +134,17 @@ class RunReplay {
       row.ms = a.value("ms", 0.0);
       row.our_author = "none";
       const auto& cands = a["candidates"];
-      if (!cands.empty() && cands[0].value("induced", false)) {
+      if (!cands.empty() && cands[0].value("induced", false) && !cands[0]["rules"].empty()) {
         row.our_author = "self";
         for (const auto& author : cands[0]["authors"])
           if (author.get<std::string>() != c.user) row.our_author = "other";
       }
-      if (const LastQuery* q = session_->last_query())
+      if (const LastQuery* q = session_->last_query()) {
         row.our_candidates = static_cast<int>(q->parse.candidates.size());
+        const auto& top = q->parse.candidates;
+        row.floating = !top.empty() && !top[0].derivations.empty() &&
+                       words_left_out(*top[0].derivations[0]) > 0;
+      }
     } else {
       row.ours = "error";
     }

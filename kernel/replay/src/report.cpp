@@ -173,6 +173,7 @@ void write_report(const std::string& dir, const std::string& title,
         << f1(m.our_latency.p99) << " |\n";
     }
     o << "\n";
+    write_variant_section(o, variants);
   }
   for (const auto& v : variants) variant_section(o, v);
 }

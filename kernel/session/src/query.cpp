@@ -1,5 +1,6 @@
 // The query and accept ops: parse, rank, plan every shown candidate, learn from the choice.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 
@@ -173,24 +174,41 @@ Json Session::op_accept(const Json& req) {
     throw sdk::Error(session_codes::kNotAcceptable, "candidate " + std::to_string(rank) +
                                                         " cannot be accepted: " + *outcome.error);
 
-  // Learn before committing the world, so a failing scorer leaves the session unchanged.
-  sdk::ScoreContext ctx;
-  ctx.tokens = &q.tokens;
-  ctx.user = user_;
-  request::call_plugin("scorer",
-                       [&] { runtime_->scorer->learn(q.parse.candidates, sc.index, ctx); });
-  for (const auto& rule : sc.induced_rules)
-    (rule->author == user_ ? rule->usage->by_author : rule->usage->by_others)
-        .fetch_add(1, std::memory_order_relaxed);
-
   const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
-  Json answer;
+  Json answer;  // built first: nothing may fail after the commit
   answer["world"] = answer_world(outcome.world);
   answer["trace"] = answer_trace(outcome.trace, dims);
   answer["warnings"] = Json(protocol::strings_json(outcome.warnings));
+
+  // Nothing is applied unless everything commits: learning and counters are undone when the
+  // scorer or the persistence hook (the lexicon transaction) fails, and the world and the last
+  // query change only after both succeeded, so a retry applies the accept exactly once.
+  const std::string scorer_before =
+      on_accept_ ? request::call_plugin("scorer", [&] { return runtime_->scorer->save_state(); })
+                 : std::string();
+  auto counter = [&](const sdk::RulePtr& rule) -> std::atomic<std::uint64_t>& {
+    return rule->author == user_ ? rule->usage->by_author : rule->usage->by_others;
+  };
+  bool counted = false;
+  try {
+    sdk::ScoreContext ctx;
+    ctx.tokens = &q.tokens;
+    ctx.user = user_;
+    request::call_plugin("scorer",
+                         [&] { runtime_->scorer->learn(q.parse.candidates, sc.index, ctx); });
+    for (const auto& rule : sc.induced_rules) counter(rule).fetch_add(1, std::memory_order_relaxed);
+    counted = true;
+    if (on_accept_)
+      on_accept_(*this, AcceptEvent{q, static_cast<std::size_t>(rank), sc, outcome, user_});
+  } catch (...) {
+    if (counted)
+      for (const auto& rule : sc.induced_rules)
+        counter(rule).fetch_sub(1, std::memory_order_relaxed);
+    if (on_accept_) runtime_->scorer->load_state(scorer_before);
+    throw;
+  }
+
   world_ = outcome.world;
-  if (on_accept_)
-    on_accept_(*this, AcceptEvent{q, static_cast<std::size_t>(rank), sc, outcome, user_});
   // The query is consumed: accepting again would apply it twice.
   last_query_.reset();
   return answer;

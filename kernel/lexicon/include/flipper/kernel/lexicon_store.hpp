@@ -4,9 +4,17 @@
 /// rules induced from it (with their deletion history), the rules' use counters and the scorer
 /// state. WAL journal with synchronous=FULL: a call that returned has reached the disk, so a
 /// definition acknowledged after add_definition() survives a kill at any moment.
+///
+/// Many writers (processes) share one file: every write is one BEGIN IMMEDIATE transaction that
+/// waits for the write lock through a busy handler (jittered retries, bounded by
+/// `busy_timeout_ms`); rule ids and `created` are assigned by SQLite inside the defining
+/// transaction (never by a process's memory, never by INSERT OR REPLACE); a delete checks the
+/// author in its own transaction; changes_since() lets each process pick up what the others
+/// committed, incrementally (new rules by `created`, deletions by `deleted_seq`).
 /// Not thread-safe: one owner (the naturalization façade) serialises calls.
 
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -16,9 +24,27 @@
 namespace flipper::kernel {
 
 namespace lexicon_codes {
-/// The store file is corrupt, not a Flipper lexicon, or cannot be opened/written.
+/// Not a Flipper lexicon (foreign tables, newer schema), or another fault of the file.
 inline constexpr const char* kBadLexicon = "bad_lexicon";
+/// Other writers held the store longer than the busy timeout; nothing changed, retry.
+inline constexpr const char* kBusy = "lexicon_busy";
+/// No space left on the device (or the store's page limit); nothing changed.
+inline constexpr const char* kFull = "lexicon_full";
+/// The file or its file system is read-only; nothing changed.
+inline constexpr const char* kReadOnly = "lexicon_read_only";
+/// Not an SQLite database, or damaged; the file is left untouched.
+inline constexpr const char* kCorrupt = "lexicon_corrupt";
+/// Whether `code` is one of the store's fault codes above.
+bool is_store_fault(const std::string& code);
 }  // namespace lexicon_codes
+
+/// How a store is opened.
+struct LexiconStoreOptions {
+  int busy_timeout_ms = 10000;  ///< lexicon.busy_timeout_ms: longest wait for other writers
+  /// SQLite's max_page_count (0: SQLite's default): caps the file size. Tests use it to make a
+  /// store "full" without a full device.
+  std::int64_t max_page_count = 0;
+};
 
 /// One definition as the user gave it.
 struct StoredDefinition {
@@ -39,12 +65,37 @@ struct StoredRule {
   std::string head;
   std::vector<std::string> body;
   std::string how;           ///< "simple" | "best" | "alignment" | "rewriting"
-  std::int64_t created = 0;  ///< creation sequence number, unique and increasing
+  std::int64_t created = 0;  ///< creation sequence number, unique and increasing (store-assigned)
   std::int64_t definition = 0;
   bool deleted = false;
   std::int64_t deleted_at = 0;
   std::uint64_t uses_by_author = 0;
   std::uint64_t uses_by_others = 0;
+};
+
+/// Where a reader is in the store's history: the newest `created` and deletion sequence seen.
+struct ChangeMark {
+  std::int64_t created = 0;
+  std::int64_t deleted = 0;
+};
+
+/// What was committed after a mark: new live rules (creation order) and ids deleted since.
+struct LexiconChanges {
+  std::vector<StoredRule> added;
+  std::vector<std::string> deleted;
+  ChangeMark mark;  ///< the store's position after these changes
+};
+
+/// A committed definition: its id and its rules as stored (ids, `created` assigned).
+struct DefinitionCommit {
+  std::int64_t definition = 0;
+  std::vector<StoredRule> rules;
+};
+
+enum class DeleteStatus { deleted, not_found, forbidden };
+struct DeleteResult {
+  DeleteStatus status = DeleteStatus::not_found;
+  std::string author;  ///< the rule's author (empty when not found)
 };
 
 /// Use counters of one rule, for batched updates after an accept.
@@ -57,18 +108,27 @@ struct RuleUses {
 class LexiconStore {
  public:
   /// Opens (or creates, with parent directories) the store at `path`; ":memory:" is a private
-  /// in-memory store. A corrupt or foreign file throws Error(bad_lexicon) naming the file and is
-  /// left untouched.
-  explicit LexiconStore(const std::string& path);
+  /// in-memory store. A corrupt file throws Error(lexicon_corrupt), a foreign one bad_lexicon,
+  /// naming the file, which is left untouched. A file that can only be read opens read-only
+  /// (reads work, writes throw lexicon_read_only) when it already holds a lexicon.
+  explicit LexiconStore(const std::string& path, LexiconStoreOptions options = {});
   ~LexiconStore();
   LexiconStore(const LexiconStore&) = delete;
   LexiconStore& operator=(const LexiconStore&) = delete;
 
   const std::string& path() const;
-  static constexpr int kSchemaVersion = 1;
+  /// 2: rules.deleted_seq (deletions in commit order, for changes_since). Version 1 files are
+  /// upgraded in place on open.
+  static constexpr int kSchemaVersion = 2;
+  bool read_only() const;
 
-  /// Commits a definition and its rules in ONE transaction (durable on return). Returns the
-  /// definition id; the rules' `definition` field is set to it by the store.
+  /// Commits a definition and its rules in ONE transaction (durable on return). The store
+  /// assigns the definition id and each rule's `created` (one past the largest ever stored) and
+  /// id ("r<created>") inside that transaction; ids and `created` given by the caller are
+  /// ignored. Never replaces a stored row.
+  DefinitionCommit commit_definition(const StoredDefinition& definition,
+                                     std::vector<StoredRule> rules);
+  /// commit_definition() returning only the definition id.
   std::int64_t add_definition(const StoredDefinition& definition,
                               const std::vector<StoredRule>& rules);
   /// Every definition, in commit order.
@@ -78,19 +138,36 @@ class LexiconStore {
   std::optional<StoredRule> rule(const std::string& id) const;
   /// Largest `created` ever stored (0 when empty); new rules continue after it.
   std::int64_t max_created() const;
-  /// Flags a rule deleted (history kept). False when unknown or already deleted.
+  /// Flags a rule deleted (history kept) whoever wrote it. False when unknown or already deleted.
   bool mark_deleted(const std::string& id, std::int64_t time);
+  /// Deletes a rule for `user`, checking in the same transaction that it exists, is live and is
+  /// theirs: another user's rule is `forbidden` when `visible_to_user(author)`, else
+  /// `not_found` (a hidden rule does not reveal its owner).
+  DeleteResult delete_rule(const std::string& id, const std::string& user, std::int64_t time,
+                           const std::function<bool(const std::string& author)>& visible_to_user);
 
-  /// Persists an accept: the counters of the used rules and, when `weights_key` is set, the
-  /// scorer state, in one transaction.
-  void record_accept(const std::vector<RuleUses>& uses, const std::string& weights_key,
-                     const std::string& weights_state);
+  /// Rules added and deleted after `since` (any process), read in one snapshot.
+  LexiconChanges changes_since(const ChangeMark& since) const;
+  /// True when another connection committed since the previous call (PRAGMA data_version; a
+  /// cheap check before changes_since). The first call is true.
+  bool changed_elsewhere();
+
+  /// Persists an accept in one transaction: adds `deltas` to the used rules' counters and, when
+  /// `weights_key` is set, stores the scorer state (last writer wins). Returns the counters'
+  /// totals after the commit (other processes' uses included), in the order of `deltas`.
+  std::vector<RuleUses> record_accept(const std::vector<RuleUses>& deltas,
+                                      const std::string& weights_key,
+                                      const std::string& weights_state);
   void save_weights(const std::string& key, const std::string& state);
   std::optional<std::string> load_weights(const std::string& key) const;
 
-  /// JSON Lines: one object per line, `{"type":"definition"|"rule"|"weights", ...}`.
-  void export_jsonl(std::ostream& out) const;
-  /// Imports an export (one transaction; existing ids are replaced). Returns lines imported.
+  /// JSON Lines: one object per line, `{"type":"definition"|"rule"|"weights", ...}`. A rule for
+  /// which `quarantine_reason` returns a reason gets `"quarantined": reason`.
+  void export_jsonl(std::ostream& out,
+                    const std::function<std::optional<std::string>(const StoredRule&)>&
+                        quarantine_reason = {}) const;
+  /// Imports an export verbatim (one transaction, keeping ids and `created`). A definition or
+  /// rule id already stored is refused (bad_request), never replaced. Returns lines imported.
   std::size_t import_jsonl(std::istream& in);
 
  private:

@@ -6,8 +6,12 @@
 ///
 /// Start-up: the store's live rules are re-added to the parser in creation order, the scorer's
 /// weights restored, then the preload file (if any) replayed through induction (definitions the
-/// store already holds are skipped, so a restart does not replay them twice).
+/// store already holds are skipped, so a restart does not replay them twice). A stored rule that
+/// no longer loads (unknown category, bad template) is quarantined: not served, reported once
+/// through `warn`, kept in the file.
 /// Every definition is committed to the store in one transaction before define() returns.
+/// Many processes may share the store: refresh() (called before every parse, define, listing
+/// and delete) picks up the rules and deletions other processes committed, incrementally.
 
 #include <cstdint>
 #include <functional>
@@ -27,7 +31,9 @@ namespace flipper::kernel {
 
 namespace naturalize_codes {
 inline constexpr const char* kForbidden = "forbidden";  ///< deleting another user's rule
-inline constexpr const char* kNotFound = "not_found";   ///< unknown rule id
+inline constexpr const char* kNotFound = "not_found";   ///< unknown (or hidden) rule id
+/// A head token starting with '$' (the mark of grammar categories in rules).
+inline constexpr const char* kHeadReservedToken = "head_reserved_token";
 }  // namespace naturalize_codes
 
 /// lexicon.sharing
@@ -40,9 +46,12 @@ struct NaturalizeOptions {
   Sharing sharing = Sharing::shared;    ///< lexicon.sharing
   std::string preload;                  ///< lexicon.preload (JSON Lines; empty: none)
   bool per_user_weights = false;        ///< lexicon.weights == per_user
-  InductionOptions induction;           ///< induction.alignment (+ parser beam)
-  bool generalize = true;               ///< induction.generalize
-  int perturbed_checks = 0;             ///< induction.perturbed_checks
+  LexiconStoreOptions store;            ///< lexicon.busy_timeout_ms (+ test-only limits)
+  /// Where warnings go (quarantined rules); default: standard error, "flipper: warning: ...".
+  std::function<void(const std::string&)> warn;
+  InductionOptions induction;  ///< induction.alignment (+ parser beam)
+  bool generalize = true;      ///< induction.generalize
+  int perturbed_checks = 0;    ///< induction.perturbed_checks
   /// Reads the keys above; absent keys keep their defaults.
   static NaturalizeOptions from_config(const Config& config);
 };
@@ -79,6 +88,12 @@ struct RuleListing {
   std::uint64_t uses_by_others = 0;
 };
 
+/// A stored rule that does not load (it stays in the store, unserved).
+struct QuarantinedRule {
+  StoredRule stored;
+  std::string reason;
+};
+
 /// Preload outcome (definitions replayed, skipped because stored, failed with the reason).
 struct PreloadReport {
   std::size_t replayed = 0;
@@ -99,17 +114,23 @@ class Naturalizer {
   std::function<bool(const sdk::Rule&)> visibility_for(const std::string& user) const;
 
   /// §4 (after §6 when the runtime has a rewriter, generalization is on and a world is given).
-  /// Throws sdk::Error: empty_head, head_is_core, body_unparsable, bad_request, bad_lexicon.
+  /// Throws sdk::Error: empty_head, head_reserved_token, head_is_core, body_unparsable,
+  /// bad_request, and the store's codes (lexicon_busy, lexicon_full, ...: nothing changed then).
   DefineOutcome define(const DefineRequest& request);
+  /// Picks up what other processes committed since the last look (new rules, deletions); a
+  /// cheap check (PRAGMA data_version) when nothing changed.
+  void refresh();
   /// Live rules visible to `user`, optionally only those of `author`, in creation order.
   std::vector<RuleListing> rules(const std::string& user,
                                  const std::optional<std::string>& author = std::nullopt) const;
-  /// Deletes a rule of `user` (forbidden for others' rules, not_found for unknown ids); the
+  /// Deletes a rule of `user`, authorship checked in the delete's transaction: forbidden for
+  /// another user's visible rule, not_found for unknown ids and rules hidden from `user`; the
   /// parser forgets it, the store keeps it flagged.
   void delete_rule(const std::string& user, const std::string& id);
   /// After an accept (the scorer has learned and the session has counted the uses of the
-  /// accepted derivation's induced rules): persists those counters with the scorer state, in
-  /// one transaction.
+  /// accepted derivation's induced rules): adds one use to each of those rules' stored counters
+  /// and stores the scorer state, in one transaction. Throws the store's codes when it did not
+  /// commit (the session then undoes the accept).
   void on_accept(const std::string& user, const std::vector<sdk::RulePtr>& used_rules);
   /// per_user weights: makes the scorer hold `user`'s weights (no-op for global weights).
   void select_user(const std::string& user);
@@ -118,12 +139,18 @@ class Naturalizer {
   const std::vector<sdk::RulePtr>& induced_rules() const { return rules_; }
   sdk::RulePtr find_rule(const std::string& id) const;
   const PreloadReport& preload_report() const { return preload_report_; }
+  /// Stored rules that did not load, in the order they were met.
+  const std::vector<QuarantinedRule>& quarantined() const { return quarantined_; }
   LexiconStore& store() { return *store_; }
 
  private:
   void restore();
   void preload(const std::string& path);
+  /// Applies changes read from the store; `own` holds this process's just-committed rules (used
+  /// as they are instead of being read back).
+  void apply(const LexiconChanges& changes, const std::vector<sdk::RulePtr>& own = {});
   void add_live(sdk::RulePtr rule);
+  void remove_live(const std::string& id);
   bool exists_for(const sdk::Rule& rule, const std::string& author) const;
   std::string weights_key(const std::string& user) const;
 
@@ -133,16 +160,22 @@ class Naturalizer {
   std::vector<sdk::RulePtr> rules_;
   std::unordered_map<std::string, sdk::RulePtr> by_id_;
   std::unordered_multimap<std::string, sdk::RulePtr> by_shape_;  ///< "lhs -> rhs" key
-  std::int64_t next_created_ = 1;
+  ChangeMark mark_;              ///< how far this process has read the store's history
   std::string initial_weights_;  ///< scorer state before any learning (per_user default)
   std::string weights_user_;     ///< whose weights the scorer holds (per_user)
   PreloadReport preload_report_;
+  std::vector<QuarantinedRule> quarantined_;
 };
 
 /// "$Action -> pick $Number items": the key rules with equal LHS and RHS share.
 std::string rule_shape(const sdk::Rule& rule);
 /// A stored rule back to a grammar rule (template read with sorts from the RHS categories).
+/// Throws sdk::Error when it does not load (unknown category, bad template).
 sdk::RulePtr rule_from_stored(const StoredRule& stored);
+/// Why a stored rule would be quarantined (nullopt: it loads).
+std::optional<std::string> quarantine_reason(const StoredRule& stored);
+/// Refuses a head with a token starting with '$' (head_reserved_token).
+void check_head_tokens(const std::string& head);
 StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition);
 
 }  // namespace flipper::kernel

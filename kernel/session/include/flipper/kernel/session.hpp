@@ -113,7 +113,9 @@ class Session {
 
   /// Per-user rule visibility (sharing modes). Default: every rule is visible.
   void set_visibility(VisibilityHook hook) { visibility_ = std::move(hook); }
-  /// Called after a successful accept (the world is updated, the scorer has learned).
+  /// Called during an accept after the scorer has learned and the use counters were counted,
+  /// before the world changes; when it throws, the accept is undone (scorer state, counters),
+  /// the world and the last query stay, and the error is the answer (a retry applies it once).
   void set_on_accept(AcceptHook hook) { on_accept_ = std::move(hook); }
 
   Runtime& runtime() { return *runtime_; }

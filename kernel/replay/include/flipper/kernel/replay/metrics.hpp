@@ -88,6 +88,11 @@ struct Metrics {
   int defines = 0, defines_ok = 0, preloaded = 0, preloaded_ok = 0;
   std::map<std::string, int> define_errors;
   int deletes = 0, deletes_mapped = 0, rules_deleted = 0;
+  /// Queries whose top reading floats (QueryRow::floating), overall and by group.
+  int floating = 0;
+  std::map<std::string, int> floating_by_group;
+  /// Matched accepts whose program is our first (first three) candidate: the ranking's quality.
+  int accepted_top1 = 0, accepted_top3 = 0;
 };
 Metrics compute_metrics(const ReplayResult& result);
 

@@ -4,6 +4,7 @@
 /// accepts.csv, definitions.csv (metrics_io.cpp); SVG figures (svg.cpp); report.md (report.cpp).
 
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,12 @@ struct Variant {
   Metrics metrics;
   std::string dir;  ///< relative to the report's directory
 };
+/// Cross-variant comparison (variants.cpp): variants.svg in `dir` (status agreement by group,
+/// tokens of successful commands, induced vs core commands; one bar per variant) and the report
+/// section that shows it with its table (agreement, Nothing turned into readings, floating tops).
+void write_variant_figure(const std::string& dir, const std::vector<Variant>& variants);
+void write_variant_section(std::ostream& o, const std::vector<Variant>& variants);
+
 /// report.md in `dir`: per variant the figures (ours | original | paper), agreement, confusion,
 /// execution, latency, definitions; with several variants a side-by-side table first.
 void write_report(const std::string& dir, const std::string& title,

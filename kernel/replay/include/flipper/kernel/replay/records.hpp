@@ -17,6 +17,9 @@ struct QueryRow {
   std::string ours;             ///< core / induced / unparsable / error
   std::string original_author;  ///< None / Self / Other ("" when not logged)
   std::string our_author;       ///< none / self / other (authors of our top candidate)
+  /// Our top candidate's best derivation leaves words out (the `floating` parser); a non-core
+  /// top candidate that uses no induced rule has author "none".
+  bool floating = false;
   int original_parses = 0;
   int our_candidates = 0;
   double ms = 0;           ///< our query answer's `ms`

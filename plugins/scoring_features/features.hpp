@@ -2,14 +2,19 @@
 // The features of one derivation node (docs/naturalization.md §3), written once for two sinks: a
 // hashing sink (score_node: no strings built, each feature name hashed part by part with FNV-1a)
 // and a naming sink (features(), learning: the readable name, whose FNV-1a hash is the same key).
+// Shared by the scorer plugins (loglinear, perceptron) through the static library
+// flipper_scoring_features, so every scorer sees the same features.
 #include <cstdint>
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 
 #include "flipper/sdk/scorer.hpp"
 
-namespace flipper::loglinear {
+namespace flipper::features {
+
+using Parts = std::initializer_list<std::string_view>;
 
 constexpr std::uint64_t kFnvOffset = 1469598103934665603ULL;
 constexpr std::uint64_t kFnvPrime = 1099511628211ULL;
@@ -65,4 +70,33 @@ void for_each_feature(const sdk::Derivation& node, const sdk::ScoreContext& ctx,
        1.0);
 }
 
-}  // namespace flipper::loglinear
+/// start + w·φ(node) for a weight lookup `weight(key) -> double` (0 for unknown keys), summed in
+/// feature order; no strings built.
+template <class Lookup>
+double weighted_sum(double start, const sdk::Derivation& node, const sdk::ScoreContext& ctx,
+                    Lookup&& weight) {
+  double s = start;
+  for_each_feature(node, ctx, [&](Parts parts, double value) {
+    std::uint64_t h = kFnvOffset;
+    for (auto p : parts) h = fnv(h, p);
+    s += weight(h) * value;
+  });
+  return s;
+}
+
+/// The concatenation of a feature name's parts.
+std::string join(Parts parts);
+
+/// The named features of one node (Scorer::features).
+void node_features(const sdk::Derivation& node, const sdk::ScoreContext& ctx,
+                   sdk::FeatureVector& out);
+
+/// Sparse vectors keyed by feature_key(name), and the names seen (for saving state by name).
+using SparseVector = std::unordered_map<std::uint64_t, double>;
+using FeatureNames = std::unordered_map<std::uint64_t, std::string>;
+
+/// Adds coef * φ(d), φ summed over every node of the tree, to `out`, recording names in `names`.
+void add_tree_features(const sdk::Derivation& d, const sdk::ScoreContext& ctx, double coef,
+                       SparseVector& out, FeatureNames& names);
+
+}  // namespace flipper::features
