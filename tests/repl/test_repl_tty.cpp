@@ -239,3 +239,27 @@ TEST_CASE("repl on a 3-D world: floors labelled, z kept, other floors listed, :f
   tmux.send(":quit");
   CHECK(tmux.wait_for("repl-exited-0"));
 }
+
+TEST_CASE("a second repl on the same store sees a new rule without a restart", "[repl][tty]") {
+  const std::string store = temp_file("store.sqlite");
+  const std::string set = "--set lexicon.path=" + store;
+  Tmux first(repl_command(temp_file("hist5"), set), "f");
+  Tmux second(repl_command(temp_file("hist6"), set), "g");
+  REQUIRE(first.wait_for("flipper>"));
+  REQUIRE(second.wait_for("flipper>"));
+  second.send("zig zag");
+  REQUIRE(second.wait_for("I did not understand that."));
+  first.send(":define zig zag");
+  REQUIRE(first.wait_for("Ctrl-C cancels."));
+  first.send("move up");
+  first.send("move right");
+  first.send("");
+  REQUIRE(first.wait_for("can use it from their next query on"));
+  // The second process was started before the rule existed.
+  second.send("zig zag");
+  REQUIRE(second.wait_for("[1] {{move up};{move right}}"));
+  first.send(":quit");
+  second.send(":quit");
+  CHECK(first.wait_for("repl-exited-0"));
+  CHECK(second.wait_for("repl-exited-0"));
+}

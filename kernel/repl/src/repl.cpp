@@ -411,9 +411,9 @@ class Repl {
            << " -> " << rhs_text(r) << "  =>  " << r.value("semantics", std::string()) << '\n';
     if (a.contains("generalized") && !a["generalized"].is_null())
       out_ << "(generalized the body to: " << a["generalized"].dump() << ")\n";
-    // Each process loads the store's rules when it starts (no live reload yet).
-    out_ << "(Stored in the lexicon; another repl or session on the same store sees it after a "
-            "restart.)\n";
+    // The lexicon picks up other processes' rules before each parse (docs/naturalization.md).
+    out_ << "(Stored in the lexicon: other repls and sessions on the same store can use it from "
+            "their next query on.)\n";
     readings_ = Json::array();
   }
 
