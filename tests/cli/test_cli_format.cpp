@@ -90,7 +90,7 @@ TEST_CASE("json output (--json) of plugins, config check, lexicon list and repla
   CHECK(r["report"] == out + "/report.md");
 }
 
-TEST_CASE("lexicon delete checks authorship; run reads the user's phrases", "[cli][format]") {
+TEST_CASE("lexicon delete checks authorship, and run reads the user's phrases", "[cli][format]") {
   const std::string store = scratch("delete.sqlite");
   const std::string script = write_file("delete.jsonl", R"({"op":"user","name":"ana"}
 {"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]}
@@ -102,7 +102,7 @@ TEST_CASE("lexicon delete checks authorship; run reads the user's phrases", "[cl
   const Run ana = run_flipper("run --user ana 'pick 3 items'" + set);
   INFO(ana.out);
   CHECK(ana.status == 0);
-  CHECK(contains(ana.out, "interpretation: {repeat 3 times {pick item}}"));
+  CHECK(contains(ana.out, "interpretation: {repeat 3 times {pick item }}"));
   const Run bob = run_flipper("run --user bob 'pick 3 items' --set lexicon.sharing=private" + set);
   CHECK(bob.status == 1);
   CHECK(contains(bob.out, "flipper run: [bad_program] cannot understand 'pick 3 items'"));

@@ -54,7 +54,7 @@ TEST_CASE("command-line (--set) paths resolve against the current directory", "[
   CHECK(contains(p.out, "from --set: relative to the current directory " + dir.string()));
 }
 
-TEST_CASE("paths in a config file resolve against its directory; a copied config says why it fails",
+TEST_CASE("paths in a config file resolve against its directory, and a copied config says why it fails",
           "[cli][paths]") {
   const fs::path dir = fs::path(scratch_dir("paths-config"));
   fs::create_directories(dir / "sub");

@@ -185,19 +185,16 @@ TEST_CASE("repl typos, collapsed warnings, :define checked line by line, :rules,
   CHECK(tmux.wait_for("repl-exited-0"));
 }
 
-TEST_CASE("repl Ctrl-C cancels the line or the definition; history persists across runs",
+TEST_CASE("repl :cancel abandons a definition, and history persists across runs",
           "[repl][tty]") {
   const std::string history = temp_file("hist3");
   {
     Tmux tmux(repl_command(history), "c");
     REQUIRE(tmux.wait_for("flipper>"));
-    tmux.type("visit roo");
-    tmux.key("C-c");
-    REQUIRE(tmux.wait_for("(cancelled)"));
     tmux.send(":define zig zag");
-    REQUIRE(tmux.wait_for("Ctrl-C cancels."));
+    REQUIRE(tmux.wait_for(":cancel abandons it."));
     tmux.send("move up");
-    tmux.key("C-c");
+    tmux.send(":cancel");
     REQUIRE(tmux.wait_for("Definition cancelled; nothing was learned."));
     tmux.send(":rules");
     REQUIRE(tmux.wait_for("No rules."));
@@ -250,7 +247,7 @@ TEST_CASE("a second repl on the same store sees a new rule without a restart", "
   second.send("zig zag");
   REQUIRE(second.wait_for("I did not understand that."));
   first.send(":define zig zag");
-  REQUIRE(first.wait_for("Ctrl-C cancels."));
+  REQUIRE(first.wait_for(":cancel abandons it."));
   first.send("move up");
   first.send("move right");
   first.send("");

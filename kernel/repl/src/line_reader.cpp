@@ -1,9 +1,8 @@
-// Line input: GNU readline for terminals (editing, history kept across runs, Ctrl-C cancels the
-// line being typed), std::getline otherwise.
+// Line input: GNU readline for terminals (editing, history kept across runs), std::getline
+// otherwise.
 #include <readline/history.h>
 #include <readline/readline.h>
 
-#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <istream>
@@ -14,53 +13,18 @@
 namespace flipper::kernel::repl {
 namespace {
 
-volatile std::sig_atomic_t g_interrupted = 0;
-
-extern "C" void on_sigint(int) {
-  g_interrupted = 1;
-}
-
-// Called by readline when a signal interrupted its read: end this line now.
-int on_signal_event() {
-  if (g_interrupted) {
-    rl_replace_line("", 0);
-    rl_done = 1;
-  }
-  return 0;
-}
-
 class ReadlineReader : public LineReader {
  public:
   explicit ReadlineReader(std::string history_file) : history_file_(std::move(history_file)) {
-    // No SA_RESTART: the blocked read returns, readline calls the event hook, the line ends.
-    struct sigaction sa {};
-    sa.sa_handler = on_sigint;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &previous_);
-    rl_catch_signals = 0;
-    rl_signal_event_hook = on_signal_event;
     if (!history_file_.empty()) {
       std::error_code ec;
       std::filesystem::create_directories(std::filesystem::path(history_file_).parent_path(), ec);
       read_history(history_file_.c_str());
     }
   }
-  ~ReadlineReader() override {
-    sigaction(SIGINT, &previous_, nullptr);
-    rl_signal_event_hook = nullptr;
-  }
 
   bool read(const char* prompt, std::string& line) override {
-    g_interrupted = 0;
-    interrupted_ = false;
     char* raw = readline(prompt);
-    if (g_interrupted) {
-      interrupted_ = true;
-      g_interrupted = 0;
-      std::free(raw);
-      line.clear();
-      return true;
-    }
     if (raw == nullptr) return false;
     line.assign(raw);
     std::free(raw);
@@ -74,12 +38,9 @@ class ReadlineReader : public LineReader {
     }
     return true;
   }
-  bool interrupted() override { return interrupted_; }
 
  private:
   std::string history_file_;
-  struct sigaction previous_ {};
-  bool interrupted_ = false;
 };
 
 class StreamReader : public LineReader {

@@ -25,7 +25,7 @@ const char* kHelp =
     "  m              show more readings        r     reject all shown readings\n"
     "  :define HEAD   teach HEAD (default: the last utterance); then one body line per\n"
     "                 line, each checked as you type it, ending with an empty line;\n"
-    "                 Ctrl-C cancels the definition\n"
+    "                 :cancel abandons the definition\n"
     "  :undo          put the world back as it was before the last choice or :world\n"
     "  :rules         list the rules you can use, with their ids\n"
     "  :delete ID     delete a rule you defined (ids from :rules)\n"
@@ -34,7 +34,7 @@ const char* kHelp =
     "  :save FILE     the world (and the plan just chosen) as an SVG picture\n"
     "  :examples      one example of every construct of the language (docs/language.md)\n"
     "  :help          this text                 :quit        leave (also Ctrl-D)\n"
-    "Ctrl-C cancels the line being typed. docs/language.md explains every construct.\n";
+    "docs/language.md explains every construct.\n";
 
 std::string trim(const std::string& s) {
   auto b = s.find_first_not_of(" \t\r\n");
@@ -76,10 +76,6 @@ class Repl {
     show_map();
     std::string line;
     while (reader_.read("flipper> ", line)) {
-      if (reader_.interrupted()) {
-        out_ << "(cancelled)\n";
-        continue;
-      }
       line = trim(line);
       if (line.empty()) continue;
       if (line[0] == ':') {
@@ -338,9 +334,9 @@ class Repl {
     show_map();
   }
 
-  // Reads one line of a definition; false when the user cancelled (Ctrl-C) or input ended.
+  // Reads one line of a definition; false when the user cancelled (:cancel) or input ended.
   bool read_definition_line(const char* prompt, std::string& line) {
-    if (!reader_.read(prompt, line) || reader_.interrupted()) {
+    if (!reader_.read(prompt, line) || trim(line) == ":cancel") {
       out_ << "Definition cancelled; nothing was learned.\n";
       return false;
     }
@@ -361,10 +357,10 @@ class Repl {
       return;
     }
     out_ << "Defining \"" << head << "\". Enter the steps, one per line; an empty line ends, "
-         << "Ctrl-C cancels.\n";
+         << ":cancel abandons it.\n";
     Json body = Json::array(), ranks = Json::array();
     std::string line;
-    bool ended = false;  // by the empty line (not by Ctrl-C or the end of input)
+    bool ended = false;  // by the empty line (not by :cancel or the end of input)
     while (read_definition_line("  ...> ", line)) {
       if (line.empty()) {
         ended = true;

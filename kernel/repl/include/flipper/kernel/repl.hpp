@@ -56,12 +56,9 @@ class LineReader {
  public:
   virtual ~LineReader() = default;
   virtual bool read(const char* prompt, std::string& line) = 0;
-  /// Whether the last read was cut short by Ctrl-C (the line is then to be dropped).
-  virtual bool interrupted() { return false; }
 };
 /// GNU readline on a terminal, else plain lines from `in` (no prompts echoed). On a terminal,
-/// Ctrl-C cancels the line being typed and history is kept in `history_file` (when not empty)
-/// across runs.
+/// history is kept in `history_file` (when not empty) across runs.
 std::unique_ptr<LineReader> make_line_reader(std::istream& in, bool terminal,
                                              const std::string& history_file = {});
 /// Where the history lives: $FLIPPER_HISTORY, else ~/.local/share/flipper/repl_history.
