@@ -12,4 +12,5 @@ void add_session_command(CLI::App& app);  // session.cpp
 void add_repl_command(CLI::App& app);     // repl.cpp
 void add_replay_command(CLI::App& app);   // replay.cpp
 void add_lexicon_command(CLI::App& app);  // lexicon.cpp  (lexicon list|export|import)
+void add_serve_command(CLI::App& app);    // serve.cpp    (apps/studio: HTTP + the web page)
 }  // namespace flipper::cli

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   flipper::cli::add_repl_command(app);
   flipper::cli::add_replay_command(app);
   flipper::cli::add_lexicon_command(app);
+  flipper::cli::add_serve_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,6 +2,7 @@
 // without --author, export -> import replays definitions (rules induced again, nothing stored
 // replaced, a second import adds nothing), --restore copies verbatim into an empty store only.
 #include "cli_test_support.hpp"
+#include "flipper/kernel/lexicon_store.hpp"
 
 using namespace flipper::clitest;
 
@@ -153,4 +154,41 @@ TEST_CASE("lexicon commands refuse bad input with a clear message", "[cli][lexic
       run_flipper("lexicon import --restore " + bad + " --set lexicon.path=" + target);
   CHECK(restore_bad.status == 2);
   CHECK(contains(restore_bad.out, "lexicon import line 1"));
+}
+
+TEST_CASE("a stored rule that no longer loads is listed and exported as quarantined",
+          "[cli][lexicon]") {
+  const std::string store = make_store("quarantine.sqlite");
+  {
+    flipper::kernel::LexiconStore raw(store);
+    flipper::kernel::StoredRule bad;
+    bad.lhs = "$Action";
+    bad.rhs = {"glorb", "$Bogus"};  // what a '$' head used to store
+    bad.semantics = "{move left}";
+    bad.author = "mallory";
+    bad.head = "glorb $Bogus";
+    bad.body = {"move left"};
+    bad.how = "simple";
+    raw.add_definition({0, bad.head, bad.body, bad.author, 1}, {bad});
+  }
+  const Run list = run_flipper("lexicon list --set lexicon.path=" + store);
+  INFO(list.out);
+  REQUIRE(list.status == 0);
+  CHECK(lines_with(list.out, "QUARANTINED") == 1);
+  CHECK(contains(list.out, "author 'mallory', head 'glorb $Bogus'"));
+  CHECK(contains(list.out, "unknown category '$Bogus'"));
+  CHECK(contains(list.out, "1 quarantined (not served)"));
+  CHECK(lines_with(list.out, " mallory ") == 0);  // not among the live rules
+  const Run exported = run_flipper("lexicon export - --set lexicon.path=" + store, false);
+  REQUIRE(exported.status == 0);
+  CHECK(lines_with(exported.out, "\"quarantined\":") == 1);
+  // A session still opens the store, warns about the rule by name, and serves the others.
+  const std::string script =
+      write_file("quarantine.jsonl", R"({"op":"query","text":"zorkab left"})");
+  const Run session = run_flipper("session --set lexicon.path=" + store + " " + script);
+  INFO(session.out);
+  REQUIRE(session.status == 0);
+  CHECK(contains(session.out, "warning: lexicon store"));
+  CHECK(contains(session.out, "is quarantined, not served"));
+  CHECK(contains(session.out, "\"status\":\"induced\""));
 }

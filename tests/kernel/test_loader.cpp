@@ -121,7 +121,7 @@ TEST_CASE("broken plugins are refused cleanly, naming file and values", "[loader
       {"bad_sdk_major",
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
-       {"Wrong SDK version on plugin 'bad_sdk_major'", "Got version 2.0",
+       {"Wrong SDK version on plugin 'bad_sdk_major'", "Got version 2.",  // 2.<the SDK minor>
         "supported version is 1."}},
       {"bad_sdk_minor",
        sdk::PluginKind::planner,

@@ -1,7 +1,6 @@
 // `flipper session` processes over one lexicon file: rules come back in a new process, a rule or
-// deletion acknowledged in one process is seen by the others before their next parse, a crowd of
-// 100 processes loses nothing, and a session killed with SIGKILL at random moments never loses a
-// definition it answered.
+// deletion acknowledged in one process is seen by the others before their next parse, and a
+// session killed with SIGKILL at random moments never loses a definition it answered.
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <random>
@@ -9,7 +8,6 @@
 #include <thread>
 
 #include "child_process.hpp"
-#include "crowd.hpp"
 #include "flipper/kernel/lexicon_store.hpp"
 #include "naturalize_fixture.hpp"
 #include "sqlite_integrity.hpp"
@@ -141,27 +139,4 @@ TEST_CASE("a rule acknowledged in one process serves a running other one, and so
   REQUIRE(a.ask({{"op", "delete_rule"}, {"rule", id}})["ok"] == true);
   CHECK(b.ask({{"op", "query"}, {"text", "glorp left"}})["status"] == "unparsable");
   CHECK(b.ask({{"op", "rules"}})["rules"].size() == 1);
-}
-
-TEST_CASE("a crowd of 100 flipper session processes on one store loses nothing",
-          "[naturalize][process][writers][crowd]") {
-  // Each of 100 users defines, queries, accepts, queries another user's rule, deletes one of
-  // their own and tries to delete someone else's (tests/support/crowd.hpp). Three rounds per user
-  // keep this under a minute on 2 cores; bash scripts/bench crowd runs 10 rounds.
-  flipper::testsupport::CrowdOptions o;
-  o.flipper = kFlipper;
-  o.store = scratch_path("crowd") + ".sqlite";
-  o.users = 100;
-  o.defines = 3;
-  const auto r = flipper::testsupport::run_crowd(o);
-  for (const auto& e : r.error_samples) UNSCOPED_INFO(e);
-  CHECK(r.errors == 0);
-  CHECK(r.acknowledged_defines == 300);
-  CHECK(r.acknowledged_rules == 300);  // "<word> left" := "move left" induces one rule
-  CHECK(r.lost == 0);
-  CHECK(r.wrong_deletions == 0);
-  CHECK(r.foreign_deletes == 0);
-  CHECK(r.cross_checks >= 290);  // measured 300: only the very first definers may find none
-  CHECK(r.cross_failures == 0);
-  CHECK(r.integrity == "ok");
 }

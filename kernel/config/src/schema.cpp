@@ -44,6 +44,16 @@ const std::vector<KeySpec> kSchema = {
     {"input.max_semicolons", T::Int, "30", "1..1000000"},
     {"session.k", T::Int, "3", "1..1000"},
     {"plugin_paths", T::PathList, "[]", ""},
+    {"serve.host", T::String, "127.0.0.1", ""},
+    {"serve.port", T::Int, "8410", "0..65535"},
+    {"serve.threads", T::Int, "128", "1..4096"},
+    {"serve.max_request_bytes", T::Int, "65536", "256..67108864"},
+    {"serve.rate_per_second", T::Int, "100", "1..1000000"},
+    {"serve.rate_burst", T::Int, "200", "1..1000000"},
+    {"serve.max_sessions", T::Int, "1000", "1..1000000"},
+    {"serve.session_idle_s", T::Int, "3600", "1..31536000"},
+    {"serve.web_dir", T::Path, "''", ""},
+    {"serve.study", T::Path, "''", ""},
 };
 }  // namespace
 

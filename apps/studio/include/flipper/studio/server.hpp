@@ -1,0 +1,60 @@
+#pragma once
+/// @file server.hpp
+/// `flipper serve`: one process, one kernel, many users. The session protocol over HTTP
+/// (`POST /api/v1/request?session=TOKEN` takes one request object and answers exactly what
+/// `flipper session` answers), the page's static files, and study mode. README "Flipper Studio"
+/// documents the HTTP mapping.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "flipper/kernel/config.hpp"
+
+namespace flipper::studio {
+
+/// serve.* config keys.
+struct ServeOptions {
+  std::string host = "127.0.0.1";
+  int port = 8410;  ///< 0: any free port
+  int threads = 128;
+  std::size_t max_request_bytes = 65536;
+  double rate_per_second = 100;  ///< per session (token bucket)
+  double rate_burst = 200;
+  std::size_t max_sessions = 1000;
+  int session_idle_s = 3600;
+  std::string web_dir;  ///< empty: found next to the binary or in the source tree
+  std::string study;    ///< a study description file (empty: no study mode)
+  static ServeOptions from_config(const kernel::Config& config);
+};
+
+/// Whether `host` names a loopback address (127.0.0.0/8, ::1, localhost).
+bool is_loopback(const std::string& host);
+
+/// The web directory: serve.web_dir when set, else the source tree's apps/studio/web (a build
+/// tree), else <exe>/../share/flipper/web (an installed binary). Throws sdk::Error(bad_config).
+std::string find_web_dir(const std::string& configured);
+
+class Server {
+ public:
+  /// Builds the runtime's sessions factory (opens the lexicon), loads the page's files and the
+  /// study. Throws sdk::Error (bad_config, bad_lexicon, plugin_*).
+  explicit Server(const kernel::Config& config);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  /// Binds serve.host:serve.port; returns the port bound. Throws sdk::Error(serve_failed).
+  int bind();
+  /// Serves until stop() (blocking; call bind() first).
+  void listen();
+  void stop();
+  const ServeOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace flipper::studio

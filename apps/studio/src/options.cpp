@@ -1,0 +1,57 @@
+// serve.* keys, loopback detection and where the page's files are.
+#include <arpa/inet.h>
+
+#include <filesystem>
+#include <system_error>
+
+#include "flipper/sdk/errors.hpp"
+#include "flipper/studio/server.hpp"
+
+namespace flipper::studio {
+namespace fs = std::filesystem;
+
+ServeOptions ServeOptions::from_config(const kernel::Config& c) {
+  ServeOptions o;
+  o.host = c.get_string("serve.host");
+  o.port = static_cast<int>(c.get_int("serve.port"));
+  o.threads = static_cast<int>(c.get_int("serve.threads"));
+  o.max_request_bytes = static_cast<std::size_t>(c.get_int("serve.max_request_bytes"));
+  o.rate_per_second = static_cast<double>(c.get_int("serve.rate_per_second"));
+  o.rate_burst = static_cast<double>(c.get_int("serve.rate_burst"));
+  o.max_sessions = static_cast<std::size_t>(c.get_int("serve.max_sessions"));
+  o.session_idle_s = static_cast<int>(c.get_int("serve.session_idle_s"));
+  if (!c.get_string("serve.web_dir").empty()) o.web_dir = c.get_path("serve.web_dir");
+  if (!c.get_string("serve.study").empty()) o.study = c.get_path("serve.study");
+  return o;
+}
+
+bool is_loopback(const std::string& host) {
+  if (host == "localhost") return true;
+  in_addr v4{};
+  if (inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  if (inet_pton(AF_INET6, host.c_str(), &v6) == 1) return IN6_IS_ADDR_LOOPBACK(&v6);
+  return false;
+}
+
+std::string find_web_dir(const std::string& configured) {
+  std::error_code ec;
+  if (!configured.empty()) {
+    if (!fs::is_regular_file(fs::path(configured) / "index.html", ec))
+      throw sdk::Error(sdk::codes::kBadConfig,
+                       "serve.web_dir '" + configured + "' has no index.html");
+    return configured;
+  }
+  const fs::path source = FLIPPER_STUDIO_SOURCE_WEB_DIR;
+  if (fs::is_regular_file(source / "index.html", ec)) return source.string();
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / FLIPPER_STUDIO_INSTALLED_WEB_DIR;
+    if (fs::is_regular_file(installed / "index.html", ec)) return installed.string();
+  }
+  throw sdk::Error(sdk::codes::kBadConfig,
+                   "cannot find the page's files (looked in " + source.string() +
+                       " and <exe>/../share/flipper/web); set serve.web_dir");
+}
+
+}  // namespace flipper::studio

@@ -1,0 +1,137 @@
+#include "study.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "flipper/sdk/errors.hpp"
+#include "registry.hpp"
+
+namespace flipper::studio {
+namespace fs = std::filesystem;
+using kernel::Json;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& file, const std::string& what) {
+  throw sdk::Error(sdk::codes::kBadConfig, "study " + file + ": " + what);
+}
+
+Json read_world(const std::string& study, const fs::path& path, const std::string& key) {
+  std::ifstream in(path);
+  if (!in) fail(study, key + ": cannot read world file '" + path.string() + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  Json w = Json::parse(text.str(), nullptr, false);
+  if (!w.is_object()) fail(study, key + ": '" + path.string() + "' is not a JSON world object");
+  return w;
+}
+
+std::string text_of(const YAML::Node& n, const std::string& study, const std::string& key,
+                    bool required) {
+  if (!n || n.IsNull()) {
+    if (required) fail(study, "missing key '" + key + "'");
+    return {};
+  }
+  if (!n.IsScalar()) fail(study, "'" + key + "' must be text");
+  return n.as<std::string>();
+}
+
+}  // namespace
+
+const char* sharing_of_group(const std::string& group) {
+  return group == "A" ? "core" : group == "B" ? "private" : "shared";
+}
+
+std::shared_ptr<Study> Study::load(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    fail(path, std::string("not readable YAML: ") + e.what());
+  }
+  if (!root.IsMap()) fail(path, "must be a map with name, groups and tasks");
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    if (key != "name" && key != "tutorial" && key != "groups" && key != "preload" &&
+        key != "record" && key != "tasks")
+      fail(path,
+           "unknown key '" + key + "' (known: name, tutorial, groups, preload, record, tasks)");
+  }
+  const fs::path dir = fs::absolute(path).parent_path();
+  auto study = std::make_shared<Study>();
+  study->name_ = text_of(root["name"], path, "name", true);
+  for (char c : study->name_)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_')
+      fail(path, "name '" + study->name_ + "' may hold only letters, digits, '-' and '_'");
+  study->tutorial_ = text_of(root["tutorial"], path, "tutorial", false);
+  if (root["groups"]) {
+    if (!root["groups"].IsSequence()) fail(path, "'groups' must be a list of A, B or C");
+    for (const auto& g : root["groups"]) {
+      const std::string name = g.as<std::string>();
+      if (name != "A" && name != "B" && name != "C")
+        fail(path, "group '" + name + "' is not A (core), B (private) or C (shared)");
+      study->groups_.push_back(name);
+    }
+  }
+  if (study->groups_.empty()) study->groups_ = {"C"};
+  if (auto p = text_of(root["preload"], path, "preload", false); !p.empty())
+    study->preload_ = (dir / p).lexically_normal().string();
+  std::string record = text_of(root["record"], path, "record", false);
+  if (record.empty()) record = study->name_ + "-recording";
+  study->record_dir_ = (dir / record).lexically_normal().string();
+  const YAML::Node tasks = root["tasks"];
+  if (!tasks || !tasks.IsSequence() || tasks.size() == 0)
+    fail(path, "'tasks' must be a non-empty list of {name, text, start, goal}");
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    const std::string key = "tasks[" + std::to_string(i) + "]";
+    StudyTask t;
+    t.name = text_of(tasks[i]["name"], path, key + ".name", true);
+    t.text = text_of(tasks[i]["text"], path, key + ".text", true);
+    t.start = read_world(path, dir / text_of(tasks[i]["start"], path, key + ".start", true),
+                         key + ".start");
+    if (auto goal = text_of(tasks[i]["goal"], path, key + ".goal", false); !goal.empty())
+      t.goal = read_world(path, dir / goal, key + ".goal");
+    study->tasks_.push_back(std::move(t));
+  }
+  return study;
+}
+
+std::vector<std::pair<std::string, kernel::Config>> Study::kernels(
+    const kernel::Config& base) const {
+  std::vector<std::pair<std::string, kernel::Config>> out;
+  for (const auto& g : groups_) {
+    bool seen = false;
+    for (const auto& [name, c] : out) seen = seen || name == g;
+    if (seen) continue;
+    kernel::Config c = base;
+    c.set(std::string("lexicon.sharing=") + sharing_of_group(g));
+    c.set("lexicon.path=" + record_dir_ + "/lexicon-" + g + ".sqlite");
+    c.set("lexicon.preload=" + (g == "C" ? preload_ : std::string()));
+    out.emplace_back(g, std::move(c));
+  }
+  return out;
+}
+
+std::string Study::assign_group(const std::string& requested) {
+  for (const auto& g : groups_)
+    if (g == requested) return g;
+  return groups_[next_group_++ % groups_.size()];
+}
+
+Json Study::page_json(const SessionEntry* participant) const {
+  Json tasks = Json::array();
+  for (const auto& t : tasks_)
+    tasks.push_back({{"name", t.name}, {"text", t.text}, {"start", t.start}, {"goal", t.goal}});
+  Json out{{"name", name_}, {"tutorial", tutorial_}, {"tasks", std::move(tasks)}};
+  if (participant != nullptr) {
+    out["participant"] = participant->participant;
+    out["group"] = participant->group;
+    out["sharing"] = sharing_of_group(participant->group);
+  }
+  return out;
+}
+
+}  // namespace flipper::studio

@@ -1,0 +1,68 @@
+#pragma once
+// Study mode (serve.study: FILE): a study description drives the page through its tasks, and
+// every participant is put in a group whose lexicon mode the study names (A: core, B: private,
+// C: shared with the preloaded definitions), as in the 2018 study. README "Study mode".
+//
+//   name: pilot                      # names the recording's runs: studio/<name>/<group>
+//   tutorial: "Tell the robot ..."   # shown before the first task
+//   groups: [C]                      # participants are assigned round-robin (or ?group=)
+//   preload: experts.jsonl           # group C's preloaded definitions (lexicon.preload format)
+//   record: recording                # where the corpus is written (default: <name>-recording)
+//   tasks:
+//     - {name: warm-up, text: "Move the robot up.", start: worlds/a.json, goal: worlds/b.json}
+// Relative paths resolve against the study file's directory.
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "flipper/kernel/config.hpp"
+#include "flipper/kernel/session.hpp"
+
+namespace flipper::studio {
+
+struct SessionEntry;
+
+struct StudyTask {
+  std::string name;
+  std::string text;
+  kernel::Json start;  ///< world object
+  kernel::Json goal;   ///< world object (null: none)
+};
+
+class Study {
+ public:
+  /// Reads and checks the description. Throws sdk::Error(bad_config) naming the file and key.
+  static std::shared_ptr<Study> load(const std::string& path);
+
+  /// The kernels' configs: `base` with the group's lexicon mode and its own store in the
+  /// recording directory.
+  std::vector<std::pair<std::string, kernel::Config>> kernels(const kernel::Config& base) const;
+  /// The group of a new participant: `requested` when the study has it, else round-robin.
+  std::string assign_group(const std::string& requested);
+  /// "P1", "P2", ... in order of arrival.
+  std::string next_participant() { return "P" + std::to_string(++participants_); }
+  /// What the page shows: name, tutorial, tasks, and the participant's id and group.
+  kernel::Json page_json(const SessionEntry* participant) const;
+
+  const std::string& name() const { return name_; }
+  const std::string& record_dir() const { return record_dir_; }
+  const std::string& preload() const { return preload_; }
+  /// The recording's run for a group: "studio/<name>/<group>".
+  std::string source(const std::string& group) const { return "studio/" + name_ + "/" + group; }
+
+ private:
+  std::string name_;
+  std::string tutorial_;
+  std::vector<std::string> groups_;
+  std::string preload_;
+  std::string record_dir_;
+  std::vector<StudyTask> tasks_;
+  std::size_t next_group_ = 0;
+  int participants_ = 0;
+};
+
+/// The lexicon.sharing of a study group (A core, B private, C shared).
+const char* sharing_of_group(const std::string& group);
+
+}  // namespace flipper::studio

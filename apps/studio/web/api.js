@@ -1,0 +1,56 @@
+// The session protocol over HTTP (README "Flipper Studio"): one request object per POST, the
+// session named by the token the server issued. The token lives in sessionStorage, so a reload
+// keeps the session and another tab is another session.
+const KEY = 'flipper.session';
+
+export class Api {
+  constructor(group) {
+    this.token = sessionStorage.getItem(KEY) || '';
+    this.group = group || '';
+  }
+
+  url(path) {
+    const params = new URLSearchParams();
+    if (this.token) params.set('session', this.token);
+    else if (this.group) params.set('group', this.group);
+    const q = params.toString();
+    return q ? `${path}?${q}` : path;
+  }
+
+  remember(res) {
+    this.user = res.headers.get('Flipper-User') || this.user || '';
+    const token = res.headers.get('Flipper-Session');
+    if (token && token !== this.token) {
+      this.token = token;
+      sessionStorage.setItem(KEY, token);
+    }
+  }
+
+  // One protocol request; resolves to the answer object (ok true or false). A session the
+  // server no longer knows (restart, expiry) is replaced by a new one, once.
+  async request(req, retried = false) {
+    const res = await fetch(this.url('/api/v1/request'), {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify(req),
+    });
+    this.remember(res);
+    let answer;
+    try {
+      answer = await res.json();
+    } catch {
+      answer = { ok: false, op: req.op, error: { code: 'http_error', message: `HTTP ${res.status}` } };
+    }
+    if (res.status === 404 && answer.error?.code === 'unknown_session' && !retried) {
+      this.token = '';
+      sessionStorage.removeItem(KEY);
+      return this.request(req, true);
+    }
+    return answer;
+  }
+
+  async info() {
+    const res = await fetch(this.url('/api/v1/info'));
+    return res.json();
+  }
+}

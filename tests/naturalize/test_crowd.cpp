@@ -1,0 +1,35 @@
+// The crowd (issue 11): 100 `flipper session` processes on one lexicon file, each defining,
+// querying, accepting and deleting at once (tests/support/crowd.hpp). Runs alone (RUN_SERIAL): its
+// load would disturb the kill tests' liveness floors running beside it.
+#include <catch2/catch.hpp>
+#include <string>
+
+#include "crowd.hpp"
+#include "session_fixture.hpp"
+
+namespace {
+const std::string kFlipper = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper";
+}  // namespace
+
+TEST_CASE("a crowd of 100 flipper session processes on one store loses nothing",
+          "[naturalize][process][writers][crowd]") {
+  // Each of 100 users defines, queries, accepts, queries another user's rule, deletes one of
+  // their own and tries to delete someone else's (tests/support/crowd.hpp). Three rounds per user
+  // keep this under a minute on 2 cores; bash scripts/bench crowd runs 10 rounds.
+  flipper::testsupport::CrowdOptions o;
+  o.flipper = kFlipper;
+  o.store = flipper::testsupport::scratch_path("crowd") + ".sqlite";
+  o.users = 100;
+  o.defines = 3;
+  const auto r = flipper::testsupport::run_crowd(o);
+  for (const auto& e : r.error_samples) UNSCOPED_INFO(e);
+  CHECK(r.errors == 0);
+  CHECK(r.acknowledged_defines == 300);
+  CHECK(r.acknowledged_rules == 300);  // "<word> left" := "move left" induces one rule
+  CHECK(r.lost == 0);
+  CHECK(r.wrong_deletions == 0);
+  CHECK(r.foreign_deletes == 0);
+  CHECK(r.cross_checks >= 290);  // measured 300: only the very first definers may find none
+  CHECK(r.cross_failures == 0);
+  CHECK(r.integrity == "ok");
+}

@@ -1,0 +1,110 @@
+#pragma once
+// A real `flipper serve` on a free loopback port (serve.port=0, the port read from its first
+// line) with its lexicon in a fresh directory, and an httplib client for it.
+#include <httplib.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "child_process.hpp"
+
+namespace flipper::studiotest {
+
+using nlohmann::json;
+
+inline std::string fresh_dir(const std::string& name) {
+  std::random_device rd;
+  const auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "studio" /
+                   (name + "-" + std::to_string(rd()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+class StudioServer {
+ public:
+  /// Starts the server with `sets` (--set values) after the test defaults.
+  explicit StudioServer(std::string dir, const std::vector<std::string>& sets = {})
+      : dir_(std::move(dir)) {
+    std::vector<std::string> args{std::string(FLIPPER_BINARY_DIR) + "/bin/flipper", "serve"};
+    for (const std::string& s : {std::string("serve.host=127.0.0.1"), std::string("serve.port=0"),
+                                 "lexicon.path=" + lexicon(), std::string("lexicon.preload=")}) {
+      args.push_back("--set");
+      args.push_back(s);
+    }
+    for (const auto& s : sets) {
+      args.push_back("--set");
+      args.push_back(s);
+    }
+    child_ = std::make_unique<testsupport::ChildProcess>(args);
+    const std::string line = child_->read_line(std::chrono::seconds(30));
+    const auto at = line.find("127.0.0.1:");
+    REQUIRE(at != std::string::npos);  // "flipper serve: listening on http://127.0.0.1:PORT/"
+    port_ = std::stoi(line.substr(at + 10));
+  }
+
+  int port() const { return port_; }
+  std::string lexicon() const { return dir_ + "/lexicon.sqlite"; }
+  std::string origin() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  httplib::Client client() const {
+    httplib::Client c("127.0.0.1", port_);
+    c.set_connection_timeout(10);
+    c.set_read_timeout(30);
+    c.set_tcp_nodelay(true);
+    return c;
+  }
+  void kill() { child_->kill_now(); }
+  /// SIGTERM and wait: the exit status.
+  int stop() {
+    ::kill(child_->pid(), SIGTERM);
+    return child_->finish();
+  }
+
+ private:
+  std::string dir_;
+  std::unique_ptr<testsupport::ChildProcess> child_;
+  int port_ = 0;
+};
+
+/// POST one request; the reply's status, body and session token.
+struct Reply {
+  int status = 0;
+  json body;
+  std::string text;
+  std::string session;
+  std::string user;
+};
+
+inline Reply post(httplib::Client& c, const std::string& session, const std::string& body,
+                  const httplib::Headers& headers = {}) {
+  const std::string path =
+      session.empty() ? "/api/v1/request" : "/api/v1/request?session=" + session;
+  auto res = c.Post(path.c_str(), headers, body, "application/json");
+  REQUIRE(res);
+  Reply r;
+  r.status = res->status;
+  r.text = res->body;
+  r.body = json::parse(res->body, nullptr, false);
+  r.session = res->get_header_value("Flipper-Session");
+  r.user = res->get_header_value("Flipper-User");
+  return r;
+}
+
+inline Reply post_json(httplib::Client& c, const std::string& session, const json& request) {
+  return post(c, session, request.dump());
+}
+
+/// A session of its own: its token (from a first `state` request).
+inline std::string new_session(httplib::Client& c) {
+  const Reply r = post_json(c, "", json{{"op", "state"}});
+  REQUIRE(r.status == 200);
+  REQUIRE(r.session.size() == 32);
+  return r.session;
+}
+
+}  // namespace flipper::studiotest
