@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <functional>
+#include <iostream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,24 @@ inline kernel::Config load_config(const CommonOptions& opts) {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;
 inline constexpr int kExitUsage = 2;
+
+/// The one error format of every subcommand: `flipper <cmd>: [code] message` on stderr.
+/// Returns `status` so callers can `return report_error(...)`.
+inline int report_error(const std::string& cmd, const std::string& code,
+                        const std::string& message, int status) {
+  std::cerr << "flipper" << (cmd.empty() ? "" : " " + cmd) << ": [" << code << "] " << message
+            << "\n";
+  return status;
+}
+
+/// Exit status for a kernel error code: problems of the caller's config, request or plugins are
+/// misuse (2); anything else means the work itself failed (1).
+inline int status_for(const std::string& code) {
+  return code == "bad_config" || code == "bad_request" || code == "bad_grammar" ||
+                 code == "bad_world" || code.rfind("plugin_", 0) == 0
+             ? kExitUsage
+             : kExitFailed;
+}
 
 /// Makes `action` the subcommand's callback; a non-zero status ends the process with exactly that
 /// status (a CLI::RuntimeError would reach main's handler, which maps every failure to 2).

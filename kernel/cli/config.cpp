@@ -1,6 +1,10 @@
-// flipper config check [FILE]: validates the config (kernel keys and every plugin's params),
-// instantiates all plugins, loads grammar and default world, then prints the effective config.
+// flipper config check [FILE] [--json]: validates the config (kernel keys and every plugin's
+// params), instantiates all plugins, loads grammar and default world, then prints the effective
+// config (YAML, or one JSON object with --json).
+#include <yaml-cpp/yaml.h>
+
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "commands.hpp"
@@ -10,29 +14,81 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::cli {
+namespace {
+
+// YAML as JSON: maps and lists as they are; scalars that read as bool or number become those.
+nlohmann::json to_json(const YAML::Node& node) {
+  if (node.IsMap()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& kv : node) out[kv.first.Scalar()] = to_json(kv.second);
+    return out;
+  }
+  if (node.IsSequence()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& e : node) out.push_back(to_json(e));
+    return out;
+  }
+  if (!node.IsScalar()) return nullptr;
+  const std::string& text = node.Scalar();
+  if (node.Tag() != "!") {  // unquoted
+    bool b = false;
+    std::int64_t i = 0;
+    double d = 0;
+    if (text == "true" || text == "false") return YAML::convert<bool>::decode(node, b) && b;
+    if (YAML::convert<std::int64_t>::decode(node, i)) return i;
+    if (YAML::convert<double>::decode(node, d)) return d;
+  }
+  return text;
+}
+
+struct CheckArgs {
+  CommonOptions opts;
+  std::string positional;
+  bool json = false;
+};
+
+int check(const CheckArgs& a) {
+  const std::string file = a.positional.empty() ? a.opts.config_file : a.positional;
+  try {
+    const auto config = kernel::Config::load(
+        file.empty() ? std::nullopt : std::optional<std::string>(file), a.opts.overrides);
+    const auto runtime = kernel::make_runtime(config);
+    if (a.json)
+      std::cout << nlohmann::json{{"ok", true},
+                                  {"source", config.source()},
+                                  {"config", to_json(YAML::Load(config.dump()))}}
+                       .dump(2)
+                << "\n";
+    else
+      std::cout << "config ok: " << config.source() << "\n" << config.dump();
+    return kExitOk;
+  } catch (const sdk::Error& e) {
+    // Any problem found while checking is a config problem for the caller: exit 2.
+    if (a.json)
+      std::cout << nlohmann::json{{"ok", false},
+                                  {"error", {{"code", e.code()}, {"message", e.what()}}}}
+                       .dump(2)
+                << "\n";
+    return report_error("config check", e.code(), e.what(), kExitUsage);
+  }
+}
+
+}  // namespace
 
 void add_config_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("config", "Inspect and check configurations");
   cmd->require_subcommand(1);
-  auto* check = cmd->add_subcommand("check", "Validate a config and instantiate its plugins");
-  static CommonOptions opts;
-  static std::string positional;
-  add_common_options(*check, opts);
-  check->add_option("file", positional, "Config file (same as --config)");
-  check->callback([] {
-    if (!positional.empty() && !opts.config_file.empty() && positional != opts.config_file)
-      throw CLI::ValidationError("config check", "give the config file once (FILE or --config)");
-    const std::string file = positional.empty() ? opts.config_file : positional;
-    try {
-      const auto config = kernel::Config::load(
-          file.empty() ? std::nullopt : std::optional<std::string>(file), opts.overrides);
-      const auto runtime = kernel::make_runtime(config);
-      std::cout << "config ok: " << config.source() << "\n" << config.dump();
-    } catch (const sdk::Error& e) {
-      // Any problem found while checking is a config problem for the caller: exit 2.
-      std::cerr << "flipper: error [" << e.code() << "]: " << e.what() << "\n";
-      throw CLI::RuntimeError(kExitUsage);
-    }
+  auto* check_cmd = cmd->add_subcommand("check", "Validate a config and instantiate its plugins");
+  static CheckArgs args;
+  add_common_options(*check_cmd, args.opts);
+  check_cmd->add_option("file", args.positional, "Config file (same as --config)");
+  check_cmd->add_flag("--json", args.json, "Print the effective config as one JSON object");
+  on_run(*check_cmd, [] {
+    if (!args.positional.empty() && !args.opts.config_file.empty() &&
+        args.positional != args.opts.config_file)
+      return report_error("config check", "usage", "give the config file once (FILE or --config)",
+                          kExitUsage);
+    return check(args);
   });
 }
 

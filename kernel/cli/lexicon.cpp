@@ -1,5 +1,6 @@
-// flipper lexicon list|export|import: the lexicon store of the config's lexicon.path.
-//   list [--author A]       live rules: id, author, how, uses (by author/by others), the rule
+// flipper lexicon list|export|import|delete: the lexicon store of the config's lexicon.path.
+//   list [--author A] [--json]  live rules: id, author, how, uses (by author/by others), the rule
+//   delete ID --user U      deletes U's rule ID (forbidden for others' rules; history kept)
 //   export FILE|-           JSON Lines copy of the whole store (LexiconStore::export_jsonl)
 //   import FILE|-           definitions replayed through induction (docs/naturalization.md §5:
 //   rules
@@ -35,12 +36,14 @@ struct LexiconArgs {
   std::string file;
   std::string author;
   bool restore = false;
+  bool json = false;
+  std::string rule_id;  // delete
+  std::string user;     // delete: who asks (only a rule's author may delete it)
 };
 
 int error(const std::string& what, const std::string& code, const std::string& message,
           int status) {
-  std::cerr << "flipper lexicon " << what << ": error [" << code << "]: " << message << "\n";
-  return status;
+  return report_error("lexicon " + what, code, message, status);
 }
 
 std::string store_path(const kernel::Config& config) {
@@ -81,6 +84,21 @@ int list_rules(const LexiconArgs& a) {
     w_author = std::max(w_author, r.author.size());
     w_how = std::max(w_how, r.how.size());
     w_uses = std::max(w_uses, uses.back().size());
+  }
+  if (a.json) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& r : rules)
+      list.push_back({{"id", r.id},
+                      {"author", r.author},
+                      {"how", r.how},
+                      {"lhs", r.lhs},
+                      {"rhs", r.rhs},
+                      {"semantics", r.semantics},
+                      {"uses_by_author", r.uses_by_author},
+                      {"uses_by_others", r.uses_by_others}});
+    std::cout << nlohmann::json{{"store", store->path()}, {"rules", std::move(list)}}.dump(2)
+              << "\n";
+    return kExitOk;
   }
   const auto row = [&](const std::string& id, const std::string& author, const std::string& how,
                        const std::string& use, const std::string& rule) {
@@ -255,6 +273,21 @@ int import_store(const LexiconArgs& a) {
   return a.restore ? restore_store(a, path, text) : import_definitions(a, config, text);
 }
 
+/// Deletes one rule as `--user`: the naturalizer checks authorship and keeps the history.
+int delete_rule(const LexiconArgs& a) {
+  const kernel::Config config = load_config(a.common);
+  const std::string path = store_path(config);
+  (void)open_existing(path);  // deleting never creates a store
+  kernel::NaturalizeOptions options = kernel::NaturalizeOptions::from_config(config);
+  options.preload.clear();
+  kernel::Naturalizer naturalizer(std::shared_ptr<kernel::Runtime>(kernel::make_runtime(config)),
+                                  options);
+  naturalizer.delete_rule(a.user, a.rule_id);
+  std::cout << "deleted rule " << a.rule_id << " of " << a.user << " from "
+            << naturalizer.store().path() << "\n";
+  return kExitOk;
+}
+
 /// Errors of the store or the input are the caller's (2) unless the work itself failed.
 std::function<int()> guarded(const char* what, int (*action)(const LexiconArgs&),
                              const LexiconArgs& a) {
@@ -262,9 +295,7 @@ std::function<int()> guarded(const char* what, int (*action)(const LexiconArgs&)
     try {
       return action(a);
     } catch (const sdk::Error& e) {
-      const bool usage = e.code() == sdk::codes::kBadConfig ||
-                         e.code() == sdk::codes::kBadRequest || e.code().rfind("plugin_", 0) == 0;
-      return error(what, e.code(), e.what(), usage ? kExitUsage : kExitFailed);
+      return error(what, e.code(), e.what(), status_for(e.code()));
     }
   };
 }
@@ -272,13 +303,14 @@ std::function<int()> guarded(const char* what, int (*action)(const LexiconArgs&)
 }  // namespace
 
 void add_lexicon_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("lexicon", "List, export and import the community lexicon");
+  auto* cmd = app.add_subcommand("lexicon", "List, export, import and delete in the community lexicon");
   cmd->require_subcommand(1);
   static LexiconArgs list_args, export_args, import_args;
 
   auto* list = cmd->add_subcommand("list", "List the live rules of the lexicon store");
   add_common_options(*list, list_args.common);
   list->add_option("--author", list_args.author, "Only the rules of this author");
+  list->add_flag("--json", list_args.json, "Print the rules as one JSON object");
   on_run(*list, guarded("list", list_rules, list_args));
 
   auto* exp = cmd->add_subcommand("export", "Write the whole store as JSON Lines");
@@ -294,6 +326,13 @@ void add_lexicon_command(CLI::App& app) {
   imp->add_option("file", import_args.file, "Export or definitions file ('-': standard input)")
       ->required();
   on_run(*imp, guarded("import", import_store, import_args));
+
+  static LexiconArgs delete_args;
+  auto* del = cmd->add_subcommand("delete", "Delete a rule you defined (history is kept)");
+  add_common_options(*del, delete_args.common);
+  del->add_option("id", delete_args.rule_id, "The rule's id (from lexicon list)")->required();
+  del->add_option("--user", delete_args.user, "Who deletes it: only its author may")->required();
+  on_run(*del, guarded("delete", delete_rule, delete_args));
 }
 
 }  // namespace flipper::cli

@@ -7,6 +7,7 @@
 #include <array>
 #include <iomanip>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
@@ -123,8 +124,7 @@ int list_params(const kernel::PluginLoader& loader, const std::string& only) {
       print_params(loader.open_entry(e, std::nullopt));
     } catch (const sdk::Error& err) {
       if (!only.empty()) {
-        std::cerr << "flipper: plugin '" << only << "': error [" << err.code()
-                  << "]: " << err.what() << "\n";
+        report_error("plugins", err.code(), "plugin '" + only + "': " + err.what(), kExitUsage);
         ok = false;
       }
     }
@@ -132,18 +132,34 @@ int list_params(const kernel::PluginLoader& loader, const std::string& only) {
   if (!only.empty() && !found) {
     std::vector<std::string> names;
     for (const auto& e : loader.entries()) names.push_back(e.name);
-    std::cerr << "flipper: no plugin named '" << only << "'" << sdk::did_you_mean(only, names)
-              << "\n";
-    return kExitUsage;
+    return report_error("plugins", "plugin_not_found",
+                        "no plugin named '" + only + "'" + sdk::did_you_mean(only, names),
+                        kExitUsage);
   }
   return ok ? kExitOk : kExitUsage;
 }
 
-int list_plugins(const CommonOptions& opts, bool params, const std::string& only) {
+// One plugin's parameters as JSON: name, type, default (null when none), required, allowed,
+// description.
+nlohmann::json params_json(const kernel::LoadedPlugin& p) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& s : p.schema().params)
+    out.push_back({{"name", s.name},
+                   {"type", type_name(s.type)},
+                   {"default", s.default_value ? nlohmann::json(sdk::to_string(*s.default_value))
+                                               : nlohmann::json(nullptr)},
+                   {"required", s.required},
+                   {"allowed", allowed(s)},
+                   {"description", s.description}});
+  return out;
+}
+
+int list_plugins(const CommonOptions& opts, bool params, const std::string& only, bool json) {
   const auto config = load_config(opts);
   const kernel::PluginLoader loader(kernel::PluginLoader::search_path_for(config));
-  if (!only.empty()) return list_params(loader, only);
+  if (!only.empty() && !json) return list_params(loader, only);
   std::vector<Row> rows;
+  nlohmann::json schemas = nlohmann::json::object();
   bool selected_ok = true;
   for (const auto& e : loader.entries()) {
     Row r{
@@ -163,6 +179,7 @@ int list_plugins(const CommonOptions& opts, bool params, const std::string& only
         r.abi = std::to_string(p.descriptor->abi) + " (sdk " +
                 std::to_string(p.descriptor->sdk_major) + "." +
                 std::to_string(p.descriptor->sdk_minor) + ")";
+        if (json && (params || e.name == only)) schemas[e.name] = params_json(p);
         (void)p.schema();
       } catch (const sdk::Error& err) {
         r.status = "error [" + err.code() + "]: " + err.what();
@@ -171,10 +188,6 @@ int list_plugins(const CommonOptions& opts, bool params, const std::string& only
     }
     rows.push_back(std::move(r));
   }
-  std::cout << "config: " << config.source() << "\nsearch path:";
-  for (const auto& d : loader.search_path()) std::cout << " " << d;
-  std::cout << "\n";
-  print_table(rows);
   // A selected plugin that is missing altogether is reported like any config error.
   for (const auto& section : kernel::Config::plugin_sections()) {
     if (!config.has_section(section)) continue;
@@ -182,10 +195,35 @@ int list_plugins(const CommonOptions& opts, bool params, const std::string& only
     bool present = false;
     for (const auto& r : rows) present = present || (r.mark == "*" && r.name == name);
     if (!present) {
-      std::cerr << "flipper: selected " << section << " plugin '" << name << "' was not found\n";
+      report_error("plugins", "plugin_not_found",
+                   "selected " + section + " plugin '" + name + "' was not found", kExitUsage);
       selected_ok = false;
     }
   }
+  if (json) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& r : rows) {
+      if (!only.empty() && r.name != only) continue;
+      nlohmann::json j{{"selected", r.mark == "*"}, {"name", r.name},      {"kind", r.kind},
+                       {"version", r.version},      {"abi", r.abi},        {"path", r.path},
+                       {"status", r.status}};
+      if (schemas.contains(r.name)) j["params"] = schemas[r.name];
+      list.push_back(std::move(j));
+    }
+    if (!only.empty() && list.empty())
+      return report_error("plugins", "plugin_not_found", "no plugin named '" + only + "'",
+                          kExitUsage);
+    std::cout << nlohmann::json{{"config", config.source()},
+                                {"search_path", loader.search_path()},
+                                {"plugins", std::move(list)}}
+                     .dump(2)
+              << "\n";
+    return selected_ok ? kExitOk : kExitUsage;
+  }
+  std::cout << "config: " << config.source() << "\nsearch path:";
+  for (const auto& d : loader.search_path()) std::cout << " " << d;
+  std::cout << "\n";
+  print_table(rows);
   if (params && list_params(loader, "") != kExitOk) selected_ok = false;
   return selected_ok ? kExitOk : kExitUsage;
 }
@@ -197,12 +235,17 @@ void add_plugins_command(CLI::App& app) {
   static CommonOptions opts;
   static bool params = false;
   static std::string only;
+  static bool json = false;
   add_common_options(*cmd, opts);
   cmd->add_flag("--params", params, "Also print each plugin's parameters (name, type, default...)");
+  cmd->add_flag("--json", json, "Print the listing as one JSON object");
   cmd->add_option("name", only, "Print only this plugin's parameters");
-  cmd->callback([] {
-    const int rc = list_plugins(opts, params, only);
-    if (rc != kExitOk) throw CLI::RuntimeError(rc);
+  on_run(*cmd, [] {
+    try {
+      return list_plugins(opts, params, only, json);
+    } catch (const sdk::Error& e) {
+      return report_error("plugins", e.code(), e.what(), status_for(e.code()));
+    }
   });
 }
 

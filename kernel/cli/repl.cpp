@@ -20,7 +20,8 @@ void add_repl_command(CLI::App& app) {
     auto session = dds.open(host);
     // Readline only on a terminal; piped input is read line by line without prompts.
     bool terminal = isatty(STDIN_FILENO) != 0;
-    auto reader = kernel::repl::make_line_reader(std::cin, terminal);
+    auto reader = kernel::repl::make_line_reader(
+        std::cin, terminal, terminal ? kernel::repl::default_history_file() : std::string());
     return kernel::repl::run(*session, *reader, std::cout);
   });
 }

@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <functional>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "commands.hpp"
 #include "common.hpp"
 #include "flipper/kernel/replay/experiment.hpp"
+#include "flipper/sdk/errors.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -19,6 +21,7 @@ namespace {
 struct ReplayArgs {
   std::string corpus, out, experiment, runs;
   int max_queries = -1;
+  bool json = false;
 };
 
 std::vector<std::string> split_commas(const std::string& s) {
@@ -66,11 +69,26 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
   if (args.max_queries >= 0) e.max_queries = args.max_queries;
   e.sets.insert(e.sets.end(), common.overrides.begin(), common.overrides.end());
   if (e.corpus.empty()) {
-    std::cerr << "flipper replay: no corpus (give --corpus DIR or an experiment with 'corpus')\n";
-    return kExitUsage;
+    return report_error("replay", "bad_config",
+                        "no corpus (give --corpus DIR or an experiment with 'corpus')", kExitUsage);
   }
   Progress progress;
   auto variants = run_experiment(e, args.out, std::ref(progress));
+  if (args.json) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& v : variants)
+      list.push_back({{"variant", v.name},
+                      {"status_agree", v.metrics.overall.agree},
+                      {"queries", v.metrics.overall.n},
+                      {"accepts_matched", v.metrics.exec.matched},
+                      {"accepts", v.metrics.exec.accepts},
+                      {"metrics", args.out + "/" + v.name + "/metrics.json"}});
+    std::cout << nlohmann::json{{"variants", std::move(list)},
+                                {"report", args.out + "/report.md"}}
+                     .dump(2)
+              << "\n";
+    return kExitOk;
+  }
   for (const auto& v : variants)
     std::cout << v.name << ": status agreement " << v.metrics.overall.agree << "/"
               << v.metrics.overall.n << ", accepts matched " << v.metrics.exec.matched << "/"
@@ -92,6 +110,13 @@ void add_replay_command(CLI::App& app) {
   cmd->add_option("--experiment", args.experiment, "Experiment file (configs/experiments/*.yaml)");
   cmd->add_option("--runs", args.runs, "Runs to replay, comma-separated (default: all)");
   cmd->add_option("--max-queries", args.max_queries, "Per run: stop before the (N+1)-th query");
-  on_run(*cmd, [] { return run_replay(opts, args); });
+  cmd->add_flag("--json", args.json, "Print the per-variant summary as one JSON object");
+  on_run(*cmd, [] {
+    try {
+      return run_replay(opts, args);
+    } catch (const sdk::Error& e) {
+      return report_error("replay", e.code(), e.what(), status_for(e.code()));
+    }
+  });
 }
 }  // namespace flipper::cli

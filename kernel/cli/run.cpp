@@ -1,7 +1,10 @@
-// flipper run [--config F] [--set k=v] [--world W] [--json] PROGRAM
+// flipper run [--config F] [--set k=v] [--world W] [--user U] [--json] PROGRAM
 // Runs one program on the default world (or W): canonical text is read directly; anything else
-// goes through the runtime's parser and the top candidate is taken. Prints the interpretation,
+// goes through a session's parser — with the lexicon's rules visible to U (lexicon.sharing) —
+// and the top candidate is taken, saying so when there were several. Prints the interpretation,
 // the trace, the warnings and the final world (or one JSON object with --json).
+#include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -13,6 +16,8 @@
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/kernel/session_factory.hpp"
+#include "flipper/kernel/svg.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -22,6 +27,8 @@ namespace {
 struct RunOptions {
   CommonOptions common;
   std::string world_file;
+  std::string user;
+  std::string svg_file;
   bool json = false;
   std::string program;
 };
@@ -37,28 +44,38 @@ kernel::ExecLimits limits_from(const kernel::Config& c) {
   return l;
 }
 
-// Canonical text first (deterministic); otherwise the parser's best candidate.
-sdk::Program interpret(const kernel::Runtime& rt, const std::string& text) {
-  if (rt.config.has("input.max_chars") &&
-      static_cast<std::int64_t>(text.size()) > rt.config.get_int("input.max_chars"))
+struct Reading {
+  sdk::Program program;
+  std::size_t readings = 1;  ///< how many the parser found (1 for canonical text)
+  double prob = 1.0;         ///< the chosen one's share
+};
+
+// Canonical text first (deterministic); otherwise the session parser's best candidate, which
+// sees the user's lexicon (the session answers exactly as the repl would).
+Reading interpret(kernel::Session& session, const std::string& text) {
+  const kernel::Config& config = session.runtime().config;
+  if (config.has("input.max_chars") &&
+      static_cast<std::int64_t>(text.size()) > config.get_int("input.max_chars"))
     throw sdk::Error(sdk::codes::kInputTooLong,
                      "the program has " + std::to_string(text.size()) +
                          " characters; the limit is " +
-                         std::to_string(rt.config.get_int("input.max_chars")));
+                         std::to_string(config.get_int("input.max_chars")));
   try {
-    return sdk::read_canonical(text);
+    return {sdk::read_canonical(text)};
   } catch (const sdk::Error&) {
   }
-  sdk::ParseRequest req;
-  req.tokens = sdk::tokenize(text);
-  req.scorer = rt.scorer.get();
-  req.beam = 0;
-  const sdk::ParseResult res = rt.parser->parse(req);
-  if (res.candidates.empty())
-    throw sdk::Error(
-        sdk::codes::kBadProgram,
-        "cannot understand '" + text + "': it is neither canonical text nor core language");
-  return res.candidates.front().program;
+  const kernel::Json a = session.handle(kernel::Json{{"op", "query"}, {"text", text}, {"k", 1}});
+  if (!a.value("ok", false))
+    throw sdk::Error(a["error"].value("code", std::string(sdk::codes::kBadProgram)),
+                     a["error"].value("message", std::string()));
+  if (a["candidates"].empty())
+    throw sdk::Error(sdk::codes::kBadProgram,
+                     "cannot understand '" + text +
+                         "': it is neither canonical text nor core language, nor a phrase of the "
+                         "lexicon visible to this user (teach it in `flipper repl`)");
+  const kernel::Json& top = a["candidates"][0];
+  return {sdk::read_canonical(top.value("formula", std::string())),
+          a.value("total", std::size_t{1}), top.value("prob", 1.0)};
 }
 
 const char* act_name(sdk::TraceStep::Act a) {
@@ -87,45 +104,59 @@ void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
 }
 
 int run(const RunOptions& opts) {
-  std::unique_ptr<kernel::Runtime> rt;
+  std::unique_ptr<kernel::Session> session;
   try {
-    rt = kernel::make_runtime(load_config(opts.common));
+    session = kernel::open_session(config_file(opts.common), opts.common.overrides);
   } catch (const sdk::Error& e) {
-    std::cerr << "flipper run: error [" << e.code() << "]: " << e.what() << "\n";
-    return kExitUsage;
+    return report_error("run", e.code(), e.what(), kExitUsage);
   }
-  const int dims = rt->world->dims();
+  kernel::Runtime& rt = session->runtime();
+  if (!opts.user.empty()) session->set_user(opts.user);
+  const int dims = rt.world->dims();
   auto fail = [&](const std::string& code, const std::string& message, int exit_code) {
     if (opts.json)
       std::cout << nlohmann::json{{"ok", false},
                                   {"error", kernel::protocol::error_json(code, message)}}
                        .dump()
                 << "\n";
-    else
-      std::cerr << "flipper run: error [" << code << "]: " << message << "\n";
-    return exit_code;
+    return report_error("run", code, message, exit_code);
   };
   sdk::WorldState world;
   try {
-    world =
-        opts.world_file.empty() ? rt->default_world : kernel::load_world_file(*rt, opts.world_file);
+    world = opts.world_file.empty() ? rt.default_world : kernel::load_world_file(rt, opts.world_file);
   } catch (const sdk::Error& e) {
     return fail(e.code(), e.what(), kExitUsage);
   }
-  sdk::Program program;
+  session->set_world(world);
+  Reading reading;
   try {
-    program = interpret(*rt, opts.program);
+    reading = interpret(*session, opts.program);
   } catch (const sdk::Error& e) {
     return fail(e.code(), e.what(), kExitFailed);
   }
-  const kernel::Executor executor(rt->planner, limits_from(rt->config));
+  const sdk::Program& program = reading.program;
+  if (reading.readings > 1)
+    std::fprintf(stderr,
+                 "flipper run: note: took the top of %zu readings (p=%.2f); `flipper repl` shows "
+                 "them all and lets you choose\n",
+                 reading.readings, reading.prob);
+  const kernel::Executor executor(rt.planner, limits_from(rt.config));
   const sdk::Outcome o = executor.run(program, world);
   if (o.error) return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed);
+  if (!opts.svg_file.empty()) {
+    const kernel::Json before = kernel::Json::parse(rt.world->save(world));
+    const kernel::Json trace = kernel::Json::parse(kernel::protocol::outcome_json(o, dims)["trace"].dump());
+    std::ofstream f(opts.svg_file);
+    f << kernel::svg::world_picture(before, &trace, sdk::render(program));
+    f.flush();
+    if (!f) return fail("io", "cannot write '" + opts.svg_file + "'", kExitFailed);
+  }
   if (opts.json) {
     nlohmann::json j = kernel::protocol::outcome_json(o, dims);
     j["ok"] = true;
     j["formula"] = sdk::render(program);
-    j["world"] = nlohmann::json::parse(rt->world->save(o.world));
+    j["world"] = nlohmann::json::parse(rt.world->save(o.world));
+    j["readings"] = reading.readings;
     std::cout << j.dump() << "\n";
   } else {
     print_human(program, o, dims);
@@ -141,7 +172,10 @@ void add_run_command(CLI::App& app) {
   static RunOptions opts;
   add_common_options(*cmd, opts.common);
   cmd->add_option("--world", opts.world_file, "World file (default: the config's world.file)");
+  cmd->add_option("--user", opts.user,
+                  "Whose lexicon view to parse with (lexicon.sharing decides what is visible)");
   cmd->add_flag("--json", opts.json, "Print one JSON object (protocol shapes)");
+  cmd->add_option("--svg", opts.svg_file, "Also draw the world and the plan into this SVG file");
   cmd->add_option("program", opts.program, "The program, e.g. 'visit world containing item is red'")
       ->required();
   cmd->callback([] { std::exit(run(opts)); });

@@ -20,8 +20,8 @@ int run_session(const CommonOptions& opts, const std::string& script) {
   if (!script.empty() && script != "-") {
     file.open(script);
     if (!file) {
-      std::cerr << "flipper session: cannot read script '" << script << "'\n";
-      return kExitUsage;
+      return report_error("session", "bad_request", "cannot read script '" + script + "'",
+                          kExitUsage);
     }
     in = &file;
   }

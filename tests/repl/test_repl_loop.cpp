@@ -1,5 +1,7 @@
 // The repl loop on a real session, reading a script (no terminal).
 #include <catch2/catch.hpp>
+#include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "flipper/kernel/repl.hpp"
@@ -23,7 +25,7 @@ TEST_CASE("repl: query, choose, the robot moves", "[repl][loop]") {
   // The start map has the robot at [2,4]; after choosing 1 it is at [1,4].
   CHECK_THAT(out, Catch::Contains(" 4 ##. . R "));
   CHECK_THAT(out, Catch::Contains("[1] {move left}"));
-  CHECK_THAT(out, Catch::Contains("Done: 1 steps."));
+  CHECK_THAT(out, Catch::Contains("Done: 1 step."));
   CHECK_THAT(out, Catch::Contains(" 4 ##. R . "));
   CHECK(s->world().robot.x == 1);
   // Nothing after :quit ran.
@@ -34,7 +36,7 @@ TEST_CASE("repl: reject, unparsable, commands and errors", "[repl][loop]") {
   auto s = flipper::testsupport::bare_session();
   const std::string out =
       run_script(*s,
-                 "move left\nr\n7\nzorp blah\n:user ana\n:help\n:rules\n"
+                 "move left\nr\n7\nzorp blah\n:user ana\n:help\n:examples\n:rules\n"
                  ":define zorp blah\nmove left\n\n:bogus\n:world /no/such.json\n");
   CHECK_THAT(out, Catch::Contains("Rejected."));
   CHECK(s->world().robot.x == 2);  // nothing was accepted
@@ -42,6 +44,9 @@ TEST_CASE("repl: reject, unparsable, commands and errors", "[repl][loop]") {
   CHECK_THAT(out, Catch::Contains("You are ana."));
   CHECK(s->user() == "ana");
   CHECK_THAT(out, Catch::Contains(":define HEAD"));
+  // :examples is the language guide's table (docs/language.md), embedded in the binary.
+  CHECK_THAT(out, Catch::Contains("  strict {move left; move left; move left}\n"
+                                  "      strict: all or nothing: ends at [2,4], 0 moves; 2 warnings"));
   CHECK_THAT(out, Catch::Contains("Defining \"zorp blah\""));
   CHECK_THAT(out, Catch::Contains("Unknown command :bogus"));
   CHECK_THAT(out, Catch::Contains("error (bad_world)"));
@@ -60,4 +65,18 @@ TEST_CASE("repl: define an unparsable utterance, then use it", "[repl][loop]") {
   CHECK_THAT(out, Catch::Contains("zig zag  =>  {{move up};{move right}}  (by anonymous"));
   CHECK(s->world().robot.x == 3);
   CHECK(s->world().robot.y == 5);
+}
+
+TEST_CASE("repl: :save draws the plan just chosen", "[repl][loop]") {
+  auto s = flipper::testsupport::bare_session();
+  const std::string file = std::string(FLIPPER_BINARY_DIR) + "/tests/tmp/repl-save.svg";
+  std::remove(file.c_str());
+  const std::string out = run_script(*s, "visit [5,4]\n1\n:save " + file + "\n");
+  CHECK_THAT(out, Catch::Contains("Saved the plan and its world to " + file));
+  std::ifstream in(file);
+  std::stringstream svg;
+  svg << in.rdbuf();
+  // From [2,4] three cells right: four points, 28 px apart.
+  CHECK_THAT(svg.str(), Catch::Contains("points=\"134.0,198.0 162.0,198.0 190.0,198.0 218.0,198.0 \""));
+  CHECK_THAT(svg.str(), Catch::Contains(">{visit [5,4]}</text>"));
 }

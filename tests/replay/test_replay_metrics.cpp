@@ -163,3 +163,35 @@ TEST_CASE("rule oracle: identical, subset, overlap, missing", "[replay][issue13]
   CHECK(compare_rules({aligned}, {our_simple}).empty());
   CHECK(compare_rules({}, {our_simple}).empty());
 }
+
+TEST_CASE("plots fit for a paper: integer count ticks, legends inside, y title clear of ticks") {
+  // Counts up to 2: ticks 0, 1, 2 (not 0.4, 0.8, ...).
+  BarChart counts{"c", "commands", {"A"}, {"s"}, {{2}}, {}, {}};
+  const std::string a = render_svg(counts);
+  CHECK(a.find(">0.4<") == std::string::npos);
+  CHECK(a.find("text-anchor=\"end\">1</text>") != std::string::npos);
+  CHECK(a.find("text-anchor=\"end\">2</text>") != std::string::npos);
+  // Four long series on two categories: the legend wraps instead of running off the picture.
+  BarChart wide{"w",
+                "commands per participant",
+                {"B", "C"},
+                {"induced (original)", "induced (ours)", "core (original)", "core (ours)"},
+                {{1000, 2}, {3, 4}, {5, 6}, {7, 8}},
+                {},
+                {}};
+  const std::string b = render_svg(wide);
+  const auto number_after = [&](const std::string& svg, const std::string& key, std::size_t from) {
+    const auto at = svg.find(key, from);
+    return at == std::string::npos ? -1.0 : std::stod(svg.substr(at + key.size()));
+  };
+  const double width = number_after(b, "width=\"", 0);
+  for (const char* name : {"induced (original)", "induced (ours)", "core (original)", "core (ours)"}) {
+    const auto at = b.find(std::string(">") + name + "</text>");
+    REQUIRE(at != std::string::npos);
+    const double x = number_after(b, "<text x=\"", b.rfind("<text x=\"", at));
+    CHECK(x + 7.0 * std::string(name).size() <= width);
+  }
+  // The widest tick ("1000") ends 6 px left of the axis; the rotated y title sits left of it.
+  const double axis_left = number_after(b, "<line x1=\"", 0);
+  CHECK(axis_left - 6 - 7.0 * 4 >= 16 + 8);
+}

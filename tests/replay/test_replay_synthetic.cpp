@@ -117,6 +117,14 @@ TEST_CASE("an experiment writes metrics, CSV, SVG and the report") {
   const std::string text((std::istreambuf_iterator<char>(report)), {});
   CHECK(text.find("Variants side by side") != std::string::npos);
   CHECK(text.find("plain/tokens.svg") != std::string::npos);
+  // The latency plot: labelled as two different measures, only the occupied bins (every
+  // original walltime is 50 ms: nothing at 100 ms or above).
+  std::ifstream lat_file(out / "plain" / "latency.svg");
+  const std::string lat((std::istreambuf_iterator<char>(lat_file)), {});
+  CHECK(lat.find("original: logged server wall time") != std::string::npos);
+  CHECK(lat.find(">32+</text>") != std::string::npos);
+  CHECK(lat.find(">100+</text>") == std::string::npos);
+  CHECK(lat.find(">1000+</text>") == std::string::npos);
   CHECK(text.find("| `agree` | 1 | agree |") != std::string::npos);  // the class table
   CHECK(text.find("Unexplained: 0.") != std::string::npos);
 }

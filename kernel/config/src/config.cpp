@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "flipper/kernel/limits.hpp"
@@ -33,6 +34,8 @@ struct Config::Impl {
   YAML::Node root;  // validated, defaults filled, schema order; never mutated once shared
   std::string source;
   std::string base_dir;
+  std::set<std::string> cli_keys;  // keys given by --set: their paths resolve against `cwd`
+  std::string cwd;                 // the current directory when the config was loaded
 };
 
 namespace {
@@ -147,7 +150,8 @@ YAML::Node assignment_value(const std::vector<std::string>& segs, const std::str
   return YAML::Node(text);
 }
 
-void apply_assignment(YAML::Node& root, const std::string& assignment) {
+void apply_assignment(YAML::Node& root, const std::string& assignment,
+                      std::set<std::string>& cli_keys) {
   const std::size_t eq = assignment.find('=');
   const std::string malformed = "malformed --set '" + assignment + "'";
   if (eq == std::string::npos)
@@ -157,6 +161,7 @@ void apply_assignment(YAML::Node& root, const std::string& assignment) {
   if (!is_valid_key(key)) fail(malformed + ": '" + key + "' is not a dotted key path");
   const auto segs = split_key(key);
   const YAML::Node value = assignment_value(segs, text, malformed);
+  cli_keys.insert(key);
   if (!root.IsMap()) root = YAML::Node(YAML::NodeType::Map);
   set_path(root, segs, 0, value);
 }
@@ -311,8 +316,8 @@ std::string default_config_dir() {
 }
 
 Config build(YAML::Node root, std::string source, std::string base_dir,
-             const std::vector<std::string>& overrides) {
-  for (const auto& a : overrides) apply_assignment(root, a);
+             const std::vector<std::string>& overrides, std::set<std::string> cli_keys = {}) {
+  for (const auto& a : overrides) apply_assignment(root, a, cli_keys);
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   const YAML::Node cleaned = without_nulls(root);
   try {
@@ -324,6 +329,9 @@ Config build(YAML::Node root, std::string source, std::string base_dir,
   impl->root = complete(cleaned);
   impl->source = std::move(source);
   impl->base_dir = std::move(base_dir);
+  impl->cli_keys = std::move(cli_keys);
+  std::error_code ec;
+  impl->cwd = fs::current_path(ec).string();
   return Config(std::move(impl));
 }
 
@@ -396,7 +404,8 @@ const std::string& Config::base_dir() const {
   return impl_->base_dir;
 }
 
-std::string Config::resolve_path(const std::string& path) const {
+namespace {
+std::string resolve_against(const std::string& base, const std::string& path) {
   if (path.empty()) return path;
   if (path == "~" || path.rfind("~/", 0) == 0) {
     const char* home = std::getenv("HOME");
@@ -404,7 +413,25 @@ std::string Config::resolve_path(const std::string& path) const {
   }
   const fs::path p(path);
   if (p.is_absolute()) return p.lexically_normal().string();
-  return (fs::path(impl_->base_dir) / p).lexically_normal().string();
+  return (fs::path(base) / p).lexically_normal().string();
+}
+}  // namespace
+
+std::string Config::resolve_path(const std::string& path) const {
+  return resolve_against(impl_->base_dir, path);
+}
+
+std::string Config::resolve_path_of(const std::string& key, const std::string& path) const {
+  return resolve_against(impl_->cli_keys.count(key) ? impl_->cwd : impl_->base_dir, path);
+}
+
+std::string Config::path_origin(const std::string& key) const {
+  const auto node = lookup(impl_->root, split_key(key));
+  const std::string value = node && node->IsScalar() ? " '" + node->Scalar() + "'" : "";
+  if (impl_->cli_keys.count(key))
+    return key + value + " from --set: relative to the current directory " + impl_->cwd;
+  return key + value + " from " + impl_->source + ": relative to its directory " +
+         impl_->base_dir;
 }
 
 bool Config::has(const std::string& key) const {
@@ -449,11 +476,18 @@ std::vector<std::string> Config::get_string_list(const std::string& key) const {
 }
 
 std::string Config::get_path(const std::string& key) const {
-  return resolve_path(get_string(key));
+  return resolve_path_of(key, get_string(key));
+}
+
+std::vector<std::string> Config::get_path_list(const std::string& key) const {
+  std::vector<std::string> out = get_string_list(key);
+  for (auto& p : out) p = resolve_path_of(key, p);
+  return out;
 }
 
 void Config::set(const std::string& assignment) {
-  *this = build(YAML::Clone(impl_->root), impl_->source, impl_->base_dir, {assignment});
+  *this = build(YAML::Clone(impl_->root), impl_->source, impl_->base_dir, {assignment},
+                impl_->cli_keys);
 }
 
 namespace {
@@ -522,7 +556,7 @@ sdk::Params Config::plugin_params(const std::string& section,
           break;
         case sdk::ParamType::Path:
           if (!v.IsScalar()) wrong("a path");
-          given[name] = resolve_path(v.Scalar());
+          given[name] = resolve_path_of(where + "." + name, v.Scalar());
           break;
         case sdk::ParamType::StringList: {
           if (!v.IsSequence()) wrong("a list of strings");

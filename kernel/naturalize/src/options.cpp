@@ -9,13 +9,13 @@ NaturalizeOptions NaturalizeOptions::from_config(const Config& config) {
   NaturalizeOptions o;
   if (config.has("lexicon.path")) {
     const std::string path = config.get_string("lexicon.path");
-    o.store_path = path == ":memory:" || path.empty() ? ":memory:" : config.resolve_path(path);
+    o.store_path = path == ":memory:" || path.empty() ? ":memory:" : config.resolve_path_of("lexicon.path", path);
   }
   if (config.has("lexicon.sharing"))
     o.sharing = parse_sharing(config.get_string("lexicon.sharing"));
   if (config.has("lexicon.preload")) {
     const std::string p = config.get_string("lexicon.preload");
-    o.preload = p.empty() ? p : config.resolve_path(p);
+    o.preload = p.empty() ? p : config.resolve_path_of("lexicon.preload", p);
   }
   if (config.has("lexicon.weights")) {
     const std::string w = config.get_string("lexicon.weights");

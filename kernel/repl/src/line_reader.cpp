@@ -1,8 +1,10 @@
-// Line input: GNU readline for terminals (editing, history), std::getline otherwise.
+// Line input: GNU readline for terminals (editing, history kept across runs), std::getline
+// otherwise.
 #include <readline/history.h>
 #include <readline/readline.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <istream>
 #include <memory>
 
@@ -13,14 +15,32 @@ namespace {
 
 class ReadlineReader : public LineReader {
  public:
+  explicit ReadlineReader(std::string history_file) : history_file_(std::move(history_file)) {
+    if (!history_file_.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(std::filesystem::path(history_file_).parent_path(), ec);
+      read_history(history_file_.c_str());
+    }
+  }
+
   bool read(const char* prompt, std::string& line) override {
     char* raw = readline(prompt);
     if (raw == nullptr) return false;
     line.assign(raw);
     std::free(raw);
-    if (!line.empty()) add_history(line.c_str());
+    if (!line.empty()) {
+      add_history(line.c_str());
+      if (!history_file_.empty()) {
+        // Appended per line, so a crash or a second window loses nothing typed.
+        if (append_history(1, history_file_.c_str()) != 0) write_history(history_file_.c_str());
+        history_truncate_file(history_file_.c_str(), 1000);
+      }
+    }
     return true;
   }
+
+ private:
+  std::string history_file_;
 };
 
 class StreamReader : public LineReader {
@@ -38,8 +58,16 @@ class StreamReader : public LineReader {
 
 }  // namespace
 
-std::unique_ptr<LineReader> make_line_reader(std::istream& in, bool terminal) {
-  if (terminal) return std::make_unique<ReadlineReader>();
+std::string default_history_file() {
+  if (const char* f = std::getenv("FLIPPER_HISTORY")) return f;
+  const char* home = std::getenv("HOME");
+  if (home == nullptr || *home == '\0') return {};
+  return std::string(home) + "/.local/share/flipper/repl_history";
+}
+
+std::unique_ptr<LineReader> make_line_reader(std::istream& in, bool terminal,
+                                             const std::string& history_file) {
+  if (terminal) return std::make_unique<ReadlineReader>(history_file);
   return std::make_unique<StreamReader>(in);
 }
 

@@ -7,32 +7,15 @@
 #include <sstream>
 
 #include "flipper/kernel/replay/output.hpp"
+#include "flipper/kernel/svg.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "out_file.hpp"
 
 namespace flipper::kernel::replay {
 namespace {
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '&')
-      out += "&amp;";
-    else
-      out += c;
-  }
-  return out;
-}
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
+using kernel::svg::escape;  // shared with the world pictures (kernel/svg)
+using kernel::svg::num;
 
 // A "nice" axis maximum: 1, 2 or 5 times a power of ten, at least v.
 double nice_max(double v) {
@@ -47,17 +30,49 @@ const char* kColors[] = {"#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", 
 
 }  // namespace
 
+// Tick labels: integers when the step is whole (counts), else one decimal.
+std::string tick_text(double v, bool whole) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, whole ? "%.0f" : "%.1f", v);
+  return buf;
+}
+
+// Approximate width of a label in the 12 px sans-serif font (for layout, not for typesetting).
+double text_width(const std::string& s) {
+  return 7.0 * static_cast<double>(s.size());
+}
+
 std::string render_svg(const BarChart& c) {
   const double width = std::max(480.0, 120.0 + 40.0 * c.categories.size() * (c.series.size() + 1));
-  const double height = 360, left = 60, right = 20, top = 40, bottom = 70;
-  const double plot_w = width - left - right, plot_h = height - top - bottom;
   double vmax = 0;
+  bool counts = true;  // every value a whole number: integer ticks
   for (std::size_t s = 0; s < c.values.size(); ++s)
     for (std::size_t k = 0; k < c.values[s].size(); ++k) {
       vmax = std::max(vmax, c.values[s][k]);
+      counts = counts && c.values[s][k] == std::floor(c.values[s][k]);
       if (s < c.high.size() && k < c.high[s].size()) vmax = std::max(vmax, c.high[s][k]);
     }
   vmax = nice_max(vmax);
+  // Five steps, fewer when counts would give fractional ticks (vmax 2 -> steps of 1).
+  const int steps = counts && vmax < 5 ? std::max(1, static_cast<int>(vmax)) : 5;
+  const bool whole_ticks = std::floor(vmax / steps) == vmax / steps;
+  double widest = 0;
+  for (int i = 0; i <= steps; ++i)
+    widest = std::max(widest, text_width(tick_text(vmax * i / steps, whole_ticks)));
+  // The y title sits left of the widest tick label, never on it.
+  const double left = 34 + widest, right = 20, top = 40;
+  // The legend wraps into rows that fit the width.
+  std::vector<std::pair<double, int>> legend_at;  // x, row
+  double lx = left;
+  int rows = 1;
+  for (const auto& name : c.series) {
+    const double w = 16 + text_width(name) + 24;
+    if (lx + w > width - right && lx > left) lx = left, ++rows;
+    legend_at.emplace_back(lx, rows - 1);
+    lx += w;
+  }
+  const double bottom = 40 + 20.0 * rows, height = 300 + bottom;
+  const double plot_w = width - left - right, plot_h = height - top - bottom;
   auto y = [&](double v) { return top + plot_h * (1 - v / vmax); };
 
   std::ostringstream o;
@@ -66,15 +81,15 @@ std::string render_svg(const BarChart& c) {
   o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   o << "<text x=\"" << num(width / 2) << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">"
     << escape(c.title) << "</text>\n";
-  // Axis, gridlines and tick labels (5 steps).
-  for (int i = 0; i <= 5; ++i) {
-    const double v = vmax * i / 5, yy = y(v);
+  // Axis, gridlines and tick labels.
+  for (int i = 0; i <= steps; ++i) {
+    const double v = vmax * i / steps, yy = y(v);
     o << "<line x1=\"" << num(left) << "\" x2=\"" << num(left + plot_w) << "\" y1=\"" << num(yy)
       << "\" y2=\"" << num(yy) << "\" stroke=\"#ddd\"/>\n";
     o << "<text x=\"" << num(left - 6) << "\" y=\"" << num(yy + 4) << "\" text-anchor=\"end\">"
-      << num(v) << "</text>\n";
+      << tick_text(v, whole_ticks) << "</text>\n";
   }
-  o << "<text transform=\"translate(14," << num(top + plot_h / 2)
+  o << "<text transform=\"translate(16," << num(top + plot_h / 2)
     << ") rotate(-90)\" text-anchor=\"middle\">" << escape(c.y_label) << "</text>\n";
   const double cluster = plot_w / std::max<std::size_t>(1, c.categories.size());
   const double bar = cluster / (c.series.size() + 1);
@@ -98,12 +113,12 @@ std::string render_svg(const BarChart& c) {
   }
   o << "<line x1=\"" << num(left) << "\" x2=\"" << num(left + plot_w) << "\" y1=\""
     << num(top + plot_h) << "\" y2=\"" << num(top + plot_h) << "\" stroke=\"black\"/>\n";
-  // Legend below the axis.
+  // Legend below the axis, wrapped into rows.
   for (std::size_t s = 0; s < c.series.size(); ++s) {
-    const double lx = left + 150.0 * s, ly = height - 24;
-    o << "<rect x=\"" << num(lx) << "\" y=\"" << num(ly - 10)
+    const double x = legend_at[s].first, ly = top + plot_h + 44 + 20.0 * legend_at[s].second;
+    o << "<rect x=\"" << num(x) << "\" y=\"" << num(ly - 10)
       << "\" width=\"12\" height=\"12\" fill=\"" << kColors[s % 6] << "\"/><text x=\""
-      << num(lx + 16) << "\" y=\"" << num(ly) << "\">" << escape(c.series[s]) << "</text>\n";
+      << num(x + 16) << "\" y=\"" << num(ly) << "\">" << escape(c.series[s]) << "</text>\n";
   }
   o << "</svg>\n";
   return o.str();
@@ -173,15 +188,22 @@ void write_figures(const std::string& dir, const Metrics& m) {
       {{m.original.others.max, m.original.self.max}, {m.ours.others.max, m.ours.self.max}}};
   save(dir, "others_self.svg", os);
 
-  BarChart lat{"Query latency (log-scale bins, ms)",
+  // The two series measure different things, and say so: the original's logged server wall
+  // time per query vs our in-process parse + plan time (the answer's `ms`).
+  BarChart lat{"Query latency (log-scale bins, ms; different measures)",
                "queries",
                {},
-               {"original walltime", "ours"},
+               {"original: logged server wall time", "ours: in-process parse + plan"},
                {{}, {}},
                {},
                {}};
   const auto& edges = latency_bins();
-  for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
+  // Only the occupied range of bins.
+  std::size_t first = edges.size(), last = 0;
+  for (std::size_t i = 0; i + 1 < edges.size(); ++i)
+    if (m.original_latency.histogram[i] + m.our_latency.histogram[i] > 0)
+      first = std::min(first, i), last = i;
+  for (std::size_t i = first; i <= last && i + 1 < edges.size(); ++i) {
     char label[48];
     std::snprintf(label, sizeof label, "%g",
                   edges[i] < 1 ? std::round(edges[i] * 1000) / 1000 : std::round(edges[i]));

@@ -78,6 +78,19 @@ sdk::WorldState load_world_path(const sdk::World& world, const std::string& who,
   return load_world(world, who, config, text, fs::absolute(path_or_json).parent_path().string());
 }
 
+// A missing file named by a path key: the message names the resolved path and the rule that
+// resolved it (a copied config otherwise fails with a puzzling "cannot read").
+void require_file(const Config& config, const std::string& key, const char* code,
+                  const char* what) {
+  const std::string path = config.get_path(key);
+  std::error_code ec;
+  // Existence only: what kind of file it is (regular, within the size limit) is checked when it
+  // is read, with its own codes (not_a_regular_file, file_too_large).
+  if (!fs::exists(path, ec))
+    throw Error(code, std::string("no ") + what + " at '" + path + "' (" +
+                          config.path_origin(key) + ")");
+}
+
 }  // namespace
 
 std::unique_ptr<Runtime> make_runtime(const Config& config) {
@@ -102,6 +115,7 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
                                        world_name + "'; choose a planner with " +
                                        (dims == 3 ? "supports_3d" : "supports_2d"));
 
+  require_file(config, "grammar.file", codes::kBadGrammar, "grammar file");
   const std::string grammar_file = config.get_path("grammar.file");
   check_regular_file(grammar_file, InputLimits::from_config(config).max_file_bytes, "grammar file",
                      codes::kBadGrammar);
@@ -110,6 +124,7 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
       config.get_string_list("grammar.shapes"), config.get_string_list("grammar.directions")));
   guarded(config.plugin_name("parser"), [&] { rt->parser->set_grammar(rt->core_grammar); });
 
+  require_file(config, "world.file", codes::kBadWorld, "world file");
   rt->default_world =
       load_world_path(*rt->world, world_name, config, config.get_path("world.file"));
   return rt;

@@ -162,6 +162,7 @@ Json Session::op_query(const Json& req) {
   Json answer;
   answer["status"] = status;
   answer["candidates"] = std::move(list);
+  answer["total"] = cands.size();  // distinct readings found; `candidates` holds the first k
   answer["ms"] = ms;
   return answer;
 }

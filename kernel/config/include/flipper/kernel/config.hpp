@@ -20,8 +20,10 @@
 ///              max_body_lines, max_file_bytes}
 ///   session:  {k, deadline_ms}
 ///   plugin_paths: [dirs]
-/// Relative paths resolve against the config file's directory (the embedded default behaves as
-/// if it lived in the source tree's configs/).
+/// Paths, one rule (README "Paths"): a relative path written in a config file resolves against
+/// that file's directory (the embedded default behaves as if it lived in the source tree's
+/// configs/); a relative path given on the command line (`--set key=path`) resolves against the
+/// current directory.
 
 #include <cstdint>
 #include <memory>
@@ -48,6 +50,12 @@ class Config {
   const std::string& base_dir() const;
   /// Resolves a path relative to base_dir(); "~/" expands to $HOME. Empty stays empty.
   std::string resolve_path(const std::string& path) const;
+  /// Resolves the value `path` of key `key`: against the current directory when `key` was given
+  /// by --set, else against base_dir().
+  std::string resolve_path_of(const std::string& key, const std::string& path) const;
+  /// Where a path key's value came from and what it is relative to, for error messages:
+  /// "grammar.file 'g.grammar' from F: relative to its directory D".
+  std::string path_origin(const std::string& key) const;
 
   /// Typed access by dotted key ("execution.action_budget"). Throws bad_config when absent or
   /// of the wrong type (after validation these only fail on programming errors).
@@ -61,8 +69,10 @@ class Config {
   /// Sets a key after loading (same syntax and validation as --set).
   void set(const std::string& assignment);
 
-  /// A Path-typed key resolved with resolve_path() ("grammar.file" -> absolute path).
+  /// A Path-typed key resolved with resolve_path_of() ("grammar.file" -> absolute path).
   std::string get_path(const std::string& key) const;
+  /// A PathList key, each element resolved with resolve_path_of().
+  std::vector<std::string> get_path_list(const std::string& key) const;
   /// Whether a plugin section ("rewriter", "similarity", ...) is present.
   bool has_section(const std::string& section) const { return has(section + ".plugin"); }
   /// The plugin name a section selects ("planner" -> "astar"). Throws bad_config when absent.

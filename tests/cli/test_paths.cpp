@@ -1,0 +1,85 @@
+// The one path rule (README "Paths"): relative paths given on the command line (--set) resolve
+// against the current directory, relative paths written in a config file against that file's
+// directory; a missing file is named with the path it resolved to and where the value came from.
+#include "cli_test_support.hpp"
+
+using namespace flipper::clitest;
+
+namespace {
+// A fresh, empty directory under build/tests/tmp/cli.
+std::string scratch_dir(const std::string& name) {
+  const auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "cli" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+}  // namespace
+namespace fs = std::filesystem;
+
+namespace {
+// Runs flipper from `dir`: run_flipper puts the binary first, so a harmless `--version` goes
+// there and the real command follows after the `cd`.
+Run run_from(const fs::path& dir, const std::string& args) {
+  return run_flipper("--version >/dev/null && cd '" + dir.string() + "' && " +
+                     std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args);
+}
+}  // namespace
+
+TEST_CASE("command-line (--set) paths resolve against the current directory", "[cli][paths]") {
+  const fs::path dir = fs::path(scratch_dir("paths-cwd"));
+  fs::create_directories(dir);
+  fs::copy_file(fs::path(FLIPPER_SOURCE_DIR) / "configs/worlds/study2018.json", dir / "mine.json",
+                fs::copy_options::overwrite_existing);
+  // Before the rule this looked for configs/mine.json next to the embedded default.
+  const Run r = run_from(dir, "run --set lexicon.path=:memory: --set world.file=mine.json '{move up}'");
+  INFO(r.out);
+  CHECK(r.status == 0);
+  CHECK(contains(r.out, "move [2,5]"));
+
+  // A lexicon path lands in the current directory, and the message names where.
+  fs::remove(dir / "store.sqlite");
+  const Run s = run_from(dir, "lexicon import - --set lexicon.path=store.sqlite < /dev/null");
+  INFO(s.out);
+  CHECK(s.status == 0);
+  CHECK(contains(s.out, "into " + (dir / "store.sqlite").string()));
+  CHECK(fs::exists(dir / "store.sqlite"));
+
+  // A plugin_paths entry that is not a directory is an error naming the resolved path (it was
+  // dropped silently before).
+  const Run p = run_from(dir, "plugins --set 'plugin_paths=[no-such-dir]'");
+  INFO(p.out);
+  CHECK(p.status == 2);
+  CHECK(contains(p.out, "flipper plugins: [bad_config] plugin_paths entry 'no-such-dir' resolves to '" +
+                            (dir / "no-such-dir").string() + "', which is not a directory"));
+  CHECK(contains(p.out, "from --set: relative to the current directory " + dir.string()));
+}
+
+TEST_CASE("paths in a config file resolve against its directory, and a copied config says why it fails",
+          "[cli][paths]") {
+  const fs::path dir = fs::path(scratch_dir("paths-config"));
+  fs::create_directories(dir / "sub");
+  fs::copy_file(fs::path(FLIPPER_SOURCE_DIR) / "configs/worlds/study2018.json",
+                dir / "sub" / "w.json", fs::copy_options::overwrite_existing);
+  fs::copy_file(fs::path(FLIPPER_SOURCE_DIR) / "configs/grammars/core.grammar",
+                dir / "sub" / "g.grammar", fs::copy_options::overwrite_existing);
+  std::ofstream(dir / "sub" / "c.yaml") << "world: {plugin: grid2d, file: w.json}\n"
+                                           "grammar: {file: g.grammar}\n"
+                                           "lexicon: {path: lex.sqlite}\n";
+  // Run from another directory: the config's own paths still resolve next to it.
+  const Run ok = run_from(dir, "run --config sub/c.yaml '{move up}'");
+  INFO(ok.out);
+  CHECK(ok.status == 0);
+  CHECK(contains(ok.out, "move [2,5]"));
+  CHECK(fs::exists(dir / "sub" / "lex.sqlite"));
+
+  // configs/default.yaml copied elsewhere: its grammars/ and worlds/ are not next to the copy.
+  fs::copy_file(fs::path(FLIPPER_SOURCE_DIR) / "configs/default.yaml", dir / "copy.yaml",
+                fs::copy_options::overwrite_existing);
+  const Run bad = run_from(dir, "config check copy.yaml");
+  INFO(bad.out);
+  CHECK(bad.status == 2);
+  CHECK(contains(bad.out, "flipper config check: [bad_grammar] no grammar file at '" +
+                              (dir / "grammars/core.grammar").string() +
+                              "' (grammar.file 'grammars/core.grammar' from copy.yaml: relative to "
+                              "its directory " + dir.string() + ")"));
+}

@@ -1,0 +1,82 @@
+// docs/language.md: every example of its construct table, run on the study map with
+// `flipper run --json`, ends where the guide says, moving, picking, dropping and warning as it
+// says. The table is read through the repl's embedded copy (guide_examples), so this also checks
+// that `:examples` shows the guide as it is.
+#include <sys/wait.h>
+
+#include <array>
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "flipper/kernel/repl.hpp"
+
+using nlohmann::json;
+
+namespace {
+
+std::string flipper_run_json(const std::string& program) {
+  const std::string cmd = std::string(FLIPPER_BINARY_DIR) +
+                          "/bin/flipper run --json --set lexicon.path=:memory: '" + program +
+                          "' 2>/dev/null";
+  std::string out;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::array<char, 4096> buf{};
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  ::pclose(p);
+  return out;
+}
+
+std::string plural(std::size_t n, const char* word) {
+  return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+// "ends at [x,y], N moves[; picks a, b][; drops c][; K warnings]" -- the guide's result format.
+std::string summary(const json& a) {
+  std::size_t moves = 0;
+  std::string picks, drops;
+  for (const auto& s : a["trace"]) {
+    const std::string act = s["act"];
+    if (act == "move") {
+      ++moves;
+      continue;
+    }
+    std::string& list = act == "pick" ? picks : drops;
+    list += (list.empty() ? "" : ", ") + s["item"]["color"].get<std::string>() + " " +
+            s["item"]["shape"].get<std::string>();
+  }
+  const json& r = a["world"]["robot"];
+  std::string out = "ends at [" + std::to_string(r["x"].get<int>()) + "," +
+                    std::to_string(r["y"].get<int>()) + "], " + plural(moves, "move");
+  if (!picks.empty()) out += "; picks " + picks;
+  if (!drops.empty()) out += "; drops " + drops;
+  if (!a["warnings"].empty()) out += "; " + plural(a["warnings"].size(), "warning");
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("every example of the language guide does what the guide says", "[readme][guide]") {
+  const auto examples = flipper::kernel::repl::guide_examples();
+  // The guide's table, counted independently of the parser under test.
+  std::ifstream md(std::string(FLIPPER_SOURCE_DIR) + "/docs/language.md");
+  std::stringstream text;
+  text << md.rdbuf();
+  std::size_t rows = 0;
+  for (std::string line; std::getline(text, line);) rows += line.rfind("| ", 0) == 0 &&
+                                                            line.find(" | `") != std::string::npos;
+  REQUIRE(rows >= 30);
+  REQUIRE(examples.size() == rows);
+  for (const auto& e : examples) {
+    INFO("docs/language.md example: " << e.example);
+    const std::string out = flipper_run_json(e.example);
+    INFO("flipper run --json: " << out);
+    const json a = json::parse(out);
+    REQUIRE(a["ok"] == true);
+    CHECK(summary(a) == e.result);
+  }
+  CHECK_THAT(flipper::kernel::repl::examples_text(), Catch::Contains("  visit room1\n"));
+}
