@@ -33,7 +33,7 @@ std::string scratch_dir(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("run: floating + perceptron read extra words; chart refuses them") {
+TEST_CASE("run: floating + perceptron read extra words, chart refuses them") {
   const auto r =
       run_flipper("run --set lexicon.path=:memory:" + kSwap + " 'please visit room1 now'");
   INFO(r.out);

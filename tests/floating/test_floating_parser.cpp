@@ -104,7 +104,7 @@ TEST_CASE("bounds: max_skips, words only, skip_cost") {
   CHECK(costly.parse("please visit room1").candidates.at(0).score == Approx(exact - 10.0));
 }
 
-TEST_CASE("max_skips=0 parses exactly as chart; exact candidates are chart's") {
+TEST_CASE("max_skips=0 parses exactly as chart, exact candidates are chart's") {
   auto& chart = parsetest::shared_stack();
   FloatingStack none({"parser.params.max_skips=0"});
   auto& st = shared();
@@ -128,7 +128,7 @@ TEST_CASE("max_skips=0 parses exactly as chart; exact candidates are chart's") {
   }
 }
 
-TEST_CASE("head charts hold exact derivations only; induced rules float too") {
+TEST_CASE("head charts hold exact derivations only, induced rules float too") {
   auto& st = shared();
   sdk::ParseRequest req;
   req.tokens = sdk::tokenize("please pick 3 items now");

@@ -138,7 +138,7 @@ TEST_CASE("alignment: throw item := drop item, pick all := pick every item",
   CHECK(off.parses_to("drop all", off.core("drop every item")));
 }
 
-TEST_CASE("gather red; red to room1: definitions build on definitions", "[induction][examples]") {
+TEST_CASE("gather red, red to room1: definitions build on definitions", "[induction][examples]") {
   Lexicon lex;
   const auto gather = lex.define(
       "gather red",

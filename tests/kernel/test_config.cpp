@@ -49,7 +49,7 @@ TEST_CASE("the embedded default is configs/default.yaml", "[config]") {
   CHECK(file.base_dir() == std::string(FLIPPER_SOURCE_DIR) + "/configs");
 }
 
-TEST_CASE("a small file gets schema defaults; optional sections stay absent", "[config]") {
+TEST_CASE("a small file gets schema defaults, optional sections stay absent", "[config]") {
   const auto path = kerneltest::write_temp("small.yaml", "session: {k: 5}\n");
   const Config c = Config::load(path, {});
   CHECK(c.get_int("session.k") == 5);
@@ -212,7 +212,7 @@ struct SetCase {
 };
 }  // namespace
 
-TEST_CASE("set overrides take text keys verbatim unless quoted; other keys are YAML", "[config][set]") {
+TEST_CASE("set overrides take text keys verbatim unless quoted, other keys are YAML", "[config][set]") {
   const std::vector<SetCase> cases = {
       {"lexicon.path=:memory:", "lexicon.path", ":memory:"},
       {"lexicon.path=\":memory:\"", "lexicon.path", ":memory:"},

@@ -69,7 +69,7 @@ TEST_CASE("issue 13.1: a statement hole is $Action, never $ROOT", "[naturalize][
   CHECK_FALSE(contains(f, canonical("{repeat 3 times {{move left};{move right}}}")));
 }
 
-TEST_CASE("issue 13.1: a stored $ROOT rule is not served; the warning says how to re-induce",
+TEST_CASE("issue 13.1: a stored $ROOT rule is not served, the warning says how to re-induce",
           "[naturalize][issue13]") {
   const std::string path = scratch_path("root-rule") + ".sqlite";
   {

@@ -69,7 +69,7 @@ TEST_CASE("sharing modes decide whose rules a user parses with", "[naturalize]")
   }
 }
 
-TEST_CASE("only the author deletes a rule; the store keeps the history", "[naturalize]") {
+TEST_CASE("only the author deletes a rule, the store keeps the history", "[naturalize]") {
   const std::string store = scratch_path("lex") + ".sqlite";
   std::string id;
   {

@@ -54,7 +54,7 @@ TEST_CASE("ompl: 3-D path between floors is snapped, connected and collision-fre
   REQUIRE(r.expansions > 0);
 }
 
-TEST_CASE("ompl: the avoid set is an obstacle; the start is exempt", "[ompl]") {
+TEST_CASE("ompl: the avoid set is an obstacle, the start is exempt", "[ompl]") {
   const auto g = u_turn();
   auto planner = ompl();
   // Avoid row y = 7 left of the wall except at x = 5: the way up to the opening (6,8) is the
@@ -99,7 +99,7 @@ TEST_CASE("ompl: a goal inside the avoid set is not a goal unless it is the star
   REQUIRE(r.path.empty());
 }
 
-TEST_CASE("ompl: the same seed gives the same path; traits follow the seed", "[ompl]") {
+TEST_CASE("ompl: the same seed gives the same path, traits follow the seed", "[ompl]") {
   const sdk::WorldState s = testsupport::two_floors();
   const sdk::PathRequest req{s.robot, &s.rooms->at("room4"), nullptr};
   for (const char* name : {"rrtconnect", "rrt", "rrtstar"}) {

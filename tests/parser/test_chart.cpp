@@ -57,7 +57,7 @@ TEST_CASE("chart parser passes the parser conformance kit") {
        "pick every item has color red and has shape square"});
 }
 
-TEST_CASE("trailing ; and possible (§3.1)") {
+TEST_CASE("trailing semicolon and possible (§3.1)") {
   auto& st = parsetest::shared_stack();
   auto r = st.parse("if possible move left ; move right");
   REQUIRE(r.candidates.size() == 1);

@@ -65,7 +65,7 @@ TEST_CASE("features of a node and the initial score") {
   CHECK(st.scorer->score_node(d, ctx) == 0.0);
 }
 
-TEST_CASE("per-user weights learn separately; bad accept index is rejected") {
+TEST_CASE("per-user weights learn separately, bad accept index is rejected") {
   auto parser = testsupport::load_plugin<sdk::Parser>("chart");
   parser->set_grammar(parsetest::core_grammar());
   auto scorer =

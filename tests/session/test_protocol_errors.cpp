@@ -37,7 +37,7 @@ TEST_CASE("malformed lines are bad_json and keep the state", "[session][protocol
   CHECK(ask(*s, R"({"op":"state"})")["world"] == before);
 }
 
-TEST_CASE("op and id are echoed; unknown ops and fields", "[session][protocol]") {
+TEST_CASE("op and id are echoed, unknown ops and fields", "[session][protocol]") {
   auto s = flipper::testsupport::bare_session();
   Json a = ask(*s, R"({"op":"state","id":{"n":[1,"x"]},"extra":true})");
   CHECK(a["ok"] == true);

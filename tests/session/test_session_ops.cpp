@@ -56,7 +56,7 @@ TEST_CASE("a malformed world is bad_world and the old world stays", "[session][o
   CHECK(ask(*s, R"({"op":"state"})")["world"] == before);
 }
 
-TEST_CASE("user sets the current user; default anonymous", "[session][ops]") {
+TEST_CASE("user sets the current user, default anonymous", "[session][ops]") {
   auto s = flipper::testsupport::bare_session();
   CHECK(s->user() == "anonymous");
   Json a = ask(*s, R"({"op":"user","name":"ana","id":"u"})");

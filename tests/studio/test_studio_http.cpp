@@ -88,7 +88,7 @@ TEST_CASE("a new session gets an unguessable token and its own guest user") {
   CHECK(unknown.body["error"]["code"] == "unknown_session");
 }
 
-TEST_CASE("the page's files are served with their types; unknown paths are 404") {
+TEST_CASE("the page's files are served with their types, unknown paths are 404") {
   StudioServer server(fresh_dir("static"));
   auto http = server.client();
   auto index = http.Get("/");

@@ -81,10 +81,14 @@ run(async () => {
     await page.waitForSelector('[data-testid=rules] li[data-rule]');
     await shot(page, opt.artifacts, 'loop-6-defined');
 
-    // Use it: "go to yellow" has two readings (yellow items / yellow circles) with different plans.
+    // Use it: "go to yellow" is understood through the taught rule.
     a = await query(page, 'go to yellow');
     equal(a.status, 'induced', 'the taught phrase generalises to "go to yellow"');
-    check(a.candidates.length >= 2, '"go to yellow" has several readings', String(a.candidates.length));
+
+    // Flip readings: "visit room3 or room5 containing item is red" has two readings (the `or` binds
+    // either way) whose plans go to different rooms.
+    a = await query(page, 'visit room3 or room5 containing item is red');
+    check(a.candidates.length >= 2, 'an ambiguous command has several readings', String(a.candidates.length));
     await waitAnimation(page);
     const first = await canvasData(page);
     await shot(page, opt.artifacts, 'loop-7-reading-1');
