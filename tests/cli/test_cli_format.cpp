@@ -7,15 +7,6 @@
 
 using namespace flipper::clitest;
 
-namespace {
-// A fresh, empty directory under build/tests/tmp/cli.
-std::string scratch_dir(const std::string& name) {
-  const auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "cli" / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
-}  // namespace
 using nlohmann::json;
 
 TEST_CASE("errors have one format and the documented exit status", "[cli][format]") {

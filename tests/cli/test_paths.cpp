@@ -5,15 +5,6 @@
 
 using namespace flipper::clitest;
 
-namespace {
-// A fresh, empty directory under build/tests/tmp/cli.
-std::string scratch_dir(const std::string& name) {
-  const auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "cli" / name;
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir.string();
-}
-}  // namespace
 namespace fs = std::filesystem;
 
 namespace {

@@ -40,6 +40,14 @@ inline std::string scratch(const std::string& name) {
   return path.string();
 }
 
+/// A fresh, empty directory under build/tests/tmp/cli.
+inline std::string scratch_dir(const std::string& name) {
+  const auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "cli" / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
 inline std::string write_file(const std::string& name, const std::string& text) {
   const std::string path = scratch(name);
   std::ofstream(path) << text;
