@@ -10,27 +10,13 @@
 #include <vector>
 
 #include "flipper/kernel/repl.hpp"
+#include "flipper/kernel/svg.hpp"
 
 namespace flipper::kernel::repl {
 namespace {
 
-struct Pt {
-  int x = 0, y = 0, z = 0;
-};
-
-Pt point_of(const Json& p) {
-  Pt out;
-  if (p.is_array() && p.size() >= 2) {
-    out.x = p[0].get<int>();
-    out.y = p[1].get<int>();
-    if (p.size() >= 3) out.z = p[2].get<int>();
-  } else if (p.is_object()) {
-    out.x = p.value("x", 0);
-    out.y = p.value("y", 0);
-    out.z = p.value("z", 0);
-  }
-  return out;
-}
+using svg::point_of;
+using svg::Pt;
 
 std::string item_name(const Json& item) {
   return item.value("color", std::string("?")) + " " + item.value("shape", std::string("?"));

@@ -7,15 +7,8 @@
 #include "flipper/kernel/svg.hpp"
 
 namespace flipper::kernel::svg {
-namespace {
 
-using Json = nlohmann::ordered_json;
-
-struct Pt {
-  int x = 0, y = 0, z = 0;
-};
-
-Pt point_of(const Json& p) {
+Pt point_of(const nlohmann::ordered_json& p) {
   Pt out;
   if (p.is_array() && p.size() >= 2) {
     out.x = p[0].get<int>();
@@ -28,6 +21,10 @@ Pt point_of(const Json& p) {
   }
   return out;
 }
+
+namespace {
+
+using Json = nlohmann::ordered_json;
 
 // CSS colours for the grammar's colour words; anything else grey.
 std::string css_color(const std::string& c) {

@@ -41,6 +41,13 @@ class Writer {
   std::ostringstream body_;
 };
 
+/// A cell of the protocol, `[x, y]`, `[x, y, z]` or `{x, y, z}` (missing coordinates are 0); the
+/// world picture and the repl's text map both read cells this way.
+struct Pt {
+  int x = 0, y = 0, z = 0;
+};
+Pt point_of(const nlohmann::ordered_json& p);
+
 /// The world (protocol world object, 2-D or one floor of 3-D) as a picture: walls, rooms
 /// (labelled), items (coloured shapes, stacks counted), the robot; with `trace` (protocol trace
 /// steps) the path from `start` as a line, its end, picks and drops. Title on top, a legend
