@@ -70,6 +70,9 @@ class ReadlineReader : public LineReader {
     }
     if (::pipe2(g_wake, O_NONBLOCK | O_CLOEXEC) != 0) g_wake[0] = g_wake[1] = -1;
     rl_catch_signals = 0;  // SIGINT is ours (readline would re-raise it and end the program)
+    // Readline keeps its SIGWINCH handler while a line is read, not only while a key is handled,
+    // so a resize during the poll is noticed (rl_check_signals below).
+    rl_persistent_signal_handlers = 1;
     struct sigaction sa {};
     sa.sa_handler = on_sigint;
     sigemptyset(&sa.sa_mask);
@@ -101,7 +104,10 @@ class ReadlineReader : public LineReader {
         g_delivery = nullptr;
         return Read::interrupted;
       }
-      if (ready < 0 && errno == EINTR) continue;
+      if (ready < 0 && errno == EINTR) {
+        rl_check_signals();  // a window resize: readline redraws the line for the new width
+        continue;
+      }
       if (ready < 0) break;
       if ((fds[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0) rl_callback_read_char();
     }
