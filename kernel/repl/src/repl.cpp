@@ -18,7 +18,7 @@ namespace {
 // How many readings one query keeps for paging with `m` (each is planned, so not unbounded).
 constexpr int kKeep = 30;
 
-// The commands; help_text() adds the language's constructs from docs/language.md.
+// The commands; guide_help_text() adds the constructs and sections of docs/language.md.
 const char* kCommands =
     "Type an utterance (e.g. `visit room1; pick item is red`) to see its readings, each with its\n"
     "path drawn on the map (o path, E end, P pick, D drop).\n"
