@@ -11,6 +11,13 @@
 # sidecar in <prefix>/lib/flipper/plugins, where an installed kernel looks.
 include_guard(GLOBAL)
 include(GNUInstallDirs)
+# Warnings of plugin code: in tree the project's strict set (FLIPPER_STRICT_WARNINGS, which
+# FLIPPER_WERROR makes errors), out of tree -Wall -Wextra.
+if(DEFINED FLIPPER_STRICT_WARNINGS)
+  set(FLIPPER_PLUGIN_WARNINGS ${FLIPPER_STRICT_WARNINGS})
+else()
+  set(FLIPPER_PLUGIN_WARNINGS -Wall -Wextra)
+endif()
 set(FLIPPER_PLUGIN_INSTALL_DIR "lib/flipper/plugins" CACHE STRING
   "Plugin install directory, relative to the prefix (the kernel searches <exe>/../lib/flipper/plugins)")
 
@@ -68,8 +75,21 @@ function(flipper_add_plugin name)
     CXX_STANDARD 20
     CXX_STANDARD_REQUIRED ON)
   # g++ only: clang never emits STB_GNU_UNIQUE symbols (and has no such flag).
-  target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-fno-gnu-unique> -Wall -Wextra)
+  target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-fno-gnu-unique>
+    ${FLIPPER_PLUGIN_WARNINGS})
   target_link_options(${target} PRIVATE -Wl,-z,nodelete)
+  # The entry function is the plugin's only exported symbol: template instantiations of std::
+  # (default visibility despite -fvisibility=hidden) stay local, so two plugins never bind to
+  # each other's copies and the dynamic symbol table stays small.
+  set(version_script ${CMAKE_BINARY_DIR}/flipper_plugin.map)
+  if(NOT EXISTS ${version_script})
+    file(WRITE ${version_script} "{ global: flipper_plugin_entry; local: *; };\n")
+  endif()
+  target_link_options(${target} PRIVATE -Wl,--version-script=${version_script})
+  set_property(TARGET ${target} APPEND PROPERTY LINK_DEPENDS ${version_script})
+  # One source for the version: the sidecar and the descriptor (FLIPPER_PLUGIN(..., version, ...)
+  # with FLIPPER_PLUGIN_VERSION) both take VERSION.
+  target_compile_definitions(${target} PRIVATE FLIPPER_PLUGIN_VERSION="${FAP_VERSION}")
   if(NOT FLIPPER_PLUGIN_ALLOW_UNDEFINED)  # sanitizer builds: see FlipperSanitize.cmake
     target_link_options(${target} PRIVATE -Wl,--no-undefined)
   endif()

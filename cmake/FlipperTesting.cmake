@@ -29,7 +29,7 @@ function(flipper_add_conformance_test plugin)
     target_link_libraries(${test} PRIVATE Flipper::sdk)
   endif()
   target_link_libraries(${test} PRIVATE Catch2::Catch2WithMain ${FACT_LIBRARIES})
-  target_compile_definitions(${test} PRIVATE BOOST_DLL_USE_STD_FS
+  target_compile_definitions(${test} PRIVATE
     FLIPPER_CONFORMANCE_PLUGIN="${plugin}"
     FLIPPER_CONFORMANCE_PLUGIN_PATH="$<TARGET_FILE:flipper_plugin_${plugin}>")
   set_target_properties(${test} PROPERTIES CXX_STANDARD 20 CXX_STANDARD_REQUIRED ON)

@@ -6,6 +6,7 @@
 // - peak resident memory (VmHWM) of a `flipper session` process that answered every query.
 // Usage: bench_session [--corpus FILE] [--flipper BIN] [--runs N] [--latency-only 1]
 //                      [--slowest N]   (lists the N queries with the most CPU time, k shown)
+#include <nlohmann/json.hpp>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>

@@ -124,5 +124,5 @@ class BfsPlanner : public flipper::sdk::Planner {
 
 }  // namespace bfs_example
 
-FLIPPER_PLUGIN(bfs_example::BfsPlanner, planner, "bfs_example", "0.1.0",
+FLIPPER_PLUGIN(bfs_example::BfsPlanner, planner, "bfs_example", FLIPPER_PLUGIN_VERSION,
                "Breadth-first search on the world's cell graph (out-of-tree example)")

@@ -232,6 +232,6 @@ class AStarPlanner final : public sdk::Planner {
 }  // namespace
 }  // namespace flipper::plugins::astar
 
-FLIPPER_PLUGIN(flipper::plugins::astar::AStarPlanner, planner, "astar", "1.0.0",
+FLIPPER_PLUGIN(flipper::plugins::astar::AStarPlanner, planner, "astar", FLIPPER_PLUGIN_VERSION,
                "Breadth-first shortest paths with the core language's tie rules; Christofides "
                "tours improved by 2-opt and Or-opt")

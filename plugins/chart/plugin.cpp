@@ -29,5 +29,5 @@ void ChartParser::do_remove_rule(const std::string& id) {
 
 }  // namespace flipper::chart
 
-FLIPPER_PLUGIN(flipper::chart::ChartParser, parser, "chart", "1.0.0",
+FLIPPER_PLUGIN(flipper::chart::ChartParser, parser, "chart", FLIPPER_PLUGIN_VERSION,
                "Exhaustive CKY-style chart parser over core and induced rules")

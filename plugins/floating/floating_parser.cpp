@@ -50,5 +50,5 @@ bool skippable(const std::string& token) {
 
 }  // namespace flipper::floating
 
-FLIPPER_PLUGIN(flipper::floating::FloatingParser, parser, "floating", "1.0.0",
+FLIPPER_PLUGIN(flipper::floating::FloatingParser, parser, "floating", FLIPPER_PLUGIN_VERSION,
                "Skip-tolerant chart parser (SEMPRE FloatingParser style): skipped words cost")

@@ -55,5 +55,5 @@ class Glove : public sdk::Similarity {
 
 }  // namespace flipper::plugins::glove
 
-FLIPPER_PLUGIN(flipper::plugins::glove::Glove, similarity, "glove", "1.0.0",
+FLIPPER_PLUGIN(flipper::plugins::glove::Glove, similarity, "glove", FLIPPER_PLUGIN_VERSION,
                "Cosine of averaged GloVe/word2vec vectors (the original's similarity)")

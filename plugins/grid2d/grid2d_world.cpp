@@ -73,5 +73,5 @@ class Grid2dWorld final : public sdk::World {
 }  // namespace
 }  // namespace flipper::plugins
 
-FLIPPER_PLUGIN(flipper::plugins::Grid2dWorld, world, "grid2d", "1.0.0",
+FLIPPER_PLUGIN(flipper::plugins::Grid2dWorld, world, "grid2d", FLIPPER_PLUGIN_VERSION,
                "2-D grid world: walls on integer cells, 4-neighbourhood (right, left, up, down)")

@@ -154,5 +154,5 @@ class LogLinear : public sdk::Scorer {
 
 }  // namespace flipper::loglinear
 
-FLIPPER_PLUGIN(flipper::loglinear::LogLinear, scorer, "loglinear", "1.0.0",
+FLIPPER_PLUGIN(flipper::loglinear::LogLinear, scorer, "loglinear", FLIPPER_PLUGIN_VERSION,
                "Log-linear ranking model with AdaGrad + L1 learning on accept")

@@ -131,5 +131,5 @@ class OctomapWorld final : public sdk::World {
 }  // namespace flipper::octomap3d
 
 FLIPPER_PLUGIN(
-    flipper::octomap3d::OctomapWorld, world, "octomap3d", "1.0.0",
+    flipper::octomap3d::OctomapWorld, world, "octomap3d", FLIPPER_PLUGIN_VERSION,
     "3-D world: OctoMap octree obstacles (.bt or boxes), FCL body collision, 6-neighbourhood")

@@ -156,5 +156,5 @@ class OmplPlanner final : public sdk::Planner {
 
 }  // namespace flipper::omplplanner
 
-FLIPPER_PLUGIN(flipper::omplplanner::OmplPlanner, planner, "ompl", "1.0.0",
+FLIPPER_PLUGIN(flipper::omplplanner::OmplPlanner, planner, "ompl", FLIPPER_PLUGIN_VERSION,
                "OMPL sampling planner (RRT-Connect, RRT, PRM, RRT*) with paths snapped to cells")

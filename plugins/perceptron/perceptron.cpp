@@ -162,5 +162,5 @@ class Perceptron : public sdk::Scorer {
 
 }  // namespace flipper::perceptron
 
-FLIPPER_PLUGIN(flipper::perceptron::Perceptron, scorer, "perceptron", "1.0.0",
+FLIPPER_PLUGIN(flipper::perceptron::Perceptron, scorer, "perceptron", FLIPPER_PLUGIN_VERSION,
                "Averaged structured perceptron over the loglinear features")

@@ -120,5 +120,5 @@ class Rewrites : public sdk::Rewriter {
 
 }  // namespace flipper::plugins::rewrites
 
-FLIPPER_PLUGIN(flipper::plugins::rewrites::Rewrites, rewriter, "rewrites", "1.0.0",
+FLIPPER_PLUGIN(flipper::plugins::rewrites::Rewrites, rewriter, "rewrites", FLIPPER_PLUGIN_VERSION,
                "Loop rolling, moves to visit, visit/pick/drop by predicate (naturalization §6)")

@@ -53,5 +53,5 @@ class WordNet : public sdk::Similarity {
 
 }  // namespace flipper::plugins::wordnet
 
-FLIPPER_PLUGIN(flipper::plugins::wordnet::WordNet, similarity, "wordnet", "1.0.0",
+FLIPPER_PLUGIN(flipper::plugins::wordnet::WordNet, similarity, "wordnet", FLIPPER_PLUGIN_VERSION,
                "Wu-Palmer word similarity over WordNet, best-match averaged (offline)")

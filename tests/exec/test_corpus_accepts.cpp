@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "corpus_data.hpp"
 #include "flipper/corpus/accept_diff.hpp"

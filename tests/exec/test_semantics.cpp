@@ -1,5 +1,6 @@
 // Constructs of core-language §4, the paper's programs, bad and runaway programs.
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "flipper/kernel/protocol.hpp"
 #include "study_fixture.hpp"

@@ -2,6 +2,7 @@
 // (configs/worlds/study2018.json, the default world; the robot starts at [2,4]) through the
 // session protocol with the default config (rewrites + wordnet generalization on).
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"

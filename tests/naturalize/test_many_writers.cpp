@@ -1,6 +1,7 @@
 // Naturalization over a store other writers share (issue 11): heads with '$' tokens refused, bad
 // stored rules quarantined instead of locking everyone out, hidden rules answer not_found, and an
 // accept whose lexicon transaction fails applies nothing (a retry applies it once).
+#include <nlohmann/json.hpp>
 #include <sqlite3.h>
 
 #include <catch2/catch.hpp>

@@ -2,6 +2,7 @@
 // deletion history, generalization, persistence across restarts, preload.
 #include <catch2/catch.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "naturalize_fixture.hpp"

@@ -2,6 +2,7 @@
 // `red to room1` are defined with a colour, and a shape then works in their place — the rule holes
 // are Property holes — also after a restart (the stored templates read back).
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include <set>
 #include <tuple>

@@ -3,6 +3,7 @@
 // session killed with SIGKILL at random moments never loses a definition it answered.
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <set>
 #include <thread>

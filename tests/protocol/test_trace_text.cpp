@@ -1,6 +1,7 @@
 // append_trace_text must write exactly what dumping trace_json writes (the session splices it
 // into answers in place of the tree).
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 

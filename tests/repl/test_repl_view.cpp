@@ -1,5 +1,6 @@
 // The text map and candidate descriptions, on hand-made world and candidate objects.
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "flipper/repl/repl.hpp"

@@ -1,6 +1,7 @@
 // The accept classifier (flipper/corpus/accept_diff.hpp) on hand-made worlds: each class is
 // reached by the case it names, and the first matching class wins.
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "../generalize/study_env.hpp"

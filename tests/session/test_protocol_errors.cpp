@@ -1,5 +1,6 @@
 // Protocol framing and every error case: bad lines never end the session or lose state.
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "session_fixture.hpp"
 

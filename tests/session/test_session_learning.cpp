@@ -1,5 +1,6 @@
 // Accepting the second reading of an ambiguous utterance moves it to rank 0 (naturalization §3).
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "session_fixture.hpp"
 

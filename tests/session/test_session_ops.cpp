@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "flipper/sdk/canonical.hpp"
 #include "session_fixture.hpp"

@@ -1,12 +1,13 @@
 #pragma once
-// Test support: loads a built in-tree plugin straight from build/plugins/<name>.so (through the
-// SDK entry point and Boost.DLL, without the kernel loader) so tests of one component do not
-// depend on the whole kernel. The returned shared_ptr keeps the library loaded.
-#include <boost/dll/shared_library.hpp>
+// Test support: loads a built in-tree plugin straight from build/plugins/<name>.so through the
+// SDK's host loader (the kernel's own way of opening and checking a library, without the
+// kernel's index or config) so tests of one component do not depend on the whole kernel. The
+// returned shared_ptr keeps the library loaded.
 #include <memory>
 #include <stdexcept>
 #include <string>
 
+#include "flipper/sdk/host_loader.hpp"
 #include "flipper/sdk/plugin.hpp"
 
 namespace flipper::testsupport {
@@ -14,15 +15,8 @@ namespace flipper::testsupport {
 template <class Interface>
 std::shared_ptr<Interface> load_plugin(const std::string& name, const sdk::Params& params = {},
                                        const std::string& dir = FLIPPER_PLUGIN_DIR) {
-  auto lib = std::make_shared<boost::dll::shared_library>(
-      dir + "/" + name + ".so", boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local);
-  auto entry = lib->get<const FlipperPluginDescriptor*(const FlipperHandshake*, FlipperHandshake*)>(
-      FLIPPER_PLUGIN_ENTRY_SYMBOL);
-  const FlipperHandshake mine{FLIPPER_PLUGIN_ABI, sizeof(FlipperPluginDescriptor),
-                              alignof(FlipperPluginDescriptor)};
-  FlipperHandshake theirs{};
-  const FlipperPluginDescriptor* d = entry(&mine, &theirs);
-  if (d == nullptr) throw std::runtime_error("handshake failed for plugin " + name);
+  const sdk::host::Library lib = sdk::host::open_library(dir + "/" + name + ".so");
+  const FlipperPluginDescriptor* d = &sdk::host::checked_descriptor(lib, name);
   if (d->kind != static_cast<std::uint32_t>(sdk::KindOf<Interface>::value))
     throw std::runtime_error("plugin " + name + " is not of the requested kind");
   // Fill defaults from the schema for parameters the test did not set.
@@ -39,7 +33,8 @@ std::shared_ptr<Interface> load_plugin(const std::string& name, const sdk::Param
   }
   auto destroy = d->destroy;
   // The deleter owns the library: the object is destroyed before the library can go away.
-  return std::shared_ptr<Interface>(typed, [lib, destroy, raw](Interface*) { destroy(raw); });
+  return std::shared_ptr<Interface>(typed,
+                                    [handle = lib.handle, destroy, raw](Interface*) { destroy(raw); });
 }
 
 }  // namespace flipper::testsupport

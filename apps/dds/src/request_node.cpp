@@ -1,6 +1,7 @@
 #include "flipper/dds/request_node.hpp"
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 #include <ostream>
 
 #include "flipper/msg/SessionLine.h"

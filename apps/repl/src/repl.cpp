@@ -2,6 +2,7 @@
 // readings; `:` commands (help text below).
 #include <algorithm>
 #include <charconv>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <vector>

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 
 #include "flipper/replay/output.hpp"
 #include "flipper/sdk/errors.hpp"

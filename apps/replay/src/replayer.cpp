@@ -2,6 +2,7 @@
 #include "flipper/replay/replayer.hpp"
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 #include <tuple>
 #include <unordered_map>
 

@@ -42,16 +42,17 @@ std::string find_web_dir(const std::string& configured) {
                        "serve.web_dir '" + configured + "' has no index.html");
     return configured;
   }
-  const fs::path source = FLIPPER_STUDIO_SOURCE_WEB_DIR;
-  if (fs::is_regular_file(source / "index.html", ec)) return source.string();
+  // Relative to the executable only: the install layout, which the build tree mirrors with a
+  // link to apps/studio/web (no source path compiled in).
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) {
     const fs::path installed = exe.parent_path().parent_path() / FLIPPER_STUDIO_INSTALLED_WEB_DIR;
-    if (fs::is_regular_file(installed / "index.html", ec)) return installed.string();
+    const fs::path real = fs::canonical(installed, ec);
+    if (!ec && fs::is_regular_file(real / "index.html", ec)) return real.string();
   }
   throw sdk::Error(sdk::codes::kBadConfig,
-                   "cannot find the page's files (looked in " + source.string() +
-                       " and <exe>/../share/flipper/web); set serve.web_dir");
+                   "cannot find the page's files (looked in <exe>/../" +
+                       std::string(FLIPPER_STUDIO_INSTALLED_WEB_DIR) + "); set serve.web_dir");
 }
 
 }  // namespace flipper::studio

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "flipper/sdk/errors.hpp"

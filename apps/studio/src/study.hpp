@@ -12,6 +12,7 @@
 //     - {name: warm-up, text: "Move the robot up.", start: worlds/a.json, goal: worlds/b.json}
 // Relative paths resolve against the study file's directory.
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <climits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "flipper/svg/svg.hpp"

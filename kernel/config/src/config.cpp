@@ -302,17 +302,15 @@ YAML::Node complete(const YAML::Node& given) {
 }
 
 std::string default_config_dir() {
-  // The source tree's configs/ when it exists (build tree), else the installed share dir next to
-  // the executable (an installed binary moved away from its sources).
-  const fs::path source_dir = FLIPPER_DEFAULT_CONFIG_DIR;
+  // Relative to the executable only (no source path compiled in): the install layout
+  // <exe>/../share/flipper/configs, which the build tree mirrors with a link to the source
+  // configs/. Resolved through the link, so paths read as the files' own.
   std::error_code ec;
-  if (fs::is_directory(source_dir, ec)) return source_dir.string();
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const fs::path installed = exe.parent_path().parent_path() / "share/flipper/configs";
-    if (fs::is_directory(installed, ec)) return installed.string();
-  }
-  return source_dir.string();
+  if (ec) return "configs";
+  const fs::path dir = exe.parent_path().parent_path() / "share/flipper/configs";
+  const fs::path real = fs::canonical(dir, ec);
+  return ec ? dir.string() : real.string();
 }
 
 Config build(YAML::Node root, std::string source, std::string base_dir,

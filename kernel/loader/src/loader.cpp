@@ -8,8 +8,7 @@
 #include <filesystem>
 #include <map>
 
-#include "dll_loader.hpp"
-#include "flipper/sdk/version.hpp"
+#include "flipper/sdk/host_loader.hpp"
 
 namespace flipper::kernel {
 
@@ -142,14 +141,13 @@ std::vector<std::string> PluginLoader::search_path_for(const Config& config) {
       if (colon == std::string::npos) break;
     }
   }
-  // The install dir next to the executable comes first: for the build-tree binary it does not
-  // exist, and an installed binary must prefer its own plugins over a build tree that may linger.
-  const std::string exe = detail::executable_path();
-  if (!exe.empty())
-    path.push_back((fs::path(exe).parent_path() / ".." / "lib" / "flipper" / "plugins")
-                       .lexically_normal()
-                       .string());
-  path.push_back(FLIPPER_PLUGIN_BUILD_DIR);
+  // Found relative to the executable only, so no build or source path is compiled in: the
+  // install layout, which the build tree mirrors (build/lib/flipper/plugins links build/plugins).
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    path.push_back(
+        (exe.parent_path() / ".." / "lib" / "flipper" / "plugins").lexically_normal().string());
   return path;
 }
 
@@ -192,53 +190,11 @@ LoadedPlugin PluginLoader::open_entry(const PluginEntry& entry,
     throw Error(codes::kPluginDuplicate, "plugin name '" + entry.name +
                                              "' is declared by two files: " + entry.library +
                                              " and " + entry.duplicate_of);
-  detail::OpenedLibrary lib = detail::open_library(entry.library);
-  if (lib.entry == nullptr)
-    throw Error(codes::kPluginLoadFailed,
-                who + ": no Flipper descriptor (the library does not export " +
-                    FLIPPER_PLUGIN_ENTRY_SYMBOL + "; use FLIPPER_PLUGIN in one source file)");
-
-  // Handshake first: nothing else of the descriptor is read unless both sides agree.
-  const FlipperHandshake mine{FLIPPER_PLUGIN_ABI,
-                              static_cast<std::uint32_t>(sizeof(FlipperPluginDescriptor)),
-                              static_cast<std::uint32_t>(alignof(FlipperPluginDescriptor))};
-  FlipperHandshake theirs{0, 0, 0};
-  const FlipperPluginDescriptor* d = nullptr;
-  try {
-    d = lib.entry(&mine, &theirs);
-  } catch (...) {
-    throw Error(codes::kPluginLoadFailed, who + ": the entry function threw");
-  }
-  if (theirs.abi != mine.abi)
-    throw Error(codes::kPluginAbiMismatch,
-                "Wrong API version on plugin '" + entry.name + "' (" + entry.library +
-                    "). Got version " + std::to_string(theirs.abi) + ", supported version is " +
-                    std::to_string(mine.abi) + ".");
-  if (theirs.descriptor_size != mine.descriptor_size ||
-      theirs.descriptor_align != mine.descriptor_align)
-    throw Error(codes::kPluginAbiMismatch,
-                "Wrong descriptor layout on plugin '" + entry.name + "' (" + entry.library +
-                    "). Got size " + std::to_string(theirs.descriptor_size) + " align " +
-                    std::to_string(theirs.descriptor_align) + ", supported size is " +
-                    std::to_string(mine.descriptor_size) + " align " +
-                    std::to_string(mine.descriptor_align) + ".");
-  if (d == nullptr)
-    throw Error(codes::kPluginAbiMismatch, who + ": the plugin refused the handshake");
-
+  // Opening, the handshake and the version checks are the SDK's host loader, shared with the
+  // conformance kit; the index's own checks (kind, sidecar, name) follow.
+  sdk::host::Library lib = sdk::host::open_library(entry.library);
+  const FlipperPluginDescriptor* d = &sdk::host::checked_descriptor(lib, entry.name);
   const std::string dname = d->name ? d->name : "";
-  if (d->sdk_major != FLIPPER_SDK_VERSION_MAJOR || d->sdk_minor > FLIPPER_SDK_VERSION_MINOR)
-    throw Error(codes::kPluginAbiMismatch,
-                "Wrong SDK version on plugin '" + entry.name + "' (" + entry.library +
-                    "). Got version " + std::to_string(d->sdk_major) + "." +
-                    std::to_string(d->sdk_minor) + ", supported version is " +
-                    std::to_string(FLIPPER_SDK_VERSION_MAJOR) + "." +
-                    std::to_string(FLIPPER_SDK_VERSION_MINOR) +
-                    " (same major, minor at most the kernel's).");
-  const char* fp = d->fingerprint ? d->fingerprint : "";
-  if (std::strcmp(fp, FLIPPER_BUILD_FINGERPRINT) != 0)
-    throw Error(codes::kPluginAbiMismatch, "Wrong build fingerprint on " + who + ". Got '" + fp +
-                                               "', supported is '" FLIPPER_BUILD_FINGERPRINT
-                                               "'. Rebuild the plugin against this SDK.");
   if (expected && d->kind != static_cast<std::uint32_t>(*expected))
     throw Error(codes::kPluginLoadFailed, who + " is a " + kind_word(d->kind) +
                                               " plugin, but it was requested as a " +
@@ -252,9 +208,6 @@ LoadedPlugin PluginLoader::open_entry(const PluginEntry& entry,
                 who + ": descriptor name '" + dname + "' does not match " +
                     (entry.sidecar.empty() ? "the file name" : "the sidecar " + entry.sidecar) +
                     " ('" + entry.name + "')");
-  if (d->create == nullptr || d->destroy == nullptr || d->describe == nullptr)
-    throw Error(codes::kPluginLoadFailed, who + ": the descriptor lacks create/destroy/describe");
-
   LoadedPlugin out;
   out.entry = entry;
   out.descriptor = d;

@@ -1,3 +1,5 @@
+#include <nlohmann/json.hpp>
+
 #include "flipper/kernel/protocol.hpp"
 
 namespace flipper::kernel::protocol {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session.hpp"

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/sdk/errors.hpp"

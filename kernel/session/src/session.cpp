@@ -2,6 +2,7 @@
 #include "flipper/kernel/session.hpp"
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "flipper/kernel/protocol.hpp"

@@ -138,10 +138,10 @@ GeneralizeResult Generalizer::generalize(
     } else {
       c.equivalent = true;
       for (std::size_t k = 0; k < perturbed.size(); ++k) {
-        auto why =
+        auto differs =
             generalize::difference(perturbed[k].body, exec_.run(c.program, perturbed[k].world));
-        if (why)
-          c.failed_checks.push_back("perturbation " + std::to_string(k + 1) + ": " + *why);
+        if (differs)
+          c.failed_checks.push_back("perturbation " + std::to_string(k + 1) + ": " + *differs);
         else
           ++c.perturbed_passed;
       }

@@ -1,6 +1,8 @@
 // The protocol ops of naturalization (docs/protocol.md: define, rules, delete_rule).
 #include "flipper/naturalization/naturalize_ops.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"

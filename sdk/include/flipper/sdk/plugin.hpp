@@ -99,7 +99,9 @@ typedef const FlipperPluginDescriptor* (*FlipperPluginEntryFn)(const FlipperHand
 
 /// Declares the plugin class `Class` (which must derive from the interface of `kind` and provide
 /// `Class(const flipper::sdk::Params&)` and `static flipper::sdk::ParamSchema schema()`).
-/// `kind` is one of: world, planner, parser, scorer, rewriter, similarity.
+/// `kind` is one of: world, planner, parser, scorer, rewriter, similarity. Pass
+/// FLIPPER_PLUGIN_VERSION as `version`: flipper_add_plugin(... VERSION v) defines it, so the
+/// descriptor and the sidecar state one version.
 #define FLIPPER_PLUGIN(Class, kind, name, version, description)                                 \
   namespace {                                                                                  \
   void flipper_plugin_describe_(::flipper::sdk::ParamSchema& out) { out = Class::schema(); }   \

@@ -11,9 +11,10 @@
 /// defaults pass validation; an unknown key is rejected by the kernel's validation
 /// (flipper::sdk::validate_params); 100 create/destroy cycles work.
 ///
-/// Boost.DLL is used directly (define BOOST_DLL_USE_STD_FS, or link Boost::filesystem).
+/// The library is opened by the SDK's host loader (flipper/sdk/host_loader.hpp), the one the
+/// kernel uses, and must pass its checks (handshake, SDK version, fingerprint) before the
+/// kit's own.
 
-#include <boost/dll/shared_library.hpp>
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <map>
@@ -22,27 +23,21 @@
 #include <string>
 
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/host_loader.hpp"
 #include "flipper/sdk/param_check.hpp"
 #include "flipper/sdk/sdk.hpp"
 
 namespace flipper::testing {
 
-/// A plugin library opened like the kernel does (rtld_now | rtld_local) with its descriptor.
+/// A plugin library opened by the SDK's host loader, exactly as the kernel opens it, with its
+/// descriptor.
 struct PluginLibrary {
-  std::shared_ptr<boost::dll::shared_library> library;
+  sdk::host::Library library;
   FlipperPluginEntryFn entry = nullptr;
 
   explicit PluginLibrary(const std::string& path)
-      : library(std::make_shared<boost::dll::shared_library>(
-            path, boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local)) {
-    if (library->has(FLIPPER_PLUGIN_ENTRY_SYMBOL))
-      entry =
-          &library->get<std::remove_pointer_t<FlipperPluginEntryFn>>(FLIPPER_PLUGIN_ENTRY_SYMBOL);
-  }
-  static FlipperHandshake kernel_handshake() {
-    return {FLIPPER_PLUGIN_ABI, static_cast<std::uint32_t>(sizeof(FlipperPluginDescriptor)),
-            static_cast<std::uint32_t>(alignof(FlipperPluginDescriptor))};
-  }
+      : library(sdk::host::open_library(path)), entry(library.entry) {}
+  static FlipperHandshake kernel_handshake() { return sdk::host::handshake(); }
   /// The descriptor after a matching handshake (null if the plugin refuses).
   const FlipperPluginDescriptor* descriptor() const {
     const FlipperHandshake mine = kernel_handshake();
@@ -54,7 +49,7 @@ struct PluginLibrary {
     const FlipperPluginDescriptor* d = descriptor();
     sdk::Plugin* raw = d->create(params);
     return std::shared_ptr<sdk::Plugin>(
-        raw, [lib = library, destroy = d->destroy](sdk::Plugin* p) { destroy(p); });
+        raw, [lib = library.handle, destroy = d->destroy](sdk::Plugin* p) { destroy(p); });
   }
 };
 
@@ -84,8 +79,9 @@ inline void check_loader_conformance(const std::string& path,
   INFO("plugin library: " << path);
   PluginLibrary lib(path);
 
-  // Descriptor present.
+  // Descriptor present, and the host loader's checks pass (what the kernel requires to load it).
   REQUIRE(lib.entry != nullptr);
+  REQUIRE_NOTHROW(sdk::host::checked_descriptor(lib.library, path));
 
   // Handshake: the plugin states its own values and accepts exactly the kernel's.
   const FlipperHandshake mine = PluginLibrary::kernel_handshake();

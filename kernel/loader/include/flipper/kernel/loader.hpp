@@ -52,7 +52,7 @@ class PluginLoader {
   explicit PluginLoader(std::vector<std::string> search_path);
 
   /// The search path for a config: `plugin_paths`, then $FLIPPER_PLUGIN_PATH (colon-separated),
-  /// then `<exe>/../lib/flipper/plugins` (installed binaries), then the build tree's plugin dir.
+  /// then `<exe>/../lib/flipper/plugins` (the install layout; the build tree mirrors it).
   static std::vector<std::string> search_path_for(const Config& config);
 
   const std::vector<std::string>& search_path() const { return search_path_; }

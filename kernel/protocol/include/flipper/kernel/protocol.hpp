@@ -6,7 +6,7 @@
 /// errors `{"code","message"}`, and an outcome's pieces. Readers accept exactly these shapes and
 /// throw sdk::Error(bad_request) naming the offending field.
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 

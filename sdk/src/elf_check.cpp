@@ -12,7 +12,7 @@
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::detail {
+namespace flipper::sdk::detail {
 namespace {
 
 [[noreturn]] void fail(const std::string& path, const std::string& why) {
@@ -97,4 +97,4 @@ void check_elf_file(const std::string& path) {
                      bytes_range(sh[i].sh_offset, sh[i].sh_size, file));
 }
 
-}  // namespace flipper::kernel::detail
+}  // namespace flipper::sdk::detail

@@ -3,7 +3,7 @@
 // path would otherwise map pages past the end of the file and die of SIGBUS on first touch.
 #include <string>
 
-namespace flipper::kernel::detail {
+namespace flipper::sdk::detail {
 
 /// Reads (never maps) the ELF header, program headers and section headers of `path` and checks
 /// that the file is a regular 64-bit ELF file and that every header, segment and section it
@@ -11,4 +11,4 @@ namespace flipper::kernel::detail {
 /// first part that does not fit.
 void check_elf_file(const std::string& path);
 
-}  // namespace flipper::kernel::detail
+}  // namespace flipper::sdk::detail

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installed-binary check: install everything into a temp prefix, then run the installed flipper
+# from a folder outside the source and build trees. It must hold no source or build path, list
+# only its own plugins (<prefix>/lib/flipper/plugins), resolve the default config against
+# <prefix>/share/flipper/configs and answer a query with them.
+# Usage: installed.sh <source dir> <build dir>
+set -euo pipefail
+src=$(cd "$1" && pwd -P)
+build=$(cd "$2" && pwd -P)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
+flipper=$tmp/prefix/bin/flipper
+plugins=$tmp/prefix/lib/flipper/plugins
+cd "$tmp"
+
+# No path of this checkout or its build is compiled in.
+for dir in "$src" "$build"; do
+  if grep -aFq "$dir" "$flipper"; then
+    echo "installed flipper contains the path $dir:"; grep -aoF "$dir[^\"]*" "$flipper" | head -3
+    exit 1
+  fi
+done
+
+# Every listed plugin comes from the prefix.
+listing=$(env -u FLIPPER_PLUGIN_PATH "$flipper" plugins)
+echo "$listing"
+echo "$listing" | grep -Eq "^\* astar +planner .* $plugins/astar\.so +ok$"
+if echo "$listing" | grep -F "$build"; then echo "a plugin of the build tree was listed"; exit 1; fi
+
+env -u FLIPPER_PLUGIN_PATH "$flipper" config check >/dev/null
+answer=$(echo '{"op":"query","text":"move up"}' | env -u FLIPPER_PLUGIN_PATH "$flipper" session)
+echo "$answer" | grep -q '"ok":true'
+
+# The embedded default config's files are the installed ones: without the installed world file
+# the binary names that file (and finds no other).
+rm "$tmp/prefix/share/flipper/configs/worlds/study2018.json"
+if out=$(echo '{"op":"query","text":"move up"}' | env -u FLIPPER_PLUGIN_PATH "$flipper" session 2>&1); then
+  echo "the session started without the installed world file: $out"; exit 1
+fi
+echo "$out"
+echo "$out" | grep -qF "$tmp/prefix/share/flipper/configs/worlds/study2018.json"
+echo "installed flipper OK"
