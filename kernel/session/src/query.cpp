@@ -141,7 +141,7 @@ Json Session::op_query(const Json& req) {
     c["authors"] = std::move(authors);
     c["realizable"] = sc.outcome.realizable && !sc.outcome.error;
     c["trace"] = answer_trace(sc.outcome.trace, dims);
-    c["world"] = answer_world(sc.outcome.world);
+    c["world"] = answer_changed_world(sc.outcome.world);
     c["warnings"] = Json(protocol::strings_json(sc.outcome.warnings));
     if (sc.error_code)
       c["error"] = Json{{"code", *sc.error_code}, {"message", sc.outcome.error.value_or("")}};
@@ -164,6 +164,7 @@ Json Session::op_query(const Json& req) {
   answer["candidates"] = std::move(list);
   answer["total"] = cands.size();  // distinct readings found; `candidates` holds the first k
   answer["ms"] = ms;
+  add_world_version(answer, last_query_->world);
   return answer;
 }
 
@@ -205,7 +206,8 @@ Json Session::op_accept(const Json& req) {
 
   const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
   Json answer;  // built first: nothing may fail after the commit
-  answer["world"] = answer_world(outcome.world);
+  add_world_version(answer, outcome.world);
+  answer["world"] = answer_changed_world(outcome.world);
   answer["trace"] = answer_trace(outcome.trace, dims);
   answer["warnings"] = Json(protocol::strings_json(outcome.warnings));
 
