@@ -1,4 +1,4 @@
-// bench_scale: issue 14's table, one row per line, each next to its target (docs/protocol.md §7 for
+// bench_scale: issue 14's table, one row per line, each next to its target (docs/protocol.md § "Protocol versions" for
 // the change-only form). Everything it writes goes to a fresh temporary directory.
 //
 //   stream    a recorded session stream built from the dev corpus (every session in order: user,
@@ -406,45 +406,65 @@ void bench_worlds() {
         continue;
       }
       const std::string world_line = json{{"op", "world"}, {"file", file.string()}}.dump();
-      std::vector<double> world_ms;
+      // A new map: each run in a fresh session (the session keeps a loaded map for a reload).
+      std::vector<double> world_ms, reload_ms;
       for (int r = 0; r < std::max(3, g_runs); ++r) {
-        const double c0 = cpu_ms();
-        std::string a = session->handle_line(world_line);
+        auto fresh = flipper::kernel::open_session(
+            std::nullopt, {"lexicon.path=" + (g_tmp / ("worlds-fresh-" + std::to_string(size) +
+                                                       "-" + std::to_string(r)))
+                                                 .string()});
+        if (v2) fresh->handle_line(kHello2);
+        double c0 = cpu_ms();
+        std::string a = fresh->handle_line(world_line);
         world_ms.push_back(cpu_ms() - c0);
         if (!ok(a)) {
           std::printf("  world refused: %.300s\n", a.c_str());
           return;
         }
+        c0 = cpu_ms();
+        session->handle_line(world_line);
+        reload_ms.push_back(cpu_ms() - c0);
       }
       std::vector<double> q_ms;
-      std::size_t bytes = 0, max_bytes = 0, budget = 0;
+      std::size_t bytes = 0, max_bytes = 0, budget = 0, max_world_bytes = 0;
+      std::vector<std::pair<double, std::string>> slow;
       for (const auto& u : utts) {
         const double c0 = cpu_ms();
         std::string a = session->handle_line(json{{"op", "query"}, {"text", u}}.dump());
         q_ms.push_back(cpu_ms() - c0);
+        slow.emplace_back(q_ms.back(), u);
         bytes += a.size();
         max_bytes = std::max(max_bytes, a.size());
         if (a.find("deadline_exceeded") != std::string::npos) ++budget;
+        std::size_t world_bytes = 0;
+        for (const auto& c : json::parse(a).value("candidates", json::array()))
+          world_bytes += c["world"].dump().size();
+        max_world_bytes = std::max(max_world_bytes, world_bytes);
       }
+      std::sort(slow.rbegin(), slow.rend());
+      for (std::size_t i = 0; i < 3 && i < slow.size(); ++i)
+        std::printf("      slowest: %8.2f ms  %s\n", slow[i].first, slow[i].second.c_str());
       const std::string label = std::to_string(size) + "^2 world, " + form + " form";
       std::printf(
           "    %s: query p50 %.3f ms, answers mean %.0f / max %zu bytes, %zu at the deadline\n",
           label.c_str(), pct(q_ms, 0.5), static_cast<double>(bytes) / utts.size(), max_bytes,
           budget);
+      std::printf("    %s: world op new map %.3f ms, same map again %.3f ms\n", label.c_str(),
+                  median(world_ms), median(reload_ms));
       if (size == 128) {
-        row(label + ": world op", fmt("%.3f ms", median(world_ms)), "<= 1 ms",
+        row(label + ": world op (new map)", fmt("%.3f ms", median(world_ms)), "<= 1 ms",
             median(world_ms) <= 1);
         row(label + ": query p99", fmt("%.2f ms", pct(q_ms, 0.99)), "<= 10 ms",
             pct(q_ms, 0.99) <= 10);
       } else {
-        row(label + ": world op", fmt("%.1f ms", median(world_ms)), "(no target)", -1);
+        row(label + ": world op (new map)", fmt("%.1f ms", median(world_ms)), "(no target)", -1);
         row(label + ": query p99", fmt("%.2f ms", pct(q_ms, 0.99)), "<= 50 ms",
             pct(q_ms, 0.99) <= 50);
-        // Independent of the wall count: the answer must be far smaller than the wall list.
+        // Independent of the wall count: the worlds of an answer far smaller than the walls.
         const double wall_bytes = static_cast<double>(fs::file_size(file));
-        row(label + ": largest answer",
-            fmt("%.0f KiB (world file %.0f KiB)", max_bytes / 1024.0, wall_bytes / 1024.0),
-            "<< wall list", max_bytes * 10 < wall_bytes);
+        row(label + ": worlds in the largest answer",
+            fmt("%.1f KiB (map file %.0f KiB)", max_world_bytes / 1024.0, wall_bytes / 1024.0),
+            "< 1% of the map", max_world_bytes * 100 < wall_bytes);
       }
     }
   }

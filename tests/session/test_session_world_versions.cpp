@@ -1,4 +1,4 @@
-// Protocol 2 (docs/protocol.md §7): world versions and change-only worlds. The oracle is the world
+// Protocol 2 (docs/protocol.md § "Protocol versions"): world versions and change-only worlds. The oracle is the world
 // plugin itself: every world a session answers with (the world op's, each candidate's, each
 // accept's, the state's) must equal the plugin's own text for that state, in the full form, and
 // a client that applies the change-only answers must rebuild exactly that world — over every

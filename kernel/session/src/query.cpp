@@ -214,9 +214,13 @@ Json Session::op_accept(const Json& req) {
   // Nothing is applied unless everything commits: learning and counters are undone when the
   // scorer or the persistence hook (the lexicon transaction) fails, and the world and the last
   // query change only after both succeeded, so a retry applies the accept exactly once.
+  // A scorer that reports its changes (sdk::IncrementalScorer) undoes exactly those; any other
+  // is saved whole beforehand.
+  auto* incremental = dynamic_cast<sdk::IncrementalScorer*>(runtime_->scorer.get());
   const std::string scorer_before =
-      on_accept_ ? request::call_plugin("scorer", [&] { return runtime_->scorer->save_state(); })
-                 : std::string();
+      on_accept_ && incremental == nullptr
+          ? request::call_plugin("scorer", [&] { return runtime_->scorer->save_state(); })
+          : std::string();
   auto counter = [&](const sdk::RulePtr& rule) -> std::atomic<std::uint64_t>& {
     return rule->author == user_ ? rule->usage->by_author : rule->usage->by_others;
   };
@@ -235,9 +239,13 @@ Json Session::op_accept(const Json& req) {
     if (counted)
       for (const auto& rule : sc.induced_rules)
         counter(rule).fetch_sub(1, std::memory_order_relaxed);
-    if (on_accept_) runtime_->scorer->load_state(scorer_before);
+    if (incremental != nullptr)
+      incremental->discard_changes();
+    else if (on_accept_)
+      runtime_->scorer->load_state(scorer_before);
     throw;
   }
+  if (incremental != nullptr) incremental->commit_changes();
 
   world_ = outcome.world;
   notify_plan_observers(q, sc, outcome);  // after the commit: the accept stands

@@ -1,6 +1,6 @@
 #pragma once
 /// @file world_texts.hpp
-/// The texts of worlds in answers (docs/protocol.md §7). A world's static part (walls or other
+/// The texts of worlds in answers (docs/protocol.md § "Protocol versions"). A world's static part (walls or other
 /// obstacles, rooms, bounds) depends only on its geometry and rooms, which every state derived
 /// from one loaded world shares; only the robot, the lying items and the held items change. So the
 /// plugin's text is taken apart once per *world version* (one geometry + rooms) into static text

@@ -156,7 +156,7 @@ class Session {
   /// that handle_line replaces by the world's text, so worlds skip the JSON tree entirely;
   /// otherwise it is world_json(state).
   Json answer_world(const sdk::WorldState& state);
-  /// The protocol version the client asked for with `hello` (docs/protocol.md §7); 1 by default.
+  /// The protocol version the client asked for with `hello` (docs/protocol.md § "Protocol versions"); 1 by default.
   int protocol() const { return protocol_; }
   /// A world that changed in a protocol-1 answer is the full object (answer_world); in protocol 2
   /// it is only `{"items", "robot"}`, and add_world_version() must be called for the answer.
