@@ -1,4 +1,5 @@
 // The language guide (docs/language.md, embedded at build time) as the repl shows it.
+#include <algorithm>
 #include <sstream>
 
 #include "flipper/kernel/repl.hpp"
@@ -33,6 +34,34 @@ std::string examples_text() {
   for (const auto& e : guide_examples())
     out << "  " << e.example << "\n      " << e.construct << ": " << e.result << "\n";
   out << "Type one to see its readings; docs/language.md explains each construct.\n";
+  return out.str();
+}
+
+std::string guide_help_text() {
+  const auto examples = guide_examples();
+  std::vector<std::string> names;
+  std::size_t width = 0;
+  for (const auto& e : examples) {
+    std::string name;  // without the markdown's backticks
+    for (char c : e.construct)
+      if (c != '`') name += c;
+    width = std::max(width, name.size());
+    names.push_back(std::move(name));
+  }
+  std::ostringstream out;
+  out << "The language (docs/language.md; :examples shows what each example does):\n";
+  for (std::size_t i = 0; i < examples.size(); ++i)
+    out << "  " << names[i] << std::string(width - names[i].size() + 3, ' ') << examples[i].example
+        << '\n';
+  out << "docs/language.md sections: ";
+  std::istringstream in(detail::kLanguageGuide);
+  bool first = true;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("## ", 0) != 0) continue;
+    out << (first ? "" : " \u00b7 ") << line.substr(3);
+    first = false;
+  }
+  out << "\n";
   return out.str();
 }
 

@@ -18,23 +18,24 @@ namespace {
 // How many readings one query keeps for paging with `m` (each is planned, so not unbounded).
 constexpr int kKeep = 30;
 
-const char* kHelp =
+// The commands; guide_help_text() adds the constructs and sections of docs/language.md.
+const char* kCommands =
     "Type an utterance (e.g. `visit room1; pick item is red`) to see its readings, each with its\n"
     "path drawn on the map (o path, E end, P pick, D drop).\n"
     "  N              choose reading N (the robot does it; the map keeps its trail)\n"
     "  m              show more readings        r     reject all shown readings\n"
     "  :define HEAD   teach HEAD (default: the last utterance); then one body line per\n"
     "                 line, each checked as you type it, ending with an empty line;\n"
-    "                 :cancel abandons the definition\n"
+    "                 Ctrl-C (or :cancel) abandons the definition\n"
     "  :undo          put the world back as it was before the last choice or :world\n"
     "  :rules         list the rules you can use, with their ids\n"
     "  :delete ID     delete a rule you defined (ids from :rules)\n"
     "  :world FILE    load a world file         :user NAME   set the current user\n"
     "  :map           show the world            :floor Z     show floor Z of a 3-D world\n"
     "  :save FILE     the world (and the plan just chosen) as an SVG picture\n"
-    "  :examples      one example of every construct of the language (docs/language.md)\n"
+    "  :examples      one example of every construct, with its result on the study map\n"
     "  :help          this text                 :quit        leave (also Ctrl-D)\n"
-    "docs/language.md explains every construct.\n";
+    "  Ctrl-C         drop the line being typed (or the answer of a query still running)\n";
 
 std::string trim(const std::string& s) {
   auto b = s.find_first_not_of(" \t\r\n");
@@ -75,7 +76,15 @@ class Repl {
     out_ << "Flipper -- precise but natural robot tasks. :help for commands.\n";
     show_map();
     std::string line;
-    while (reader_.read("flipper> ", line)) {
+    for (;;) {
+      const auto read = reader_.read("flipper> ", line);
+      if (read == LineReader::Read::end) break;
+      if (read == LineReader::Read::interrupted) {
+        // Ctrl-C drops the line; on an empty one the user may be trying to leave.
+        if (trim(line).empty()) out_ << "(:quit or Ctrl-D leaves)\n";
+        out_.flush();
+        continue;
+      }
       line = trim(line);
       if (line.empty()) continue;
       if (line[0] == ':') {
@@ -160,6 +169,12 @@ class Repl {
     const Json state = session_.handle(Json{{"op", "state"}});
     query_world_ = state.value("world", Json());  // the paths start here
     Json a = call(Json{{"op", "query"}, {"text", text}, {"k", kKeep}});
+    // The session cannot be stopped mid-query (session.deadline_ms bounds it); Ctrl-C while it
+    // ran drops its answer.
+    if (reader_.take_interrupt()) {
+      out_ << "\nCancelled (Ctrl-C): the readings are not shown.\n";  // after the echoed ^C
+      return;
+    }
     if (!a.value("ok", false)) return;
     if (a["candidates"].empty()) {
       const std::string note = unknown_words_note(text);
@@ -237,7 +252,7 @@ class Repl {
     std::string arg = space == std::string::npos ? "" : trim(line.substr(space + 1));
     if (cmd == ":quit" || cmd == ":q" || cmd == ":exit") return false;
     if (cmd == ":help" || cmd == ":h") {
-      out_ << kHelp;
+      out_ << kCommands << guide_help_text();
     } else if (cmd == ":examples") {
       out_ << examples_text();
     } else if (cmd == ":map" || cmd == ":state") {
@@ -334,9 +349,10 @@ class Repl {
     show_map();
   }
 
-  // Reads one line of a definition; false when the user cancelled (:cancel) or input ended.
+  // Reads one line of a definition; false when the user cancelled (Ctrl-C, :cancel) or input
+  // ended.
   bool read_definition_line(const char* prompt, std::string& line) {
-    if (!reader_.read(prompt, line) || trim(line) == ":cancel") {
+    if (reader_.read(prompt, line) != LineReader::Read::line || trim(line) == ":cancel") {
       out_ << "Definition cancelled; nothing was learned.\n";
       return false;
     }
@@ -357,7 +373,7 @@ class Repl {
       return;
     }
     out_ << "Defining \"" << head << "\". Enter the steps, one per line; an empty line ends, "
-         << ":cancel abandons it.\n";
+         << "Ctrl-C (or :cancel) abandons it.\n";
     Json body = Json::array(), ranks = Json::array();
     std::string line;
     bool ended = false;  // by the empty line (not by :cancel or the end of input)
@@ -367,6 +383,10 @@ class Repl {
         break;
       }
       Json a = call(Json{{"op", "query"}, {"text", line}, {"k", kKeep}});
+      if (reader_.take_interrupt()) {
+        out_ << "Definition cancelled; nothing was learned.\n";
+        return;
+      }
       if (!a.value("ok", false)) continue;
       const Json& cands = a["candidates"];
       if (cands.empty()) {

@@ -14,9 +14,14 @@
 namespace flipper::kernel::replay {
 namespace fs = std::filesystem;
 
-std::string resolve_repo_path(const std::string& path) {
+std::string resolve_in_file(const std::string& file, const std::string& path) {
   if (path.empty() || fs::path(path).is_absolute()) return path;
-  return (fs::path(FLIPPER_SOURCE_DIR) / path).lexically_normal().string();
+  // The directory the file really is in: reached through a link (configs/ -> the repository's),
+  // `../` still means the file's own parent.
+  std::error_code ec;
+  fs::path dir = fs::weakly_canonical(fs::absolute(file), ec).parent_path();
+  if (ec) dir = fs::absolute(file).parent_path();
+  return (dir / path).lexically_normal().string();
 }
 
 namespace {
@@ -70,8 +75,8 @@ Experiment load_experiment(const std::string& path) {
     }
     if (root["name"]) e.name = root["name"].as<std::string>();
     if (root["config"] && !root["config"].as<std::string>().empty())
-      e.config = resolve_repo_path(root["config"].as<std::string>());
-    if (root["corpus"]) e.corpus = resolve_repo_path(root["corpus"].as<std::string>());
+      e.config = resolve_in_file(path, root["config"].as<std::string>());
+    if (root["corpus"]) e.corpus = resolve_in_file(path, root["corpus"].as<std::string>());
     e.runs = string_list(root["runs"], where + "'runs'");
     if (root["max_queries"]) e.max_queries = root["max_queries"].as<int>();
     e.sets = string_list(root["set"], where + "'set'");

@@ -50,15 +50,26 @@ struct GuideExample {
 std::vector<GuideExample> guide_examples();
 /// The text of `:examples`.
 std::string examples_text();
+/// The guide's part of `:help`: every construct of the example table with its example, then the
+/// guide's section titles. Built from the embedded guide, so help and guide cannot drift.
+std::string guide_help_text();
 
-/// Reads lines with a prompt; nullopt at end of input.
+/// Reads lines with a prompt.
 class LineReader {
  public:
+  enum class Read {
+    line,         ///< `line` holds what was typed
+    interrupted,  ///< Ctrl-C: `line` holds the text that was dropped (may be empty)
+    end,          ///< end of input (Ctrl-D on an empty line)
+  };
   virtual ~LineReader() = default;
-  virtual bool read(const char* prompt, std::string& line) = 0;
+  virtual Read read(const char* prompt, std::string& line) = 0;
+  /// True (once) when Ctrl-C was pressed since the last call or read, e.g. during a query.
+  virtual bool take_interrupt() { return false; }
 };
 /// GNU readline on a terminal, else plain lines from `in` (no prompts echoed). On a terminal,
-/// history is kept in `history_file` (when not empty) across runs.
+/// history is kept in `history_file` (when not empty) across runs, and Ctrl-C (SIGINT) cancels
+/// the line being typed instead of ending the program, for as long as the reader lives.
 std::unique_ptr<LineReader> make_line_reader(std::istream& in, bool terminal,
                                              const std::string& history_file = {});
 /// Where the history lives: $FLIPPER_HISTORY, else ~/.local/share/flipper/repl_history.

@@ -3,8 +3,8 @@
 /// Experiment files (configs/experiments/*.yaml):
 /// @code
 ///   name: Ablation on the dev split
-///   config: configs/default.yaml      # optional (default: the embedded config)
-///   corpus: ../shared/corpus/dev      # relative paths: against the repository root
+///   config: ../default.yaml           # optional (default: the embedded config)
+///   corpus: ../../../shared/corpus/dev  # relative paths: against this file's directory
 ///   runs: [sep2018/FridayMorning]     # optional (default: every run)
 ///   max_queries: 0                    # optional, per run
 ///   set: [induction.generalize=false] # optional, applied to every variant
@@ -40,8 +40,9 @@ struct Experiment {
   std::vector<ExperimentVariant> variants;
 };
 
-/// Resolves a path against the repository root (absolute paths stay).
-std::string resolve_repo_path(const std::string& path);
+/// Resolves `path`, written in `file`, against the directory `file` is in (the path rule,
+/// README "Using it"); absolute and empty paths stay.
+std::string resolve_in_file(const std::string& file, const std::string& path);
 /// Reads an experiment file. Throws sdk::Error(bad_config) naming the file and key.
 Experiment load_experiment(const std::string& path);
 
