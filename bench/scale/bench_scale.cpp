@@ -24,6 +24,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -707,6 +708,7 @@ int main(int argc, char** argv) {
     if (r.met == 1) ++met;
   }
   std::printf("  %d of %d targets met\n", met, measured);
-  fs::remove_all(g_tmp);
+  if (std::getenv("FLIPPER_BENCH_KEEP") == nullptr) fs::remove_all(g_tmp);
+  else std::printf("kept %s (FLIPPER_BENCH_KEEP)\n", g_tmp.c_str());
   return rc;
 }

@@ -60,6 +60,34 @@ std::string to_json_list(const std::vector<std::string>& v) {
 }
 
 std::vector<std::string> from_json_list(const std::string& text, const std::string& path) {
+  // The common case without a JSON tree: ["a","$B",...] with no escapes (start-up reads two
+  // lists per rule).
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']' &&
+      text.find('\\') == std::string::npos) {
+    std::vector<std::string> out;
+    std::size_t i = 1;
+    bool ok = true;
+    while (ok && i < text.size() - 1) {
+      if (text[i] != '"') {
+        ok = false;
+        break;
+      }
+      const std::size_t end = text.find('"', i + 1);
+      if (end == std::string::npos || end >= text.size() - 1) {
+        ok = false;
+        break;
+      }
+      out.emplace_back(text, i + 1, end - i - 1);
+      i = end + 1;
+      if (text[i] == ',') {
+        ++i;
+        ok = i < text.size() - 1;  // no trailing comma
+      } else if (i != text.size() - 1) {
+        ok = false;
+      }
+    }
+    if (ok) return out;
+  }
   try {
     return json::parse(text).get<std::vector<std::string>>();
   } catch (const std::exception&) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <ctime>
 #include <iostream>
+#include <unordered_map>
 
 #include "flipper/kernel/generalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -79,6 +80,25 @@ StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
   return s;
 }
 
+namespace {
+// Templates repeat across a lexicon (one definition's rules, and users define alike); a program
+// is immutable, so rules with the same template text and sorts share one (start-up reads each
+// distinct template once). Per thread, bounded.
+sdk::Program cached_template(const std::string& text, sdk::Sort sort,
+                             const std::vector<sdk::Sort>& holes) {
+  thread_local std::unordered_map<std::string, sdk::Program> cache;
+  std::string key = text;
+  key += '\0';
+  key += static_cast<char>(sort);
+  for (sdk::Sort h : holes) key += static_cast<char>(h);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  sdk::Program p = sdk::read_template(text, sort, holes);
+  if (cache.size() >= 4096) cache.clear();
+  cache.emplace(std::move(key), p);
+  return p;
+}
+}  // namespace
+
 sdk::RulePtr rule_from_stored(const StoredRule& s) {
   // Older versions induced `$Action -> $ROOT thrice`-like rules, whose hole takes a whole
   // sequence; such a rule is not read (so it is quarantined, with this message).
@@ -103,7 +123,7 @@ sdk::RulePtr rule_from_stored(const StoredRule& s) {
     }
   }
   rule->sem =
-      sdk::read_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
+      cached_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
   rule->induced = true;
   rule->how = origin_from_string(s.how);
   rule->author = s.author;
