@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "flipper/kernel/replay/corpus.hpp"
-#include "flipper/kernel/replay/experiment.hpp"
-#include "flipper/kernel/replay/metrics.hpp"
-#include "flipper/kernel/replay/replayer.hpp"
+#include "flipper/replay/corpus.hpp"
+#include "flipper/replay/experiment.hpp"
+#include "flipper/replay/metrics.hpp"
+#include "flipper/replay/replayer.hpp"
 
 using namespace flipper::kernel::replay;
 
