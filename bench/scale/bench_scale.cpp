@@ -36,9 +36,9 @@
 #include <thread>
 #include <vector>
 
-#include "flipper/kernel/lexicon_store.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/kernel/session.hpp"
-#include "flipper/kernel/session_factory.hpp"
+#include "flipper/wiring/session_factory.hpp"
 #include "flipper/sdk/canonical.hpp"
 
 namespace fs = std::filesystem;
