@@ -25,26 +25,57 @@ using json = nlohmann::json;
 // object in it: 30,000 items took seconds.)
 class DuplicateKeyCheck : public nlohmann::json_sax<json> {
  public:
-  // The world's tree is built in the same pass (one lexing of a large wall list, not two).
-  explicit DuplicateKeyCheck(json& root) : dom_(root, true) {}
-  bool null() override { return value() && dom_.null(); }
-  bool boolean(bool v) override { return value() && dom_.boolean(v); }
-  bool number_integer(number_integer_t v) override { return value() && dom_.number_integer(v); }
-  bool number_unsigned(number_unsigned_t v) override { return value() && dom_.number_unsigned(v); }
-  bool number_float(number_float_t v, const string_t& s) override {
-    return value() && dom_.number_float(v, s);
+  // The world's tree is built in the same pass (one lexing of a large wall list, not two). With
+  // `fast_walls`, a top-level "walls" list of plain integer points is collected as cells without
+  // a tree (its tree is an empty array); anything else in it sets walls_failed() and the caller
+  // parses again without the shortcut, for the exact error message.
+  DuplicateKeyCheck(json& root, int dims, bool fast_walls)
+      : dom_(root, true), dims_(dims), fast_walls_(fast_walls) {}
+  bool walls_failed() const { return walls_bad_; }
+  bool walls_collected() const { return walls_done_; }
+  std::vector<Cell>& walls() { return walls_; }
+
+  bool null() override { return wdepth_ ? bad() : value() && dom_.null(); }
+  bool boolean(bool v) override { return wdepth_ ? bad() : value() && dom_.boolean(v); }
+  bool number_integer(number_integer_t v) override {
+    return wdepth_ ? coordinate(v) : value() && dom_.number_integer(v);
   }
-  bool string(string_t& v) override { return value() && dom_.string(v); }
-  bool binary(binary_t& v) override { return value() && dom_.binary(v); }
+  bool number_unsigned(number_unsigned_t v) override {
+    if (wdepth_)
+      return v > static_cast<number_unsigned_t>(1 << 28) ? bad()
+                                                         : coordinate(static_cast<std::int64_t>(v));
+    return value() && dom_.number_unsigned(v);
+  }
+  bool number_float(number_float_t v, const string_t& s) override {
+    return wdepth_ ? bad() : value() && dom_.number_float(v, s);
+  }
+  bool string(string_t& v) override { return wdepth_ ? bad() : value() && dom_.string(v); }
+  bool binary(binary_t& v) override { return wdepth_ ? bad() : value() && dom_.binary(v); }
   bool start_object(std::size_t n) override {
+    if (wdepth_) {
+      ++wdepth_;
+      return bad();
+    }
     frames_.push_back({false, {}, {}, 0});
     return dom_.start_object(n);
   }
   bool start_array(std::size_t n) override {
+    if (wdepth_) {
+      if (++wdepth_ == 2)
+        coords_ = 0;
+      else
+        bad();
+      return true;
+    }
+    if (fast_walls_ && walls_key_ && frames_.size() == 1) {
+      wdepth_ = 1;
+      return true;
+    }
     frames_.push_back({true, {}, {}, 0});
     return dom_.start_array(n);
   }
   bool key(string_t& key) override {
+    if (wdepth_) return true;  // inside a malformed wall list: the slow pass reports it
     Frame& f = frames_.back();
     if (!f.keys.insert(key).second) {
       const std::string path = path_of(frames_.size() - 1);
@@ -53,10 +84,32 @@ class DuplicateKeyCheck : public nlohmann::json_sax<json> {
       fail(path + ": duplicate key \"" + key + "\"");
     }
     f.last_key = key;
+    if (frames_.size() == 1) walls_key_ = key == "walls";
     return dom_.key(key);
   }
-  bool end_object() override { return end() && dom_.end_object(); }
-  bool end_array() override { return end() && dom_.end_array(); }
+  bool end_object() override {
+    if (wdepth_) {
+      --wdepth_;
+      return true;
+    }
+    return end() && dom_.end_object();
+  }
+  bool end_array() override {
+    if (wdepth_) {
+      if (wdepth_ == 2 && !walls_bad_) {
+        if (coords_ != dims_)
+          bad();
+        else
+          walls_.push_back({xyz_[0], xyz_[1], xyz_[2]});
+      }
+      if (--wdepth_ == 0) {  // the wall list ends: its tree is an empty array
+        walls_done_ = !walls_bad_;
+        return value() && dom_.start_array(0) && dom_.end_array();
+      }
+      return true;
+    }
+    return end() && dom_.end_array();
+  }
   bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
     fail(std::string("world is not valid JSON: ") + e.what());
   }
@@ -88,8 +141,26 @@ class DuplicateKeyCheck : public nlohmann::json_sax<json> {
     }
     return path;
   }
+  bool bad() {
+    walls_bad_ = true;
+    return true;
+  }
+  bool coordinate(std::int64_t v) {
+    constexpr std::int64_t kLimit = 1 << 28;  // as coordinate() below
+    if (wdepth_ != 2 || coords_ >= dims_ || v < -kLimit || v > kLimit) return bad();
+    xyz_[coords_++] = static_cast<std::int32_t>(v);
+    return true;
+  }
   std::vector<Frame> frames_;
   nlohmann::detail::json_sax_dom_parser<json> dom_;
+  int dims_;
+  bool fast_walls_;
+  bool walls_key_ = false;  // the last top-level key was "walls"
+  int wdepth_ = 0;          // nesting inside the wall list being collected (0: not in it)
+  int coords_ = 0;          // coordinates of the point being read
+  std::int32_t xyz_[3] = {0, 0, 0};
+  bool walls_bad_ = false, walls_done_ = false;
+  std::vector<Cell> walls_;
 };
 
 std::string type_name(const json& v) {
@@ -121,12 +192,33 @@ Cell point(const json& v, int dims, const std::string& where) {
   return c;
 }
 
+// A well-formed point without building the names used in messages (a wall list has thousands).
+bool plain_point(const json& v, int dims, Cell& c) {
+  constexpr std::int64_t kLimit = 1 << 28;  // as coordinate()
+  if (!v.is_array() || v.size() != static_cast<std::size_t>(dims)) return false;
+  std::int32_t xyz[3] = {0, 0, 0};
+  for (int a = 0; a < dims; ++a) {
+    const json& e = v[static_cast<std::size_t>(a)];
+    if (!e.is_number_integer()) return false;
+    const auto i = e.get<std::int64_t>();
+    if (i < -kLimit || i > kLimit) return false;
+    xyz[a] = static_cast<std::int32_t>(i);
+  }
+  c = {xyz[0], xyz[1], xyz[2]};
+  return true;
+}
+
 std::vector<Cell> point_list(const json& v, int dims, const std::string& where) {
   if (!v.is_array()) fail(where + " must be an array of points, not " + type_name(v));
   std::vector<Cell> out;
   out.reserve(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i)
-    out.push_back(point(v[i], dims, where + "[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    Cell c;
+    if (plain_point(v[i], dims, c))
+      out.push_back(c);
+    else
+      out.push_back(point(v[i], dims, where + "[" + std::to_string(i) + "]"));  // says why
+  }
   return out;
 }
 
@@ -192,9 +284,19 @@ std::string describe(const Cell& c, int dims) {
 WorldDocument parse_world(std::string_view text, int dims) {
   if (dims != 2 && dims != 3) throw Error(codes::kInternal, "parse_world: dims must be 2 or 3");
   json root;
+  std::vector<Cell> fast_walls;
+  bool have_fast_walls = false;
   try {
-    DuplicateKeyCheck check(root);
+    DuplicateKeyCheck check(root, dims, true);
     json::sax_parse(text.begin(), text.end(), &check);
+    if (check.walls_failed()) {
+      root = json();
+      DuplicateKeyCheck slow(root, dims, false);
+      json::sax_parse(text.begin(), text.end(), &slow);
+    } else if (check.walls_collected()) {
+      fast_walls = std::move(check.walls());
+      have_fast_walls = true;
+    }
   } catch (const json::exception& e) {  // syntax, and numbers beyond double range (1e999)
     fail(std::string("world is not valid JSON: ") + e.what());
   }
@@ -209,7 +311,7 @@ WorldDocument parse_world(std::string_view text, int dims) {
 
   if (const json* walls = member(root, "walls")) {
     doc.has_walls = true;
-    doc.walls = point_list(*walls, dims, "walls");
+    doc.walls = have_fast_walls ? std::move(fast_walls) : point_list(*walls, dims, "walls");
   }
   if (const json* octo = member(root, "octomap")) {
     if (!octo->is_string()) fail("octomap must be a file name (string), not " + type_name(*octo));
