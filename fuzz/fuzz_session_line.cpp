@@ -28,7 +28,8 @@ std::unique_ptr<Session> g_session;
 // the fuzzer spends its time on many inputs; the code paths are the same as at the defaults.
 std::unique_ptr<Session> make_session() {
   return flipper::kernel::open_session(
-      std::nullopt, {"lexicon.path=:memory:", "session.deadline_ms=500", "world.max_cells=1048576"});
+      std::nullopt,
+      {"lexicon.path=:memory:", "session.deadline_ms=500", "world.max_cells=1048576"});
 }
 
 bool changes_state(const std::string& answer) {

@@ -3,8 +3,8 @@
 // Built twice: fuzz_world_grid2d (FLIPPER_FUZZ_WORLD_CONFIG = the embedded default) and
 // fuzz_world_octomap3d (configs/octomap-astar.yaml).
 // Input: a world object. Oracle: loading either throws Error(bad_world, world_too_large,
-// file_too_large or not_a_regular_file) or gives a state whose
-// saved text loads again and saves to the same text (save/load round trip).
+// file_too_large or not_a_regular_file) or gives a state whose saved text loads again and saves
+// to the same text (save/load round trip).
 #include <unistd.h>
 
 #include <cstdio>
@@ -48,8 +48,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   if (*config != 0) file = fz::source_dir() + "/" + config;
   g_runtime = flipper::kernel::make_runtime(
       // A smaller world limit than the default keeps each input cheap (same code paths).
-      Config::load(file, {"rewriter=null", "similarity=null", "lexicon.path=:memory:",
-                          "world.max_cells=1048576"}));
+      Config::load(file, {"rewriter=null", "similarity=null",
+                          "lexicon.path=:memory:", "world.max_cells=1048576"}));
   return 0;
 }
 
