@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <ctime>
 #include <iostream>
+#include <unordered_map>
 
 #include "flipper/naturalization/generalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -79,6 +80,25 @@ StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
   return s;
 }
 
+namespace {
+// Templates repeat across a lexicon (one definition's rules, and users define alike); a program
+// is immutable, so rules with the same template text and sorts share one (start-up reads each
+// distinct template once). Per thread, bounded.
+sdk::Program cached_template(const std::string& text, sdk::Sort sort,
+                             const std::vector<sdk::Sort>& holes) {
+  thread_local std::unordered_map<std::string, sdk::Program> cache;
+  std::string key = text;
+  key += '\0';
+  key += static_cast<char>(sort);
+  for (sdk::Sort h : holes) key += static_cast<char>(h);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  sdk::Program p = sdk::read_template(text, sort, holes);
+  if (cache.size() >= 4096) cache.clear();
+  cache.emplace(std::move(key), p);
+  return p;
+}
+}  // namespace
+
 sdk::RulePtr rule_from_stored(const StoredRule& s) {
   // Older versions induced `$Action -> $ROOT thrice`-like rules, whose hole takes a whole
   // sequence; such a rule is not read (so it is quarantined, with this message).
@@ -103,7 +123,7 @@ sdk::RulePtr rule_from_stored(const StoredRule& s) {
     }
   }
   rule->sem =
-      sdk::read_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
+      cached_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
   rule->induced = true;
   rule->how = origin_from_string(s.how);
   rule->author = s.author;
@@ -171,8 +191,26 @@ void Naturalizer::restore() {
   apply(store_->changes_since({}));
   initial_weights_ = runtime_->scorer->save_state();
   weights_user_.clear();
-  if (!options_.per_user_weights) {
-    if (auto state = store_->load_weights(weights_key({}))) runtime_->scorer->load_state(*state);
+  if (!options_.per_user_weights) load_weights(weights_key({}));
+}
+
+namespace {
+sdk::IncrementalScorer* incremental(sdk::Scorer& scorer) {
+  return dynamic_cast<sdk::IncrementalScorer*>(&scorer);
+}
+}  // namespace
+
+// A whole saved state (older builds, non-incremental scorers), then the additive weights.
+void Naturalizer::load_weights(const std::string& key) {
+  auto& scorer = *runtime_->scorer;
+  auto state = store_->load_weights(key);
+  if (state || options_.per_user_weights) scorer.load_state(state ? *state : initial_weights_);
+  if (auto* inc = incremental(scorer)) {
+    std::vector<sdk::WeightChange> changes;
+    for (auto& c : store_->weight_changes(key))
+      changes.push_back({std::move(c.model), std::move(c.feature), c.weight, c.aux});
+    inc->apply_changes(changes);
+    inc->commit_changes();
   }
 }
 
@@ -214,8 +252,7 @@ std::string Naturalizer::weights_key(const std::string& user) const {
 
 void Naturalizer::select_user(const std::string& user) {
   if (!options_.per_user_weights || user == weights_user_) return;
-  auto state = store_->load_weights(weights_key(user));
-  runtime_->scorer->load_state(state ? *state : initial_weights_);
+  load_weights(weights_key(user));
   weights_user_ = user;
 }
 
@@ -361,8 +398,18 @@ void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::Rule
     deltas.push_back({r->id, own ? 1u : 0u, own ? 0u : 1u});
     rules.push_back(r);
   }
-  const auto totals =
-      store_->record_accept(deltas, weights_key(user), runtime_->scorer->save_state());
+  // An incremental scorer's changed weights are added to the stored sums; any other scorer's
+  // whole state replaces the stored one (last writer wins). Either way in the accept's
+  // transaction, with the counters.
+  std::vector<RuleUses> totals;
+  if (auto* inc = incremental(*runtime_->scorer)) {
+    std::vector<StoredWeightChange> changes;
+    for (auto& c : inc->pending_changes())
+      changes.push_back({std::move(c.model), std::move(c.feature), c.weight, c.aux});
+    totals = store_->record_accept(deltas, weights_key(user), changes);
+  } else {
+    totals = store_->record_accept(deltas, weights_key(user), runtime_->scorer->save_state());
+  }
   // The stored totals include other processes' uses.
   for (std::size_t i = 0; i < rules.size(); ++i) {
     rules[i]->usage->by_author.store(totals[i].by_author);

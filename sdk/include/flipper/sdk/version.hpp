@@ -12,12 +12,15 @@
 /// StopCondition::expired); plugins built against 1.0 load unchanged.
 /// Also 1.1: PlannerTraits::sampling (a field at the end; only the planner conformance kit reads
 /// it, so a 1.0 planner's traits lose nothing the kernel uses).
+/// 1.2 — IncrementalScorer, an optional interface a Scorer may also implement (found with
+/// dynamic_cast; the Scorer vtable is unchanged): sparse additive weight changes. Scorers built
+/// against 1.0/1.1 load unchanged and are persisted with save_state() as before.
 
 #include <boost/version.hpp>
 
 #define FLIPPER_PLUGIN_ABI 1
 #define FLIPPER_SDK_VERSION_MAJOR 1
-#define FLIPPER_SDK_VERSION_MINOR 1
+#define FLIPPER_SDK_VERSION_MINOR 2
 #define FLIPPER_SDK_VERSION_PATCH 0
 
 #define FLIPPER_STRINGIFY_IMPL(x) #x

@@ -157,6 +157,8 @@ class Naturalizer {
   void remove_live(const std::string& id);
   bool exists_for(const sdk::Rule& rule, const std::string& author) const;
   std::string weights_key(const std::string& user) const;
+  /// Loads the scorer's stored weights under `key` (saved state, then additive weights).
+  void load_weights(const std::string& key);
 
   std::shared_ptr<Runtime> runtime_;
   NaturalizeOptions options_;
