@@ -206,3 +206,33 @@ TEST_CASE("protocol JSON of trace steps", "[protocol]") {
   CHECK(kernel::protocol::error_json("bad_world", "x").dump() ==
         R"({"code":"bad_world","message":"x"})");
 }
+
+TEST_CASE("A containing item keeps the cells of A holding a matching item", "[exec]") {
+  // Study map items (configs/worlds/study2018.json): green at (7,4) and (10,8); red at (4,0),
+  // (7,4), (10,8); yellow at (3,8) and (4,0); nothing pink.
+  Study st;
+  auto moves_at = [&](const char* where, int x, int y) {
+    // Every cell asked about holds items except (2,4), where the answer is false anyway.
+    auto o = st.run(std::string("{if {robot at ") + where + "} {pick item }}", st.state(x, y));
+    REQUIRE_FALSE(o.error);
+    return !o.trace.empty();
+  };
+  const char* green_in_world = "{world containing item {is green}}";
+  CHECK(moves_at(green_in_world, 7, 4));
+  CHECK(moves_at(green_in_world, 10, 8));
+  CHECK_FALSE(moves_at(green_in_world, 4, 0));  // red and yellow only
+  CHECK_FALSE(moves_at(green_in_world, 3, 8));
+  CHECK_FALSE(moves_at(green_in_world, 2, 4));  // no item
+  const char* green_in_list = "{[[4,0], [7,4]] containing item {is green}}";
+  CHECK(moves_at(green_in_list, 7, 4));
+  CHECK_FALSE(moves_at(green_in_list, 4, 0));
+  CHECK_FALSE(moves_at("{[[4,0], [3,8]] containing item {is green}}", 7, 4));  // not in the list
+  auto item_at_world = [&](const char* color) {
+    auto o = st.run(std::string("{if {item {is ") + color + "} at world} {move right}}",
+                    st.state(2, 4));
+    REQUIRE_FALSE(o.error);
+    return !o.trace.empty();
+  };
+  CHECK(item_at_world("yellow"));
+  CHECK_FALSE(item_at_world("pink"));
+}
