@@ -228,8 +228,8 @@ TEST_CASE("A containing item keeps the cells of A holding a matching item", "[ex
   CHECK_FALSE(moves_at(green_in_list, 4, 0));
   CHECK_FALSE(moves_at("{[[4,0], [3,8]] containing item {is green}}", 7, 4));  // not in the list
   auto item_at_world = [&](const char* color) {
-    auto o = st.run(std::string("{if {item {is ") + color + "} at world} {move right}}",
-                    st.state(2, 4));
+    auto o =
+        st.run(std::string("{if {item {is ") + color + "} at world} {move right}}", st.state(2, 4));
     REQUIRE_FALSE(o.error);
     return !o.trace.empty();
   };
