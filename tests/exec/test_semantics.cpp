@@ -236,3 +236,32 @@ TEST_CASE("A containing item keeps the cells of A holding a matching item", "[ex
   CHECK(item_at_world("yellow"));
   CHECK_FALSE(item_at_world("pink"));
 }
+
+TEST_CASE("possible of a lone action answers as the action would, and counts it",
+          "[exec][possible]") {
+  Study st;
+  auto moved = [&](const std::string& prog, const sdk::WorldState& s) {
+    auto o = st.run(prog, s);
+    REQUIRE_FALSE(o.error);
+    return !o.trace.empty();
+  };
+  // (7,4) holds a red circle and no pink item; (7,5) above it is free.
+  CHECK(moved("{if {possible {pick item {is red}}} {move up}}", st.state(7, 4)));
+  CHECK_FALSE(moved("{if {possible {pick item {is pink}}} {move up}}", st.state(7, 4)));
+  const auto holding = st.state(2, 4, {{"red", "square"}});
+  CHECK(moved("{if {possible {drop item {is red}}} {move right}}", holding));
+  CHECK_FALSE(moved("{if {possible {drop item {is blue}}} {move right}}", holding));
+  CHECK(moved("{if {possible {move right}} {move right}}", st.state(2, 4)));
+  CHECK_FALSE(moved("{if {possible {move up}} {move right}}", st.state(2, 5)));  // (2,6): wall
+  // The trial counts as one action, as a run of the action on a copy would: with a budget of 4,
+  // two rounds of (trial, move) fit and a third does not.
+  kernel::ExecLimits four;
+  four.action_budget = 4;
+  auto two =
+      st.run("{repeat 2 times {if {possible {move right}} {move right}}}", st.state(2, 4), four);
+  CHECK_FALSE(two.error);
+  CHECK(two.world.robot == sdk::Cell{4, 4, 0});
+  auto three =
+      st.run("{repeat 3 times {if {possible {move right}} {move right}}}", st.state(2, 4), four);
+  CHECK(three.error_code == "budget_exceeded");
+}

@@ -4,6 +4,7 @@
 // copies of the state with the trace and warning sinks switched off or redirected.
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,9 @@ class Interpreter {
   bool exec_foreach_point(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool exec_foreach_area(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool trial(const sdk::Node& n, const sdk::WorldState& s, std::vector<std::string>* warnings);
+  /// Whether a lone pick, drop or move would succeed on `s` (counted like exec() would), or
+  /// nullopt for any other statement.
+  std::optional<bool> primitive_succeeds(const sdk::Node& n, const sdk::WorldState& s);
   void tick();  // loop-iteration budget check (time)
 
   // actions.cpp: primitives
@@ -64,6 +68,8 @@ class Interpreter {
   bool visit_collection(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool pick(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool drop(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  /// Whether move, pick or drop `n` would succeed on `s`, without running it (budget counted).
+  bool action_succeeds(const sdk::Node& n, const sdk::WorldState& s);
   void count_action();
   bool fail(const sdk::Node& n, Sinks& out, const std::string& reason);
   void follow(const sdk::PathResult& path, sdk::WorldState& s, Sinks& out);

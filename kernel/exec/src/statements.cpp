@@ -2,6 +2,7 @@
 // (§4.7) and the loop orders of §8.
 #include <algorithm>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "flipper/sdk/canonical.hpp"
@@ -49,6 +50,10 @@ bool Interpreter::run(const sdk::Program& program, WorldState& state,
 }
 
 bool Interpreter::trial(const Node& n, const WorldState& s, std::vector<std::string>* warnings) {
+  // `possible` of a lone pick, drop or move: decided on the state itself, without the copy of
+  // every item (`if possible {drop item}` inside `foreach point in world` runs per cell).
+  if (warnings == nullptr)
+    if (const auto quick = primitive_succeeds(n, s)) return *quick;
   WorldState scratch = s;
   Sinks out{nullptr, warnings};
   return exec(n, scratch, out);
@@ -101,6 +106,18 @@ bool Interpreter::exec(const Node& n, WorldState& s, Sinks& out) {
       throw sdk::Error(sdk::codes::kExecution,
                        std::string("not a statement: ") + sdk::kind_name(n.kind));
   }
+}
+
+std::optional<bool> Interpreter::primitive_succeeds(const Node& n, const WorldState& s) {
+  const Node* a = &n;
+  if (a->kind == Kind::Seq && a->kids.size() == 1) a = a->kids[0].get();  // `{drop item}`
+  if (a->kind != Kind::Pick && a->kind != Kind::Drop && a->kind != Kind::Move) return std::nullopt;
+  // The same budget steps as exec() (once per statement) and the action (actions.cpp).
+  for (const Node* k = &n;; k = k->kids[0].get()) {
+    if ((++steps_ & 1023u) == 0) tick();
+    if (k == a) break;
+  }
+  return action_succeeds(*a, s);
 }
 
 bool Interpreter::exec_strict(const Node& n, WorldState& s, Sinks& out) {
