@@ -265,3 +265,60 @@ TEST_CASE("possible of a lone action answers as the action would, and counts it"
       st.run("{repeat 3 times {if {possible {move right}} {move right}}}", st.state(2, 4), four);
   CHECK(three.error_code == "budget_exceeded");
 }
+
+namespace {
+// The astar planner, counting its tours and declaring itself deterministic or not.
+class CountingPlanner final : public sdk::Planner {
+ public:
+  CountingPlanner(std::shared_ptr<sdk::Planner> inner, bool deterministic)
+      : inner_(std::move(inner)), deterministic_(deterministic) {}
+  mutable int tours = 0;
+
+ protected:
+  sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& r,
+                          const sdk::StopCondition& s) const override {
+    return inner_->plan(g, r, s);
+  }
+  sdk::TourResult do_tour(const sdk::Geometry& g, sdk::Cell start,
+                          const std::vector<sdk::Cell>& points,
+                          const sdk::StopCondition& s) const override {
+    ++tours;
+    return inner_->tour(g, start, points, s);
+  }
+  sdk::PlannerTraits do_traits() const override {
+    sdk::PlannerTraits t = inner_->traits();
+    t.deterministic = deterministic_;
+    return t;
+  }
+
+ private:
+  std::shared_ptr<sdk::Planner> inner_;
+  bool deterministic_;
+};
+}  // namespace
+
+TEST_CASE("a deterministic planner's foreach-point tour is reused only for the same request",
+          "[exec][tour]") {
+  Study st;
+  auto run = [&](const std::string& prog, bool deterministic, int& tours) {
+    auto p = std::make_shared<CountingPlanner>(st.planner, deterministic);
+    kernel::Executor exec(p, {});
+    auto o = exec.run(sdk::read_canonical(prog), st.state());
+    REQUIRE_FALSE(o.error);
+    tours = p->tours;
+    return trace_text(o.trace);
+  };
+  int fresh = 0, reused = 0;
+  // strict: a trial run, then the real one: the same tour request twice.
+  const std::string strict = "{strict {foreach point in room3 {visit point}}}";
+  CHECK(run(strict, true, reused) == run(strict, false, fresh));
+  CHECK(fresh == 2);
+  CHECK(reused == 1);
+  // The same cells from another start (the robot moved): a new request, a new tour.
+  const std::string moved =
+      "{{foreach point in room3 {visit point}};{move right};{foreach point in room3 {visit "
+      "point}}}";
+  CHECK(run(moved, true, reused) == run(moved, false, fresh));
+  CHECK(fresh == 2);
+  CHECK(reused == 2);
+}
