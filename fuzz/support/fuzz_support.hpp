@@ -1,7 +1,7 @@
 #pragma once
 /// @file fuzz_support.hpp
 /// Helpers shared by the libFuzzer targets in fuzz/: splitting inputs, a private scratch
-/// directory, and the guards for known findings (known_findings.hpp).
+/// directory, and the repository root.
 #include <cstddef>
 #include <cstdint>
 #include <string>

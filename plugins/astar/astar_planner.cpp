@@ -3,9 +3,11 @@
 // §8's tour T (Christofides on shortest-path distances, then 2-opt and Or-opt on the open path).
 // Works on any Geometry: the neighbourhood comes from geometry.neighbour_offsets().
 #include <algorithm>
+#include <limits>
 #include <mutex>
 #include <numeric>
 
+#include "distance_cache.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/planner.hpp"
 #include "grid_search.hpp"
@@ -84,18 +86,21 @@ class AStarPlanner final : public sdk::Planner {
     // of points that share a cell.
     std::vector<std::size_t> by_cell(points.size());
     std::iota(by_cell.begin(), by_cell.end(), 0);
-    // Sorting millions of points (foreach point in a large world) takes seconds: the comparison
-    // polls the stop condition, so the caller's deadline holds here too.
-    struct SortStopped {};
-    std::uint64_t comparisons = 0;
-    try {
-      std::stable_sort(by_cell.begin(), by_cell.end(), [&](std::size_t a, std::size_t b) {
-        if ((++comparisons & 0xFFFFu) == 0 && stop.expired()) throw SortStopped{};
-        return points[a] < points[b];
-      });
-    } catch (const SortStopped&) {
-      std::iota(by_cell.begin(), by_cell.end(), 0);
-      return stopped(r, by_cell);
+    // Areas come sorted (the kernel normalizes them), and then the identity is the stable order.
+    // Otherwise sorting millions of points takes seconds: the comparison polls the stop
+    // condition, so the caller's deadline holds here too.
+    if (!std::is_sorted(points.begin(), points.end())) {
+      struct SortStopped {};
+      std::uint64_t comparisons = 0;
+      try {
+        std::stable_sort(by_cell.begin(), by_cell.end(), [&](std::size_t a, std::size_t b) {
+          if ((++comparisons & 0xFFFFu) == 0 && stop.expired()) throw SortStopped{};
+          return points[a] < points[b];
+        });
+      } catch (const SortStopped&) {
+        std::iota(by_cell.begin(), by_cell.end(), 0);
+        return stopped(r, by_cell);
+      }
     }
     if (points.empty()) return r;
     if (stop.expired()) return stopped(r, by_cell);
@@ -112,23 +117,48 @@ class AStarPlanner final : public sdk::Planner {
         cells.push_back(points[i]);
     std::uint64_t expansions = 0;
     if (stop.expired()) return stopped(r, by_cell);
-    search_.set_targets(cells);
+    // Distances remembered from earlier tours on this geometry (distance_cache.hpp). A start on
+    // a wall is passable only as a start, which breaks symmetry: no caching then; nor under an
+    // expansion budget, whose outcome must not depend on earlier requests.
+    const bool cache = budget_ == std::numeric_limits<std::uint64_t>::max() &&
+                       stop.max_expansions == std::numeric_limits<std::uint64_t>::max() &&
+                       cache_.use(g) && g.is_free(start);
     std::vector<std::int32_t> from_start(cells.size(), -1);
-    if (!search_.distances(start, -1, from_start.data(), stop, budget_, expansions)) {
+    if (!(cache && DistanceCache::fits(cells.size()) && cached_row(start, cells, 0, from_start))) {
+      std::fill(from_start.begin(), from_start.end(), -1);
+      search_.set_targets(cells);
+      if (!search_.distances(start, -1, from_start.data(), stop, budget_, expansions)) {
+        search_.clear_targets();
+        return stopped(r, by_cell);
+      }
       search_.clear_targets();
-      return stopped(r, by_cell);
+      if (cache && DistanceCache::fits(cells.size()))
+        for (std::size_t k = 0; k < cells.size(); ++k) cache_.store(start, cells[k], from_start[k]);
     }
-    // Vertices: the start and the reachable point cells, numbered in (x, y, z) order.
-    std::vector<Cell> vertices{start};
-    for (std::size_t k = 0; k < cells.size(); ++k)
-      if (from_start[k] >= 0 && cells[k] != start) vertices.push_back(cells[k]);
-    std::sort(vertices.begin(), vertices.end());
+    // Vertices: the start and the reachable point cells, numbered in (x, y, z) order. `cells` is
+    // sorted, so the start is merged in where it belongs (no sort: millions of cells took
+    // seconds that the deadline did not cover).
+    std::vector<Cell> vertices;
+    vertices.reserve(cells.size() + 1);
+    bool start_placed = false;
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      if (from_start[k] < 0 || cells[k] == start) continue;
+      if (!start_placed && start < cells[k]) {
+        vertices.push_back(start);
+        start_placed = true;
+      }
+      vertices.push_back(cells[k]);
+    }
+    if (!start_placed) vertices.push_back(start);
+    // Freed now rather than at return: on millions of points they are a sixth of the peak.
+    std::vector<Cell>().swap(cells);
+    std::vector<std::int32_t>().swap(from_start);
     const int n = static_cast<int>(vertices.size());
     const int s = static_cast<int>(std::lower_bound(vertices.begin(), vertices.end(), start) -
                                    vertices.begin());
-    search_.clear_targets();
     std::vector<int> path;
     if (n > max_tour_points_) {
+      if (stop.expired()) return stopped(r, by_cell);
       if (!greedy_path(vertices, s, stop, expansions, path, r.length)) return stopped(r, by_cell);
       r.status = sdk::PlanStatus::found;
       return finish(r, path, vertices, points, by_cell);
@@ -138,11 +168,17 @@ class AStarPlanner final : public sdk::Planner {
     m.d.assign(static_cast<std::size_t>(n) * n, 0.0);
     search_.set_targets(vertices);
     std::vector<std::int32_t> row(n);
+    const bool cache_rows = cache && DistanceCache::fits(vertices.size());
     for (int v = 0; v < n; ++v) {
       std::fill(row.begin(), row.end(), -1);
-      if (!search_.distances(vertices[v], v, row.data(), stop, budget_, expansions)) {
-        search_.clear_targets();
-        return stopped(r, by_cell);
+      if (!(cache_rows && cached_row(vertices[v], vertices, v + 1, row))) {
+        std::fill(row.begin(), row.end(), -1);
+        if (!search_.distances(vertices[v], v, row.data(), stop, budget_, expansions)) {
+          search_.clear_targets();
+          return stopped(r, by_cell);
+        }
+        if (cache_rows)
+          for (int u = v + 1; u < n; ++u) cache_.store(vertices[v], vertices[u], row[u]);
       }
       for (int u = v + 1; u < n; ++u) {
         // The neighbourhood is symmetric in every world we know; an unreachable pair (a
@@ -158,6 +194,15 @@ class AStarPlanner final : public sdk::Planner {
     r.status = complete ? sdk::PlanStatus::found : sdk::PlanStatus::stopped;
     r.length = open_length(m, path);
     return finish(r, path, vertices, points, by_cell);
+  }
+
+  // Fills row[k] for k >= from with cached distances from `a` to cells[k]; false if any is
+  // missing.
+  bool cached_row(Cell a, const std::vector<Cell>& cells, std::size_t from,
+                  std::vector<std::int32_t>& row) const {
+    for (std::size_t k = from; k < cells.size(); ++k)
+      if (!cache_.find(a, cells[k], row[k])) return false;
+    return true;
   }
 
   // Greedy nearest neighbour from vertex s by repeated breadth-first searches (ties: smallest
@@ -227,6 +272,7 @@ class AStarPlanner final : public sdk::Planner {
   std::int64_t max_tour_points_;
   mutable std::mutex mutex_;
   mutable GridSearch search_;
+  mutable DistanceCache cache_;  // guarded by mutex_, like search_
 };
 
 }  // namespace

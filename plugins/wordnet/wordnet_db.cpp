@@ -48,19 +48,14 @@ std::vector<std::string_view> fields(std::string_view line) {
   return out;
 }
 
-std::string_view line_at(std::string_view text, std::size_t start) {
-  const std::size_t end = text.find('\n', start);
-  return text.substr(start, (end == std::string_view::npos ? text.size() : end) - start);
-}
-
-// Binary search of a bytewise-sorted file of lines "key ...", from `start` on.
-std::string_view find_line(std::string_view text, std::size_t start, std::string_view key) {
-  std::size_t lo = start, hi = text.size();
+// Binary search of a bytewise-sorted file of lines "key ...", from `start` on (the probes of a
+// search over the whole text: each probe's line starts after the last newline before its middle).
+std::string find_line(const DictFile& file, std::size_t start, std::string_view key) {
+  std::size_t lo = start, hi = file.size();
   while (lo < hi) {
-    std::size_t s = lo + (hi - lo) / 2;
-    while (s > lo && text[s - 1] != '\n') --s;
-    const std::string_view line = line_at(text, s);
-    const std::string_view k = line.substr(0, line.find(' '));
+    const std::size_t s = file.line_start(lo + (hi - lo) / 2, lo);
+    std::string line = file.line_from(s);
+    const std::string_view k = std::string_view(line).substr(0, line.find(' '));
     const int cmp = k.compare(key);
     if (cmp == 0) return line;
     if (cmp < 0)
@@ -94,16 +89,14 @@ const WordNetDb::Files& WordNetDb::files(Pos pos) const {
   Files& f = files_[static_cast<std::size_t>(pos)];
   std::call_once(f.once, [&] {
     const std::string name = kPosName[static_cast<std::size_t>(pos)];
-    f.index = std::make_unique<MappedFile>(dir_ + "/index." + name);
-    f.data = std::make_unique<MappedFile>(dir_ + "/data." + name);
-    f.exceptions = std::make_unique<MappedFile>(dir_ + "/" + name + ".exc");
+    f.index = std::make_unique<DictFile>(dir_ + "/index." + name);
+    f.data = std::make_unique<DictFile>(dir_ + "/data." + name);
+    f.exceptions = std::make_unique<DictFile>(dir_ + "/" + name + ".exc");
     // The licence header's lines start with two spaces.
-    const std::string_view t = f.index->text();
     std::size_t s = 0;
-    while (s < t.size() && t[s] == ' ') {
-      const std::size_t nl = t.find('\n', s);
-      s = nl == std::string_view::npos ? t.size() : nl + 1;
-    }
+    for (std::string line;
+         s < f.index->size() && !(line = f.index->line_from(s)).empty() && line[0] == ' ';)
+      s = std::min(f.index->size(), s + line.size() + 1);
     f.index_start = s;
   });
   return f;
@@ -111,7 +104,8 @@ const WordNetDb::Files& WordNetDb::files(Pos pos) const {
 
 void WordNetDb::lemma_synsets(const Files& f, std::string_view lemma,
                               std::vector<std::uint32_t>& out) const {
-  const auto parts = fields(find_line(f.index->text(), f.index_start, lemma));
+  const std::string line = find_line(*f.index, f.index_start, lemma);
+  const auto parts = fields(line);
   // lemma pos synset_cnt p_cnt [ptr_symbol...] sense_cnt tagsense_cnt synset_offset...
   std::size_t synset_count = 0, pointer_count = 0;
   if (parts.size() < 4 || !parse(parts[2], synset_count) || !parse(parts[3], pointer_count)) return;
@@ -129,7 +123,8 @@ std::vector<std::uint32_t> WordNetDb::synsets(std::string_view word, Pos pos) co
   const Files& f = files(pos);
   lemma_synsets(f, word, out);
   // Irregular forms ("mice mouse").
-  const auto exc = fields(find_line(f.exceptions->text(), 0, word));
+  const std::string exc_line = find_line(*f.exceptions, 0, word);
+  const auto exc = fields(exc_line);
   for (std::size_t i = 1; i < exc.size(); ++i) lemma_synsets(f, exc[i], out);
   for (const auto& [suffix, ending] : kRules[static_cast<std::size_t>(pos)]) {
     if (word.size() <= suffix.size() || !word.ends_with(suffix)) continue;
@@ -142,9 +137,10 @@ std::vector<std::uint32_t> WordNetDb::synsets(std::string_view word, Pos pos) co
 
 std::vector<std::uint32_t> WordNetDb::hypernyms(std::uint32_t offset, Pos pos) const {
   std::vector<std::uint32_t> out;
-  const std::string_view text = files(pos).data->text();
-  if (offset >= text.size()) return out;
-  const auto parts = fields(line_at(text, offset));
+  const DictFile& data = *files(pos).data;
+  if (offset >= data.size()) return out;
+  const std::string line = data.line_from(offset);
+  const auto parts = fields(line);
   // offset lex_filenum ss_type w_cnt(hex) [word lex_id]... p_cnt [symbol offset pos src/tgt]...
   std::size_t words = 0, pointers = 0;
   if (parts.size() < 4 || !parse(parts[3], words, 16)) return out;

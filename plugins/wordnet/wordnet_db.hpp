@@ -1,9 +1,10 @@
 #pragma once
 /// @file wordnet_db.hpp
 /// Read access to a WordNet 3.0 dictionary directory (Debian's `wordnet-base`:
-/// /usr/share/wordnet/{index,data}.{noun,verb,adj,adv} and *.exc). Files are memory-mapped on
-/// first use and searched in place: index and exception files by binary search (they are sorted
-/// bytewise after the licence header), data files by the synset's byte offset.
+/// /usr/share/wordnet/{index,data}.{noun,verb,adj,adv} and *.exc). Files are opened on first
+/// use and searched in place with positioned reads (dict_file.hpp): index and exception files
+/// by binary search (they are sorted bytewise after the licence header), data files by the
+/// synset's byte offset.
 
 #include <array>
 #include <cstdint>
@@ -13,7 +14,7 @@
 #include <string_view>
 #include <vector>
 
-#include "mapped_file.hpp"
+#include "dict_file.hpp"
 
 namespace flipper::plugins::wordnet {
 
@@ -34,7 +35,7 @@ class WordNetDb {
  private:
   struct Files {
     std::once_flag once;
-    std::unique_ptr<MappedFile> index, data, exceptions;
+    std::unique_ptr<DictFile> index, data, exceptions;
     std::size_t index_start = 0;  // first byte after the licence header
   };
   const Files& files(Pos pos) const;

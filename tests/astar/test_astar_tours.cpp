@@ -163,3 +163,34 @@ TEST_CASE("small tours are close to the best open path", "[astar][tour]") {
   }
   REQUIRE(optimal >= 15);
 }
+
+TEST_CASE("remembered distances change no tour, and a changed map forgets them",
+          "[astar][tour][cache]") {
+  // The oracle: a planner under an expansion budget too large to bind, which never uses the
+  // distance cache (astar_planner.cpp), against one planner that serves every request in turn.
+  auto uncached =
+      testsupport::astar(sdk::Params({{"max_expansions", std::int64_t{1000000000000}}}));
+  auto warm = testsupport::astar();
+  auto same = [&](const sdk::Geometry& g, Cell start, const std::vector<Cell>& points) {
+    const auto a = warm->tour(g, start, points, sdk::StopCondition{});
+    const auto b = uncached->tour(g, start, points, sdk::StopCondition{});
+    REQUIRE(a.status == sdk::PlanStatus::found);
+    CHECK(a.order == b.order);
+    CHECK(a.length == b.length);
+  };
+  for (std::uint32_t seed = 1; seed <= 30; ++seed) {
+    const auto t = random_tour(seed, 24, 18, 0.25, 12);
+    const auto& free = t.grid->free_cells();
+    same(*t.grid, t.start, t.points);
+    // Half the points again plus new ones, from another start: pairs partly remembered.
+    std::vector<Cell> mixed(t.points.begin(), t.points.begin() + 6);
+    for (std::size_t k = 0; k < 6; ++k) mixed.push_back(free[(seed * 7 + k * 13) % free.size()]);
+    same(*t.grid, free[(seed * 31) % free.size()], mixed);
+    same(*t.grid, t.start, t.points);  // every pair remembered
+    // The same box with every wall opened: shorter distances between the same points.
+    std::vector<std::uint8_t> open(t.grid->free_mask().size(), 1);
+    const sdk::Geometry opened(2, t.grid->min(), t.grid->max(), std::move(open),
+                               t.grid->neighbour_offsets(), {});
+    same(opened, t.start, t.points);
+  }
+}

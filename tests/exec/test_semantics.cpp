@@ -207,3 +207,119 @@ TEST_CASE("protocol JSON of trace steps", "[protocol]") {
   CHECK(kernel::protocol::error_json("bad_world", "x").dump() ==
         R"({"code":"bad_world","message":"x"})");
 }
+
+TEST_CASE("A containing item keeps the cells of A holding a matching item", "[exec]") {
+  // Study map items (configs/worlds/study2018.json): green at (7,4) and (10,8); red at (4,0),
+  // (7,4), (10,8); yellow at (3,8) and (4,0); nothing pink.
+  Study st;
+  auto moves_at = [&](const char* where, int x, int y) {
+    // Every cell asked about holds items except (2,4), where the answer is false anyway.
+    auto o = st.run(std::string("{if {robot at ") + where + "} {pick item }}", st.state(x, y));
+    REQUIRE_FALSE(o.error);
+    return !o.trace.empty();
+  };
+  const char* green_in_world = "{world containing item {is green}}";
+  CHECK(moves_at(green_in_world, 7, 4));
+  CHECK(moves_at(green_in_world, 10, 8));
+  CHECK_FALSE(moves_at(green_in_world, 4, 0));  // red and yellow only
+  CHECK_FALSE(moves_at(green_in_world, 3, 8));
+  CHECK_FALSE(moves_at(green_in_world, 2, 4));  // no item
+  const char* green_in_list = "{[[4,0], [7,4]] containing item {is green}}";
+  CHECK(moves_at(green_in_list, 7, 4));
+  CHECK_FALSE(moves_at(green_in_list, 4, 0));
+  CHECK_FALSE(moves_at("{[[4,0], [3,8]] containing item {is green}}", 7, 4));  // not in the list
+  auto item_at_world = [&](const char* color) {
+    auto o =
+        st.run(std::string("{if {item {is ") + color + "} at world} {move right}}", st.state(2, 4));
+    REQUIRE_FALSE(o.error);
+    return !o.trace.empty();
+  };
+  CHECK(item_at_world("yellow"));
+  CHECK_FALSE(item_at_world("pink"));
+}
+
+TEST_CASE("possible of a lone action answers as the action would, and counts it",
+          "[exec][possible]") {
+  Study st;
+  auto moved = [&](const std::string& prog, const sdk::WorldState& s) {
+    auto o = st.run(prog, s);
+    REQUIRE_FALSE(o.error);
+    return !o.trace.empty();
+  };
+  // (7,4) holds a red circle and no pink item; (7,5) above it is free.
+  CHECK(moved("{if {possible {pick item {is red}}} {move up}}", st.state(7, 4)));
+  CHECK_FALSE(moved("{if {possible {pick item {is pink}}} {move up}}", st.state(7, 4)));
+  const auto holding = st.state(2, 4, {{"red", "square"}});
+  CHECK(moved("{if {possible {drop item {is red}}} {move right}}", holding));
+  CHECK_FALSE(moved("{if {possible {drop item {is blue}}} {move right}}", holding));
+  CHECK(moved("{if {possible {move right}} {move right}}", st.state(2, 4)));
+  CHECK_FALSE(moved("{if {possible {move up}} {move right}}", st.state(2, 5)));  // (2,6): wall
+  // The trial counts as one action, as a run of the action on a copy would: with a budget of 4,
+  // two rounds of (trial, move) fit and a third does not.
+  kernel::ExecLimits four;
+  four.action_budget = 4;
+  auto two =
+      st.run("{repeat 2 times {if {possible {move right}} {move right}}}", st.state(2, 4), four);
+  CHECK_FALSE(two.error);
+  CHECK(two.world.robot == sdk::Cell{4, 4, 0});
+  auto three =
+      st.run("{repeat 3 times {if {possible {move right}} {move right}}}", st.state(2, 4), four);
+  CHECK(three.error_code == "budget_exceeded");
+}
+
+namespace {
+// The astar planner, counting its tours and declaring itself deterministic or not.
+class CountingPlanner final : public sdk::Planner {
+ public:
+  CountingPlanner(std::shared_ptr<sdk::Planner> inner, bool deterministic)
+      : inner_(std::move(inner)), deterministic_(deterministic) {}
+  mutable int tours = 0;
+
+ protected:
+  sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& r,
+                          const sdk::StopCondition& s) const override {
+    return inner_->plan(g, r, s);
+  }
+  sdk::TourResult do_tour(const sdk::Geometry& g, sdk::Cell start,
+                          const std::vector<sdk::Cell>& points,
+                          const sdk::StopCondition& s) const override {
+    ++tours;
+    return inner_->tour(g, start, points, s);
+  }
+  sdk::PlannerTraits do_traits() const override {
+    sdk::PlannerTraits t = inner_->traits();
+    t.deterministic = deterministic_;
+    return t;
+  }
+
+ private:
+  std::shared_ptr<sdk::Planner> inner_;
+  bool deterministic_;
+};
+}  // namespace
+
+TEST_CASE("a deterministic planner's foreach-point tour is reused only for the same request",
+          "[exec][tour]") {
+  Study st;
+  auto run = [&](const std::string& prog, bool deterministic, int& tours) {
+    auto p = std::make_shared<CountingPlanner>(st.planner, deterministic);
+    kernel::Executor exec(p, {});
+    auto o = exec.run(sdk::read_canonical(prog), st.state());
+    REQUIRE_FALSE(o.error);
+    tours = p->tours;
+    return trace_text(o.trace);
+  };
+  int fresh = 0, reused = 0;
+  // strict: a trial run, then the real one: the same tour request twice.
+  const std::string strict = "{strict {foreach point in room3 {visit point}}}";
+  CHECK(run(strict, true, reused) == run(strict, false, fresh));
+  CHECK(fresh == 2);
+  CHECK(reused == 1);
+  // The same cells from another start (the robot moved): a new request, a new tour.
+  const std::string moved =
+      "{{foreach point in room3 {visit point}};{move right};{foreach point in room3 {visit "
+      "point}}}";
+  CHECK(run(moved, true, reused) == run(moved, false, fresh));
+  CHECK(fresh == 2);
+  CHECK(reused == 2);
+}

@@ -4,6 +4,7 @@
 #include <functional>
 #include <sstream>
 
+#include "flipper/sdk/errors.hpp"
 #include "flipper/testing/parser_conformance.hpp"
 #include "parse_support.hpp"
 
@@ -162,4 +163,20 @@ TEST_CASE("ranking changes after accepts in the chosen direction") {
   REQUIRE(r2.candidates.size() == 2);
   CHECK(r2.candidates[0].program->kids[0]->kids[0]->kids[0]->kind ==
         second->kids[0]->kids[0]->kids[0]->kind);
+}
+
+// Issue 11: a define head of 65,535 tokens wrapped the chart's int index (out-of-bounds write).
+// The kernel refuses long inputs first (input.max_tokens); the parser keeps its own bound, for
+// callers that are not the kernel.
+TEST_CASE("more tokens than max_tokens (default 4096) are input_too_long") {
+  auto& st = parsetest::shared_stack();
+  std::string words = "move";
+  for (int i = 1; i < 65535; ++i) words += " left";
+  try {
+    st.parse(words);
+    FAIL("a 65,535-token parse was accepted");
+  } catch (const sdk::Error& e) {
+    CHECK(e.code() == sdk::codes::kInputTooLong);
+    CHECK(std::string(e.what()) == "chart parser: 65535 tokens; the limit is max_tokens = 4096");
+  }
 }

@@ -219,6 +219,24 @@ bool Interpreter::visit_collection(const Node& n, WorldState& s, Sinks& out) {
   return true;
 }
 
+bool Interpreter::action_succeeds(const Node& n, const WorldState& s) {
+  count_action();  // as the action itself would
+  if (n.kind == Kind::Move) {
+    const std::string& word = n.kids[0]->text;
+    const auto offset = geometry_.direction(word);
+    if (!offset)
+      throw sdk::Error(sdk::codes::kExecution, "this world has no direction '" + word + "'");
+    return geometry_.is_free(s.robot + *offset);
+  }
+  const Node& what = *n.kids[0];
+  if (n.kind == Kind::Pick)
+    return std::any_of(s.items.begin(), s.items.end(), [&](const sdk::LyingItem& li) {
+      return li.at == s.robot && matches(what, li.item);
+    });
+  return std::any_of(s.held.begin(), s.held.end(),
+                     [&](const sdk::ItemInfo& h) { return matches(what, h); });
+}
+
 bool Interpreter::pick(const Node& n, WorldState& s, Sinks& out) {
   count_action();
   const Node& what = *n.kids[0];

@@ -4,6 +4,7 @@
 // copies of the state with the trace and warning sinks switched off or redirected.
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,7 +39,8 @@ class Interpreter {
   };
 
   const sdk::Planner& planner_;
-  bool planner_optimal_;  // the planner's paths are shortest (else the kernel picks goals)
+  bool planner_optimal_;        // the planner's paths are shortest (else the kernel picks goals)
+  bool planner_deterministic_;  // same request, same answer (tours may be reused)
   const sdk::Geometry& geometry_;
   const sdk::RoomMap& rooms_;
   ExecLimits limits_;
@@ -48,13 +50,25 @@ class Interpreter {
   std::uint64_t steps_ = 0;
   std::vector<sdk::Cell> point_vars_;  // innermost last; popping restores the outer binding (§4.7)
   std::vector<sdk::Area> area_vars_;
+  struct LastTour {  // the last `foreach point` order (point_tour)
+    bool valid = false;
+    sdk::Cell start;
+    sdk::Area cells;
+    std::vector<std::size_t> order;
+  } last_tour_;
 
   // statements.cpp
   bool exec(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool exec_strict(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool exec_foreach_point(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool exec_foreach_area(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  /// The planner's visiting order of `cells` from `start` (§8), the last one reused when the
+  /// planner is deterministic and the request is the same.
+  std::vector<std::size_t> point_tour(sdk::Cell start, const sdk::Area& cells);
   bool trial(const sdk::Node& n, const sdk::WorldState& s, std::vector<std::string>* warnings);
+  /// Whether a lone pick, drop or move would succeed on `s` (counted like exec() would), or
+  /// nullopt for any other statement.
+  std::optional<bool> primitive_succeeds(const sdk::Node& n, const sdk::WorldState& s);
   void tick();  // loop-iteration budget check (time)
 
   // actions.cpp: primitives
@@ -64,6 +78,8 @@ class Interpreter {
   bool visit_collection(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool pick(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
   bool drop(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
+  /// Whether move, pick or drop `n` would succeed on `s`, without running it (budget counted).
+  bool action_succeeds(const sdk::Node& n, const sdk::WorldState& s);
   void count_action();
   bool fail(const sdk::Node& n, Sinks& out, const std::string& reason);
   void follow(const sdk::PathResult& path, sdk::WorldState& s, Sinks& out);

@@ -33,6 +33,17 @@ bool lying_match_in(const Node& item, const WorldState& s, const Area& cells) {
     if (sdk::areas::contains(cells, li.at) && matches(item, li.item)) return true;
   return false;
 }
+
+// The cells holding an item that matches `item`, sorted and distinct: few next to the cells of
+// an area (`world` has a million on a 1024^2 map), so `A containing item` intersects with them
+// rather than filtering A cell by cell.
+Area cells_holding(const Node& item, const WorldState& s) {
+  Area out;
+  for (const auto& li : s.items)
+    if (matches(item, li.item)) out.push_back(li.at);
+  sdk::areas::normalize(out);
+  return out;
+}
 }  // namespace
 
 double Interpreter::number(const Node& n) {
@@ -121,13 +132,15 @@ Area Interpreter::area(const Node& n, const WorldState& s) {
     case Kind::AreaMinus:
       return sdk::areas::subtract(area(*n.kids[0], s), area(*n.kids[1], s));
     case Kind::AreaContaining: {
-      Area a = area(*n.kids[0], s);
-      const Node& item = *n.kids[1];
-      std::erase_if(a, [&](const Cell& c) {
-        for (const auto& li : s.items)
-          if (li.at == c && matches(item, li.item)) return false;
-        return true;
-      });
+      const Node& inner = *n.kids[0];
+      if (inner.kind == Kind::World) {  // world = the free cells: no copy of them needed
+        Area a = cells_holding(*n.kids[1], s);
+        std::erase_if(a, [&](const Cell& c) { return !geometry_.is_free(c); });
+        return a;
+      }
+      Area a = area(inner, s);
+      const Area holding = cells_holding(*n.kids[1], s);
+      std::erase_if(a, [&](const Cell& c) { return !sdk::areas::contains(holding, c); });
       return a;
     }
     default:
@@ -190,6 +203,11 @@ bool Interpreter::condition(const Node& n, const WorldState& s) {
       return false;
     }
     case Kind::ItemAtArea:
+      if (n.kids[1]->kind == Kind::World) {  // as in AreaContaining: no copy of the free cells
+        for (const auto& li : s.items)
+          if (geometry_.is_free(li.at) && matches(*n.kids[0], li.item)) return true;
+        return false;
+      }
       return lying_match_in(*n.kids[0], s, area(*n.kids[1], s));
     case Kind::RobotHas:
       for (const auto& h : s.held)

@@ -2,6 +2,7 @@
 // (§4.7) and the loop orders of §8.
 #include <algorithm>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "flipper/sdk/canonical.hpp"
@@ -21,6 +22,7 @@ Interpreter::Interpreter(const sdk::Planner& planner, const ExecLimits& limits,
                          std::chrono::steady_clock::time_point request_deadline)
     : planner_(planner),
       planner_optimal_(planner.traits().optimal),
+      planner_deterministic_(planner.traits().deterministic),
       geometry_(*start.geometry),
       rooms_(*start.rooms),
       limits_(limits) {
@@ -49,6 +51,10 @@ bool Interpreter::run(const sdk::Program& program, WorldState& state,
 }
 
 bool Interpreter::trial(const Node& n, const WorldState& s, std::vector<std::string>* warnings) {
+  // `possible` of a lone pick, drop or move: decided on the state itself, without the copy of
+  // every item (`if possible {drop item}` inside `foreach point in world` runs per cell).
+  if (warnings == nullptr)
+    if (const auto quick = primitive_succeeds(n, s)) return *quick;
   WorldState scratch = s;
   Sinks out{nullptr, warnings};
   return exec(n, scratch, out);
@@ -103,6 +109,18 @@ bool Interpreter::exec(const Node& n, WorldState& s, Sinks& out) {
   }
 }
 
+std::optional<bool> Interpreter::primitive_succeeds(const Node& n, const WorldState& s) {
+  const Node* a = &n;
+  if (a->kind == Kind::Seq && a->kids.size() == 1) a = a->kids[0].get();  // `{drop item}`
+  if (a->kind != Kind::Pick && a->kind != Kind::Drop && a->kind != Kind::Move) return std::nullopt;
+  // The same budget steps as exec() (once per statement) and the action (actions.cpp).
+  for (const Node* k = &n;; k = k->kids[0].get()) {
+    if ((++steps_ & 1023u) == 0) tick();
+    if (k == a) break;
+  }
+  return action_succeeds(*a, s);
+}
+
 bool Interpreter::exec_strict(const Node& n, WorldState& s, Sinks& out) {
   std::vector<std::string> trial_warnings;
   if (trial(*n.kids[0], s, out.warnings ? &trial_warnings : nullptr))
@@ -118,19 +136,36 @@ bool Interpreter::exec_strict(const Node& n, WorldState& s, Sinks& out) {
 bool Interpreter::exec_foreach_point(const Node& n, WorldState& s, Sinks& out) {
   const Area cells = area(*n.kids[0], s);
   if (cells.empty()) return true;
-  const sdk::TourResult tour = planner_.tour(geometry_, s.robot, cells, stop_);
-  if (tour.status == sdk::PlanStatus::stopped) tick();
-  if (tour.status != sdk::PlanStatus::found || tour.order.size() != cells.size())
-    throw sdk::Error(sdk::codes::kExecution,
-                     "the planner gave no visiting order for 'foreach point'");
+  const std::vector<std::size_t> order = point_tour(s.robot, cells);
   bool ok = true;
   point_vars_.push_back(Cell{});
-  for (std::size_t i : tour.order) {
+  for (std::size_t i : order) {
     point_vars_.back() = cells[i];
     ok = exec(*n.kids[1], s, out) && ok;
   }
   point_vars_.pop_back();  // restores the enclosing loop's binding (§4.7)
   return ok;
+}
+
+std::vector<std::size_t> Interpreter::point_tour(Cell start, const Area& cells) {
+  // A deterministic planner gives the same order for the same request: `strict` and `possible`
+  // run a loop once as a trial and again for real, so the last order is reused (a tour over the
+  // 16k cells of a 128^2 world is most of such a query).
+  if (planner_deterministic_ && last_tour_.valid && last_tour_.start == start &&
+      last_tour_.cells == cells)
+    return last_tour_.order;
+  sdk::TourResult tour = planner_.tour(geometry_, start, cells, stop_);
+  if (tour.status == sdk::PlanStatus::stopped) tick();
+  if (tour.status != sdk::PlanStatus::found || tour.order.size() != cells.size())
+    throw sdk::Error(sdk::codes::kExecution,
+                     "the planner gave no visiting order for 'foreach point'");
+  if (planner_deterministic_) {
+    last_tour_.valid = true;
+    last_tour_.start = start;
+    last_tour_.cells = cells;
+    last_tour_.order = tour.order;
+  }
+  return std::move(tour.order);
 }
 
 bool Interpreter::exec_foreach_area(const Node& n, WorldState& s, Sinks& out) {
