@@ -80,7 +80,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Only JSON text: load_world_file reads anything else as a file path.
   const auto first = text.find_first_not_of(" \t\r\n");
   if (first == std::string::npos || text[first] != '{') return -1;
-  const int dims = g_runtime->world->dims();
+  const int dims = g_runtime->world.borrow()->dims();
   if (known_class(text, dims)) return -1;
 
   sdk::WorldState state;
@@ -91,10 +91,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       fail("error code is not bad_world", e.code() + ": " + e.what());
     return 0;
   }
-  const std::string saved = g_runtime->world->save(state);
+  const std::string saved = g_runtime->world.borrow()->save(state);
   std::string again;
   try {
-    again = g_runtime->world->save(flipper::kernel::load_world_file(*g_runtime, saved));
+    again = g_runtime->world.borrow()->save(flipper::kernel::load_world_file(*g_runtime, saved));
   } catch (const sdk::Error& e) {
     fail("saved world does not load again", saved + "\n  " + e.what());
   }

@@ -126,10 +126,10 @@ TEST_CASE("rules, counters and weights survive a restart", "[naturalize]") {
     define(*s, "pick 3 items", {"repeat 3 times pick item"});
     REQUIRE(status(*s, "pick 2 items") == "induced");
     REQUIRE(s->handle({{"op", "accept"}, {"rank", 0}})["ok"] == true);
-    weights = s->runtime().scorer->save_state();
+    weights = s->runtime().scorer.borrow()->save_state();
   }
   auto s = open(store);
-  CHECK(s->runtime().scorer->save_state() == weights);
+  CHECK(s->runtime().scorer.borrow()->save_state() == weights);
   user(*s, "ana");
   CHECK(status(*s, "pick 4 items") == "induced");
   const Json rules = s->handle({{"op", "rules"}});
@@ -190,17 +190,17 @@ TEST_CASE("define generalizes a too specific body before inducing", "[naturalize
 TEST_CASE("per-user weights: each user's accepts train only their own model", "[naturalize]") {
   const std::string store = scratch_path("lex") + ".sqlite";
   auto s = open(store, {"lexicon.weights=per_user"});
-  const std::string initial = s->runtime().scorer->save_state();
+  const std::string initial = s->runtime().scorer.borrow()->save_state();
   user(*s, "ana");
   const Json q = s->handle({{"op", "query"}, {"text", "pick item not is red and is green"}});
   REQUIRE(q["candidates"].size() >= 2);
   REQUIRE(s->handle({{"op", "accept"}, {"rank", 1}})["ok"] == true);
-  const std::string ana = s->runtime().scorer->save_state();
+  const std::string ana = s->runtime().scorer.borrow()->save_state();
   CHECK(ana != initial);
   user(*s, "bob");
-  CHECK(s->runtime().scorer->save_state() == initial);
+  CHECK(s->runtime().scorer.borrow()->save_state() == initial);
   user(*s, "ana");
-  CHECK(s->runtime().scorer->save_state() == ana);
+  CHECK(s->runtime().scorer.borrow()->save_state() == ana);
   kernel::LexiconStore reopened(store);
   CHECK(reopened.load_weights("user:ana") == std::optional<std::string>(ana));
   CHECK_FALSE(reopened.load_weights("user:bob"));

@@ -16,11 +16,12 @@ using sdk::Kind;
 using sdk::Node;
 using sdk::WorldState;
 
-Interpreter::Interpreter(const sdk::Planner& planner, const ExecLimits& limits,
+Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const ExecLimits& limits,
                          const WorldState& start,
                          std::chrono::steady_clock::time_point request_deadline)
     : planner_(planner),
-      planner_optimal_(planner.traits().optimal),
+      planner_optimal_(
+          planner.call("traits", [](const sdk::Planner& p) { return p.traits(); }).optimal),
       geometry_(*start.geometry),
       rooms_(*start.rooms),
       limits_(limits) {
@@ -118,7 +119,8 @@ bool Interpreter::exec_strict(const Node& n, WorldState& s, Sinks& out) {
 bool Interpreter::exec_foreach_point(const Node& n, WorldState& s, Sinks& out) {
   const Area cells = area(*n.kids[0], s);
   if (cells.empty()) return true;
-  const sdk::TourResult tour = planner_.tour(geometry_, s.robot, cells, stop_);
+  const sdk::TourResult tour = planner_.call(
+      "tour", [&](const sdk::Planner& p) { return p.tour(geometry_, s.robot, cells, stop_); });
   if (tour.status == sdk::PlanStatus::stopped) tick();
   if (tour.status != sdk::PlanStatus::found || tour.order.size() != cells.size())
     throw sdk::Error(sdk::codes::kExecution,
@@ -157,7 +159,8 @@ bool Interpreter::exec_foreach_area(const Node& n, WorldState& s, Sinks& out) {
   std::vector<std::size_t> order;
   order.reserve(areas.size());
   if (!reps.empty()) {
-    const sdk::TourResult tour = planner_.tour(geometry_, s.robot, reps, stop_);
+    const sdk::TourResult tour = planner_.call(
+        "tour", [&](const sdk::Planner& p) { return p.tour(geometry_, s.robot, reps, stop_); });
     if (tour.status == sdk::PlanStatus::stopped) tick();
     if (tour.status != sdk::PlanStatus::found || tour.order.size() != reps.size())
       throw sdk::Error(sdk::codes::kExecution,

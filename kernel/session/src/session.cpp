@@ -142,7 +142,8 @@ void Session::set_world(sdk::WorldState world) {
 }
 
 Json Session::world_json(const sdk::WorldState& state) const {
-  std::string text = request::call_plugin("world", [&] { return runtime_->world->save(state); });
+  std::string text =
+      runtime_->world.call("save", [&](const sdk::World& w) { return w.save(state); });
   return Json::parse(text);
 }
 
@@ -152,7 +153,8 @@ const std::string& Session::world_text(const sdk::WorldState& state) {
       if (i != 0) std::swap(world_cache_[i], world_cache_[0]);
       return world_cache_[0].text;
     }
-  std::string text = request::call_plugin("world", [&] { return runtime_->world->save(state); });
+  std::string text =
+      runtime_->world.call("save", [&](const sdk::World& w) { return w.save(state); });
   // The answer is one line: normalise a plugin that writes multi-line text.
   if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
   constexpr std::size_t kCacheSize = 8;
@@ -299,7 +301,7 @@ Json Session::op_world(const Json& req) {
       throw sdk::Error(sdk::codes::kBadRequest, "field 'world' must be a world object");
     const std::string base = std::filesystem::current_path().string();
     std::string text = world_field->dump();
-    state = request::call_plugin("world", [&] { return load_world_text(*runtime_, text, base); });
+    state = load_world_text(*runtime_, text, base);
   } else {
     std::string file =
         request::require_string(req, "file", "a world object 'world' or a path 'file'");
@@ -311,7 +313,7 @@ Json Session::op_world(const Json& req) {
     std::string text = read_regular_file(path.string(), options_.input.max_file_bytes, "world file",
                                          sdk::codes::kBadWorld);
     std::string base = path.parent_path().string();
-    state = request::call_plugin("world", [&] { return load_world_text(*runtime_, text, base); });
+    state = load_world_text(*runtime_, text, base);
   }
   check_deadline("loading the world");
   Json normalised = answer_world(state);
