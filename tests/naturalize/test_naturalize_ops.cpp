@@ -206,3 +206,54 @@ TEST_CASE("per-user weights: each user's accepts train only their own model", "[
   CHECK_FALSE(reopened.load_weights("user:bob"));
   CHECK_FALSE(reopened.load_weights("global"));
 }
+
+namespace {
+// Forwards to the real scorer and records what the kernel put in the contexts it was given.
+class RecordingScorer : public sdk::Scorer {
+ public:
+  explicit RecordingScorer(std::shared_ptr<sdk::Scorer> real) : real_(std::move(real)) {}
+  mutable bool scored_with_usage = false;
+  mutable std::uint64_t most_uses_by_others = 0;
+  bool learned_with_usage = false;
+
+ protected:
+  double do_score_node(const sdk::Derivation& n, const sdk::ScoreContext& ctx) const override {
+    if (ctx.usage != nullptr && n.rule) {
+      scored_with_usage = true;
+      most_uses_by_others = std::max(most_uses_by_others, ctx.usage->uses(n.rule->id).by_others);
+    }
+    return real_->score_node(n, ctx);
+  }
+  void do_features(const sdk::Derivation& n, const sdk::ScoreContext& ctx,
+                   sdk::FeatureVector& out) const override {
+    real_->features(n, ctx, out);
+  }
+  void do_learn(const std::vector<sdk::Candidate>& c, std::size_t accepted,
+                const sdk::ScoreContext& ctx) override {
+    learned_with_usage = ctx.usage != nullptr;
+    real_->learn(c, accepted, ctx);
+  }
+  std::string do_save_state() const override { return real_->save_state(); }
+  void do_load_state(std::string_view state) override { real_->load_state(state); }
+
+ private:
+  std::shared_ptr<sdk::Scorer> real_;
+};
+}  // namespace
+
+TEST_CASE("scorers read the kernel's use counts from their context", "[naturalize]") {
+  auto s = open(scratch_path("lex") + ".sqlite");
+  kernel::Runtime& rt = s->runtime();
+  auto recording = std::make_shared<RecordingScorer>(rt.scorer.shared());
+  rt.scorer = kernel::PluginRef<sdk::Scorer>(recording, rt.scorer.id());
+  user(*s, "ana");
+  define(*s, "go west", {"move left"});
+  user(*s, "bob");
+  REQUIRE(status(*s, "go west") == "induced");
+  CHECK(recording->scored_with_usage);
+  CHECK(recording->most_uses_by_others == 0);
+  REQUIRE(s->handle({{"op", "accept"}, {"rank", 0}})["ok"] == true);
+  CHECK(recording->learned_with_usage);
+  REQUIRE(status(*s, "go west") == "induced");
+  CHECK(recording->most_uses_by_others == 1);  // bob's accept of ana's rule, as the table says
+}
