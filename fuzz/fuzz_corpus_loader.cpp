@@ -1,4 +1,4 @@
-// Fuzz target: the user-study corpus loader (kernel/replay load_corpus) and what the replay
+// Fuzz target: the user-study corpus loader (apps/replay load_corpus) and what the replay
 // reads from it (runs, preloaded definitions, protocol worlds).
 // Input: worlds.jsonl, then queries.jsonl, definitions.jsonl and original-answers.jsonl, the
 // files separated by lines `%%`. Oracle: load_corpus either throws Error(bad_corpus) or gives a
@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "flipper/kernel/replay/corpus.hpp"
+#include "flipper/replay/corpus.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "support/fuzz_support.hpp"
 

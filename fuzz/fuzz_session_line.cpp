@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "flipper/kernel/session_factory.hpp"
+#include "flipper/wiring/session_factory.hpp"
 #include "support/fuzz_support.hpp"
 #include "support/known_findings.hpp"
 

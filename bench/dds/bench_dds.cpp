@@ -17,7 +17,7 @@
 #include "flipper/dds/lexicon_replicator.hpp"
 #include "flipper/dds/plan_publisher.hpp"
 #include "flipper/kernel/runtime.hpp"
-#include "flipper/kernel/session_factory.hpp"
+#include "flipper/wiring/session_factory.hpp"
 
 using namespace flipper;
 using Clock = std::chrono::steady_clock;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "corpus_data.hpp"
-#include "flipper/kernel/corpus/original_text.hpp"
+#include "flipper/corpus/original_text.hpp"
 #include "flipper/kernel/executor.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"

@@ -4,7 +4,7 @@
 // rolling and pick-by-predicate: the most candidates), and mixed lines (loop rolling only).
 #include <benchmark/benchmark.h>
 
-#include "flipper/kernel/generalizer.hpp"
+#include "flipper/naturalization/generalizer.hpp"
 #include "flipper/sdk/similarity.hpp"
 #include "study_env.hpp"
 

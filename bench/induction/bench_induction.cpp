@@ -11,8 +11,8 @@
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/executor.hpp"
-#include "flipper/kernel/lexicon_store.hpp"
-#include "flipper/kernel/naturalizer.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/kernel/runtime.hpp"
 
 namespace fs = std::filesystem;

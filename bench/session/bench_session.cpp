@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "flipper/kernel/session.hpp"
-#include "flipper/kernel/session_factory.hpp"
+#include "flipper/wiring/session_factory.hpp"
 #include "flipper/sdk/canonical.hpp"
 
 using flipper::kernel::Json;

@@ -2,7 +2,7 @@
 // without --author, export -> import replays definitions (rules induced again, nothing stored
 // replaced, a second import adds nothing), --restore copies verbatim into an empty store only.
 #include "cli_test_support.hpp"
-#include "flipper/kernel/lexicon_store.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
 
 using namespace flipper::clitest;
 

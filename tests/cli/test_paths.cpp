@@ -22,7 +22,8 @@ TEST_CASE("command-line (--set) paths resolve against the current directory", "[
   fs::copy_file(fs::path(FLIPPER_SOURCE_DIR) / "configs/worlds/study2018.json", dir / "mine.json",
                 fs::copy_options::overwrite_existing);
   // Before the rule this looked for configs/mine.json next to the embedded default.
-  const Run r = run_from(dir, "run --set lexicon.path=:memory: --set world.file=mine.json '{move up}'");
+  const Run r =
+      run_from(dir, "run --set lexicon.path=:memory: --set world.file=mine.json '{move up}'");
   INFO(r.out);
   CHECK(r.status == 0);
   CHECK(contains(r.out, "move [2,5]"));
@@ -40,13 +41,15 @@ TEST_CASE("command-line (--set) paths resolve against the current directory", "[
   const Run p = run_from(dir, "plugins --set 'plugin_paths=[no-such-dir]'");
   INFO(p.out);
   CHECK(p.status == 2);
-  CHECK(contains(p.out, "flipper plugins: [bad_config] plugin_paths entry 'no-such-dir' resolves to '" +
-                            (dir / "no-such-dir").string() + "', which is not a directory"));
+  CHECK(contains(p.out,
+                 "flipper plugins: [bad_config] plugin_paths entry 'no-such-dir' resolves to '" +
+                     (dir / "no-such-dir").string() + "', which is not a directory"));
   CHECK(contains(p.out, "from --set: relative to the current directory " + dir.string()));
 }
 
-TEST_CASE("paths in a config file resolve against its directory, and a copied config says why it fails",
-          "[cli][paths]") {
+TEST_CASE(
+    "paths in a config file resolve against its directory, and a copied config says why it fails",
+    "[cli][paths]") {
   const fs::path dir = fs::path(scratch_dir("paths-config"));
   fs::create_directories(dir / "sub");
   fs::copy_file(fs::path(FLIPPER_SOURCE_DIR) / "configs/worlds/study2018.json",
@@ -74,4 +77,26 @@ TEST_CASE("paths in a config file resolve against its directory, and a copied co
                               (dir / "worlds/study2018.json").string() +
                               "' (world.file 'worlds/study2018.json' from copy.yaml: relative to "
                               "its directory " + dir.string() + ")"));
+}
+
+TEST_CASE("paths in an experiment file resolve against its directory", "[cli][paths]") {
+  const fs::path dir = fs::path(scratch_dir("paths-experiment"));
+  fs::create_directories(dir / "exp");
+  fs::create_directories(dir / "elsewhere");
+  fs::copy(fs::path(FLIPPER_SOURCE_DIR) / "tests/replay/data", dir / "exp" / "corpus");
+  std::ofstream(dir / "exp" / "e.yaml") << "corpus: corpus\n";
+  // Run from a sibling directory: the corpus is found next to the experiment file, the output
+  // (a command-line path) lands in the current directory.
+  const Run ok = run_from(dir / "elsewhere", "replay --experiment ../exp/e.yaml --out out");
+  INFO(ok.out);
+  CHECK(ok.status == 0);
+  CHECK(contains(ok.out, "plain: status agreement "));
+  CHECK(fs::exists(dir / "elsewhere" / "out" / "report.md"));
+
+  // A missing corpus is named by the path it resolved to, next to the file.
+  std::ofstream(dir / "exp" / "missing.yaml") << "corpus: no-such-corpus\n";
+  const Run bad = run_from(dir / "elsewhere", "replay --experiment ../exp/missing.yaml --out out");
+  INFO(bad.out);
+  CHECK(bad.status != 0);
+  CHECK(contains(bad.out, (dir / "exp" / "no-such-corpus").string()));
 }

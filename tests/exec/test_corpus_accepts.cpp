@@ -5,7 +5,7 @@
 // it on the world before
 // (`world_id`) and compare robot, held items and items on the floor with the world the client sent
 // next (`next_world_id`). Differences are classified with the replay's classifier
-// (kernel/corpus/accept_diff.hpp); none may stay unexplained.
+// (flipper/corpus/accept_diff.hpp); none may stay unexplained.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdlib>
@@ -13,8 +13,8 @@
 #include <map>
 
 #include "corpus_data.hpp"
-#include "flipper/kernel/corpus/accept_diff.hpp"
-#include "flipper/kernel/corpus/original_text.hpp"
+#include "flipper/corpus/accept_diff.hpp"
+#include "flipper/corpus/original_text.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "study_fixture.hpp"
 

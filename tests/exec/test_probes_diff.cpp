@@ -11,8 +11,8 @@
 #include "flipper/sdk/errors.hpp"
 
 #include "corpus_data.hpp"
-#include "flipper/kernel/corpus/accept_diff.hpp"
-#include "flipper/kernel/corpus/original_text.hpp"
+#include "flipper/corpus/accept_diff.hpp"
+#include "flipper/corpus/original_text.hpp"
 #include "study_fixture.hpp"
 
 using namespace flipper;

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.hpp"
-#include "flipper/kernel/replay/experiment.hpp"
+#include "flipper/replay/experiment.hpp"
 
 using namespace flipper;
 using clitest::contains;

@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "equivalence.hpp"
-#include "flipper/kernel/generalizer.hpp"
+#include "flipper/naturalization/generalizer.hpp"
 #include "study_env.hpp"
 
 using namespace flipper;

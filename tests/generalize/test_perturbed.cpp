@@ -2,7 +2,7 @@
 // ranking a candidate that differs there after ones that agree (when packing and similarity tie).
 #include <catch2/catch.hpp>
 
-#include "flipper/kernel/generalizer.hpp"
+#include "flipper/naturalization/generalizer.hpp"
 #include "perturbation.hpp"
 #include "study_env.hpp"
 

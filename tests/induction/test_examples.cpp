@@ -2,7 +2,7 @@
 // chart parser and the loglinear scorer: define, then parse what the new rules should cover.
 #include <catch2/catch.hpp>
 
-#include "flipper/kernel/induction.hpp"
+#include "flipper/naturalization/induction.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "plugin_fixture.hpp"

@@ -1,7 +1,7 @@
 // Matches, packings, rule construction and alignment on hand-built charts (no parser).
 #include <catch2/catch.hpp>
 
-#include "flipper/kernel/induction.hpp"
+#include "flipper/naturalization/induction.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "synthetic_chart.hpp"
 

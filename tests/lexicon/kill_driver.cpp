@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include "flipper/kernel/lexicon_store.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 3) {

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "child_process.hpp"
-#include "flipper/kernel/lexicon_store.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
 #include "sqlite_integrity.hpp"
 
 namespace fs = std::filesystem;

@@ -6,7 +6,7 @@
 #include <random>
 #include <sstream>
 
-#include "flipper/kernel/lexicon_store.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace fs = std::filesystem;

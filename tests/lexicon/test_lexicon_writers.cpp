@@ -11,7 +11,7 @@
 #include <fstream>
 #include <random>
 
-#include "flipper/kernel/lexicon_store.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace fs = std::filesystem;

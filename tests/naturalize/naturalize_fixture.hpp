@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "flipper/kernel/session.hpp"
-#include "flipper/kernel/session_factory.hpp"
+#include "flipper/wiring/session_factory.hpp"
 #include "session_fixture.hpp"
 
 namespace flipper::naturalizetest {

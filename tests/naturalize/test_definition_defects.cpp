@@ -3,8 +3,8 @@
 // session protocol with the default config (rewrites + wordnet generalization on).
 #include <catch2/catch.hpp>
 
-#include "flipper/kernel/lexicon_store.hpp"
-#include "flipper/kernel/naturalize_ops.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "naturalize_fixture.hpp"
 

@@ -5,8 +5,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "flipper/kernel/lexicon_store.hpp"
-#include "flipper/kernel/naturalize_ops.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/naturalization/naturalize_ops.hpp"
 #include "naturalize_fixture.hpp"
 
 using namespace flipper;

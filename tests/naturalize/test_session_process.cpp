@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "child_process.hpp"
-#include "flipper/kernel/lexicon_store.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
 #include "naturalize_fixture.hpp"
 #include "sqlite_integrity.hpp"
 

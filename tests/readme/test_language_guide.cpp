@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "flipper/kernel/repl.hpp"
+#include "flipper/repl/repl.hpp"
 
 using nlohmann::json;
 

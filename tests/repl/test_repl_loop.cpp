@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "flipper/kernel/repl.hpp"
+#include "flipper/repl/repl.hpp"
 #include "session_fixture.hpp"
 
 namespace {

@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <sstream>
 
-#include "flipper/kernel/repl.hpp"
+#include "flipper/repl/repl.hpp"
 
 using flipper::kernel::Json;
 using flipper::kernel::repl::describe_candidate;

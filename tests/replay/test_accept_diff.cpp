@@ -1,10 +1,10 @@
-// The accept classifier (kernel/corpus/accept_diff.hpp) on hand-made worlds: each class is
+// The accept classifier (flipper/corpus/accept_diff.hpp) on hand-made worlds: each class is
 // reached by the case it names, and the first matching class wins.
 #include <catch2/catch.hpp>
 #include <set>
 
 #include "../generalize/study_env.hpp"
-#include "flipper/kernel/corpus/accept_diff.hpp"
+#include "flipper/corpus/accept_diff.hpp"
 #include "flipper/kernel/executor.hpp"
 #include "flipper/sdk/canonical.hpp"
 

@@ -1,7 +1,7 @@
 // A reduced replay of the dev split (every run, its first 150 queries) with floors set from the
 // measurements: 1170/1200 statuses agree (97.5 %), 290/293 accepted programs found, 229/286
 // executions agree on robot, held items and floor (full split: 3830/3950 = 97.0 %, 785/807,
-// 569/772). Every other execution gets a class (kernel/corpus/accept_diff.hpp); the tie-rule
+// 569/772). Every other execution gets a class (flipper/corpus/accept_diff.hpp); the tie-rule
 // classes are proofs by re-execution with another tie choice. Measured here: 230/288 agree;
 // 25 resets, 10 loop order, 9 no change logged, 5 nearest cell, 4 item choice, 3 client state,
 // 2 unexplained (full split: 21 unexplained of 772).
@@ -10,9 +10,9 @@
 #include <catch2/catch.hpp>
 #include <iostream>
 
-#include "flipper/kernel/replay/corpus.hpp"
-#include "flipper/kernel/replay/metrics.hpp"
-#include "flipper/kernel/replay/replayer.hpp"
+#include "flipper/replay/corpus.hpp"
+#include "flipper/replay/metrics.hpp"
+#include "flipper/replay/replayer.hpp"
 
 using namespace flipper::kernel::replay;
 
@@ -53,7 +53,7 @@ TEST_CASE("reduced dev replay agrees with the original's statuses above the floo
   CHECK(m.exec.classes.at("reset") == 25);
   CHECK(m.exec.unexplained <= 2);  // measured: 2 (no proof by another tie choice)
 
-  // The induced-rule oracle (kernel/replay/rule_oracle.hpp): our rules per definition against
+  // The induced-rule oracle (flipper/replay/rule_oracle.hpp): our rules per definition against
   // the original's logged ones.
   int compared = 0;
   for (const auto& [match, n] : m.rule_match) compared += n;

@@ -1,11 +1,11 @@
 // Metric code on hand-made rows, the SVG writer, and the deletion mapping on the dev split.
 #include <catch2/catch.hpp>
 
-#include "flipper/kernel/replay/corpus.hpp"
-#include "flipper/kernel/replay/deletion_map.hpp"
-#include "flipper/kernel/replay/metrics.hpp"
-#include "flipper/kernel/replay/output.hpp"
-#include "flipper/kernel/replay/rule_oracle.hpp"
+#include "flipper/replay/corpus.hpp"
+#include "flipper/replay/deletion_map.hpp"
+#include "flipper/replay/metrics.hpp"
+#include "flipper/replay/output.hpp"
+#include "flipper/replay/rule_oracle.hpp"
 
 using namespace flipper::kernel::replay;
 

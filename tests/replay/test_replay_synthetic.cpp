@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "flipper/kernel/replay/corpus.hpp"
-#include "flipper/kernel/replay/experiment.hpp"
-#include "flipper/kernel/replay/metrics.hpp"
-#include "flipper/kernel/replay/replayer.hpp"
+#include "flipper/replay/corpus.hpp"
+#include "flipper/replay/experiment.hpp"
+#include "flipper/replay/metrics.hpp"
+#include "flipper/replay/replayer.hpp"
 
 using namespace flipper::kernel::replay;
 
@@ -136,5 +136,7 @@ TEST_CASE("experiment files are validated") {
   CHECK_THROWS_WITH(load_experiment(f.string()), Catch::Contains("unknown key 'variant'"));
   const Experiment e = load_experiment(FLIPPER_SOURCE_DIR "/configs/experiments/ablation.yaml");
   CHECK(e.variants.size() == 5);
-  CHECK(e.corpus == resolve_repo_path("../shared/corpus/dev"));
+  // Relative to the file (configs/experiments/): three levels up is the repository's parent.
+  const fs::path parent = fs::weakly_canonical(FLIPPER_SOURCE_DIR).parent_path();
+  CHECK(e.corpus == (parent / "shared" / "corpus" / "dev").string());
 }

@@ -140,14 +140,14 @@ TEST_CASE("input limits are input_too_long naming the limit", "[session][protoco
         true);
 }
 
-TEST_CASE("define, rules and delete_rule refuse until naturalization is wired",
+TEST_CASE("a bare kernel session knows no naturalization op (the app layer wires them)",
           "[session][protocol]") {
   auto s = flipper::testsupport::bare_session();
   for (const char* line : {R"({"op":"define","head":"x","body":["move up"]})", R"({"op":"rules"})",
                            R"({"op":"delete_rule","rule":"r1"})"}) {
     Json a = ask(*s, line);
     CHECK(a["ok"] == false);
-    CHECK(error_code(a) == "not_implemented");
+    CHECK(error_code(a) == "unknown_op");
   }
 }
 

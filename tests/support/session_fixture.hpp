@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "flipper/kernel/session.hpp"
-#include "flipper/kernel/session_factory.hpp"
+#include "flipper/wiring/session_factory.hpp"
 
 namespace flipper::testsupport {
 

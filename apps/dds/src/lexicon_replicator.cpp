@@ -5,7 +5,7 @@
 #include <ostream>
 #include <set>
 
-#include "flipper/kernel/naturalizer.hpp"
+#include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/msg/LexiconEvent.h"
 #include "flipper/sdk/canonical.hpp"

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "flipper/kernel/session_factory.hpp"
+#include "flipper/wiring/session_factory.hpp"
 #include "flipper/studio/server.hpp"
 #include "registry.hpp"
 

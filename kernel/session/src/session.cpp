@@ -21,12 +21,6 @@ Json error_answer(const Json* op, const Json* id, const std::string& code,
   return a;
 }
 
-// Ops the naturalization module provides; until it is wired in they refuse clearly.
-Json not_implemented(Session&, const Json& req) {
-  throw sdk::Error(session_codes::kNotImplemented,
-                   "op '" + req.value("op", std::string()) + "' is not available in this build");
-}
-
 // Answers are dumped with invalid UTF-8 replaced (U+FFFD): a message may quote the request's bytes.
 std::string dump_answer(const Json& answer) {
   return answer.dump(-1, ' ', false, Json::error_handler_t::replace);
@@ -113,7 +107,6 @@ void Session::install_default_ops() {
   set_op("state", [](Session& s, const Json& r) { return s.op_state(r); });
   set_op("query", [](Session& s, const Json& r) { return s.op_query(r); });
   set_op("accept", [](Session& s, const Json& r) { return s.op_accept(r); });
-  for (const char* op : {"define", "rules", "delete_rule"}) set_op(op, not_implemented);
 }
 
 void Session::set_op(const std::string& name, OpHandler handler) {

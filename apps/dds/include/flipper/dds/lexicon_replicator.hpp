@@ -36,7 +36,7 @@
 #include "flipper/dds/replication_log.hpp"
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/session.hpp"
-#include "flipper/kernel/session_factory.hpp"
+#include "flipper/wiring/session_factory.hpp"
 
 namespace flipper::dds {
 

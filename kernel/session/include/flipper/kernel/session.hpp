@@ -46,7 +46,6 @@ inline constexpr const char* kMissingField = "missing_field";
 inline constexpr const char* kNoQuery = "no_query";
 inline constexpr const char* kRankOutOfRange = "rank_out_of_range";
 inline constexpr const char* kNotAcceptable = "not_acceptable";
-inline constexpr const char* kNotImplemented = "not_implemented";
 }  // namespace session_codes
 
 /// Settings the session reads from the config once, at construction.

@@ -1,0 +1,30 @@
+#pragma once
+// The DDS services a front end runs when its config asks for them (apps/dds): plans out
+// (publish.plans: dds) and lexicon replication (lexicon.replication: dds). One participant per
+// process, created only when a service needs it (apps/dds/transport.hpp: loopback unless the
+// config names interfaces). Shared by `session`, `repl` and `dds`.
+#include <memory>
+
+#include "flipper/wiring/session_factory.hpp"
+
+namespace flipper::dds {
+class Participant;
+class PlanPublisher;
+class LexiconReplicator;
+}  // namespace flipper::dds
+
+namespace flipper::cli {
+
+struct DdsServices {
+  std::shared_ptr<dds::Participant> participant;  // null: no DDS service configured
+  std::shared_ptr<dds::PlanPublisher> plans;
+  std::shared_ptr<dds::LexiconReplicator> replicator;
+
+  /// Starts what `host`'s config asks for (`force_participant`: the dds node always needs one).
+  static DdsServices start(kernel::SessionHost& host, bool force_participant = false);
+  /// A session of `host` with the services attached (plan observer, replication guards).
+  std::unique_ptr<kernel::Session> open(const kernel::SessionHost& host) const;
+  ~DdsServices();
+};
+
+}  // namespace flipper::cli

@@ -1,0 +1,168 @@
+// flipper run [--config F] [--set k=v] [--world W] [--user U] [--json] PROGRAM
+// Runs one program on the default world (or W): canonical text is read directly; anything else
+// goes through a session's parser — with the lexicon's rules visible to U (lexicon.sharing) —
+// and the top candidate is taken, saying so when there were several. Prints the interpretation,
+// the trace, the warnings and the final world (or one JSON object with --json).
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "commands.hpp"
+#include "common.hpp"
+#include "flipper/kernel/config.hpp"
+#include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/protocol.hpp"
+#include "flipper/kernel/runtime.hpp"
+#include "flipper/wiring/session_factory.hpp"
+#include "flipper/svg/svg.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::cli {
+namespace {
+
+struct RunOptions {
+  CommonOptions common;
+  std::string world_file;
+  std::string user;
+  std::string svg_file;
+  bool json = false;
+  std::string program;
+};
+
+struct Reading {
+  sdk::Program program;
+  std::size_t readings = 1;  ///< how many the parser found (1 for canonical text)
+  double prob = 1.0;         ///< the chosen one's share
+};
+
+// Canonical text first (deterministic); otherwise the session parser's best candidate, which
+// sees the user's lexicon (the session answers exactly as the repl would).
+Reading interpret(kernel::Session& session, const std::string& text) {
+  session.check_length(text);  // as a query counts it (code points), also for canonical text
+  try {
+    return {sdk::read_canonical(text)};
+  } catch (const sdk::Error&) {
+  }
+  const kernel::Json a = session.handle(kernel::Json{{"op", "query"}, {"text", text}, {"k", 1}});
+  if (!a.value("ok", false))
+    throw sdk::Error(a["error"].value("code", std::string(sdk::codes::kBadProgram)),
+                     a["error"].value("message", std::string()));
+  if (a["candidates"].empty())
+    throw sdk::Error(sdk::codes::kBadProgram,
+                     "cannot understand '" + text +
+                         "': it is neither canonical text nor core language, nor a phrase of the "
+                         "lexicon visible to this user (teach it in `flipper repl`)");
+  const kernel::Json& top = a["candidates"][0];
+  return {sdk::read_canonical(top.value("formula", std::string())),
+          a.value("total", std::size_t{1}), top.value("prob", 1.0)};
+}
+
+const char* act_name(sdk::TraceStep::Act a) {
+  return a == sdk::TraceStep::Act::move ? "move" : a == sdk::TraceStep::Act::pick ? "pick" : "drop";
+}
+
+void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
+  std::cout << "interpretation: " << sdk::render(program) << "\n";
+  std::cout << "trace (" << o.trace.size() << " steps):\n";
+  for (const auto& s : o.trace) {
+    std::cout << "  " << act_name(s.act) << " " << sdk::to_string(s.cell, dims);
+    if (s.act != sdk::TraceStep::Act::move)
+      std::cout << " " << s.item.color << " " << s.item.shape << " (id " << s.item.id << ")";
+    std::cout << "\n";
+  }
+  for (const auto& w : o.warnings) std::cout << "warning: " << w << "\n";
+  std::cout << "realizable: " << (o.realizable ? "yes" : "no") << "\n";
+  const sdk::WorldState& w = o.world;
+  std::cout << "robot: " << sdk::to_string(w.robot, dims) << ", holding " << w.held.size()
+            << (w.held.empty() ? "" : ":");
+  for (const auto& h : w.held) std::cout << " " << h.color << " " << h.shape;
+  std::cout << "\nitems (" << w.items.size() << "):";
+  for (const auto& li : w.items)
+    std::cout << " " << li.item.color << " " << li.item.shape << "@" << sdk::to_string(li.at, dims);
+  std::cout << "\n";
+}
+
+int run(const RunOptions& opts) {
+  std::unique_ptr<kernel::Session> session;
+  try {
+    session = kernel::open_session(config_file(opts.common), opts.common.overrides);
+  } catch (const sdk::Error& e) {
+    return report_error("run", e.code(), e.what(), kExitUsage);
+  }
+  kernel::Runtime& rt = session->runtime();
+  if (!opts.user.empty()) session->set_user(opts.user);
+  const int dims = rt.world.call("dims", [](const sdk::World& w) { return w.dims(); });
+  auto fail = [&](const std::string& code, const std::string& message, int exit_code) {
+    if (opts.json)
+      std::cout << nlohmann::json{{"ok", false},
+                                  {"error", kernel::protocol::error_json(code, message)}}
+                       .dump()
+                << "\n";
+    return report_error("run", code, message, exit_code);
+  };
+  sdk::WorldState world;
+  try {
+    world =
+        opts.world_file.empty() ? rt.default_world : kernel::load_world_file(rt, opts.world_file);
+  } catch (const sdk::Error& e) {
+    return fail(e.code(), e.what(), kExitUsage);
+  }
+  session->set_world(world);
+  Reading reading;
+  try {
+    reading = interpret(*session, opts.program);
+  } catch (const sdk::Error& e) {
+    return fail(e.code(), e.what(), kExitFailed);
+  }
+  const sdk::Program& program = reading.program;
+  if (reading.readings > 1)
+    std::fprintf(stderr,
+                 "flipper run: note: took the top of %zu readings (p=%.2f); `flipper repl` shows "
+                 "them all and lets you choose\n",
+                 reading.readings, reading.prob);
+  const sdk::Outcome o = session->executor().run(program, world);  // the session's limits
+  if (o.error) return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed);
+  if (!opts.svg_file.empty()) {
+    const kernel::Json before = session->world_json(world);
+    const kernel::Json trace =
+        kernel::Json::parse(kernel::protocol::outcome_json(o, dims)["trace"].dump());
+    std::ofstream f(opts.svg_file);
+    f << kernel::svg::world_picture(before, &trace, sdk::render(program));
+    f.flush();
+    if (!f) return fail("io", "cannot write '" + opts.svg_file + "'", kExitFailed);
+  }
+  if (opts.json) {
+    nlohmann::json j = kernel::protocol::outcome_json(o, dims);
+    j["ok"] = true;
+    j["formula"] = sdk::render(program);
+    j["world"] = session->world_json(o.world);
+    j["readings"] = reading.readings;
+    std::cout << j.dump() << "\n";
+  } else {
+    print_human(program, o, dims);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  auto* cmd =
+      app.add_subcommand("run", "Run one program (canonical text or core language) on a world");
+  static RunOptions opts;
+  add_common_options(*cmd, opts.common);
+  cmd->add_option("--world", opts.world_file, "World file (default: the config's world.file)");
+  cmd->add_option("--user", opts.user,
+                  "Whose lexicon view to parse with (lexicon.sharing decides what is visible)");
+  cmd->add_flag("--json", opts.json, "Print one JSON object (protocol shapes)");
+  cmd->add_option("--svg", opts.svg_file, "Also draw the world and the plan into this SVG file");
+  cmd->add_option("program", opts.program, "The program, e.g. 'visit world containing item is red'")
+      ->required();
+  cmd->callback([] { std::exit(run(opts)); });
+}
+
+}  // namespace flipper::cli

@@ -1,0 +1,81 @@
+#pragma once
+/// @file repl.hpp
+/// The terminal front end for people: a client of the session ops (query, accept, define, world,
+/// user, rules, state) that draws the world as a text map and lists candidates with a short plan
+/// description. Uses GNU readline (history, line editing) on a terminal and plain line reading
+/// otherwise, so it can be scripted and tested.
+
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flipper/kernel/session.hpp"
+
+namespace flipper::kernel::repl {
+
+/// What render_map draws besides the world.
+struct MapOptions {
+  const Json* trace = nullptr;  ///< protocol trace steps drawn as `o` path, `E` end, `P`/`D`
+  bool legend = true;           ///< legend, stacks, other floors, robot and rooms below the grid
+  std::optional<int> floor;     ///< 3-D: the z layer shown (default: the robot's)
+};
+
+/// The world object as a text map: `##` walls, `R` robot, items as colour+shape letters (`rc` a
+/// red circle), `n*` for n items on one cell, y growing upward (top row = max y), axes, and a
+/// legend listing items, held items and rooms. 3-D worlds show one floor (labelled with its z),
+/// keep z in coordinates and list the items of the other floors.
+std::string render_map(const Json& world, const MapOptions& options = {});
+
+/// One candidate of a query answer, numbered for the user (1-based `number`): canonical text,
+/// probability, steps, picks/drops, warnings (repeats collapsed), induced rules and errors.
+std::string describe_candidate(const Json& candidate, int number);
+
+/// Warnings with repeats collapsed, in first-seen order: "28 × move left blocked ...".
+std::vector<std::string> collapse_warnings(const Json& warnings);
+
+/// Words of `tokens` the grammar does not know (not a terminal of `vocabulary`, not a number),
+/// each with " (did you mean 'x'?)" when a known word is close.
+std::vector<std::string> unknown_words(const std::vector<std::string>& tokens,
+                                       const std::vector<std::string>& vocabulary);
+
+/// One row of the language guide's example table (docs/language.md).
+struct GuideExample {
+  std::string construct;  ///< "move one cell"
+  std::string example;    ///< "move up"
+  std::string result;     ///< "ends at [2,5], 1 move" on the study map
+};
+/// The guide's examples, in its order (the guide is embedded in the binary).
+std::vector<GuideExample> guide_examples();
+/// The text of `:examples`.
+std::string examples_text();
+/// The guide's part of `:help`: every construct of the example table with its example, then the
+/// guide's section titles. Built from the embedded guide, so help and guide cannot drift.
+std::string guide_help_text();
+
+/// Reads lines with a prompt.
+class LineReader {
+ public:
+  enum class Read {
+    line,         ///< `line` holds what was typed
+    interrupted,  ///< Ctrl-C: `line` holds the text that was dropped (may be empty)
+    end,          ///< end of input (Ctrl-D on an empty line)
+  };
+  virtual ~LineReader() = default;
+  virtual Read read(const char* prompt, std::string& line) = 0;
+  /// True (once) when Ctrl-C was pressed since the last call or read, e.g. during a query.
+  virtual bool take_interrupt() { return false; }
+};
+/// GNU readline on a terminal, else plain lines from `in` (no prompts echoed). On a terminal,
+/// history is kept in `history_file` (when not empty) across runs, and Ctrl-C (SIGINT) cancels
+/// the line being typed instead of ending the program, for as long as the reader lives.
+std::unique_ptr<LineReader> make_line_reader(std::istream& in, bool terminal,
+                                             const std::string& history_file = {});
+/// Where the history lives: $FLIPPER_HISTORY, else ~/.local/share/flipper/repl_history.
+std::string default_history_file();
+
+/// Runs the loop until `:quit` or end of input. Returns the process exit status.
+int run(Session& session, LineReader& reader, std::ostream& out);
+
+}  // namespace flipper::kernel::repl

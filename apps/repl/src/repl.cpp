@@ -1,0 +1,458 @@
+// The interactive loop: utterances become queries; a number accepts, `r` rejects, `m` shows more
+// readings; `:` commands (help text below).
+#include <algorithm>
+#include <charconv>
+#include <optional>
+#include <ostream>
+#include <vector>
+
+#include <fstream>
+
+#include "flipper/repl/repl.hpp"
+#include "flipper/svg/svg.hpp"
+#include "flipper/sdk/canonical.hpp"
+
+namespace flipper::kernel::repl {
+namespace {
+
+// How many readings one query keeps for paging with `m` (each is planned, so not unbounded).
+constexpr int kKeep = 30;
+
+// The commands; guide_help_text() adds the constructs and sections of docs/language.md.
+const char* kCommands =
+    "Type an utterance (e.g. `visit room1; pick item is red`) to see its readings, each with its\n"
+    "path drawn on the map (o path, E end, P pick, D drop).\n"
+    "  N              choose reading N (the robot does it; the map keeps its trail)\n"
+    "  m              show more readings        r     reject all shown readings\n"
+    "  :define HEAD   teach HEAD (default: the last utterance); then one body line per\n"
+    "                 line, each checked as you type it, ending with an empty line;\n"
+    "                 Ctrl-C (or :cancel) abandons the definition\n"
+    "  :undo          put the world back as it was before the last choice or :world\n"
+    "  :rules         list the rules you can use, with their ids\n"
+    "  :delete ID     delete a rule you defined (ids from :rules)\n"
+    "  :world FILE    load a world file         :user NAME   set the current user\n"
+    "  :map           show the world            :floor Z     show floor Z of a 3-D world\n"
+    "  :save FILE     the world (and the plan just chosen) as an SVG picture\n"
+    "  :examples      one example of every construct, with its result on the study map\n"
+    "  :help          this text                 :quit        leave (also Ctrl-D)\n"
+    "  Ctrl-C         drop the line being typed (or the answer of a query still running)\n";
+
+std::string trim(const std::string& s) {
+  auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return {};
+  auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+std::string rhs_text(const Json& r) {
+  std::string rhs;
+  for (const auto& t : r.value("rhs", Json::array()))
+    rhs += (rhs.empty() ? "" : " ") + (t.is_string() ? t.get<std::string>() : t.dump());
+  return rhs;
+}
+
+// "  r1  zig zag -> ...  =>  {...}  (by ana, used 2x)"; tolerant of missing fields.
+std::string describe_rule(const Json& r) {
+  std::string line = "  " + r.value("id", std::string("?")) + "  " + r.value("lhs", std::string()) +
+                     " -> " + rhs_text(r) + "  =>  " + r.value("semantics", std::string());
+  line += "  (by " + r.value("author", std::string("?"));
+  if (r.contains("uses") && r["uses"].is_number()) line += ", used " + r["uses"].dump() + "x";
+  return line + ")\n";
+}
+
+std::optional<int> parse_int(const std::string& s) {
+  int n = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), n);
+  if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+  return n;
+}
+
+class Repl {
+ public:
+  Repl(Session& s, LineReader& r, std::ostream& o)
+      : session_(s), reader_(r), out_(o), page_(std::max(1, s.options().k)) {}
+
+  int run() {
+    out_ << "Flipper -- precise but natural robot tasks. :help for commands.\n";
+    show_map();
+    std::string line;
+    for (;;) {
+      const auto read = reader_.read("flipper> ", line);
+      if (read == LineReader::Read::end) break;
+      if (read == LineReader::Read::interrupted) {
+        // Ctrl-C drops the line; on an empty one the user may be trying to leave.
+        if (trim(line).empty()) out_ << "(:quit or Ctrl-D leaves)\n";
+        out_.flush();
+        continue;
+      }
+      line = trim(line);
+      if (line.empty()) continue;
+      if (line[0] == ':') {
+        if (!command(line)) break;
+      } else if (!readings_.empty() && choice(line)) {
+      } else if (!readings_.empty() && line == "m") {
+        show_more();
+      } else if (!readings_.empty() && line == "r") {
+        out_ << "Rejected. Rephrase it, or teach it with :define.\n";
+        readings_ = Json::array();
+      } else {
+        query(line);
+      }
+      out_.flush();
+    }
+    out_ << "bye\n";
+    out_.flush();
+    return 0;
+  }
+
+ private:
+  Json call(const Json& request) {
+    Json answer = session_.handle(request);
+    if (!answer.value("ok", false)) {
+      const Json& e = answer["error"];
+      out_ << "error (" << e.value("code", std::string())
+           << "): " << e.value("message", std::string()) << '\n';
+    }
+    return answer;
+  }
+
+  MapOptions map_options(const Json* trace = nullptr, bool legend = true) const {
+    MapOptions o;
+    o.trace = trace;
+    o.legend = legend;
+    o.floor = floor_;
+    return o;
+  }
+
+  void show_map() {
+    Json a = call(Json{{"op", "state"}});
+    if (a.value("ok", false)) out_ << render_map(a["world"], map_options());
+  }
+
+  // The words the grammar knows: core terminals, colour/shape/direction words, and the words
+  // of the induced rules this user can see.
+  std::vector<std::string> vocabulary() {
+    std::vector<std::string> words;
+    const auto& g = session_.runtime().core_grammar;
+    if (g) {
+      for (const auto& r : g->rules)
+        for (const auto& s : r->rhs)
+          if (s.type == sdk::Symbol::Type::token) words.push_back(s.text);
+      for (const auto* list : {&g->colors, &g->shapes, &g->directions})
+        words.insert(words.end(), list->begin(), list->end());
+    }
+    Json a = session_.handle(Json{{"op", "rules"}});
+    if (a.value("ok", false))
+      for (const auto& r : a.value("rules", Json::array()))
+        for (const auto& t : r.value("rhs", Json::array()))
+          if (t.is_string() && !t.get<std::string>().empty() && t.get<std::string>()[0] != '$')
+            words.push_back(t.get<std::string>());
+    std::sort(words.begin(), words.end());
+    words.erase(std::unique(words.begin(), words.end()), words.end());
+    return words;
+  }
+
+  // "Unknown words: 'vist' (did you mean 'visit'?)." or empty.
+  std::string unknown_words_note(const std::string& text) {
+    const auto unknown = unknown_words(sdk::tokenize(text), vocabulary());
+    if (unknown.empty()) return {};
+    std::string note = unknown.size() == 1 ? "Unknown word: " : "Unknown words: ";
+    for (std::size_t i = 0; i < unknown.size(); ++i) note += (i ? ", " : "") + unknown[i];
+    return note + ".\n";
+  }
+
+  void query(const std::string& text) {
+    last_text_ = text;
+    trail_ = Json();
+    readings_ = Json::array();
+    shown_ = 0;
+    const Json state = session_.handle(Json{{"op", "state"}});
+    query_world_ = state.value("world", Json());  // the paths start here
+    Json a = call(Json{{"op", "query"}, {"text", text}, {"k", kKeep}});
+    // The session cannot be stopped mid-query (session.deadline_ms bounds it); Ctrl-C while it
+    // ran drops its answer.
+    if (reader_.take_interrupt()) {
+      out_ << "\nCancelled (Ctrl-C): the readings are not shown.\n";  // after the echoed ^C
+      return;
+    }
+    if (!a.value("ok", false)) return;
+    if (a["candidates"].empty()) {
+      const std::string note = unknown_words_note(text);
+      out_ << "I did not understand that. " << note
+           << (note.empty() ? "" : "Fix the spelling, or teach the phrase with `:define`.\n")
+           << (note.empty() ? "Teach me with `:define` (then the steps, one per line).\n" : "");
+      return;
+    }
+    readings_ = a["candidates"];
+    total_ = a.value("total", readings_.size());
+    out_ << "Readings (" << a.value("status", std::string()) << "):\n";
+    show_more();
+  }
+
+  // The next page of readings, each with its path on a compact map.
+  void show_more() {
+    const int kept = static_cast<int>(readings_.size());
+    if (shown_ >= kept) {
+      out_ << "No more readings (" << kept << " of " << total_ << " kept). Choose 1.." << kept
+           << ".\n";
+      return;
+    }
+    const int until = std::min(kept, shown_ + page_);
+    for (int i = shown_; i < until; ++i) {
+      const Json& c = readings_[static_cast<std::size_t>(i)];
+      out_ << describe_candidate(c, i + 1);
+      const Json& trace = c["trace"];
+      if (!trace.empty() && query_world_.is_object() && !c.contains("error"))
+        out_ << indent(render_map(query_world_, map_options(&trace, false)));
+    }
+    shown_ = until;
+    out_ << shown_ << " of " << total_ << " shown. Choose 1.." << shown_;
+    if (shown_ < kept) out_ << ", m for more";
+    out_ << ", or r to reject all.\n";
+  }
+
+  static std::string indent(const std::string& text) {
+    std::string out;
+    std::size_t start = 0;
+    while (start < text.size()) {
+      const std::size_t nl = text.find('\n', start);
+      out += "      " + text.substr(start, nl - start + 1);
+      if (nl == std::string::npos) break;
+      start = nl + 1;
+    }
+    return out;
+  }
+
+  bool choice(const std::string& line) {
+    const auto n = parse_int(line);
+    if (!n) return false;
+    if (*n < 1 || *n > shown_) {
+      out_ << "Choose a number from 1 to " << shown_ << ".\n";
+      return true;
+    }
+    const sdk::WorldState before = session_.world();
+    Json a = call(Json{{"op", "accept"}, {"rank", *n - 1}});
+    if (!a.value("ok", false)) return true;
+    undo_.push_back(before);
+    trail_ = a["trace"];
+    trail_title_ = readings_[static_cast<std::size_t>(*n - 1)].value("formula", std::string());
+    trail_world_ = query_world_;
+    readings_ = Json::array();
+    std::size_t steps = 0;
+    for (const auto& s : a["trace"]) steps += s.value("act", std::string()) == "move";
+    out_ << "Done: " << steps << (steps == 1 ? " step" : " steps") << ". (:undo puts it back)\n";
+    for (const auto& w : collapse_warnings(a["warnings"])) out_ << "warning: " << w << '\n';
+    out_ << render_map(a["world"], map_options(&a["trace"]));
+    return true;
+  }
+
+  bool command(const std::string& line) {
+    auto space = line.find(' ');
+    std::string cmd = line.substr(0, space);
+    std::string arg = space == std::string::npos ? "" : trim(line.substr(space + 1));
+    if (cmd == ":quit" || cmd == ":q" || cmd == ":exit") return false;
+    if (cmd == ":help" || cmd == ":h") {
+      out_ << kCommands << guide_help_text();
+    } else if (cmd == ":examples") {
+      out_ << examples_text();
+    } else if (cmd == ":map" || cmd == ":state") {
+      show_map();
+    } else if (cmd == ":floor") {
+      const auto z = parse_int(arg);
+      if (!z) {
+        out_ << "usage: :floor Z (a z coordinate of a 3-D world)\n";
+        return true;
+      }
+      floor_ = *z;
+      show_map();
+    } else if (cmd == ":world") {
+      if (arg.empty()) {
+        out_ << "usage: :world FILE\n";
+        return true;
+      }
+      const sdk::WorldState before = session_.world();
+      Json a = call(Json{{"op", "world"}, {"file", arg}});
+      if (a.value("ok", false)) {
+        undo_.push_back(before);
+        readings_ = Json::array();
+        floor_.reset();
+        out_ << render_map(a["world"], map_options());
+      }
+    } else if (cmd == ":save") {
+      save(arg);
+    } else if (cmd == ":undo") {
+      undo();
+    } else if (cmd == ":user") {
+      if (arg.empty()) {
+        out_ << "usage: :user NAME\n";
+        return true;
+      }
+      Json a = call(Json{{"op", "user"}, {"name", arg}});
+      if (a.value("ok", false)) out_ << "You are " << a["name"].get<std::string>() << ".\n";
+    } else if (cmd == ":rules") {
+      Json a = call(Json{{"op", "rules"}});
+      if (a.value("ok", false)) {
+        const Json rules = a.value("rules", Json::array());
+        if (rules.empty()) out_ << "No rules.\n";
+        for (const auto& r : rules) out_ << describe_rule(r);
+        if (!rules.empty()) out_ << "(:delete ID removes one of your own rules)\n";
+      }
+    } else if (cmd == ":delete") {
+      if (arg.empty()) {
+        out_ << "usage: :delete ID (ids from :rules)\n";
+        return true;
+      }
+      Json a = call(Json{{"op", "delete_rule"}, {"rule", arg}});
+      if (a.value("ok", false)) out_ << "Deleted rule " << arg << ".\n";
+    } else if (cmd == ":define") {
+      define(arg.empty() ? last_text_ : arg);
+    } else {
+      out_ << "Unknown command " << cmd << ". :help lists the commands.\n";
+    }
+    return true;
+  }
+
+  // The picture: the plan just chosen on the world it started from, else the current world.
+  void save(const std::string& file) {
+    if (file.empty()) {
+      out_ << "usage: :save FILE (an SVG picture of the world and the plan just chosen)\n";
+      return;
+    }
+    std::string picture;
+    if (trail_.is_array()) {
+      picture = svg::world_picture(trail_world_, &trail_, trail_title_);
+    } else {
+      const Json state = session_.handle(Json{{"op", "state"}});
+      picture = svg::world_picture(state.value("world", Json::object()), nullptr, "world");
+    }
+    std::ofstream f(file);
+    f << picture;
+    f.flush();
+    if (!f) {
+      out_ << "error (io): cannot write '" << file << "'\n";
+      return;
+    }
+    out_ << "Saved " << (trail_.is_array() ? "the plan and its world" : "the world") << " to "
+         << file << ".\n";
+  }
+
+  void undo() {
+    if (undo_.empty()) {
+      out_ << "Nothing to undo.\n";
+      return;
+    }
+    session_.set_world(undo_.back());
+    undo_.pop_back();
+    readings_ = Json::array();
+    out_ << "Undone: the world is as it was before the last choice (what the ranking learned "
+            "from it stays).\n";
+    show_map();
+  }
+
+  // Reads one line of a definition; false when the user cancelled (Ctrl-C, :cancel) or input
+  // ended.
+  bool read_definition_line(const char* prompt, std::string& line) {
+    if (reader_.read(prompt, line) != LineReader::Read::line || trim(line) == ":cancel") {
+      out_ << "Definition cancelled; nothing was learned.\n";
+      return false;
+    }
+    line = trim(line);
+    return true;
+  }
+
+  void define(const std::string& head) {
+    if (head.empty() || sdk::tokenize(head).empty()) {
+      out_ << "usage: :define HEAD (or make a query first); the head needs a word\n";
+      return;
+    }
+    // The head is checked first: a phrase the core language already reads is not taught.
+    Json h = session_.handle(Json{{"op", "query"}, {"text", head}, {"k", 1}});
+    if (h.value("ok", false) && h.value("status", std::string()) == "core") {
+      out_ << "\"" << head << "\" already means " << h["candidates"][0].value("formula", "")
+           << " in the core language; use it as it is.\n";
+      return;
+    }
+    out_ << "Defining \"" << head << "\". Enter the steps, one per line; an empty line ends, "
+         << "Ctrl-C (or :cancel) abandons it.\n";
+    Json body = Json::array(), ranks = Json::array();
+    std::string line;
+    bool ended = false;  // by the empty line (not by :cancel or the end of input)
+    while (read_definition_line("  ...> ", line)) {
+      if (line.empty()) {
+        ended = true;
+        break;
+      }
+      Json a = call(Json{{"op", "query"}, {"text", line}, {"k", kKeep}});
+      if (reader_.take_interrupt()) {
+        out_ << "Definition cancelled; nothing was learned.\n";
+        return;
+      }
+      if (!a.value("ok", false)) continue;
+      const Json& cands = a["candidates"];
+      if (cands.empty()) {
+        out_ << "  I do not understand \"" << line << "\". " << unknown_words_note(line)
+             << "  Type the step again (an empty line ends the definition).\n";
+        continue;
+      }
+      int rank = 0;
+      if (cands.size() > 1) {
+        out_ << "  \"" << line << "\" has " << cands.size() << " readings:\n";
+        for (std::size_t i = 0; i < cands.size() && i < 9; ++i)
+          out_ << "    [" << i + 1 << "] " << cands[i].value("formula", std::string()) << '\n';
+        std::string pick;
+        while (true) {
+          if (!read_definition_line("  which reading? [1] ", pick)) return;
+          const auto n = pick.empty() ? std::optional<int>(1) : parse_int(pick);
+          if (n && *n >= 1 && *n <= static_cast<int>(cands.size())) {
+            rank = *n - 1;
+            break;
+          }
+          out_ << "  Choose 1.." << cands.size() << " (empty: 1).\n";
+        }
+      }
+      body.push_back(line);
+      ranks.push_back(rank);
+    }
+    if (!ended) return;
+    if (body.empty()) {
+      out_ << "Nothing defined.\n";
+      return;
+    }
+    Json a = call(Json{{"op", "define"}, {"head", head}, {"body", body}, {"ranks", ranks}});
+    if (!a.value("ok", false)) return;
+    const Json rules = a.value("rules", Json::array());
+    out_ << "Learned " << rules.size() << (rules.size() == 1 ? " rule" : " rules") << ":\n";
+    for (const auto& r : rules)
+      out_ << "  " << r.value("id", std::string("?")) << "  " << r.value("lhs", std::string())
+           << " -> " << rhs_text(r) << "  =>  " << r.value("semantics", std::string()) << '\n';
+    if (a.contains("generalized") && !a["generalized"].is_null())
+      out_ << "(generalized the body to: " << a["generalized"].dump() << ")\n";
+    // The lexicon picks up other processes' rules before each parse (docs/naturalization.md).
+    out_ << "(Stored in the lexicon: other repls and sessions on the same store can use it from "
+            "their next query on.)\n";
+    readings_ = Json::array();
+  }
+
+  Session& session_;
+  LineReader& reader_;
+  std::ostream& out_;
+  int page_;                       // readings per page: session.k
+  Json readings_ = Json::array();  // the last query's kept readings (empty: nothing to choose)
+  int shown_ = 0;                  // how many of them are on screen
+  std::size_t total_ = 0;          // how many the parser found
+  Json query_world_;
+  std::string last_text_;
+  std::vector<sdk::WorldState> undo_;
+  Json trail_;        // the trace of the reading just chosen (null after the next query)
+  Json trail_world_;  // the world it started from
+  std::string trail_title_;
+  std::optional<int> floor_;
+};
+
+}  // namespace
+
+int run(Session& session, LineReader& reader, std::ostream& out) {
+  return Repl(session, reader, out).run();
+}
+
+}  // namespace flipper::kernel::repl

@@ -1,0 +1,46 @@
+#pragma once
+/// @file replayer.hpp
+/// Replays runs of a corpus split through kernel sessions, in log order: one Session per run
+/// (fresh in-memory lexicon), the sharing mode from the run's group (A core, B private, C shared
+/// with the run's preloaded expert definitions defined first), alignment off as in the study.
+///
+/// Per command: the world from its `world_id` is set first when it differs from the session's
+/// (after an accept the session holds our own world, so the next command resets it to the
+/// logged one); the user from its `user` field.
+/// - `q`: query; our status, top candidate's authors, and `ms` are recorded.
+/// - `accept`: the accepted formula is looked up in the original's answer for `for_qid`
+///   (original-answers.jsonl) to get its canonical text, which is read with sdk::read_canonical
+///   and compared structurally (sdk::equal) with every candidate of our last query (falling
+///   back to comparing rendered text); the matching rank is accepted (re-querying with a larger
+///   `k` when it was not among the shown ones) and our world after is compared with the logged
+///   `next_world_id` world. No match: counted as absent.
+/// - `def`/`def_ret`/`def_iso`: define head + body utterances (top candidate of each line).
+/// - `delete`: mapped with DeletionMap, our rules deleted as the deleting user.
+/// - `reject`, `dictionary`: nothing to do.
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flipper/replay/corpus.hpp"
+#include "flipper/replay/records.hpp"
+
+namespace flipper::kernel::replay {
+
+struct ReplayOptions {
+  std::optional<std::string> config_file;  ///< empty: the embedded default
+  std::vector<std::string> sets;           ///< overrides applied after the run's mode keys
+  std::vector<std::string> runs;           ///< sources to replay (empty: all)
+  int max_queries = 0;                     ///< per run: stop before the (N+1)-th `q` (0: all)
+  /// Progress: commands done, commands total, the current run.
+  std::function<void(std::size_t, std::size_t, const std::string&)> progress;
+};
+
+/// The config overrides a run's group implies (lexicon.path, lexicon.sharing, alignment off).
+std::vector<std::string> mode_overrides(const std::string& group);
+
+/// Replays the selected runs. Throws sdk::Error for an unknown run or a bad config.
+ReplayResult replay(const Corpus& corpus, const ReplayOptions& options);
+
+}  // namespace flipper::kernel::replay

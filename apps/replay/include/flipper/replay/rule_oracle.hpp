@@ -1,0 +1,32 @@
+#pragma once
+/// @file rule_oracle.hpp
+/// The induced-rule oracle: our rules for a definition against the rules the original system
+/// logged for it (definitions.jsonl `induced_rules`), compared as `lhs -> rhs` shapes after
+/// mapping the original's category names to ours ($ItemActionFragment is our $ItemAct).
+/// Templates are not compared: the original printed them as lambda formulas of its own.
+/// The original's alignment rules are left out (replays run with alignment off, as the study).
+
+#include <string>
+#include <vector>
+
+#include "flipper/replay/corpus.hpp"
+
+namespace flipper::kernel::replay {
+
+/// One of our induced rules as the define answer reports it.
+struct RuleShape {
+  std::string lhs;
+  std::vector<std::string> rhs;
+};
+
+/// "identical" (same set of shapes), "subset" (ours a proper, non-empty subset of the
+/// original's), "overlap" (some shape in common otherwise, e.g. we add one), "missing" (none in
+/// common, or we induced nothing), or "" when the original logged no comparable rule.
+std::string compare_rules(const std::vector<LoggedRule>& original,
+                          const std::vector<RuleShape>& ours);
+
+/// "lhs -> a $B c" with the original's category names mapped to ours.
+std::string original_shape(const LoggedRule& rule);
+std::string our_shape(const RuleShape& rule);
+
+}  // namespace flipper::kernel::replay

@@ -1,0 +1,358 @@
+// The replay driver: one kernel Session per run, commands in log order (see replayer.hpp).
+#include "flipper/replay/replayer.hpp"
+
+#include <algorithm>
+#include <tuple>
+#include <unordered_map>
+
+#include "flipper/corpus/accept_diff.hpp"
+#include "flipper/corpus/original_text.hpp"
+#include "flipper/replay/deletion_map.hpp"
+#include "flipper/replay/rule_oracle.hpp"
+#include "flipper/wiring/session_factory.hpp"
+#include "flipper/sdk/ast.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel::replay {
+namespace {
+
+// Words a derivation leaves out (any parser): its span minus the tokens its rules consume.
+int words_left_out(const sdk::Derivation& d) {
+  int consumed = 0;
+  auto walk = [&](const sdk::Derivation& n, auto& self) -> void {
+    for (const auto& s : n.rule->rhs) consumed += s.type != sdk::Symbol::Type::category;
+    for (const auto& k : n.kids) self(*k, self);
+  };
+  walk(d, walk);
+  return d.end - d.start - consumed;
+}
+
+std::string strip_spaces(std::string s) {
+  s.erase(std::remove_if(s.begin(), s.end(), [](unsigned char c) { return std::isspace(c); }),
+          s.end());
+  return s;
+}
+
+// Robot cell, carried items (multiset) and items on the floor (multiset), for comparing worlds
+// after an accept: item ids and list order are not part of the comparison.
+struct WorldDigest {
+  std::pair<long, long> robot{0, 0};
+  std::vector<std::pair<std::string, std::string>> held;
+  std::vector<std::tuple<long, long, std::string, std::string>> floor;
+};
+
+template <class J>
+WorldDigest digest(const J& w) {
+  WorldDigest d;
+  if (w.contains("robot")) {
+    const auto& r = w["robot"];
+    d.robot = {r.value("x", 0L), r.value("y", 0L)};
+    if (r.contains("holding"))
+      for (const auto& h : r["holding"])
+        d.held.emplace_back(h.value("color", std::string()), h.value("shape", std::string()));
+  }
+  if (w.contains("items"))
+    for (const auto& i : w["items"])
+      d.floor.emplace_back(i.value("x", 0L), i.value("y", 0L), i.value("color", std::string()),
+                           i.value("shape", std::string()));
+  std::sort(d.held.begin(), d.held.end());
+  std::sort(d.floor.begin(), d.floor.end());
+  return d;
+}
+
+class RunReplay {
+ public:
+  RunReplay(const Corpus& corpus, const Run& run, const ReplayOptions& options, ReplayResult& out)
+      : corpus_(corpus), run_(run), out_(out) {
+    std::vector<std::string> sets = mode_overrides(run.group);
+    sets.insert(sets.end(), options.sets.begin(), options.sets.end());
+    session_ = open_session(options.config_file, sets);
+  }
+
+  void preload() {
+    if (run_.group != "C") return;
+    for (const Definition* d : corpus_.preloaded(run_.source)) {
+      DefineRow row{d->def_id, run_.source, d->author(), d->head, true, false, "", 0, ""};
+      set_user(d->author());
+      define(*d, d->head, d->body, row);
+    }
+  }
+
+  void command(const Command& c) {
+    if (c.kind != "q" && c.kind != "accept") last_qid_.clear();  // defines/deletes change parses
+    set_user(c.user);
+    set_world(c.world_id);
+    if (c.kind == "q")
+      query(c);
+    else if (c.kind == "accept")
+      accept(c);
+    else if (c.kind == "def" || c.kind == "def_ret" || c.kind == "def_iso")
+      define_command(c);
+    else if (c.kind == "delete")
+      delete_rule(c);
+  }
+
+ private:
+  Json call(Json request) { return session_->handle(request); }
+
+  void set_user(const std::string& user) {
+    if (user == session_->user()) return;
+    call(Json{{"op", "user"}, {"name", user}});
+  }
+
+  void set_world(const std::string& id) {
+    if (id.empty() || id == world_id_) return;
+    auto cached = world_cache_.find(id);
+    if (cached == world_cache_.end()) {
+      auto it = corpus_.worlds.find(id);
+      if (it == corpus_.worlds.end()) return;  // unknown world: keep the current one
+      cached =
+          world_cache_.emplace(id, load_world_file(session_->runtime(), it->second.dump())).first;
+    }
+    session_->set_world(cached->second);
+    world_id_ = id;
+  }
+
+  void query(const Command& c) {
+    QueryRow row;
+    row.qid = c.qid;
+    row.run = c.source;
+    row.group = c.group;
+    row.user = c.user;
+    row.phase = c.phase;
+    row.utterance = c.utterance;
+    row.in_authors_tables = c.in_authors_tables;
+    row.tokens = static_cast<int>(sdk::tokenize(c.utterance).size());
+    row.original = c.status;
+    row.original_author = c.author.value_or("");
+    row.original_parses = c.n_parses;
+    row.original_ms = c.walltime_s * 1000.0;
+    Json a = call(Json{{"op", "query"}, {"text", c.utterance}});
+    last_qid_ = c.qid;
+    if (a.value("ok", false)) {
+      row.ours = a.value("status", std::string("error"));
+      row.ms = a.value("ms", 0.0);
+      row.our_author = "none";
+      const auto& cands = a["candidates"];
+      if (!cands.empty() && cands[0].value("induced", false) && !cands[0]["rules"].empty()) {
+        row.our_author = "self";
+        for (const auto& author : cands[0]["authors"])
+          if (author.get<std::string>() != c.user) row.our_author = "other";
+      }
+      if (const LastQuery* q = session_->last_query()) {
+        row.our_candidates = static_cast<int>(q->parse.candidates.size());
+        const auto& top = q->parse.candidates;
+        row.floating = !top.empty() && !top[0].derivations.empty() &&
+                       words_left_out(*top[0].derivations[0]) > 0;
+      }
+    } else {
+      row.ours = "error";
+    }
+    out_.queries.push_back(std::move(row));
+  }
+
+  // The original's candidate that was accepted (its printed text is the accepted program).
+  const OriginalAnswer::Candidate* accepted_candidate(const Command& c) const {
+    auto it = corpus_.answers.find(c.for_qid);
+    if (it == corpus_.answers.end()) return nullptr;
+    const auto& cands = it->second.candidates;
+    for (const auto& k : cands)
+      if (k.formula == c.formula) return &k;
+    if (auto r = it->second.accepted_rank; r && *r >= 0 && *r < static_cast<int>(cands.size()))
+      return &cands[*r];
+    return nullptr;
+  }
+
+  void accept(const Command& c) {
+    // Users of one run interleave: another user's command may have replaced the session's last
+    // query since this user's `q`, so ask it again (same user, same logged world; not recorded).
+    if ((last_qid_ != c.for_qid || !session_->last_query()) && !c.utterance.empty()) {
+      call(Json{{"op", "query"}, {"text", c.utterance}});
+      last_qid_ = c.for_qid;
+    }
+    AcceptRow row;
+    row.qid = c.qid;
+    row.run = c.source;
+    row.group = c.group;
+    row.user = c.user;
+    const LastQuery* q = session_->last_query();
+    const OriginalAnswer::Candidate* original = accepted_candidate(c);
+    if (!q || q->parse.candidates.empty()) {
+      row.note = "no candidates";
+    } else if (!original) {
+      row.note = "accepted formula not in the original's answers";
+    } else {
+      const std::string text = corpus::normalize_original_pretty(original->pretty);
+      sdk::Program program;
+      try {
+        program = sdk::read_canonical(text);
+      } catch (const sdk::Error&) {
+        // Unreadable: fall back to rendered-text comparison below.
+      }
+      const std::string flat = strip_spaces(text);
+      const auto& cands = q->parse.candidates;
+      for (std::size_t i = 0; i < cands.size() && row.rank < 0; ++i)
+        if ((program && sdk::equal(program, cands[i].program)) ||
+            strip_spaces(sdk::render(cands[i].program)) == flat)
+          row.rank = static_cast<int>(i);
+      row.matched = row.rank >= 0;
+      if (!row.matched) row.note = "accepted program not among our candidates";
+    }
+    if (row.matched) execute(c, *original, row);
+    out_.accepts.push_back(std::move(row));
+  }
+
+  void execute(const Command& c, const OriginalAnswer::Candidate& original, AcceptRow& row) {
+    if (row.rank >= static_cast<int>(session_->last_query()->shown.size())) {
+      const std::string text = session_->last_query()->text;  // copy: re-querying replaces it
+      call(Json{{"op", "query"}, {"text", text}, {"k", row.rank + 1}});
+    }
+    // What the classification needs, before the accept consumes the query: the shown
+    // candidate's outcome is the execution the accept commits (same program, same world).
+    const LastQuery& q = *session_->last_query();
+    const sdk::Outcome outcome = q.shown[static_cast<std::size_t>(row.rank)].outcome;
+    const sdk::WorldState start = q.world;
+    const sdk::Program program = q.parse.candidates[static_cast<std::size_t>(row.rank)].program;
+
+    Json a = call(Json{{"op", "accept"}, {"rank", row.rank}});
+    row.executed = a.value("ok", false);
+    if (row.executed) {
+      world_id_.clear();  // the session now holds our world, not a logged one
+    } else {
+      row.note = a.contains("error") ? a["error"].value("code", std::string()) : "accept failed";
+    }
+    auto after = corpus_.worlds.find(c.next_world_id);
+    if (after == corpus_.worlds.end()) return;
+    if (row.executed) {
+      row.compared = true;
+      const WorldDigest ours = digest(a["world"]), theirs = digest(after->second);
+      row.robot = ours.robot == theirs.robot;
+      row.held = ours.held == theirs.held;
+      row.floor = ours.floor == theirs.floor;
+    }
+    // Without a logged world before, the world we started from stands in for it (the
+    // classification then cannot detect a wrong start).
+    auto before = corpus_.worlds.find(c.world_id);
+    const nlohmann::json start_json =
+        before == corpus_.worlds.end() ? nlohmann::json::parse(session_->world_json(start).dump())
+                                       : nlohmann::json();
+    const nlohmann::json& before_json =
+        before == corpus_.worlds.end() ? start_json : before->second;
+    row.diff = corpus::class_id(
+        corpus::classify_accept({before_json, after->second, c.next_world_id, program, start,
+                                 outcome, original.path.is_array() ? &original.path : nullptr,
+                                 session_->runtime().planner.borrow()}));
+  }
+
+  void define_command(const Command& c) {
+    DefineRow row{c.qid, c.source, c.user, c.head, false, false, "", 0, ""};
+    auto it = corpus_.definition_index.find(c.def_id);
+    if (it != corpus_.definition_index.end())
+      define(corpus_.definitions[it->second], c.head, c.body, row);
+    else
+      define(Definition{}, c.head, c.body, row);
+  }
+
+  void define(const Definition& def, const std::string& head, const std::vector<BodyLine>& body,
+              DefineRow& row) {
+    Json lines = Json::array();
+    for (const auto& b : body) lines.push_back(b.utterance);
+    Json a = call(Json{{"op", "define"}, {"head", head}, {"body", std::move(lines)}});
+    std::vector<OurRule> ours;
+    std::vector<RuleShape> shapes;
+    row.ok = a.value("ok", false);
+    if (row.ok) {
+      for (const auto& r : a["rules"]) {
+        ours.push_back({r.value("id", std::string()), r.value("how", std::string())});
+        shapes.push_back(
+            {r.value("lhs", std::string()), r.value("rhs", std::vector<std::string>{})});
+      }
+    } else if (a.contains("error")) {
+      row.error_code = a["error"].value("code", std::string());
+    }
+    row.rules = static_cast<int>(ours.size());
+    row.rule_match = compare_rules(def.rules, shapes);
+    // Definitions not in definitions.jsonl have no logged rules: they only take part in the
+    // deletion model as empty entries.
+    if (!def.def_id.empty() && corpus_.definition_index.count(def.def_id))
+      deletions_.add_definition(def, session_->user(), std::move(ours));
+    out_.defines.push_back(std::move(row));
+  }
+
+  void delete_rule(const Command& c) {
+    DeleteRow row{c.qid, c.source, c.user, c.rule_index, "", {}, ""};
+    DeletionMap::Mapping m = deletions_.map(c.user, c.rule_index);
+    row.definition = m.def_id;
+    row.note = m.note;
+    for (const auto& id : m.ids) {
+      Json a = call(Json{{"op", "delete_rule"}, {"rule", id}});
+      if (a.value("ok", false))
+        row.deleted.push_back(id);
+      else if (a.contains("error"))
+        row.note += (row.note.empty() ? "" : "; ") + id + ": " + a["error"].value("code", "");
+    }
+    out_.deletes.push_back(std::move(row));
+  }
+
+  const Corpus& corpus_;
+  const Run& run_;
+  ReplayResult& out_;
+  std::unique_ptr<Session> session_;
+  std::string last_qid_;  ///< the `q` the session's last query answers
+  std::string world_id_;  ///< the logged world the session holds ("" after our own accept)
+  std::unordered_map<std::string, sdk::WorldState> world_cache_;
+  DeletionMap deletions_;
+};
+
+// The commands of a run that --max-queries keeps.
+std::size_t kept_commands(const Corpus& corpus, const Run& run, int max_queries) {
+  if (max_queries <= 0) return run.commands.size();
+  int queries = 0;
+  for (std::size_t i = 0; i < run.commands.size(); ++i)
+    if (corpus.commands[run.commands[i]].kind == "q" && ++queries > max_queries) return i;
+  return run.commands.size();
+}
+
+}  // namespace
+
+std::vector<std::string> mode_overrides(const std::string& group) {
+  const char* sharing = group == "A" ? "core" : group == "B" ? "private" : "shared";
+  return {"lexicon.path=:memory:", std::string("lexicon.sharing=") + sharing,
+          "lexicon.preload=", "induction.alignment=false"};
+}
+
+ReplayResult replay(const Corpus& corpus, const ReplayOptions& options) {
+  std::vector<const Run*> runs;
+  if (options.runs.empty()) {
+    for (const auto& r : corpus.runs) runs.push_back(&r);
+  } else {
+    for (const auto& name : options.runs) {
+      const Run* r = corpus.find_run(name);
+      if (!r) {
+        std::string known;
+        for (const auto& k : corpus.runs) known += (known.empty() ? "" : ", ") + k.source;
+        throw sdk::Error(sdk::codes::kBadRequest, "unknown run '" + name + "' in corpus " +
+                                                      corpus.dir + " (runs: " + known + ")");
+      }
+      runs.push_back(r);
+    }
+  }
+  std::size_t total = 0, done = 0;
+  for (const Run* r : runs) total += kept_commands(corpus, *r, options.max_queries);
+
+  ReplayResult out;
+  for (const Run* r : runs) {
+    out.runs.push_back(r->source);
+    RunReplay rr(corpus, *r, options, out);
+    rr.preload();
+    const std::size_t n = kept_commands(corpus, *r, options.max_queries);
+    for (std::size_t i = 0; i < n; ++i) {
+      rr.command(corpus.commands[r->commands[i]]);
+      if (options.progress) options.progress(++done, total, r->source);
+    }
+  }
+  return out;
+}
+
+}  // namespace flipper::kernel::replay

@@ -1,0 +1,45 @@
+// Session wiring for front ends: which extensions a session gets is decided here, in the app
+// layer; the kernel's session knows none of them (docs/architecture.md §3).
+#include "flipper/wiring/session_factory.hpp"
+
+#include "flipper/naturalization/naturalize_ops.hpp"
+
+namespace flipper::kernel {
+
+std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime) {
+  return open_host(std::move(runtime)).open();
+}
+
+std::unique_ptr<Session> open_session(const std::optional<std::string>& config_file,
+                                      const std::vector<std::string>& overrides) {
+  std::shared_ptr<Runtime> runtime = make_runtime(Config::load(config_file, overrides));
+  return open_session(std::move(runtime));
+}
+
+std::unique_ptr<Session> SessionHost::open() const {
+  auto session = std::make_unique<Session>(runtime);
+  for (const auto& extension : extensions) extension->install(*session);
+  return session;
+}
+
+void SessionHost::activate(const Session& session) const {
+  for (const auto& extension : extensions) extension->activate(session);
+}
+
+SessionHost open_host(std::shared_ptr<Runtime> runtime) {
+  SessionHost host;
+  host.runtime = std::move(runtime);
+  // Naturalization: the lexicon store, its rules restored into the parser, weights, preload.
+  host.naturalizer = std::make_shared<Naturalizer>(
+      host.runtime, NaturalizeOptions::from_config(host.runtime->config));
+  // Naturalization: define, rules, delete_rule, visibility, accept persistence, per-user weights.
+  host.extensions.push_back(std::make_shared<NaturalizationExtension>(host.naturalizer));
+  return host;
+}
+
+SessionHost open_host(const std::optional<std::string>& config_file,
+                      const std::vector<std::string>& overrides) {
+  return open_host(make_runtime(Config::load(config_file, overrides)));
+}
+
+}  // namespace flipper::kernel

@@ -1,0 +1,114 @@
+// The §4 pipeline: checks, body program, head chart, packings, rules.
+#include "flipper/naturalization/induction.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+
+#include <utility>
+
+namespace flipper::kernel {
+
+Inducer::Inducer(PluginRef<const sdk::Parser> parser, PluginRef<const sdk::Scorer> scorer,
+                 InductionOptions options, const sdk::UsageCounters* usage)
+    : parser_(std::move(parser)), scorer_(std::move(scorer)), options_(options), usage_(usage) {}
+
+PreparedDefinition Inducer::prepare(const DefinitionInput& def,
+                                    const std::function<bool(const sdk::Rule&)>& visible,
+                                    const sdk::StopCondition& stop) const {
+  PreparedDefinition out;
+  out.head_tokens = sdk::tokenize(def.head);
+  if (out.head_tokens.empty())
+    throw sdk::Error(induction_codes::kEmptyHead, "the head of a definition must have a word");
+  if (def.body.empty())
+    throw sdk::Error(sdk::codes::kBadRequest, "the body of a definition needs at least one line");
+
+  sdk::ParseRequest req;
+  req.scorer = scorer_.borrow();  // covered by the parse call that uses it
+  req.context.user = def.author;
+  req.context.usage = usage_;
+  req.visible = visible;
+  req.beam = options_.beam;
+  req.stop = stop;
+  auto refuse_if_stopped = [&](const sdk::ParseResult& r, const std::string& what) {
+    if (r.stopped)
+      throw sdk::Error(
+          sdk::codes::kDeadlineExceeded,
+          "deadline exceeded while parsing " + what + " of the definition (session.deadline_ms)");
+  };
+
+  // One parse of the head gives both the core check (whole span) and the head chart.
+  req.tokens = out.head_tokens;
+  req.want_chart = true;
+  req.whole_span = true;
+  auto parse = [&] {
+    return parser_.call("parse", [&](const sdk::Parser& p) { return p.parse(req); });
+  };
+  sdk::ParseResult head = parse();
+  refuse_if_stopped(head, "the head");
+  for (const auto& c : head.candidates)
+    if (c.core_only)
+      throw sdk::Error(induction_codes::kHeadIsCore, "'" + def.head + "' already means " +
+                                                         sdk::render(c.program) +
+                                                         " in the core language; use it as it is");
+  out.head_chart = std::move(head.chart);
+
+  req.want_chart = false;
+  std::vector<sdk::Program> lines;
+  for (std::size_t i = 0; i < def.body.size(); ++i) {
+    req.tokens = sdk::tokenize(def.body[i]);
+    const std::string line = "body line " + std::to_string(i + 1) + " '" + def.body[i] + "'";
+    sdk::ParseResult r;
+    if (!req.tokens.empty()) r = parse();
+    refuse_if_stopped(r, "body line " + std::to_string(i + 1));
+    if (r.candidates.empty())
+      throw sdk::Error(induction_codes::kBodyUnparsable, line + " does not parse");
+    const int rank = i < def.body_ranks.size() ? def.body_ranks[i] : 0;
+    if (rank < 0 || static_cast<std::size_t>(rank) >= r.candidates.size())
+      throw sdk::Error(sdk::codes::kBadRequest, line + " has no candidate of rank " +
+                                                    std::to_string(rank) + " (it has " +
+                                                    std::to_string(r.candidates.size()) + ")");
+    sdk::Candidate& chosen = r.candidates[static_cast<std::size_t>(rank)];
+    lines.push_back(chosen.program);
+    out.body_derivations.push_back(chosen.derivations.empty() ? nullptr : chosen.derivations[0]);
+    out.body_tokens.push_back(std::move(req.tokens));
+    out.body_candidates.push_back(std::move(chosen));
+  }
+  out.body = sdk::make_seq(std::move(lines));
+  return out;
+}
+
+InductionResult Inducer::induce(const PreparedDefinition& p, const sdk::Program& winner,
+                                bool winner_is_rewriting,
+                                const std::function<bool(const sdk::Rule&)>& exists) const {
+  InductionResult out;
+  const int n = static_cast<int>(p.head_tokens.size());
+  auto add = [&](sdk::Rule rule) {
+    for (const auto& r : out.rules)
+      if (r.rhs == rule.rhs) return;  // one meaning per RHS within a definition
+    if (exists && exists(rule)) return;
+    out.rules.push_back(std::move(rule));
+  };
+
+  // Simple packing of the user's body.
+  const std::vector<Match> body_matches = find_matches(p.head_chart, p.body, n);
+  out.simple = simple_packing(body_matches);
+  const std::string lhs = sdk::normalize_category(category_of_sort(p.body->sort));
+  if (auto built = build_rule(lhs, p.head_tokens, out.simple, p.body, sdk::RuleOrigin::simple);
+      built.rule)
+    add(std::move(*built.rule));
+
+  // Best packing of the winner (the body unless a rewriting beat it).
+  out.matches = winner_is_rewriting ? find_matches(p.head_chart, winner, n) : body_matches;
+  out.best = best_packing(out.matches, n);
+  const auto how = winner_is_rewriting ? sdk::RuleOrigin::rewriting : sdk::RuleOrigin::best;
+  if (auto built = build_rule(sdk::normalize_category(category_of_sort(winner->sort)),
+                              p.head_tokens, out.best, winner, how);
+      built.rule)
+    add(std::move(*built.rule));
+
+  if (options_.alignment && p.body_tokens.size() == 1 && p.body_derivations[0])
+    for (auto& r : alignment_rules(p.head_tokens, p.body_tokens[0], p.body_derivations[0], 4))
+      add(std::move(r));
+  return out;
+}
+
+}  // namespace flipper::kernel

@@ -1,0 +1,111 @@
+// Matches (docs/naturalization.md §4.4): head-chart derivations that yield a node of the body.
+#include <algorithm>
+#include <tuple>
+#include <unordered_set>
+
+#include "flipper/naturalization/induction.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel {
+
+std::string category_of_sort(sdk::Sort sort) {
+  using sdk::Sort;
+  switch (sort) {
+    case Sort::Action:
+      return "$Action";
+    case Sort::Condition:
+      return "$Situation";
+    case Sort::Point:
+      return "$Point";
+    case Sort::Area:
+      return "$Area";
+    case Sort::Collection:
+      return "$AreaCollection";
+    case Sort::Item:
+      return "$Item";
+    case Sort::CountedItem:
+      return "$CountedItem";
+    case Sort::Filter:
+      return "$PropertySet";
+    case Sort::Number:
+      return "$Number";
+    case Sort::Direction:
+      return "$Direction";
+    case Sort::Color:
+      return "$Color";
+    case Sort::Shape:
+      return "$Shape";
+    case Sort::ItemAct:
+      return "$ItemAct";
+    case Sort::Property:
+      return "$Property";
+  }
+  return "$Action";
+}
+
+bool category_fits(const std::string& category, sdk::Sort program) {
+  try {
+    // A plain item may stand for a $CountedItem, a colour or shape word for a $Property.
+    return sdk::sort_fits(sdk::category_sort(category), program);
+  } catch (const sdk::Error&) {
+    return false;  // $ROOT or a grammar-private category: nothing in a program has it
+  }
+}
+
+bool is_primitive_category(const std::string& c) {
+  return c == "$Color" || c == "$Shape" || c == "$Number" || c == "$Direction" || c == "$Point";
+}
+
+namespace {
+
+using ProgramSet = std::unordered_set<sdk::Program, sdk::ProgramHash, sdk::ProgramEqual>;
+
+void collect_subtrees(const sdk::Program& p, ProgramSet& out) {
+  if (!p || !out.insert(p).second) return;  // an equal subtree's kids are already in
+  for (const auto& k : p->kids) collect_subtrees(k, out);
+}
+
+/// The derivation's normalised category when it fits its program, else empty. Every category of
+/// statements ($ROOT, $Actions, $Action) is $Action: an induced rule's statement hole must not be
+/// the grammar's root, which would swallow a whole `a ; b` sequence (issue 13).
+std::string matching_category(const sdk::Derivation& d) {
+  std::string cat = sdk::normalize_category(d.category());
+  if (!category_fits(cat, d.sem->sort)) return {};
+  if (sdk::category_sort(cat) == sdk::Sort::Action) return "$Action";
+  return cat;
+}
+
+}  // namespace
+
+std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
+                                const sdk::Program& body, int head_length) {
+  // Chart meanings are in normal form (pick/drop as Pick/Drop); the verb of an item action is a
+  // node only in the full form (ItemAction(ItemAct, item)), so both forms' subtrees count.
+  ProgramSet nodes;
+  collect_subtrees(body, nodes);
+  collect_subtrees(sdk::full_form(body), nodes);
+  std::vector<Match> out;
+  for (const auto& d : chart) {
+    if (!d || !d->sem || (d->start == 0 && d->end == head_length)) continue;
+    if (!nodes.count(d->sem)) continue;
+    std::string cat = matching_category(*d);
+    if (cat.empty()) continue;
+    // Keep one match per (span, category, program): the best-scoring derivation.
+    auto same = std::find_if(out.begin(), out.end(), [&](const Match& m) {
+      return m.start == d->start && m.end == d->end && m.category == cat &&
+             sdk::equal(m.program, d->sem);
+    });
+    if (same != out.end()) {
+      if (d->score > same->score) same->score = d->score;
+      same->core_only = same->core_only || d->core_only;
+      continue;
+    }
+    out.push_back({d->start, d->end, std::move(cat), d->sem, d->score, d->core_only});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const Match& a, const Match& b) {
+    return std::tie(a.start, a.end) < std::tie(b.start, b.end);
+  });
+  return out;
+}
+
+}  // namespace flipper::kernel

@@ -1,0 +1,533 @@
+#include "flipper/naturalization/lexicon_store.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <istream>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "flipper/sdk/errors.hpp"
+#include "sqlite_handle.hpp"
+
+namespace flipper::kernel {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// Version 2 (kSchemaVersion). `created` is assigned inside the defining transaction (max + 1);
+// `deleted_seq` orders deletions so other processes can pick them up incrementally.
+constexpr const char* kSchema = R"sql(
+CREATE TABLE flipper_schema(version INTEGER NOT NULL);
+CREATE TABLE definitions(
+  id INTEGER PRIMARY KEY, head TEXT NOT NULL, body TEXT NOT NULL, author TEXT NOT NULL,
+  time INTEGER NOT NULL);
+CREATE TABLE rules(
+  id TEXT PRIMARY KEY, created INTEGER NOT NULL UNIQUE, definition INTEGER NOT NULL,
+  lhs TEXT NOT NULL, rhs TEXT NOT NULL, template TEXT NOT NULL, author TEXT NOT NULL,
+  head TEXT NOT NULL, body TEXT NOT NULL, how TEXT NOT NULL,
+  deleted INTEGER NOT NULL DEFAULT 0, deleted_at INTEGER, deleted_seq INTEGER);
+CREATE INDEX rules_deleted_seq ON rules(deleted_seq);
+CREATE TABLE rule_uses(
+  rule TEXT PRIMARY KEY, by_author INTEGER NOT NULL, by_others INTEGER NOT NULL);
+CREATE TABLE scorer_state(key TEXT PRIMARY KEY, state TEXT NOT NULL);
+INSERT INTO flipper_schema(version) VALUES (2);
+)sql";
+
+// Version 1 -> 2, in place: existing deletions get a sequence in `created` order.
+constexpr const char* kUpgradeFrom1 = R"sql(
+ALTER TABLE rules ADD COLUMN deleted_seq INTEGER;
+UPDATE rules SET deleted_seq = created WHERE deleted = 1;
+CREATE INDEX rules_deleted_seq ON rules(deleted_seq);
+UPDATE flipper_schema SET version = 2;
+)sql";
+
+std::string to_json_list(const std::vector<std::string>& v) {
+  return json(v).dump();
+}
+
+std::vector<std::string> from_json_list(const std::string& text, const std::string& path) {
+  try {
+    return json::parse(text).get<std::vector<std::string>>();
+  } catch (const std::exception&) {
+    throw sdk::Error(lexicon_codes::kCorrupt,
+                     "lexicon store '" + path + "' is corrupt: malformed list column: " + text);
+  }
+}
+
+}  // namespace
+
+bool lexicon_codes::is_store_fault(const std::string& code) {
+  return code == kBadLexicon || code == kBusy || code == kFull || code == kReadOnly ||
+         code == kCorrupt;
+}
+
+struct LexiconStore::Impl {
+  std::unique_ptr<sqlite::Db> db;
+  std::string path;
+  std::unique_ptr<sqlite::Stmt> data_version;  // cached: checked before every parse
+  std::optional<std::int64_t> last_data_version;
+};
+
+namespace {
+
+/// Refuses anything that is not an empty database or a Flipper lexicon, before any write.
+/// Returns the schema version (0: an empty database).
+std::int64_t check_existing(sqlite::Db& db) {
+  sqlite::Stmt tables(db, "SELECT name FROM sqlite_master WHERE type='table'");
+  bool any = false, ours = false;
+  while (tables.step()) {
+    any = true;
+    if (tables.text(0) == "flipper_schema") ours = true;
+  }
+  if (any && !ours)
+    throw sdk::Error(lexicon_codes::kBadLexicon,
+                     "lexicon store '" + db.path() + "': not a Flipper lexicon (foreign tables)");
+  std::int64_t version = 0;
+  if (ours) {
+    sqlite::Stmt v(db, "SELECT max(version) FROM flipper_schema");
+    if (v.step()) version = v.int64(0);
+    if (version > LexiconStore::kSchemaVersion)
+      throw sdk::Error(lexicon_codes::kBadLexicon,
+                       "lexicon store '" + db.path() + "': schema version " +
+                           std::to_string(version) + " is newer than this build's " +
+                           std::to_string(LexiconStore::kSchemaVersion));
+  }
+  sqlite::Stmt check(db, "PRAGMA quick_check");
+  if (check.step() && check.text(0) != "ok")
+    throw sdk::Error(lexicon_codes::kCorrupt, "lexicon store '" + db.path() +
+                                                  "' is corrupt; the file was left as it is (" +
+                                                  check.text(0) + ")");
+  return version;
+}
+
+/// Creates the schema or upgrades it, in one write transaction (re-checked under the lock:
+/// another process may have done it first).
+void create_or_upgrade(sqlite::Db& db) {
+  sqlite::Transaction tx(db);
+  std::int64_t version = 0;
+  {
+    sqlite::Stmt t(db, "SELECT count(*) FROM sqlite_master WHERE name='flipper_schema'");
+    t.step();
+    if (t.int64(0) > 0) {
+      sqlite::Stmt v(db, "SELECT coalesce(max(version), 0) FROM flipper_schema");
+      v.step();
+      version = v.int64(0);
+    }
+  }
+  if (version == 0) db.exec(kSchema);
+  if (version == 1) db.exec(kUpgradeFrom1);
+  tx.commit();
+}
+
+}  // namespace
+
+LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  const bool memory = path == ":memory:";
+  bool existed = false;
+  if (!memory) {
+    std::error_code ec;
+    existed = fs::exists(path, ec);
+    if (existed && !fs::is_regular_file(path, ec))
+      throw sdk::Error(lexicon_codes::kBadLexicon,
+                       "lexicon store '" + path + "': not a regular file");
+    const fs::path parent = fs::path(path).parent_path();
+    if (!existed && !parent.empty()) {
+      fs::create_directories(parent, ec);
+      if (ec)
+        throw sdk::Error(
+            ec == std::errc::read_only_file_system || ec == std::errc::permission_denied
+                ? lexicon_codes::kReadOnly
+                : lexicon_codes::kBadLexicon,
+            "lexicon store '" + path + "': cannot create directory '" + parent.string() +
+                "': " + ec.message());
+    }
+  }
+  impl_->db = std::make_unique<sqlite::Db>(path, !existed, options.busy_timeout_ms);
+  auto& db = *impl_->db;
+  if (options.max_page_count > 0)
+    db.exec(("PRAGMA max_page_count = " + std::to_string(options.max_page_count)).c_str());
+  const std::int64_t version = existed ? check_existing(db) : 0;
+  if (db.read_only()) {
+    // Readable but not writable: serve it as it is if it needs no change.
+    if (version != kSchemaVersion)
+      throw sdk::Error(lexicon_codes::kReadOnly,
+                       "lexicon store '" + path + "' is read-only and " +
+                           (version == 0 ? std::string("holds no lexicon yet")
+                                         : "needs an upgrade to schema version " +
+                                               std::to_string(kSchemaVersion)));
+  } else {
+    // WAL + FULL: every COMMIT is on disk when it returns, and a kill mid-write never corrupts.
+    if (!memory) {
+      std::string mode;
+      {
+        sqlite::Stmt m(db, "PRAGMA journal_mode");
+        if (m.step()) mode = m.text(0);
+      }  // finalized: an active statement would hold a read transaction open
+      if (mode != "wal") db.exec("PRAGMA journal_mode=WAL");
+    }
+    db.exec("PRAGMA synchronous=FULL");
+    if (version < kSchemaVersion) create_or_upgrade(db);
+  }
+  impl_->data_version = std::make_unique<sqlite::Stmt>(db, "PRAGMA data_version");
+}
+
+LexiconStore::~LexiconStore() = default;
+
+const std::string& LexiconStore::path() const {
+  return impl_->path;
+}
+
+bool LexiconStore::read_only() const {
+  return impl_->db->read_only();
+}
+
+namespace {
+
+std::int64_t next_value(sqlite::Db& db, const char* sql) {
+  sqlite::Stmt s(db, sql);
+  s.step();
+  return s.int64(0);
+}
+
+/// Inserts a rule (never replacing one: a taken id or `created` fails the transaction).
+void insert_rule(sqlite::Db& db, const StoredRule& r, std::int64_t definition) {
+  sqlite::Stmt ins(
+      db,
+      "INSERT INTO rules(id, created, definition, lhs, rhs, template, author, head, "
+      "body, how, deleted, deleted_at, deleted_seq) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  ins.bind(1, r.id).bind(2, r.created).bind(3, definition).bind(4, r.lhs);
+  ins.bind(5, to_json_list(r.rhs)).bind(6, r.semantics).bind(7, r.author).bind(8, r.head);
+  ins.bind(9, to_json_list(r.body)).bind(10, r.how).bind(11, std::int64_t{r.deleted ? 1 : 0});
+  if (r.deleted) {
+    ins.bind(12, r.deleted_at);
+    ins.bind(13, next_value(db, "SELECT coalesce(max(deleted_seq), 0) + 1 FROM rules"));
+  } else {
+    ins.bind_null(12).bind_null(13);
+  }
+  ins.run();
+  sqlite::Stmt uses(db,
+                    "INSERT INTO rule_uses(rule, by_author, by_others) VALUES (?,?,?) "
+                    "ON CONFLICT(rule) DO UPDATE SET by_author = excluded.by_author, "
+                    "by_others = excluded.by_others");
+  uses.bind(1, r.id)
+      .bind(2, static_cast<std::int64_t>(r.uses_by_author))
+      .bind(3, static_cast<std::int64_t>(r.uses_by_others))
+      .run();
+}
+
+constexpr const char* kRuleSelect =
+    "SELECT r.id, r.lhs, r.rhs, r.template, r.author, r.head, r.body, r.how, r.created, "
+    "r.definition, r.deleted, r.deleted_at, coalesce(u.by_author,0), coalesce(u.by_others,0) "
+    "FROM rules r LEFT JOIN rule_uses u ON u.rule = r.id ";
+
+StoredRule read_rule(const sqlite::Stmt& s, const std::string& path) {
+  StoredRule r;
+  r.id = s.text(0);
+  r.lhs = s.text(1);
+  r.rhs = from_json_list(s.text(2), path);
+  r.semantics = s.text(3);
+  r.author = s.text(4);
+  r.head = s.text(5);
+  r.body = from_json_list(s.text(6), path);
+  r.how = s.text(7);
+  r.created = s.int64(8);
+  r.definition = s.int64(9);
+  r.deleted = s.int64(10) != 0;
+  r.deleted_at = s.is_null(11) ? 0 : s.int64(11);
+  r.uses_by_author = static_cast<std::uint64_t>(s.int64(12));
+  r.uses_by_others = static_cast<std::uint64_t>(s.int64(13));
+  return r;
+}
+
+}  // namespace
+
+DefinitionCommit LexiconStore::commit_definition(const StoredDefinition& d,
+                                                 std::vector<StoredRule> rules) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);
+  sqlite::Stmt ins(db, "INSERT INTO definitions(head, body, author, time) VALUES (?,?,?,?)");
+  ins.bind(1, d.head).bind(2, to_json_list(d.body)).bind(3, d.author).bind(4, d.time).run();
+  DefinitionCommit out;
+  out.definition = sqlite3_last_insert_rowid(db.raw());
+  // Under the write lock: no other process can take these numbers before the commit.
+  std::int64_t created = next_value(db, "SELECT coalesce(max(created), 0) + 1 FROM rules");
+  for (auto& r : rules) {
+    r.created = created++;
+    r.id = "r" + std::to_string(r.created);
+    r.definition = out.definition;
+    r.deleted = false;
+    insert_rule(db, r, out.definition);
+  }
+  tx.commit();
+  out.rules = std::move(rules);
+  return out;
+}
+
+std::int64_t LexiconStore::add_definition(const StoredDefinition& d,
+                                          const std::vector<StoredRule>& rules) {
+  return commit_definition(d, rules).definition;
+}
+
+std::vector<StoredDefinition> LexiconStore::definitions() const {
+  sqlite::Stmt s(*impl_->db, "SELECT id, head, body, author, time FROM definitions ORDER BY id");
+  std::vector<StoredDefinition> out;
+  while (s.step())
+    out.push_back(
+        {s.int64(0), s.text(1), from_json_list(s.text(2), impl_->path), s.text(3), s.int64(4)});
+  return out;
+}
+
+std::vector<StoredRule> LexiconStore::rules(bool include_deleted) const {
+  std::string sql = kRuleSelect;
+  if (!include_deleted) sql += "WHERE r.deleted = 0 ";
+  sql += "ORDER BY r.created";
+  sqlite::Stmt s(*impl_->db, sql.c_str());
+  std::vector<StoredRule> out;
+  while (s.step()) out.push_back(read_rule(s, impl_->path));
+  return out;
+}
+
+std::optional<StoredRule> LexiconStore::rule(const std::string& id) const {
+  const std::string sql = std::string(kRuleSelect) + "WHERE r.id = ?";
+  sqlite::Stmt s(*impl_->db, sql.c_str());
+  s.bind(1, id);
+  if (!s.step()) return std::nullopt;
+  return read_rule(s, impl_->path);
+}
+
+std::int64_t LexiconStore::max_created() const {
+  sqlite::Stmt s(*impl_->db, "SELECT coalesce(max(created), 0) FROM rules");
+  s.step();
+  return s.int64(0);
+}
+
+namespace {
+
+/// Flags `id` deleted with the next deletion sequence number (inside the caller's transaction).
+void flag_deleted(sqlite::Db& db, const std::string& id, std::int64_t time) {
+  const std::int64_t seq = next_value(db, "SELECT coalesce(max(deleted_seq), 0) + 1 FROM rules");
+  sqlite::Stmt s(db,
+                 "UPDATE rules SET deleted = 1, deleted_at = ?, deleted_seq = ? "
+                 "WHERE id = ? AND deleted = 0");
+  s.bind(1, time).bind(2, seq).bind(3, id).run();
+}
+
+}  // namespace
+
+bool LexiconStore::mark_deleted(const std::string& id, std::int64_t time) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);
+  flag_deleted(db, id, time);
+  const bool changed = sqlite3_changes(db.raw()) > 0;
+  tx.commit();
+  return changed;
+}
+
+DeleteResult LexiconStore::delete_rule(
+    const std::string& id, const std::string& user, std::int64_t time,
+    const std::function<bool(const std::string& author)>& visible_to_user) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);  // the check and the delete see the same, locked, state
+  DeleteResult out;
+  {
+    sqlite::Stmt s(db, "SELECT author FROM rules WHERE id = ? AND deleted = 0");
+    s.bind(1, id);
+    if (!s.step()) return out;  // not_found (rolled back: nothing written)
+    const std::string author = s.text(0);
+    if (author != user) {
+      if (visible_to_user && visible_to_user(author)) {
+        out.status = DeleteStatus::forbidden;
+        out.author = author;
+      }
+      return out;
+    }
+    out.author = author;
+  }
+  flag_deleted(db, id, time);
+  tx.commit();
+  out.status = DeleteStatus::deleted;
+  return out;
+}
+
+LexiconChanges LexiconStore::changes_since(const ChangeMark& since) const {
+  auto& db = *impl_->db;
+  sqlite::ReadTransaction snapshot(db);
+  LexiconChanges out;
+  {
+    const std::string sql =
+        std::string(kRuleSelect) + "WHERE r.created > ? AND r.deleted = 0 ORDER BY r.created";
+    sqlite::Stmt s(db, sql.c_str());
+    s.bind(1, since.created);
+    while (s.step()) out.added.push_back(read_rule(s, impl_->path));
+  }
+  {
+    sqlite::Stmt s(db, "SELECT id FROM rules WHERE deleted_seq > ? ORDER BY deleted_seq");
+    s.bind(1, since.deleted);
+    while (s.step()) out.deleted.push_back(s.text(0));
+  }
+  sqlite::Stmt m(db, "SELECT coalesce(max(created), 0), coalesce(max(deleted_seq), 0) FROM rules");
+  m.step();
+  out.mark = {std::max(since.created, m.int64(0)), std::max(since.deleted, m.int64(1))};
+  return out;
+}
+
+bool LexiconStore::changed_elsewhere() {
+  auto& s = *impl_->data_version;
+  s.step();
+  const std::int64_t v = s.int64(0);
+  s.reset();
+  const bool changed = !impl_->last_data_version || *impl_->last_data_version != v;
+  impl_->last_data_version = v;
+  return changed;
+}
+
+namespace {
+void upsert_weights(sqlite::Db& db, const std::string& key, const std::string& state) {
+  sqlite::Stmt s(db,
+                 "INSERT INTO scorer_state(key, state) VALUES (?, ?) "
+                 "ON CONFLICT(key) DO UPDATE SET state = excluded.state");
+  s.bind(1, key).bind(2, state).run();
+}
+}  // namespace
+
+std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& deltas,
+                                                  const std::string& weights_key,
+                                                  const std::string& weights_state) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);
+  sqlite::Stmt add(db,
+                   "INSERT INTO rule_uses(rule, by_author, by_others) VALUES (?,?,?) "
+                   "ON CONFLICT(rule) DO UPDATE SET by_author = by_author + excluded.by_author, "
+                   "by_others = by_others + excluded.by_others");
+  sqlite::Stmt total(db, "SELECT by_author, by_others FROM rule_uses WHERE rule = ?");
+  std::vector<RuleUses> totals;
+  for (const auto& u : deltas) {
+    add.bind(1, u.rule)
+        .bind(2, static_cast<std::int64_t>(u.by_author))
+        .bind(3, static_cast<std::int64_t>(u.by_others))
+        .run();
+    total.bind(1, u.rule);
+    total.step();
+    totals.push_back({u.rule, static_cast<std::uint64_t>(total.int64(0)),
+                      static_cast<std::uint64_t>(total.int64(1))});
+    total.reset();
+  }
+  if (!weights_key.empty()) upsert_weights(db, weights_key, weights_state);
+  tx.commit();
+  return totals;
+}
+
+void LexiconStore::save_weights(const std::string& key, const std::string& state) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);
+  upsert_weights(db, key, state);
+  tx.commit();
+}
+
+std::optional<std::string> LexiconStore::load_weights(const std::string& key) const {
+  sqlite::Stmt s(*impl_->db, "SELECT state FROM scorer_state WHERE key = ?");
+  s.bind(1, key);
+  if (!s.step()) return std::nullopt;
+  return s.text(0);
+}
+
+// ---- JSON Lines export/import (a portable, diffable copy of the whole store) ----
+
+void LexiconStore::export_jsonl(
+    std::ostream& out,
+    const std::function<std::optional<std::string>(const StoredRule&)>& quarantine_reason) const {
+  for (const auto& d : definitions())
+    out << json{{"type", "definition"}, {"id", d.id},         {"head", d.head},
+                {"body", d.body},       {"author", d.author}, {"time", d.time}}
+               .dump()
+        << '\n';
+  for (const auto& r : rules(true)) {
+    json line{{"type", "rule"},
+              {"id", r.id},
+              {"lhs", r.lhs},
+              {"rhs", r.rhs},
+              {"semantics", r.semantics},
+              {"author", r.author},
+              {"head", r.head},
+              {"body", r.body},
+              {"how", r.how},
+              {"created", r.created},
+              {"definition", r.definition},
+              {"deleted", r.deleted},
+              {"deleted_at", r.deleted_at},
+              {"uses_by_author", r.uses_by_author},
+              {"uses_by_others", r.uses_by_others}};
+    if (quarantine_reason)
+      if (auto why = quarantine_reason(r)) line["quarantined"] = *why;
+    out << line.dump() << '\n';
+  }
+  sqlite::Stmt s(*impl_->db, "SELECT key, state FROM scorer_state ORDER BY key");
+  while (s.step())
+    out << json{{"type", "weights"}, {"key", s.text(0)}, {"state", s.text(1)}}.dump() << '\n';
+}
+
+std::size_t LexiconStore::import_jsonl(std::istream& in) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);
+  std::string line;
+  std::size_t n = 0, line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    try {
+      const json j = json::parse(line);
+      const std::string type = j.at("type").get<std::string>();
+      if (type == "definition") {
+        const auto id = j.at("id").get<std::int64_t>();
+        sqlite::Stmt taken(db, "SELECT 1 FROM definitions WHERE id = ?");
+        if (taken.bind(1, id).step())
+          throw std::runtime_error("definition " + std::to_string(id) + " is already stored");
+        sqlite::Stmt ins(
+            db, "INSERT INTO definitions(id, head, body, author, time) VALUES (?,?,?,?,?)");
+        ins.bind(1, id)
+            .bind(2, j.at("head").get<std::string>())
+            .bind(3, j.at("body").dump())
+            .bind(4, j.at("author").get<std::string>())
+            .bind(5, j.value("time", std::int64_t{0}))
+            .run();
+      } else if (type == "rule") {
+        StoredRule r;
+        r.id = j.at("id").get<std::string>();
+        r.lhs = j.at("lhs").get<std::string>();
+        r.rhs = j.at("rhs").get<std::vector<std::string>>();
+        r.semantics = j.at("semantics").get<std::string>();
+        r.author = j.at("author").get<std::string>();
+        r.head = j.value("head", std::string());
+        r.body = j.value("body", std::vector<std::string>());
+        r.how = j.at("how").get<std::string>();
+        r.created = j.at("created").get<std::int64_t>();
+        r.deleted = j.value("deleted", false);
+        r.deleted_at = j.value("deleted_at", std::int64_t{0});
+        r.uses_by_author = j.value("uses_by_author", std::uint64_t{0});
+        r.uses_by_others = j.value("uses_by_others", std::uint64_t{0});
+        sqlite::Stmt taken(db, "SELECT 1 FROM rules WHERE id = ? OR created = ?");
+        if (taken.bind(1, r.id).bind(2, r.created).step())
+          throw std::runtime_error("rule " + r.id + " (created " + std::to_string(r.created) +
+                                   ") is already stored");
+        insert_rule(db, r, j.value("definition", std::int64_t{0}));
+      } else if (type == "weights") {
+        upsert_weights(db, j.at("key").get<std::string>(), j.at("state").get<std::string>());
+      } else {
+        throw std::runtime_error("unknown type '" + type + "'");
+      }
+      ++n;
+    } catch (const sdk::Error&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw sdk::Error(sdk::codes::kBadRequest,
+                       "lexicon import line " + std::to_string(line_no) + ": " + e.what());
+    }
+  }
+  tx.commit();
+  return n;
+}
+
+}  // namespace flipper::kernel

@@ -1,0 +1,199 @@
+#include "sqlite_handle.hpp"
+
+#include <cerrno>
+#include <chrono>
+#include <random>
+#include <thread>
+
+#include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel::sqlite {
+
+namespace {
+
+std::int64_t now_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+/// What a person should know about each fault, after "lexicon store 'PATH' ".
+std::string explain(const char* code, int busy_timeout_ms) {
+  const std::string c = code;
+  if (c == lexicon_codes::kBusy)
+    return "is busy: other writers held it longer than lexicon.busy_timeout_ms = " +
+           std::to_string(busy_timeout_ms) + " ms; nothing was changed, try again";
+  if (c == lexicon_codes::kFull)
+    return "is full (no space left on the device, or the store's size limit); nothing was changed";
+  if (c == lexicon_codes::kReadOnly)
+    return "is read-only (file or directory permissions, or a read-only file system); nothing was "
+           "changed";
+  if (c == lexicon_codes::kCorrupt)
+    return "is corrupt or not an SQLite database; the file was left as it is";
+  return "failed";
+}
+
+}  // namespace
+
+const char* code_for(int rc, int system_errno) {
+  switch (rc & 0xff) {
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+      return lexicon_codes::kBusy;
+    case SQLITE_FULL:
+      return lexicon_codes::kFull;
+    case SQLITE_READONLY:
+      return lexicon_codes::kReadOnly;
+    case SQLITE_CORRUPT:
+    case SQLITE_NOTADB:
+      return lexicon_codes::kCorrupt;
+    case SQLITE_CANTOPEN:
+    case SQLITE_IOERR:
+    case SQLITE_PERM:
+      if (system_errno == ENOSPC || system_errno == EDQUOT) return lexicon_codes::kFull;
+      if (system_errno == EROFS || system_errno == EACCES || system_errno == EPERM)
+        return lexicon_codes::kReadOnly;
+      return lexicon_codes::kBadLexicon;
+    default:
+      return lexicon_codes::kBadLexicon;
+  }
+}
+
+Db::Db(const std::string& path, bool create, int busy_timeout_ms)
+    : path_(path), busy_timeout_ms_(busy_timeout_ms), jitter_(std::random_device{}()) {
+  int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_NOMUTEX;
+  if (create) flags |= SQLITE_OPEN_CREATE;
+  const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+  if (rc != SQLITE_OK) fail("cannot open", rc);
+  sqlite3_extended_result_codes(db_, 1);
+  // Many writers: wait for the write lock with bounded, jittered retries instead of failing.
+  sqlite3_busy_handler(db_, &Db::on_busy, this);
+}
+
+Db::~Db() {
+  sqlite3_close_v2(db_);
+}
+
+// Called by SQLite while a lock is held elsewhere; `attempts` is 0 on the first call of a wait.
+// Sleeps 0.5..16 ms (doubling, randomised so waiting writers do not retry in lock-step) until the
+// timeout; returning 0 makes the statement fail with SQLITE_BUSY (-> lexicon_busy).
+int Db::on_busy(void* self, int attempts) {
+  auto& db = *static_cast<Db*>(self);
+  const std::int64_t now = now_us();
+  if (attempts == 0) db.busy_since_us_ = now;
+  if (now - db.busy_since_us_ >= std::int64_t{db.busy_timeout_ms_} * 1000) return 0;
+  const std::int64_t cap_us = 500LL << std::min(attempts, 5);
+  db.jitter_ = db.jitter_ * 6364136223846793005ULL + 1442695040888963407ULL;
+  const std::int64_t sleep_us =
+      cap_us / 2 +
+      static_cast<std::int64_t>((db.jitter_ >> 33) % static_cast<std::uint64_t>(cap_us / 2 + 1));
+  std::this_thread::sleep_for(std::chrono::microseconds(sleep_us));
+  return 1;
+}
+
+bool Db::read_only() const {
+  return sqlite3_db_readonly(db_, "main") == 1;
+}
+
+void Db::exec(const char* sql) {
+  char* err = nullptr;
+  const int rc = sqlite3_exec(db_, sql, nullptr, nullptr, &err);
+  if (rc != SQLITE_OK) {
+    std::string msg = err ? err : sqlite3_errstr(rc);
+    sqlite3_free(err);
+    const char* code = code_for(rc, sqlite3_system_errno(db_));
+    throw sdk::Error(code, "lexicon store '" + path_ + "' " + explain(code, busy_timeout_ms_) +
+                               " (" + msg + ")");
+  }
+}
+
+void Db::fail(const std::string& what, int rc) const {
+  const std::string detail = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+  const char* code = code_for(rc, db_ ? sqlite3_system_errno(db_) : 0);
+  throw sdk::Error(code, "lexicon store '" + path_ + "' " + explain(code, busy_timeout_ms_) + " (" +
+                             what + ": " + detail + ")");
+}
+
+Stmt::Stmt(Db& db, const char* sql) : db_(db) {
+  const int rc = sqlite3_prepare_v2(db.raw(), sql, -1, &stmt_, nullptr);
+  if (rc != SQLITE_OK) db.fail("cannot prepare statement", rc);
+}
+
+Stmt::~Stmt() {
+  sqlite3_finalize(stmt_);
+}
+
+Stmt& Stmt::bind(int i, std::string_view text) {
+  const int rc =
+      sqlite3_bind_text(stmt_, i, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
+  if (rc != SQLITE_OK) db_.fail("bind", rc);
+  return *this;
+}
+
+Stmt& Stmt::bind(int i, std::int64_t value) {
+  const int rc = sqlite3_bind_int64(stmt_, i, value);
+  if (rc != SQLITE_OK) db_.fail("bind", rc);
+  return *this;
+}
+
+Stmt& Stmt::bind_null(int i) {
+  const int rc = sqlite3_bind_null(stmt_, i);
+  if (rc != SQLITE_OK) db_.fail("bind", rc);
+  return *this;
+}
+
+bool Stmt::step() {
+  const int rc = sqlite3_step(stmt_);
+  if (rc == SQLITE_ROW) return true;
+  if (rc == SQLITE_DONE) return false;
+  db_.fail("query failed", rc);
+}
+
+void Stmt::run() {
+  while (step()) {
+  }
+  reset();
+}
+
+void Stmt::reset() {
+  sqlite3_reset(stmt_);
+  sqlite3_clear_bindings(stmt_);
+}
+
+std::int64_t Stmt::int64(int col) const {
+  return sqlite3_column_int64(stmt_, col);
+}
+
+std::string Stmt::text(int col) const {
+  const auto* p = reinterpret_cast<const char*>(sqlite3_column_text(stmt_, col));
+  return p ? std::string(p, static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
+           : std::string();
+}
+
+bool Stmt::is_null(int col) const {
+  return sqlite3_column_type(stmt_, col) == SQLITE_NULL;
+}
+
+Transaction::Transaction(Db& db) : db_(db) {
+  db_.exec("BEGIN IMMEDIATE");
+}
+
+Transaction::~Transaction() {
+  if (!done_) sqlite3_exec(db_.raw(), "ROLLBACK", nullptr, nullptr, nullptr);
+}
+
+void Transaction::commit() {
+  db_.exec("COMMIT");
+  done_ = true;
+}
+
+ReadTransaction::ReadTransaction(Db& db) : db_(db) {
+  db_.exec("BEGIN");
+}
+
+ReadTransaction::~ReadTransaction() {
+  sqlite3_exec(db_.raw(), "COMMIT", nullptr, nullptr, nullptr);
+}
+
+}  // namespace flipper::kernel::sqlite

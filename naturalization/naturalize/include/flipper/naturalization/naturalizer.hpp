@@ -1,0 +1,187 @@
+#pragma once
+/// @file naturalizer.hpp
+/// The naturalization façade (docs/naturalization.md §4–§6, session-protocol `define`, `rules`,
+/// `delete_rule`): owns the lexicon store and the induced rules, keeps the parser's grammar in
+/// step with the store, and decides which rules a user sees (sharing modes).
+///
+/// Start-up: the store's live rules are re-added to the parser in creation order, the scorer's
+/// weights restored, then the preload file (if any) replayed through induction (definitions the
+/// store already holds are skipped, so a restart does not replay them twice). A stored rule that
+/// no longer loads (unknown category, bad template) is quarantined: not served, reported once
+/// through `warn`, kept in the file.
+/// Every definition is committed to the store in one transaction before define() returns.
+/// Many processes may share the store: refresh() (called before every parse, define, listing
+/// and delete) picks up the rules and deletions other processes committed, incrementally.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "flipper/naturalization/induction.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/kernel/runtime.hpp"
+#include "flipper/sdk/execution.hpp"
+#include "flipper/sdk/world.hpp"
+
+namespace flipper::kernel {
+
+namespace naturalize_codes {
+inline constexpr const char* kForbidden = "forbidden";  ///< deleting another user's rule
+inline constexpr const char* kNotFound = "not_found";   ///< unknown (or hidden) rule id
+/// A head token starting with '$' (the mark of grammar categories in rules).
+inline constexpr const char* kHeadReservedToken = "head_reserved_token";
+}  // namespace naturalize_codes
+
+/// lexicon.sharing
+enum class Sharing { shared, private_, core };
+Sharing parse_sharing(const std::string& text);  ///< throws bad_config
+const char* to_string(Sharing s);
+
+struct NaturalizeOptions {
+  std::string store_path = ":memory:";  ///< lexicon.path
+  Sharing sharing = Sharing::shared;    ///< lexicon.sharing
+  std::string preload;                  ///< lexicon.preload (JSON Lines; empty: none)
+  bool per_user_weights = false;        ///< lexicon.weights == per_user
+  LexiconStoreOptions store;            ///< lexicon.busy_timeout_ms (+ test-only limits)
+  /// Where warnings go (quarantined rules); default: standard error, "flipper: warning: ...".
+  std::function<void(const std::string&)> warn;
+  InductionOptions induction;  ///< induction.alignment (+ parser beam)
+  bool generalize = true;      ///< induction.generalize
+  int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
+  /// Reads the keys above from a validated config (the schema filled every default).
+  static NaturalizeOptions from_config(const Config& config);
+};
+
+struct DefineRequest {
+  std::string user;
+  std::string head;
+  std::vector<std::string> body;
+  std::vector<int> body_ranks;                  ///< optional per line
+  const sdk::WorldState* before = nullptr;      ///< world before the first body line
+  const sdk::ExecutionService* exec = nullptr;  ///< both needed for generalization
+  /// The request's deadline: parses stop at it, and a definition that reaches it before its
+  /// commit is refused (deadline_exceeded) with nothing stored.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+};
+
+/// A rewriter candidate that generalization discarded.
+struct Discarded {
+  sdk::Program program;
+  std::string rewriting;
+  std::string reason;
+};
+
+struct DefineOutcome {
+  std::vector<sdk::RulePtr> rules;  ///< the rules added (already in the parser and the store)
+  std::int64_t definition = 0;      ///< store id of the definition
+  bool generalization_ran = false;
+  sdk::Program generalized;  ///< the winning rewriting (null when the body won)
+  std::string generalized_rewriting;
+  std::vector<Discarded> discarded;
+};
+
+/// One line of a `rules` listing.
+struct RuleListing {
+  sdk::RulePtr rule;
+  std::uint64_t uses_by_author = 0;
+  std::uint64_t uses_by_others = 0;
+};
+
+/// A stored rule that does not load (it stays in the store, unserved).
+struct QuarantinedRule {
+  StoredRule stored;
+  std::string reason;
+};
+
+/// Preload outcome (definitions replayed, skipped because stored, failed with the reason).
+struct PreloadReport {
+  std::size_t replayed = 0;
+  std::size_t already_stored = 0;
+  std::vector<std::string> failures;  ///< "line N: code: message"
+};
+
+class Naturalizer {
+ public:
+  /// Opens the store and restores rules and weights into the runtime's parser and scorer, then
+  /// preloads. Throws sdk::Error (bad_lexicon, bad_config for an unreadable preload file).
+  Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions options);
+  ~Naturalizer();
+
+  const NaturalizeOptions& options() const { return options_; }
+  /// Whether `user` may parse with `rule` under the sharing mode.
+  bool visible(const sdk::Rule& rule, const std::string& user) const;
+  std::function<bool(const sdk::Rule&)> visibility_for(const std::string& user) const;
+
+  /// §4 (after §6 when the runtime has a rewriter, generalization is on and a world is given).
+  /// Throws sdk::Error: empty_head, head_reserved_token, head_is_core, body_unparsable,
+  /// bad_request, and the store's codes (lexicon_busy, lexicon_full, ...: nothing changed then).
+  DefineOutcome define(const DefineRequest& request);
+  /// Picks up what other processes committed since the last look (new rules, deletions); a
+  /// cheap check (PRAGMA data_version) when nothing changed.
+  void refresh();
+  /// Live rules visible to `user`, optionally only those of `author`, in creation order.
+  std::vector<RuleListing> rules(const std::string& user,
+                                 const std::optional<std::string>& author = std::nullopt) const;
+  /// Deletes a rule of `user`, authorship checked in the delete's transaction: forbidden for
+  /// another user's visible rule, not_found for unknown ids and rules hidden from `user`; the
+  /// parser forgets it, the store keeps it flagged.
+  void delete_rule(const std::string& user, const std::string& id);
+  /// After an accept (the scorer has learned and the session has counted the uses of the
+  /// accepted derivation's induced rules): adds one use to each of those rules' stored counters
+  /// and stores the scorer state, in one transaction. Throws the store's codes when it did not
+  /// commit (the session then undoes the accept).
+  void on_accept(const std::string& user, const std::vector<sdk::RulePtr>& used_rules);
+  /// per_user weights: makes the scorer hold `user`'s weights (no-op for global weights).
+  void select_user(const std::string& user);
+
+  /// Live induced rules in creation order.
+  const std::vector<sdk::RulePtr>& induced_rules() const { return rules_; }
+  sdk::RulePtr find_rule(const std::string& id) const;
+  const PreloadReport& preload_report() const { return preload_report_; }
+  /// Stored rules that did not load, in the order they were met.
+  const std::vector<QuarantinedRule>& quarantined() const { return quarantined_; }
+  LexiconStore& store() { return *store_; }
+
+ private:
+  void restore();
+  void preload(const std::string& path);
+  /// Applies changes read from the store; `own` holds this process's just-committed rules (used
+  /// as they are instead of being read back).
+  void apply(const LexiconChanges& changes, const std::vector<sdk::RulePtr>& own = {});
+  void add_live(sdk::RulePtr rule);
+  void remove_live(const std::string& id);
+  bool exists_for(const sdk::Rule& rule, const std::string& author) const;
+  std::string weights_key(const std::string& user) const;
+  std::string save_weights() const;  ///< the scorer's state (a guarded plugin call)
+  void load_weights(const std::string& state);
+
+  std::shared_ptr<Runtime> runtime_;
+  NaturalizeOptions options_;
+  std::unique_ptr<LexiconStore> store_;
+  std::vector<sdk::RulePtr> rules_;
+  std::unordered_map<std::string, sdk::RulePtr> by_id_;
+  std::unordered_multimap<std::string, sdk::RulePtr> by_shape_;  ///< "lhs -> rhs" key
+  ChangeMark mark_;              ///< how far this process has read the store's history
+  std::string initial_weights_;  ///< scorer state before any learning (per_user default)
+  std::string weights_user_;     ///< whose weights the scorer holds (per_user)
+  PreloadReport preload_report_;
+  std::vector<QuarantinedRule> quarantined_;
+};
+
+/// "$Action -> pick $Number items": the key rules with equal LHS and RHS share.
+std::string rule_shape(const sdk::Rule& rule);
+/// A stored rule back to a grammar rule (template read with sorts from the RHS categories).
+/// Throws sdk::Error when it does not load (unknown category, bad template).
+sdk::RulePtr rule_from_stored(const StoredRule& stored);
+/// Why a stored rule would be quarantined (nullopt: it loads).
+std::optional<std::string> quarantine_reason(const StoredRule& stored);
+/// Refuses a head with a token starting with '$' (head_reserved_token).
+void check_head_tokens(const std::string& head);
+StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition);
+
+}  // namespace flipper::kernel

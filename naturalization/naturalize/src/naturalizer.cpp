@@ -1,0 +1,377 @@
+#include "flipper/naturalization/naturalizer.hpp"
+
+#include <algorithm>
+#include <ctime>
+#include <iostream>
+
+#include "flipper/naturalization/generalizer.hpp"
+#include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/grammar.hpp"
+
+namespace flipper::kernel {
+
+namespace {
+
+sdk::StopCondition stop_at(std::chrono::steady_clock::time_point deadline) {
+  sdk::StopCondition stop;
+  stop.deadline = deadline;
+  return stop;
+}
+
+sdk::RuleOrigin origin_from_string(const std::string& how) {
+  if (how == "simple") return sdk::RuleOrigin::simple;
+  if (how == "best") return sdk::RuleOrigin::best;
+  if (how == "alignment") return sdk::RuleOrigin::alignment;
+  if (how == "rewriting") return sdk::RuleOrigin::rewriting;
+  throw sdk::Error(lexicon_codes::kBadLexicon, "unknown rule origin '" + how + "'");
+}
+
+/// Whether a rule of `author` serves `user` under `sharing` (induced rules only).
+bool visible_author(Sharing sharing, const std::string& author, const std::string& user) {
+  switch (sharing) {
+    case Sharing::shared:
+      return true;
+    case Sharing::private_:
+      return author == user;
+    case Sharing::core:
+      return false;
+  }
+  return true;
+}
+
+void warn_stderr(const std::string& message) {
+  std::cerr << "flipper: warning: " << message << "\n";
+}
+
+std::string symbol_text(const sdk::Symbol& s) {
+  return s.text;
+}
+
+std::string rule_shape_text(const StoredRule& s) {
+  std::string text = s.lhs + " ->";
+  for (const auto& sym : s.rhs) text += " " + sym;
+  return text;
+}
+
+}  // namespace
+
+std::string rule_shape(const sdk::Rule& rule) {
+  std::string key = rule.lhs + " ->";
+  for (const auto& s : rule.rhs) key += " " + symbol_text(s);
+  return key;
+}
+
+StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
+  StoredRule s;
+  s.id = rule.id;
+  s.lhs = rule.lhs;
+  for (const auto& sym : rule.rhs) s.rhs.push_back(symbol_text(sym));
+  s.semantics = sdk::render(rule.sem);
+  s.author = rule.author;
+  s.head = rule.head;
+  s.body = rule.body;
+  s.how = sdk::to_string(rule.how);
+  s.created = rule.created;
+  s.definition = definition;  // a new rule: no uses yet
+  return s;
+}
+
+sdk::RulePtr rule_from_stored(const StoredRule& s) {
+  // Older versions induced `$Action -> $ROOT thrice`-like rules, whose hole takes a whole
+  // sequence; such a rule is not read (so it is quarantined, with this message).
+  const std::string root = sdk::Grammar{}.root;
+  if (s.lhs == root || std::find(s.rhs.begin(), s.rhs.end(), root) != s.rhs.end())
+    throw sdk::Error(lexicon_codes::kBadLexicon,
+                     "'" + rule_shape_text(s) + "' uses the grammar root " + root +
+                         " as a hole (induced by an older Flipper); re-induce the store's "
+                         "definitions: flipper lexicon export FILE, then flipper lexicon import "
+                         "FILE into a new lexicon.path");
+  auto rule = std::make_shared<sdk::Rule>();
+  rule->id = s.id;
+  rule->lhs = s.lhs;
+  std::vector<sdk::Sort> holes;
+  for (const auto& text : s.rhs) {
+    // Induced RHS hold plain tokens and categories only; a token never starts with '$'.
+    if (!text.empty() && text[0] == '$') {
+      rule->rhs.push_back({sdk::Symbol::Type::category, text});
+      holes.push_back(sdk::category_sort(sdk::normalize_category(text)));
+    } else {
+      rule->rhs.push_back({sdk::Symbol::Type::token, text});
+    }
+  }
+  rule->sem =
+      sdk::read_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
+  rule->induced = true;
+  rule->how = origin_from_string(s.how);
+  rule->author = s.author;
+  rule->head = s.head;
+  rule->body = s.body;
+  rule->created = s.created;
+  return rule;
+}
+
+std::optional<std::string> quarantine_reason(const StoredRule& stored) {
+  try {
+    (void)rule_from_stored(stored);
+    return std::nullopt;
+  } catch (const std::exception& e) {
+    return std::string(e.what());
+  }
+}
+
+void check_head_tokens(const std::string& head) {
+  for (const auto& token : sdk::tokenize(head))
+    if (!token.empty() && token[0] == '$')
+      throw sdk::Error(naturalize_codes::kHeadReservedToken,
+                       "the head token '" + token +
+                           "' starts with '$', which marks grammar categories in rules; a head is "
+                           "plain words (write the word itself, e.g. 'red', not '$Color')");
+}
+
+Sharing parse_sharing(const std::string& text) {
+  if (text == "shared") return Sharing::shared;
+  if (text == "private") return Sharing::private_;
+  if (text == "core") return Sharing::core;
+  throw sdk::Error(sdk::codes::kBadConfig,
+                   "lexicon.sharing must be shared, private or core, not '" + text + "'");
+}
+
+const char* to_string(Sharing s) {
+  switch (s) {
+    case Sharing::shared:
+      return "shared";
+    case Sharing::private_:
+      return "private";
+    case Sharing::core:
+      return "core";
+  }
+  return "shared";
+}
+
+Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions options)
+    : runtime_(std::move(runtime)), options_(std::move(options)) {
+  if (!runtime_ || !runtime_->parser || !runtime_->scorer)
+    throw sdk::Error(sdk::codes::kInternal,
+                     "naturalization needs a runtime with parser and scorer");
+  if (!options_.warn) options_.warn = warn_stderr;
+  store_ = std::make_unique<LexiconStore>(options_.store_path, options_.store);
+  restore();
+  if (!options_.preload.empty()) preload(options_.preload);
+}
+
+Naturalizer::~Naturalizer() = default;
+
+void Naturalizer::restore() {
+  store_->changed_elsewhere();  // the baseline for refresh(), taken before reading
+  apply(store_->changes_since({}));
+  initial_weights_ = save_weights();
+  weights_user_.clear();
+  if (!options_.per_user_weights) {
+    if (auto state = store_->load_weights(weights_key({}))) load_weights(*state);
+  }
+}
+
+void Naturalizer::refresh() {
+  // data_version is read before the changes, so a commit racing with this read shows next time.
+  if (store_->changed_elsewhere()) apply(store_->changes_since(mark_));
+}
+
+void Naturalizer::apply(const LexiconChanges& changes, const std::vector<sdk::RulePtr>& own) {
+  for (const auto& stored : changes.added) {
+    if (by_id_.count(stored.id)) continue;
+    auto mine = std::find_if(own.begin(), own.end(),
+                             [&](const sdk::RulePtr& r) { return r->id == stored.id; });
+    sdk::RulePtr rule;
+    if (mine != own.end()) {
+      rule = *mine;
+    } else {
+      try {
+        rule = rule_from_stored(stored);
+      } catch (const std::exception& e) {
+        // One bad rule must not lock everyone out of a shared lexicon: skip it, say which.
+        quarantined_.push_back({stored, e.what()});
+        options_.warn("lexicon store '" + store_->path() + "': rule " + stored.id + " (author '" +
+                      stored.author + "', head '" + stored.head +
+                      "') is quarantined, not served: " + e.what());
+        continue;
+      }
+    }
+    runtime_->usage->set(stored.id, {stored.uses_by_author, stored.uses_by_others});
+    runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(rule); });
+    add_live(std::move(rule));
+  }
+  for (const auto& id : changes.deleted) remove_live(id);
+  mark_ = changes.mark;
+}
+
+std::string Naturalizer::save_weights() const {
+  return runtime_->scorer.call("save_state", [](const sdk::Scorer& s) { return s.save_state(); });
+}
+
+void Naturalizer::load_weights(const std::string& state) {
+  runtime_->scorer.call("load_state", [&](sdk::Scorer& s) { s.load_state(state); });
+}
+
+std::string Naturalizer::weights_key(const std::string& user) const {
+  return options_.per_user_weights ? "user:" + user : "global";
+}
+
+void Naturalizer::select_user(const std::string& user) {
+  if (!options_.per_user_weights || user == weights_user_) return;
+  auto state = store_->load_weights(weights_key(user));
+  load_weights(state ? *state : initial_weights_);
+  weights_user_ = user;
+}
+
+void Naturalizer::add_live(sdk::RulePtr rule) {
+  by_id_[rule->id] = rule;
+  by_shape_.emplace(rule_shape(*rule), rule);
+  rules_.push_back(std::move(rule));
+}
+
+void Naturalizer::remove_live(const std::string& id) {
+  auto rule = find_rule(id);
+  if (!rule) return;
+  runtime_->parser.call("remove_rule", [&](sdk::Parser& p) { p.remove_rule(id); });
+  runtime_->usage->erase(id);
+  by_id_.erase(id);
+  auto [lo, hi] = by_shape_.equal_range(rule_shape(*rule));
+  for (auto it = lo; it != hi; ++it)
+    if (it->second == rule) {
+      by_shape_.erase(it);
+      break;
+    }
+  rules_.erase(std::remove(rules_.begin(), rules_.end(), rule), rules_.end());
+}
+
+bool Naturalizer::visible(const sdk::Rule& rule, const std::string& user) const {
+  return !rule.induced || visible_author(options_.sharing, rule.author, user);
+}
+
+std::function<bool(const sdk::Rule&)> Naturalizer::visibility_for(const std::string& user) const {
+  if (options_.sharing == Sharing::shared) return {};  // every rule: no filter cost
+  return [this, user](const sdk::Rule& r) { return visible(r, user); };
+}
+
+bool Naturalizer::exists_for(const sdk::Rule& rule, const std::string& author) const {
+  auto [lo, hi] = by_shape_.equal_range(rule_shape(rule));
+  for (auto it = lo; it != hi; ++it)
+    if (visible(*it->second, author) && same_rule(*it->second, rule)) return true;
+  return false;
+}
+
+sdk::RulePtr Naturalizer::find_rule(const std::string& id) const {
+  auto it = by_id_.find(id);
+  return it == by_id_.end() ? nullptr : it->second;
+}
+
+DefineOutcome Naturalizer::define(const DefineRequest& req) {
+  check_head_tokens(req.head);
+  refresh();  // induce against every rule committed so far, by any process
+  Inducer inducer(runtime_->parser, runtime_->scorer, options_.induction, runtime_->usage.get());
+  const auto visible_rules = visibility_for(req.user);
+  PreparedDefinition prepared = inducer.prepare({req.head, req.body, req.user, req.body_ranks},
+                                                visible_rules, stop_at(req.deadline));
+
+  DefineOutcome out;
+  sdk::Program winner = prepared.body;
+  bool rewritten = false;
+  if (options_.generalize && runtime_->rewriter && req.before && req.exec) {
+    GeneralizeOptions gopts;
+    gopts.perturbed_checks = options_.perturbed_checks;
+    Generalizer generalizer(runtime_->rewriter, runtime_->similarity, *req.exec, gopts);
+    const int n = static_cast<int>(prepared.head_tokens.size());
+    GeneralizeResult g = generalizer.generalize(
+        prepared.head_tokens, prepared.body, *req.before,
+        [&](const sdk::Program& p) { return best_packing_score(prepared.head_chart, p, n); });
+    out.generalization_ran = true;
+    if (!g.body_won && g.winner) {
+      winner = g.winner;
+      rewritten = true;
+      out.generalized = g.winner;
+      out.generalized_rewriting = g.winner_rewriting;
+    }
+    for (const auto& c : g.candidates)
+      if (!c.rejected_reason.empty())
+        out.discarded.push_back({c.program, c.rewriting, c.rejected_reason});
+  }
+
+  InductionResult induced = inducer.induce(
+      prepared, winner, rewritten, [&](const sdk::Rule& r) { return exists_for(r, req.user); });
+
+  if (std::chrono::steady_clock::now() >= req.deadline)
+    throw sdk::Error(sdk::codes::kDeadlineExceeded,
+                     "deadline exceeded before the definition was stored (session.deadline_ms); "
+                     "nothing was stored");
+
+  // Commit definition + rules in one transaction, where the store assigns their ids, before
+  // anything becomes visible: a failed commit leaves parser and store unchanged.
+  const std::int64_t now = static_cast<std::int64_t>(std::time(nullptr));
+  std::vector<std::shared_ptr<sdk::Rule>> fresh;
+  std::vector<StoredRule> stored;
+  for (auto& r : induced.rules) {
+    auto rule = std::make_shared<sdk::Rule>(std::move(r));
+    rule->author = req.user;
+    rule->head = req.head;
+    rule->body = req.body;
+    stored.push_back(stored_from_rule(*rule, 0));
+    fresh.push_back(std::move(rule));
+  }
+  DefinitionCommit commit =
+      store_->commit_definition({0, req.head, req.body, req.user, now}, std::move(stored));
+  out.definition = commit.definition;
+  std::vector<sdk::RulePtr> rules;
+  for (std::size_t i = 0; i < fresh.size(); ++i) {
+    fresh[i]->id = commit.rules[i].id;
+    fresh[i]->created = commit.rules[i].created;
+    rules.push_back(fresh[i]);
+  }
+  // Everything up to this commit, others' rules first (creation order), then ours.
+  apply(store_->changes_since(mark_), rules);
+  out.rules = std::move(rules);
+  return out;
+}
+
+std::vector<RuleListing> Naturalizer::rules(const std::string& user,
+                                            const std::optional<std::string>& author) const {
+  std::vector<RuleListing> out;
+  for (const auto& r : rules_) {
+    if (!visible(*r, user) || (author && r->author != *author)) continue;
+    const sdk::RuleUses uses = runtime_->usage->uses(r->id);
+    out.push_back({r, uses.by_author, uses.by_others});
+  }
+  return out;
+}
+
+void Naturalizer::delete_rule(const std::string& user, const std::string& id) {
+  const DeleteResult r = store_->delete_rule(
+      id, user, static_cast<std::int64_t>(std::time(nullptr)),
+      [&](const std::string& author) { return visible_author(options_.sharing, author, user); });
+  if (r.status == DeleteStatus::not_found)
+    throw sdk::Error(naturalize_codes::kNotFound, "no rule with id '" + id + "'");
+  if (r.status == DeleteStatus::forbidden)
+    throw sdk::Error(naturalize_codes::kForbidden, "rule " + id + " belongs to '" + r.author +
+                                                       "'; only its author may delete it");
+  apply(store_->changes_since(mark_));  // removes it here (and picks up others' changes)
+}
+
+void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::RulePtr>& used) {
+  std::vector<RuleUses> deltas;
+  std::vector<sdk::RulePtr> rules;
+  for (const auto& r : used) {
+    if (!r || !r->induced || !by_id_.count(r->id)) continue;
+    if (std::any_of(deltas.begin(), deltas.end(),
+                    [&](const RuleUses& u) { return u.rule == r->id; }))
+      continue;
+    const bool own = r->author == user;
+    deltas.push_back({r->id, own ? 1u : 0u, own ? 0u : 1u});
+    rules.push_back(r);
+  }
+  const auto totals = store_->record_accept(deltas, weights_key(user), save_weights());
+  // The stored totals include other processes' uses.
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    runtime_->usage->set(rules[i]->id, {totals[i].by_author, totals[i].by_others});
+}
+
+}  // namespace flipper::kernel

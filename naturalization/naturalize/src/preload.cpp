@@ -1,0 +1,52 @@
+// Preloading a definitions file (docs/naturalization.md §5): replayed through induction so rules
+// are always induced by this system, never copied.
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "flipper/kernel/limits.hpp"
+#include "flipper/naturalization/naturalizer.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel {
+
+void Naturalizer::preload(const std::string& path) {
+  std::istringstream in(read_regular_file(path,
+                                          InputLimits::from_config(runtime_->config).max_file_bytes,
+                                          "lexicon.preload file", sdk::codes::kBadConfig));
+  // A restart must not replay what the store already holds.
+  std::set<std::tuple<std::string, std::vector<std::string>, std::string>> stored;
+  for (const auto& d : store_->definitions()) stored.emplace(d.head, d.body, d.author);
+
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    DefineRequest req;
+    try {
+      const auto j = nlohmann::json::parse(line);
+      req.head = j.at("head").get<std::string>();
+      req.body = j.at("body").get<std::vector<std::string>>();
+      req.user = j.value("author", std::string("preload"));
+    } catch (const std::exception& e) {
+      throw sdk::Error(sdk::codes::kBadConfig,
+                       "lexicon.preload '" + path + "' line " + std::to_string(line_no) +
+                           ": expected {\"head\",\"body\":[...],\"author\"}: " + e.what());
+    }
+    if (stored.count({req.head, req.body, req.user})) {
+      ++preload_report_.already_stored;
+      continue;
+    }
+    try {
+      define(req);
+      ++preload_report_.replayed;
+    } catch (const sdk::Error& e) {
+      if (lexicon_codes::is_store_fault(e.code())) throw;
+      preload_report_.failures.push_back("line " + std::to_string(line_no) + ": " + e.code() +
+                                         ": " + e.what());
+    }
+  }
+}
+
+}  // namespace flipper::kernel
