@@ -203,7 +203,7 @@ int restore_store(const LexiconArgs& a, const std::string& path, const std::stri
 }
 
 /// Definitions replayed through induction, as a session's define does (without a world, so no
-/// generalization); rule and weights lines are not copied.
+/// generalization); rule and weight(s) lines are not copied.
 int import_definitions(const LexiconArgs& a, const kernel::Config& config,
                        const std::string& text) {
   std::vector<kernel::DefineRequest> defs;
@@ -215,7 +215,7 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
     try {
       const auto j = nlohmann::json::parse(line);
       const std::string type = j.value("type", std::string("definition"));
-      if (type == "rule" || type == "weights") {
+      if (type == "rule" || type == "weights" || type == "weight") {
         ++not_copied;
         continue;
       }

@@ -1,6 +1,7 @@
 // The `loglinear` scorer: sparse linear model over node features, AdaGrad + L1 learning on
 // accept, marginalised over the derivations of the accepted program (docs/naturalization.md §3).
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <unordered_map>
 
@@ -26,7 +27,9 @@ struct Model {
 
 }  // namespace
 
-class LogLinear : public sdk::Scorer {
+// Also an IncrementalScorer (SDK 1.2): learn() remembers each touched weight's value from before
+// the first pending change, so the kernel persists only changed weights and can undo exactly.
+class LogLinear : public sdk::Scorer, public sdk::IncrementalScorer {
  public:
   explicit LogLinear(const sdk::Params& p) {
     if (p.has("step")) step_ = p.get_double("step");
@@ -87,9 +90,17 @@ class LogLinear : public sdk::Scorer {
         if (coef == 0) continue;
         features::add_tree_features(*d, ctx, coef, grad, m.names);
       }
+    const std::string model = per_user_ ? ctx.user : std::string();
     for (const auto& [key, g] : grad) {
       if (g == 0) continue;
-      Weight& w = m.weights[key];
+      auto found = m.weights.find(key);
+      if (found == m.weights.end()) {
+        pending_.try_emplace(PendingKey{model, key}, Before{Weight{}, false});
+        found = m.weights.emplace(key, Weight{}).first;
+      } else {
+        pending_.try_emplace(PendingKey{model, key}, Before{found->second, true});
+      }
+      Weight& w = found->second;
       w.G += g * g;
       const double rate = step_ / std::sqrt(w.G + 1.0);
       w.w += rate * g;
@@ -104,6 +115,7 @@ class LogLinear : public sdk::Scorer {
     j["per_user"] = per_user_;
     nlohmann::json models = nlohmann::json::object();
     for (const auto& [user, m] : models_) {
+      if (m.weights.empty()) continue;  // a model that never learned is no state
       nlohmann::json ws = nlohmann::json::object();
       for (const auto& [key, w] : m.weights) {
         auto name = m.names.find(key);
@@ -114,6 +126,41 @@ class LogLinear : public sdk::Scorer {
     }
     j["models"] = std::move(models);
     return j.dump();
+  }
+
+  std::vector<sdk::WeightChange> do_pending_changes() const override {
+    std::vector<sdk::WeightChange> out;
+    for (const auto& [k, before] : pending_) {
+      auto m = models_.find(k.model);
+      if (m == models_.end()) continue;
+      auto w = m->second.weights.find(k.key);
+      auto name = m->second.names.find(k.key);
+      if (w == m->second.weights.end() || name == m->second.names.end()) continue;
+      const double dw = w->second.w - before.value.w, dg = w->second.G - before.value.G;
+      if (dw != 0 || dg != 0) out.push_back({k.model, name->second, dw, dg});
+    }
+    return out;
+  }
+  void do_commit_changes() override { pending_.clear(); }
+  void do_discard_changes() override {
+    for (const auto& [k, before] : pending_) {
+      auto& weights = models_[k.model].weights;
+      if (before.existed)
+        weights[k.key] = before.value;
+      else
+        weights.erase(k.key);
+    }
+    pending_.clear();
+  }
+  void do_apply_changes(const std::vector<sdk::WeightChange>& changes) override {
+    for (const auto& c : changes) {
+      Model& m = models_[c.model];
+      const auto key = feature_key(c.feature);
+      Weight& w = m.weights[key];
+      w.w += c.weight;
+      w.G += c.aux;
+      m.names[key] = c.feature;
+    }
   }
 
   void do_load_state(std::string_view state) override {
@@ -135,6 +182,7 @@ class LogLinear : public sdk::Scorer {
                        std::string("loglinear: unreadable state: ") + e.what());
     }
     models_ = std::move(loaded);
+    pending_.clear();
   }
 
  private:
@@ -150,6 +198,18 @@ class LogLinear : public sdk::Scorer {
   double l1_ = 1e-4;
   bool per_user_ = false;
   std::unordered_map<std::string, Model> models_;  // key: user ("" when global)
+  struct PendingKey {
+    std::string model;
+    std::uint64_t key;
+    bool operator<(const PendingKey& o) const {
+      return key != o.key ? key < o.key : model < o.model;
+    }
+  };
+  struct Before {
+    Weight value;
+    bool existed = false;
+  };
+  std::map<PendingKey, Before> pending_;  // weights changed since the last commit, values before
 };
 
 }  // namespace flipper::loglinear

@@ -14,6 +14,7 @@ World::~World() = default;
 Planner::~Planner() = default;
 Parser::~Parser() = default;
 Scorer::~Scorer() = default;
+IncrementalScorer::~IncrementalScorer() = default;
 Rewriter::~Rewriter() = default;
 Similarity::~Similarity() = default;
 ContinuousSpace::~ContinuousSpace() = default;

@@ -1,6 +1,7 @@
 #include "flipper/sdk/world_format.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -24,33 +25,91 @@ using json = nlohmann::json;
 // object in it: 30,000 items took seconds.)
 class DuplicateKeyCheck : public nlohmann::json_sax<json> {
  public:
-  bool null() override { return value(); }
-  bool boolean(bool) override { return value(); }
-  bool number_integer(number_integer_t) override { return value(); }
-  bool number_unsigned(number_unsigned_t) override { return value(); }
-  bool number_float(number_float_t, const string_t&) override { return value(); }
-  bool string(string_t&) override { return value(); }
-  bool binary(binary_t&) override { return value(); }
-  bool start_object(std::size_t) override {
-    frames_.push_back({false, child_path(), {}, {}, 0});
-    return true;
+  // The world's tree is built in the same pass (one lexing of a large wall list, not two). With
+  // `fast_walls`, a top-level "walls" list of plain integer points is collected as cells without
+  // a tree (its tree is an empty array); anything else in it sets walls_failed() and the caller
+  // parses again without the shortcut, for the exact error message.
+  DuplicateKeyCheck(json& root, int dims, bool fast_walls)
+      : dom_(root, true), dims_(dims), fast_walls_(fast_walls) {}
+  bool walls_failed() const { return walls_bad_; }
+  bool walls_collected() const { return walls_done_; }
+  std::vector<Cell>& walls() { return walls_; }
+
+  bool null() override { return wdepth_ ? bad() : value() && dom_.null(); }
+  bool boolean(bool v) override { return wdepth_ ? bad() : value() && dom_.boolean(v); }
+  bool number_integer(number_integer_t v) override {
+    return wdepth_ ? coordinate(v) : value() && dom_.number_integer(v);
   }
-  bool start_array(std::size_t) override {
-    frames_.push_back({true, child_path(), {}, {}, 0});
-    return true;
+  bool number_unsigned(number_unsigned_t v) override {
+    if (wdepth_)
+      return v > static_cast<number_unsigned_t>(1 << 28) ? bad()
+                                                         : coordinate(static_cast<std::int64_t>(v));
+    return value() && dom_.number_unsigned(v);
+  }
+  bool number_float(number_float_t v, const string_t& s) override {
+    return wdepth_ ? bad() : value() && dom_.number_float(v, s);
+  }
+  bool string(string_t& v) override { return wdepth_ ? bad() : value() && dom_.string(v); }
+  bool binary(binary_t& v) override { return wdepth_ ? bad() : value() && dom_.binary(v); }
+  bool start_object(std::size_t n) override {
+    if (wdepth_) {
+      ++wdepth_;
+      return bad();
+    }
+    frames_.push_back({false, {}, {}, 0});
+    return dom_.start_object(n);
+  }
+  bool start_array(std::size_t n) override {
+    if (wdepth_) {
+      if (++wdepth_ == 2)
+        coords_ = 0;
+      else
+        bad();
+      return true;
+    }
+    if (fast_walls_ && walls_key_ && frames_.size() == 1) {
+      wdepth_ = 1;
+      return true;
+    }
+    frames_.push_back({true, {}, {}, 0});
+    return dom_.start_array(n);
   }
   bool key(string_t& key) override {
+    if (wdepth_) return true;  // inside a malformed wall list: the slow pass reports it
     Frame& f = frames_.back();
     if (!f.keys.insert(key).second) {
-      if (f.path == "rooms") fail("rooms: duplicate room name \"" + key + "\"");
-      if (f.path.empty()) fail("duplicate key \"" + key + "\"");
-      fail(f.path + ": duplicate key \"" + key + "\"");
+      const std::string path = path_of(frames_.size() - 1);
+      if (path == "rooms") fail("rooms: duplicate room name \"" + key + "\"");
+      if (path.empty()) fail("duplicate key \"" + key + "\"");
+      fail(path + ": duplicate key \"" + key + "\"");
     }
     f.last_key = key;
-    return true;
+    if (frames_.size() == 1) walls_key_ = key == "walls";
+    return dom_.key(key);
   }
-  bool end_object() override { return end(); }
-  bool end_array() override { return end(); }
+  bool end_object() override {
+    if (wdepth_) {
+      --wdepth_;
+      return true;
+    }
+    return end() && dom_.end_object();
+  }
+  bool end_array() override {
+    if (wdepth_) {
+      if (wdepth_ == 2 && !walls_bad_) {
+        if (coords_ != dims_)
+          bad();
+        else
+          walls_.push_back({xyz_[0], xyz_[1], xyz_[2]});
+      }
+      if (--wdepth_ == 0) {  // the wall list ends: its tree is an empty array
+        walls_done_ = !walls_bad_;
+        return value() && dom_.start_array(0) && dom_.end_array();
+      }
+      return true;
+    }
+    return end() && dom_.end_array();
+  }
   bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
     fail(std::string("world is not valid JSON: ") + e.what());
   }
@@ -58,7 +117,6 @@ class DuplicateKeyCheck : public nlohmann::json_sax<json> {
  private:
   struct Frame {
     bool is_array;
-    std::string path;
     std::set<std::string> keys;
     std::string last_key;
     std::size_t index;
@@ -71,13 +129,38 @@ class DuplicateKeyCheck : public nlohmann::json_sax<json> {
     frames_.pop_back();
     return value();
   }
-  std::string child_path() const {
-    if (frames_.empty()) return {};
-    const Frame& f = frames_.back();
-    if (f.is_array) return f.path + "[" + std::to_string(f.index) + "]";
-    return f.path.empty() ? f.last_key : f.path + "." + f.last_key;
+  // "rooms", "items[3]", "robot.holding[0]": where frame k sits (built only for a message).
+  std::string path_of(std::size_t k) const {
+    std::string path;
+    for (std::size_t i = 0; i < k; ++i) {
+      const Frame& f = frames_[i];
+      if (f.is_array)
+        path += "[" + std::to_string(f.index) + "]";
+      else
+        path += (path.empty() ? "" : ".") + f.last_key;
+    }
+    return path;
+  }
+  bool bad() {
+    walls_bad_ = true;
+    return true;
+  }
+  bool coordinate(std::int64_t v) {
+    constexpr std::int64_t kLimit = 1 << 28;  // as coordinate() below
+    if (wdepth_ != 2 || coords_ >= dims_ || v < -kLimit || v > kLimit) return bad();
+    xyz_[coords_++] = static_cast<std::int32_t>(v);
+    return true;
   }
   std::vector<Frame> frames_;
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  int dims_;
+  bool fast_walls_;
+  bool walls_key_ = false;  // the last top-level key was "walls"
+  int wdepth_ = 0;          // nesting inside the wall list being collected (0: not in it)
+  int coords_ = 0;          // coordinates of the point being read
+  std::int32_t xyz_[3] = {0, 0, 0};
+  bool walls_bad_ = false, walls_done_ = false;
+  std::vector<Cell> walls_;
 };
 
 std::string type_name(const json& v) {
@@ -109,12 +192,33 @@ Cell point(const json& v, int dims, const std::string& where) {
   return c;
 }
 
+// A well-formed point without building the names used in messages (a wall list has thousands).
+bool plain_point(const json& v, int dims, Cell& c) {
+  constexpr std::int64_t kLimit = 1 << 28;  // as coordinate()
+  if (!v.is_array() || v.size() != static_cast<std::size_t>(dims)) return false;
+  std::int32_t xyz[3] = {0, 0, 0};
+  for (int a = 0; a < dims; ++a) {
+    const json& e = v[static_cast<std::size_t>(a)];
+    if (!e.is_number_integer()) return false;
+    const auto i = e.get<std::int64_t>();
+    if (i < -kLimit || i > kLimit) return false;
+    xyz[a] = static_cast<std::int32_t>(i);
+  }
+  c = {xyz[0], xyz[1], xyz[2]};
+  return true;
+}
+
 std::vector<Cell> point_list(const json& v, int dims, const std::string& where) {
   if (!v.is_array()) fail(where + " must be an array of points, not " + type_name(v));
   std::vector<Cell> out;
   out.reserve(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i)
-    out.push_back(point(v[i], dims, where + "[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    Cell c;
+    if (plain_point(v[i], dims, c))
+      out.push_back(c);
+    else
+      out.push_back(point(v[i], dims, where + "[" + std::to_string(i) + "]"));  // says why
+  }
   return out;
 }
 
@@ -169,10 +273,6 @@ std::string placement_problem(const Cell& c, const Geometry& g) {
   return {};
 }
 
-json point_value(const Cell& c, int dims) {
-  return dims == 3 ? json::array({c.x, c.y, c.z}) : json::array({c.x, c.y});
-}
-
 }  // namespace
 
 std::string describe(const Cell& c, int dims) {
@@ -184,10 +284,19 @@ std::string describe(const Cell& c, int dims) {
 WorldDocument parse_world(std::string_view text, int dims) {
   if (dims != 2 && dims != 3) throw Error(codes::kInternal, "parse_world: dims must be 2 or 3");
   json root;
+  std::vector<Cell> fast_walls;
+  bool have_fast_walls = false;
   try {
-    DuplicateKeyCheck check;
+    DuplicateKeyCheck check(root, dims, true);
     json::sax_parse(text.begin(), text.end(), &check);
-    root = json::parse(text.begin(), text.end());
+    if (check.walls_failed()) {
+      root = json();
+      DuplicateKeyCheck slow(root, dims, false);
+      json::sax_parse(text.begin(), text.end(), &slow);
+    } else if (check.walls_collected()) {
+      fast_walls = std::move(check.walls());
+      have_fast_walls = true;
+    }
   } catch (const json::exception& e) {  // syntax, and numbers beyond double range (1e999)
     fail(std::string("world is not valid JSON: ") + e.what());
   }
@@ -202,7 +311,7 @@ WorldDocument parse_world(std::string_view text, int dims) {
 
   if (const json* walls = member(root, "walls")) {
     doc.has_walls = true;
-    doc.walls = point_list(*walls, dims, "walls");
+    doc.walls = have_fast_walls ? std::move(fast_walls) : point_list(*walls, dims, "walls");
   }
   if (const json* octo = member(root, "octomap")) {
     if (!octo->is_string()) fail("octomap must be a file name (string), not " + type_name(*octo));
@@ -328,60 +437,143 @@ WorldState make_state(WorldDocument&& doc, std::shared_ptr<const Geometry> geome
   return s;
 }
 
+namespace {
+
+// The writers below produce exactly what nlohmann::json::dump() gives for the same values (the
+// format clients and tests know), without building a JSON tree: a world with 100k walls is
+// written in one pass.
+void append_int(std::string& out, std::int64_t v) {
+  char buf[24];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, r.ptr);
+}
+
+void append_string(std::string& out, const std::string& s) {
+  for (unsigned char c : s)
+    if (c < 0x20 || c == '"' || c == '\\' || c >= 0x80) {
+      out += json(s).dump();  // escapes (and UTF-8 checks) exactly as before
+      return;
+    }
+  out += '"';
+  out += s;
+  out += '"';
+}
+
+void append_point(std::string& out, const Cell& c, int dims) {
+  out += '[';
+  append_int(out, c.x);
+  out += ',';
+  append_int(out, c.y);
+  if (dims == 3) {
+    out += ',';
+    append_int(out, c.z);
+  }
+  out += ']';
+}
+
+void append_points(std::string& out, const std::vector<Cell>& points, int dims) {
+  out += '[';
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (i != 0) out += ',';
+    append_point(out, points[i], dims);
+  }
+  out += ']';
+}
+
+}  // namespace
+
 std::string points_json(const std::vector<Cell>& points, int dims) {
-  json a = json::array();
-  for (const Cell& c : points) a.push_back(point_value(c, dims));
-  return a.dump();
+  std::string out;
+  out.reserve(points.size() * (dims == 3 ? 14 : 10) + 2);
+  append_points(out, points, dims);
+  return out;
 }
 
 std::string write_world(const WorldState& state, const std::vector<RawField>& fields) {
   if (!state.geometry) throw Error(codes::kInternal, "write_world: the state has no geometry");
   const int dims = state.geometry->dims();
-  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  std::size_t size = 256 + state.items.size() * 64;
+  for (const auto& f : fields) size += f.key.size() + f.json.size() + 4;
+  std::string out;
+  out.reserve(size);
+  out += '{';
+  std::vector<std::string> written;  // a repeated field keeps its first place, last value wins
+  std::vector<std::string> values;
   for (const auto& f : fields) {
-    try {
-      out[f.key] = nlohmann::ordered_json::parse(f.json);
-    } catch (const nlohmann::ordered_json::parse_error& e) {
+    // Validated without building a tree; written compactly as dump() would.
+    if (!json::accept(f.json))
       throw Error(codes::kInternal, "write_world: field \"" + f.key + "\" is not JSON text");
+    const bool compact = f.json.find_first_of(" \t\r\n") == std::string::npos;
+    std::string text = compact ? f.json : json::parse(f.json).dump();
+    auto at = std::find(written.begin(), written.end(), f.key);
+    if (at != written.end()) {
+      values[static_cast<std::size_t>(at - written.begin())] = std::move(text);
+    } else {
+      written.push_back(f.key);
+      values.push_back(std::move(text));
     }
   }
-  auto items = nlohmann::ordered_json::array();
-  for (const auto& li : state.items) {
-    nlohmann::ordered_json o;
-    o["id"] = li.item.id;
-    o["x"] = li.at.x;
-    o["y"] = li.at.y;
-    if (dims == 3) o["z"] = li.at.z;
-    o["color"] = li.item.color;
-    o["shape"] = li.item.shape;
-    items.push_back(std::move(o));
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    append_string(out, written[i]);
+    out += ':';
+    out += values[i];
+    out += ',';
   }
-  out["items"] = std::move(items);
-  nlohmann::ordered_json robot;
-  robot["x"] = state.robot.x;
-  robot["y"] = state.robot.y;
-  if (dims == 3) robot["z"] = state.robot.z;
-  auto holding = nlohmann::ordered_json::array();
-  for (const auto& h : state.held)
-    holding.push_back({{"id", h.id}, {"color", h.color}, {"shape", h.shape}});
-  robot["holding"] = std::move(holding);
-  out["robot"] = std::move(robot);
-  auto rooms = nlohmann::ordered_json::object();
-  if (state.rooms)
+  out += "\"items\":[";
+  for (std::size_t i = 0; i < state.items.size(); ++i) {
+    const auto& li = state.items[i];
+    out += i == 0 ? "{\"id\":" : ",{\"id\":";
+    append_int(out, li.item.id);
+    out += ",\"x\":";
+    append_int(out, li.at.x);
+    out += ",\"y\":";
+    append_int(out, li.at.y);
+    if (dims == 3) {
+      out += ",\"z\":";
+      append_int(out, li.at.z);
+    }
+    out += ",\"color\":";
+    append_string(out, li.item.color);
+    out += ",\"shape\":";
+    append_string(out, li.item.shape);
+    out += '}';
+  }
+  out += "],\"robot\":{\"x\":";
+  append_int(out, state.robot.x);
+  out += ",\"y\":";
+  append_int(out, state.robot.y);
+  if (dims == 3) {
+    out += ",\"z\":";
+    append_int(out, state.robot.z);
+  }
+  out += ",\"holding\":[";
+  for (std::size_t i = 0; i < state.held.size(); ++i) {
+    const auto& h = state.held[i];
+    out += i == 0 ? "{\"id\":" : ",{\"id\":";
+    append_int(out, h.id);
+    out += ",\"color\":";
+    append_string(out, h.color);
+    out += ",\"shape\":";
+    append_string(out, h.shape);
+    out += '}';
+  }
+  out += "]},\"rooms\":{";
+  if (state.rooms) {
+    bool first = true;
     for (const auto& [name, area] : *state.rooms) {
-      auto pts = nlohmann::ordered_json::array();
-      for (const Cell& c : area)
-        pts.push_back(dims == 3 ? nlohmann::ordered_json::array({c.x, c.y, c.z})
-                                : nlohmann::ordered_json::array({c.x, c.y}));
-      rooms[name] = std::move(pts);
+      if (!first) out += ',';
+      first = false;
+      append_string(out, name);
+      out += ':';
+      append_points(out, area, dims);
     }
-  out["rooms"] = std::move(rooms);
-  const Cell lo = state.geometry->min(), hi = state.geometry->max();
-  out["bounds"] = {{"min", dims == 3 ? nlohmann::ordered_json::array({lo.x, lo.y, lo.z})
-                                     : nlohmann::ordered_json::array({lo.x, lo.y})},
-                   {"max", dims == 3 ? nlohmann::ordered_json::array({hi.x, hi.y, hi.z})
-                                     : nlohmann::ordered_json::array({hi.x, hi.y})}};
-  return out.dump();
+  }
+  out += "},\"bounds\":{\"min\":";
+  append_point(out, state.geometry->min(), dims);
+  out += ",\"max\":";
+  append_point(out, state.geometry->max(), dims);
+  out += "}}";
+  return out;
 }
 
 }  // namespace world_format

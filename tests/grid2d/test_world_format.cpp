@@ -55,3 +55,29 @@ TEST_CASE("world_format names the entry in 3-D errors", "[world_format]") {
   CHECK(message(R"({"robot": {"x": 0, "y": 0, "z": 99999999999}})")
             .find("robot: z is out of range") == 0);
 }
+
+TEST_CASE("world_format reads wall lists exactly, well-formed or not", "[world_format]") {
+  auto parse = [](const std::string& walls) {
+    try {
+      auto doc = wf::parse_world(R"({"robot": {"x": 0, "y": 0}, "walls": )" + walls + "}", 2);
+      std::string out;
+      for (const auto& c : doc.walls) out += wf::describe(c, 2);
+      return out;
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+  };
+  // Sorted and without duplicates; negative and limit coordinates are kept.
+  CHECK(parse("[[3, 1], [-2, 5], [3, 1], [268435456, -268435456]]") ==
+        "(-2,5)(3,1)(268435456,-268435456)");
+  CHECK(parse("[]").empty());
+  // Each defect is named with the point's index, wherever it is in the list.
+  CHECK(parse("[[0, 0], [1, 268435457]]").find("walls[1]: y is out of range") == 0);
+  CHECK(parse("[[0, 0], [1, 2.5]]") == "walls[1]: y must be an integer, not a fractional number");
+  CHECK(parse("[[0, 0], [1, 2, 3]]") == "walls[1]: a point must be an array of 2 integers");
+  CHECK(parse("[[0, 0], [1]]") == "walls[1]: a point must be an array of 2 integers");
+  CHECK(parse("[[0, 0], {\"x\": 1}]") == "walls[1]: a point must be an array of 2 integers");
+  CHECK(parse("[[0, 0], [[1, 2]]]") == "walls[1]: a point must be an array of 2 integers");
+  CHECK(parse("{\"a\": [1, 2]}") == "walls must be an array of points, not an object");
+  CHECK(parse("[[0, 0], [\"1\", 2]]") == "walls[1]: x must be an integer, not a string");
+}

@@ -123,6 +123,38 @@ TEST_CASE("accepts persist use counters and weights together", "[lexicon]") {
   CHECK(*store.load_weights("global") == "w=1");
 }
 
+TEST_CASE("weight changes add up in the store and survive export and import", "[lexicon]") {
+  LexiconStore store(":memory:");
+  store.add_definition({0, "h", {"b"}, "ana", 1}, {make_rule(1, "ana")});
+  // Two accepts (possibly from two processes): changes to the same weight are summed.
+  store.record_accept(
+      {{"r1", 1, 0}}, "global",
+      std::vector<flipper::kernel::StoredWeightChange>{{"", "f:a", 0.5, 0.25}, {"", "f:b", -1, 1}});
+  store.record_accept({{"r1", 0, 1}}, "global",
+                      std::vector<flipper::kernel::StoredWeightChange>{{"", "f:a", 0.25, 0.0625},
+                                                                       {"ana", "f:a", 2, 4}});
+  store.record_accept({}, "user:bob",
+                      std::vector<flipper::kernel::StoredWeightChange>{{"", "f:z", 3, 9}});
+  auto check = [](const LexiconStore& s) {
+    const auto w = s.weight_changes("global");
+    REQUIRE(w.size() == 3);  // ordered by model, feature
+    CHECK((w[0].model == "" && w[0].feature == "f:a" && w[0].weight == 0.75 && w[0].aux == 0.3125));
+    CHECK((w[1].model == "" && w[1].feature == "f:b" && w[1].weight == -1 && w[1].aux == 1));
+    CHECK((w[2].model == "ana" && w[2].feature == "f:a" && w[2].weight == 2 && w[2].aux == 4));
+    REQUIRE(s.weight_changes("user:bob").size() == 1);
+    CHECK(s.weight_changes("user:bob")[0].weight == 3);
+    CHECK(s.rule("r1")->uses_by_author == 1);
+    CHECK(s.rule("r1")->uses_by_others == 1);
+  };
+  check(store);
+  CHECK_FALSE(store.load_weights("global"));  // no whole state was written
+  std::stringstream text;
+  store.export_jsonl(text);
+  LexiconStore copy(":memory:");
+  copy.import_jsonl(text);
+  check(copy);
+}
+
 TEST_CASE("export and import as JSON Lines round-trip", "[lexicon]") {
   LexiconStore a(":memory:");
   a.add_definition({0, "pick 3 items", {"repeat 3 times pick item"}, "ana", 5},

@@ -201,10 +201,19 @@ TEST_CASE("per-user weights: each user's accepts train only their own model", "[
   CHECK(s->runtime().scorer.borrow()->save_state() == initial);
   user(*s, "ana");
   CHECK(s->runtime().scorer.borrow()->save_state() == ana);
+  // Stored as weights under ana's key only (the scorer is incremental), each equal to ana's model.
   kernel::LexiconStore reopened(store);
-  CHECK(reopened.load_weights("user:ana") == std::optional<std::string>(ana));
-  CHECK_FALSE(reopened.load_weights("user:bob"));
-  CHECK_FALSE(reopened.load_weights("global"));
+  const auto stored = reopened.weight_changes("user:ana");
+  const Json model = Json::parse(ana)["models"][""];
+  REQUIRE(stored.size() == model.size());
+  for (const auto& c : stored) {
+    CHECK(c.model == "");
+    CHECK(model[c.feature][0].get<double>() == c.weight);
+    CHECK(model[c.feature][1].get<double>() == c.aux);
+  }
+  CHECK(reopened.weight_changes("user:bob").empty());
+  CHECK(reopened.weight_changes("global").empty());
+  CHECK_FALSE(reopened.load_weights("user:ana"));
 }
 
 namespace {

@@ -3,6 +3,7 @@
 // session killed with SIGKILL at random moments never loses a definition it answered.
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <map>
 #include <random>
 #include <set>
 #include <thread>
@@ -70,8 +71,70 @@ TEST_CASE("a new flipper session process gets the rules and weights back",
   INFO(listed.dump());
   for (const auto& r : listed["rules"]) uses += r["uses_by_author"].get<int>();
   CHECK(uses == 1);
+  // The loglinear scorer is incremental: its weights are stored as sums, never as a whole state.
   flipper::kernel::LexiconStore reopened(store);
-  CHECK(reopened.load_weights("global").has_value());
+  CHECK_FALSE(reopened.load_weights("global").has_value());
+}
+
+namespace {
+
+using Weights = std::map<std::pair<std::string, std::string>, std::pair<double, double>>;
+
+Weights stored_weights(const std::string& store) {
+  Weights w;
+  flipper::kernel::LexiconStore s(store);
+  for (const auto& c : s.weight_changes("global")) w[{c.model, c.feature}] = {c.weight, c.aux};
+  return w;
+}
+
+// One user's learning step: a query with two readings, the given one accepted.
+void learn(Session& s, const std::string& name, int rank) {
+  REQUIRE(s.ask({{"op", "user"}, {"name", name}})["ok"] == true);
+  const Json q = s.ask({{"op", "query"}, {"text", "pick item not is red and is green"}});
+  REQUIRE(q["candidates"].size() >= 2);
+  REQUIRE(s.ask({{"op", "accept"}, {"rank", rank}})["ok"] == true);
+}
+
+}  // namespace
+
+TEST_CASE("two processes learning on one lexicon both keep their weight updates",
+          "[naturalize][process][weights]") {
+  // Each user's update alone, from the same (empty) weights, in a store of its own.
+  const std::string only_ana = scratch_path("w-ana") + ".sqlite";
+  const std::string only_bob = scratch_path("w-bob") + ".sqlite";
+  {
+    Session a(only_ana);
+    learn(a, "ana", 1);
+  }
+  {
+    Session b(only_bob);
+    learn(b, "bob", 0);
+  }
+  const Weights ana = stored_weights(only_ana), bob = stored_weights(only_bob);
+  REQUIRE_FALSE(ana.empty());
+  REQUIRE_FALSE(bob.empty());
+  // Both processes open the shared store before either learns: neither sees the other's weights,
+  // so the store must hold the sum of the two updates (last-writer-wins would keep one).
+  const std::string shared = scratch_path("w-both") + ".sqlite";
+  {
+    Session a(shared), b(shared);
+    REQUIRE(a.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
+    REQUIRE(b.ask({{"op", "user"}, {"name", "bob"}})["ok"] == true);
+    learn(a, "ana", 1);
+    learn(b, "bob", 0);
+  }
+  Weights expected = ana;
+  for (const auto& [k, v] : bob) {
+    auto& e = expected[k];
+    e = {e.first + v.first, e.second + v.second};
+  }
+  const Weights both = stored_weights(shared);
+  CHECK(both == expected);
+  // A third process starts from both updates.
+  Session c(shared);
+  learn(c, "cy", 1);
+  const Weights after = stored_weights(shared);
+  CHECK(after.size() >= both.size());
 }
 
 TEST_CASE("SIGKILL of flipper session loses no answered definition",

@@ -129,7 +129,7 @@ Json Session::op_query(const Json& req) {
     c["authors"] = std::move(authors);
     c["realizable"] = sc.outcome.realizable && !sc.outcome.error;
     c["trace"] = answer_trace(sc.outcome.trace, dims);
-    c["world"] = answer_world(sc.outcome.world);
+    c["world"] = answer_changed_world(sc.outcome.world);
     c["warnings"] = Json(protocol::strings_json(sc.outcome.warnings));
     if (sc.error_code)
       c["error"] = Json{{"code", *sc.error_code}, {"message", sc.outcome.error.value_or("")}};
@@ -152,6 +152,7 @@ Json Session::op_query(const Json& req) {
   answer["candidates"] = std::move(list);
   answer["total"] = cands.size();  // distinct readings found; `candidates` holds the first k
   answer["ms"] = ms;
+  add_world_version(answer, last_query_->world);
   return answer;
 }
 
@@ -192,15 +193,19 @@ Json Session::op_accept(const Json& req) {
 
   const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
   Json answer;  // built first: nothing may fail after the commit
-  answer["world"] = answer_world(outcome.world);
+  add_world_version(answer, outcome.world);
+  answer["world"] = answer_changed_world(outcome.world);
   answer["trace"] = answer_trace(outcome.trace, dims);
   answer["warnings"] = Json(protocol::strings_json(outcome.warnings));
 
   // Nothing is applied unless everything commits: learning and counters are undone when the
   // scorer or the persistence hook (the lexicon transaction) fails, and the world and the last
   // query change only after both succeeded, so a retry applies the accept exactly once.
+  // A scorer that reports its changes (sdk::IncrementalScorer) undoes exactly those; any other
+  // is saved whole beforehand.
+  auto* incremental = dynamic_cast<sdk::IncrementalScorer*>(runtime_->scorer.borrow());
   const std::string scorer_before =
-      on_accept_
+      on_accept_ && incremental == nullptr
           ? runtime_->scorer.call("save_state", [](const sdk::Scorer& s) { return s.save_state(); })
           : std::string();
   UsageTable& usage = *runtime_->usage;
@@ -221,10 +226,14 @@ Json Session::op_accept(const Json& req) {
       on_accept_(*this, AcceptEvent{q, static_cast<std::size_t>(rank), sc, outcome, user_});
   } catch (...) {
     if (counted) count(-1);
-    if (on_accept_)
+    if (incremental != nullptr)
+      runtime_->scorer.call("discard_changes", [&](sdk::Scorer&) { incremental->discard_changes(); });
+    else if (on_accept_)
       runtime_->scorer.call("load_state", [&](sdk::Scorer& s) { s.load_state(scorer_before); });
     throw;
   }
+  if (incremental != nullptr)
+    runtime_->scorer.call("commit_changes", [&](sdk::Scorer&) { incremental->commit_changes(); });
 
   world_ = outcome.world;
   notify_plan_observers(q, sc, outcome);  // after the commit: the accept stands

@@ -7,6 +7,7 @@
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "world_texts.hpp"
 
 namespace flipper::kernel {
 namespace {
@@ -92,7 +93,14 @@ Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)
     : runtime_(std::move(runtime)),
       options_(options),
       executor_(runtime_->planner, options_.limits),
-      world_(runtime_->default_world) {
+      world_(runtime_->default_world),
+      texts_(std::make_unique<WorldTexts>([this](const sdk::WorldState& state) {
+        std::string text =
+            runtime_->world.call("save", [&](const sdk::World& w) { return w.save(state); });
+        // The answer is one line: normalise a plugin that writes multi-line text.
+        if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
+        return text;
+      })) {
   // A control character and a random tag: no request value can collide with a placeholder.
   std::random_device rd;
   marker_ = "\x01w" + std::to_string(rd()) + std::to_string(rd()) + ":";
@@ -102,6 +110,7 @@ Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)
 Session::~Session() = default;
 
 void Session::install_default_ops() {
+  set_op("hello", [](Session& s, const Json& r) { return s.op_hello(r); });
   set_op("world", [](Session& s, const Json& r) { return s.op_world(r); });
   set_op("user", [](Session& s, const Json& r) { return s.op_user(r); });
   set_op("state", [](Session& s, const Json& r) { return s.op_state(r); });
@@ -146,14 +155,33 @@ const std::string& Session::world_text(const sdk::WorldState& state) {
       if (i != 0) std::swap(world_cache_[i], world_cache_[0]);
       return world_cache_[0].text;
     }
-  std::string text =
-      runtime_->world.call("save", [&](const sdk::World& w) { return w.save(state); });
-  // The answer is one line: normalise a plugin that writes multi-line text.
-  if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
+  std::string text = texts_->full(state);
   constexpr std::size_t kCacheSize = 8;
   if (world_cache_.size() == kCacheSize) world_cache_.pop_back();
   world_cache_.insert(world_cache_.begin(), CachedWorld{state, std::move(text)});
   return world_cache_[0].text;
+}
+
+Json Session::raw_json(std::string text) {
+  if (!line_mode_) return Json::parse(text);
+  spliced_.push_back(std::move(text));
+  return marker_ + std::to_string(spliced_.size() - 1);
+}
+
+Json Session::answer_changed_world(const sdk::WorldState& state) {
+  if (protocol_ < 2) return answer_world(state);
+  return raw_json(texts_->changes(state));
+}
+
+void Session::add_world_version(Json& payload, const sdk::WorldState& state, bool always) {
+  if (protocol_ < 2 || !state.geometry) return;
+  const std::uint64_t v = texts_->version(state);
+  payload["world_version"] = v;
+  const bool sent =
+      std::find(sent_versions_.begin(), sent_versions_.end(), v) != sent_versions_.end();
+  if (sent && !always) return;
+  payload["geometry"] = raw_json(texts_->geometry(state));
+  if (!sent) sent_versions_.push_back(v);
 }
 
 Json Session::answer_world(const sdk::WorldState& state) {
@@ -235,11 +263,14 @@ std::string Session::handle_line(std::string_view line) {
           *id = marker_ + std::to_string(spliced_.size() - 1);
         }
     line_mode_ = true;
+    line_ = line;
     Json answer = handle(request);
     line_mode_ = false;
+    line_ = {};
     return splice_worlds(dump_answer(answer));
   } catch (const std::exception& e) {
     line_mode_ = false;
+    line_ = {};
     return dump_answer(error_answer(nullptr, nullptr, sdk::codes::kInternal,
                                     std::string("internal error: ") + e.what()));
   }
@@ -286,6 +317,33 @@ Json Session::handle(const Json& request) {
   }
 }
 
+Json Session::op_hello(const Json& req) {
+  if (auto p = request::optional_int(req, "protocol", "the protocol version to speak")) {
+    if (*p != 1 && *p != 2)
+      throw sdk::Error(sdk::codes::kBadRequest,
+                       "protocol " + std::to_string(*p) + " is not supported (supported: 1, 2)");
+    protocol_ = static_cast<int>(*p);
+    sent_versions_.clear();  // a protocol-2 client is sent every geometry it will need
+  }
+  return Json{{"protocol", protocol_}, {"protocols", Json::array({1, 2})}};
+}
+
+// The world a `world` request gives: loaded by the plugin, or the state loaded from the same text
+// before (clients send the same map again and again), then bound to its world version.
+sdk::WorldState Session::load_requested_world(const std::string& text, const std::string& base) {
+  for (std::size_t i = 0; i < loaded_.size(); ++i)
+    if (loaded_[i].text == text && loaded_[i].base == base) {
+      if (i != 0) std::swap(loaded_[i], loaded_[0]);
+      return loaded_[0].state;
+    }
+  sdk::WorldState state = load_world_text(*runtime_, text, base);  // guarded inside
+  texts_->intern(state);
+  constexpr std::size_t kKept = 2;
+  if (loaded_.size() == kKept) loaded_.pop_back();
+  loaded_.insert(loaded_.begin(), LoadedWorld{base, text, state});
+  return state;
+}
+
 Json Session::op_world(const Json& req) {
   sdk::WorldState state;
   auto world_field = req.find("world");
@@ -293,8 +351,10 @@ Json Session::op_world(const Json& req) {
     if (!world_field->is_object())
       throw sdk::Error(sdk::codes::kBadRequest, "field 'world' must be a world object");
     const std::string base = std::filesystem::current_path().string();
-    std::string text = world_field->dump();
-    state = load_world_text(*runtime_, text, base);
+    // The object's text as sent when the line is at hand: no second serialisation.
+    std::string_view raw = line_.empty() ? std::string_view() : top_level_value(line_, "world");
+    std::string text = !raw.empty() && raw.front() == '{' ? std::string(raw) : world_field->dump();
+    state = load_requested_world(text, base);
   } else {
     std::string file =
         request::require_string(req, "file", "a world object 'world' or a path 'file'");
@@ -305,13 +365,14 @@ Json Session::op_world(const Json& req) {
       path = runtime_->config.resolve_path(file);
     std::string text = read_regular_file(path.string(), options_.input.max_file_bytes, "world file",
                                          sdk::codes::kBadWorld);
-    std::string base = path.parent_path().string();
-    state = load_world_text(*runtime_, text, base);
+    state = load_requested_world(text, path.parent_path().string());
   }
   check_deadline("loading the world");
-  Json normalised = answer_world(state);
   set_world(std::move(state));
-  return Json{{"world", std::move(normalised)}};
+  Json payload;
+  add_world_version(payload, world_);
+  payload["world"] = answer_changed_world(world_);
+  return payload;
 }
 
 Json Session::op_user(const Json& req) {
@@ -322,7 +383,10 @@ Json Session::op_user(const Json& req) {
 }
 
 Json Session::op_state(const Json&) {
-  return Json{{"world", answer_world(world_)}};
+  Json payload;
+  add_world_version(payload, world_, true);  // a client may ask for the state to resync
+  payload["world"] = answer_changed_world(world_);
+  return payload;
 }
 
 }  // namespace flipper::kernel

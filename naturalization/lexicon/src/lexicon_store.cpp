@@ -15,8 +15,10 @@ using nlohmann::json;
 
 namespace {
 
-// Version 2 (kSchemaVersion). `created` is assigned inside the defining transaction (max + 1);
-// `deleted_seq` orders deletions so other processes can pick them up incrementally.
+// Version 3 (kSchemaVersion). `created` is assigned inside the defining transaction (max + 1);
+// `deleted_seq` orders deletions so other processes can pick them up incrementally;
+// `scorer_weights` holds an incremental scorer's weights as sums of every process's changes
+// (added in place, so concurrent learners never overwrite each other).
 constexpr const char* kSchema = R"sql(
 CREATE TABLE flipper_schema(version INTEGER NOT NULL);
 CREATE TABLE definitions(
@@ -31,7 +33,18 @@ CREATE INDEX rules_deleted_seq ON rules(deleted_seq);
 CREATE TABLE rule_uses(
   rule TEXT PRIMARY KEY, by_author INTEGER NOT NULL, by_others INTEGER NOT NULL);
 CREATE TABLE scorer_state(key TEXT PRIMARY KEY, state TEXT NOT NULL);
-INSERT INTO flipper_schema(version) VALUES (2);
+CREATE TABLE scorer_weights(
+  key TEXT NOT NULL, model TEXT NOT NULL, feature TEXT NOT NULL, weight REAL NOT NULL,
+  aux REAL NOT NULL, PRIMARY KEY(key, model, feature)) WITHOUT ROWID;
+INSERT INTO flipper_schema(version) VALUES (3);
+)sql";
+
+// Version 2 -> 3: the additive weight table.
+constexpr const char* kUpgradeFrom2 = R"sql(
+CREATE TABLE scorer_weights(
+  key TEXT NOT NULL, model TEXT NOT NULL, feature TEXT NOT NULL, weight REAL NOT NULL,
+  aux REAL NOT NULL, PRIMARY KEY(key, model, feature)) WITHOUT ROWID;
+UPDATE flipper_schema SET version = 3;
 )sql";
 
 // Version 1 -> 2, in place: existing deletions get a sequence in `created` order.
@@ -47,6 +60,34 @@ std::string to_json_list(const std::vector<std::string>& v) {
 }
 
 std::vector<std::string> from_json_list(const std::string& text, const std::string& path) {
+  // The common case without a JSON tree: ["a","$B",...] with no escapes (start-up reads two
+  // lists per rule).
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']' &&
+      text.find('\\') == std::string::npos) {
+    std::vector<std::string> out;
+    std::size_t i = 1;
+    bool ok = true;
+    while (ok && i < text.size() - 1) {
+      if (text[i] != '"') {
+        ok = false;
+        break;
+      }
+      const std::size_t end = text.find('"', i + 1);
+      if (end == std::string::npos || end >= text.size() - 1) {
+        ok = false;
+        break;
+      }
+      out.emplace_back(text, i + 1, end - i - 1);
+      i = end + 1;
+      if (text[i] == ',') {
+        ++i;
+        ok = i < text.size() - 1;  // no trailing comma
+      } else if (i != text.size() - 1) {
+        ok = false;
+      }
+    }
+    if (ok) return out;
+  }
   try {
     return json::parse(text).get<std::vector<std::string>>();
   } catch (const std::exception&) {
@@ -117,6 +158,7 @@ void create_or_upgrade(sqlite::Db& db) {
   }
   if (version == 0) db.exec(kSchema);
   if (version == 1) db.exec(kUpgradeFrom1);
+  if (version == 1 || version == 2) db.exec(kUpgradeFrom2);
   tx.commit();
 }
 
@@ -152,7 +194,8 @@ LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
   const std::int64_t version = existed ? check_existing(db) : 0;
   if (db.read_only()) {
     // Readable but not writable: serve it as it is if it needs no change.
-    if (version != kSchemaVersion)
+    // (Version 2 only lacks the weight table, which read_weight_changes treats as empty.)
+    if (version != kSchemaVersion && version != 2)
       throw sdk::Error(lexicon_codes::kReadOnly,
                        "lexicon store '" + path + "' is read-only and " +
                            (version == 0 ? std::string("holds no lexicon yet")
@@ -393,11 +436,9 @@ void upsert_weights(sqlite::Db& db, const std::string& key, const std::string& s
 }
 }  // namespace
 
-std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& deltas,
-                                                  const std::string& weights_key,
-                                                  const std::string& weights_state) {
-  auto& db = *impl_->db;
-  sqlite::Transaction tx(db);
+namespace {
+// Adds `deltas` to the rules' counters; returns the totals after (other processes' included).
+std::vector<RuleUses> add_uses(sqlite::Db& db, const std::vector<RuleUses>& deltas) {
   sqlite::Stmt add(db,
                    "INSERT INTO rule_uses(rule, by_author, by_others) VALUES (?,?,?) "
                    "ON CONFLICT(rule) DO UPDATE SET by_author = by_author + excluded.by_author, "
@@ -415,9 +456,57 @@ std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& d
                       static_cast<std::uint64_t>(total.int64(1))});
     total.reset();
   }
+  return totals;
+}
+}  // namespace
+
+std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& deltas,
+                                                  const std::string& weights_key,
+                                                  const std::string& weights_state) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);
+  std::vector<RuleUses> totals = add_uses(db, deltas);
   if (!weights_key.empty()) upsert_weights(db, weights_key, weights_state);
   tx.commit();
   return totals;
+}
+
+namespace {
+void add_weight_changes(sqlite::Db& db, const std::string& key,
+                        const std::vector<StoredWeightChange>& changes) {
+  sqlite::Stmt add(db,
+                   "INSERT INTO scorer_weights(key, model, feature, weight, aux) "
+                   "VALUES (?,?,?,?,?) ON CONFLICT(key, model, feature) DO UPDATE SET "
+                   "weight = weight + excluded.weight, aux = aux + excluded.aux");
+  for (const auto& c : changes) {
+    add.bind(1, key).bind(2, c.model).bind(3, c.feature).bind_real(4, c.weight).bind_real(5, c.aux);
+    add.run();
+    add.reset();
+  }
+}
+}  // namespace
+
+std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& deltas,
+                                                  const std::string& weights_key,
+                                                  const std::vector<StoredWeightChange>& changes) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);
+  std::vector<RuleUses> totals = add_uses(db, deltas);
+  add_weight_changes(db, weights_key, changes);
+  tx.commit();
+  return totals;
+}
+
+std::vector<StoredWeightChange> LexiconStore::weight_changes(const std::string& key) const {
+  std::vector<StoredWeightChange> out;
+  sqlite::Stmt has(*impl_->db, "SELECT 1 FROM sqlite_master WHERE name = 'scorer_weights'");
+  if (!has.step()) return out;  // a read-only version-2 store
+  sqlite::Stmt s(*impl_->db,
+                 "SELECT model, feature, weight, aux FROM scorer_weights WHERE key = ? "
+                 "ORDER BY model, feature");
+  s.bind(1, key);
+  while (s.step()) out.push_back({s.text(0), s.text(1), s.real(2), s.real(3)});
+  return out;
 }
 
 void LexiconStore::save_weights(const std::string& key, const std::string& state) {
@@ -467,6 +556,13 @@ void LexiconStore::export_jsonl(
   sqlite::Stmt s(*impl_->db, "SELECT key, state FROM scorer_state ORDER BY key");
   while (s.step())
     out << json{{"type", "weights"}, {"key", s.text(0)}, {"state", s.text(1)}}.dump() << '\n';
+  sqlite::Stmt keys(*impl_->db, "SELECT DISTINCT key FROM scorer_weights ORDER BY key");
+  while (keys.step())
+    for (const auto& c : weight_changes(keys.text(0)))
+      out << json{{"type", "weight"},     {"key", keys.text(0)}, {"model", c.model},
+                  {"feature", c.feature}, {"weight", c.weight},  {"aux", c.aux}}
+                 .dump()
+          << '\n';
 }
 
 std::size_t LexiconStore::import_jsonl(std::istream& in) {
@@ -513,6 +609,10 @@ std::size_t LexiconStore::import_jsonl(std::istream& in) {
           throw std::runtime_error("rule " + r.id + " (created " + std::to_string(r.created) +
                                    ") is already stored");
         insert_rule(db, r, j.value("definition", std::int64_t{0}));
+      } else if (type == "weight") {
+        add_weight_changes(db, j.at("key").get<std::string>(),
+                           {{j.at("model").get<std::string>(), j.at("feature").get<std::string>(),
+                             j.at("weight").get<double>(), j.value("aux", 0.0)}});
       } else if (type == "weights") {
         upsert_weights(db, j.at("key").get<std::string>(), j.at("state").get<std::string>());
       } else {

@@ -137,6 +137,12 @@ Stmt& Stmt::bind(int i, std::int64_t value) {
   return *this;
 }
 
+Stmt& Stmt::bind_real(int i, double value) {
+  const int rc = sqlite3_bind_double(stmt_, i, value);
+  if (rc != SQLITE_OK) db_.fail("bind", rc);
+  return *this;
+}
+
 Stmt& Stmt::bind_null(int i) {
   const int rc = sqlite3_bind_null(stmt_, i);
   if (rc != SQLITE_OK) db_.fail("bind", rc);
@@ -163,6 +169,10 @@ void Stmt::reset() {
 
 std::int64_t Stmt::int64(int col) const {
   return sqlite3_column_int64(stmt_, col);
+}
+
+double Stmt::real(int col) const {
+  return sqlite3_column_double(stmt_, col);
 }
 
 std::string Stmt::text(int col) const {

@@ -53,6 +53,7 @@ class Stmt {
 
   Stmt& bind(int i, std::string_view text);
   Stmt& bind(int i, std::int64_t value);
+  Stmt& bind_real(int i, double value);
   Stmt& bind_null(int i);
   /// Steps once: true when a row is available, false when done.
   bool step();
@@ -61,6 +62,7 @@ class Stmt {
   void reset();
 
   std::int64_t int64(int col) const;
+  double real(int col) const;
   std::string text(int col) const;
   bool is_null(int col) const;
 

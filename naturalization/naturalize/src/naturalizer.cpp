@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <ctime>
 #include <iostream>
+#include <unordered_map>
 
 #include "flipper/naturalization/generalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -77,6 +78,25 @@ StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
   return s;
 }
 
+namespace {
+// Templates repeat across a lexicon (one definition's rules, and users define alike); a program
+// is immutable, so rules with the same template text and sorts share one (start-up reads each
+// distinct template once). Per thread, bounded.
+sdk::Program cached_template(const std::string& text, sdk::Sort sort,
+                             const std::vector<sdk::Sort>& holes) {
+  thread_local std::unordered_map<std::string, sdk::Program> cache;
+  std::string key = text;
+  key += '\0';
+  key += static_cast<char>(sort);
+  for (sdk::Sort h : holes) key += static_cast<char>(h);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  sdk::Program p = sdk::read_template(text, sort, holes);
+  if (cache.size() >= 4096) cache.clear();
+  cache.emplace(std::move(key), p);
+  return p;
+}
+}  // namespace
+
 sdk::RulePtr rule_from_stored(const StoredRule& s) {
   // Older versions induced `$Action -> $ROOT thrice`-like rules, whose hole takes a whole
   // sequence; such a rule is not read (so it is quarantined, with this message).
@@ -101,7 +121,7 @@ sdk::RulePtr rule_from_stored(const StoredRule& s) {
     }
   }
   rule->sem =
-      sdk::read_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
+      cached_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
   rule->induced = true;
   rule->how = origin_from_string(s.how);
   rule->author = s.author;
@@ -167,8 +187,28 @@ void Naturalizer::restore() {
   apply(store_->changes_since({}));
   initial_weights_ = save_weights();
   weights_user_.clear();
-  if (!options_.per_user_weights) {
-    if (auto state = store_->load_weights(weights_key({}))) load_weights(*state);
+  if (!options_.per_user_weights) load_weights(weights_key({}));
+}
+
+namespace {
+sdk::IncrementalScorer* incremental(sdk::Scorer& scorer) {
+  return dynamic_cast<sdk::IncrementalScorer*>(&scorer);
+}
+}  // namespace
+
+// A whole saved state (older builds, non-incremental scorers), then the additive weights.
+void Naturalizer::load_weights(const std::string& key) {
+  auto& scorer = *runtime_->scorer.borrow();
+  auto state = store_->load_weights(key);
+  if (state || options_.per_user_weights)
+    runtime_->scorer.call("load_state",
+                          [&](sdk::Scorer& s) { s.load_state(state ? *state : initial_weights_); });
+  if (auto* inc = incremental(scorer)) {
+    std::vector<sdk::WeightChange> changes;
+    for (auto& c : store_->weight_changes(key))
+      changes.push_back({std::move(c.model), std::move(c.feature), c.weight, c.aux});
+    inc->apply_changes(changes);
+    inc->commit_changes();
   }
 }
 
@@ -209,18 +249,13 @@ std::string Naturalizer::save_weights() const {
   return runtime_->scorer.call("save_state", [](const sdk::Scorer& s) { return s.save_state(); });
 }
 
-void Naturalizer::load_weights(const std::string& state) {
-  runtime_->scorer.call("load_state", [&](sdk::Scorer& s) { s.load_state(state); });
-}
-
 std::string Naturalizer::weights_key(const std::string& user) const {
   return options_.per_user_weights ? "user:" + user : "global";
 }
 
 void Naturalizer::select_user(const std::string& user) {
   if (!options_.per_user_weights || user == weights_user_) return;
-  auto state = store_->load_weights(weights_key(user));
-  load_weights(state ? *state : initial_weights_);
+  load_weights(weights_key(user));
   weights_user_ = user;
 }
 
@@ -368,7 +403,18 @@ void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::Rule
     deltas.push_back({r->id, own ? 1u : 0u, own ? 0u : 1u});
     rules.push_back(r);
   }
-  const auto totals = store_->record_accept(deltas, weights_key(user), save_weights());
+  // An incremental scorer's changed weights are added to the stored sums; any other scorer's
+  // whole state replaces the stored one (last writer wins). Either way in the accept's
+  // transaction, with the counters.
+  std::vector<RuleUses> totals;
+  if (auto* inc = incremental(*runtime_->scorer.borrow())) {
+    std::vector<StoredWeightChange> changes;
+    for (auto& c : inc->pending_changes())
+      changes.push_back({std::move(c.model), std::move(c.feature), c.weight, c.aux});
+    totals = store_->record_accept(deltas, weights_key(user), changes);
+  } else {
+    totals = store_->record_accept(deltas, weights_key(user), save_weights());
+  }
   // The stored totals include other processes' uses.
   for (std::size_t i = 0; i < rules.size(); ++i)
     runtime_->usage->set(rules[i]->id, {totals[i].by_author, totals[i].by_others});

@@ -79,6 +79,41 @@ class FLIPPER_SDK_API Scorer : public Plugin {
   virtual void do_load_state(std::string_view state) = 0;
 };
 
+/// One weight's change, additive (SDK 1.2): applying a change to any state adds `weight` to the
+/// weight and `aux` to its per-weight learning statistic (e.g. AdaGrad's sum of squared
+/// gradients; 0 when the model has none). `model` is the scorer's own partition ("" for one global
+/// model, the user for a scorer with per-user weights), `feature` the weight's stable name.
+struct WeightChange {
+  std::string model;
+  std::string feature;
+  double weight = 0;
+  double aux = 0;
+};
+
+/// Optional extension of a Scorer (SDK 1.2), found with dynamic_cast: a scorer that reports what
+/// each learn() changed lets the kernel persist only the changed weights, as deltas that add up
+/// when several processes learn on one lexicon (docs/naturalization.md §5), instead of the whole
+/// state with save_state() (last writer wins). A scorer without it keeps working as before.
+///
+/// Protocol: learn() records changes as pending; the kernel reads pending_changes(), persists them
+/// and calls commit_changes(), or discard_changes() when the accept is undone, which restores the
+/// exact state from before those learn() calls. apply_changes() adds stored changes (this and
+/// other processes') to the state, e.g. after load_state() at start-up.
+class FLIPPER_SDK_API IncrementalScorer {
+ public:
+  virtual ~IncrementalScorer();
+  std::vector<WeightChange> pending_changes() const { return do_pending_changes(); }
+  void commit_changes() { do_commit_changes(); }
+  void discard_changes() { do_discard_changes(); }
+  void apply_changes(const std::vector<WeightChange>& changes) { do_apply_changes(changes); }
+
+ protected:
+  virtual std::vector<WeightChange> do_pending_changes() const = 0;
+  virtual void do_commit_changes() = 0;
+  virtual void do_discard_changes() = 0;
+  virtual void do_apply_changes(const std::vector<WeightChange>& changes) = 0;
+};
+
 template <>
 struct KindOf<Scorer> {
   static constexpr PluginKind value = PluginKind::scorer;

@@ -12,6 +12,8 @@
 /// StopCondition::expired); plugins built against 1.0 load unchanged.
 /// Also 1.1: PlannerTraits::sampling (a field at the end; only the planner conformance kit reads
 /// it, so a 1.0 planner's traits lose nothing the kernel uses).
+/// 1.2 — IncrementalScorer, an optional interface a Scorer may also implement (found with
+/// dynamic_cast; the Scorer vtable is unchanged): sparse additive weight changes.
 /// 2.0 (ABI 2) — Rule no longer carries mutable use counters: the kernel owns them and passes
 /// them to scorers in ScoreContext::usage (a read-only UsageCounters). Planner::plan and
 /// Planner::tour decide the shared edge cases (empty goal set, start outside the bounds, a stop

@@ -35,6 +35,8 @@
 
 namespace flipper::kernel {
 
+class WorldTexts;
+
 /// Requests and answers keep their field order ("ok", "op", "id" first).
 using Json = nlohmann::ordered_json;
 
@@ -153,24 +155,37 @@ class Session {
   /// The world object of a state, as the world plugin writes it.
   Json world_json(const sdk::WorldState& state) const;
   /// The world of a state for an answer payload. While handle_line runs this is a placeholder
-  /// that handle_line replaces by the plugin's text, so worlds skip the JSON tree entirely;
+  /// that handle_line replaces by the world's text, so worlds skip the JSON tree entirely;
   /// otherwise it is world_json(state).
   Json answer_world(const sdk::WorldState& state);
+  /// The protocol version the client asked for with `hello` (docs/protocol.md § "Protocol versions"); 1 by default.
+  int protocol() const { return protocol_; }
+  /// A world that changed in a protocol-1 answer is the full object (answer_world); in protocol 2
+  /// it is only `{"items", "robot"}`, and add_world_version() must be called for the answer.
+  Json answer_changed_world(const sdk::WorldState& state);
+  /// Protocol 2: adds "world_version" (the id of the state's geometry and rooms) to `payload`,
+  /// and "geometry" (the world object without items and robot) when this client has not been
+  /// sent that version yet or `always` is set. Protocol 1: does nothing.
+  void add_world_version(Json& payload, const sdk::WorldState& state, bool always = false);
 
  private:
   struct CachedWorld {
     sdk::WorldState state;
     std::string text;
   };
-  /// The plugin's compact text for a state; the last few are cached (candidates often end in
-  /// the same world, and the current world is written again and again).
+  /// The full text for a state; the last few are cached (candidates often end in the same
+  /// world, and the current world is written again and again).
   const std::string& world_text(const sdk::WorldState& state);
+  /// JSON text for an answer payload: a placeholder in line mode, else parsed.
+  Json raw_json(std::string text);
   std::string splice_worlds(std::string answer) const;
   /// A trace for an answer payload: like answer_world, a placeholder for its text in line mode.
   Json answer_trace(const std::vector<sdk::TraceStep>& trace, int dims);
 
   void install_default_ops();
+  Json op_hello(const Json& request);
   Json op_world(const Json& request);
+  sdk::WorldState load_requested_world(const std::string& text, const std::string& base);
   Json op_user(const Json& request);
   Json op_state(const Json& request);
   Json op_query(const Json& request);
@@ -190,9 +205,18 @@ class Session {
   std::vector<std::shared_ptr<AcceptedPlanObserver>> plan_observers_;
   std::uint64_t accepted_plans_ = 0;
   std::vector<CachedWorld> world_cache_;  // most recent first
-  bool line_mode_ = false;                // inside handle_line: answer_world gives placeholders
-  std::vector<std::string> spliced_;      // world and trace texts of the answer being built
-  std::string marker_;                    // placeholder prefix, unique per session
+  std::unique_ptr<WorldTexts> texts_;     // world texts by version (world_texts.hpp)
+  struct LoadedWorld {                    // a world op's input and what it loaded
+    std::string base, text;
+    sdk::WorldState state;
+  };
+  std::vector<LoadedWorld> loaded_;  // the last few, most recent first
+  int protocol_ = 1;
+  std::vector<std::uint64_t> sent_versions_;  // protocol 2: versions whose geometry was sent
+  std::string_view line_;                     // the request line being handled (handle_line)
+  bool line_mode_ = false;                    // inside handle_line: answer_world gives placeholders
+  std::vector<std::string> spliced_;          // world and trace texts of the answer being built
+  std::string marker_;                        // placeholder prefix, unique per session
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
 };
 

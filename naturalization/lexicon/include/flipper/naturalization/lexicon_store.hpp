@@ -76,6 +76,14 @@ struct StoredRule {
   std::uint64_t uses_by_others = 0;
 };
 
+/// An incremental scorer's weight (or a change to it): sdk::WeightChange without the SDK type.
+struct StoredWeightChange {
+  std::string model;
+  std::string feature;
+  double weight = 0;
+  double aux = 0;
+};
+
 /// Where a reader is in the store's history: the newest `created` and deletion sequence seen.
 struct ChangeMark {
   std::int64_t created = 0;
@@ -122,7 +130,7 @@ class LexiconStore {
   const std::string& path() const;
   /// 2: rules.deleted_seq (deletions in commit order, for changes_since). Version 1 files are
   /// upgraded in place on open.
-  static constexpr int kSchemaVersion = 2;
+  static constexpr int kSchemaVersion = 3;
   bool read_only() const;
 
   /// Commits a definition and its rules in ONE transaction (durable on return). The store
@@ -161,11 +169,18 @@ class LexiconStore {
   std::vector<RuleUses> record_accept(const std::vector<RuleUses>& deltas,
                                       const std::string& weights_key,
                                       const std::string& weights_state);
+  /// The same for an incremental scorer: adds `changes` to the stored weights under
+  /// `weights_key` (sums, so two processes learning at once both count), in the same transaction.
+  std::vector<RuleUses> record_accept(const std::vector<RuleUses>& deltas,
+                                      const std::string& weights_key,
+                                      const std::vector<StoredWeightChange>& changes);
+  /// Every stored weight under `key` (the sums of all changes recorded).
+  std::vector<StoredWeightChange> weight_changes(const std::string& key) const;
   void save_weights(const std::string& key, const std::string& state);
   std::optional<std::string> load_weights(const std::string& key) const;
 
-  /// JSON Lines: one object per line, `{"type":"definition"|"rule"|"weights", ...}`. A rule for
-  /// which `quarantine_reason` returns a reason gets `"quarantined": reason`.
+  /// JSON Lines: one object per line, `{"type":"definition"|"rule"|"weights"|"weight", ...}`. A
+  /// rule for which `quarantine_reason` returns a reason gets `"quarantined": reason`.
   void export_jsonl(std::ostream& out,
                     const std::function<std::optional<std::string>(const StoredRule&)>&
                         quarantine_reason = {}) const;

@@ -158,7 +158,8 @@ class Naturalizer {
   bool exists_for(const sdk::Rule& rule, const std::string& author) const;
   std::string weights_key(const std::string& user) const;
   std::string save_weights() const;  ///< the scorer's state (a guarded plugin call)
-  void load_weights(const std::string& state);
+  /// Loads the scorer's stored weights under `key` (saved state, then additive weights).
+  void load_weights(const std::string& key);
 
   std::shared_ptr<Runtime> runtime_;
   NaturalizeOptions options_;

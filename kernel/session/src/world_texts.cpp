@@ -1,0 +1,261 @@
+// World texts by version: static text once, items and robot per state (world_texts.hpp).
+#include "world_texts.hpp"
+
+#include <charconv>
+#include <nlohmann/json.hpp>
+
+namespace flipper::kernel {
+namespace {
+
+constexpr std::size_t kVersionsKept = 4;
+
+std::size_t skip_space(std::string_view t, std::size_t i) {
+  while (i < t.size() && (t[i] == ' ' || t[i] == '\t' || t[i] == '\n' || t[i] == '\r')) ++i;
+  return i;
+}
+
+// End (one past) of the string starting at t[i] == '"'.
+std::size_t skip_string(std::string_view t, std::size_t i) {
+  for (++i; i < t.size(); ++i) {
+    if (t[i] == '\\')
+      ++i;
+    else if (t[i] == '"')
+      return i + 1;
+  }
+  return std::string_view::npos;
+}
+
+// End (one past) of the value starting at t[i].
+std::size_t skip_value(std::string_view t, std::size_t i) {
+  if (i >= t.size()) return std::string_view::npos;
+  if (t[i] == '"') return skip_string(t, i);
+  if (t[i] == '{' || t[i] == '[') {
+    int depth = 0;
+    for (; i < t.size(); ++i) {
+      const char c = t[i];
+      if (c == '"') {
+        i = skip_string(t, i);
+        if (i == std::string_view::npos) return i;
+        --i;
+      } else if (c == '{' || c == '[') {
+        ++depth;
+      } else if (c == '}' || c == ']') {
+        if (--depth == 0) return i + 1;
+      }
+    }
+    return std::string_view::npos;
+  }
+  while (i < t.size() && t[i] != ',' && t[i] != '}' && t[i] != ']' && t[i] != ' ' && t[i] != '\n' &&
+         t[i] != '\t' && t[i] != '\r')
+    ++i;
+  return i;
+}
+
+void append_int(std::string& out, std::int64_t v) {
+  char buf[24];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, r.ptr);
+}
+
+}  // namespace
+
+std::vector<RawMember> top_level_members(std::string_view t) {
+  std::vector<RawMember> out;
+  std::size_t i = skip_space(t, 0);
+  if (i >= t.size() || t[i] != '{') return {};
+  i = skip_space(t, i + 1);
+  if (i < t.size() && t[i] == '}') return out;
+  while (i < t.size()) {
+    if (t[i] != '"') return {};
+    const std::size_t key_end = skip_string(t, i);
+    if (key_end == std::string_view::npos) return {};
+    std::string_view key = t.substr(i, key_end - i);
+    i = skip_space(t, key_end);
+    if (i >= t.size() || t[i] != ':') return {};
+    i = skip_space(t, i + 1);
+    const std::size_t value_end = skip_value(t, i);
+    if (value_end == std::string_view::npos) return {};
+    out.push_back({key, t.substr(i, value_end - i)});
+    i = skip_space(t, value_end);
+    if (i < t.size() && t[i] == '}') return out;
+    if (i >= t.size() || t[i] != ',') return {};
+    i = skip_space(t, i + 1);
+  }
+  return {};
+}
+
+std::string_view top_level_value(std::string_view text, std::string_view key) {
+  std::string_view found;
+  for (const auto& m : top_level_members(text)) {
+    // An escaped key may spell `key` in a way only a JSON parser sees: leave those to it.
+    if (m.key.find('\\') != std::string_view::npos) return {};
+    if (m.key.size() == key.size() + 2 && m.key.substr(1, key.size()) == key) found = m.value;
+  }
+  return found;
+}
+
+void append_json_string(std::string& out, const std::string& s) {
+  for (unsigned char c : s)
+    if (c < 0x20 || c == '"' || c == '\\' || c >= 0x80) {
+      out += nlohmann::json(s).dump();  // escapes and UTF-8 checks exactly as the SDK's writer
+      return;
+    }
+  out += '"';
+  out += s;
+  out += '"';
+}
+
+void WorldTexts::append_items(std::string& out, const sdk::WorldState& state) {
+  const bool three = state.geometry && state.geometry->dims() == 3;
+  out += '[';
+  for (std::size_t i = 0; i < state.items.size(); ++i) {
+    const auto& li = state.items[i];
+    out += i == 0 ? "{\"id\":" : ",{\"id\":";
+    append_int(out, li.item.id);
+    out += ",\"x\":";
+    append_int(out, li.at.x);
+    out += ",\"y\":";
+    append_int(out, li.at.y);
+    if (three) {
+      out += ",\"z\":";
+      append_int(out, li.at.z);
+    }
+    out += ",\"color\":";
+    append_json_string(out, li.item.color);
+    out += ",\"shape\":";
+    append_json_string(out, li.item.shape);
+    out += '}';
+  }
+  out += ']';
+}
+
+void WorldTexts::append_robot(std::string& out, const sdk::WorldState& state) {
+  const bool three = state.geometry && state.geometry->dims() == 3;
+  out += "{\"x\":";
+  append_int(out, state.robot.x);
+  out += ",\"y\":";
+  append_int(out, state.robot.y);
+  if (three) {
+    out += ",\"z\":";
+    append_int(out, state.robot.z);
+  }
+  out += ",\"holding\":[";
+  for (std::size_t i = 0; i < state.held.size(); ++i) {
+    const auto& h = state.held[i];
+    out += i == 0 ? "{\"id\":" : ",{\"id\":";
+    append_int(out, h.id);
+    out += ",\"color\":";
+    append_json_string(out, h.color);
+    out += ",\"shape\":";
+    append_json_string(out, h.shape);
+    out += '}';
+  }
+  out += "]}";
+}
+
+namespace {
+
+bool same_geometry(const sdk::Geometry& a, const sdk::Geometry& b) {
+  // A continuous space (3-D obstacles) is plugin data the kernel cannot compare.
+  return a.continuous() == nullptr && b.continuous() == nullptr && a.dims() == b.dims() &&
+         a.min() == b.min() && a.max() == b.max() &&
+         a.neighbour_offsets() == b.neighbour_offsets() && a.directions() == b.directions() &&
+         a.free_mask() == b.free_mask();
+}
+
+bool same_rooms(const std::shared_ptr<const sdk::RoomMap>& a,
+                const std::shared_ptr<const sdk::RoomMap>& b) {
+  return a == b || (a && b && *a == *b);
+}
+
+}  // namespace
+
+void WorldTexts::intern(sdk::WorldState& state) const {
+  if (!state.geometry) return;
+  for (const auto& v : versions_)
+    if ((v->geometry == state.geometry || same_geometry(*v->geometry, *state.geometry)) &&
+        same_rooms(v->rooms, state.rooms)) {
+      state.geometry = v->geometry;
+      state.rooms = v->rooms;
+      return;
+    }
+}
+
+WorldTexts::Version& WorldTexts::find_or_make(const sdk::WorldState& state) {
+  for (std::size_t i = 0; i < versions_.size(); ++i)
+    if (versions_[i]->geometry == state.geometry && versions_[i]->rooms == state.rooms) {
+      if (i != 0) std::swap(versions_[i], versions_[0]);
+      return *versions_[0];
+    }
+  auto v = std::make_unique<Version>();
+  v->id = next_id_++;
+  v->geometry = state.geometry;
+  v->rooms = state.rooms;
+  const std::string text = save_(state);
+  // The geometry text: every member but items and robot, in the plugin's order.
+  const auto members = top_level_members(text);
+  std::string_view items, robot;
+  v->geometry_text = "{";
+  for (const auto& m : members) {
+    if (m.key == "\"items\"") {
+      items = m.value;
+    } else if (m.key == "\"robot\"") {
+      robot = m.value;
+    } else {
+      if (v->geometry_text.size() > 1) v->geometry_text += ',';
+      v->geometry_text.append(m.key).append(":").append(m.value);
+    }
+  }
+  v->geometry_text += '}';
+  // Split around the items and robot values when the kernel's writers reproduce them exactly.
+  if (!items.empty() && !robot.empty() && items.data() < robot.data()) {
+    const std::size_t items_at = static_cast<std::size_t>(items.data() - text.data());
+    const std::size_t robot_at = static_cast<std::size_t>(robot.data() - text.data());
+    v->before = text.substr(0, items_at);
+    v->between = text.substr(items_at + items.size(), robot_at - items_at - items.size());
+    v->after = text.substr(robot_at + robot.size());
+    v->split = true;
+    v->split = assemble(*v, state) == text;
+  }
+  if (versions_.size() == kVersionsKept) versions_.pop_back();
+  versions_.insert(versions_.begin(), std::move(v));
+  return *versions_.front();
+}
+
+std::string WorldTexts::assemble(const Version& v, const sdk::WorldState& state) {
+  std::string out;
+  out.reserve(v.before.size() + v.between.size() + v.after.size() + 64 * state.items.size() + 64);
+  out += v.before;
+  append_items(out, state);
+  out += v.between;
+  append_robot(out, state);
+  out += v.after;
+  return out;
+}
+
+std::uint64_t WorldTexts::version(const sdk::WorldState& state) {
+  return find_or_make(state).id;
+}
+
+std::string WorldTexts::full(const sdk::WorldState& state) {
+  const Version& v = find_or_make(state);
+  return v.split ? assemble(v, state) : save_(state);
+}
+
+std::string WorldTexts::changes(const sdk::WorldState& state) {
+  const Version& v = find_or_make(state);
+  if (!v.split) return save_(state);
+  std::string out = "{\"items\":";
+  out.reserve(32 + 64 * state.items.size());
+  append_items(out, state);
+  out += ",\"robot\":";
+  append_robot(out, state);
+  out += '}';
+  return out;
+}
+
+const std::string& WorldTexts::geometry(const sdk::WorldState& state) {
+  return find_or_make(state).geometry_text;
+}
+
+}  // namespace flipper::kernel
