@@ -67,10 +67,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       fail("error code is not a documented world refusal", e.code() + ": " + e.what());
     return 0;
   }
-  const std::string saved = g_runtime->world->save(state);
+  const std::string saved = g_runtime->world.borrow()->save(state);
   std::string again;
   try {
-    again = g_runtime->world->save(flipper::kernel::load_world_file(*g_runtime, saved));
+    again = g_runtime->world.borrow()->save(flipper::kernel::load_world_file(*g_runtime, saved));
   } catch (const sdk::Error& e) {
     fail("saved world does not load again", saved + "\n  " + e.what());
   }

@@ -33,17 +33,6 @@ struct RunOptions {
   std::string program;
 };
 
-kernel::ExecLimits limits_from(const kernel::Config& c) {
-  kernel::ExecLimits l;
-  if (c.has("execution.action_budget"))
-    l.action_budget = static_cast<std::uint64_t>(c.get_int("execution.action_budget"));
-  if (c.has("execution.time_budget_ms"))
-    l.time_budget = std::chrono::milliseconds(c.get_int("execution.time_budget_ms"));
-  if (c.has("execution.while_limit"))
-    l.while_limit = static_cast<int>(c.get_int("execution.while_limit"));
-  return l;
-}
-
 struct Reading {
   sdk::Program program;
   std::size_t readings = 1;  ///< how many the parser found (1 for canonical text)
@@ -53,13 +42,7 @@ struct Reading {
 // Canonical text first (deterministic); otherwise the session parser's best candidate, which
 // sees the user's lexicon (the session answers exactly as the repl would).
 Reading interpret(kernel::Session& session, const std::string& text) {
-  const kernel::Config& config = session.runtime().config;
-  if (config.has("input.max_chars") &&
-      static_cast<std::int64_t>(text.size()) > config.get_int("input.max_chars"))
-    throw sdk::Error(sdk::codes::kInputTooLong,
-                     "the program has " + std::to_string(text.size()) +
-                         " characters; the limit is " +
-                         std::to_string(config.get_int("input.max_chars")));
+  session.check_length(text);  // as a query counts it (code points), also for canonical text
   try {
     return {sdk::read_canonical(text)};
   } catch (const sdk::Error&) {
@@ -112,7 +95,7 @@ int run(const RunOptions& opts) {
   }
   kernel::Runtime& rt = session->runtime();
   if (!opts.user.empty()) session->set_user(opts.user);
-  const int dims = rt.world->dims();
+  const int dims = rt.world.call("dims", [](const sdk::World& w) { return w.dims(); });
   auto fail = [&](const std::string& code, const std::string& message, int exit_code) {
     if (opts.json)
       std::cout << nlohmann::json{{"ok", false},
@@ -123,7 +106,8 @@ int run(const RunOptions& opts) {
   };
   sdk::WorldState world;
   try {
-    world = opts.world_file.empty() ? rt.default_world : kernel::load_world_file(rt, opts.world_file);
+    world =
+        opts.world_file.empty() ? rt.default_world : kernel::load_world_file(rt, opts.world_file);
   } catch (const sdk::Error& e) {
     return fail(e.code(), e.what(), kExitUsage);
   }
@@ -140,12 +124,12 @@ int run(const RunOptions& opts) {
                  "flipper run: note: took the top of %zu readings (p=%.2f); `flipper repl` shows "
                  "them all and lets you choose\n",
                  reading.readings, reading.prob);
-  const kernel::Executor executor(rt.planner, limits_from(rt.config));
-  const sdk::Outcome o = executor.run(program, world);
+  const sdk::Outcome o = session->executor().run(program, world);  // the session's limits
   if (o.error) return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed);
   if (!opts.svg_file.empty()) {
-    const kernel::Json before = kernel::Json::parse(rt.world->save(world));
-    const kernel::Json trace = kernel::Json::parse(kernel::protocol::outcome_json(o, dims)["trace"].dump());
+    const kernel::Json before = session->world_json(world);
+    const kernel::Json trace =
+        kernel::Json::parse(kernel::protocol::outcome_json(o, dims)["trace"].dump());
     std::ofstream f(opts.svg_file);
     f << kernel::svg::world_picture(before, &trace, sdk::render(program));
     f.flush();
@@ -155,7 +139,7 @@ int run(const RunOptions& opts) {
     nlohmann::json j = kernel::protocol::outcome_json(o, dims);
     j["ok"] = true;
     j["formula"] = sdk::render(program);
-    j["world"] = nlohmann::json::parse(rt.world->save(o.world));
+    j["world"] = session->world_json(o.world);
     j["readings"] = reading.readings;
     std::cout << j.dump() << "\n";
   } else {

@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
         }
         commit_ms = median(cms);
         std::vector<double> ims;  // induction alone (parse head and body, packings, rules)
-        kernel::Inducer inducer(*rt->parser, *rt->scorer, nat.options().induction);
+        kernel::Inducer inducer(rt->parser, rt->scorer, nat.options().induction, rt->usage.get());
         for (int i = 0; i < 40; ++i) {
           const auto& [head, body] = defs[static_cast<std::size_t>(i) % defs.size()];
           const auto t0 = std::chrono::steady_clock::now();

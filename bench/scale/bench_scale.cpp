@@ -552,9 +552,9 @@ void bench_rules(const std::vector<int>& sizes) {
       pr.tokens = flipper::sdk::tokenize(u);
       pr.context.tokens = &pr.tokens;
       pr.context.user = "u1";
-      pr.scorer = rt.scorer.get();
+      pr.scorer = rt.scorer.borrow();
       const double c0 = cpu_ms();
-      auto result = rt.parser->parse(pr);
+      auto result = rt.parser.borrow()->parse(pr);
       parse_ms.push_back(cpu_ms() - c0);
     }
     const std::string label = std::to_string(n) + " rules";

@@ -175,9 +175,10 @@ int main(int argc, char** argv) {
       pr.tokens = flipper::sdk::tokenize(q.text);
       pr.context.tokens = &pr.tokens;
       pr.context.user = session->user();
-      pr.scorer = rt.scorer.get();
+      pr.context.usage = rt.usage.get();
+      pr.scorer = rt.scorer.borrow();
       auto t0 = Clock::now();
-      auto result = rt.parser->parse(pr);
+      auto result = rt.parser.borrow()->parse(pr);
       parse_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     }
   }

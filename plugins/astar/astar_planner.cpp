@@ -55,17 +55,8 @@ class AStarPlanner final : public sdk::Planner {
  protected:
   sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& req,
                           const sdk::StopCondition& stop) const override {
+    // Goals present, start in bounds, stop not yet fired: Planner::plan checked (SDK 2.0).
     sdk::PathResult r;
-    if (req.goals == nullptr || req.goals->empty()) {
-      r.status = sdk::PlanStatus::invalid;
-      r.message = "the goal set is empty";
-      return r;
-    }
-    if (!g.in_bounds(req.start)) {
-      r.status = sdk::PlanStatus::invalid;
-      r.message = "start " + sdk::to_string(req.start, g.dims()) + " is outside the bounds";
-      return r;
-    }
     // The buffers are shared by every call on this instance: calls are serialised.
     std::lock_guard<std::mutex> lock(mutex_);
     if (!search_.prepare(g)) {

@@ -4,8 +4,8 @@
 // Neighbour offsets (the tie order of shortest paths): +x, -x, +y, -y, +z, -z, i.e. the 2-D order
 // right, left, up, down followed by ascend, descend.
 // Directions: `up`/`down` = +/-y and `left`/`right` = -/+x exactly as in 2-D (the plan view, so 2-D
-// habits and programs carry over floor by floor), plus `ascend`/`descend` = +/-z. The grammar's
-// direction words come from config `grammar.directions`; 3-D configs list all six.
+// habits and programs carry over floor by floor), plus `ascend`/`descend` = +/-z. The kernel
+// gives the grammar these six words (unless `grammar.directions` narrows them).
 #include <algorithm>
 #include <memory>
 #include <nlohmann/json.hpp>

@@ -75,17 +75,8 @@ class OmplPlanner final : public sdk::Planner {
  protected:
   sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& request,
                           const sdk::StopCondition& stop) const override {
+    // Goals present, start in bounds, stop not yet fired: Planner::plan checked (SDK 2.0).
     sdk::PathResult r;
-    if (request.goals == nullptr || request.goals->empty()) {
-      r.status = PlanStatus::invalid;
-      r.message = "the goal set is empty";
-      return r;
-    }
-    if (stop.should_stop(0)) {
-      r.status = PlanStatus::stopped;
-      r.message = "stopped before planning";
-      return r;
-    }
     const Cell start = request.start;
     if (!g.is_free(start)) {
       r.status = PlanStatus::invalid;

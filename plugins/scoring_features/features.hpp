@@ -40,8 +40,9 @@ void for_each_feature(const sdk::Derivation& node, const sdk::ScoreContext& ctx,
     sink({"core"}, 1.0);
   } else {
     sink({"induced"}, 1.0);
-    const auto others = rule.usage ? rule.usage->by_others.load() : 0;
-    const auto own = rule.usage ? rule.usage->by_author.load() : 0;
+    const sdk::RuleUses uses = ctx.usage != nullptr ? ctx.usage->uses(rule.id) : sdk::RuleUses{};
+    const auto others = uses.by_others;
+    const auto own = uses.by_author;
     if (others > 0) sink({"uses_by_others"}, static_cast<double>(others));
     sink({others > 0 ? "used_by_others=yes" : "used_by_others=no"}, 1.0);
     sink({own > 0 ? "used_by_author=yes" : "used_by_author=no"}, 1.0);

@@ -1,6 +1,8 @@
 // Out-of-line destructors and small helpers: they anchor each interface's vtable and typeinfo in
 // libflipper_sdk.so, so kernel and plugins share one copy (dynamic_cast and catch work across).
+#include <algorithm>
 #include <cstring>
+#include <numeric>
 
 #include "flipper/sdk/sdk.hpp"
 
@@ -17,6 +19,7 @@ Rewriter::~Rewriter() = default;
 Similarity::~Similarity() = default;
 ContinuousSpace::~ContinuousSpace() = default;
 ExecutionService::~ExecutionService() = default;
+UsageCounters::~UsageCounters() = default;
 
 namespace {
 struct KindEntry {
@@ -48,21 +51,66 @@ bool parse_kind(const char* name, PluginKind& out) {
 
 const char* to_string(PlanStatus s) {
   switch (s) {
-    case PlanStatus::found: return "found";
-    case PlanStatus::no_path: return "no_path";
-    case PlanStatus::stopped: return "stopped";
-    case PlanStatus::invalid: return "invalid";
+    case PlanStatus::found:
+      return "found";
+    case PlanStatus::no_path:
+      return "no_path";
+    case PlanStatus::stopped:
+      return "stopped";
+    case PlanStatus::invalid:
+      return "invalid";
   }
   return "unknown";
 }
 
+PathResult Planner::plan(const Geometry& geometry, const PathRequest& request,
+                         const StopCondition& stop) const {
+  PathResult r;
+  if (request.goals == nullptr || request.goals->empty()) {
+    r.status = PlanStatus::invalid;
+    r.message = "the goal set is empty";
+    return r;
+  }
+  if (!geometry.in_bounds(request.start)) {
+    r.status = PlanStatus::invalid;
+    r.message = "start " + to_string(request.start, geometry.dims()) + " is outside the bounds";
+    return r;
+  }
+  if (stop.expired()) {
+    r.status = PlanStatus::stopped;
+    r.message = "stopped before planning";
+    return r;
+  }
+  return do_plan(geometry, request, stop);
+}
+
+TourResult Planner::tour(const Geometry& geometry, Cell start, const std::vector<Cell>& points,
+                         const StopCondition& stop) const {
+  TourResult t;
+  if (points.empty()) return t;  // found, nothing to order
+  if (stop.expired()) {
+    t.status = PlanStatus::stopped;
+    t.order.resize(points.size());
+    std::iota(t.order.begin(), t.order.end(), std::size_t{0});
+    std::stable_sort(t.order.begin(), t.order.end(),
+                     [&](std::size_t a, std::size_t b) { return points[a] < points[b]; });
+    return t;
+  }
+  return do_tour(geometry, start, points, stop);
+}
+
 const char* to_string(RuleOrigin o) {
   switch (o) {
-    case RuleOrigin::core: return "core";
-    case RuleOrigin::simple: return "simple";
-    case RuleOrigin::best: return "best";
-    case RuleOrigin::alignment: return "alignment";
-    case RuleOrigin::rewriting: return "rewriting";
+    case RuleOrigin::core:
+      return "core";
+    case RuleOrigin::simple:
+      return "simple";
+    case RuleOrigin::best:
+      return "best";
+    case RuleOrigin::alignment:
+      return "alignment";
+    case RuleOrigin::rewriting:
+      return "rewriting";
   }
   return "unknown";
 }

@@ -72,11 +72,11 @@ TEST_CASE(
   const Run bad = run_from(dir, "config check copy.yaml");
   INFO(bad.out);
   CHECK(bad.status == 2);
-  CHECK(contains(bad.out, "flipper config check: [bad_grammar] no grammar file at '" +
-                              (dir / "grammars/core.grammar").string() +
-                              "' (grammar.file 'grammars/core.grammar' from copy.yaml: relative to "
-                              "its directory " +
-                              dir.string() + ")"));
+  // The world is loaded first (its direction words are the grammar's).
+  CHECK(contains(bad.out, "flipper config check: [bad_world] no world file at '" +
+                              (dir / "worlds/study2018.json").string() +
+                              "' (world.file 'worlds/study2018.json' from copy.yaml: relative to "
+                              "its directory " + dir.string() + ")"));
 }
 
 TEST_CASE("paths in an experiment file resolve against its directory", "[cli][paths]") {

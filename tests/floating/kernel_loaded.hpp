@@ -17,7 +17,7 @@ std::shared_ptr<Interface> kernel_loaded(const std::string& section, const std::
   sets.insert(sets.begin(), section + ".plugin=" + plugin);
   const auto config = kernel::Config::load(std::nullopt, sets);
   const kernel::PluginLoader loader(kernel::PluginLoader::search_path_for(config));
-  return loader.create<Interface>(config, section);
+  return loader.create<Interface>(config, section).shared();
 }
 
 /// A floating parser with the core grammar, and a loglinear scorer, both kernel-loaded.

@@ -48,7 +48,7 @@ TEST_CASE("generalize: drop 3 items := drop item x3 gives repeat 3 times drop it
           "[generalize]") {
   testsupport::StudyEnv env;
   sdk::WorldState w = env.exec.run(P("{pick every item }"), env.at({7, 4})).world;
-  Generalizer g(*env.rewriter, nullptr, env.exec);
+  Generalizer g(env.rewriter, nullptr, env.exec);
   const auto r =
       g.generalize(sdk::tokenize("drop 3 items"), P("{{drop item };{drop item };{drop item }}"), w,
                    packs({sdk::make_num(3)}));
@@ -75,7 +75,7 @@ TEST_CASE("generalize: pick items is blue gives pick every item is blue", "[gene
   sdk::WorldState w = env.at({3, 8});
   testsupport::StudyEnv::add_item(w, {3, 8}, "blue", "square");
   const auto body = P("{{pick item {is blue}};{pick item {is blue}}}");
-  Generalizer g(*env.rewriter, nullptr, env.exec);
+  Generalizer g(env.rewriter, nullptr, env.exec);
   const auto blue = sdk::make_word(sdk::Kind::Color, "blue");
   const auto r = g.generalize(sdk::tokenize("pick items is blue"), body, w, packs({blue}));
   CHECK(winner(r) == sdk::render(P("{pick every item {is blue}}")));
@@ -101,7 +101,7 @@ TEST_CASE("generalize: similarity decides before generality", "[generalize]") {
   std::ofstream(dir / "vectors.txt") << "items 1 0 0\nrepeat 1 0 0\nevery 0 1 0\npick 0 0 1\n";
   auto glove = testsupport::load_plugin<sdk::Similarity>(
       "glove", sdk::Params({{"path", (dir / "vectors.txt").string()}}));
-  Generalizer g(*env.rewriter, glove.get(), env.exec);
+  Generalizer g(env.rewriter, glove, env.exec);
   const auto blue = sdk::make_word(sdk::Kind::Color, "blue");
   const auto r = g.generalize(sdk::tokenize("pick items is blue"),
                               P("{{pick item {is blue}};{pick item {is blue}}}"), w, packs({blue}));
@@ -118,7 +118,7 @@ TEST_CASE("generalize: similarity decides before generality", "[generalize]") {
 
 TEST_CASE("generalize: visit red triangle := move right at [9,8]", "[generalize]") {
   testsupport::StudyEnv env;
-  Generalizer g(*env.rewriter, nullptr, env.exec);
+  Generalizer g(env.rewriter, nullptr, env.exec);
   const auto red = sdk::make_word(sdk::Kind::Color, "red");
   const auto triangle = sdk::make_word(sdk::Kind::Shape, "triangle");
   const auto r = g.generalize(sdk::tokenize("visit red triangle"), P("{move right}"),
@@ -168,7 +168,7 @@ TEST_CASE("generalize: a non-equivalent candidate is never chosen", "[generalize
   FixedRewriter fixed({P("{move left}"), P("{{move right};{move right}}"), P("{visit room7}"),
                        sdk::make(sdk::Kind::VisitPoint, {sdk::make(sdk::Kind::PointVar)}),
                        P("{move left}"), P("{visit [10,8]}")});
-  Generalizer g(fixed, nullptr, env.exec);
+  Generalizer g(kernel::PluginRef<const sdk::Rewriter>::borrowed(fixed), nullptr, env.exec);
   // Packing rewards `left`, which only the non-equivalent `move left` contains.
   const auto r =
       g.generalize(sdk::tokenize("go left"), P("{move right}"), env.at({9, 8}), packs({left}));
@@ -190,8 +190,9 @@ TEST_CASE("generalize: a non-equivalent candidate is never chosen", "[generalize
 TEST_CASE("generalize: a body that errs keeps the body and rejects everything", "[generalize]") {
   testsupport::StudyEnv env;
   FixedRewriter fixed({P("{move left}")});
-  const auto r = Generalizer(fixed, nullptr, env.exec)
-                     .generalize({}, P("{{visit room7};{visit room7}}"), env.at({9, 8}), {});
+  const auto r =
+      Generalizer(kernel::PluginRef<const sdk::Rewriter>::borrowed(fixed), nullptr, env.exec)
+          .generalize({}, P("{{visit room7};{visit room7}}"), env.at({9, 8}), {});
   CHECK(r.body_won);
   CHECK(r.candidates[0].rejected_reason.empty());
   CHECK_FALSE(r.candidates[0].equivalent);

@@ -43,7 +43,7 @@ TEST_CASE("perturbed checks rank robust candidates first on a tie", "[generalize
   sdk::WorldState w = env.at({3, 8});
   testsupport::StudyEnv::add_item(w, {3, 8}, "blue", "square");
   const auto body = P("{{pick item {is blue}};{pick item {is blue}}}");
-  Generalizer g(*env.rewriter, nullptr, env.exec, {.perturbed_checks = 16});
+  Generalizer g(env.rewriter, nullptr, env.exec, {.perturbed_checks = 16});
   const auto r = g.generalize(sdk::tokenize("pick items is blue"), body, w, {});
   REQUIRE(r.perturbations == 16);
   const auto& loop = find(r, "{repeat 2 times {pick item {is blue}}}");
@@ -67,7 +67,7 @@ TEST_CASE("perturbed checks rank robust candidates first on a tie", "[generalize
 
 TEST_CASE("perturbed checks do not override the packing score", "[generalize][perturbed]") {
   testsupport::StudyEnv env;
-  Generalizer g(*env.rewriter, nullptr, env.exec, {.perturbed_checks = 8});
+  Generalizer g(env.rewriter, nullptr, env.exec, {.perturbed_checks = 8});
   const auto packing = [&](const sdk::Program& p) {
     const std::string t = sdk::render(p);
     return (t.find("red") != std::string::npos ? 1.0 : 0.0) +

@@ -37,6 +37,7 @@ inline std::string write_temp(const std::string& name, const std::string& text) 
   const auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp";
   std::filesystem::create_directories(dir);
   const auto path = dir / name;
+  std::filesystem::create_directories(path.parent_path());
   std::ofstream(path) << text;
   return path.string();
 }

@@ -21,7 +21,7 @@ test -f "$plugins/bfs_example.so" && test -f "$plugins/bfs_example.flipper.yaml"
 # The listing marks bfs_example as selected and loadable (other rows may vary with the build).
 listing=$("$build/bin/flipper" plugins --set "plugin_paths=[$plugins]" --set planner.plugin=bfs_example || true)
 echo "$listing"
-echo "$listing" | grep -Eq "^\* bfs_example +planner +0\.1\.0 +1 \(sdk 1\.[0-9]+\) +$plugins/bfs_example\.so +ok$"
+echo "$listing" | grep -Eq "^\* bfs_example +planner +0\.1\.0 +2 \(sdk 2\.[0-9]+\) +$plugins/bfs_example\.so +ok$"
 
 # A full check instantiates it with the kernel test plugins, and with the default config.
 "$build/bin/flipper" config check --config "$src/tests/kernel/data/kernel_test.yaml" \

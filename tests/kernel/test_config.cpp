@@ -1,6 +1,9 @@
 // Config: the embedded default, schema defaults, --set, dump, paths, and table-driven bad
 // configs asserting the exact code and the key words of each message.
+#include <yaml-cpp/yaml.h>
+
 #include <cstdlib>
+#include <functional>
 
 #include "kernel_test_support.hpp"
 
@@ -24,8 +27,7 @@ TEST_CASE("embedded default config has the documented values", "[config]") {
   CHECK(c.get_string_list("grammar.colors").size() == 9);
   CHECK(c.get_string_list("grammar.shapes") ==
         std::vector<std::string>{"triangle", "circle", "square"});
-  CHECK(c.get_string_list("grammar.directions") ==
-        std::vector<std::string>{"up", "down", "left", "right"});
+  CHECK(c.get_string_list("grammar.directions").empty());  // the world plugin's words
   CHECK(c.get_string("lexicon.sharing") == "shared");
   CHECK(c.get_string("lexicon.weights") == "global");
   CHECK(c.get_string("lexicon.preload").empty());
@@ -212,7 +214,8 @@ struct SetCase {
 };
 }  // namespace
 
-TEST_CASE("set overrides take text keys verbatim unless quoted, other keys are YAML", "[config][set]") {
+TEST_CASE("set overrides take text keys verbatim unless quoted, other keys are YAML",
+          "[config][set]") {
   const std::vector<SetCase> cases = {
       {"lexicon.path=:memory:", "lexicon.path", ":memory:"},
       {"lexicon.path=\":memory:\"", "lexicon.path", ":memory:"},
@@ -265,7 +268,8 @@ TEST_CASE("set overrides take text keys verbatim unless quoted, other keys are Y
   }
 }
 
-TEST_CASE("set overrides of plugin params: String/Path verbatim, other types as before", "[config][set]") {
+TEST_CASE("set overrides of plugin params: String/Path verbatim, other types as before",
+          "[config][set]") {
   sdk::ParamSchema schema;
   schema.add_string("label", "none", "");
   schema.add_path("map", std::string("maps/default.bt"), "");
@@ -293,4 +297,151 @@ TEST_CASE("set overrides of plugin params: String/Path verbatim, other types as 
                 {"planner.params.tags", "list of strings"});
   require_error([&] { (void)params({"planner.params.tags=[x,"}); }, "bad_config",
                 {"malformed --set 'planner.params.tags=[x,'"});
+}
+
+// --- extends: overlays ------------------------------------------------------------------------
+
+namespace {
+std::string configs_dir() {
+  return std::string(FLIPPER_SOURCE_DIR) + "/configs";
+}
+}  // namespace
+
+TEST_CASE("swap configs are overlays with the effective config of their old full copies",
+          "[config][extends]") {
+  CHECK(Config::embedded_default().dump() ==
+        Config::load(kerneltest::data_dir() + "/swap-full/default.yaml", {"grammar.directions=[]"})
+            .dump());
+  for (const char* name : {"grid-ompl", "octomap-astar", "octomap-ompl"}) {
+    INFO(name);
+    const Config overlay = Config::load(configs_dir() + "/" + name + ".yaml", {});
+    // The old copies listed the world's direction words, which now come from the world plugin.
+    const Config full = Config::load(kerneltest::data_dir() + "/swap-full/" + name + ".yaml",
+                                     {"grammar.directions=[]"});
+    CHECK(overlay.dump() == full.dump());
+    // Paths written in default.yaml resolve against default.yaml's directory.
+    CHECK(overlay.get_path("grammar.file") == configs_dir() + "/grammars/core.grammar");
+  }
+  const Config octo = Config::load(configs_dir() + "/octomap-ompl.yaml", {});
+  CHECK(octo.get_path("world.file") == configs_dir() + "/worlds/two-floors.json");
+  CHECK(octo.plugin_name("planner") == "ompl");
+  CHECK(octo.plugin_name("rewriter") == "rewrites");
+}
+
+TEST_CASE("an overlay's paths resolve against its own file, the base's against the base's",
+          "[config][extends]") {
+  const std::string base = kerneltest::write_temp(
+      "extends/base/base.yaml",
+      "world: {plugin: test_world, file: base-world.json, params: {size: 3}}\n"
+      "planner: {plugin: test_planner, params: {mode: fancy, data: base.dat}}\n"
+      "parser: {plugin: test_parser}\nscorer: {plugin: test_scorer}\n"
+      "grammar: {file: base.grammar}\nsession: {k: 7}\n");
+  const std::string overlay = kerneltest::write_temp("extends/top/overlay.yaml",
+                                                     "extends: ../base/base.yaml\n"
+                                                     "grammar: {file: top.grammar}\n"
+                                                     "planner: {params: {data: top.dat}}\n"
+                                                     "world: {params: {dims: 3}}\n");
+  const std::string base_dir = std::filesystem::path(base).parent_path().string();
+  const std::string top_dir = std::filesystem::path(overlay).parent_path().string();
+  const Config c = Config::load(overlay, {});
+  CHECK(c.get_path("world.file") == base_dir + "/base-world.json");
+  CHECK(c.get_path("grammar.file") == top_dir + "/top.grammar");
+  CHECK(c.get_int("session.k") == 7);
+  CHECK(c.base_dir() == top_dir);
+  CHECK_THAT(c.path_origin("world.file"),
+             Catch::Equals("world.file 'base-world.json' from " + base + " (extended by " +
+                           overlay + "): relative to its directory " + base_dir));
+  // Same plugin: params merge key by key, each path from its own file.
+  sdk::ParamSchema planner;
+  planner.add_string("mode", "plain", "");
+  planner.add_path("data", std::nullopt, "");
+  const sdk::Params p = c.plugin_params("planner", planner);
+  CHECK(p.get_string("mode") == "fancy");
+  CHECK(p.get_string("data") == top_dir + "/top.dat");
+  sdk::ParamSchema world;
+  world.add_int("size", 5, "");
+  world.add_int("dims", 2, "");
+  const sdk::Params w = c.plugin_params("world", world);
+  CHECK(w.get_int("size") == 3);
+  CHECK(w.get_int("dims") == 3);
+  // --set still resolves against the current directory.
+  CHECK(Config::load(overlay, {"world.file=x.json"}).get_path("world.file") ==
+        (std::filesystem::current_path() / "x.json").string());
+}
+
+TEST_CASE("an overlay that swaps a plugin starts that plugin's params afresh",
+          "[config][extends]") {
+  const std::string base = kerneltest::write_temp(
+      "extends/swap/base.yaml", "planner: {plugin: astar, params: {heuristic: manhattan}}\n");
+  const std::string overlay = kerneltest::write_temp(
+      "extends/swap/overlay.yaml", "extends: base.yaml\nplanner: {plugin: ompl}\n");
+  const Config c = Config::load(overlay, {});
+  CHECK(c.plugin_name("planner") == "ompl");
+  CHECK_FALSE(c.has("planner.params.heuristic"));
+  const std::string same = kerneltest::write_temp("extends/swap/same.yaml",
+                                                  "extends: base.yaml\nplanner: {plugin: astar}\n");
+  CHECK(Config::load(same, {}).get_string("planner.params.heuristic") == "manhattan");
+}
+
+TEST_CASE("extends cycles, missing bases and bad values are config errors", "[config][extends]") {
+  const std::string a = kerneltest::write_temp("extends/cycle/a.yaml", "extends: b.yaml\n");
+  const std::string b = kerneltest::write_temp("extends/cycle/b.yaml", "extends: ./a.yaml\n");
+  require_error([&] { (void)Config::load(a, {}); }, "bad_config",
+                {"extends cycle: ", "a.yaml -> ", "b.yaml -> ", "a.yaml"});
+  const std::string self =
+      kerneltest::write_temp("extends/cycle/self.yaml", "extends: self.yaml\n");
+  require_error([&] { (void)Config::load(self, {}); }, "bad_config", {"extends cycle"});
+  const std::string missing =
+      kerneltest::write_temp("extends/missing.yaml", "extends: nowhere/base.yaml\n");
+  require_error(
+      [&] { (void)Config::load(missing, {}); }, "bad_config",
+      {"config " + missing + ": extends 'nowhere/base.yaml', but there is no config at '" +
+       std::filesystem::path(missing).parent_path().string() + "/nowhere/base.yaml'"});
+  const std::string list = kerneltest::write_temp("extends/list.yaml", "extends: [a, b]\n");
+  require_error([&] { (void)Config::load(list, {}); }, "bad_config",
+                {"'extends' must be the path of the config this one overlays, got a list"});
+  // An error in the base names the base file.
+  const std::string bad_base = kerneltest::write_temp("extends/bad/base.yaml", "session: {k: 3\n");
+  const std::string bad_top =
+      kerneltest::write_temp("extends/bad/top.yaml", "extends: base.yaml\n");
+  require_error([&] { (void)Config::load(bad_top, {}); }, "bad_config", {bad_base + ":"});
+  // An overlay is validated as any config: a typo is refused with a hint.
+  const std::string typo =
+      kerneltest::write_temp("extends/typo.yaml", "extends: good/base.yaml\nsesion: {k: 3}\n");
+  (void)kerneltest::write_temp("extends/good/base.yaml", "session: {k: 3}\n");
+  require_error([&] { (void)Config::load(typo, {}); }, "bad_config",
+                {"unknown config key 'sesion'", "did you mean 'session'"});
+}
+
+TEST_CASE("configs/default.yaml restates no schema default", "[config][defaults]") {
+  // A leaf it sets to the value a config that sets nothing gets would be a second copy.
+  const std::string empty = kerneltest::write_temp("defaults/empty.yaml", "{}\n");
+  const YAML::Node schema_only = YAML::Load(Config::load(empty, {}).dump());
+  const auto emit = [](const YAML::Node& n) {
+    YAML::Emitter out;
+    out.SetSeqFormat(YAML::Flow);
+    out.SetMapFormat(YAML::Flow);
+    out << n;
+    return std::string(out.c_str());
+  };
+  std::vector<std::string> restated;
+  std::function<void(const YAML::Node&, const YAML::Node&, const std::string&)> walk =
+      [&](const YAML::Node& mine, const YAML::Node& theirs, const std::string& key) {
+        if (!theirs.IsDefined() || theirs.IsNull()) return;  // not a schema default
+        if (mine.IsMap() && mine.size() > 0 && theirs.IsMap()) {
+          for (const auto& kv : mine) {
+            const std::string name = kv.first.Scalar();
+            walk(kv.second, theirs[name], key.empty() ? name : key + "." + name);
+          }
+          return;
+        }
+        if (emit(mine) == emit(theirs)) restated.push_back(key);
+      };
+  walk(YAML::LoadFile(configs_dir() + "/default.yaml"), schema_only, "");
+  INFO("restated: " << Catch::Detail::stringify(restated));
+  CHECK(restated.empty());
+  // The old default.yaml restated nearly everything: the check sees it.
+  restated.clear();
+  walk(YAML::LoadFile(kerneltest::data_dir() + "/swap-full/default.yaml"), schema_only, "");
+  CHECK(restated.size() > 40);
 }

@@ -44,7 +44,7 @@ TEST_CASE("a plugin is created with validated params and keeps its library loade
   {
     const auto config = kerneltest::test_config();
     const PluginLoader loader(PluginLoader::search_path_for(config));
-    planner = loader.create<sdk::Planner>(config, "planner");
+    planner = loader.create<sdk::Planner>(config, "planner").shared();
   }  // loader and config gone: the object alone keeps the code mapped
   REQUIRE(planner != nullptr);
   const sdk::Geometry g(2, {0, 0, 0}, {0, 0, 0}, {1}, {}, {});
@@ -115,7 +115,7 @@ TEST_CASE("broken plugins are refused cleanly, naming file and values", "[loader
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
        {"Wrong API version on plugin 'bad_abi' (" + bad + "/bad_abi.so).",
-        "Got version 2, supported version is 1."}},
+        "Got version 3, supported version is 2."}},
       {"bad_size",
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
@@ -123,12 +123,12 @@ TEST_CASE("broken plugins are refused cleanly, naming file and values", "[loader
       {"bad_sdk_major",
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
-       {"Wrong SDK version on plugin 'bad_sdk_major'", "Got version 2.",  // 2.<the SDK minor>
-        "supported version is 1."}},
+       {"Wrong SDK version on plugin 'bad_sdk_major'", "Got version 3.",  // 3.<the SDK minor>
+        "supported version is 2."}},
       {"bad_sdk_minor",
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
-       {"Wrong SDK version", "Got version 1.99"}},
+       {"Wrong SDK version", "Got version 2.99"}},
       {"bad_fingerprint",
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
@@ -161,7 +161,7 @@ TEST_CASE("broken plugins are refused cleanly, naming file and values", "[loader
     require_error(
         [&] { (void)loader.instantiate(p, sdk::validate_params(p.schema(), {}, "")); },
         "plugin_error",
-        {"plugin 'throwing' (" + bad + "/throwing.so): cannot open the planner database"});
+        {"plugin 'throwing' (" + bad + "/throwing.so): create: cannot open the planner database"});
   }
 }
 

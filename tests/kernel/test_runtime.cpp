@@ -8,21 +8,23 @@ using kerneltest::require_error;
 
 TEST_CASE("make_runtime loads plugins, grammar and the default world", "[runtime]") {
   const auto rt = kernel::make_runtime(kerneltest::test_config());
-  REQUIRE(rt->world != nullptr);
-  REQUIRE(rt->planner != nullptr);
-  REQUIRE(rt->parser != nullptr);
-  REQUIRE(rt->scorer != nullptr);
-  CHECK(rt->rewriter == nullptr);
-  CHECK(rt->similarity == nullptr);
+  REQUIRE(rt->world);
+  REQUIRE(rt->planner);
+  REQUIRE(rt->parser);
+  REQUIRE(rt->scorer);
+  CHECK_FALSE(rt->rewriter);
+  CHECK_FALSE(rt->similarity);
   REQUIRE(rt->core_grammar != nullptr);
   CHECK(rt->core_grammar->rules.size() == 4);
   // The test parser reports the number of rules it was given as `derivations`.
   sdk::ParseRequest req;
-  req.scorer = rt->scorer.get();
-  CHECK(rt->parser->parse(req).derivations == 4);
+  req.scorer = rt->scorer.borrow();
+  CHECK(rt->parser.borrow()->parse(req).derivations == 4);
   REQUIRE(rt->default_world.geometry != nullptr);
   CHECK(rt->default_world.geometry->size_x() == 4);  // world.params.size from the config
-  CHECK(rt->world->dims() == 2);
+  CHECK(rt->world.borrow()->dims() == 2);
+  CHECK(rt->planner.id().name == "test_planner");
+  CHECK(rt->planner.id().file == kerneltest::good_dir() + "/test_planner.so");
 }
 
 TEST_CASE("a 3-D world needs a planner that supports 3-D", "[runtime]") {
@@ -57,4 +59,20 @@ TEST_CASE("runtime errors name the failing plugin", "[runtime]") {
   require_error(
       [] { (void)kernel::make_runtime(kerneltest::test_config({"grammar.file=nope.grammar"})); },
       "bad_grammar", {"nope.grammar"});
+}
+
+TEST_CASE("the grammar's direction words come from the world plugin", "[runtime]") {
+  // The test world knows one direction, `right`.
+  const auto rt = kernel::make_runtime(kerneltest::test_config());
+  CHECK(rt->core_grammar->directions == std::vector<std::string>{"right"});
+  CHECK(kernel::make_runtime(kerneltest::test_config({"grammar.directions=[right]"}))
+            ->core_grammar->directions == std::vector<std::string>{"right"});
+  // A word the world does not know is a config error, before anything runs.
+  require_error(
+      [] {
+        (void)kernel::make_runtime(kerneltest::test_config({"grammar.directions=[right, up]"}));
+      },
+      "bad_config",
+      {"grammar.directions names 'up', which world plugin 'test_world' does not know (its "
+       "directions: right)"});
 }

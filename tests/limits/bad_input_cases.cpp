@@ -162,6 +162,24 @@ const std::vector<CliRow>& cli_rows() {
        [](const Scratch& s) {
          return "{flipper} run --set 'plugin_paths=[" + s.truncated_dir + "]' 'move left'";
        }},
+      {"`flipper run` of `pick item not is red and …` ×30 (`session.deadline_ms` 1000)",
+       "deadline_exceeded",
+       "deadline exceeded while parsing: the request took longer than session.deadline_ms = 1000",
+       1,
+       [](const Scratch&) {
+         std::string text = "pick item not is red";
+         for (int i = 1; i < 30; ++i) text += " and not is red";
+         return "{flipper} run --set lexicon.path=:memory: --set session.deadline_ms=1000 '" +
+                text + "'";
+       }},
+      {"`flipper run` of 2,500 × `é` (5,000 bytes): code points count, as in a query",
+       "input_too_long", "the utterance has 2500 characters; the limit is input.max_chars = 2000",
+       1,
+       [](const Scratch&) {
+         std::string text;
+         for (int i = 0; i < 2500; ++i) text += "\xc3\xa9";
+         return "{flipper} run --set lexicon.path=:memory: '" + text + "'";
+       }},
       {"a duplicate key in a config file", "bad_config", "duplicate key 'k' (first at line 2)", 2,
        [](const Scratch& s) { return "{flipper} config check " + s.dup_config; }},
       {"`/dev/zero` as the config file", "bad_config",

@@ -129,7 +129,7 @@ TEST_CASE("an accept whose lexicon transaction fails applies nothing, and a retr
   user(*s, "ana");
   REQUIRE(define(*s, "go west", {"move left"})["ok"] == true);
   const Json before = s->handle({{"op", "state"}})["world"];
-  const std::string weights = s->runtime().scorer->save_state();
+  const std::string weights = s->runtime().scorer.borrow()->save_state();
   const Json q = s->handle({{"op", "query"}, {"text", "go west"}});
   REQUIRE(q["status"] == "induced");
   const Json expected = q["candidates"][0]["world"];
@@ -145,8 +145,8 @@ TEST_CASE("an accept whose lexicon transaction fails applies nothing, and a retr
     const Json failed = s->handle({{"op", "accept"}, {"rank", 0}});
     CHECK(error_code(failed) == "lexicon_busy");
     CHECK_THAT(failed["error"]["message"].get<std::string>(), Catch::Contains(store));
-    CHECK(s->handle({{"op", "state"}})["world"] == before);  // world unchanged
-    CHECK(s->runtime().scorer->save_state() == weights);     // nothing learned
+    CHECK(s->handle({{"op", "state"}})["world"] == before);        // world unchanged
+    CHECK(s->runtime().scorer.borrow()->save_state() == weights);  // nothing learned
   }
   CHECK(uses() == 0);
   const Json retried = s->handle({{"op", "accept"}, {"rank", 0}});
@@ -154,7 +154,7 @@ TEST_CASE("an accept whose lexicon transaction fails applies nothing, and a retr
   CHECK(s->handle({{"op", "state"}})["world"] == expected);  // applied exactly once
   // One reading: the scorer has nothing to learn (a softmax over one candidate); the use
   // counter below shows the accept counted once.
-  CHECK(s->runtime().scorer->save_state() == weights);
+  CHECK(s->runtime().scorer.borrow()->save_state() == weights);
   CHECK(uses() == 1);
   CHECK(error_code(s->handle({{"op", "accept"}, {"rank", 0}})) == "no_query");
   kernel::LexiconStore reopened(store);

@@ -127,10 +127,10 @@ TEST_CASE("rules, counters and weights survive a restart", "[naturalize]") {
     define(*s, "pick 3 items", {"repeat 3 times pick item"});
     REQUIRE(status(*s, "pick 2 items") == "induced");
     REQUIRE(s->handle({{"op", "accept"}, {"rank", 0}})["ok"] == true);
-    weights = s->runtime().scorer->save_state();
+    weights = s->runtime().scorer.borrow()->save_state();
   }
   auto s = open(store);
-  CHECK(s->runtime().scorer->save_state() == weights);
+  CHECK(s->runtime().scorer.borrow()->save_state() == weights);
   user(*s, "ana");
   CHECK(status(*s, "pick 4 items") == "induced");
   const Json rules = s->handle({{"op", "rules"}});
@@ -191,17 +191,17 @@ TEST_CASE("define generalizes a too specific body before inducing", "[naturalize
 TEST_CASE("per-user weights: each user's accepts train only their own model", "[naturalize]") {
   const std::string store = scratch_path("lex") + ".sqlite";
   auto s = open(store, {"lexicon.weights=per_user"});
-  const std::string initial = s->runtime().scorer->save_state();
+  const std::string initial = s->runtime().scorer.borrow()->save_state();
   user(*s, "ana");
   const Json q = s->handle({{"op", "query"}, {"text", "pick item not is red and is green"}});
   REQUIRE(q["candidates"].size() >= 2);
   REQUIRE(s->handle({{"op", "accept"}, {"rank", 1}})["ok"] == true);
-  const std::string ana = s->runtime().scorer->save_state();
+  const std::string ana = s->runtime().scorer.borrow()->save_state();
   CHECK(ana != initial);
   user(*s, "bob");
-  CHECK(s->runtime().scorer->save_state() == initial);
+  CHECK(s->runtime().scorer.borrow()->save_state() == initial);
   user(*s, "ana");
-  CHECK(s->runtime().scorer->save_state() == ana);
+  CHECK(s->runtime().scorer.borrow()->save_state() == ana);
   // Stored as weights under ana's key only (the scorer is incremental), each equal to ana's model.
   kernel::LexiconStore reopened(store);
   const auto stored = reopened.weight_changes("user:ana");
@@ -215,4 +215,55 @@ TEST_CASE("per-user weights: each user's accepts train only their own model", "[
   CHECK(reopened.weight_changes("user:bob").empty());
   CHECK(reopened.weight_changes("global").empty());
   CHECK_FALSE(reopened.load_weights("user:ana"));
+}
+
+namespace {
+// Forwards to the real scorer and records what the kernel put in the contexts it was given.
+class RecordingScorer : public sdk::Scorer {
+ public:
+  explicit RecordingScorer(std::shared_ptr<sdk::Scorer> real) : real_(std::move(real)) {}
+  mutable bool scored_with_usage = false;
+  mutable std::uint64_t most_uses_by_others = 0;
+  bool learned_with_usage = false;
+
+ protected:
+  double do_score_node(const sdk::Derivation& n, const sdk::ScoreContext& ctx) const override {
+    if (ctx.usage != nullptr && n.rule) {
+      scored_with_usage = true;
+      most_uses_by_others = std::max(most_uses_by_others, ctx.usage->uses(n.rule->id).by_others);
+    }
+    return real_->score_node(n, ctx);
+  }
+  void do_features(const sdk::Derivation& n, const sdk::ScoreContext& ctx,
+                   sdk::FeatureVector& out) const override {
+    real_->features(n, ctx, out);
+  }
+  void do_learn(const std::vector<sdk::Candidate>& c, std::size_t accepted,
+                const sdk::ScoreContext& ctx) override {
+    learned_with_usage = ctx.usage != nullptr;
+    real_->learn(c, accepted, ctx);
+  }
+  std::string do_save_state() const override { return real_->save_state(); }
+  void do_load_state(std::string_view state) override { real_->load_state(state); }
+
+ private:
+  std::shared_ptr<sdk::Scorer> real_;
+};
+}  // namespace
+
+TEST_CASE("scorers read the kernel's use counts from their context", "[naturalize]") {
+  auto s = open(scratch_path("lex") + ".sqlite");
+  kernel::Runtime& rt = s->runtime();
+  auto recording = std::make_shared<RecordingScorer>(rt.scorer.shared());
+  rt.scorer = kernel::PluginRef<sdk::Scorer>(recording, rt.scorer.id());
+  user(*s, "ana");
+  define(*s, "go west", {"move left"});
+  user(*s, "bob");
+  REQUIRE(status(*s, "go west") == "induced");
+  CHECK(recording->scored_with_usage);
+  CHECK(recording->most_uses_by_others == 0);
+  REQUIRE(s->handle({{"op", "accept"}, {"rank", 0}})["ok"] == true);
+  CHECK(recording->learned_with_usage);
+  REQUIRE(status(*s, "go west") == "induced");
+  CHECK(recording->most_uses_by_others == 1);  // bob's accept of ana's rule, as the table says
 }

@@ -45,12 +45,22 @@ TEST_CASE("features of a node and the initial score") {
   rule.induced = true;
   rule.how = sdk::RuleOrigin::alignment;
   rule.author = "bob";
-  rule.usage->by_others = 3;
   sdk::Derivation d;
   d.rule = std::make_shared<sdk::Rule>(std::move(rule));
   d.start = 0;
   d.end = 2;
   d.core_only = false;
+  // Use counts come from the kernel's counters in the context, not from the rule.
+  f.clear();
+  st.scorer->features(d, ctx, f);
+  CHECK(has("used_by_others=no"));
+  CHECK_FALSE(has("uses_by_others"));
+  struct Counters : sdk::UsageCounters {
+    sdk::RuleUses uses(const std::string& id) const override {
+      return id == "r9" ? sdk::RuleUses{0, 3} : sdk::RuleUses{};
+    }
+  } counters;
+  ctx.usage = &counters;
   f.clear();
   st.scorer->features(d, ctx, f);
   CHECK(has("induced"));

@@ -88,7 +88,7 @@ struct Client {
 };
 
 Plain plugin_text(flipper::kernel::Session& s, const flipper::sdk::WorldState& state) {
-  return Plain::parse(s.runtime().world->save(state));
+  return Plain::parse(s.runtime().world.borrow()->save(state));
 }
 
 }  // namespace

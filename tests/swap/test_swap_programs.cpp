@@ -240,3 +240,44 @@ TEST_CASE("swap: 3-D moves use the plan-view words and ascend/descend", "[swap]"
   o = exec.run(move("left"), s);
   REQUIRE(o.world.robot == Cell{0, 1, 0});
 }
+
+TEST_CASE("swap: astar and ompl agree exactly on the edge cases the SDK decides", "[swap]") {
+  // SDK 2.0: Planner::plan/tour settle an empty goal set, a start outside the bounds, a stop
+  // that already fired and an empty tour before either plugin runs.
+  const sdk::WorldState s = start_world("grid2d");
+  const sdk::Geometry& g = *s.geometry;
+  sdk::StopCondition fired;
+  fired.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  const sdk::Area empty, room1 = s.rooms->at("room1");
+  const std::vector<Cell> points{{11, 1, 0}, {0, 0, 0}, {9, 0, 0}};
+  struct Seen {
+    std::string empty_goals, fired_plan, outside, fired_tour, no_points;
+  };
+  std::map<std::string, Seen> seen;
+  for (const char* name : {"astar", "ompl"}) {
+    const auto planner = testsupport::load_plugin<sdk::Planner>(name);
+    auto path = [&](const sdk::PathResult& r) {
+      return std::string(sdk::to_string(r.status)) + ": " + r.message + " (" +
+             std::to_string(r.path.size()) + " cells)";
+    };
+    auto tour = [&](const sdk::TourResult& t) {
+      std::string order;
+      for (std::size_t i : t.order) order += std::to_string(i) + " ";
+      return std::string(sdk::to_string(t.status)) + ": " + order;
+    };
+    seen[name] = {path(planner->plan(g, {s.robot, &empty, nullptr}, fired)),
+                  path(planner->plan(g, {s.robot, &room1, nullptr}, fired)),
+                  path(planner->plan(g, {{99, 0, 0}, &room1, nullptr}, {})),
+                  tour(planner->tour(g, s.robot, points, fired)),
+                  tour(planner->tour(g, s.robot, {}, fired))};
+  }
+  for (const char* name : {"astar", "ompl"}) {
+    INFO(name);
+    const Seen& r = seen[name];
+    CHECK(r.empty_goals == "invalid: the goal set is empty (0 cells)");
+    CHECK(r.fired_plan == "stopped: stopped before planning (0 cells)");
+    CHECK(r.outside == "invalid: start [99,0] is outside the bounds (0 cells)");
+    CHECK(r.fired_tour == "stopped: 1 2 0 ");  // (x, y, z) order: [0,0], [9,0], [11,1]
+    CHECK(r.no_points == "found: ");
+  }
+}

@@ -117,9 +117,9 @@ LogHints hints(const WorldSnapshot& was, const WorldSnapshot& want) {
 bool reproduces(const sdk::Program& program, const sdk::WorldState& start,
                 const sdk::Planner& planner, const Alternative& alt, const LogHints& log,
                 const WorldSnapshot& want) {
-  // A non-owning shared_ptr: the wrapper lives on this stack frame for the whole run.
+  // Borrowed: the wrapper lives on this stack frame for the whole run.
   const ProofPlanner proof(planner, alt, log);
-  const Executor exec(std::shared_ptr<const sdk::Planner>(std::shared_ptr<void>(), &proof));
+  const Executor exec(PluginRef<const sdk::Planner>::borrowed(proof));
   const sdk::Outcome o =
       exec.run(program, alt.logged_items ? with_logged_items_first(start, log) : start);
   return !o.error && snapshot(o.world) == want;

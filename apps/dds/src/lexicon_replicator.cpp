@@ -274,7 +274,8 @@ bool LexiconReplicator::apply_define(LogRow& row) {
   std::optional<sdk::WorldState> world;
   if (!row.event.world.empty()) {
     try {
-      world = host_.runtime->world->load(row.event.world, ".");
+      world = host_.runtime->world.call(
+          "load", [&](const sdk::World& w) { return w.load(row.event.world, "."); });
       req.before = &*world;
       req.exec = &executor_;
     } catch (const std::exception& ex) {

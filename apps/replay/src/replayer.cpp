@@ -240,9 +240,10 @@ class RunReplay {
                                        : nlohmann::json();
     const nlohmann::json& before_json =
         before == corpus_.worlds.end() ? start_json : before->second;
-    row.diff = corpus::class_id(corpus::classify_accept(
-        {before_json, after->second, c.next_world_id, program, start, outcome,
-         original.path.is_array() ? &original.path : nullptr, session_->runtime().planner.get()}));
+    row.diff = corpus::class_id(
+        corpus::classify_accept({before_json, after->second, c.next_world_id, program, start,
+                                 outcome, original.path.is_array() ? &original.path : nullptr,
+                                 session_->runtime().planner.borrow()}));
   }
 
   void define_command(const Command& c) {

@@ -1,5 +1,6 @@
-// Config loading: file (or the embedded default) -> --set overrides -> drop nulls -> validate
-// against the kernel schema -> fill defaults -> reorder as the schema lists keys.
+// Config loading: file (or the embedded default), over the files it `extends` -> --set overrides
+// -> drop nulls -> validate against the kernel schema -> fill defaults -> reorder as the schema
+// lists keys.
 #include "flipper/kernel/config.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -25,6 +26,11 @@ extern const char* const kEmbeddedDefaultConfig;  // generated from configs/defa
 }
 
 namespace fs = std::filesystem;
+
+struct ConfigOrigin {
+  std::string file;
+  std::string dir;
+};
 using detail::KeySpec;
 using detail::KeyType;
 using sdk::Error;
@@ -36,6 +42,8 @@ struct Config::Impl {
   std::string base_dir;
   std::set<std::string> cli_keys;  // keys given by --set: their paths resolve against `cwd`
   std::string cwd;                 // the current directory when the config was loaded
+  // Keys whose value came from a file this one extends: file and directory they resolve against.
+  std::map<std::string, ConfigOrigin> origins;
 };
 
 namespace {
@@ -314,7 +322,8 @@ std::string default_config_dir() {
 }
 
 Config build(YAML::Node root, std::string source, std::string base_dir,
-             const std::vector<std::string>& overrides, std::set<std::string> cli_keys = {}) {
+             const std::vector<std::string>& overrides, std::set<std::string> cli_keys = {},
+             std::map<std::string, ConfigOrigin> origins = {}) {
   for (const auto& a : overrides) apply_assignment(root, a, cli_keys);
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   const YAML::Node cleaned = without_nulls(root);
@@ -328,6 +337,7 @@ Config build(YAML::Node root, std::string source, std::string base_dir,
   impl->source = std::move(source);
   impl->base_dir = std::move(base_dir);
   impl->cli_keys = std::move(cli_keys);
+  impl->origins = std::move(origins);
   std::error_code ec;
   impl->cwd = fs::current_path(ec).string();
   return Config(std::move(impl));
@@ -362,6 +372,122 @@ YAML::Node parse_yaml(const std::string& text, const std::string& source) {
   }
 }
 
+std::string resolve_against(const std::string& base, const std::string& path) {
+  if (path.empty()) return path;
+  if (path == "~" || path.rfind("~/", 0) == 0) {
+    const char* home = std::getenv("HOME");
+    return (fs::path(home ? home : "") / path.substr(path.size() > 1 ? 2 : 1)).string();
+  }
+  const fs::path p(path);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (fs::path(base) / p).lexically_normal().string();
+}
+
+// --- extends: a config overlays another (README "Configuration") ----------------------------
+
+constexpr std::size_t kMaxExtendsDepth = 16;
+
+// A config file is small: regular files of at most 16 MiB (a fixed limit, since the config
+// cannot set its own), so /dev/zero or a FIFO is an error, not a hang.
+std::string read_config_file(const std::string& path) {
+  constexpr std::uint64_t kMaxConfigBytes = 16u << 20;
+  try {
+    return read_regular_file(path, kMaxConfigBytes, "config file", codes::kBadConfig);
+  } catch (const Error& e) {
+    fail(e.what());  // every config problem is bad_config (exit status 2)
+  }
+}
+
+bool starts_with_key(const std::string& key, const std::string& prefix) {
+  return key == prefix || (key.size() > prefix.size() &&
+                           key.compare(0, prefix.size(), prefix) == 0 && key[prefix.size()] == '.');
+}
+
+void erase_below(std::map<std::string, ConfigOrigin>& origins, const std::string& prefix) {
+  for (auto it = origins.begin(); it != origins.end();)
+    it = starts_with_key(it->first, prefix) ? origins.erase(it) : std::next(it);
+}
+
+// Records `origin` for every leaf under `node` that has none yet (deeper bases recorded theirs).
+void record_leaves(const YAML::Node& node, const std::string& prefix, const ConfigOrigin& origin,
+                   std::map<std::string, ConfigOrigin>& origins) {
+  if (node.IsMap()) {
+    for (const auto& kv : node)
+      record_leaves(kv.second,
+                    prefix.empty() ? kv.first.Scalar() : prefix + "." + kv.first.Scalar(), origin,
+                    origins);
+    return;
+  }
+  if (!prefix.empty()) origins.emplace(prefix, origin);
+}
+
+// `overlay` over `base`: maps merge key by key, anything else (scalars, lists, null) replaces.
+// A plugin section whose `plugin` the overlay changes starts with no params: the base's params
+// belong to the other plugin.
+YAML::Node merge(const YAML::Node& base, const YAML::Node& overlay, const std::string& prefix,
+                 std::map<std::string, ConfigOrigin>& origins) {
+  if (!base.IsMap() || !overlay.IsMap()) {
+    erase_below(origins, prefix);
+    return YAML::Clone(overlay);
+  }
+  YAML::Node out = YAML::Clone(base);
+  const auto& sections = Config::plugin_sections();
+  const bool plugin_section = std::find(sections.begin(), sections.end(), prefix) != sections.end();
+  if (plugin_section && overlay["plugin"].IsDefined() && base["plugin"].IsDefined() &&
+      overlay["plugin"].IsScalar() && base["plugin"].IsScalar() &&
+      overlay["plugin"].Scalar() != base["plugin"].Scalar()) {
+    out.remove("params");
+    erase_below(origins, prefix + ".params");
+  }
+  for (const auto& kv : overlay) {
+    const std::string name = kv.first.Scalar();
+    const std::string key = prefix.empty() ? name : prefix + "." + name;
+    const YAML::Node here = out[name];
+    out[name] = here.IsDefined() ? merge(here, kv.second, key, origins) : YAML::Clone(kv.second);
+    if (!here.IsDefined()) erase_below(origins, key);
+  }
+  return out;
+}
+
+struct Layered {
+  YAML::Node root;
+  std::map<std::string, ConfigOrigin> origins;  // keys that came from extended files
+};
+
+// Reads `file` (named `shown` in messages) and, when it says `extends: BASE`, the chain of files
+// below it. `chain` holds the canonical paths being read, to refuse cycles.
+Layered load_layers(const std::string& file, const std::string& shown,
+                    std::vector<std::string>& chain) {
+  YAML::Node root = parse_yaml(read_config_file(file), shown);
+  if (!root.IsMap() || !root["extends"].IsDefined()) return {root, {}};
+  const YAML::Node ext = root["extends"];
+  if (!ext.IsScalar() || ext.Scalar().empty())
+    fail("config " + shown + ": 'extends' must be the path of the config this one overlays, got " +
+         scalar_text(ext));
+  const fs::path dir = fs::absolute(file).lexically_normal().parent_path();
+  const std::string base = resolve_against(dir.string(), ext.Scalar());
+  std::error_code ec;
+  if (!fs::exists(base, ec))
+    fail("config " + shown + ": extends '" + ext.Scalar() + "', but there is no config at '" +
+         base + "' (relative to its directory " + dir.string() + ")");
+  const std::string id = fs::weakly_canonical(base, ec).string();
+  if (std::find(chain.begin(), chain.end(), id) != chain.end()) {
+    std::string cycle;
+    for (const auto& c : chain) cycle += c + " -> ";
+    fail("config " + shown + ": extends cycle: " + cycle + id);
+  }
+  if (chain.size() >= kMaxExtendsDepth)
+    fail("config " + shown + ": more than " + std::to_string(kMaxExtendsDepth) +
+         " configs extend one another");
+  chain.push_back(id);
+  Layered below = load_layers(base, base, chain);
+  chain.pop_back();
+  record_leaves(below.root, "", {base, fs::path(base).parent_path().string()}, below.origins);
+  root.remove("extends");
+  below.root = merge(below.root, root, "", below.origins);
+  return below;
+}
+
 YAML::Node node_at(const Config::Impl& impl, const std::string& key) {
   auto v = lookup(impl.root, split_key(key));
   if (!v) fail("config key '" + key + "' is not set");
@@ -378,17 +504,12 @@ Config Config::load(const std::optional<std::string>& file,
     return build(parse_yaml(detail::kEmbeddedDefaultConfig, kEmbeddedSource), kEmbeddedSource,
                  default_config_dir(), overrides);
   }
-  // A config file is small: regular files of at most 16 MiB (a fixed limit, since the config
-  // cannot set its own), so /dev/zero or a FIFO is an error, not a hang.
-  constexpr std::uint64_t kMaxConfigBytes = 16u << 20;
-  std::string text;
-  try {
-    text = read_regular_file(*file, kMaxConfigBytes, "config file", codes::kBadConfig);
-  } catch (const Error& e) {
-    fail(e.what());  // every config problem is bad_config (exit status 2)
-  }
   const fs::path abs = fs::absolute(*file).lexically_normal();
-  return build(parse_yaml(text, *file), *file, abs.parent_path().string(), overrides);
+  std::error_code ec;
+  std::vector<std::string> chain{fs::weakly_canonical(abs, ec).string()};
+  Layered layers = load_layers(*file, *file, chain);
+  return build(std::move(layers.root), *file, abs.parent_path().string(), overrides, {},
+               std::move(layers.origins));
 }
 
 Config Config::embedded_default() {
@@ -402,25 +523,15 @@ const std::string& Config::base_dir() const {
   return impl_->base_dir;
 }
 
-namespace {
-std::string resolve_against(const std::string& base, const std::string& path) {
-  if (path.empty()) return path;
-  if (path == "~" || path.rfind("~/", 0) == 0) {
-    const char* home = std::getenv("HOME");
-    return (fs::path(home ? home : "") / path.substr(path.size() > 1 ? 2 : 1)).string();
-  }
-  const fs::path p(path);
-  if (p.is_absolute()) return p.lexically_normal().string();
-  return (fs::path(base) / p).lexically_normal().string();
-}
-}  // namespace
-
 std::string Config::resolve_path(const std::string& path) const {
   return resolve_against(impl_->base_dir, path);
 }
 
 std::string Config::resolve_path_of(const std::string& key, const std::string& path) const {
-  return resolve_against(impl_->cli_keys.count(key) ? impl_->cwd : impl_->base_dir, path);
+  if (impl_->cli_keys.count(key)) return resolve_against(impl_->cwd, path);
+  if (auto it = impl_->origins.find(key); it != impl_->origins.end())
+    return resolve_against(it->second.dir, path);
+  return resolve_against(impl_->base_dir, path);
 }
 
 std::string Config::path_origin(const std::string& key) const {
@@ -428,8 +539,10 @@ std::string Config::path_origin(const std::string& key) const {
   const std::string value = node && node->IsScalar() ? " '" + node->Scalar() + "'" : "";
   if (impl_->cli_keys.count(key))
     return key + value + " from --set: relative to the current directory " + impl_->cwd;
-  return key + value + " from " + impl_->source + ": relative to its directory " +
-         impl_->base_dir;
+  if (auto it = impl_->origins.find(key); it != impl_->origins.end())
+    return key + value + " from " + it->second.file + " (extended by " + impl_->source +
+           "): relative to its directory " + it->second.dir;
+  return key + value + " from " + impl_->source + ": relative to its directory " + impl_->base_dir;
 }
 
 bool Config::has(const std::string& key) const {
@@ -485,7 +598,7 @@ std::vector<std::string> Config::get_path_list(const std::string& key) const {
 
 void Config::set(const std::string& assignment) {
   *this = build(YAML::Clone(impl_->root), impl_->source, impl_->base_dir, {assignment},
-                impl_->cli_keys);
+                impl_->cli_keys, impl_->origins);
 }
 
 namespace {

@@ -14,10 +14,6 @@
 namespace flipper::kernel {
 namespace {
 
-std::int64_t int_or(const Config& c, const char* key, std::int64_t fallback) {
-  return c.has(key) ? c.get_int(key) : fallback;
-}
-
 // Owns a descriptor opened without blocking (opening a FIFO with no writer would hang).
 struct Fd {
   int fd = -1;
@@ -48,19 +44,15 @@ void open_checked(Fd& f, const std::string& path, std::uint64_t max_bytes, const
 }  // namespace
 
 InputLimits InputLimits::from_config(const Config& c) {
+  const auto get = [&](const keys::Int& k) { return c.get_int(std::string(k.path)); };
   InputLimits l;
-  l.max_line_bytes = static_cast<std::uint64_t>(
-      int_or(c, "input.max_line_bytes", static_cast<std::int64_t>(l.max_line_bytes)));
-  l.max_json_depth = static_cast<int>(int_or(c, "input.max_json_depth", l.max_json_depth));
-  l.max_tokens = static_cast<std::size_t>(
-      int_or(c, "input.max_tokens", static_cast<std::int64_t>(l.max_tokens)));
-  l.max_body_lines = static_cast<std::size_t>(
-      int_or(c, "input.max_body_lines", static_cast<std::int64_t>(l.max_body_lines)));
-  l.max_file_bytes = static_cast<std::uint64_t>(
-      int_or(c, "input.max_file_bytes", static_cast<std::int64_t>(l.max_file_bytes)));
-  l.max_world_cells = static_cast<std::uint64_t>(
-      int_or(c, "world.max_cells", static_cast<std::int64_t>(l.max_world_cells)));
-  l.deadline = std::chrono::milliseconds(int_or(c, "session.deadline_ms", l.deadline.count()));
+  l.max_line_bytes = static_cast<std::uint64_t>(get(keys::kMaxLineBytes));
+  l.max_json_depth = static_cast<int>(get(keys::kMaxJsonDepth));
+  l.max_tokens = static_cast<std::size_t>(get(keys::kMaxTokens));
+  l.max_body_lines = static_cast<std::size_t>(get(keys::kMaxBodyLines));
+  l.max_file_bytes = static_cast<std::uint64_t>(get(keys::kMaxFileBytes));
+  l.max_world_cells = static_cast<std::uint64_t>(get(keys::kMaxWorldCells));
+  l.deadline = std::chrono::milliseconds(get(keys::kDeadlineMs));
   return l;
 }
 

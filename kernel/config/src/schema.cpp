@@ -1,6 +1,9 @@
 #include "schema.hpp"
 
 #include <algorithm>
+#include <string>
+
+#include "flipper/kernel/keys.hpp"
 
 namespace flipper::kernel::detail {
 namespace {
@@ -8,8 +11,14 @@ using T = KeyType;
 constexpr bool kRequired = true;
 constexpr bool kOptional = true;
 
-// Adding a kernel key is one line here. Defaults are YAML text; keep configs/default.yaml listing
-// the same values so the file documents them.
+// A row from a typed declaration of keys.hpp: its default and range are not restated here.
+KeySpec row(const keys::Int& k) {
+  return {std::string(k.path), T::Int, std::to_string(k.def),
+          std::to_string(k.min) + ".." + std::to_string(k.max)};
+}
+
+// Adding a kernel key is one line here (plus one in keys.hpp when code needs its default).
+// Defaults are YAML text; configs/default.yaml does not restate them.
 const std::vector<KeySpec> kSchema = {
     {"world.plugin", T::String, "grid2d", "", kRequired},
     {"world.file", T::Path, "worlds/study2018.json", ""},
@@ -30,12 +39,12 @@ const std::vector<KeySpec> kSchema = {
     {"grammar.colors", T::StringList,
      "[black, blue, gray, green, orange, pink, purple, red, yellow]", ""},
     {"grammar.shapes", T::StringList, "[triangle, circle, square]", ""},
-    {"grammar.directions", T::StringList, "[up, down, left, right]", ""},
+    {"grammar.directions", T::StringList, "[]", ""},  // empty: the world plugin's words
     {"lexicon.path", T::Path, "~/.local/share/flipper/lexicon.sqlite", ""},
     {"lexicon.sharing", T::String, "shared", "shared|private|core"},
     {"lexicon.preload", T::Path, "''", ""},
     {"lexicon.weights", T::String, "global", "global|per_user"},
-    {"lexicon.busy_timeout_ms", T::Int, "10000", "1..600000"},
+    row(keys::kBusyTimeoutMs),
     {"lexicon.replication", T::String, "none", "none|dds"},
     {"lexicon.site", T::String, "''", ""},
     {"publish.plans", T::String, "none", "none|dds"},
@@ -44,20 +53,20 @@ const std::vector<KeySpec> kSchema = {
     {"dds.config", T::String, "''", ""},
     {"induction.alignment", T::Bool, "true", ""},
     {"induction.generalize", T::Bool, "true", ""},
-    {"induction.perturbed_checks", T::Int, "0", "0..1000"},
-    {"execution.action_budget", T::Int, "100000", "1..1000000000000"},
-    {"execution.time_budget_ms", T::Int, "2000", "1..86400000"},
-    {"execution.while_limit", T::Int, "20", "0..1000000"},
-    {"input.max_chars", T::Int, "2000", "1..100000000"},
-    {"input.max_semicolons", T::Int, "30", "1..1000000"},
-    {"input.max_line_bytes", T::Int, "1048576", "64..1073741824"},
-    {"input.max_json_depth", T::Int, "64", "2..10000"},
-    {"input.max_tokens", T::Int, "400", "1..65534"},
-    {"input.max_body_lines", T::Int, "100", "1..100000"},
-    {"input.max_file_bytes", T::Int, "67108864", "1..1099511627776"},
-    {"world.max_cells", T::Int, "4194304", "1..268435456"},
-    {"session.k", T::Int, "3", "1..1000"},
-    {"session.deadline_ms", T::Int, "5000", "1..86400000"},
+    row(keys::kPerturbedChecks),
+    row(keys::kActionBudget),
+    row(keys::kTimeBudgetMs),
+    row(keys::kWhileLimit),
+    row(keys::kMaxChars),
+    row(keys::kMaxSemicolons),
+    row(keys::kMaxLineBytes),
+    row(keys::kMaxJsonDepth),
+    row(keys::kMaxTokens),
+    row(keys::kMaxBodyLines),
+    row(keys::kMaxFileBytes),
+    row(keys::kMaxWorldCells),
+    row(keys::kSessionK),
+    row(keys::kDeadlineMs),
     {"plugin_paths", T::PathList, "[]", ""},
     {"serve.host", T::String, "127.0.0.1", ""},
     {"serve.port", T::Int, "8410", "0..65535"},
@@ -97,7 +106,7 @@ std::vector<std::string> child_names(std::string_view prefix) {
     if (!prefix.empty() && !(k.path.size() > skip && k.path.substr(0, prefix.size()) == prefix &&
                              k.path[prefix.size()] == '.'))
       continue;
-    std::string_view rest = k.path.substr(skip);
+    std::string_view rest = std::string_view(k.path).substr(skip);
     std::string name(rest.substr(0, rest.find('.')));
     if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
   }

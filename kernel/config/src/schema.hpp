@@ -11,12 +11,12 @@ namespace flipper::kernel::detail {
 enum class KeyType { Bool, Int, Number, String, Path, StringList, PathList, NumberList, Map };
 
 struct KeySpec {
-  std::string_view path;  ///< dotted, e.g. "execution.action_budget"
+  std::string path;  ///< dotted, e.g. "execution.action_budget"
   KeyType type;
-  std::string_view default_yaml;  ///< YAML text of the default; empty: no default
-  std::string_view rule;  ///< Int/Number: "min..max" (Number: exclusive min when it starts with
-                          ///< ">"); String: "a|b|c" (enum); else empty
-  bool required = false;  ///< must be given when its section is present
+  std::string default_yaml;  ///< YAML text of the default; empty: no default
+  std::string rule;          ///< Int/Number: "min..max" (Number: exclusive min when it starts with
+                             ///< ">"); String: "a|b|c" (enum); else empty
+  bool required = false;     ///< must be given when its section is present
   bool optional_section = false;  ///< the section may be absent (no defaults filled then)
 };
 

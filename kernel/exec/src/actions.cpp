@@ -98,7 +98,8 @@ sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avo
     req.goals = &nearest;
     if (distance != nullptr) *distance = n.distance;
   }
-  sdk::PathResult r = planner_.plan(geometry_, req, stop_);
+  sdk::PathResult r =
+      planner_.call("plan", [&](const sdk::Planner& p) { return p.plan(geometry_, req, stop_); });
   if (r.status == sdk::PlanStatus::stopped) tick();  // the deadline fired inside the planner
   if (distance != nullptr && planner_optimal_) *distance = r.path.size();
   return r;

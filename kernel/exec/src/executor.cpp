@@ -2,6 +2,7 @@
 // into Outcome::error (nothing of an erroneous execution is applied, §9).
 #include "flipper/kernel/executor.hpp"
 
+#include <optional>
 #include <utility>
 
 #include "flipper/sdk/errors.hpp"
@@ -9,7 +10,7 @@
 
 namespace flipper::kernel {
 
-Executor::Executor(std::shared_ptr<const sdk::Planner> planner, ExecLimits limits)
+Executor::Executor(PluginRef<const sdk::Planner> planner, ExecLimits limits)
     : planner_(std::move(planner)), limits_(limits) {
   if (!planner_) throw sdk::Error(sdk::codes::kInternal, "Executor needs a planner");
 }
@@ -38,15 +39,20 @@ sdk::Outcome Executor::run(const sdk::Program& program, const sdk::WorldState& w
     error(sdk::codes::kExecution, "the world state has no geometry");
     return out;
   }
-  detail::Interpreter interp(*planner_, limits_, world, deadline);
+  // Planner calls come back as sdk::Error (plugin_error names the planner, PluginRef); anything
+  // else is the executor's own failure, not the planner's.
+  std::optional<detail::Interpreter> interp;
   try {
-    out.realizable = interp.run(program, out.world, out.trace, out.warnings);
+    interp.emplace(planner_, limits_, world, deadline);
+    out.realizable = interp->run(program, out.world, out.trace, out.warnings);
   } catch (const sdk::Error& e) {
     error(e.code(), e.what());
   } catch (const std::exception& e) {
-    error(sdk::codes::kPluginError, std::string("planner failed: ") + e.what());
+    error(sdk::codes::kInternal, std::string("the executor failed: ") + e.what());
+  } catch (...) {
+    error(sdk::codes::kInternal, "the executor failed with an unknown exception");
   }
-  out.actions = interp.actions();
+  if (interp) out.actions = interp->actions();
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/planner.hpp"
@@ -21,7 +22,8 @@ using Collection = std::vector<sdk::Area>;
 
 class Interpreter {
  public:
-  Interpreter(const sdk::Planner& planner, const ExecLimits& limits, const sdk::WorldState& start,
+  Interpreter(const PluginRef<const sdk::Planner>& planner, const ExecLimits& limits,
+              const sdk::WorldState& start,
               std::chrono::steady_clock::time_point request_deadline =
                   std::chrono::steady_clock::time_point::max());
 
@@ -38,7 +40,7 @@ class Interpreter {
     std::vector<std::string>* warnings = nullptr;
   };
 
-  const sdk::Planner& planner_;
+  const PluginRef<const sdk::Planner>& planner_;
   bool planner_optimal_;        // the planner's paths are shortest (else the kernel picks goals)
   bool planner_deterministic_;  // same request, same answer (tours may be reused)
   const sdk::Geometry& geometry_;

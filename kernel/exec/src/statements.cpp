@@ -17,12 +17,18 @@ using sdk::Kind;
 using sdk::Node;
 using sdk::WorldState;
 
-Interpreter::Interpreter(const sdk::Planner& planner, const ExecLimits& limits,
+namespace {
+sdk::PlannerTraits traits_of(const PluginRef<const sdk::Planner>& planner) {
+  return planner.call("traits", [](const sdk::Planner& p) { return p.traits(); });
+}
+}  // namespace
+
+Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const ExecLimits& limits,
                          const WorldState& start,
                          std::chrono::steady_clock::time_point request_deadline)
     : planner_(planner),
-      planner_optimal_(planner.traits().optimal),
-      planner_deterministic_(planner.traits().deterministic),
+      planner_optimal_(traits_of(planner).optimal),
+      planner_deterministic_(traits_of(planner).deterministic),
       geometry_(*start.geometry),
       rooms_(*start.rooms),
       limits_(limits) {
@@ -154,7 +160,8 @@ std::vector<std::size_t> Interpreter::point_tour(Cell start, const Area& cells) 
   if (planner_deterministic_ && last_tour_.valid && last_tour_.start == start &&
       last_tour_.cells == cells)
     return last_tour_.order;
-  sdk::TourResult tour = planner_.tour(geometry_, start, cells, stop_);
+  sdk::TourResult tour = planner_.call(
+      "tour", [&](const sdk::Planner& p) { return p.tour(geometry_, start, cells, stop_); });
   if (tour.status == sdk::PlanStatus::stopped) tick();
   if (tour.status != sdk::PlanStatus::found || tour.order.size() != cells.size())
     throw sdk::Error(sdk::codes::kExecution,
@@ -192,7 +199,8 @@ bool Interpreter::exec_foreach_area(const Node& n, WorldState& s, Sinks& out) {
   std::vector<std::size_t> order;
   order.reserve(areas.size());
   if (!reps.empty()) {
-    const sdk::TourResult tour = planner_.tour(geometry_, s.robot, reps, stop_);
+    const sdk::TourResult tour = planner_.call(
+        "tour", [&](const sdk::Planner& p) { return p.tour(geometry_, s.robot, reps, stop_); });
     if (tour.status == sdk::PlanStatus::stopped) tick();
     if (tour.status != sdk::PlanStatus::found || tour.order.size() != reps.size())
       throw sdk::Error(sdk::codes::kExecution,

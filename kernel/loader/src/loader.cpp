@@ -82,14 +82,22 @@ std::string LoadedPlugin::label() const {
   return "'" + entry.name + "' (" + entry.library + ")";
 }
 
+PluginId LoadedPlugin::id() const {
+  return PluginId{
+      entry.kind.empty() && descriptor != nullptr ? kind_word(descriptor->kind) : entry.kind,
+      entry.name, entry.library};
+}
+
+// describe and create wrap every exception, sdk::Error included: a plugin that cannot even be
+// built is the plugin's failure, whatever code it chose (README "Plugins").
 sdk::ParamSchema LoadedPlugin::schema() const {
   sdk::ParamSchema schema;
   try {
     descriptor->describe(schema);
   } catch (const std::exception& e) {
-    throw Error(codes::kPluginError, "plugin " + label() + ": schema: " + e.what());
+    throw_plugin_failure(id(), "describe", e.what());
   } catch (...) {
-    throw Error(codes::kPluginError, "plugin " + label() + ": schema: unknown exception");
+    throw_plugin_failure(id(), "describe", "unknown exception");
   }
   return schema;
 }
@@ -126,10 +134,10 @@ std::vector<std::string> PluginLoader::search_path_for(const Config& config) {
   for (std::size_t i = 0; i < resolved.size(); ++i) {
     std::error_code ec;
     if (!fs::is_directory(resolved[i], ec))
-      throw sdk::Error(sdk::codes::kBadConfig,
-                       "plugin_paths entry '" + given[i] + "' resolves to '" + resolved[i] +
-                           "', which is not a directory (" + config.path_origin("plugin_paths") +
-                           ")");
+      throw sdk::Error(sdk::codes::kBadConfig, "plugin_paths entry '" + given[i] +
+                                                   "' resolves to '" + resolved[i] +
+                                                   "', which is not a directory (" +
+                                                   config.path_origin("plugin_paths") + ")");
     path.push_back(resolved[i]);
   }
   if (const char* env = std::getenv("FLIPPER_PLUGIN_PATH")) {
@@ -221,12 +229,11 @@ std::shared_ptr<sdk::Plugin> PluginLoader::instantiate(const LoadedPlugin& plugi
   try {
     raw = plugin.descriptor->create(params);
   } catch (const std::exception& e) {
-    throw Error(codes::kPluginError, "plugin " + plugin.label() + ": " + e.what());
+    throw_plugin_failure(plugin.id(), "create", e.what());
   } catch (...) {
-    throw Error(codes::kPluginError, "plugin " + plugin.label() + ": unknown exception");
+    throw_plugin_failure(plugin.id(), "create", "unknown exception");
   }
-  if (raw == nullptr)
-    throw Error(codes::kPluginError, "plugin " + plugin.label() + ": create returned null");
+  if (raw == nullptr) throw_plugin_failure(plugin.id(), "create", "returned null");
   // The deleter owns the library: the plugin's destroy runs while its code is still mapped.
   auto destroy = plugin.descriptor->destroy;
   return std::shared_ptr<sdk::Plugin>(raw, [library = plugin.library, destroy](sdk::Plugin* p) {
@@ -239,8 +246,10 @@ std::shared_ptr<sdk::Plugin> PluginLoader::instantiate(const LoadedPlugin& plugi
 
 std::shared_ptr<sdk::Plugin> PluginLoader::create_section(const Config& config,
                                                           const std::string& section,
-                                                          sdk::PluginKind kind) const {
+                                                          sdk::PluginKind kind,
+                                                          PluginId* id) const {
   const LoadedPlugin plugin = open(config.plugin_name(section), kind);
+  if (id != nullptr) *id = plugin.id();
   const sdk::Params params = config.plugin_params(section, plugin.schema());
   return instantiate(plugin, params);
 }

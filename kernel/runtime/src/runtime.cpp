@@ -2,6 +2,7 @@
 // needs is built here, once, before the first request (fail fast, as Nav2 and gz do).
 #include "flipper/kernel/runtime.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
@@ -18,21 +19,6 @@ namespace codes = sdk::codes;
 
 namespace {
 
-// Runs a plugin call; sdk::Errors keep their code (a world plugin's bad_world), anything else
-// becomes plugin_error naming the plugin.
-template <class F>
-auto guarded(const std::string& who, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw Error(codes::kPluginError, "plugin '" + who + "': " + e.what());
-  } catch (...) {
-    throw Error(codes::kPluginError, "plugin '" + who + "': unknown exception");
-  }
-}
-
 std::uint64_t cells_of(const sdk::Cell& lo, const sdk::Cell& hi) {
   auto extent = [](std::int64_t a, std::int64_t b) {
     return b < a ? std::uint64_t{0} : static_cast<std::uint64_t>(b - a) + 1;
@@ -47,35 +33,36 @@ void refuse_large(std::uint64_t cells, std::uint64_t limit) {
                     " cells; the limit is world.max_cells = " + std::to_string(limit));
 }
 
-sdk::WorldState load_world(const sdk::World& world, const std::string& who, const Config& config,
+sdk::WorldState load_world(const PluginRef<sdk::World>& world, const Config& config,
                            const std::string& text, const std::string& base_dir) {
   const InputLimits limits = InputLimits::from_config(config);
   // The shared part of the format gives the explicit or default bounds: a 110-byte world can
   // name a box of 16382^2 cells, which the plugin would allocate before anything else.
   // A world plugin with a format of its own may refuse what the shared reader cannot read: then
   // only the check after loading applies.
-  const int dims = guarded(who, [&] { return world.dims(); });
+  const int dims = world.call("dims", [](const sdk::World& w) { return w.dims(); });
   std::optional<sdk::world_format::Bounds> box;
   try {
     box = sdk::world_format::effective_bounds(sdk::world_format::parse_world(text, dims));
   } catch (const Error&) {
   }
   if (box) refuse_large(cells_of(box->min, box->max), limits.max_world_cells);
-  sdk::WorldState state = guarded(who, [&] { return world.load(text, base_dir); });
+  sdk::WorldState state =
+      world.call("load", [&](const sdk::World& w) { return w.load(text, base_dir); });
   // The plugin may grow the box (an octree's extent): check what it built as well.
   if (state.geometry) refuse_large(state.geometry->cell_count(), limits.max_world_cells);
   return state;
 }
 
-sdk::WorldState load_world_path(const sdk::World& world, const std::string& who,
-                                const Config& config, const std::string& path_or_json) {
+sdk::WorldState load_world_path(const PluginRef<sdk::World>& world, const Config& config,
+                                const std::string& path_or_json) {
   const auto first = path_or_json.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && path_or_json[first] == '{')
-    return load_world(world, who, config, path_or_json, fs::current_path().string());
+    return load_world(world, config, path_or_json, fs::current_path().string());
   const std::string text =
       read_regular_file(path_or_json, InputLimits::from_config(config).max_file_bytes, "world file",
                         codes::kBadWorld);
-  return load_world(world, who, config, text, fs::absolute(path_or_json).parent_path().string());
+  return load_world(world, config, text, fs::absolute(path_or_json).parent_path().string());
 }
 
 // A missing file named by a path key: the message names the resolved path and the rule that
@@ -87,15 +74,39 @@ void require_file(const Config& config, const std::string& key, const char* code
   // Existence only: what kind of file it is (regular, within the size limit) is checked when it
   // is read, with its own codes (not_a_regular_file, file_too_large).
   if (!fs::exists(path, ec))
-    throw Error(code, std::string("no ") + what + " at '" + path + "' (" +
-                          config.path_origin(key) + ")");
+    throw Error(code,
+                std::string("no ") + what + " at '" + path + "' (" + config.path_origin(key) + ")");
+}
+
+// The grammar's direction words: the world's own (grid2d: up, down, left, right; octomap3d also
+// ascend, descend), or the subset `grammar.directions` names. A word the world does not know is
+// a config error now, not an execution error at the first `move`.
+std::vector<std::string> direction_words(const Config& config, const std::string& world_name,
+                                         const sdk::WorldState& world) {
+  if (!world.geometry)
+    throw Error(codes::kBadWorld,
+                "world plugin '" + world_name + "' loaded a world without geometry");
+  std::vector<std::string> known;
+  for (const auto& [word, offset] : world.geometry->directions()) known.push_back(word);
+  const std::vector<std::string> chosen = config.get_string_list("grammar.directions");
+  if (chosen.empty()) return known;
+  for (const auto& word : chosen)
+    if (std::find(known.begin(), known.end(), word) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw Error(codes::kBadConfig, "grammar.directions names '" + word +
+                                         "', which world plugin '" + world_name +
+                                         "' does not know (its directions: " + list +
+                                         "); leave grammar.directions empty to use the world's");
+    }
+  return chosen;
 }
 
 }  // namespace
 
 std::unique_ptr<Runtime> make_runtime(const Config& config) {
   const PluginLoader loader(PluginLoader::search_path_for(config));
-  auto rt = std::unique_ptr<Runtime>(new Runtime{config, {}, {}, {}, {}, {}, {}, {}, {}});
+  auto rt = std::unique_ptr<Runtime>(new Runtime{config});
   rt->world = loader.create<sdk::World>(config, "world");
   rt->planner = loader.create<sdk::Planner>(config, "planner");
   rt->parser = loader.create<sdk::Parser>(config, "parser");
@@ -107,13 +118,18 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
 
   const std::string world_name = config.plugin_name("world");
   const std::string planner_name = config.plugin_name("planner");
-  const int dims = guarded(world_name, [&] { return rt->world->dims(); });
-  const sdk::PlannerTraits traits = guarded(planner_name, [&] { return rt->planner->traits(); });
+  const int dims = rt->world.call("dims", [](const sdk::World& w) { return w.dims(); });
+  const sdk::PlannerTraits traits =
+      rt->planner.call("traits", [](const sdk::Planner& p) { return p.traits(); });
   if ((dims == 3 && !traits.supports_3d) || (dims == 2 && !traits.supports_2d))
     throw Error(codes::kBadConfig, "planner '" + planner_name + "' does not support the " +
                                        std::to_string(dims) + "-D worlds of world plugin '" +
                                        world_name + "'; choose a planner with " +
                                        (dims == 3 ? "supports_3d" : "supports_2d"));
+
+  // The world first: its direction words are the grammar's (a world swap is one line).
+  require_file(config, "world.file", codes::kBadWorld, "world file");
+  rt->default_world = load_world_path(rt->world, config, config.get_path("world.file"));
 
   require_file(config, "grammar.file", codes::kBadGrammar, "grammar file");
   const std::string grammar_file = config.get_path("grammar.file");
@@ -121,22 +137,19 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
                      codes::kBadGrammar);
   rt->core_grammar = std::make_shared<const sdk::Grammar>(sdk::load_grammar_file(
       config.get_path("grammar.file"), config.get_string_list("grammar.colors"),
-      config.get_string_list("grammar.shapes"), config.get_string_list("grammar.directions")));
-  guarded(config.plugin_name("parser"), [&] { rt->parser->set_grammar(rt->core_grammar); });
-
-  require_file(config, "world.file", codes::kBadWorld, "world file");
-  rt->default_world =
-      load_world_path(*rt->world, world_name, config, config.get_path("world.file"));
+      config.get_string_list("grammar.shapes"),
+      direction_words(config, world_name, rt->default_world)));
+  rt->parser.call("set_grammar", [&](sdk::Parser& p) { p.set_grammar(rt->core_grammar); });
   return rt;
 }
 
 sdk::WorldState load_world_file(const Runtime& rt, const std::string& path) {
-  return load_world_path(*rt.world, rt.config.plugin_name("world"), rt.config, path);
+  return load_world_path(rt.world, rt.config, path);
 }
 
 sdk::WorldState load_world_text(const Runtime& rt, const std::string& text,
                                 const std::string& base_dir) {
-  return load_world(*rt.world, rt.config.plugin_name("world"), rt.config, text, base_dir);
+  return load_world(rt.world, rt.config, text, base_dir);
 }
 
 }  // namespace flipper::kernel

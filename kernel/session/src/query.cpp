@@ -52,24 +52,15 @@ void collect_induced(const sdk::DerivationPtr& d, std::vector<sdk::RulePtr>& out
   for (const auto& kid : d->kids) collect_induced(kid, out);
 }
 
-// Runs a program within the request's deadline; a throwing planner becomes an erroneous outcome,
-// not a failed query.
-sdk::Outcome run_guarded(const Executor& exec, const sdk::Program& program,
-                         const sdk::WorldState& world,
-                         std::chrono::steady_clock::time_point deadline) {
-  try {
-    return request::call_plugin("planner", [&] { return exec.run(program, world, deadline); });
-  } catch (const sdk::Error& e) {
-    sdk::Outcome o;
-    o.world = world;
-    o.realizable = false;
-    o.error = e.what();
-    o.error_code = e.code();
-    return o;
-  }
-}
-
 }  // namespace
+
+void Session::check_length(std::string_view text) const {
+  const std::size_t n = utf8_length(text);
+  if (n > options_.max_chars)
+    throw sdk::Error(sdk::codes::kInputTooLong, "the utterance has " + std::to_string(n) +
+                                                    " characters; the limit is input.max_chars = " +
+                                                    std::to_string(options_.max_chars));
+}
 
 Json Session::op_query(const Json& req) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -77,11 +68,7 @@ Json Session::op_query(const Json& req) {
   std::int64_t k =
       request::optional_int(req, "k", "how many candidates to show").value_or(options_.k);
   if (k < 0) throw sdk::Error(sdk::codes::kBadRequest, "field 'k' must not be negative");
-  if (utf8_length(text) > options_.max_chars)
-    throw sdk::Error(
-        sdk::codes::kInputTooLong,
-        "the utterance has " + std::to_string(utf8_length(text)) +
-            " characters; the limit is input.max_chars = " + std::to_string(options_.max_chars));
+  check_length(text);
 
   auto q = std::make_unique<LastQuery>();
   q->text = std::move(text);
@@ -102,11 +89,12 @@ Json Session::op_query(const Json& req) {
   q->tokens = pr.tokens;
   pr.context.tokens = &q->tokens;
   pr.context.user = user_;
-  pr.scorer = runtime_->scorer.get();
+  pr.context.usage = runtime_->usage.get();
+  pr.scorer = runtime_->scorer.borrow();  // the parser's call guards its scorer calls
   pr.visible = visible_rules();
   pr.beam = options_.beam;
   pr.stop.deadline = deadline();
-  q->parse = request::call_plugin("parser", [&] { return runtime_->parser->parse(pr); });
+  q->parse = runtime_->parser.call("parse", [&](const sdk::Parser& p) { return p.parse(pr); });
   if (q->parse.stopped) check_deadline("parsing");
   q->probs = softmax(q->parse.candidates);
   q->world = world_;
@@ -121,7 +109,7 @@ Json Session::op_query(const Json& req) {
     sc.index = i;
     sc.derivation = credited_derivation(cands[i]);
     collect_induced(sc.derivation, sc.induced_rules);
-    sc.outcome = run_guarded(executor_, cands[i].program, world_, deadline());
+    sc.outcome = executor_.run(cands[i].program, world_, deadline());
     // A candidate cut by the request's deadline cannot be shown: the whole query is refused.
     if (sc.outcome.error_code == sdk::codes::kDeadlineExceeded) check_deadline("executing");
     if (sc.outcome.error) sc.error_code = sc.outcome.error_code.value_or(sdk::codes::kExecution);
@@ -199,8 +187,7 @@ Json Session::op_accept(const Json& req) {
                      "candidate " + std::to_string(rank) +
                          " cannot be accepted: its execution failed (" +
                          sc.outcome.error.value_or(*sc.error_code) + ")");
-  sdk::Outcome outcome =
-      run_guarded(executor_, q.parse.candidates[sc.index].program, world_, deadline());
+  sdk::Outcome outcome = executor_.run(q.parse.candidates[sc.index].program, world_, deadline());
   if (outcome.error)
     throw sdk::Error(session_codes::kNotAcceptable, "candidate " + std::to_string(rank) +
                                                         " cannot be accepted: " + *outcome.error);
@@ -217,36 +204,37 @@ Json Session::op_accept(const Json& req) {
   // query change only after both succeeded, so a retry applies the accept exactly once.
   // A scorer that reports its changes (sdk::IncrementalScorer) undoes exactly those; any other
   // is saved whole beforehand.
-  auto* incremental = dynamic_cast<sdk::IncrementalScorer*>(runtime_->scorer.get());
+  auto* incremental = dynamic_cast<sdk::IncrementalScorer*>(runtime_->scorer.borrow());
   const std::string scorer_before =
       on_accept_ && incremental == nullptr
-          ? request::call_plugin("scorer", [&] { return runtime_->scorer->save_state(); })
+          ? runtime_->scorer.call("save_state", [](const sdk::Scorer& s) { return s.save_state(); })
           : std::string();
-  auto counter = [&](const sdk::RulePtr& rule) -> std::atomic<std::uint64_t>& {
-    return rule->author == user_ ? rule->usage->by_author : rule->usage->by_others;
+  UsageTable& usage = *runtime_->usage;
+  auto count = [&](std::int64_t delta) {
+    for (const auto& rule : sc.induced_rules) usage.add(rule->id, rule->author == user_, delta);
   };
   bool counted = false;
   try {
     sdk::ScoreContext ctx;
     ctx.tokens = &q.tokens;
     ctx.user = user_;
-    request::call_plugin("scorer",
-                         [&] { runtime_->scorer->learn(q.parse.candidates, sc.index, ctx); });
-    for (const auto& rule : sc.induced_rules) counter(rule).fetch_add(1, std::memory_order_relaxed);
+    ctx.usage = &usage;
+    runtime_->scorer.call("learn",
+                          [&](sdk::Scorer& s) { s.learn(q.parse.candidates, sc.index, ctx); });
+    count(+1);
     counted = true;
     if (on_accept_)
       on_accept_(*this, AcceptEvent{q, static_cast<std::size_t>(rank), sc, outcome, user_});
   } catch (...) {
-    if (counted)
-      for (const auto& rule : sc.induced_rules)
-        counter(rule).fetch_sub(1, std::memory_order_relaxed);
+    if (counted) count(-1);
     if (incremental != nullptr)
-      incremental->discard_changes();
+      runtime_->scorer.call("discard_changes", [&](sdk::Scorer&) { incremental->discard_changes(); });
     else if (on_accept_)
-      runtime_->scorer->load_state(scorer_before);
+      runtime_->scorer.call("load_state", [&](sdk::Scorer& s) { s.load_state(scorer_before); });
     throw;
   }
-  if (incremental != nullptr) incremental->commit_changes();
+  if (incremental != nullptr)
+    runtime_->scorer.call("commit_changes", [&](sdk::Scorer&) { incremental->commit_changes(); });
 
   world_ = outcome.world;
   notify_plan_observers(q, sc, outcome);  // after the commit: the accept stands

@@ -1,6 +1,5 @@
-// Typed request fields and plugin-call error wrapping.
+// Typed request fields.
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <nlohmann/json.hpp>
 
@@ -79,20 +78,6 @@ std::optional<std::int64_t> optional_int(const Json& req, const char* field, con
   auto it = req.find(field);
   if (it == req.end() || it->is_null()) return std::nullopt;
   return require_int(req, field, what, out_of_range_code);
-}
-
-void rethrow_as_plugin_error(const char* plugin) {
-  try {
-    throw;
-  } catch (const sdk::Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw sdk::Error(sdk::codes::kPluginError,
-                     std::string("the ") + plugin + " plugin failed: " + e.what());
-  } catch (...) {
-    throw sdk::Error(sdk::codes::kPluginError,
-                     std::string("the ") + plugin + " plugin failed with an unknown exception");
-  }
 }
 
 }  // namespace flipper::kernel::request

@@ -97,7 +97,7 @@ Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)
       world_(runtime_->default_world),
       texts_(std::make_unique<WorldTexts>([this](const sdk::WorldState& state) {
         std::string text =
-            request::call_plugin("world", [&] { return runtime_->world->save(state); });
+            runtime_->world.call("save", [&](const sdk::World& w) { return w.save(state); });
         // The answer is one line: normalise a plugin that writes multi-line text.
         if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
         return text;
@@ -145,7 +145,8 @@ void Session::set_world(sdk::WorldState world) {
 }
 
 Json Session::world_json(const sdk::WorldState& state) const {
-  std::string text = request::call_plugin("world", [&] { return runtime_->world->save(state); });
+  std::string text =
+      runtime_->world.call("save", [&](const sdk::World& w) { return w.save(state); });
   return Json::parse(text);
 }
 
@@ -336,8 +337,7 @@ sdk::WorldState Session::load_requested_world(const std::string& text, const std
       if (i != 0) std::swap(loaded_[i], loaded_[0]);
       return loaded_[0].state;
     }
-  sdk::WorldState state =
-      request::call_plugin("world", [&] { return load_world_text(*runtime_, text, base); });
+  sdk::WorldState state = load_world_text(*runtime_, text, base);  // guarded inside
   texts_->intern(state);
   constexpr std::size_t kKept = 2;
   if (loaded_.size() == kKept) loaded_.pop_back();

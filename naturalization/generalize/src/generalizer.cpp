@@ -62,9 +62,13 @@ struct PerturbedRun {
 
 }  // namespace
 
-Generalizer::Generalizer(const sdk::Rewriter& rewriter, const sdk::Similarity* similarity,
+Generalizer::Generalizer(PluginRef<const sdk::Rewriter> rewriter,
+                         PluginRef<const sdk::Similarity> similarity,
                          const sdk::ExecutionService& exec, GeneralizeOptions options)
-    : rewriter_(rewriter), similarity_(similarity), exec_(exec), options_(options) {}
+    : rewriter_(std::move(rewriter)),
+      similarity_(std::move(similarity)),
+      exec_(exec),
+      options_(options) {}
 
 GeneralizeResult Generalizer::generalize(
     const std::vector<std::string>& head_tokens, const sdk::Program& body,
@@ -80,14 +84,10 @@ GeneralizeResult Generalizer::generalize(
   auto score = [&](GeneralizeCandidate& c) {
     c.packing_score = packing_score ? packing_score(c.program) : 0.0;
     c.generality = -static_cast<int>(c.program->size);
-    if (similarity_ == nullptr) return;
-    double s = 0;
-    try {
-      s = similarity_->similarity(head, candidate_words(c.program));
-    } catch (const std::exception& e) {
-      throw sdk::Error(sdk::codes::kPluginError,
-                       std::string("similarity plugin failed: ") + e.what());
-    }
+    if (!similarity_) return;
+    const double s = similarity_.call("similarity", [&](const sdk::Similarity& sim) {
+      return sim.similarity(head, candidate_words(c.program));
+    });
     c.similarity = std::isfinite(s) ? s : 0.0;
   };
 
@@ -114,12 +114,10 @@ GeneralizeResult Generalizer::generalize(
   score(own);
   result.candidates.push_back(std::move(own));
 
-  std::vector<sdk::RewriteCandidate> proposals;
-  try {
-    proposals = rewriter_.propose({body, before, &exec_, head_tokens});
-  } catch (const std::exception& e) {
-    throw sdk::Error(sdk::codes::kPluginError, std::string("rewriter plugin failed: ") + e.what());
-  }
+  std::vector<sdk::RewriteCandidate> proposals =
+      rewriter_.call("propose", [&](const sdk::Rewriter& r) {
+        return r.propose({body, before, &exec_, head_tokens});
+      });
 
   std::unordered_set<sdk::Program, sdk::ProgramHash, sdk::ProgramEqual> seen{body};
   for (auto& proposal : proposals) {

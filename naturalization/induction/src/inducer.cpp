@@ -3,10 +3,13 @@
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 
+#include <utility>
+
 namespace flipper::kernel {
 
-Inducer::Inducer(const sdk::Parser& parser, const sdk::Scorer& scorer, InductionOptions options)
-    : parser_(parser), scorer_(scorer), options_(options) {}
+Inducer::Inducer(PluginRef<const sdk::Parser> parser, PluginRef<const sdk::Scorer> scorer,
+                 InductionOptions options, const sdk::UsageCounters* usage)
+    : parser_(std::move(parser)), scorer_(std::move(scorer)), options_(options), usage_(usage) {}
 
 PreparedDefinition Inducer::prepare(const DefinitionInput& def,
                                     const std::function<bool(const sdk::Rule&)>& visible,
@@ -19,8 +22,9 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
     throw sdk::Error(sdk::codes::kBadRequest, "the body of a definition needs at least one line");
 
   sdk::ParseRequest req;
-  req.scorer = &scorer_;
+  req.scorer = scorer_.borrow();  // covered by the parse call that uses it
   req.context.user = def.author;
+  req.context.usage = usage_;
   req.visible = visible;
   req.beam = options_.beam;
   req.stop = stop;
@@ -35,7 +39,10 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
   req.tokens = out.head_tokens;
   req.want_chart = true;
   req.whole_span = true;
-  sdk::ParseResult head = parser_.parse(req);
+  auto parse = [&] {
+    return parser_.call("parse", [&](const sdk::Parser& p) { return p.parse(req); });
+  };
+  sdk::ParseResult head = parse();
   refuse_if_stopped(head, "the head");
   for (const auto& c : head.candidates)
     if (c.core_only)
@@ -50,7 +57,7 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
     req.tokens = sdk::tokenize(def.body[i]);
     const std::string line = "body line " + std::to_string(i + 1) + " '" + def.body[i] + "'";
     sdk::ParseResult r;
-    if (!req.tokens.empty()) r = parser_.parse(req);
+    if (!req.tokens.empty()) r = parse();
     refuse_if_stopped(r, "body line " + std::to_string(i + 1));
     if (r.candidates.empty())
       throw sdk::Error(induction_codes::kBodyUnparsable, line + " does not parse");

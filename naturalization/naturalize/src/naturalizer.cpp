@@ -74,9 +74,7 @@ StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
   s.body = rule.body;
   s.how = sdk::to_string(rule.how);
   s.created = rule.created;
-  s.definition = definition;
-  s.uses_by_author = rule.usage->by_author.load();
-  s.uses_by_others = rule.usage->by_others.load();
+  s.definition = definition;  // a new rule: no uses yet
   return s;
 }
 
@@ -130,8 +128,6 @@ sdk::RulePtr rule_from_stored(const StoredRule& s) {
   rule->head = s.head;
   rule->body = s.body;
   rule->created = s.created;
-  rule->usage->by_author = s.uses_by_author;
-  rule->usage->by_others = s.uses_by_others;
   return rule;
 }
 
@@ -189,7 +185,7 @@ Naturalizer::~Naturalizer() = default;
 void Naturalizer::restore() {
   store_->changed_elsewhere();  // the baseline for refresh(), taken before reading
   apply(store_->changes_since({}));
-  initial_weights_ = runtime_->scorer->save_state();
+  initial_weights_ = save_weights();
   weights_user_.clear();
   if (!options_.per_user_weights) load_weights(weights_key({}));
 }
@@ -202,9 +198,11 @@ sdk::IncrementalScorer* incremental(sdk::Scorer& scorer) {
 
 // A whole saved state (older builds, non-incremental scorers), then the additive weights.
 void Naturalizer::load_weights(const std::string& key) {
-  auto& scorer = *runtime_->scorer;
+  auto& scorer = *runtime_->scorer.borrow();
   auto state = store_->load_weights(key);
-  if (state || options_.per_user_weights) scorer.load_state(state ? *state : initial_weights_);
+  if (state || options_.per_user_weights)
+    runtime_->scorer.call("load_state",
+                          [&](sdk::Scorer& s) { s.load_state(state ? *state : initial_weights_); });
   if (auto* inc = incremental(scorer)) {
     std::vector<sdk::WeightChange> changes;
     for (auto& c : store_->weight_changes(key))
@@ -239,11 +237,16 @@ void Naturalizer::apply(const LexiconChanges& changes, const std::vector<sdk::Ru
         continue;
       }
     }
-    runtime_->parser->add_rule(rule);
+    runtime_->usage->set(stored.id, {stored.uses_by_author, stored.uses_by_others});
+    runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(rule); });
     add_live(std::move(rule));
   }
   for (const auto& id : changes.deleted) remove_live(id);
   mark_ = changes.mark;
+}
+
+std::string Naturalizer::save_weights() const {
+  return runtime_->scorer.call("save_state", [](const sdk::Scorer& s) { return s.save_state(); });
 }
 
 std::string Naturalizer::weights_key(const std::string& user) const {
@@ -265,7 +268,8 @@ void Naturalizer::add_live(sdk::RulePtr rule) {
 void Naturalizer::remove_live(const std::string& id) {
   auto rule = find_rule(id);
   if (!rule) return;
-  runtime_->parser->remove_rule(id);
+  runtime_->parser.call("remove_rule", [&](sdk::Parser& p) { p.remove_rule(id); });
+  runtime_->usage->erase(id);
   by_id_.erase(id);
   auto [lo, hi] = by_shape_.equal_range(rule_shape(*rule));
   for (auto it = lo; it != hi; ++it)
@@ -300,7 +304,7 @@ sdk::RulePtr Naturalizer::find_rule(const std::string& id) const {
 DefineOutcome Naturalizer::define(const DefineRequest& req) {
   check_head_tokens(req.head);
   refresh();  // induce against every rule committed so far, by any process
-  Inducer inducer(*runtime_->parser, *runtime_->scorer, options_.induction);
+  Inducer inducer(runtime_->parser, runtime_->scorer, options_.induction, runtime_->usage.get());
   const auto visible_rules = visibility_for(req.user);
   PreparedDefinition prepared = inducer.prepare({req.head, req.body, req.user, req.body_ranks},
                                                 visible_rules, stop_at(req.deadline));
@@ -311,7 +315,7 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   if (options_.generalize && runtime_->rewriter && req.before && req.exec) {
     GeneralizeOptions gopts;
     gopts.perturbed_checks = options_.perturbed_checks;
-    Generalizer generalizer(*runtime_->rewriter, runtime_->similarity.get(), *req.exec, gopts);
+    Generalizer generalizer(runtime_->rewriter, runtime_->similarity, *req.exec, gopts);
     const int n = static_cast<int>(prepared.head_tokens.size());
     GeneralizeResult g = generalizer.generalize(
         prepared.head_tokens, prepared.body, *req.before,
@@ -369,7 +373,8 @@ std::vector<RuleListing> Naturalizer::rules(const std::string& user,
   std::vector<RuleListing> out;
   for (const auto& r : rules_) {
     if (!visible(*r, user) || (author && r->author != *author)) continue;
-    out.push_back({r, r->usage->by_author.load(), r->usage->by_others.load()});
+    const sdk::RuleUses uses = runtime_->usage->uses(r->id);
+    out.push_back({r, uses.by_author, uses.by_others});
   }
   return out;
 }
@@ -402,19 +407,17 @@ void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::Rule
   // whole state replaces the stored one (last writer wins). Either way in the accept's
   // transaction, with the counters.
   std::vector<RuleUses> totals;
-  if (auto* inc = incremental(*runtime_->scorer)) {
+  if (auto* inc = incremental(*runtime_->scorer.borrow())) {
     std::vector<StoredWeightChange> changes;
     for (auto& c : inc->pending_changes())
       changes.push_back({std::move(c.model), std::move(c.feature), c.weight, c.aux});
     totals = store_->record_accept(deltas, weights_key(user), changes);
   } else {
-    totals = store_->record_accept(deltas, weights_key(user), runtime_->scorer->save_state());
+    totals = store_->record_accept(deltas, weights_key(user), save_weights());
   }
   // The stored totals include other processes' uses.
-  for (std::size_t i = 0; i < rules.size(); ++i) {
-    rules[i]->usage->by_author.store(totals[i].by_author);
-    rules[i]->usage->by_others.store(totals[i].by_others);
-  }
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    runtime_->usage->set(rules[i]->id, {totals[i].by_author, totals[i].by_others});
 }
 
 }  // namespace flipper::kernel

@@ -8,10 +8,10 @@
 
 #if defined(BAD_ABI)  // a plugin from a future ABI
 #undef FLIPPER_PLUGIN_ABI
-#define FLIPPER_PLUGIN_ABI 2
-#elif defined(BAD_SDK_MAJOR)  // built against SDK 2.x
+#define FLIPPER_PLUGIN_ABI 3
+#elif defined(BAD_SDK_MAJOR)  // built against SDK 3.x
 #undef FLIPPER_SDK_VERSION_MAJOR
-#define FLIPPER_SDK_VERSION_MAJOR 2
+#define FLIPPER_SDK_VERSION_MAJOR 3
 #elif defined(BAD_SDK_MINOR)  // built against a newer SDK minor than the kernel's
 #undef FLIPPER_SDK_VERSION_MINOR
 #define FLIPPER_SDK_VERSION_MINOR 99

@@ -44,12 +44,12 @@ inline namespace v1 {
 /// One RHS symbol.
 struct Symbol {
   enum class Type : std::uint8_t {
-    token,     ///< an exact token, e.g. "visit"
-    category,  ///< a category, e.g. "$Area"
-    number,    ///< any number token; semantics Num(value)
-    color,     ///< any colour word; semantics Color(word)
-    shape,     ///< any shape word; semantics Shape(word)
-    direction, ///< any direction word; semantics Direction(word)
+    token,      ///< an exact token, e.g. "visit"
+    category,   ///< a category, e.g. "$Area"
+    number,     ///< any number token; semantics Num(value)
+    color,      ///< any colour word; semantics Color(word)
+    shape,      ///< any shape word; semantics Shape(word)
+    direction,  ///< any direction word; semantics Direction(word)
   };
   Type type = Type::token;
   std::string text;  ///< token text or category name ("$Area"); "@number" etc. for classes
@@ -60,17 +60,11 @@ struct Symbol {
 enum class RuleOrigin : std::uint8_t { core, simple, best, alignment, rewriting };
 FLIPPER_SDK_API const char* to_string(RuleOrigin o);  ///< "core", "simple", ...
 
-/// Use counters of an induced rule; updated by the kernel on accept, read by scorers.
-struct RuleUsage {
-  std::atomic<std::uint64_t> by_author{0};
-  std::atomic<std::uint64_t> by_others{0};
-};
-
 struct Rule {
   std::string id;   ///< stable id: "core:<line>" for core rules, lexicon ids for induced ones
   std::string lhs;  ///< category, e.g. "$Action"
   std::vector<Symbol> rhs;
-  Program sem;      ///< template with holes $1.. for the RHS categories, in order
+  Program sem;  ///< template with holes $1.. for the RHS categories, in order
   bool induced = false;
   RuleOrigin how = RuleOrigin::core;
   // Provenance (induced rules).
@@ -78,7 +72,8 @@ struct Rule {
   std::string head;
   std::vector<std::string> body;
   std::int64_t created = 0;  ///< creation sequence number (orders candidates on score ties)
-  std::shared_ptr<RuleUsage> usage = std::make_shared<RuleUsage>();
+  // How often the rule was used is not here: the kernel owns the counters and hands them to
+  // scorers in ScoreContext::usage (SDK 2.0; a rule is immutable once shared).
   /// Number of RHS categories (= holes).
   std::size_t arity() const;
 };
@@ -90,7 +85,8 @@ struct Grammar {
   std::string root = "$ROOT";
   std::vector<std::string> colors;  ///< words matched by @color ("grey" maps to "gray")
   std::vector<std::string> shapes;  ///< words matched by @shape
-  std::vector<std::string> directions;  ///< words matched by @direction (default up/down/left/right)
+  std::vector<std::string>
+      directions;  ///< words matched by @direction (default up/down/left/right)
   std::vector<RulePtr> rules;
 };
 
@@ -120,7 +116,8 @@ FLIPPER_SDK_API Grammar load_grammar_file(const std::string& path, std::vector<s
                                           std::vector<std::string> directions);
 
 /// Whether `token` matches the class symbol `type` (number/color/shape/direction) in `grammar`.
-FLIPPER_SDK_API bool class_matches(const Grammar& grammar, Symbol::Type type, std::string_view token);
+FLIPPER_SDK_API bool class_matches(const Grammar& grammar, Symbol::Type type,
+                                   std::string_view token);
 /// The meaning of `rule` applied to `kids` (one per RHS category); `token` is the matched token
 /// of a class rule. Throws Error(bad_program) when a kid does not fit (callers drop the parse).
 FLIPPER_SDK_API Program apply_rule(const Rule& rule, const std::vector<Program>& kids,

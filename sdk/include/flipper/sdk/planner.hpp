@@ -95,16 +95,18 @@ class FLIPPER_SDK_API Planner : public Plugin {
   /// path length minimal; among equally near goals the smallest (x, y, z); the path itself is
   /// the one found by breadth-first search expanding neighbours in geometry.neighbour_offsets()
   /// order (first discovery wins). Never throws for "no path": returns a status.
+  /// The edge cases are decided here, the same for every planner (SDK 2.0), before do_plan
+  /// runs: no goals -> invalid "the goal set is empty"; a start outside the bounds -> invalid;
+  /// a stop condition that already fired (deadline, cancel) -> stopped "stopped before
+  /// planning".
   PathResult plan(const Geometry& geometry, const PathRequest& request,
-                  const StopCondition& stop) const {
-    return do_plan(geometry, request, stop);
-  }
+                  const StopCondition& stop) const;
   /// Order in which to visit `points` starting at `start` (core-language §8 tour T for the
   /// reference planner). Unreachable points come last, in (x, y, z) order.
+  /// Decided here for every planner (SDK 2.0): no points -> found, empty order; a stop that
+  /// already fired -> stopped, every point in (x, y, z) order (ties by index).
   TourResult tour(const Geometry& geometry, Cell start, const std::vector<Cell>& points,
-                  const StopCondition& stop) const {
-    return do_tour(geometry, start, points, stop);
-  }
+                  const StopCondition& stop) const;
   PlannerTraits traits() const { return do_traits(); }
 
  protected:

@@ -4,6 +4,7 @@
 /// derivation node's local score while it builds the chart; the kernel asks the scorer to learn
 /// when the user accepts a candidate, and to save/restore its state with the lexicon.
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -20,9 +21,26 @@ inline namespace v1 {
 using FeatureVector = std::vector<std::pair<std::string, double>>;
 
 /// What a score may depend on besides the derivation itself.
+/// How often the candidates built with an induced rule were accepted, by the rule's author and
+/// by everyone else.
+struct RuleUses {
+  std::uint64_t by_author = 0;
+  std::uint64_t by_others = 0;
+  friend bool operator==(const RuleUses&, const RuleUses&) = default;
+};
+
+/// The kernel's use counters, read-only to plugins (SDK 2.0). Thread-safe.
+class FLIPPER_SDK_API UsageCounters {
+ public:
+  virtual ~UsageCounters();
+  /// Zero for a rule never used (or unknown).
+  virtual RuleUses uses(const std::string& rule_id) const = 0;
+};
+
 struct ScoreContext {
   const std::vector<std::string>* tokens = nullptr;  ///< the utterance's tokens
   std::string user;                                  ///< the current user
+  const UsageCounters* usage = nullptr;  ///< the kernel's use counters; null: nothing used yet
 };
 
 class FLIPPER_SDK_API Scorer : public Plugin {

@@ -13,14 +13,18 @@
 /// Also 1.1: PlannerTraits::sampling (a field at the end; only the planner conformance kit reads
 /// it, so a 1.0 planner's traits lose nothing the kernel uses).
 /// 1.2 — IncrementalScorer, an optional interface a Scorer may also implement (found with
-/// dynamic_cast; the Scorer vtable is unchanged): sparse additive weight changes. Scorers built
-/// against 1.0/1.1 load unchanged and are persisted with save_state() as before.
+/// dynamic_cast; the Scorer vtable is unchanged): sparse additive weight changes.
+/// 2.0 (ABI 2) — Rule no longer carries mutable use counters: the kernel owns them and passes
+/// them to scorers in ScoreContext::usage (a read-only UsageCounters). Planner::plan and
+/// Planner::tour decide the shared edge cases (empty goal set, start outside the bounds, a stop
+/// that already fired, no tour points) before the virtual call, so planners cannot disagree on
+/// them; the planner conformance kit checks the exact results. 1.x plugins must be rebuilt.
 
 #include <boost/version.hpp>
 
-#define FLIPPER_PLUGIN_ABI 1
-#define FLIPPER_SDK_VERSION_MAJOR 1
-#define FLIPPER_SDK_VERSION_MINOR 2
+#define FLIPPER_PLUGIN_ABI 2
+#define FLIPPER_SDK_VERSION_MAJOR 2
+#define FLIPPER_SDK_VERSION_MINOR 0
 #define FLIPPER_SDK_VERSION_PATCH 0
 
 #define FLIPPER_STRINGIFY_IMPL(x) #x
@@ -33,9 +37,10 @@
 #endif
 
 /// Build fingerprint compared by the loader; any difference refuses the plugin.
-#define FLIPPER_BUILD_FINGERPRINT                                                      \
-  "gcc" FLIPPER_STRINGIFY(__GNUC__) ";cxx11abi=" FLIPPER_STRINGIFY(                    \
-      FLIPPER_CXX11_ABI_VALUE) ";boost=" FLIPPER_STRINGIFY(BOOST_VERSION) ";cxx=" FLIPPER_STRINGIFY(__cplusplus)
+#define FLIPPER_BUILD_FINGERPRINT                                                \
+  "gcc" FLIPPER_STRINGIFY(__GNUC__) ";cxx11abi=" FLIPPER_STRINGIFY(              \
+      FLIPPER_CXX11_ABI_VALUE) ";boost=" FLIPPER_STRINGIFY(BOOST_VERSION) ";cxx" \
+                                                                          "=" FLIPPER_STRINGIFY(__cplusplus)
 
 namespace flipper::sdk {
 inline namespace v1 {

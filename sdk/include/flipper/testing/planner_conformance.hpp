@@ -192,6 +192,45 @@ inline std::shared_ptr<const sdk::Geometry> split_map() {
       std::vector<std::pair<std::string, sdk::Cell>>{});
 }
 
+/// The edge cases Planner::plan/tour decide for every planner (SDK 2.0): exact statuses,
+/// messages and orders, whatever the plugin.
+inline void check_planner_edge_cases(const sdk::Planner& planner) {
+  const auto g = split_map();
+  const sdk::Cell start{1, 1, 0};
+  sdk::StopCondition fired;
+  fired.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  const sdk::Area empty;
+  for (const sdk::StopCondition& stop : {sdk::StopCondition{}, fired}) {
+    // No goals is a bad request even when the stop has fired.
+    sdk::PathResult r = planner.plan(*g, {start, &empty, nullptr}, stop);
+    REQUIRE(r.status == sdk::PlanStatus::invalid);
+    REQUIRE(r.message == "the goal set is empty");
+    REQUIRE(r.path.empty());
+    r = planner.plan(*g, {start, nullptr, nullptr}, stop);
+    REQUIRE(r.status == sdk::PlanStatus::invalid);
+    REQUIRE(r.message == "the goal set is empty");
+    const sdk::Area goal{{0, 0, 0}};
+    r = planner.plan(*g, {{40, 1, 0}, &goal, nullptr}, stop);
+    REQUIRE(r.status == sdk::PlanStatus::invalid);
+    REQUIRE(r.message == "start [40,1] is outside the bounds");
+    // No points: nothing to order, found.
+    const sdk::TourResult t = planner.tour(*g, start, {}, stop);
+    REQUIRE(t.status == sdk::PlanStatus::found);
+    REQUIRE(t.order.empty());
+  }
+  // A stop that has fired: stopped before any search, even for the start's own cell.
+  const sdk::Area self{start};
+  const sdk::PathResult r = planner.plan(*g, {start, &self, nullptr}, fired);
+  REQUIRE(r.status == sdk::PlanStatus::stopped);
+  REQUIRE(r.message == "stopped before planning");
+  REQUIRE(r.path.empty());
+  // ... and a tour gives every point in (x, y, z) order, ties by index.
+  const std::vector<sdk::Cell> pts{{5, 0, 0}, {0, 2, 0}, {2, 2, 0}, {0, 2, 0}, {0, 0, 0}};
+  const sdk::TourResult t = planner.tour(*g, start, pts, fired);
+  REQUIRE(t.status == sdk::PlanStatus::stopped);
+  REQUIRE(t.order == std::vector<std::size_t>{4, 1, 3, 2, 0});
+}
+
 inline void check_planner_basics(const sdk::Planner& planner) {
   const auto g = split_map();
   const sdk::Cell start{1, 1, 0};
@@ -229,6 +268,7 @@ inline void check_planner_basics(const sdk::Planner& planner) {
   const sdk::TourResult t = planner.tour(*g, start, pts, past);
   REQUIRE(t.status == sdk::PlanStatus::stopped);
   REQUIRE(t.order.size() == pts.size());
+  check_planner_edge_cases(planner);
 }
 
 /// Every check on the planner from `factory`.

@@ -1,7 +1,8 @@
 #pragma once
 /// @file config.hpp
 /// The validated configuration. Sources, in order: the file given with --config (or the embedded
-/// configs/default.yaml), then each --set key.path=value. Validation happens before anything is
+/// configs/default.yaml) over the files it `extends:` (each merged under the one that extends
+/// it), then each --set key.path=value. Validation happens before anything is
 /// built: kernel keys against the kernel schema, each plugin's `params` against the schema that
 /// plugin declares; unknown keys are errors with a "did you mean" hint (code bad_config).
 ///
@@ -21,9 +22,9 @@
 ///   session:  {k, deadline_ms}
 ///   plugin_paths: [dirs]
 /// Paths, one rule (README "Paths"): a relative path written in a config file resolves against
-/// that file's directory (the embedded default behaves as if it lived in the source tree's
-/// configs/); a relative path given on the command line (`--set key=path`) resolves against the
-/// current directory.
+/// that file's directory (for a key from an extended file, that file's) (the embedded default
+/// behaves as if it lived in the source tree's configs/); a relative path given on the command line
+/// (`--set key=path`) resolves against the current directory.
 
 #include <cstdint>
 #include <memory>

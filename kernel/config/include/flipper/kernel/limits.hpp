@@ -8,20 +8,29 @@
 #include <string>
 #include <string_view>
 
+#include "flipper/kernel/keys.hpp"
+
 namespace flipper::kernel {
 
 class Config;
 
+/// Defaults from keys.hpp (one place).
 struct InputLimits {
-  std::uint64_t max_line_bytes = 1 << 20;    ///< input.max_line_bytes: one request line
-  int max_json_depth = 64;                   ///< input.max_json_depth: nesting of a request
-  std::size_t max_tokens = 400;              ///< input.max_tokens: query, head, each body line
-  std::size_t max_body_lines = 100;          ///< input.max_body_lines: lines of a definition
-  std::uint64_t max_file_bytes = 64 << 20;   ///< input.max_file_bytes: world/grammar/preload files
-  std::uint64_t max_world_cells = 1 << 22;   ///< world.max_cells
-  std::chrono::milliseconds deadline{5000};  ///< session.deadline_ms: one request, end to end
+  /// input.max_line_bytes: one request line
+  std::uint64_t max_line_bytes = static_cast<std::uint64_t>(keys::kMaxLineBytes.def);
+  /// input.max_json_depth: nesting of a request
+  int max_json_depth = static_cast<int>(keys::kMaxJsonDepth.def);
+  /// input.max_tokens: query, head, each body line
+  std::size_t max_tokens = static_cast<std::size_t>(keys::kMaxTokens.def);
+  /// input.max_body_lines: lines of a definition
+  std::size_t max_body_lines = static_cast<std::size_t>(keys::kMaxBodyLines.def);
+  /// input.max_file_bytes: world/grammar/preload files
+  std::uint64_t max_file_bytes = static_cast<std::uint64_t>(keys::kMaxFileBytes.def);
+  std::uint64_t max_world_cells = static_cast<std::uint64_t>(keys::kMaxWorldCells.def);
+  /// session.deadline_ms: one request, end to end
+  std::chrono::milliseconds deadline{keys::kDeadlineMs.def};
 
-  /// From the config's keys (schema defaults when absent).
+  /// From a validated config (every key present: the schema filled the defaults).
   static InputLimits from_config(const Config& config);
 };
 

@@ -8,23 +8,27 @@
 #include <cstdint>
 #include <memory>
 
+#include "flipper/kernel/keys.hpp"
+#include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/planner.hpp"
 
 namespace flipper::kernel {
 
+/// execution.*; defaults from keys.hpp (one place).
 struct ExecLimits {
-  std::uint64_t action_budget = 100000;         ///< primitive actions per execution
-  std::chrono::milliseconds time_budget{2000};  ///< wall time per execution
-  int while_limit = 20;                         ///< iterations of `while`
+  std::uint64_t action_budget = static_cast<std::uint64_t>(keys::kActionBudget.def);
+  std::chrono::milliseconds time_budget{keys::kTimeBudgetMs.def};  ///< wall time per execution
+  int while_limit = static_cast<int>(keys::kWhileLimit.def);       ///< iterations of `while`
 };
 
 class Executor : public sdk::ExecutionService {
  public:
-  Executor(std::shared_ptr<const sdk::Planner> planner, ExecLimits limits = {});
-  /// Runs `program` on a copy of `world`. Never throws for program/world problems: errors
-  /// (unknown room, fractional count, budget exceeded) come back in Outcome::error, with
-  /// Outcome::world equal to the start world.
+  /// Every planner call goes through `planner` (a bare shared_ptr converts, named "in-process").
+  Executor(PluginRef<const sdk::Planner> planner, ExecLimits limits = {});
+  /// Runs `program` on a copy of `world`. Never throws: errors (unknown room, fractional count,
+  /// budget exceeded, a failing planner: plugin_error naming it) come back in Outcome::error,
+  /// with Outcome::world equal to the start world.
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override;
   /// The same within a request's deadline as well: execution stops at the earlier of
   /// execution.time_budget_ms and `deadline`; hitting `deadline` gives `deadline_exceeded`.
@@ -33,7 +37,7 @@ class Executor : public sdk::ExecutionService {
   const ExecLimits& limits() const { return limits_; }
 
  private:
-  std::shared_ptr<const sdk::Planner> planner_;
+  PluginRef<const sdk::Planner> planner_;
   ExecLimits limits_;
 };
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "flipper/kernel/config.hpp"
+#include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/plugin.hpp"
 
@@ -42,6 +43,8 @@ struct LoadedPlugin {
 
   /// "name (path)" for messages.
   std::string label() const;
+  /// Kind, name and file, as PluginRef messages name the plugin.
+  PluginId id() const;
   /// The declared parameter schema (plugin call, guarded: failures become plugin_error).
   sdk::ParamSchema schema() const;
 };
@@ -67,25 +70,28 @@ class PluginLoader {
   LoadedPlugin open_entry(const PluginEntry& entry, std::optional<sdk::PluginKind> expected) const;
 
   /// Constructs an object (plugin call, guarded: a throwing constructor becomes plugin_error
-  /// "plugin 'x' (path): <message>"). The returned pointer owns the library handle, so the
+  /// "plugin 'x' (path): create: <message>"). The returned pointer owns the library handle, so the
   /// object is destroyed by the plugin's `destroy` before its code can be unmapped.
   std::shared_ptr<sdk::Plugin> instantiate(const LoadedPlugin& plugin,
                                            const sdk::Params& params) const;
 
   /// The plugin a config section selects ("planner"), with its params validated against the
   /// plugin's schema before construction.
+  /// `id`, when given, receives the plugin's identity.
   std::shared_ptr<sdk::Plugin> create_section(const Config& config, const std::string& section,
-                                              sdk::PluginKind kind) const;
+                                              sdk::PluginKind kind, PluginId* id = nullptr) const;
+  /// The same, typed, as the handle every call into it goes through.
   template <class Interface>
-  std::shared_ptr<Interface> create(const Config& config, const std::string& section) const {
+  PluginRef<Interface> create(const Config& config, const std::string& section) const {
+    PluginId id;
     std::shared_ptr<sdk::Plugin> object =
-        create_section(config, section, sdk::KindOf<Interface>::value);
+        create_section(config, section, sdk::KindOf<Interface>::value, &id);
     auto* typed = dynamic_cast<Interface*>(object.get());
     if (typed == nullptr)
-      throw sdk::Error(sdk::codes::kPluginLoadFailed, "plugin '" + config.plugin_name(section) +
-                                                          "' does not implement the " + section +
-                                                          " interface");
-    return std::shared_ptr<Interface>(std::move(object), typed);
+      throw sdk::Error(sdk::codes::kPluginLoadFailed,
+                       id.label() + " does not implement the " + section + " interface");
+    return PluginRef<Interface>(std::shared_ptr<Interface>(std::move(object), typed),
+                                std::move(id));
   }
 
  private:

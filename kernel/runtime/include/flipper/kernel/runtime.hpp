@@ -3,11 +3,15 @@
 /// A runtime is everything a config selects, loaded and ready: one instance of each plugin kind
 /// (through the loader, libraries kept loaded while the objects live), the core grammar handed to
 /// the parser, and the default world. Built once, before the first request is answered.
+/// Every plugin is held as a PluginRef: calls into it go through `ref.call(op, f)`, which names
+/// the plugin the same way in every error (plugin_ref.hpp).
 
 #include <memory>
 #include <string>
 
 #include "flipper/kernel/config.hpp"
+#include "flipper/kernel/plugin_ref.hpp"
+#include "flipper/kernel/usage_table.hpp"
 #include "flipper/sdk/grammar.hpp"
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/planner.hpp"
@@ -20,14 +24,17 @@ namespace flipper::kernel {
 
 struct Runtime {
   Config config;
-  std::shared_ptr<sdk::World> world;
-  std::shared_ptr<sdk::Planner> planner;
-  std::shared_ptr<sdk::Parser> parser;
-  std::shared_ptr<sdk::Scorer> scorer;
-  std::shared_ptr<sdk::Rewriter> rewriter;      ///< null when the config has no rewriter
-  std::shared_ptr<sdk::Similarity> similarity;  ///< null when the config has no similarity
+  PluginRef<sdk::World> world;
+  PluginRef<sdk::Planner> planner;
+  PluginRef<sdk::Parser> parser;
+  PluginRef<sdk::Scorer> scorer;
+  PluginRef<sdk::Rewriter> rewriter;      ///< empty when the config has no rewriter
+  PluginRef<sdk::Similarity> similarity;  ///< empty when the config has no similarity
   std::shared_ptr<const sdk::Grammar> core_grammar;
   sdk::WorldState default_world;  ///< from world.file (loaded by the world plugin)
+  /// Use counters of induced rules, shared by every session of this runtime; scorers read them
+  /// through ScoreContext::usage.
+  std::shared_ptr<UsageTable> usage = std::make_shared<UsageTable>();
 };
 
 /// Loads every plugin the config selects and builds the runtime. Throws sdk::Error with codes

@@ -52,12 +52,13 @@ inline constexpr const char* kNotAcceptable = "not_acceptable";
 
 /// Settings the session reads from the config once, at construction.
 struct SessionOptions {
-  int k = 3;                     ///< session.k: candidates shown per query
-  std::size_t max_chars = 2000;  ///< input.max_chars
-  int max_semicolons = 30;       ///< input.max_semicolons: refused at this many `;` tokens
-  int beam = 0;                  ///< parser beam (0: the parser's default)
-  ExecLimits limits;             ///< execution.*
-  InputLimits input;             ///< input.max_*, world.max_cells, session.deadline_ms
+  int k = static_cast<int>(keys::kSessionK.def);  ///< session.k: candidates shown per query
+  std::size_t max_chars = static_cast<std::size_t>(keys::kMaxChars.def);  ///< input.max_chars
+  /// input.max_semicolons: refused at this many `;` tokens
+  int max_semicolons = static_cast<int>(keys::kMaxSemicolons.def);
+  int beam = 0;       ///< parser beam (0: the parser's default)
+  ExecLimits limits;  ///< execution.*
+  InputLimits input;  ///< input.max_*, world.max_cells, session.deadline_ms
   static SessionOptions from_config(const Config& config);
 };
 
@@ -114,6 +115,8 @@ class Session {
   std::chrono::steady_clock::time_point deadline() const { return deadline_; }
   /// Throws sdk::Error(deadline_exceeded) naming `stage` when the deadline has passed.
   void check_deadline(const char* stage) const;
+  /// Throws sdk::Error(input_too_long) when `text` has more than input.max_chars code points.
+  void check_length(std::string_view text) const;
   /// The same for an already parsed request. Never throws.
   Json handle(const Json& request);
 

@@ -25,19 +25,4 @@ std::optional<std::string> optional_string(const Json& req, const char* field, c
 std::optional<std::int64_t> optional_int(const Json& req, const char* field, const char* what,
                                          const char* out_of_range_code = nullptr);
 
-/// Runs a plugin call: sdk::Error passes through with its code, any other exception becomes
-/// `plugin_error` naming the plugin.
-template <class F>
-auto call_plugin(const char* plugin, F&& f) -> decltype(f());
-[[noreturn]] void rethrow_as_plugin_error(const char* plugin);
-
-template <class F>
-auto call_plugin(const char* plugin, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (...) {
-    rethrow_as_plugin_error(plugin);
-  }
-}
-
 }  // namespace flipper::kernel::request

@@ -1,10 +1,10 @@
 #pragma once
 /// @file generalizer.hpp
-/// Generalization by rewriting (docs/naturalization.md §6): asks the rewriter plugin for alternative
-/// bodies, keeps those equivalent to the user's body in the world where the definition was made
-/// (same trace and final world, run from the world before the first body line; optionally also on
-/// perturbed copies of that world), and selects the best by
-/// σ = (best-packing score against the head chart, similarity(head, candidate), generality).
+/// Generalization by rewriting (docs/naturalization.md §6): asks the rewriter plugin for
+/// alternative bodies, keeps those equivalent to the user's body in the world where the definition
+/// was made (same trace and final world, run from the world before the first body line; optionally
+/// also on perturbed copies of that world), and selects the best by σ = (best-packing score against
+/// the head chart, similarity(head, candidate), generality).
 ///
 /// Perturbed checks (beyond the original, off by default): with `perturbed_checks = n > 0`, the
 /// body and each candidate also run on n seeded perturbations of the world (robot elsewhere,
@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/rewriter.hpp"
@@ -55,25 +56,28 @@ struct GeneralizeOptions {
 
 class Generalizer {
  public:
-  Generalizer(const sdk::Rewriter& rewriter, const sdk::Similarity* similarity,
+  /// `similarity` may be empty (no similarity feature). Calls go through the refs.
+  Generalizer(PluginRef<const sdk::Rewriter> rewriter, PluginRef<const sdk::Similarity> similarity,
               const sdk::ExecutionService& exec, GeneralizeOptions options = {});
   /// @param head_tokens the head's tokens (lexed, lower case).
   /// @param packing_score best-packing score of a program against the head chart (inducer); an
   ///        empty function scores every program 0.
-  /// Throws sdk::Error(plugin_error) when the rewriter or the similarity plugin fails.
+  /// Throws sdk::Error(plugin_error, naming the plugin) when the rewriter or the similarity
+  /// plugin fails; an sdk::Error they throw keeps its code.
   GeneralizeResult generalize(
       const std::vector<std::string>& head_tokens, const sdk::Program& body,
       const sdk::WorldState& before,
       const std::function<double(const sdk::Program&)>& packing_score) const;
 
  private:
-  const sdk::Rewriter& rewriter_;
-  const sdk::Similarity* similarity_;
+  PluginRef<const sdk::Rewriter> rewriter_;
+  PluginRef<const sdk::Similarity> similarity_;
   const sdk::ExecutionService& exec_;
   GeneralizeOptions options_;
 };
 
-/// Words of the head for the similarity: its tokens without `, [ ] { }` (docs/naturalization.md §6).
+/// Words of the head for the similarity: its tokens without `, [ ] { }` (docs/naturalization.md
+/// §6).
 std::vector<std::string> head_words(const std::vector<std::string>& head_tokens);
 /// Words of a candidate: its canonical text's tokens without `{ } [ ] , ;` and the words
 /// `is containing in item items and`.

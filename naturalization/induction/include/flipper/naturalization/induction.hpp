@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/derivation.hpp"
 #include "flipper/sdk/grammar.hpp"
 #include "flipper/sdk/parser.hpp"
@@ -121,7 +122,10 @@ struct InductionResult {
 class Inducer {
  public:
   /// `visible` restricts the rules used to parse head and body (the author's view).
-  Inducer(const sdk::Parser& parser, const sdk::Scorer& scorer, InductionOptions options = {});
+  /// Parser calls go through `parser` (PluginRef: failures name the plugin). `usage`, the
+  /// kernel's use counters, is handed to the scorer as the session's parses do.
+  Inducer(PluginRef<const sdk::Parser> parser, PluginRef<const sdk::Scorer> scorer,
+          InductionOptions options = {}, const sdk::UsageCounters* usage = nullptr);
 
   /// §4.1–4.3: checks, body program, head chart. Throws sdk::Error with the codes above
   /// (bad_request for a rank past the candidates). Head and body parses stop at `stop`; a
@@ -141,9 +145,10 @@ class Inducer {
   const InductionOptions& options() const { return options_; }
 
  private:
-  const sdk::Parser& parser_;
-  const sdk::Scorer& scorer_;
+  PluginRef<const sdk::Parser> parser_;
+  PluginRef<const sdk::Scorer> scorer_;
   InductionOptions options_;
+  const sdk::UsageCounters* usage_;
 };
 
 }  // namespace flipper::kernel

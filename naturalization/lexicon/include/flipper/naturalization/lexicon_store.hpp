@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "flipper/kernel/keys.hpp"
+
 namespace flipper::kernel {
 
 namespace lexicon_codes {
@@ -40,7 +42,8 @@ bool is_store_fault(const std::string& code);
 
 /// How a store is opened.
 struct LexiconStoreOptions {
-  int busy_timeout_ms = 10000;  ///< lexicon.busy_timeout_ms: longest wait for other writers
+  /// lexicon.busy_timeout_ms: longest wait for other writers
+  int busy_timeout_ms = static_cast<int>(keys::kBusyTimeoutMs.def);
   /// SQLite's max_page_count (0: SQLite's default): caps the file size. Tests use it to make a
   /// store "full" without a full device.
   std::int64_t max_page_count = 0;

@@ -52,8 +52,8 @@ struct NaturalizeOptions {
   std::function<void(const std::string&)> warn;
   InductionOptions induction;  ///< induction.alignment (+ parser beam)
   bool generalize = true;      ///< induction.generalize
-  int perturbed_checks = 0;    ///< induction.perturbed_checks
-  /// Reads the keys above; absent keys keep their defaults.
+  int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
+  /// Reads the keys above from a validated config (the schema filled every default).
   static NaturalizeOptions from_config(const Config& config);
 };
 
@@ -157,6 +157,7 @@ class Naturalizer {
   void remove_live(const std::string& id);
   bool exists_for(const sdk::Rule& rule, const std::string& author) const;
   std::string weights_key(const std::string& user) const;
+  std::string save_weights() const;  ///< the scorer's state (a guarded plugin call)
   /// Loads the scorer's stored weights under `key` (saved state, then additive weights).
   void load_weights(const std::string& key);
 
