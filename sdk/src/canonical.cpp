@@ -362,6 +362,21 @@ class Reader {
   std::size_t end_pos_;
   const std::vector<Sort>* holes_;
   std::size_t pos_ = 0;
+  std::size_t depth_ = 0;  // terms being read, one inside the other
+
+  // Reading recurses once per nested term; a bound keeps hostile text ({ x thousands, found by
+  // fuzz_canonical_text) from overflowing the stack (docs/core-language.md, canonical text).
+  static constexpr std::size_t kMaxNesting = 256;
+  struct Nest {
+    explicit Nest(Reader& r) : r_(r) {
+      if (++r_.depth_ > kMaxNesting)
+        r_.fail("nested deeper than " + std::to_string(kMaxNesting) + " levels");
+    }
+    ~Nest() { --r_.depth_; }
+    Nest(const Nest&) = delete;
+    Nest& operator=(const Nest&) = delete;
+    Reader& r_;
+  };
 
   static bool fits(Sort expected, Sort actual) { return sort_fits(expected, actual); }
   std::size_t here() const { return pos_ < tokens_.size() ? tokens_[pos_].pos : end_pos_; }
@@ -410,6 +425,7 @@ class Reader {
 
   // An unbraced term: a number, a hole, a word, a list or point `[...]`, an item, or `{...}`.
   Program term() {
+    const Nest nest(*this);
     const std::size_t start = here();
     if (pos_ >= tokens_.size()) fail("unexpected end");
     const std::string& t = tokens_[pos_].text;

@@ -274,3 +274,28 @@ TEST_CASE("word-sorted templates read back as the word (stored alignment rules)"
   CHECK_THROWS_AS(read_canonical("red blue", Sort::Color), Error);
   CHECK_THROWS_AS(read_canonical("3", Sort::Color), Error);
 }
+
+namespace {
+// `{` x depth, then `move left`, then `}` x depth: `depth` nested braced terms.
+std::string nested_move(std::size_t depth) {
+  return std::string(depth, '{') + "move left" + std::string(depth, '}');
+}
+std::string read_error(const std::string& text) {
+  try {
+    read_canonical(text);
+  } catch (const Error& e) {
+    return std::string(e.code()) + ": " + e.what();
+  }
+  return "read";
+}
+}  // namespace
+
+TEST_CASE("reading canonical text stops at 256 nested terms", "[canonical][limits]") {
+  // Found by fuzz_canonical_text: ~700 nested braces overflowed the stack (ASan), and any
+  // depth was read recursively. Each `{` opens one term; `move left` is read inside the last.
+  CHECK(read_error(nested_move(256)) == "read");
+  const std::string deep = read_error(nested_move(257));
+  CHECK(deep.find("bad_program") == 0);
+  CHECK(deep.find("nested deeper than 256 levels") != std::string::npos);
+  CHECK(read_error(nested_move(100000)) == deep);
+}

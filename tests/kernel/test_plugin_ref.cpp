@@ -1,5 +1,6 @@
 // PluginRef: every call into a plugin names a failing plugin the same way, whatever its kind and
 // wherever the kernel calls it (runtime start-up, the executor, the session).
+#include <nlohmann/json.hpp>
 #include <regex>
 
 #include "flipper/kernel/executor.hpp"

@@ -106,7 +106,7 @@ std::vector<std::string> direction_words(const Config& config, const std::string
 
 std::unique_ptr<Runtime> make_runtime(const Config& config) {
   const PluginLoader loader(PluginLoader::search_path_for(config));
-  auto rt = std::unique_ptr<Runtime>(new Runtime{config});
+  auto rt = std::make_unique<Runtime>(config);
   rt->world = loader.create<sdk::World>(config, "world");
   rt->planner = loader.create<sdk::Planner>(config, "planner");
   rt->parser = loader.create<sdk::Parser>(config, "parser");

@@ -7,6 +7,7 @@
 /// the plugin the same way in every error (plugin_ref.hpp).
 
 #include <memory>
+#include <utility>
 #include <string>
 
 #include "flipper/kernel/config.hpp"
@@ -23,6 +24,8 @@
 namespace flipper::kernel {
 
 struct Runtime {
+  explicit Runtime(Config c) : config(std::move(c)) {}
+
   Config config;
   PluginRef<sdk::World> world;
   PluginRef<sdk::Planner> planner;
