@@ -489,6 +489,52 @@ std::string points_json(const std::vector<Cell>& points, int dims) {
   return out;
 }
 
+void append_items_json(std::string& out, const WorldState& state, int dims) {
+  out += '[';
+  for (std::size_t i = 0; i < state.items.size(); ++i) {
+    const auto& li = state.items[i];
+    out += i == 0 ? "{\"id\":" : ",{\"id\":";
+    append_int(out, li.item.id);
+    out += ",\"x\":";
+    append_int(out, li.at.x);
+    out += ",\"y\":";
+    append_int(out, li.at.y);
+    if (dims == 3) {
+      out += ",\"z\":";
+      append_int(out, li.at.z);
+    }
+    out += ",\"color\":";
+    append_string(out, li.item.color);
+    out += ",\"shape\":";
+    append_string(out, li.item.shape);
+    out += '}';
+  }
+  out += ']';
+}
+
+void append_robot_json(std::string& out, const WorldState& state, int dims) {
+  out += "{\"x\":";
+  append_int(out, state.robot.x);
+  out += ",\"y\":";
+  append_int(out, state.robot.y);
+  if (dims == 3) {
+    out += ",\"z\":";
+    append_int(out, state.robot.z);
+  }
+  out += ",\"holding\":[";
+  for (std::size_t i = 0; i < state.held.size(); ++i) {
+    const auto& h = state.held[i];
+    out += i == 0 ? "{\"id\":" : ",{\"id\":";
+    append_int(out, h.id);
+    out += ",\"color\":";
+    append_string(out, h.color);
+    out += ",\"shape\":";
+    append_string(out, h.shape);
+    out += '}';
+  }
+  out += "]}";
+}
+
 std::string write_world(const WorldState& state, const std::vector<RawField>& fields) {
   if (!state.geometry) throw Error(codes::kInternal, "write_world: the state has no geometry");
   const int dims = state.geometry->dims();
@@ -519,45 +565,11 @@ std::string write_world(const WorldState& state, const std::vector<RawField>& fi
     out += values[i];
     out += ',';
   }
-  out += "\"items\":[";
-  for (std::size_t i = 0; i < state.items.size(); ++i) {
-    const auto& li = state.items[i];
-    out += i == 0 ? "{\"id\":" : ",{\"id\":";
-    append_int(out, li.item.id);
-    out += ",\"x\":";
-    append_int(out, li.at.x);
-    out += ",\"y\":";
-    append_int(out, li.at.y);
-    if (dims == 3) {
-      out += ",\"z\":";
-      append_int(out, li.at.z);
-    }
-    out += ",\"color\":";
-    append_string(out, li.item.color);
-    out += ",\"shape\":";
-    append_string(out, li.item.shape);
-    out += '}';
-  }
-  out += "],\"robot\":{\"x\":";
-  append_int(out, state.robot.x);
-  out += ",\"y\":";
-  append_int(out, state.robot.y);
-  if (dims == 3) {
-    out += ",\"z\":";
-    append_int(out, state.robot.z);
-  }
-  out += ",\"holding\":[";
-  for (std::size_t i = 0; i < state.held.size(); ++i) {
-    const auto& h = state.held[i];
-    out += i == 0 ? "{\"id\":" : ",{\"id\":";
-    append_int(out, h.id);
-    out += ",\"color\":";
-    append_string(out, h.color);
-    out += ",\"shape\":";
-    append_string(out, h.shape);
-    out += '}';
-  }
-  out += "]},\"rooms\":{";
+  out += "\"items\":";
+  append_items_json(out, state, dims);
+  out += ",\"robot\":";
+  append_robot_json(out, state, dims);
+  out += ",\"rooms\":{";
   if (state.rooms) {
     bool first = true;
     for (const auto& [name, area] : *state.rooms) {

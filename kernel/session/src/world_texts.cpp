@@ -1,6 +1,8 @@
 // World texts by version: static text once, items and robot per state (world_texts.hpp).
 #include "world_texts.hpp"
 
+#include "flipper/sdk/world_format.hpp"
+
 #include <charconv>
 #include <nlohmann/json.hpp>
 
@@ -51,12 +53,6 @@ std::size_t skip_value(std::string_view t, std::size_t i) {
   return i;
 }
 
-void append_int(std::string& out, std::int64_t v) {
-  char buf[24];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
-}
-
 }  // namespace
 
 std::vector<RawMember> top_level_members(std::string_view t) {
@@ -94,63 +90,12 @@ std::string_view top_level_value(std::string_view text, std::string_view key) {
   return found;
 }
 
-void append_json_string(std::string& out, const std::string& s) {
-  for (unsigned char c : s)
-    if (c < 0x20 || c == '"' || c == '\\' || c >= 0x80) {
-      out += nlohmann::json(s).dump();  // escapes and UTF-8 checks exactly as the SDK's writer
-      return;
-    }
-  out += '"';
-  out += s;
-  out += '"';
-}
-
 void WorldTexts::append_items(std::string& out, const sdk::WorldState& state) {
-  const bool three = state.geometry && state.geometry->dims() == 3;
-  out += '[';
-  for (std::size_t i = 0; i < state.items.size(); ++i) {
-    const auto& li = state.items[i];
-    out += i == 0 ? "{\"id\":" : ",{\"id\":";
-    append_int(out, li.item.id);
-    out += ",\"x\":";
-    append_int(out, li.at.x);
-    out += ",\"y\":";
-    append_int(out, li.at.y);
-    if (three) {
-      out += ",\"z\":";
-      append_int(out, li.at.z);
-    }
-    out += ",\"color\":";
-    append_json_string(out, li.item.color);
-    out += ",\"shape\":";
-    append_json_string(out, li.item.shape);
-    out += '}';
-  }
-  out += ']';
+  sdk::world_format::append_items_json(out, state, state.geometry ? state.geometry->dims() : 2);
 }
 
 void WorldTexts::append_robot(std::string& out, const sdk::WorldState& state) {
-  const bool three = state.geometry && state.geometry->dims() == 3;
-  out += "{\"x\":";
-  append_int(out, state.robot.x);
-  out += ",\"y\":";
-  append_int(out, state.robot.y);
-  if (three) {
-    out += ",\"z\":";
-    append_int(out, state.robot.z);
-  }
-  out += ",\"holding\":[";
-  for (std::size_t i = 0; i < state.held.size(); ++i) {
-    const auto& h = state.held[i];
-    out += i == 0 ? "{\"id\":" : ",{\"id\":";
-    append_int(out, h.id);
-    out += ",\"color\":";
-    append_json_string(out, h.color);
-    out += ",\"shape\":";
-    append_json_string(out, h.shape);
-    out += '}';
-  }
-  out += "]}";
+  sdk::world_format::append_robot_json(out, state, state.geometry ? state.geometry->dims() : 2);
 }
 
 namespace {
@@ -195,7 +140,7 @@ WorldTexts::Version& WorldTexts::find_or_make(const sdk::WorldState& state) {
   // The geometry text: every member but items and robot, in the plugin's order.
   const auto members = top_level_members(text);
   std::string_view items, robot;
-  v->geometry_text = "{";
+  v->geometry_text.push_back('{');  // (a new Version: the text is empty)
   for (const auto& m : members) {
     if (m.key == "\"items\"") {
       items = m.value;

@@ -1,12 +1,12 @@
 #pragma once
 /// @file world_texts.hpp
-/// The texts of worlds in answers (docs/protocol.md § "Protocol versions"). A world's static part (walls or other
-/// obstacles, rooms, bounds) depends only on its geometry and rooms, which every state derived
-/// from one loaded world shares; only the robot, the lying items and the held items change. So the
-/// plugin's text is taken apart once per *world version* (one geometry + rooms) into static text
-/// around the "items" and "robot" values, and every later state of that version is written by
-/// filling those two values in: the full form costs a copy of the static text, the change-only
-/// form (`{"items":...,"robot":...}`) does not depend on the wall count at all.
+/// The texts of worlds in answers (docs/protocol.md § "Protocol versions"). A world's static part
+/// (walls or other obstacles, rooms, bounds) depends only on its geometry and rooms, which every
+/// state derived from one loaded world shares; only the robot, the lying items and the held items
+/// change. So the plugin's text is taken apart once per *world version* (one geometry + rooms) into
+/// static text around the "items" and "robot" values, and every later state of that version is
+/// written by filling those two values in: the full form costs a copy of the static text, the
+/// change-only form (`{"items":...,"robot":...}`) does not depend on the wall count at all.
 ///
 /// The split is checked when a version is made: the reassembled text of the state it was made
 /// from must equal the plugin's text byte for byte; a plugin whose text does not split that way
@@ -33,9 +33,6 @@ struct RawMember {
 std::vector<RawMember> top_level_members(std::string_view text);
 /// The raw value of the (last) member `"key"`, or an empty view.
 std::string_view top_level_value(std::string_view text, std::string_view key);
-
-/// Appends the protocol's JSON for a string (escaped as nlohmann::json::dump does).
-void append_json_string(std::string& out, const std::string& s);
 
 class WorldTexts {
  public:

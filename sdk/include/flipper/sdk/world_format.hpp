@@ -86,6 +86,11 @@ struct RawField {
 FLIPPER_SDK_API std::string write_world(const WorldState& state,
                                         const std::vector<RawField>& fields = {});
 
+/// The "items" array and the "robot" object exactly as write_world writes them, appended to `out`
+/// (also used by hosts that assemble a world from cached static text).
+FLIPPER_SDK_API void append_items_json(std::string& out, const WorldState& state, int dims);
+FLIPPER_SDK_API void append_robot_json(std::string& out, const WorldState& state, int dims);
+
 /// JSON text of a point list: `[[x,y],...]` (or `[x,y,z]` points when dims == 3).
 FLIPPER_SDK_API std::string points_json(const std::vector<Cell>& points, int dims);
 
