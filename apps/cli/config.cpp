@@ -1,6 +1,10 @@
 // flipper config check [FILE] [--json]: validates the config (kernel keys and every plugin's
 // params), instantiates all plugins, loads grammar and default world, then prints the effective
 // config (YAML, or one JSON object with --json).
+// flipper config print [FILE]: the effective config, kernel keys validated, no plugin loaded.
+// flipper config explain [KEY|SECTION] [--markdown]: the kernel's keys as declared (type,
+// default, allowed values, description), from the schema that validates them; --markdown prints
+// the table docs/config.md carries.
 #include <yaml-cpp/yaml.h>
 
 #include <iostream>
@@ -12,6 +16,8 @@
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/param_check.hpp"
+#include "schema_text.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -47,11 +53,11 @@ struct CheckArgs {
   bool json = false;
 };
 
+std::optional<std::string> file_of(const CheckArgs& a);
+
 int check(const CheckArgs& a) {
-  const std::string file = a.positional.empty() ? a.opts.config_file : a.positional;
   try {
-    const auto config = kernel::Config::load(
-        file.empty() ? std::nullopt : std::optional<std::string>(file), a.opts.overrides);
+    const auto config = kernel::Config::load(file_of(a), a.opts.overrides);
     const auto runtime = kernel::make_runtime(config);
     if (a.json)
       std::cout << nlohmann::json{{"ok", true},
@@ -73,6 +79,48 @@ int check(const CheckArgs& a) {
   }
 }
 
+std::optional<std::string> file_of(const CheckArgs& a) {
+  const std::string file = a.positional.empty() ? a.opts.config_file : a.positional;
+  return file.empty() ? std::nullopt : std::optional<std::string>(file);
+}
+
+int print(const CheckArgs& a) {
+  try {
+    std::cout << kernel::Config::load(file_of(a), a.opts.overrides).dump();
+    return kExitOk;
+  } catch (const sdk::Error& e) {
+    return report_error("config print", e.code(), e.what(), kExitUsage);
+  }
+}
+
+struct ExplainArgs {
+  std::string key;
+  bool markdown = false;
+};
+
+int explain(const ExplainArgs& a) {
+  const sdk::ParamSchema& schema = kernel::Config::schema();
+  if (a.markdown) {
+    std::cout << markdown_table(schema);
+    return kExitOk;
+  }
+  const auto specs = specs_under(schema, a.key);
+  if (specs.empty()) {
+    std::vector<std::string> names;
+    for (const auto& p : schema.params) names.push_back(p.name);
+    for (const auto& s : schema.sections) names.push_back(s.name);
+    return report_error("config explain", "bad_config",
+                        "no config key or section '" + a.key + "'" +
+                            sdk::did_you_mean(a.key, names) +
+                            " (flipper config explain lists them all)",
+                        kExitUsage);
+  }
+  if (const sdk::ParamSection* s = schema.find_section(a.key))
+    std::cout << s->name << ": " << s->description << (s->optional ? " (optional)" : "") << "\n";
+  std::cout << text_table(specs, "KEY", "");
+  return kExitOk;
+}
+
 }  // namespace
 
 void add_config_command(CLI::App& app) {
@@ -90,6 +138,21 @@ void add_config_command(CLI::App& app) {
                           kExitUsage);
     return check(args);
   });
+
+  auto* print_cmd =
+      cmd->add_subcommand("print", "Print the effective config (kernel keys checked, no plugins)");
+  static CheckArgs print_args;
+  add_common_options(*print_cmd, print_args.opts);
+  print_cmd->add_option("file", print_args.positional, "Config file (same as --config)");
+  on_run(*print_cmd, [] { return print(print_args); });
+
+  auto* explain_cmd =
+      cmd->add_subcommand("explain", "Describe the kernel's config keys (type, default, range)");
+  static ExplainArgs explain_args;
+  explain_cmd->add_option("key", explain_args.key, "A key or section (default: all)");
+  explain_cmd->add_flag("--markdown", explain_args.markdown,
+                        "The Markdown table of docs/config.md");
+  on_run(*explain_cmd, [] { return explain(explain_args); });
 }
 
 }  // namespace flipper::cli

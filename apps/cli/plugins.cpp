@@ -16,6 +16,7 @@
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/loader.hpp"
 #include "flipper/sdk/param_check.hpp"
+#include "schema_text.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -44,43 +45,6 @@ void print_table(const std::vector<Row>& rows) {
   for (const auto& r : rows) line(r);
 }
 
-const char* type_name(sdk::ParamType t) {
-  switch (t) {
-    case sdk::ParamType::Bool:
-      return "bool";
-    case sdk::ParamType::Int:
-      return "int";
-    case sdk::ParamType::Double:
-      return "double";
-    case sdk::ParamType::String:
-      return "string";
-    case sdk::ParamType::StringList:
-      return "string list";
-    case sdk::ParamType::Path:
-      return "path";
-  }
-  return "?";
-}
-
-std::string number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-// "[1, 100]", ">= 0", "<= 5", "one of: a, b", or "-".
-std::string allowed(const sdk::ParamSpec& p) {
-  if (p.min && p.max) return "[" + number(*p.min) + ", " + number(*p.max) + "]";
-  if (p.min) return ">= " + number(*p.min);
-  if (p.max) return "<= " + number(*p.max);
-  if (!p.one_of.empty()) {
-    std::string out = "one of: ";
-    for (std::size_t i = 0; i < p.one_of.size(); ++i) out += (i ? ", " : "") + p.one_of[i];
-    return out;
-  }
-  return "-";
-}
-
 void print_params(const kernel::LoadedPlugin& p) {
   const auto* d = p.descriptor;
   std::cout << "\n"
@@ -93,24 +57,7 @@ void print_params(const kernel::LoadedPlugin& p) {
     std::cout << "  (no parameters)\n";
     return;
   }
-  std::vector<std::array<std::string, 5>> rows = {
-      {"PARAM", "TYPE", "DEFAULT", "ALLOWED", "DESCRIPTION"}};
-  for (const auto& s : schema.params)
-    rows.push_back({s.name, type_name(s.type),
-                    s.default_value ? sdk::to_string(*s.default_value)
-                    : s.required    ? "(required)"
-                                    : "(none)",
-                    allowed(s), s.description});
-  std::size_t w[4] = {0, 0, 0, 0};
-  for (const auto& r : rows)
-    for (int i = 0; i < 4; ++i) w[i] = std::max(w[i], r[static_cast<std::size_t>(i)].size());
-  for (const auto& r : rows) {
-    std::cout << "  ";
-    for (int i = 0; i < 4; ++i)
-      std::cout << std::left << std::setw(static_cast<int>(w[i] + 2))
-                << r[static_cast<std::size_t>(i)];
-    std::cout << r[4] << "\n";
-  }
+  std::cout << text_table(specs_under(schema, ""), "PARAM", "  ");
 }
 
 // The parameter schemas of every loadable plugin, or of `only`; exit 2 when `only` is unknown
@@ -145,11 +92,11 @@ nlohmann::json params_json(const kernel::LoadedPlugin& p) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& s : p.schema().params)
     out.push_back({{"name", s.name},
-                   {"type", type_name(s.type)},
+                   {"type", sdk::to_string(s.type)},
                    {"default", s.default_value ? nlohmann::json(sdk::to_string(*s.default_value))
                                                : nlohmann::json(nullptr)},
                    {"required", s.required},
-                   {"allowed", allowed(s)},
+                   {"allowed", allowed_text(s)},
                    {"description", s.description}});
   return out;
 }
@@ -204,8 +151,8 @@ int list_plugins(const CommonOptions& opts, bool params, const std::string& only
     nlohmann::json list = nlohmann::json::array();
     for (const auto& r : rows) {
       if (!only.empty() && r.name != only) continue;
-      nlohmann::json j{{"selected", r.mark == "*"}, {"name", r.name},      {"kind", r.kind},
-                       {"version", r.version},      {"abi", r.abi},        {"path", r.path},
+      nlohmann::json j{{"selected", r.mark == "*"}, {"name", r.name}, {"kind", r.kind},
+                       {"version", r.version},      {"abi", r.abi},   {"path", r.path},
                        {"status", r.status}};
       if (schemas.contains(r.name)) j["params"] = schemas[r.name];
       list.push_back(std::move(j));

@@ -1,6 +1,7 @@
 #include "flipper/sdk/param_check.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "flipper/sdk/errors.hpp"
@@ -36,14 +37,21 @@ bool type_matches(ParamType type, const ParamValue& v) {
     case ParamType::Path:
       return std::holds_alternative<std::string>(v);
     case ParamType::StringList:
+    case ParamType::PathList:
+    case ParamType::DoubleList:
+    case ParamType::Map:
       return std::holds_alternative<std::vector<std::string>>(v);
   }
   return false;
 }
 
-std::string num(double x) {
+// A bound as written: integers without exponent (1099511627776, not 1.09951e+12).
+std::string num(double x, ParamType type) {
   std::ostringstream os;
-  os << x;
+  if (type == ParamType::Int && std::abs(x) < 9.2e18)
+    os << static_cast<std::int64_t>(x);
+  else
+    os << x;
   return os.str();
 }
 
@@ -53,7 +61,103 @@ std::string join(const std::vector<std::string>& words) {
   return out;
 }
 
+bool below(const std::string& name, const std::string& prefix) {
+  return prefix.empty() ||
+         (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
+          name[prefix.size()] == '.');
+}
+
+// Names one level below `prefix` ("" for the top), in declaration order.
+std::vector<std::string> child_names(const ParamSchema& schema, const std::string& prefix) {
+  std::vector<std::string> out;
+  const std::size_t skip = prefix.empty() ? 0 : prefix.size() + 1;
+  for (const auto& p : schema.params) {
+    if (!below(p.name, prefix)) continue;
+    const std::string rest = p.name.substr(skip);
+    const std::string name = rest.substr(0, rest.find('.'));
+    if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+  }
+  return out;
+}
+
+// A value as a message shows it: text in single quotes, so an empty one is visible.
+std::string shown(const ParamValue& v) {
+  if (const auto* s = std::get_if<std::string>(&v)) return "'" + *s + "'";
+  return to_string(v);
+}
+
+[[noreturn]] void fail(const std::string& message) {
+  throw Error(codes::kBadConfig, message);
+}
+
+// "unknown config key 'a.b' (did you mean 'a.c'?); keys in 'a': c, d": the key is cut at the
+// first name no section declares, and hints come from its siblings only.
+[[noreturn]] void fail_unknown(const ParamSchema& schema, const std::string& name,
+                               const std::string& prefix, const std::string& where) {
+  std::string section;
+  std::size_t start = 0;
+  for (std::size_t dot; (dot = name.find('.', start)) != std::string::npos; start = dot + 1) {
+    const std::string longer = name.substr(0, dot);
+    if (!schema.is_section(longer)) break;
+    section = longer;
+  }
+  const std::string word = name.substr(start, name.find('.', start) - start);
+  const std::string inner = section.empty() ? "" : section + ".";
+  const std::vector<std::string> siblings = child_names(schema, section);
+  std::string hint = did_you_mean(word, siblings);
+  if (!hint.empty()) {
+    const std::string lead = " (did you mean '";
+    hint = lead + prefix + inner + hint.substr(lead.size());
+  }
+  const std::string place = section.empty() ? where : prefix + section;
+  std::string known;
+  if (siblings.empty())
+    known = "; '" + where + "' takes no keys";
+  else if (place.empty())
+    known = "; top-level keys: " + join(siblings);
+  else
+    known = "; keys in '" + place + "': " + join(siblings);
+  fail("unknown config key '" + prefix + inner + word + "'" + hint + known);
+}
+
+// The optional section `name` lies in, if any.
+const ParamSection* optional_section_of(const ParamSchema& schema, const std::string& name) {
+  for (const auto& s : schema.sections)
+    if (s.optional && below(name, s.name)) return &s;
+  return nullptr;
+}
+
+bool section_given(const std::map<std::string, ParamValue>& given, const std::string& section) {
+  for (const auto& kv : given)
+    if (below(kv.first, section)) return true;
+  return false;
+}
+
 }  // namespace
+
+const char* type_phrase(ParamType type) {
+  switch (type) {
+    case ParamType::Bool:
+      return "a boolean (true/false)";
+    case ParamType::Int:
+      return "an integer";
+    case ParamType::Double:
+      return "a number";
+    case ParamType::String:
+      return "a string";
+    case ParamType::StringList:
+      return "a list of strings";
+    case ParamType::Path:
+      return "a path";
+    case ParamType::PathList:
+      return "a list of paths";
+    case ParamType::DoubleList:
+      return "a list of numbers";
+    case ParamType::Map:
+      return "a map";
+  }
+  return "a value";
+}
 
 const char* to_string(ParamType type) {
   switch (type) {
@@ -69,6 +173,12 @@ const char* to_string(ParamType type) {
       return "string list";
     case ParamType::Path:
       return "path";
+    case ParamType::PathList:
+      return "path list";
+    case ParamType::DoubleList:
+      return "double list";
+    case ParamType::Map:
+      return "map";
   }
   return "unknown";
 }
@@ -92,38 +202,33 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
 Params validate_params(const ParamSchema& schema, const std::map<std::string, ParamValue>& given,
                        const std::string& where) {
   const std::string prefix = where.empty() ? "" : where + ".";
-  std::vector<std::string> names;
-  for (const auto& spec : schema.params) names.push_back(spec.name);
-  for (const auto& [key, value] : given) {
-    if (schema.find(key) != nullptr) continue;
-    throw Error(codes::kBadConfig,
-                "unknown parameter '" + prefix + key + "'" + did_you_mean(key, names) +
-                    "; known parameters: " + (names.empty() ? "none" : join(names)));
-  }
+  for (const auto& kv : given)
+    if (schema.find(kv.first) == nullptr) fail_unknown(schema, kv.first, prefix, where);
   Params out;
   for (const auto& spec : schema.params) {
     const std::string key = prefix + spec.name;
+    const ParamSection* optional = optional_section_of(schema, spec.name);
+    if (optional != nullptr && !section_given(given, optional->name)) continue;
     auto it = given.find(spec.name);
     if (it == given.end()) {
-      if (spec.required) throw Error(codes::kBadConfig, "missing required parameter '" + key + "'");
+      if (spec.required && optional != nullptr)
+        fail("missing required config key '" + key + "': the optional section '" + prefix +
+             optional->name + "' is given, so it needs one");
+      if (spec.required) fail("missing required config key '" + key + "'");
       if (spec.default_value) out.set(spec.name, *spec.default_value);
       continue;
     }
     const ParamValue& v = it->second;
     if (!type_matches(spec.type, v))
-      throw Error(codes::kBadConfig, "parameter '" + key + "' must be a " + to_string(spec.type) +
-                                         ", got " + to_string(v));
+      fail("config key '" + key + "' must be " + type_phrase(spec.type) + ", got " + shown(v));
     if (spec.type == ParamType::Int || spec.type == ParamType::Double) {
       const double x = std::holds_alternative<double>(v)
                            ? std::get<double>(v)
                            : static_cast<double>(std::get<std::int64_t>(v));
-      if ((spec.min && x < *spec.min) || (spec.max && x > *spec.max)) {
-        std::ostringstream os;
-        os << "parameter '" << key << "' = " << to_string(v) << " is out of range ["
-           << (spec.min ? num(*spec.min) : "-inf") << ", " << (spec.max ? num(*spec.max) : "inf")
-           << "]";
-        throw Error(codes::kBadConfig, os.str());
-      }
+      if ((spec.min && x < *spec.min) || (spec.max && x > *spec.max))
+        fail("config key '" + key + "' = " + to_string(v) + " is out of range [" +
+             (spec.min ? num(*spec.min, spec.type) : "-inf") + ", " +
+             (spec.max ? num(*spec.max, spec.type) : "inf") + "]");
       if (spec.type == ParamType::Double) {
         out.set(spec.name, x);  // store Int given for a Double as a double
         continue;
@@ -132,9 +237,8 @@ Params validate_params(const ParamSchema& schema, const std::map<std::string, Pa
     if (spec.type == ParamType::String && !spec.one_of.empty() &&
         std::find(spec.one_of.begin(), spec.one_of.end(), std::get<std::string>(v)) ==
             spec.one_of.end())
-      throw Error(codes::kBadConfig, "parameter '" + key + "' = " + to_string(v) +
-                                         " must be one of: " + join(spec.one_of) +
-                                         did_you_mean(std::get<std::string>(v), spec.one_of));
+      fail("config key '" + key + "' = " + shown(v) + " must be one of: " + join(spec.one_of) +
+           did_you_mean(std::get<std::string>(v), spec.one_of));
     out.set(spec.name, v);
   }
   return out;

@@ -1,5 +1,6 @@
 #include "flipper/sdk/params.hpp"
 
+#include <cmath>
 #include <sstream>
 
 #include "flipper/sdk/errors.hpp"
@@ -8,40 +9,70 @@ namespace flipper::sdk {
 inline namespace v1 {
 
 ParamSchema& ParamSchema::add_bool(std::string name, bool def, std::string description) {
-  params.push_back({std::move(name), ParamType::Bool, ParamValue{def}, false,
-                    std::move(description), {}, {}, {}});
+  params.push_back({std::move(name),
+                    ParamType::Bool,
+                    ParamValue{def},
+                    false,
+                    std::move(description),
+                    {},
+                    {},
+                    {}});
   return *this;
 }
 ParamSchema& ParamSchema::add_int(std::string name, std::int64_t def, std::string description,
                                   std::optional<double> min, std::optional<double> max) {
-  params.push_back({std::move(name), ParamType::Int, ParamValue{def}, false,
-                    std::move(description), min, max, {}});
+  params.push_back({std::move(name),
+                    ParamType::Int,
+                    ParamValue{def},
+                    false,
+                    std::move(description),
+                    min,
+                    max,
+                    {}});
   return *this;
 }
 ParamSchema& ParamSchema::add_double(std::string name, double def, std::string description,
                                      std::optional<double> min, std::optional<double> max) {
-  params.push_back({std::move(name), ParamType::Double, ParamValue{def}, false,
-                    std::move(description), min, max, {}});
+  params.push_back({std::move(name),
+                    ParamType::Double,
+                    ParamValue{def},
+                    false,
+                    std::move(description),
+                    min,
+                    max,
+                    {}});
   return *this;
 }
 ParamSchema& ParamSchema::add_string(std::string name, std::string def, std::string description,
                                      std::vector<std::string> one_of) {
-  params.push_back({std::move(name), ParamType::String, ParamValue{std::move(def)}, false,
-                    std::move(description), {}, {}, std::move(one_of)});
+  params.push_back({std::move(name),
+                    ParamType::String,
+                    ParamValue{std::move(def)},
+                    false,
+                    std::move(description),
+                    {},
+                    {},
+                    std::move(one_of)});
   return *this;
 }
 ParamSchema& ParamSchema::add_path(std::string name, std::optional<std::string> def,
                                    std::string description, bool required) {
   std::optional<ParamValue> d;
   if (def) d = ParamValue{*def};
-  params.push_back({std::move(name), ParamType::Path, d, required, std::move(description), {}, {},
-                    {}});
+  params.push_back(
+      {std::move(name), ParamType::Path, d, required, std::move(description), {}, {}, {}});
   return *this;
 }
 ParamSchema& ParamSchema::add_string_list(std::string name, std::vector<std::string> def,
                                           std::string description) {
-  params.push_back({std::move(name), ParamType::StringList, ParamValue{std::move(def)}, false,
-                    std::move(description), {}, {}, {}});
+  params.push_back({std::move(name),
+                    ParamType::StringList,
+                    ParamValue{std::move(def)},
+                    false,
+                    std::move(description),
+                    {},
+                    {},
+                    {}});
   return *this;
 }
 const ParamSpec* ParamSchema::find(const std::string& name) const {
@@ -49,11 +80,67 @@ const ParamSpec* ParamSchema::find(const std::string& name) const {
     if (p.name == name) return &p;
   return nullptr;
 }
+ParamSchema& ParamSchema::add(ParamSpec spec) {
+  params.push_back(std::move(spec));
+  return *this;
+}
+ParamSchema& ParamSchema::add_path_list(std::string name, std::vector<std::string> def,
+                                        std::string description) {
+  params.push_back({std::move(name),
+                    ParamType::PathList,
+                    ParamValue{std::move(def)},
+                    false,
+                    std::move(description),
+                    {},
+                    {},
+                    {}});
+  return *this;
+}
+ParamSchema& ParamSchema::add_double_list(std::string name, const std::vector<double>& def,
+                                          std::string description) {
+  std::vector<std::string> texts;
+  for (double d : def) texts.push_back(to_string(ParamValue{d}));
+  params.push_back({std::move(name),
+                    ParamType::DoubleList,
+                    ParamValue{std::move(texts)},
+                    false,
+                    std::move(description),
+                    {},
+                    {},
+                    {}});
+  return *this;
+}
+ParamSchema& ParamSchema::add_map(std::string name, std::string description) {
+  params.push_back({std::move(name),
+                    ParamType::Map,
+                    ParamValue{std::vector<std::string>{}},
+                    false,
+                    std::move(description),
+                    {},
+                    {},
+                    {}});
+  return *this;
+}
+ParamSchema& ParamSchema::add_section(std::string name, std::string description, bool optional) {
+  sections.push_back({std::move(name), std::move(description), optional});
+  return *this;
+}
+const ParamSection* ParamSchema::find_section(const std::string& name) const {
+  for (const auto& s : sections)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+bool ParamSchema::is_section(const std::string& prefix) const {
+  for (const auto& p : params)
+    if (p.name.size() > prefix.size() && p.name.compare(0, prefix.size(), prefix) == 0 &&
+        p.name[prefix.size()] == '.')
+      return true;
+  return false;
+}
 
 const ParamValue& Params::at(const std::string& name) const {
   auto it = values_.find(name);
-  if (it == values_.end())
-    throw Error(codes::kBadConfig, "parameter '" + name + "' is not set");
+  if (it == values_.end()) throw Error(codes::kBadConfig, "parameter '" + name + "' is not set");
   return it->second;
 }
 bool Params::get_bool(const std::string& name) const {
@@ -77,6 +164,23 @@ const std::string& Params::get_string(const std::string& name) const {
 const std::vector<std::string>& Params::get_string_list(const std::string& name) const {
   if (auto* v = std::get_if<std::vector<std::string>>(&at(name))) return *v;
   throw Error(codes::kBadConfig, "parameter '" + name + "' is not a list of strings");
+}
+
+std::vector<double> Params::get_double_list(const std::string& name) const {
+  std::vector<double> out;
+  for (const auto& text : get_string_list(name)) {
+    std::size_t used = 0;
+    double d = 0;
+    try {
+      d = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != text.size() || !std::isfinite(d))
+      throw Error(codes::kBadConfig, "parameter '" + name + "' is not a list of numbers");
+    out.push_back(d);
+  }
+  return out;
 }
 
 std::string to_string(const ParamValue& v) {

@@ -5,6 +5,9 @@
 #include <cstdlib>
 #include <functional>
 
+#include "flipper/kernel/limits.hpp"
+#include "flipper/kernel/session.hpp"
+
 #include "kernel_test_support.hpp"
 
 using namespace flipper;
@@ -190,8 +193,10 @@ TEST_CASE("plugin params are validated against the plugin's schema", "[config][p
   CHECK(ok.get_string("map") ==
         (std::filesystem::path(FLIPPER_BINARY_DIR) / "tests/tmp/maps/a.bt").string());
 
-  require_error([&] { (void)with("{map: m, heuristc: manhattan}"); }, "bad_config",
-                {"unknown parameter 'planner.params.heuristc'", "did you mean 'heuristic'"});
+  require_error(
+      [&] { (void)with("{map: m, heuristc: manhattan}"); }, "bad_config",
+      {"unknown config key 'planner.params.heuristc'", "did you mean 'planner.params.heuristic'",
+       "keys in 'planner.params': heuristic, max_expansions, weight, map, tags"});
   require_error([&] { (void)with("{map: m, max_expansions: many}"); }, "bad_config",
                 {"planner.params.max_expansions", "must be an integer"});
   require_error([&] { (void)with("{map: m, max_expansions: 0}"); }, "bad_config",
@@ -201,7 +206,7 @@ TEST_CASE("plugin params are validated against the plugin's schema", "[config][p
   require_error([&] { (void)with("{map: m, heuristic: euclid}"); }, "bad_config",
                 {"planner.params.heuristic", "one of: octile, manhattan"});
   require_error([&] { (void)with("{}"); }, "bad_config",
-                {"missing required parameter 'planner.params.map'"});
+                {"missing required config key 'planner.params.map'"});
   require_error([&] { (void)with("{map: m, tags: x}"); }, "bad_config",
                 {"planner.params.tags", "list of strings"});
 }
@@ -297,6 +302,151 @@ TEST_CASE("set overrides of plugin params: String/Path verbatim, other types as 
                 {"planner.params.tags", "list of strings"});
   require_error([&] { (void)params({"planner.params.tags=[x,"}); }, "bad_config",
                 {"malformed --set 'planner.params.tags=[x,'"});
+}
+
+// --- one engine, one wording: kernel keys and plugin params --------------------------------
+
+namespace {
+// The whole message of the bad_config `f` throws.
+std::string config_error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const sdk::Error& e) {
+    CHECK(e.code() == "bad_config");
+    return e.what();
+  }
+  FAIL("expected a bad_config error");
+  return "";
+}
+std::string load_error(const std::string& name, const std::string& text) {
+  const std::string path = kerneltest::write_temp(name, text);
+  return config_error([&] { (void)Config::load(path, {}); });
+}
+std::string tmp(const std::string& name) {
+  return (std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / name).string();
+}
+}  // namespace
+
+TEST_CASE("a bad kernel key is refused naming the file, the key and what is wrong",
+          "[config][schema]") {
+  // Expected texts written from the declared ranges and choices (keys.hpp, keys.cpp).
+  CHECK(load_error("named/unknown.yaml", "execution: {action_budgt: 5}\n") ==
+        "config " + tmp("named/unknown.yaml") +
+            ": unknown config key 'execution.action_budgt' (did you mean "
+            "'execution.action_budget'?); keys in 'execution': action_budget, time_budget_ms, "
+            "while_limit");
+  CHECK(load_error("named/type.yaml", "session: {k: lots}\n") ==
+        "config " + tmp("named/type.yaml") +
+            ": config key 'session.k' must be an integer, got 'lots'");
+  CHECK(load_error("named/range.yaml", "input: {max_tokens: 65535}\n") ==
+        "config " + tmp("named/range.yaml") +
+            ": config key 'input.max_tokens' = 65535 is out of range [1, 65534]");
+  CHECK(load_error("named/big.yaml", "input: {max_file_bytes: 1099511627777}\n") ==
+        "config " + tmp("named/big.yaml") +
+            ": config key 'input.max_file_bytes' = 1099511627777 is out of range [1, "
+            "1099511627776]");
+  CHECK(load_error("named/enum.yaml", "lexicon: {weights: per-user}\n") ==
+        "config " + tmp("named/enum.yaml") +
+            ": config key 'lexicon.weights' = 'per-user' must be one of: global, per_user (did you "
+            "mean 'per_user'?)");
+  CHECK(load_error("named/top.yaml", "sesion: {k: 3}\n") ==
+        "config " + tmp("named/top.yaml") +
+            ": unknown config key 'sesion' (did you mean 'session'?); top-level keys: world, "
+            "planner, parser, scorer, rewriter, similarity, grammar, lexicon, publish, dds, "
+            "induction, execution, input, session, plugin_paths, serve");
+  CHECK(load_error("named/numbers.yaml", "world: {origin: [1, x]}\n") ==
+        "config " + tmp("named/numbers.yaml") +
+            ": config key 'world.origin' must be a list of numbers, but an element is 'x'");
+  CHECK(load_error("named/optional.yaml", "similarity: {params: {}}\n") ==
+        "config " + tmp("named/optional.yaml") +
+            ": missing required config key 'similarity.plugin': the optional section "
+            "'similarity' is given, so it needs one");
+  // The boundaries themselves are accepted.
+  const std::string edge =
+      kerneltest::write_temp("named/edge.yaml", "input: {max_tokens: 65534}\nsession: {k: 1}\n");
+  CHECK(Config::load(edge, {}).get_int("input.max_tokens") == 65534);
+}
+
+TEST_CASE("plugin params get the same wording as kernel keys", "[config][schema][params]") {
+  sdk::ParamSchema schema;
+  schema.add_double("weight", 1.0, "", 0.0, 5.0);
+  schema.add_string("mode", "fast", "", {"fast", "exact"});
+  schema.add_int("search.depth", 3, "", 1, 9);  // a nested section, written as YAML nesting
+  const auto error = [&](const std::string& name, const std::string& params) {
+    const std::string path =
+        kerneltest::write_temp(name, "planner: {plugin: p, params: " + params + "}\n");
+    return config_error([&] { (void)Config::load(path, {}).plugin_params("planner", schema); });
+  };
+  CHECK(error("pnamed/range.yaml", "{weight: 9.5}") ==
+        "config " + tmp("pnamed/range.yaml") +
+            ": config key 'planner.params.weight' = 9.5 is out of range [0, 5]");
+  CHECK(error("pnamed/type.yaml", "{weight: heavy}") ==
+        "config " + tmp("pnamed/type.yaml") +
+            ": config key 'planner.params.weight' must be a number, got 'heavy'");
+  CHECK(error("pnamed/enum.yaml", "{mode: exakt}") ==
+        "config " + tmp("pnamed/enum.yaml") +
+            ": config key 'planner.params.mode' = 'exakt' must be one of: fast, exact (did you "
+            "mean 'exact'?)");
+  CHECK(error("pnamed/nested.yaml", "{search: {dept: 4}}") ==
+        "config " + tmp("pnamed/nested.yaml") +
+            ": unknown config key 'planner.params.search.dept' (did you mean "
+            "'planner.params.search.depth'?); keys in 'planner.params.search': depth");
+  const std::string ok = kerneltest::write_temp(
+      "pnamed/ok.yaml", "planner: {plugin: p, params: {search: {depth: 7}}}\n");
+  CHECK(Config::load(ok, {}).plugin_params("planner", schema).get_int("search.depth") == 7);
+}
+
+TEST_CASE("the option structs start from the schema's defaults", "[config][schema][defaults]") {
+  const sdk::ParamSchema& schema = Config::schema();
+  const auto def = [&](const char* key) {
+    const sdk::ParamSpec* spec = schema.find(key);
+    REQUIRE(spec != nullptr);
+    REQUIRE(spec->default_value.has_value());
+    return std::get<std::int64_t>(*spec->default_value);
+  };
+  const kernel::InputLimits input;
+  CHECK(static_cast<std::int64_t>(input.max_line_bytes) == def("input.max_line_bytes"));
+  CHECK(input.max_json_depth == def("input.max_json_depth"));
+  CHECK(static_cast<std::int64_t>(input.max_tokens) == def("input.max_tokens"));
+  CHECK(static_cast<std::int64_t>(input.max_body_lines) == def("input.max_body_lines"));
+  CHECK(static_cast<std::int64_t>(input.max_file_bytes) == def("input.max_file_bytes"));
+  CHECK(static_cast<std::int64_t>(input.max_world_cells) == def("world.max_cells"));
+  CHECK(input.deadline.count() == def("session.deadline_ms"));
+  const kernel::ExecLimits exec;
+  CHECK(static_cast<std::int64_t>(exec.action_budget) == def("execution.action_budget"));
+  CHECK(exec.time_budget.count() == def("execution.time_budget_ms"));
+  CHECK(exec.while_limit == def("execution.while_limit"));
+  const kernel::SessionOptions session;
+  CHECK(session.k == def("session.k"));
+  CHECK(static_cast<std::int64_t>(session.max_chars) == def("input.max_chars"));
+  CHECK(session.max_semicolons == def("input.max_semicolons"));
+  // from_config of a config that sets nothing gives the same structs.
+  const Config empty = Config::load(kerneltest::write_temp("defaults/none.yaml", "{}\n"), {});
+  const kernel::SessionOptions read = kernel::SessionOptions::from_config(empty);
+  CHECK(read.k == session.k);
+  CHECK(read.limits.action_budget == exec.action_budget);
+  CHECK(read.limits.while_limit == exec.while_limit);
+  CHECK(read.input.max_tokens == input.max_tokens);
+  CHECK(read.input.deadline == input.deadline);
+}
+
+TEST_CASE("every declared key is in the effective config and has a description",
+          "[config][schema]") {
+  const Config c = Config::embedded_default();
+  const YAML::Node dumped = YAML::Load(c.dump());
+  for (const auto& spec : Config::schema().params) {
+    INFO(spec.name);
+    CHECK(!spec.description.empty());
+    CHECK(c.has(spec.name));  // the embedded default sets both optional sections
+    YAML::Node node = YAML::Clone(dumped);
+    std::size_t start = 0;
+    for (std::size_t dot;; start = dot + 1) {
+      dot = spec.name.find('.', start);
+      node = YAML::Node(node[spec.name.substr(start, dot - start)]);
+      if (dot == std::string::npos) break;
+    }
+    CHECK(node.IsDefined());
+  }
 }
 
 // --- extends: overlays ------------------------------------------------------------------------

@@ -267,3 +267,21 @@ TEST_CASE("scorers read the kernel's use counts from their context", "[naturaliz
   REQUIRE(status(*s, "go west") == "induced");
   CHECK(recording->most_uses_by_others == 1);  // bob's accept of ana's rule, as the table says
 }
+
+TEST_CASE("naturalization options start from the kernel schema's defaults",
+          "[naturalize][config][defaults]") {
+  const sdk::ParamSchema& schema = kernel::Config::schema();
+  const auto def = [&](const char* key) {
+    const sdk::ParamSpec* spec = schema.find(key);
+    REQUIRE(spec != nullptr);
+    REQUIRE(spec->default_value.has_value());
+    return *spec->default_value;
+  };
+  const kernel::NaturalizeOptions o;
+  CHECK(o.induction.alignment == std::get<bool>(def("induction.alignment")));
+  CHECK(o.generalize == std::get<bool>(def("induction.generalize")));
+  CHECK(o.perturbed_checks == std::get<std::int64_t>(def("induction.perturbed_checks")));
+  CHECK(o.store.busy_timeout_ms == std::get<std::int64_t>(def("lexicon.busy_timeout_ms")));
+  CHECK(to_string(o.sharing) == std::get<std::string>(def("lexicon.sharing")));
+  CHECK(o.per_user_weights == (std::get<std::string>(def("lexicon.weights")) == "per_user"));
+}

@@ -1,6 +1,7 @@
 // Config loading: file (or the embedded default), over the files it `extends` -> --set overrides
-// -> drop nulls -> validate against the kernel schema -> fill defaults -> reorder as the schema
-// lists keys.
+// -> drop nulls -> read the YAML tree into typed values (to_given) -> validate them against the
+// kernel schema (keys.cpp) with the SDK's engine, which fills defaults. Plugin params go through
+// the same two steps against the plugin's schema.
 #include "flipper/kernel/config.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -18,7 +20,6 @@
 #include "flipper/kernel/limits.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/param_check.hpp"
-#include "schema.hpp"
 
 namespace flipper::kernel {
 namespace detail {
@@ -31,13 +32,13 @@ struct ConfigOrigin {
   std::string file;
   std::string dir;
 };
-using detail::KeySpec;
-using detail::KeyType;
 using sdk::Error;
+using sdk::ParamType;
 namespace codes = sdk::codes;
 
 struct Config::Impl {
-  YAML::Node root;  // validated, defaults filled, schema order; never mutated once shared
+  YAML::Node given;    // the merged tree as written (no nulls); plugin params are read from it
+  sdk::Params values;  // the kernel keys, validated, defaults filled; never mutated once shared
   std::string source;
   std::string base_dir;
   std::set<std::string> cli_keys;  // keys given by --set: their paths resolve against `cwd`
@@ -139,9 +140,9 @@ YAML::Node assignment_value(const std::vector<std::string>& segs, const std::str
                             const std::string& malformed) {
   std::string key;
   for (const auto& s : segs) key += (key.empty() ? "" : ".") + s;
-  const KeySpec* spec = detail::find_key(key);
+  const sdk::ParamSpec* spec = Config::schema().find(key);
   const bool text_key =
-      spec != nullptr && (spec->type == KeyType::String || spec->type == KeyType::Path);
+      spec != nullptr && (spec->type == ParamType::String || spec->type == ParamType::Path);
   const bool param = is_plugin_param(segs);
   if (!text_key && !param) {
     if (text.empty()) fail(malformed + ": the value is empty (use null to unset a key)");
@@ -189,124 +190,112 @@ std::optional<std::int64_t> parse_int(const std::string& s) {
   return v;
 }
 
-void check_value(const std::string& key, const KeySpec& spec, const YAML::Node& v) {
-  const auto wrong = [&] {
-    fail("config key '" + key + "' must be " + detail::describe(spec.type) + ", got " +
-         scalar_text(v));
-  };
-  switch (spec.type) {
-    case KeyType::Bool: {
-      bool b = false;
-      if (!v.IsScalar() || !YAML::convert<bool>::decode(v, b)) wrong();
-      break;
-    }
-    case KeyType::Int: {
-      const auto x = v.IsScalar() ? parse_int(v.Scalar()) : std::nullopt;
-      if (!x) wrong();
-      const std::string rule(spec.rule);
-      const std::size_t dots = rule.find("..");
-      if (dots != std::string::npos) {
-        const auto lo = parse_int(rule.substr(0, dots));
-        const auto hi = parse_int(rule.substr(dots + 2));
-        if ((lo && *x < *lo) || (hi && *x > *hi))
-          fail("config key '" + key + "' = " + v.Scalar() + " is out of range [" +
-               rule.substr(0, dots) + ", " + rule.substr(dots + 2) + "]");
-      }
-      break;
-    }
-    case KeyType::Number: {
-      double d = 0;
-      if (!v.IsScalar() || !YAML::convert<double>::decode(v, d) || !std::isfinite(d)) wrong();
-      if (spec.rule == ">0" && !(d > 0))
-        fail("config key '" + key + "' = " + v.Scalar() + " must be greater than 0");
-      break;
-    }
-    case KeyType::NumberList:
-      if (!v.IsSequence()) wrong();
-      for (const auto& e : v) {
-        double d = 0;
-        if (!e.IsScalar() || !YAML::convert<double>::decode(e, d) || !std::isfinite(d))
-          fail("config key '" + key + "' must be a list of numbers, but an element is " +
-               scalar_text(e));
-      }
-      break;
-    case KeyType::String:
-    case KeyType::Path: {
-      if (!v.IsScalar()) wrong();
-      if (!spec.rule.empty()) {
-        std::vector<std::string> allowed;
-        const std::string rule(spec.rule);
-        for (std::size_t s = 0, bar;; s = bar + 1) {
-          bar = rule.find('|', s);
-          allowed.push_back(rule.substr(s, bar - s));
-          if (bar == std::string::npos) break;
-        }
-        if (std::find(allowed.begin(), allowed.end(), v.Scalar()) == allowed.end()) {
-          std::string list;
-          for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-          fail("config key '" + key + "' = '" + v.Scalar() + "' must be one of: " + list +
-               sdk::did_you_mean(v.Scalar(), allowed));
-        }
-      }
-      break;
-    }
-    case KeyType::StringList:
-    case KeyType::PathList:
-      if (!v.IsSequence()) wrong();
-      for (const auto& e : v)
-        if (!e.IsScalar())
-          fail("config key '" + key + "' must be " + detail::describe(spec.type) +
-               ", but an element is " + scalar_text(e));
-      break;
-    case KeyType::Map:
-      if (!v.IsMap()) wrong();
-      break;
-  }
+// Resolves a Path value of a key (plugin params resolve at load; kernel keys on access).
+using PathFn = std::function<std::string(const std::string& key, const std::string& text)>;
+
+[[noreturn]] void wrong_type(const std::string& key, ParamType type, const YAML::Node& v) {
+  fail("config key '" + key + "' must be " + sdk::type_phrase(type) + ", got " + scalar_text(v));
 }
 
-void validate(const YAML::Node& node, const std::string& prefix) {
-  if (!node.IsMap()) {
-    if (prefix.empty()) fail("a config must be a YAML map of sections, got " + scalar_text(node));
-    fail("config key '" + prefix + "' must be a map, got " + scalar_text(node));
-  }
-  for (const auto& kv : node) {
-    const std::string name = kv.first.Scalar();
-    const std::string key = prefix.empty() ? name : prefix + "." + name;
-    if (const KeySpec* spec = detail::find_key(key)) {
-      check_value(key, *spec, kv.second);
-    } else if (detail::is_section(key)) {
-      validate(kv.second, key);
-    } else {
-      std::vector<std::string> siblings = detail::child_names(prefix);
-      std::string hint = sdk::did_you_mean(name, siblings);
-      if (!hint.empty() && !prefix.empty()) {
-        // Show the full path in the hint: " (did you mean 'x.y'?)".
-        const std::string lead = " (did you mean '";
-        hint = lead + prefix + "." + hint.substr(lead.size());
-      }
-      fail("unknown config key '" + key + "'" + hint);
-    }
-  }
-}
-
-// Rebuilds the tree in schema order with defaults filled in (so dump() lists everything).
-YAML::Node complete(const YAML::Node& given) {
-  YAML::Node out(YAML::NodeType::Map);
-  for (const auto& spec : detail::kernel_schema()) {
-    const std::string key(spec.path);
-    const auto segs = split_key(key);
-    if (auto v = lookup(given, segs)) {
-      set_path(out, segs, 0, *v);
-      continue;
-    }
-    const bool section_present = segs.size() == 1 || lookup(given, {segs.front()}).has_value();
-    if (spec.optional_section && !section_present) continue;
-    if (spec.required && spec.default_yaml.empty())
-      fail("config section '" + segs.front() + "' is missing its key '" + key + "'");
-    if (!spec.default_yaml.empty())
-      set_path(out, segs, 0, YAML::Load(std::string(spec.default_yaml)));
+std::vector<std::string> scalar_list(const std::string& key, ParamType type, const YAML::Node& v) {
+  if (!v.IsSequence()) wrong_type(key, type, v);
+  std::vector<std::string> out;
+  for (const auto& e : v) {
+    double d = 0;
+    const bool ok = e.IsScalar() && (type != ParamType::DoubleList ||
+                                     (YAML::convert<double>::decode(e, d) && std::isfinite(d)));
+    if (!ok)
+      fail("config key '" + key + "' must be " + sdk::type_phrase(type) + ", but an element is " +
+           scalar_text(e));
+    out.push_back(e.Scalar());
   }
   return out;
+}
+
+// One YAML value as the typed value `spec` declares; a value of the wrong shape is an error
+// worded as the engine words its own type errors.
+sdk::ParamValue typed_value(const sdk::ParamSpec& spec, const std::string& key, const YAML::Node& v,
+                            const PathFn& path) {
+  switch (spec.type) {
+    case ParamType::Bool: {
+      bool b = false;
+      if (!v.IsScalar() || !YAML::convert<bool>::decode(v, b)) wrong_type(key, spec.type, v);
+      return b;
+    }
+    case ParamType::Int: {
+      const auto x = v.IsScalar() ? parse_int(v.Scalar()) : std::nullopt;
+      if (!x) wrong_type(key, spec.type, v);
+      return *x;
+    }
+    case ParamType::Double: {
+      double d = 0;
+      if (!v.IsScalar() || !YAML::convert<double>::decode(v, d) || !std::isfinite(d))
+        wrong_type(key, spec.type, v);
+      return d;
+    }
+    case ParamType::String:
+      if (!v.IsScalar()) wrong_type(key, spec.type, v);
+      return v.Scalar();
+    case ParamType::Path:
+      if (!v.IsScalar()) wrong_type(key, spec.type, v);
+      return path(key, v.Scalar());
+    case ParamType::StringList:
+    case ParamType::DoubleList:
+      return scalar_list(key, spec.type, v);
+    case ParamType::PathList: {
+      std::vector<std::string> list = scalar_list(key, spec.type, v);
+      for (auto& p : list) p = path(key, p);
+      return list;
+    }
+    case ParamType::Map: {
+      if (!v.IsMap()) wrong_type(key, spec.type, v);
+      std::vector<std::string> names;
+      for (const auto& kv : v) names.push_back(kv.first.Scalar());
+      return names;
+    }
+  }
+  wrong_type(key, spec.type, v);
+}
+
+// Reads the YAML map `node` (at schema name `inner`, full key `where` + `inner`) into dotted
+// names for sdk::validate_params: declared keys typed, sections descended, an unknown key passed
+// on as is (the engine names it, with a hint among its siblings).
+void to_given(const YAML::Node& node, const sdk::ParamSchema& schema, const std::string& where,
+              const std::string& inner, const PathFn& path,
+              std::map<std::string, sdk::ParamValue>& given) {
+  for (const auto& kv : node) {
+    const std::string name = inner.empty() ? kv.first.Scalar() : inner + "." + kv.first.Scalar();
+    const std::string key = where.empty() ? name : where + "." + name;
+    if (const sdk::ParamSpec* spec = schema.find(name)) {
+      given[name] = typed_value(*spec, key, kv.second, path);
+    } else if (schema.is_section(name)) {
+      if (!kv.second.IsMap())
+        fail("config key '" + key + "' must be a map (a section of keys), got " +
+             scalar_text(kv.second));
+      to_given(kv.second, schema, where, name, path, given);
+    } else {
+      given[name] = std::string();
+    }
+  }
+}
+
+// The kernel keys of a merged tree, validated with defaults filled.
+sdk::Params kernel_values(const YAML::Node& root) {
+  if (!root.IsMap()) fail("a config must be a YAML map of sections, got " + scalar_text(root));
+  std::map<std::string, sdk::ParamValue> given;
+  const PathFn as_written = [](const std::string&, const std::string& text) { return text; };
+  to_given(root, Config::schema(), "", "", as_written, given);
+  return sdk::validate_params(Config::schema(), given, "");
+}
+
+YAML::Node yaml_of(const sdk::ParamValue& v) {
+  if (const auto* b = std::get_if<bool>(&v)) return YAML::Node(*b);
+  if (const auto* i = std::get_if<std::int64_t>(&v)) return YAML::Node(*i);
+  if (const auto* d = std::get_if<double>(&v)) return YAML::Node(*d);
+  if (const auto* s = std::get_if<std::string>(&v)) return YAML::Node(*s);
+  YAML::Node list(YAML::NodeType::Sequence);
+  for (const auto& e : std::get<std::vector<std::string>>(v)) list.push_back(e);
+  return list;
 }
 
 std::string default_config_dir() {
@@ -326,14 +315,13 @@ Config build(YAML::Node root, std::string source, std::string base_dir,
              std::map<std::string, ConfigOrigin> origins = {}) {
   for (const auto& a : overrides) apply_assignment(root, a, cli_keys);
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
-  const YAML::Node cleaned = without_nulls(root);
+  auto impl = std::make_shared<Config::Impl>();
+  impl->given = without_nulls(root);
   try {
-    validate(cleaned, "");
+    impl->values = kernel_values(impl->given);
   } catch (const Error& e) {
     throw Error(e.code(), "config " + source + ": " + e.what());
   }
-  auto impl = std::make_shared<Config::Impl>();
-  impl->root = complete(cleaned);
   impl->source = std::move(source);
   impl->base_dir = std::move(base_dir);
   impl->cli_keys = std::move(cli_keys);
@@ -488,10 +476,18 @@ Layered load_layers(const std::string& file, const std::string& shown,
   return below;
 }
 
+// A key below a plugin section's params (not a kernel key): read from the tree as written.
 YAML::Node node_at(const Config::Impl& impl, const std::string& key) {
-  auto v = lookup(impl.root, split_key(key));
+  auto v = lookup(impl.given, split_key(key));
   if (!v) fail("config key '" + key + "' is not set");
   return *v;
+}
+
+// A kernel key: its validated value, or null for a key below a plugin's params.
+const sdk::Params* kernel_key(const Config::Impl& impl, const std::string& key) {
+  if (Config::schema().find(key) == nullptr) return nullptr;
+  if (!impl.values.has(key)) fail("config key '" + key + "' is not set");
+  return &impl.values;
 }
 
 }  // namespace
@@ -535,7 +531,7 @@ std::string Config::resolve_path_of(const std::string& key, const std::string& p
 }
 
 std::string Config::path_origin(const std::string& key) const {
-  const auto node = lookup(impl_->root, split_key(key));
+  const auto node = lookup(impl_->given, split_key(key));
   const std::string value = node && node->IsScalar() ? " '" + node->Scalar() + "'" : "";
   if (impl_->cli_keys.count(key))
     return key + value + " from --set: relative to the current directory " + impl_->cwd;
@@ -546,16 +542,19 @@ std::string Config::path_origin(const std::string& key) const {
 }
 
 bool Config::has(const std::string& key) const {
-  return lookup(impl_->root, split_key(key)).has_value();
+  if (schema().find(key) != nullptr) return impl_->values.has(key);
+  return lookup(impl_->given, split_key(key)).has_value();
 }
 
 std::string Config::get_string(const std::string& key) const {
+  if (const auto* v = kernel_key(*impl_, key)) return v->get_string(key);
   const YAML::Node n = node_at(*impl_, key);
   if (!n.IsScalar()) fail("config key '" + key + "' is not a string");
   return n.Scalar();
 }
 
 std::int64_t Config::get_int(const std::string& key) const {
+  if (const auto* v = kernel_key(*impl_, key)) return v->get_int(key);
   const YAML::Node n = node_at(*impl_, key);
   const auto v = n.IsScalar() ? parse_int(n.Scalar()) : std::nullopt;
   if (!v) fail("config key '" + key + "' is not an integer");
@@ -563,6 +562,7 @@ std::int64_t Config::get_int(const std::string& key) const {
 }
 
 double Config::get_double(const std::string& key) const {
+  if (const auto* v = kernel_key(*impl_, key)) return v->get_double(key);
   const YAML::Node n = node_at(*impl_, key);
   double d = 0;
   if (!n.IsScalar() || !YAML::convert<double>::decode(n, d))
@@ -571,6 +571,7 @@ double Config::get_double(const std::string& key) const {
 }
 
 bool Config::get_bool(const std::string& key) const {
+  if (const auto* v = kernel_key(*impl_, key)) return v->get_bool(key);
   const YAML::Node n = node_at(*impl_, key);
   bool b = false;
   if (!n.IsScalar() || !YAML::convert<bool>::decode(n, b))
@@ -579,6 +580,7 @@ bool Config::get_bool(const std::string& key) const {
 }
 
 std::vector<std::string> Config::get_string_list(const std::string& key) const {
+  if (const auto* v = kernel_key(*impl_, key)) return v->get_string_list(key);
   const YAML::Node n = node_at(*impl_, key);
   if (!n.IsSequence()) fail("config key '" + key + "' is not a list");
   std::vector<std::string> out;
@@ -597,7 +599,7 @@ std::vector<std::string> Config::get_path_list(const std::string& key) const {
 }
 
 void Config::set(const std::string& assignment) {
-  *this = build(YAML::Clone(impl_->root), impl_->source, impl_->base_dir, {assignment},
+  *this = build(YAML::Clone(impl_->given), impl_->source, impl_->base_dir, {assignment},
                 impl_->cli_keys, impl_->origins);
 }
 
@@ -611,7 +613,17 @@ void flow_empty_maps(YAML::Node node) {
 }  // namespace
 
 std::string Config::dump() const {
-  YAML::Node copy = YAML::Clone(impl_->root);
+  // Schema order; a plugin's params as written (its own schema is the loader's business).
+  YAML::Node copy(YAML::NodeType::Map);
+  for (const auto& spec : schema().params) {
+    if (!impl_->values.has(spec.name)) continue;
+    const auto segs = split_key(spec.name);
+    const auto written = lookup(impl_->given, segs);
+    YAML::Node value = spec.type != ParamType::Map ? yaml_of(impl_->values.values().at(spec.name))
+                       : written                   ? YAML::Clone(*written)
+                                                   : YAML::Node(YAML::NodeType::Map);
+    set_path(copy, segs, 0, value);
+  }
   flow_empty_maps(copy);
   YAML::Emitter out;
   out.SetSeqFormat(YAML::Flow);
@@ -628,66 +640,27 @@ const std::vector<std::string>& Config::plugin_sections() {
 sdk::Params Config::plugin_params(const std::string& section,
                                   const sdk::ParamSchema& schema) const {
   const std::string where = section + ".params";
-  std::map<std::string, sdk::ParamValue> given;
-  if (auto node = lookup(impl_->root, split_key(where))) {
-    for (const auto& kv : *node) {
-      const std::string name = kv.first.Scalar();
-      const YAML::Node& v = kv.second;
-      const sdk::ParamSpec* spec = schema.find(name);
-      const auto wrong = [&](const char* what) {
-        fail("config " + impl_->source + ": parameter '" + where + "." + name + "' must be " +
-             what + ", got " + scalar_text(v));
-      };
-      if (spec == nullptr) {  // unknown: validate_params reports it with a hint
-        given[name] = std::string(v.IsScalar() ? v.Scalar() : "");
-        continue;
-      }
-      switch (spec->type) {
-        case sdk::ParamType::Bool: {
-          bool b = false;
-          if (!v.IsScalar() || !YAML::convert<bool>::decode(v, b)) wrong("a boolean");
-          given[name] = b;
-          break;
-        }
-        case sdk::ParamType::Int: {
-          const auto x = v.IsScalar() ? parse_int(v.Scalar()) : std::nullopt;
-          if (!x) wrong("an integer");
-          given[name] = *x;
-          break;
-        }
-        case sdk::ParamType::Double: {
-          double d = 0;
-          if (!v.IsScalar() || !YAML::convert<double>::decode(v, d)) wrong("a number");
-          given[name] = d;
-          break;
-        }
-        case sdk::ParamType::String:
-          if (!v.IsScalar()) wrong("a string");
-          given[name] = v.Scalar();
-          break;
-        case sdk::ParamType::Path:
-          if (!v.IsScalar()) wrong("a path");
-          given[name] = resolve_path_of(where + "." + name, v.Scalar());
-          break;
-        case sdk::ParamType::StringList: {
-          if (!v.IsSequence()) wrong("a list of strings");
-          std::vector<std::string> list;
-          for (const auto& e : v) {
-            if (!e.IsScalar()) wrong("a list of strings");
-            list.push_back(e.Scalar());
-          }
-          given[name] = std::move(list);
-          break;
-        }
-      }
-    }
-  }
+  const PathFn resolve = [this](const std::string& key, const std::string& text) {
+    return resolve_path_of(key, text);
+  };
   try {
+    std::map<std::string, sdk::ParamValue> given;
+    if (auto node = lookup(impl_->given, split_key(where))) {
+      if (!node->IsMap()) wrong_type(where, ParamType::Map, *node);
+      to_given(*node, schema, where, "", resolve, given);
+    }
     sdk::Params params = sdk::validate_params(schema, given, where);
     // Path defaults are relative to the config too.
-    for (const auto& spec : schema.params)
-      if (spec.type == sdk::ParamType::Path && !given.count(spec.name) && params.has(spec.name))
+    for (const auto& spec : schema.params) {
+      if (given.count(spec.name) || !params.has(spec.name)) continue;
+      if (spec.type == ParamType::Path)
         params.set(spec.name, resolve_path(params.get_string(spec.name)));
+      if (spec.type == ParamType::PathList) {
+        std::vector<std::string> list = params.get_string_list(spec.name);
+        for (auto& p : list) p = resolve_path(p);
+        params.set(spec.name, std::move(list));
+      }
+    }
     return params;
   } catch (const Error& e) {
     throw Error(e.code(), "config " + impl_->source + ": " + e.what());

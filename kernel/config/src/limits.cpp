@@ -44,15 +44,14 @@ void open_checked(Fd& f, const std::string& path, std::uint64_t max_bytes, const
 }  // namespace
 
 InputLimits InputLimits::from_config(const Config& c) {
-  const auto get = [&](const keys::Int& k) { return c.get_int(std::string(k.path)); };
   InputLimits l;
-  l.max_line_bytes = static_cast<std::uint64_t>(get(keys::kMaxLineBytes));
-  l.max_json_depth = static_cast<int>(get(keys::kMaxJsonDepth));
-  l.max_tokens = static_cast<std::size_t>(get(keys::kMaxTokens));
-  l.max_body_lines = static_cast<std::size_t>(get(keys::kMaxBodyLines));
-  l.max_file_bytes = static_cast<std::uint64_t>(get(keys::kMaxFileBytes));
-  l.max_world_cells = static_cast<std::uint64_t>(get(keys::kMaxWorldCells));
-  l.deadline = std::chrono::milliseconds(get(keys::kDeadlineMs));
+  l.max_line_bytes = static_cast<std::uint64_t>(c.get(keys::kMaxLineBytes));
+  l.max_json_depth = static_cast<int>(c.get(keys::kMaxJsonDepth));
+  l.max_tokens = static_cast<std::size_t>(c.get(keys::kMaxTokens));
+  l.max_body_lines = static_cast<std::size_t>(c.get(keys::kMaxBodyLines));
+  l.max_file_bytes = static_cast<std::uint64_t>(c.get(keys::kMaxFileBytes));
+  l.max_world_cells = static_cast<std::uint64_t>(c.get(keys::kMaxWorldCells));
+  l.deadline = std::chrono::milliseconds(c.get(keys::kDeadlineMs));
   return l;
 }
 

@@ -15,11 +15,10 @@ NaturalizeOptions NaturalizeOptions::from_config(const Config& config) {
   const std::string preload = config.get_string("lexicon.preload");
   o.preload = preload.empty() ? preload : config.resolve_path_of("lexicon.preload", preload);
   o.per_user_weights = config.get_string("lexicon.weights") == "per_user";  // schema: enum
-  o.store.busy_timeout_ms =
-      static_cast<int>(config.get_int(std::string(keys::kBusyTimeoutMs.path)));
-  o.induction.alignment = config.get_bool("induction.alignment");
-  o.generalize = config.get_bool("induction.generalize");
-  o.perturbed_checks = static_cast<int>(config.get_int(std::string(keys::kPerturbedChecks.path)));
+  o.store.busy_timeout_ms = static_cast<int>(config.get(keys::kBusyTimeoutMs));
+  o.induction.alignment = config.get(keys::kAlignment);
+  o.generalize = config.get(keys::kGeneralize);
+  o.perturbed_checks = static_cast<int>(config.get(keys::kPerturbedChecks));
   return o;
 }
 

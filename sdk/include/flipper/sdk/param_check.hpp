@@ -15,9 +15,12 @@ namespace flipper::sdk {
 inline namespace v1 {
 
 /// Checks `given` against `schema` and returns the full parameter set (defaults filled in).
-/// Checks: unknown keys (with a hint), type (an Int is accepted for a Double), min/max, one_of,
-/// required. `where` prefixes every message with the config key path, e.g. "planner.params".
-/// Throws Error(bad_config) on the first problem.
+/// Checks: unknown keys (with a hint among the key's siblings and the list of them), type (an Int
+/// is accepted for a Double), min/max, one_of, required (in an optional section: only when the
+/// section is given; its defaults are then not filled either). `where` prefixes every key in
+/// messages, e.g. "planner.params" ("" for the kernel's own keys). Every message names the full
+/// key: "config key 'planner.params.weight' = 9.5 is out of range [0, 5]". Throws
+/// Error(bad_config) on the first problem.
 FLIPPER_SDK_API Params validate_params(const ParamSchema& schema,
                                        const std::map<std::string, ParamValue>& given,
                                        const std::string& where);
@@ -26,8 +29,11 @@ FLIPPER_SDK_API Params validate_params(const ParamSchema& schema,
 FLIPPER_SDK_API std::string did_you_mean(const std::string& word,
                                          const std::vector<std::string>& candidates);
 
-/// "bool", "int", "double", "string", "string list", "path".
+/// "bool", "int", "double", "string", "string list", "path", "path list", "double list", "map".
 FLIPPER_SDK_API const char* to_string(ParamType type);
+
+/// The type as messages say it: "an integer", "a list of strings", ... (SDK 2.1).
+FLIPPER_SDK_API const char* type_phrase(ParamType type);
 
 }  // namespace v1
 }  // namespace flipper::sdk

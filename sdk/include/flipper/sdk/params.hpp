@@ -2,7 +2,9 @@
 /// @file params.hpp
 /// Declarative parameter schemas and the typed view a plugin receives. The kernel validates the
 /// YAML config against a plugin's schema before constructing it (unknown keys, wrong types and
-/// out-of-range values are errors), fills in defaults, and hands the plugin a `Params`. No
+/// out-of-range values are errors), fills in defaults, and hands the plugin a `Params`. The
+/// kernel declares its own config keys with the same schema (dotted names, sections), so plugin
+/// params and kernel keys are checked by one engine with one wording (param_check.hpp). No
 /// yaml-cpp type appears here, so the SDK ABI does not depend on it.
 
 #include <cstdint>
@@ -17,10 +19,15 @@
 namespace flipper::sdk {
 inline namespace v1 {
 
-enum class ParamType { Bool, Int, Double, String, StringList, Path };
+/// SDK 2.1 appended PathList, DoubleList and Map (a 2.0 plugin never declares them, so the values
+/// it knows keep their numbers).
+enum class ParamType { Bool, Int, Double, String, StringList, Path, PathList, DoubleList, Map };
 
 /// A parameter value. `Path` values are stored as strings already resolved against the config
-/// file's directory.
+/// file's directory. The 2.1 types reuse the list alternative (the variant is part of ABI 2):
+/// PathList holds the resolved paths, DoubleList the numbers' decimal texts (read them with
+/// Params::get_double_list), Map the key names of an opaque map another schema validates (e.g. a
+/// plugin section's `params`).
 using ParamValue = std::variant<bool, std::int64_t, double, std::string, std::vector<std::string>>;
 
 /// One declared parameter, in the style of BehaviorTree.CPP ports / MoveIt parameter YAML.
@@ -30,12 +37,21 @@ struct ParamSpec {
   std::optional<ParamValue> default_value;  ///< absent + !required => the key is simply absent
   bool required = false;
   std::string description;
-  std::optional<double> min;           ///< numeric lower bound (inclusive)
-  std::optional<double> max;           ///< numeric upper bound (inclusive)
-  std::vector<std::string> one_of;     ///< allowed string values (empty: any)
+  std::optional<double> min;        ///< numeric lower bound (inclusive)
+  std::optional<double> max;        ///< numeric upper bound (inclusive)
+  std::vector<std::string> one_of;  ///< allowed string values (empty: any)
 };
 
-/// A plugin's full schema.
+/// A group of dotted names: the parameters "a.x" and "a.y" lie in section "a". A section needs no
+/// declaration; declaring one documents it and may make it optional: then its parameters get no
+/// defaults and `required` applies only when the config gives some key of the section.
+struct ParamSection {
+  std::string name;
+  std::string description;
+  bool optional = false;
+};
+
+/// A plugin's full schema (or the kernel's, kernel/config).
 struct FLIPPER_SDK_API ParamSchema {
   std::vector<ParamSpec> params;
 
@@ -53,6 +69,23 @@ struct FLIPPER_SDK_API ParamSchema {
   ParamSchema& add_string_list(std::string name, std::vector<std::string> def,
                                std::string description);
   const ParamSpec* find(const std::string& name) const;
+
+  // SDK 2.1 (new exported functions and a trailing member: a 2.0 plugin's describe() assigns
+  // `params` only and loads unchanged).
+  /// Any spec, e.g. a required string without a default.
+  ParamSchema& add(ParamSpec spec);
+  ParamSchema& add_path_list(std::string name, std::vector<std::string> def,
+                             std::string description);
+  ParamSchema& add_double_list(std::string name, const std::vector<double>& def,
+                               std::string description);
+  /// An opaque map (validated elsewhere, e.g. against a plugin's own schema); default `{}`.
+  ParamSchema& add_map(std::string name, std::string description);
+  ParamSchema& add_section(std::string name, std::string description, bool optional = false);
+  const ParamSection* find_section(const std::string& name) const;
+  /// Whether some parameter lies below `prefix` ("a" for "a.x").
+  bool is_section(const std::string& prefix) const;
+
+  std::vector<ParamSection> sections;
 };
 
 /// The validated parameters a plugin is constructed with: every declared parameter with a
@@ -65,9 +98,11 @@ class FLIPPER_SDK_API Params {
   bool has(const std::string& name) const { return values_.count(name) != 0; }
   bool get_bool(const std::string& name) const;
   std::int64_t get_int(const std::string& name) const;
-  double get_double(const std::string& name) const;  ///< an Int value converts
+  double get_double(const std::string& name) const;              ///< an Int value converts
   const std::string& get_string(const std::string& name) const;  ///< String or Path
   const std::vector<std::string>& get_string_list(const std::string& name) const;
+  /// A DoubleList (SDK 2.1).
+  std::vector<double> get_double_list(const std::string& name) const;
   const std::map<std::string, ParamValue>& values() const { return values_; }
   void set(const std::string& name, ParamValue v) { values_[name] = std::move(v); }
 

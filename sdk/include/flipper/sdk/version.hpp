@@ -19,12 +19,17 @@
 /// Planner::tour decide the shared edge cases (empty goal set, start outside the bounds, a stop
 /// that already fired, no tour points) before the virtual call, so planners cannot disagree on
 /// them; the planner conformance kit checks the exact results. 1.x plugins must be rebuilt.
+/// 2.1 — the kernel declares its config keys with ParamSchema: ParamType gains PathList,
+/// DoubleList and Map (appended), ParamSchema gains add(), add_path_list(), add_double_list(),
+/// add_map(), sections (a trailing member) and add_section(), Params gains get_double_list(),
+/// and sdk::type_phrase(); validate_params words every message "config key '<full key>'" and
+/// hints among a key's siblings. All additions: a 2.0 plugin loads unchanged.
 
 #include <boost/version.hpp>
 
 #define FLIPPER_PLUGIN_ABI 2
 #define FLIPPER_SDK_VERSION_MAJOR 2
-#define FLIPPER_SDK_VERSION_MINOR 0
+#define FLIPPER_SDK_VERSION_MINOR 1
 #define FLIPPER_SDK_VERSION_PATCH 0
 
 #define FLIPPER_STRINGIFY_IMPL(x) #x

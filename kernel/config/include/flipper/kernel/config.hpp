@@ -3,8 +3,10 @@
 /// The validated configuration. Sources, in order: the file given with --config (or the embedded
 /// configs/default.yaml) over the files it `extends:` (each merged under the one that extends
 /// it), then each --set key.path=value. Validation happens before anything is
-/// built: kernel keys against the kernel schema, each plugin's `params` against the schema that
-/// plugin declares; unknown keys are errors with a "did you mean" hint (code bad_config).
+/// built, by one engine (sdk::validate_params) with one wording: kernel keys against the kernel
+/// schema (Config::schema(), declared in keys.cpp and keys.hpp), each plugin's `params` against
+/// the schema that plugin declares; unknown keys are errors with a "did you mean" hint (code
+/// bad_config), and every message names the file and the full key.
 ///
 /// Layout (Nav2-style named instances):
 ///   world:    {plugin: grid2d, params: {...}, file: worlds/study2018.json, resolution, origin,
@@ -32,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "flipper/kernel/keys.hpp"
 #include "flipper/sdk/params.hpp"
 
 namespace flipper::kernel {
@@ -44,6 +47,9 @@ class Config {
                      const std::vector<std::string>& overrides);
   /// The embedded default.
   static Config embedded_default();
+  /// The kernel keys: types, defaults, ranges, choices, descriptions, sections (keys.cpp). The
+  /// validation, `flipper config explain` and the README's key table all read this.
+  static const sdk::ParamSchema& schema();
 
   /// "<embedded default>" or the file path.
   const std::string& source() const;
@@ -66,6 +72,9 @@ class Config {
   double get_double(const std::string& key) const;
   bool get_bool(const std::string& key) const;
   std::vector<std::string> get_string_list(const std::string& key) const;
+  /// Typed handles (keys.hpp): the value of a declared key.
+  std::int64_t get(const keys::Int& key) const { return get_int(std::string(key.path)); }
+  bool get(const keys::Bool& key) const { return get_bool(std::string(key.path)); }
 
   /// Sets a key after loading (same syntax and validation as --set).
   void set(const std::string& assignment);

@@ -1,38 +1,64 @@
 #pragma once
 /// @file keys.hpp
-/// The kernel's typed config keys whose defaults code needs: each declared once, here. The
-/// config schema (schema.cpp) builds its rows from these declarations, and the option structs
-/// (ExecLimits, InputLimits, SessionOptions, ...) take their initial values from them, so a
-/// default lives in one place; configs/default.yaml restates none of them (`flipper config
-/// check` prints the effective values).
+/// Typed handles of the kernel config keys whose values code reads into option structs. Each is
+/// one declaration: path, default, range and description. The kernel schema (keys.cpp, an
+/// sdk::ParamSchema — the engine plugins' params use) is built from these and from the other
+/// keys declared there, the option structs (ExecLimits, InputLimits, SessionOptions, ...) take
+/// their initial values from them and fill themselves with Config::get(handle), so a default
+/// lives in one place; configs/default.yaml restates none, and `flipper config explain` and the
+/// README's key table print the schema.
 
 #include <cstdint>
 #include <string_view>
 
 namespace flipper::kernel::keys {
 
-/// An integer key: dotted path, default, inclusive range.
+/// An integer key: dotted path, default, inclusive range, description.
 struct Int {
   std::string_view path;
   std::int64_t def;
   std::int64_t min;
   std::int64_t max;
+  std::string_view doc;
 };
 
-inline constexpr Int kSessionK{"session.k", 3, 1, 1000};
-inline constexpr Int kDeadlineMs{"session.deadline_ms", 5000, 1, 86400000};
-inline constexpr Int kActionBudget{"execution.action_budget", 100000, 1, 1000000000000};
-inline constexpr Int kTimeBudgetMs{"execution.time_budget_ms", 2000, 1, 86400000};
-inline constexpr Int kWhileLimit{"execution.while_limit", 20, 0, 1000000};
-inline constexpr Int kMaxChars{"input.max_chars", 2000, 1, 100000000};
-inline constexpr Int kMaxSemicolons{"input.max_semicolons", 30, 1, 1000000};
-inline constexpr Int kMaxLineBytes{"input.max_line_bytes", 1048576, 64, 1073741824};
-inline constexpr Int kMaxJsonDepth{"input.max_json_depth", 64, 2, 10000};
-inline constexpr Int kMaxTokens{"input.max_tokens", 400, 1, 65534};
-inline constexpr Int kMaxBodyLines{"input.max_body_lines", 100, 1, 100000};
-inline constexpr Int kMaxFileBytes{"input.max_file_bytes", 67108864, 1, 1099511627776};
-inline constexpr Int kMaxWorldCells{"world.max_cells", 4194304, 1, 268435456};
-inline constexpr Int kBusyTimeoutMs{"lexicon.busy_timeout_ms", 10000, 1, 600000};
-inline constexpr Int kPerturbedChecks{"induction.perturbed_checks", 0, 0, 1000};
+/// A boolean key.
+struct Bool {
+  std::string_view path;
+  bool def;
+  std::string_view doc;
+};
+
+inline constexpr Int kSessionK{"session.k", 3, 1, 1000, "candidates shown per query"};
+inline constexpr Int kDeadlineMs{"session.deadline_ms", 5000, 1, 86400000,
+                                 "one request, end to end (parsing included)"};
+inline constexpr Int kActionBudget{"execution.action_budget", 100000, 1, 1000000000000,
+                                   "actions one program may take"};
+inline constexpr Int kTimeBudgetMs{"execution.time_budget_ms", 2000, 1, 86400000,
+                                   "wall time of one execution"};
+inline constexpr Int kWhileLimit{"execution.while_limit", 20, 0, 1000000,
+                                 "iterations of one `while`"};
+inline constexpr Int kMaxChars{"input.max_chars", 2000, 1, 100000000,
+                               "code points of an utterance"};
+inline constexpr Int kMaxSemicolons{"input.max_semicolons", 30, 1, 1000000,
+                                    "statements of an utterance"};
+inline constexpr Int kMaxLineBytes{"input.max_line_bytes", 1048576, 64, 1073741824,
+                                   "one request line"};
+inline constexpr Int kMaxJsonDepth{"input.max_json_depth", 64, 2, 10000, "nesting of a request"};
+inline constexpr Int kMaxTokens{"input.max_tokens", 400, 1, 65534,
+                                "tokens of a query, a define head, each body line"};
+inline constexpr Int kMaxBodyLines{"input.max_body_lines", 100, 1, 100000,
+                                   "lines of a definition's body"};
+inline constexpr Int kMaxFileBytes{"input.max_file_bytes", 67108864, 1, 1099511627776,
+                                   "world, grammar and preload files"};
+inline constexpr Int kMaxWorldCells{"world.max_cells", 4194304, 1, 268435456, "cells of a world"};
+inline constexpr Int kBusyTimeoutMs{"lexicon.busy_timeout_ms", 10000, 1, 600000,
+                                    "longest wait for other writers, then lexicon_busy"};
+inline constexpr Bool kAlignment{"induction.alignment", true,
+                                 "induce rules by aligning head and body"};
+inline constexpr Bool kGeneralize{"induction.generalize", true,
+                                  "generalize definitions by rewriting"};
+inline constexpr Int kPerturbedChecks{"induction.perturbed_checks", 0, 0, 1000,
+                                      "perturbed worlds a generalization is checked on"};
 
 }  // namespace flipper::kernel::keys

@@ -22,9 +22,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "flipper/kernel/runtime.hpp"
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
-#include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/world.hpp"
 
@@ -50,8 +50,8 @@ struct NaturalizeOptions {
   LexiconStoreOptions store;            ///< lexicon.busy_timeout_ms (+ test-only limits)
   /// Where warnings go (quarantined rules); default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
-  InductionOptions induction;  ///< induction.alignment (+ parser beam)
-  bool generalize = true;      ///< induction.generalize
+  InductionOptions induction;               ///< induction.alignment (+ parser beam)
+  bool generalize = keys::kGeneralize.def;  ///< induction.generalize
   int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
   /// Reads the keys above from a validated config (the schema filled every default).
   static NaturalizeOptions from_config(const Config& config);

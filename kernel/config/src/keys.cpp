@@ -1,0 +1,122 @@
+// The kernel's config schema: every kernel key declared once, with the SDK's ParamSchema (the
+// engine that checks plugins' params), in the order the effective config lists them.
+#include "flipper/kernel/keys.hpp"
+#include "flipper/kernel/config.hpp"
+
+namespace flipper::kernel {
+namespace {
+
+using sdk::ParamSchema;
+using sdk::ParamSpec;
+using sdk::ParamType;
+
+void add(ParamSchema& s, const keys::Int& k) {
+  s.add_int(std::string(k.path), k.def, std::string(k.doc), static_cast<double>(k.min),
+            static_cast<double>(k.max));
+}
+void add(ParamSchema& s, const keys::Bool& k) {
+  s.add_bool(std::string(k.path), k.def, std::string(k.doc));
+}
+
+// A plugin section: `plugin` names the plugin (required; `def` empty: the section is optional),
+// `params` is validated against the plugin's own schema (Config::plugin_params).
+void add_plugin_section(ParamSchema& s, const std::string& section, const std::string& def,
+                        const std::string& doc) {
+  s.add_section(section, doc, def.empty());
+  ParamSpec plugin{section + ".plugin",
+                   ParamType::String,
+                   {},
+                   def.empty(),
+                   "the " + section + " plugin",
+                   {},
+                   {},
+                   {}};
+  if (!def.empty()) plugin.default_value = def;
+  s.add(std::move(plugin));
+  s.add_map(section + ".params", "the plugin's params (`flipper plugins NAME` lists them)");
+}
+
+ParamSchema build() {
+  ParamSchema s;
+  add_plugin_section(s, "world", "grid2d", "the world plugin");
+  s.add_path("world.file", std::string("worlds/study2018.json"), "the default world");
+  s.add_double("world.resolution", 1.0, "metres per cell (plans over DDS)", 1e-9, 1e9);
+  s.add_double_list("world.origin", {0, 0, 0}, "metres of cell (0, 0, 0) (plans over DDS)");
+  add(s, keys::kMaxWorldCells);
+  add_plugin_section(s, "planner", "astar", "the planner plugin");
+  add_plugin_section(s, "parser", "chart", "the parser plugin");
+  add_plugin_section(s, "scorer", "loglinear", "the scorer plugin");
+  add_plugin_section(s, "rewriter", "", "optional: generalization by rewriting");
+  add_plugin_section(s, "similarity", "", "optional: word similarity for alignment");
+
+  s.add_section("grammar", "the core grammar and its vocabulary");
+  s.add_path("grammar.file", std::string("grammars/core.grammar"), "the core grammar");
+  s.add_string_list("grammar.colors",
+                    {"black", "blue", "gray", "green", "orange", "pink", "purple", "red", "yellow"},
+                    "colour words");
+  s.add_string_list("grammar.shapes", {"triangle", "circle", "square"}, "shape words");
+  s.add_string_list("grammar.directions", {},
+                    "a subset of the world plugin's direction words (empty: all of them)");
+
+  s.add_section("lexicon", "the store of induced rules (naturalization)");
+  s.add_path("lexicon.path", std::string("~/.local/share/flipper/lexicon.sqlite"),
+             "SQLite file (`:memory:`: none)");
+  s.add_string("lexicon.sharing", "shared", "whose rules serve a user",
+               {"shared", "private", "core"});
+  s.add_path("lexicon.preload", std::string(), "definitions replayed at start (empty: none)");
+  s.add_string("lexicon.weights", "global", "scorer weights", {"global", "per_user"});
+  add(s, keys::kBusyTimeoutMs);
+  s.add_string("lexicon.replication", "none", "share rules between sites", {"none", "dds"});
+  s.add_string("lexicon.site", "", "this site's name (replication)");
+
+  s.add_section("publish", "what the DDS front end publishes");
+  s.add_string("publish.plans", "none", "publish each accepted plan", {"none", "dds"});
+  s.add_section("dds", "Cyclone DDS (flipper dds; loopback-only by default)");
+  s.add_int("dds.domain", 0, "DDS domain id", 0, 232);
+  s.add_string_list("dds.interfaces", {}, "network interfaces (empty: loopback only)");
+  s.add_string("dds.config", "", "a Cyclone DDS XML config (empty: the built-in one)");
+
+  s.add_section("induction", "grammar induction from definitions");
+  add(s, keys::kAlignment);
+  add(s, keys::kGeneralize);
+  add(s, keys::kPerturbedChecks);
+  s.add_section("execution", "limits of one program's execution");
+  add(s, keys::kActionBudget);
+  add(s, keys::kTimeBudgetMs);
+  add(s, keys::kWhileLimit);
+  s.add_section("input", "limits on what a request or a file may make the kernel do");
+  add(s, keys::kMaxChars);
+  add(s, keys::kMaxSemicolons);
+  add(s, keys::kMaxLineBytes);
+  add(s, keys::kMaxJsonDepth);
+  add(s, keys::kMaxTokens);
+  add(s, keys::kMaxBodyLines);
+  add(s, keys::kMaxFileBytes);
+  s.add_section("session", "one session's answers");
+  add(s, keys::kSessionK);
+  add(s, keys::kDeadlineMs);
+  s.add_path_list("plugin_paths", {}, "more directories to find plugins in");
+
+  s.add_section("serve", "flipper serve (Flipper Studio)");
+  s.add_string("serve.host", "127.0.0.1", "address to listen on");
+  s.add_int("serve.port", 8410, "port (0: any free port, printed)", 0, 65535);
+  s.add_int("serve.threads", 128, "worker threads", 1, 4096);
+  s.add_int("serve.max_request_bytes", 65536, "larger bodies: 413", 256, 67108864);
+  s.add_int("serve.rate_per_second", 100, "requests per session per second", 1, 1000000);
+  s.add_int("serve.rate_burst", 200, "burst per session", 1, 1000000);
+  s.add_int("serve.max_sessions", 1000, "open sessions", 1, 1000000);
+  s.add_int("serve.session_idle_s", 3600, "idle seconds before a session may be evicted", 1,
+            31536000);
+  s.add_path("serve.web_dir", std::string(), "the page's files (empty: the installed ones)");
+  s.add_path("serve.study", std::string(), "a study description (empty: no study)");
+  return s;
+}
+
+}  // namespace
+
+const sdk::ParamSchema& Config::schema() {
+  static const ParamSchema kSchema = build();
+  return kSchema;
+}
+
+}  // namespace flipper::kernel
