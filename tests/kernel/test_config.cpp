@@ -555,6 +555,20 @@ TEST_CASE("extends cycles, missing bases and bad values are config errors", "[co
   const std::string bad_top =
       kerneltest::write_temp("extends/bad/top.yaml", "extends: base.yaml\n");
   require_error([&] { (void)Config::load(bad_top, {}); }, "bad_config", {bad_base + ":"});
+  // A bad value written in the base names the base file; set again by the overlay, the overlay.
+  const std::string range_base =
+      kerneltest::write_temp("extends/range/base.yaml", "session: {k: 0}\n");
+  const std::string range_top = kerneltest::write_temp(
+      "extends/range/top.yaml", "extends: base.yaml\ninput: {max_tokens: 10}\n");
+  CHECK(config_error([&] { (void)Config::load(range_top, {}); }) ==
+        "config " + range_base + " (extended by " + range_top +
+            "): config key 'session.k' = 0 is out of range [1, 1000]");
+  const std::string again =
+      kerneltest::write_temp("extends/range/again.yaml", "extends: base.yaml\nsession: {k: -1}\n");
+  CHECK(config_error([&] { (void)Config::load(again, {}); }) ==
+        "config " + again + ": config key 'session.k' = -1 is out of range [1, 1000]");
+  CHECK(config_error([&] { (void)Config::load(range_top, {"session.k=2000"}); }) ==
+        "config " + range_top + ": config key 'session.k' = 2000 is out of range [1, 1000]");
   // An overlay is validated as any config: a typo is refused with a hint.
   const std::string typo =
       kerneltest::write_temp("extends/typo.yaml", "extends: good/base.yaml\nsesion: {k: 3}\n");

@@ -57,7 +57,7 @@ TEST_CASE("unknown plugin params are refused before construction", "[loader]") {
   const auto config = kerneltest::test_config({"planner.params.mdoe=plain"});
   const PluginLoader loader(PluginLoader::search_path_for(config));
   require_error([&] { (void)loader.create<sdk::Planner>(config, "planner"); }, "bad_config",
-                {"planner.params.mdoe", "did you mean 'mode'"});
+                {"planner.params.mdoe", "did you mean 'planner.params.mode'"});
 }
 
 TEST_CASE("search path: plugin_paths, then FLIPPER_PLUGIN_PATH, then beside the executable", "[loader]") {

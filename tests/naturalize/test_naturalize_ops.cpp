@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/naturalization/naturalizer.hpp"
 #include "naturalize_fixture.hpp"
 
 using namespace flipper;

@@ -291,7 +291,12 @@ sdk::Params kernel_values(const YAML::Node& root) {
 YAML::Node yaml_of(const sdk::ParamValue& v) {
   if (const auto* b = std::get_if<bool>(&v)) return YAML::Node(*b);
   if (const auto* i = std::get_if<std::int64_t>(&v)) return YAML::Node(*i);
-  if (const auto* d = std::get_if<double>(&v)) return YAML::Node(*d);
+  if (const auto* d = std::get_if<double>(&v)) {
+    // The shortest text that reads back as the same double (yaml-cpp 0.7 writes 17 digits).
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, *d).ptr;
+    return YAML::Node(std::string(text, end));
+  }
   if (const auto* s = std::get_if<std::string>(&v)) return YAML::Node(*s);
   YAML::Node list(YAML::NodeType::Sequence);
   for (const auto& e : std::get<std::vector<std::string>>(v)) list.push_back(e);
@@ -310,6 +315,27 @@ std::string default_config_dir() {
   return ec ? dir.string() : real.string();
 }
 
+bool starts_with_key(const std::string& key, const std::string& prefix) {
+  return key == prefix || (key.size() > prefix.size() &&
+                           key.compare(0, prefix.size(), prefix) == 0 && key[prefix.size()] == '.');
+}
+
+// The file a bad key was written in, for its message: the key a message is about is the first
+// one it quotes; when that key (or a key below it) came from a file `source` extends, the
+// message names that file.
+std::string where_written(const std::string& message, const std::string& source,
+                          const std::set<std::string>& cli_keys,
+                          const std::map<std::string, ConfigOrigin>& origins) {
+  const std::size_t open = message.find('\'');
+  const std::size_t close = open == std::string::npos ? open : message.find('\'', open + 1);
+  if (close == std::string::npos) return source;
+  const std::string subject = message.substr(open + 1, close - open - 1);
+  if (cli_keys.count(subject)) return source;
+  for (const auto& [key, origin] : origins)
+    if (starts_with_key(key, subject)) return origin.file + " (extended by " + source + ")";
+  return source;
+}
+
 Config build(YAML::Node root, std::string source, std::string base_dir,
              const std::vector<std::string>& overrides, std::set<std::string> cli_keys = {},
              std::map<std::string, ConfigOrigin> origins = {}) {
@@ -320,7 +346,8 @@ Config build(YAML::Node root, std::string source, std::string base_dir,
   try {
     impl->values = kernel_values(impl->given);
   } catch (const Error& e) {
-    throw Error(e.code(), "config " + source + ": " + e.what());
+    throw Error(e.code(),
+                "config " + where_written(e.what(), source, cli_keys, origins) + ": " + e.what());
   }
   impl->source = std::move(source);
   impl->base_dir = std::move(base_dir);
@@ -384,11 +411,6 @@ std::string read_config_file(const std::string& path) {
   } catch (const Error& e) {
     fail(e.what());  // every config problem is bad_config (exit status 2)
   }
-}
-
-bool starts_with_key(const std::string& key, const std::string& prefix) {
-  return key == prefix || (key.size() > prefix.size() &&
-                           key.compare(0, prefix.size(), prefix) == 0 && key[prefix.size()] == '.');
 }
 
 void erase_below(std::map<std::string, ConfigOrigin>& origins, const std::string& prefix) {
@@ -531,8 +553,13 @@ std::string Config::resolve_path_of(const std::string& key, const std::string& p
 }
 
 std::string Config::path_origin(const std::string& key) const {
+  const sdk::ParamSpec* spec = schema().find(key);
   const auto node = lookup(impl_->given, split_key(key));
-  const std::string value = node && node->IsScalar() ? " '" + node->Scalar() + "'" : "";
+  const std::string value =
+      spec != nullptr && spec->type == ParamType::Path && impl_->values.has(key)
+          ? " '" + impl_->values.get_string(key) + "'"
+      : node && node->IsScalar() ? " '" + node->Scalar() + "'"
+                                 : "";
   if (impl_->cli_keys.count(key))
     return key + value + " from --set: relative to the current directory " + impl_->cwd;
   if (auto it = impl_->origins.find(key); it != impl_->origins.end())
@@ -613,7 +640,8 @@ void flow_empty_maps(YAML::Node node) {
 }  // namespace
 
 std::string Config::dump() const {
-  // Schema order; a plugin's params as written (its own schema is the loader's business).
+  // Schema order, each value in its type's one spelling (`off` -> false, `1.0` -> 1), a plugin's
+  // params as written (its own schema is the loader's business).
   YAML::Node copy(YAML::NodeType::Map);
   for (const auto& spec : schema().params) {
     if (!impl_->values.has(spec.name)) continue;
