@@ -193,5 +193,31 @@ TEST_CASE("serve keys are validated like every kernel key") {
   CHECK(clitest::contains(r.out, "serve.threads"));  // the "did you mean"
 }
 
+TEST_CASE("serve options start from the kernel schema's defaults") {
+  const sdk::ParamSchema& schema = kernel::Config::schema();
+  const auto def = [&](const char* key) {
+    const sdk::ParamSpec* spec = schema.find(key);
+    REQUIRE(spec != nullptr);
+    REQUIRE(spec->default_value.has_value());
+    return *spec->default_value;
+  };
+  const auto integer = [&](const char* key) { return std::get<std::int64_t>(def(key)); };
+  const studio::ServeOptions o;
+  CHECK(o.host == std::get<std::string>(def("serve.host")));
+  CHECK(o.port == integer("serve.port"));
+  CHECK(o.threads == integer("serve.threads"));
+  CHECK(static_cast<std::int64_t>(o.max_request_bytes) == integer("serve.max_request_bytes"));
+  CHECK(o.rate_per_second == static_cast<double>(integer("serve.rate_per_second")));
+  CHECK(o.rate_burst == static_cast<double>(integer("serve.rate_burst")));
+  CHECK(static_cast<std::int64_t>(o.max_sessions) == integer("serve.max_sessions"));
+  CHECK(o.session_idle_s == integer("serve.session_idle_s"));
+  // A config that sets nothing reads back the same.
+  const studio::ServeOptions read =
+      studio::ServeOptions::from_config(kernel::Config::embedded_default());
+  CHECK(read.host == o.host);
+  CHECK(read.port == o.port);
+  CHECK(read.max_sessions == o.max_sessions);
+}
+
 }  // namespace
 }  // namespace flipper::studiotest

@@ -12,14 +12,15 @@ namespace fs = std::filesystem;
 
 ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   ServeOptions o;
-  o.host = c.get_string("serve.host");
-  o.port = static_cast<int>(c.get_int("serve.port"));
-  o.threads = static_cast<int>(c.get_int("serve.threads"));
-  o.max_request_bytes = static_cast<std::size_t>(c.get_int("serve.max_request_bytes"));
-  o.rate_per_second = static_cast<double>(c.get_int("serve.rate_per_second"));
-  o.rate_burst = static_cast<double>(c.get_int("serve.rate_burst"));
-  o.max_sessions = static_cast<std::size_t>(c.get_int("serve.max_sessions"));
-  o.session_idle_s = static_cast<int>(c.get_int("serve.session_idle_s"));
+  namespace keys = kernel::keys;
+  o.host = c.get(keys::kServeHost);
+  o.port = static_cast<int>(c.get(keys::kServePort));
+  o.threads = static_cast<int>(c.get(keys::kServeThreads));
+  o.max_request_bytes = static_cast<std::size_t>(c.get(keys::kServeMaxRequestBytes));
+  o.rate_per_second = static_cast<double>(c.get(keys::kServeRatePerSecond));
+  o.rate_burst = static_cast<double>(c.get(keys::kServeRateBurst));
+  o.max_sessions = static_cast<std::size_t>(c.get(keys::kServeMaxSessions));
+  o.session_idle_s = static_cast<int>(c.get(keys::kServeSessionIdleS));
   if (!c.get_string("serve.web_dir").empty()) o.web_dir = c.get_path("serve.web_dir");
   if (!c.get_string("serve.study").empty()) o.study = c.get_path("serve.study");
   return o;
@@ -50,9 +51,9 @@ std::string find_web_dir(const std::string& configured) {
     const fs::path real = fs::canonical(installed, ec);
     if (!ec && fs::is_regular_file(real / "index.html", ec)) return real.string();
   }
-  throw sdk::Error(sdk::codes::kBadConfig,
-                   "cannot find the page's files (looked in <exe>/../" +
-                       std::string(FLIPPER_STUDIO_INSTALLED_WEB_DIR) + "); set serve.web_dir");
+  throw sdk::Error(sdk::codes::kBadConfig, "cannot find the page's files (looked in <exe>/../" +
+                                               std::string(FLIPPER_STUDIO_INSTALLED_WEB_DIR) +
+                                               "); set serve.web_dir");
 }
 
 }  // namespace flipper::studio

@@ -98,15 +98,15 @@ ParamSchema build() {
   s.add_path_list("plugin_paths", {}, "more directories to find plugins in");
 
   s.add_section("serve", "flipper serve (Flipper Studio)");
-  s.add_string("serve.host", "127.0.0.1", "address to listen on");
-  s.add_int("serve.port", 8410, "port (0: any free port, printed)", 0, 65535);
-  s.add_int("serve.threads", 128, "worker threads", 1, 4096);
-  s.add_int("serve.max_request_bytes", 65536, "larger bodies: 413", 256, 67108864);
-  s.add_int("serve.rate_per_second", 100, "requests per session per second", 1, 1000000);
-  s.add_int("serve.rate_burst", 200, "burst per session", 1, 1000000);
-  s.add_int("serve.max_sessions", 1000, "open sessions", 1, 1000000);
-  s.add_int("serve.session_idle_s", 3600, "idle seconds before a session may be evicted", 1,
-            31536000);
+  s.add_string(std::string(keys::kServeHost.path), std::string(keys::kServeHost.def),
+               std::string(keys::kServeHost.doc));
+  add(s, keys::kServePort);
+  add(s, keys::kServeThreads);
+  add(s, keys::kServeMaxRequestBytes);
+  add(s, keys::kServeRatePerSecond);
+  add(s, keys::kServeRateBurst);
+  add(s, keys::kServeMaxSessions);
+  add(s, keys::kServeSessionIdleS);
   s.add_path("serve.web_dir", std::string(), "the page's files (empty: the installed ones)");
   s.add_path("serve.study", std::string(), "a study description (empty: no study)");
   return s;

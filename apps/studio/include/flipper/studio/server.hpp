@@ -14,16 +14,17 @@
 
 namespace flipper::studio {
 
-/// serve.* config keys.
+/// serve.* config keys; defaults from their declaration (flipper/kernel/keys.hpp).
 struct ServeOptions {
-  std::string host = "127.0.0.1";
-  int port = 8410;  ///< 0: any free port
-  int threads = 128;
-  std::size_t max_request_bytes = 65536;
-  double rate_per_second = 100;  ///< per session (token bucket)
-  double rate_burst = 200;
-  std::size_t max_sessions = 1000;
-  int session_idle_s = 3600;
+  std::string host{kernel::keys::kServeHost.def};
+  int port = static_cast<int>(kernel::keys::kServePort.def);  ///< 0: any free port
+  int threads = static_cast<int>(kernel::keys::kServeThreads.def);
+  std::size_t max_request_bytes = static_cast<std::size_t>(kernel::keys::kServeMaxRequestBytes.def);
+  /// per session (token bucket)
+  double rate_per_second = static_cast<double>(kernel::keys::kServeRatePerSecond.def);
+  double rate_burst = static_cast<double>(kernel::keys::kServeRateBurst.def);
+  std::size_t max_sessions = static_cast<std::size_t>(kernel::keys::kServeMaxSessions.def);
+  int session_idle_s = static_cast<int>(kernel::keys::kServeSessionIdleS.def);
   std::string web_dir;  ///< empty: found next to the binary or in the source tree
   std::string study;    ///< a study description file (empty: no study mode)
   static ServeOptions from_config(const kernel::Config& config);

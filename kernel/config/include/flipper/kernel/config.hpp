@@ -75,6 +75,7 @@ class Config {
   /// Typed handles (keys.hpp): the value of a declared key.
   std::int64_t get(const keys::Int& key) const { return get_int(std::string(key.path)); }
   bool get(const keys::Bool& key) const { return get_bool(std::string(key.path)); }
+  std::string get(const keys::Text& key) const { return get_string(std::string(key.path)); }
 
   /// Sets a key after loading (same syntax and validation as --set).
   void set(const std::string& assignment);

@@ -29,6 +29,13 @@ struct Bool {
   std::string_view doc;
 };
 
+/// A string key (no fixed choices).
+struct Text {
+  std::string_view path;
+  std::string_view def;
+  std::string_view doc;
+};
+
 inline constexpr Int kSessionK{"session.k", 3, 1, 1000, "candidates shown per query"};
 inline constexpr Int kDeadlineMs{"session.deadline_ms", 5000, 1, 86400000,
                                  "one request, end to end (parsing included)"};
@@ -60,5 +67,17 @@ inline constexpr Bool kGeneralize{"induction.generalize", true,
                                   "generalize definitions by rewriting"};
 inline constexpr Int kPerturbedChecks{"induction.perturbed_checks", 0, 0, 1000,
                                       "perturbed worlds a generalization is checked on"};
+
+inline constexpr Text kServeHost{"serve.host", "127.0.0.1", "address to listen on"};
+inline constexpr Int kServePort{"serve.port", 8410, 0, 65535, "port (0: any free port, printed)"};
+inline constexpr Int kServeThreads{"serve.threads", 128, 1, 4096, "worker threads"};
+inline constexpr Int kServeMaxRequestBytes{"serve.max_request_bytes", 65536, 256, 67108864,
+                                           "larger bodies: 413"};
+inline constexpr Int kServeRatePerSecond{"serve.rate_per_second", 100, 1, 1000000,
+                                         "requests per session per second"};
+inline constexpr Int kServeRateBurst{"serve.rate_burst", 200, 1, 1000000, "burst per session"};
+inline constexpr Int kServeMaxSessions{"serve.max_sessions", 1000, 1, 1000000, "open sessions"};
+inline constexpr Int kServeSessionIdleS{"serve.session_idle_s", 3600, 1, 31536000,
+                                        "idle seconds before a session may be evicted"};
 
 }  // namespace flipper::kernel::keys
