@@ -61,7 +61,9 @@ TEST_CASE("flipper session refuses a non-loopback DDS config with exit 2", "[dds
 }
 
 TEST_CASE("replication needs a site name, world.resolution must be positive", "[dds]") {
-  CHECK_THROWS_WITH(config({"world.resolution=0"}), Catch::Contains("greater than 0"));
+  CHECK_THROWS_WITH(config({"world.resolution=0"}),
+                    "config <embedded default>: config key 'world.resolution' = 0 is out of range "
+                    "[0.001, 1000]");
   CHECK_THROWS_WITH(config({"world.origin=[a, 1]"}), Catch::Contains("list of numbers"));
   testsupport::ChildProcess p({ddstest::flipper_bin(), "session", "--set",
                                "lexicon.replication=dds", "--set", "lexicon.path=:memory:"});

@@ -40,7 +40,7 @@ ParamSchema build() {
   ParamSchema s;
   add_plugin_section(s, "world", "grid2d", "the world plugin");
   s.add_path("world.file", std::string("worlds/study2018.json"), "the default world");
-  s.add_double("world.resolution", 1.0, "metres per cell (plans over DDS)", 1e-9, 1e9);
+  s.add_double("world.resolution", 1.0, "metres per cell (plans over DDS)", 0.001, 1000);
   s.add_double_list("world.origin", {0, 0, 0}, "metres of cell (0, 0, 0) (plans over DDS)");
   add(s, keys::kMaxWorldCells);
   add_plugin_section(s, "planner", "astar", "the planner plugin");
