@@ -315,8 +315,7 @@ std::string config_error(const std::function<void()>& f) {
     CHECK(e.code() == "bad_config");
     return e.what();
   }
-  FAIL("expected a bad_config error");
-  return "";
+  return "(no error: the config was accepted)";  // differs from every expected message
 }
 std::string load_error(const std::string& name, const std::string& text) {
   const std::string path = kerneltest::write_temp(name, text);
