@@ -1,9 +1,14 @@
 #pragma once
-// Compiled, interned form of a grammar for the chart parser: tokens and categories become ints,
-// rules are indexed by their first RHS symbol (token, token class or category) and unary rules
-// by their single category, so a parse never builds strings or scans unrelated rules.
+// Compiled, interned form of a grammar for the chart parsers (`chart`, `floating`): tokens and
+// categories become ints, right-hand sides live in one pool, and rules are indexed by their first
+// RHS symbol (token, token class or category) and their *anchor*, the rarest token among the rest
+// of their RHS, so a parse only looks at rules whose first symbol and anchor both occur in the
+// utterance (docs/naturalization.md §2, "Rule selection"). Unary rules are indexed by their single
+// category. Building is linear in the rules, with one allocation per (first symbol, anchor) bucket,
+// none per rule.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -24,9 +29,14 @@ struct Sym {
 struct CompiledRule {
   sdk::RulePtr rule;
   int lhs = -1;
-  std::vector<Sym> rhs;
+  std::uint32_t rhs_begin = 0;  ///< first symbol in RuleIndex's symbol pool
+  std::uint32_t rhs_size = 0;
+  int anchor = -1;  ///< token id of the rarest token of rhs[1..] when added; -1: none
   bool alive = true;
 };
+
+/// How the rules that may start at a position are grouped: by the kind of their first symbol.
+enum class FirstKind : std::uint8_t { token, klass, category };
 
 class RuleIndex {
  public:
@@ -41,27 +51,43 @@ class RuleIndex {
   std::size_t category_count() const { return categories_.size(); }
   /// Class bits matched by a token (computed once per parse token).
   std::uint8_t classes_of(const std::string& token) const;
+  /// token_id / classes_of of each token of an utterance.
+  std::vector<int> token_ids(const std::vector<std::string>& tokens) const;
+  std::vector<std::uint8_t> classes(const std::vector<std::string>& tokens) const;
 
   const std::vector<CompiledRule>& rules() const { return rules_; }
-  const std::vector<int>& by_first_token(int token) const { return by_token_[token]; }
-  const std::vector<int>& by_first_class(int bit_index) const { return by_class_[bit_index]; }
-  const std::vector<int>& by_first_category(int cat) const { return by_category_[cat]; }
-  const std::vector<int>& unary_from(int cat) const { return unary_[cat]; }
+  std::span<const Sym> rhs(const CompiledRule& rule) const {
+    return {symbols_.data() + rule.rhs_begin, rule.rhs_size};
+  }
+  std::span<const Sym> rhs(int rule) const { return rhs(rules_[static_cast<std::size_t>(rule)]); }
+  /// The alive non-unary rules whose first symbol is `first` (a token id, a class bit index 0-3 or
+  /// a category id, by `kind`) and whose anchor is `anchor` (-1: rules without one), ascending.
+  const std::vector<int>& bucket(FirstKind kind, int first, int anchor) const;
+  const std::vector<int>& unary_from(int cat) const {
+    return unary_[static_cast<std::size_t>(cat)];
+  }
 
  private:
   int intern_token(const std::string& t);
   int intern_category(const std::string& c);
-  void unindex(int rule_index);
+  static std::uint64_t bucket_key(FirstKind kind, int first, int anchor);
+  std::vector<int>* home_of(const CompiledRule& c);
+  int find_alive(const std::string& id) const;
+  void index_id(int rule);
+  void grow_ids();
 
   std::shared_ptr<const sdk::Grammar> grammar_ = std::make_shared<sdk::Grammar>();
   std::unordered_map<std::string, int> tokens_;
   std::unordered_map<std::string, int> categories_;
-  std::unordered_map<std::string, int> by_id_;
+  std::vector<int> token_uses_;  ///< per token: rules that have it in rhs[1..] (anchor choice)
   std::vector<CompiledRule> rules_;
-  std::vector<std::vector<int>> by_token_;
-  std::vector<int> by_class_[4];
-  std::vector<std::vector<int>> by_category_;
+  std::vector<Sym> symbols_;
+  std::unordered_map<std::uint64_t, std::vector<int>> buckets_;
   std::vector<std::vector<int>> unary_;
+  /// Rule ids: open addressing over rule numbers (a node-based map cost ~40 % of building 100k
+  /// rules); entries of removed rules stay (rules_ keeps them too) and are skipped.
+  std::vector<int> id_slots_;
+  std::size_t id_count_ = 0;
   int root_ = -1;
 };
 

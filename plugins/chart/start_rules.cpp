@@ -1,0 +1,101 @@
+#include "start_rules.hpp"
+
+#include <algorithm>
+
+namespace flipper::chart {
+
+StartRules::StartRules(const RuleIndex& index, const std::vector<int>& token_ids,
+                       const std::vector<std::uint8_t>& classes, const Visible& visible,
+                       bool exhaustive)
+    : index_(index),
+      visible_fn_(visible),
+      exhaustive_(exhaustive),
+      n_(static_cast<int>(token_ids.size())) {
+  classes_from_.assign(static_cast<std::size_t>(n_) + 1, 0);
+  for (int p = n_ - 1; p >= 0; --p)
+    classes_from_[static_cast<std::size_t>(p)] =
+        classes_from_[static_cast<std::size_t>(p) + 1] | classes[static_cast<std::size_t>(p)];
+  for (int p = 0; p < n_; ++p)
+    if (token_ids[static_cast<std::size_t>(p)] >= 0)
+      last_at_.emplace_back(token_ids[static_cast<std::size_t>(p)], p);
+  // Sorted by token, then position: the last entry of each token is its last position.
+  std::sort(last_at_.begin(), last_at_.end());
+  std::vector<std::pair<int, int>> last;
+  for (std::size_t k = 0; k < last_at_.size(); ++k)
+    if (k + 1 == last_at_.size() || last_at_[k + 1].first != last_at_[k].first)
+      last.push_back(last_at_[k]);
+  last_at_ = std::move(last);
+}
+
+int StartRules::last_position(int token) const {
+  auto it = std::lower_bound(last_at_.begin(), last_at_.end(), std::make_pair(token, -1));
+  return it != last_at_.end() && it->first == token ? it->second : -1;
+}
+
+bool StartRules::visible(int rule) {
+  if (!visible_fn_) return true;
+  auto [it, fresh] = visible_.try_emplace(rule, false);
+  if (fresh) it->second = visible_fn_(*index_.rules()[static_cast<std::size_t>(rule)].rule);
+  return it->second;
+}
+
+bool StartRules::fits_after(const CompiledRule& rule, int i) const {
+  if (static_cast<int>(rule.rhs_size) > n_ - i) return false;
+  const auto rhs = index_.rhs(rule);
+  for (std::size_t k = 1; k < rhs.size(); ++k) {
+    const int pos = i + static_cast<int>(k);
+    const Sym& s = rhs[k];
+    if (s.type == Sym::Type::token && last_position(s.id) < pos) return false;
+    if (s.type == Sym::Type::klass && !(classes_from_[static_cast<std::size_t>(pos)] & s.id))
+      return false;
+  }
+  return true;
+}
+
+const std::vector<int>& StartRules::at(int i, FirstKind kind, int first) {
+  const std::uint64_t key = (static_cast<std::uint64_t>(i) << 34) |
+                            (static_cast<std::uint64_t>(kind) << 32) |
+                            static_cast<std::uint32_t>(first);
+  auto [it, fresh] = lists_.try_emplace(key);
+  std::vector<int>& out = it->second;
+  if (!fresh) return out;
+  if (exhaustive_) {
+    scan_all(kind, first, out);
+    return out;
+  }
+  auto take = [&](const std::vector<int>& bucket) {
+    for (int r : bucket)
+      if (fits_after(index_.rules()[static_cast<std::size_t>(r)], i) && visible(r))
+        out.push_back(r);
+  };
+  take(index_.bucket(kind, first, -1));
+  for (const auto& [token, last] : last_at_)
+    if (last > i) take(index_.bucket(kind, first, token));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The unindexed matcher's candidates: every alive, visible rule whose first symbol fits.
+void StartRules::scan_all(FirstKind kind, int first, std::vector<int>& out) {
+  const auto& rules = index_.rules();
+  for (std::size_t r = 0; r < rules.size(); ++r) {
+    const CompiledRule& c = rules[r];
+    if (!c.alive) continue;
+    const Sym& s = index_.rhs(c)[0];
+    bool fits = false;
+    switch (kind) {
+      case FirstKind::token:
+        fits = s.type == Sym::Type::token && s.id == first;
+        break;
+      case FirstKind::klass:
+        fits = s.type == Sym::Type::klass && s.id == (1 << first);
+        break;
+      case FirstKind::category:
+        fits = s.type == Sym::Type::category && s.id == first && c.rhs_size > 1;
+        break;
+    }
+    if (fits && visible(static_cast<int>(r))) out.push_back(static_cast<int>(r));
+  }
+}
+
+}  // namespace flipper::chart
