@@ -27,7 +27,26 @@ int bit_index(int bit) {
   return bit == kNumber ? 0 : bit == kColor ? 1 : bit == kShape ? 2 : 3;
 }
 
-const std::vector<int> kNone;
+// Bucket keys spread over the table (Fibonacci hashing: the multiply mixes every key bit up).
+std::size_t spread(std::uint64_t key) {
+  return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 32);
+}
+
+std::uint64_t make_key(FirstKind kind, int first, int anchor) {
+  return (static_cast<std::uint64_t>(kind) << 62) |
+         (static_cast<std::uint64_t>(static_cast<std::uint32_t>(first)) << 32) |
+         static_cast<std::uint32_t>(anchor + 1);
+}
+
+// An id's hash tag: its upper 32 bits; the lower bits of the tag pick the slot, so the table
+// grows without hashing the ids again.
+std::uint64_t id_tag(const std::string& id) {
+  return static_cast<std::uint64_t>(std::hash<std::string>{}(id)) >> 32;
+}
+
+bool is_unary(const CompiledRule& c, const std::vector<Sym>& symbols) {
+  return c.rhs_size == 1 && symbols[c.rhs_begin].type == Sym::Type::category;
+}
 }  // namespace
 
 void RuleIndex::reset(std::shared_ptr<const sdk::Grammar> grammar) {
@@ -38,6 +57,7 @@ void RuleIndex::reset(std::shared_ptr<const sdk::Grammar> grammar) {
   rules_.clear();
   symbols_.clear();
   buckets_.clear();
+  bucket_count_ = 0;
   unary_.clear();
   id_slots_.clear();
   id_count_ = 0;
@@ -56,29 +76,6 @@ int RuleIndex::intern_category(const std::string& c) {
   auto [it, fresh] = categories_.emplace(c, static_cast<int>(categories_.size()));
   if (fresh) unary_.emplace_back();
   return it->second;
-}
-
-std::uint64_t RuleIndex::bucket_key(FirstKind kind, int first, int anchor) {
-  return (static_cast<std::uint64_t>(kind) << 62) |
-         (static_cast<std::uint64_t>(static_cast<std::uint32_t>(first)) << 32) |
-         static_cast<std::uint32_t>(anchor + 1);
-}
-
-const std::vector<int>& RuleIndex::bucket(FirstKind kind, int first, int anchor) const {
-  auto it = buckets_.find(bucket_key(kind, first, anchor));
-  return it == buckets_.end() ? kNone : it->second;
-}
-
-// The list a compiled rule belongs to (unary rules: by their category; others: their bucket).
-std::vector<int>* RuleIndex::home_of(const CompiledRule& c) {
-  const Sym& first = symbols_[c.rhs_begin];
-  if (c.rhs_size == 1 && first.type == Sym::Type::category)
-    return &unary_[static_cast<std::size_t>(first.id)];
-  const FirstKind kind = first.type == Sym::Type::token      ? FirstKind::token
-                         : first.type == Sym::Type::category ? FirstKind::category
-                                                             : FirstKind::klass;
-  const int key = kind == FirstKind::klass ? bit_index(first.id) : first.id;
-  return &buckets_[bucket_key(kind, key, c.anchor)];
 }
 
 void RuleIndex::add(sdk::RulePtr rule) {
@@ -118,8 +115,11 @@ void RuleIndex::add(sdk::RulePtr rule) {
       ++token_uses_[static_cast<std::size_t>(symbols_[k].id)];
   c.rule = std::move(rule);
   const int idx = static_cast<int>(rules_.size());
-  home_of(c)->push_back(idx);
   rules_.push_back(std::move(c));
+  if (is_unary(rules_.back(), symbols_))
+    unary_[static_cast<std::size_t>(symbols_[rules_.back().rhs_begin].id)].push_back(idx);
+  else
+    link(idx);
   index_id(idx);
 }
 
@@ -127,39 +127,118 @@ void RuleIndex::remove(const std::string& id) {
   const int idx = find_alive(id);
   if (idx < 0) return;
   CompiledRule& c = rules_[static_cast<std::size_t>(idx)];
-  std::vector<int>& home = *home_of(c);
-  home.erase(std::remove(home.begin(), home.end(), idx), home.end());
+  if (is_unary(c, symbols_)) {
+    auto& home = unary_[static_cast<std::size_t>(symbols_[c.rhs_begin].id)];
+    home.erase(std::remove(home.begin(), home.end(), idx), home.end());
+  } else {
+    unlink(idx);
+  }
   c.alive = false;
 }
 
-// ---- rule ids: linear probing over rule numbers, hashed by the rule's id ----------------------
+// ---- buckets: (first symbol, anchor) -> a list threaded through CompiledRule::next ----------
+
+std::uint64_t RuleIndex::bucket_key(const CompiledRule& c, const std::vector<Sym>& symbols) {
+  const Sym& first = symbols[c.rhs_begin];
+  switch (first.type) {
+    case Sym::Type::token:
+      return make_key(FirstKind::token, first.id, c.anchor);
+    case Sym::Type::category:
+      return make_key(FirstKind::category, first.id, c.anchor);
+    default:
+      return make_key(FirstKind::klass, bit_index(first.id), c.anchor);
+  }
+}
+
+// The slot holding `key`, or the empty slot where it would go.
+std::size_t RuleIndex::bucket_slot(std::uint64_t key) const {
+  const std::size_t mask = buckets_.size() - 1;
+  for (std::size_t s = spread(key) & mask;; s = (s + 1) & mask)
+    if (buckets_[s].key == key || buckets_[s].key == kNoKey) return s;
+}
+
+int RuleIndex::bucket(FirstKind kind, int first, int anchor) const {
+  if (buckets_.empty()) return -1;
+  const std::uint64_t key = make_key(kind, first, anchor);
+  const Bucket& b = buckets_[bucket_slot(key)];
+  return b.key == key ? b.head : -1;
+}
+
+void RuleIndex::link(int rule) {
+  if ((bucket_count_ + 1) * 2 > buckets_.size()) grow_buckets();
+  CompiledRule& c = rules_[static_cast<std::size_t>(rule)];
+  const std::uint64_t key = bucket_key(c, symbols_);
+  Bucket& b = buckets_[bucket_slot(key)];
+  if (b.key == kNoKey) {
+    b.key = key;
+    ++bucket_count_;
+  }
+  c.next = -1;
+  if (b.tail < 0)
+    b.head = rule;
+  else
+    rules_[static_cast<std::size_t>(b.tail)].next = rule;
+  b.tail = rule;
+}
+
+void RuleIndex::unlink(int rule) {
+  CompiledRule& c = rules_[static_cast<std::size_t>(rule)];
+  Bucket& b = buckets_[bucket_slot(bucket_key(c, symbols_))];
+  int prev = -1;
+  for (int r = b.head; r >= 0; prev = r, r = rules_[static_cast<std::size_t>(r)].next) {
+    if (r != rule) continue;
+    (prev < 0 ? b.head : rules_[static_cast<std::size_t>(prev)].next) = c.next;
+    if (b.tail == rule) b.tail = prev;
+    c.next = -1;
+    return;
+  }
+}
+
+void RuleIndex::grow_buckets() {
+  std::vector<Bucket> old = std::move(buckets_);
+  buckets_.assign(std::max<std::size_t>(64, old.size() * 2), Bucket{});
+  for (const Bucket& b : old)
+    if (b.key != kNoKey) buckets_[bucket_slot(b.key)] = b;
+}
+
+// ---- rule ids ----------------------------------------------------------------------------------
 
 int RuleIndex::find_alive(const std::string& id) const {
   if (id_slots_.empty()) return -1;
+  const std::uint64_t tag = id_tag(id);
   const std::size_t mask = id_slots_.size() - 1;
-  for (std::size_t s = std::hash<std::string>{}(id)&mask;; s = (s + 1) & mask) {
-    const int idx = id_slots_[s];
-    if (idx < 0) return -1;
-    const CompiledRule& c = rules_[static_cast<std::size_t>(idx)];
-    if (c.alive && c.rule->id == id) return idx;
+  for (std::size_t s = tag & mask;; s = (s + 1) & mask) {
+    const std::uint64_t e = id_slots_[s];
+    if (e == kNoKey) return -1;
+    if ((e >> 32) != tag) continue;
+    const auto idx = static_cast<std::uint32_t>(e);
+    const CompiledRule& c = rules_[idx];
+    if (c.alive && c.rule->id == id) return static_cast<int>(idx);
   }
 }
 
 void RuleIndex::index_id(int rule) {
   if ((id_count_ + 1) * 2 > id_slots_.size()) grow_ids();
+  const std::uint64_t tag = id_tag(rules_[static_cast<std::size_t>(rule)].rule->id);
   const std::size_t mask = id_slots_.size() - 1;
-  std::size_t s = std::hash<std::string>{}(rules_[static_cast<std::size_t>(rule)].rule->id) & mask;
-  while (id_slots_[s] >= 0) s = (s + 1) & mask;
-  id_slots_[s] = rule;
+  std::size_t s = tag & mask;
+  while (id_slots_[s] != kNoKey) s = (s + 1) & mask;
+  id_slots_[s] = (tag << 32) | static_cast<std::uint32_t>(rule);
   ++id_count_;
 }
 
 void RuleIndex::grow_ids() {
-  std::vector<int> old = std::move(id_slots_);
-  id_slots_.assign(std::max<std::size_t>(64, old.size() * 2), -1);
+  std::vector<std::uint64_t> old = std::move(id_slots_);
+  id_slots_.assign(std::max<std::size_t>(64, old.size() * 2), kNoKey);
   id_count_ = 0;
-  for (int idx : old)
-    if (idx >= 0 && rules_[static_cast<std::size_t>(idx)].alive) index_id(idx);
+  const std::size_t mask = id_slots_.size() - 1;
+  for (std::uint64_t e : old) {
+    if (e == kNoKey || !rules_[static_cast<std::uint32_t>(e)].alive) continue;
+    std::size_t s = (e >> 32) & mask;
+    while (id_slots_[s] != kNoKey) s = (s + 1) & mask;
+    id_slots_[s] = e;
+    ++id_count_;
+  }
 }
 
 // ---- lookups ---------------------------------------------------------------------------------

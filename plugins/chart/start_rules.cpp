@@ -63,10 +63,10 @@ const std::vector<int>& StartRules::at(int i, FirstKind kind, int first) {
     scan_all(kind, first, out);
     return out;
   }
-  auto take = [&](const std::vector<int>& bucket) {
-    for (int r : bucket)
-      if (fits_after(index_.rules()[static_cast<std::size_t>(r)], i) && visible(r))
-        out.push_back(r);
+  const auto& rules = index_.rules();
+  auto take = [&](int head) {
+    for (int r = head; r >= 0; r = rules[static_cast<std::size_t>(r)].next)
+      if (fits_after(rules[static_cast<std::size_t>(r)], i) && visible(r)) out.push_back(r);
   };
   take(index_.bucket(kind, first, -1));
   for (const auto& [token, last] : last_at_)
