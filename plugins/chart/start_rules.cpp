@@ -56,13 +56,13 @@ const std::vector<int>& StartRules::at(int i, FirstKind kind, int first) {
   const std::uint64_t key = (static_cast<std::uint64_t>(i) << 34) |
                             (static_cast<std::uint64_t>(kind) << 32) |
                             static_cast<std::uint32_t>(first);
+  if (exhaustive_) {
+    if (all_.empty()) scan_all();
+    return all_[key & ((std::uint64_t{1} << 34) - 1)];  // the same list at every position
+  }
   auto [it, fresh] = lists_.try_emplace(key);
   std::vector<int>& out = it->second;
   if (!fresh) return out;
-  if (exhaustive_) {
-    scan_all(kind, first, out);
-    return out;
-  }
   const auto& rules = index_.rules();
   auto take = [&](int head) {
     for (int r = head; r >= 0; r = rules[static_cast<std::size_t>(r)].next)
@@ -75,27 +75,27 @@ const std::vector<int>& StartRules::at(int i, FirstKind kind, int first) {
   return out;
 }
 
-// The unindexed matcher's candidates: every alive, visible rule whose first symbol fits.
-void StartRules::scan_all(FirstKind kind, int first, std::vector<int>& out) {
+// The unindexed matcher's candidates, once per parse: every alive, visible, non-unary rule, listed
+// under its first symbol.
+void StartRules::scan_all() {
   const auto& rules = index_.rules();
   for (std::size_t r = 0; r < rules.size(); ++r) {
     const CompiledRule& c = rules[r];
-    if (!c.alive) continue;
     const Sym& s = index_.rhs(c)[0];
-    bool fits = false;
-    switch (kind) {
-      case FirstKind::token:
-        fits = s.type == Sym::Type::token && s.id == first;
-        break;
-      case FirstKind::klass:
-        fits = s.type == Sym::Type::klass && s.id == (1 << first);
-        break;
-      case FirstKind::category:
-        fits = s.type == Sym::Type::category && s.id == first && c.rhs_size > 1;
-        break;
-    }
-    if (fits && visible(static_cast<int>(r))) out.push_back(static_cast<int>(r));
+    if (!c.alive || (s.type == Sym::Type::category && c.rhs_size == 1)) continue;
+    if (!visible(static_cast<int>(r))) continue;
+    const FirstKind kind = s.type == Sym::Type::token      ? FirstKind::token
+                           : s.type == Sym::Type::category ? FirstKind::category
+                                                           : FirstKind::klass;
+    const int first = kind != FirstKind::klass ? s.id
+                      : s.id == kNumber        ? 0
+                      : s.id == kColor         ? 1
+                      : s.id == kShape         ? 2
+                                               : 3;
+    all_[(static_cast<std::uint64_t>(kind) << 32) | static_cast<std::uint32_t>(first)].push_back(
+        static_cast<int>(r));
   }
+  all_[~std::uint64_t{0}];  // marks the scan done, even when no rule was found
 }
 
 }  // namespace flipper::chart

@@ -34,7 +34,7 @@ class StartRules {
  private:
   bool fits_after(const CompiledRule& rule, int i) const;
   int last_position(int token) const;
-  void scan_all(FirstKind kind, int first, std::vector<int>& out);
+  void scan_all();
 
   const RuleIndex& index_;
   const Visible& visible_fn_;
@@ -44,6 +44,7 @@ class StartRules {
   std::vector<std::uint8_t> classes_from_;    ///< class bits of the tokens [p, n), per p
   std::unordered_map<std::uint64_t, std::vector<int>> lists_;
   std::unordered_map<int, bool> visible_;
+  std::unordered_map<std::uint64_t, std::vector<int>> all_;  ///< exhaustive: rules by first symbol
 };
 
 }  // namespace flipper::chart
