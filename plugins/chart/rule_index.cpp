@@ -66,23 +66,29 @@ void RuleIndex::reset(std::shared_ptr<const sdk::Grammar> grammar) {
   for (const auto& r : grammar_->rules) add(r);
 }
 
+// Look up before inserting: emplace builds (allocates) a node even for a known key.
 int RuleIndex::intern_token(const std::string& t) {
-  auto [it, fresh] = tokens_.emplace(t, static_cast<int>(tokens_.size()));
-  if (fresh) token_uses_.push_back(0);
-  return it->second;
+  if (auto it = tokens_.find(t); it != tokens_.end()) return it->second;
+  const int id = static_cast<int>(tokens_.size());
+  tokens_.emplace(t, id);
+  token_uses_.push_back(0);
+  return id;
 }
 
 int RuleIndex::intern_category(const std::string& c) {
-  auto [it, fresh] = categories_.emplace(c, static_cast<int>(categories_.size()));
-  if (fresh) unary_.emplace_back();
-  return it->second;
+  if (auto it = categories_.find(c); it != categories_.end()) return it->second;
+  const int id = static_cast<int>(categories_.size());
+  categories_.emplace(c, id);
+  unary_.emplace_back();
+  return id;
 }
 
 void RuleIndex::add(sdk::RulePtr rule) {
   if (!rule) throw sdk::Error(sdk::codes::kBadGrammar, "null rule");
   if (rule->rhs.empty())
     throw sdk::Error(sdk::codes::kBadGrammar, "rule " + rule->id + " has an empty right-hand side");
-  if (find_alive(rule->id) >= 0) remove(rule->id);
+  const std::uint64_t tag = id_tag(rule->id);
+  if (const int old = find_alive(rule->id, tag); old >= 0) drop(old);
   CompiledRule c;
   c.lhs = intern_category(rule->lhs);
   c.rhs_begin = static_cast<std::uint32_t>(symbols_.size());
@@ -120,12 +126,14 @@ void RuleIndex::add(sdk::RulePtr rule) {
     unary_[static_cast<std::size_t>(symbols_[rules_.back().rhs_begin].id)].push_back(idx);
   else
     link(idx);
-  index_id(idx);
+  index_id(idx, tag);
 }
 
 void RuleIndex::remove(const std::string& id) {
-  const int idx = find_alive(id);
-  if (idx < 0) return;
+  if (const int idx = find_alive(id, id_tag(id)); idx >= 0) drop(idx);
+}
+
+void RuleIndex::drop(int idx) {
   CompiledRule& c = rules_[static_cast<std::size_t>(idx)];
   if (is_unary(c, symbols_)) {
     auto& home = unary_[static_cast<std::size_t>(symbols_[c.rhs_begin].id)];
@@ -203,9 +211,8 @@ void RuleIndex::grow_buckets() {
 
 // ---- rule ids ----------------------------------------------------------------------------------
 
-int RuleIndex::find_alive(const std::string& id) const {
+int RuleIndex::find_alive(const std::string& id, std::uint64_t tag) const {
   if (id_slots_.empty()) return -1;
-  const std::uint64_t tag = id_tag(id);
   const std::size_t mask = id_slots_.size() - 1;
   for (std::size_t s = tag & mask;; s = (s + 1) & mask) {
     const std::uint64_t e = id_slots_[s];
@@ -217,9 +224,8 @@ int RuleIndex::find_alive(const std::string& id) const {
   }
 }
 
-void RuleIndex::index_id(int rule) {
+void RuleIndex::index_id(int rule, std::uint64_t tag) {
   if ((id_count_ + 1) * 2 > id_slots_.size()) grow_ids();
-  const std::uint64_t tag = id_tag(rules_[static_cast<std::size_t>(rule)].rule->id);
   const std::size_t mask = id_slots_.size() - 1;
   std::size_t s = tag & mask;
   while (id_slots_[s] != kNoKey) s = (s + 1) & mask;
