@@ -54,6 +54,10 @@ void RuleIndex::reset(std::shared_ptr<const sdk::Grammar> grammar) {
   tokens_.clear();
   categories_.clear();
   token_uses_.clear();
+  anchor_uses_.clear();
+  token_first_.clear();
+  category_first_.clear();
+  std::fill(std::begin(class_first_), std::end(class_first_), 0);
   rules_.clear();
   symbols_.clear();
   buckets_.clear();
@@ -72,6 +76,8 @@ int RuleIndex::intern_token(const std::string& t) {
   const int id = static_cast<int>(tokens_.size());
   tokens_.emplace(t, id);
   token_uses_.push_back(0);
+  anchor_uses_.push_back(0);
+  token_first_.push_back(0);
   return id;
 }
 
@@ -80,6 +86,7 @@ int RuleIndex::intern_category(const std::string& c) {
   const int id = static_cast<int>(categories_.size());
   categories_.emplace(c, id);
   unary_.emplace_back();
+  category_first_.push_back(0);
   return id;
 }
 
@@ -158,6 +165,19 @@ std::uint64_t RuleIndex::bucket_key(const CompiledRule& c, const std::vector<Sym
   }
 }
 
+int& RuleIndex::first_count(const CompiledRule& c) {
+  const Sym& first = symbols_[c.rhs_begin];
+  const auto f = static_cast<std::size_t>(first.id);
+  switch (first.type) {
+    case Sym::Type::token:
+      return token_first_[f];
+    case Sym::Type::category:
+      return category_first_[f];
+    default:
+      return class_first_[bit_index(first.id)];
+  }
+}
+
 // The slot holding `key`, or the empty slot where it would go.
 std::size_t RuleIndex::bucket_slot(std::uint64_t key) const {
   const std::size_t mask = buckets_.size() - 1;
@@ -182,6 +202,8 @@ void RuleIndex::link(int rule) {
     ++bucket_count_;
   }
   c.next = -1;
+  if (c.anchor >= 0) ++anchor_uses_[static_cast<std::size_t>(c.anchor)];
+  ++first_count(c);
   if (b.tail < 0)
     b.head = rule;
   else
@@ -198,6 +220,8 @@ void RuleIndex::unlink(int rule) {
     (prev < 0 ? b.head : rules_[static_cast<std::size_t>(prev)].next) = c.next;
     if (b.tail == rule) b.tail = prev;
     c.next = -1;
+    if (c.anchor >= 0) --anchor_uses_[static_cast<std::size_t>(c.anchor)];
+    --first_count(c);
     return;
   }
 }

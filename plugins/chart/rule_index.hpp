@@ -67,6 +67,15 @@ class RuleIndex {
   /// index 0-3 or a category id, by `kind`) and whose anchor is `anchor` (-1: rules without one);
   /// the others follow through CompiledRule::next, ascending. -1: none.
   int bucket(FirstKind kind, int first, int anchor) const;
+  /// How many alive non-unary rules have the first symbol `first` (kind as in bucket).
+  int starting(FirstKind kind, int first) const {
+    const auto f = static_cast<std::size_t>(first);
+    return kind == FirstKind::token      ? token_first_[f]
+           : kind == FirstKind::category ? category_first_[f]
+                                         : class_first_[f];
+  }
+  /// How many alive rules have `token` as their anchor.
+  int anchors(int token) const { return anchor_uses_[static_cast<std::size_t>(token)]; }
   const std::vector<int>& unary_from(int cat) const {
     return unary_[static_cast<std::size_t>(cat)];
   }
@@ -81,6 +90,7 @@ class RuleIndex {
   static constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
   static std::uint64_t bucket_key(const CompiledRule& c, const std::vector<Sym>& symbols);
   std::size_t bucket_slot(std::uint64_t key) const;
+  int& first_count(const CompiledRule& c);
   void link(int rule);
   void unlink(int rule);
   void grow_buckets();
@@ -92,7 +102,10 @@ class RuleIndex {
   std::shared_ptr<const sdk::Grammar> grammar_ = std::make_shared<sdk::Grammar>();
   std::unordered_map<std::string, int> tokens_;
   std::unordered_map<std::string, int> categories_;
-  std::vector<int> token_uses_;  ///< per token: rules that have it in rhs[1..] (anchor choice)
+  std::vector<int> token_uses_;   ///< per token: rules that have it in rhs[1..] (anchor choice)
+  std::vector<int> anchor_uses_;  ///< per token: alive rules anchored on it
+  std::vector<int> token_first_, category_first_;  ///< per token / category: see starting()
+  int class_first_[4] = {0, 0, 0, 0};
   std::vector<CompiledRule> rules_;
   std::vector<Sym> symbols_;
   std::vector<Bucket> buckets_;  ///< open addressing by key, power-of-two size

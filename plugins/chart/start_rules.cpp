@@ -25,6 +25,9 @@ StartRules::StartRules(const RuleIndex& index, const std::vector<int>& token_ids
     if (k + 1 == last_at_.size() || last_at_[k + 1].first != last_at_[k].first)
       last.push_back(last_at_[k]);
   last_at_ = std::move(last);
+  for (const auto& tl : last_at_)
+    if (index.anchors(tl.first) > 0) anchors_.push_back(tl);
+  lists_.resize(static_cast<std::size_t>(n_));
 }
 
 int StartRules::last_position(int token) const {
@@ -52,27 +55,29 @@ bool StartRules::fits_after(const CompiledRule& rule, int i) const {
   return true;
 }
 
-const std::vector<int>& StartRules::at(int i, FirstKind kind, int first) {
-  const std::uint64_t key = (static_cast<std::uint64_t>(i) << 34) |
-                            (static_cast<std::uint64_t>(kind) << 32) |
-                            static_cast<std::uint32_t>(first);
+std::span<const int> StartRules::at(int i, FirstKind kind, int first) {
+  const std::uint32_t key =
+      (static_cast<std::uint32_t>(kind) << 30) | static_cast<std::uint32_t>(first);
   if (exhaustive_) {
     if (all_.empty()) scan_all();
-    return all_[key & ((std::uint64_t{1} << 34) - 1)];  // the same list at every position
+    return all_[key];  // the same list at every position
   }
-  auto [it, fresh] = lists_.try_emplace(key);
-  std::vector<int>& out = it->second;
-  if (!fresh) return out;
+  if (index_.starting(kind, first) == 0) return {};
+  auto& here = lists_[static_cast<std::size_t>(i)];
+  for (const List& l : here)
+    if (l.key == key) return {pool_.data() + l.begin, l.size};
+  const auto begin = static_cast<std::uint32_t>(pool_.size());
   const auto& rules = index_.rules();
   auto take = [&](int head) {
     for (int r = head; r >= 0; r = rules[static_cast<std::size_t>(r)].next)
-      if (fits_after(rules[static_cast<std::size_t>(r)], i) && visible(r)) out.push_back(r);
+      if (fits_after(rules[static_cast<std::size_t>(r)], i) && visible(r)) pool_.push_back(r);
   };
   take(index_.bucket(kind, first, -1));
-  for (const auto& [token, last] : last_at_)
+  for (const auto& [token, last] : anchors_)
     if (last > i) take(index_.bucket(kind, first, token));
-  std::sort(out.begin(), out.end());
-  return out;
+  std::sort(pool_.begin() + begin, pool_.end());
+  here.push_back({key, begin, static_cast<std::uint32_t>(pool_.size()) - begin});
+  return {pool_.data() + begin, here.back().size};
 }
 
 // The unindexed matcher's candidates, once per parse: every alive, visible, non-unary rule, listed
@@ -92,10 +97,10 @@ void StartRules::scan_all() {
                       : s.id == kColor         ? 1
                       : s.id == kShape         ? 2
                                                : 3;
-    all_[(static_cast<std::uint64_t>(kind) << 32) | static_cast<std::uint32_t>(first)].push_back(
+    all_[(static_cast<std::uint32_t>(kind) << 30) | static_cast<std::uint32_t>(first)].push_back(
         static_cast<int>(r));
   }
-  all_[~std::uint64_t{0}];  // marks the scan done, even when no rule was found
+  all_[~std::uint32_t{0}];  // marks the scan done, even when no rule was found
 }
 
 }  // namespace flipper::chart

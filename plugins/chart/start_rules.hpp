@@ -10,6 +10,7 @@
 // unindexed matcher, kept as the oracle of the index tests.
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -26,8 +27,9 @@ class StartRules {
              const std::vector<std::uint8_t>& classes, const Visible& visible, bool exhaustive);
 
   /// The alive, visible rules whose first symbol is `first` (kind as in RuleIndex::bucket) that
-  /// may match from position i, ascending. Computed once per (i, kind, first) and parse.
-  const std::vector<int>& at(int i, FirstKind kind, int first);
+  /// may match from position i, ascending. Computed once per (i, kind, first) and parse; the
+  /// span is valid until the next call.
+  std::span<const int> at(int i, FirstKind kind, int first);
   /// Whether the request's visibility filter admits the rule (memoised; for unary rules).
   bool visible(int rule);
 
@@ -40,11 +42,16 @@ class StartRules {
   const Visible& visible_fn_;
   const bool exhaustive_;
   const int n_;
+  struct List {
+    std::uint32_t key, begin, size;  // key: kind and first symbol
+  };
   std::vector<std::pair<int, int>> last_at_;  ///< (token id, last position), by token id
+  std::vector<std::pair<int, int>> anchors_;  ///< the entries of last_at_ that anchor rules
   std::vector<std::uint8_t> classes_from_;    ///< class bits of the tokens [p, n), per p
-  std::unordered_map<std::uint64_t, std::vector<int>> lists_;
+  std::vector<std::vector<List>> lists_;      ///< per position: the lists computed, in pool_
+  std::vector<int> pool_;
   std::unordered_map<int, bool> visible_;
-  std::unordered_map<std::uint64_t, std::vector<int>> all_;  ///< exhaustive: rules by first symbol
+  std::unordered_map<std::uint32_t, std::vector<int>> all_;  ///< exhaustive: rules by first symbol
 };
 
 }  // namespace flipper::chart
