@@ -68,14 +68,16 @@ std::span<const int> StartRules::at(int i, FirstKind kind, int first) {
     if (l.key == key) return {pool_.data() + l.begin, l.size};
   const auto begin = static_cast<std::uint32_t>(pool_.size());
   const auto& rules = index_.rules();
+  // Each bucket is ascending: merge it in (most positions see one or two buckets).
   auto take = [&](int head) {
+    const auto mid = static_cast<std::ptrdiff_t>(pool_.size());
     for (int r = head; r >= 0; r = rules[static_cast<std::size_t>(r)].next)
       if (fits_after(rules[static_cast<std::size_t>(r)], i) && visible(r)) pool_.push_back(r);
+    std::inplace_merge(pool_.begin() + begin, pool_.begin() + mid, pool_.end());
   };
   take(index_.bucket(kind, first, -1));
   for (const auto& [token, last] : anchors_)
     if (last > i) take(index_.bucket(kind, first, token));
-  std::sort(pool_.begin() + begin, pool_.end());
   here.push_back({key, begin, static_cast<std::uint32_t>(pool_.size()) - begin});
   return {pool_.data() + begin, here.back().size};
 }
