@@ -22,9 +22,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "flipper/kernel/runtime.hpp"
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
-#include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/world.hpp"
 
@@ -48,6 +48,10 @@ struct NaturalizeOptions {
   std::string preload;                  ///< lexicon.preload (JSON Lines; empty: none)
   bool per_user_weights = false;        ///< lexicon.weights == per_user
   LexiconStoreOptions store;            ///< lexicon.busy_timeout_ms (+ test-only limits)
+  /// Start-up keeps a rule snapshot in the store once it holds this many live rules, and rebuilds
+  /// it when more than max(this, a quarter of its rules) rows changed since (docs/naturalization.md
+  /// §5 "Start-up at scale"). 0: never use or write one.
+  std::int64_t snapshot_min_rules = 512;
   /// Where warnings go (quarantined rules); default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
   InductionOptions induction;  ///< induction.alignment (+ parser beam)
@@ -149,6 +153,15 @@ class Naturalizer {
 
  private:
   void restore();
+  /// Start-up from the stored snapshot plus the rows changed since; false (nothing loaded) when
+  /// there is no usable snapshot or too much changed since.
+  bool restore_from_snapshot();
+  /// Start-up from the rule rows (after SQLite's quick_check), leaving a snapshot for the next.
+  void restore_from_rows();
+  /// Serves one stored rule (or quarantines it); its use counters are set by the caller.
+  bool add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr>& own = {});
+  /// by_shape_ on first use (define): start-up does not pay for it.
+  void index_shapes() const;
   void preload(const std::string& path);
   /// Applies changes read from the store; `own` holds this process's just-committed rules (used
   /// as they are instead of being read back).
@@ -166,7 +179,9 @@ class Naturalizer {
   std::unique_ptr<LexiconStore> store_;
   std::vector<sdk::RulePtr> rules_;
   std::unordered_map<std::string, sdk::RulePtr> by_id_;
-  std::unordered_multimap<std::string, sdk::RulePtr> by_shape_;  ///< "lhs -> rhs" key
+  /// "lhs -> rhs" key; built by index_shapes() when first needed, then kept in step.
+  mutable std::unordered_multimap<std::string, sdk::RulePtr> by_shape_;
+  mutable bool shapes_indexed_ = false;
   ChangeMark mark_;              ///< how far this process has read the store's history
   std::string initial_weights_;  ///< scorer state before any learning (per_user default)
   std::string weights_user_;     ///< whose weights the scorer holds (per_user)
@@ -179,6 +194,8 @@ std::string rule_shape(const sdk::Rule& rule);
 /// A stored rule back to a grammar rule (template read with sorts from the RHS categories).
 /// Throws sdk::Error when it does not load (unknown category, bad template).
 sdk::RulePtr rule_from_stored(const StoredRule& stored);
+/// The same, moving the strings out of `stored` (left as it was when it throws).
+sdk::RulePtr rule_from_stored(StoredRule&& stored);
 /// Why a stored rule would be quarantined (nullopt: it loads).
 std::optional<std::string> quarantine_reason(const StoredRule& stored);
 /// Refuses a head with a token starting with '$' (head_reserved_token).
