@@ -254,6 +254,8 @@ bool Naturalizer::restore_from_snapshot() {
     return false;
   }
   mark_ = snapshot->mark;
+  startup_.from_snapshot = true;
+  startup_.snapshot_rules = snapshot->rules;
   snapshot.reset();  // the blob's memory, before the rows changed since are read
   apply(store_->changes_since(mark_));
   return true;
@@ -271,7 +273,7 @@ void Naturalizer::restore_from_rows() {
   mark_ = read.mark;
   if (keep && static_cast<std::int64_t>(writer.size()) >= options_.snapshot_min_rules) {
     const auto n = static_cast<std::int64_t>(writer.size());
-    store_->save_snapshot(read, n, writer.finish());
+    startup_.snapshot_saved = store_->save_snapshot(read, n, writer.finish());
   }
 }
 

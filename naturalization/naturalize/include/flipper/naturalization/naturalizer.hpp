@@ -109,6 +109,13 @@ struct PreloadReport {
   std::vector<std::string> failures;  ///< "line N: code: message"
 };
 
+/// How start-up read the rules (docs/naturalization.md §5 "Start-up at scale").
+struct StartupReport {
+  bool from_snapshot = false;     ///< the stored snapshot, then the rows changed since
+  std::int64_t snapshot_rules = 0;  ///< rules the snapshot held (from_snapshot)
+  bool snapshot_saved = false;    ///< a fresh snapshot was stored (after reading the rows)
+};
+
 class Naturalizer {
  public:
   /// Opens the store and restores rules and weights into the runtime's parser and scorer, then
@@ -147,6 +154,7 @@ class Naturalizer {
   const std::vector<sdk::RulePtr>& induced_rules() const { return rules_; }
   sdk::RulePtr find_rule(const std::string& id) const;
   const PreloadReport& preload_report() const { return preload_report_; }
+  const StartupReport& startup() const { return startup_; }
   /// Stored rules that did not load, in the order they were met.
   const std::vector<QuarantinedRule>& quarantined() const { return quarantined_; }
   LexiconStore& store() { return *store_; }
@@ -186,6 +194,7 @@ class Naturalizer {
   std::string initial_weights_;  ///< scorer state before any learning (per_user default)
   std::string weights_user_;     ///< whose weights the scorer holds (per_user)
   PreloadReport preload_report_;
+  StartupReport startup_;
   std::vector<QuarantinedRule> quarantined_;
 };
 
