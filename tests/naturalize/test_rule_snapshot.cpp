@@ -142,7 +142,8 @@ TEST_CASE("a snapshot blob reads back exactly, and a damaged one hands out nothi
   w.add(b);
   const std::string blob = w.finish();
   std::vector<kernel::StoredRule> back;
-  REQUIRE(kernel::read_rule_snapshot(blob, [&](kernel::StoredRule&& r) { back.push_back(r); }));
+  REQUIRE(kernel::read_rule_snapshot(
+      blob, [&](const kernel::StoredRuleView& r) { back.push_back(r.materialize()); }));
   REQUIRE(back.size() == 2);
   for (std::size_t i = 0; i < 2; ++i) {
     const auto& want = i == 0 ? a : b;
@@ -162,7 +163,7 @@ TEST_CASE("a snapshot blob reads back exactly, and a damaged one hands out nothi
                                  blob.substr(0, 8) + std::string("\x03", 1) + blob.substr(9),
                                  std::string("FLXS\x02\0\0\0", 8) + blob.substr(8)}) {
     int handed = 0;
-    CHECK_FALSE(kernel::read_rule_snapshot(bad, [&](kernel::StoredRule&&) { ++handed; }));
+    CHECK_FALSE(kernel::read_rule_snapshot(bad, [&](const kernel::StoredRuleView&) { ++handed; }));
     CHECK(handed == 0);
   }
   CHECK(kernel::snapshot_checksum(blob) != kernel::snapshot_checksum(blob.substr(1) + "F"));

@@ -1,5 +1,6 @@
 #include "flipper/naturalization/rule_snapshot.hpp"
 
+#include <bit>
 #include <cstring>
 
 namespace flipper::kernel {
@@ -32,8 +33,12 @@ class Reader {
   std::uint64_t u(int bytes) {
     if (!need(static_cast<std::size_t>(bytes))) return 0;
     std::uint64_t v = 0;
-    for (int i = 0; i < bytes; ++i)
-      v |= static_cast<std::uint64_t>(static_cast<unsigned char>(in_[pos_ + i])) << (8 * i);
+    if constexpr (std::endian::native == std::endian::little) {
+      std::memcpy(&v, in_.data() + pos_, static_cast<std::size_t>(bytes));  // the blob's order
+    } else {
+      for (int i = 0; i < bytes; ++i)
+        v |= static_cast<std::uint64_t>(static_cast<unsigned char>(in_[pos_ + i])) << (8 * i);
+    }
     pos_ += static_cast<std::size_t>(bytes);
     return v;
   }
@@ -62,18 +67,19 @@ class Reader {
 };
 
 /// Reads one rule; with `into` null only checks and skips it.
-void read_one(Reader& r, StoredRule* into) {
+void read_one(Reader& r, StoredRuleView* into) {
   const auto created = static_cast<std::int64_t>(r.u(8));
   const auto definition = static_cast<std::int64_t>(r.u(8));
   std::string_view fields[6];  // id, lhs, semantics, author, head, how
   for (auto& f : fields) f = r.str();
-  std::vector<std::string>* lists[2] = {into ? &into->rhs : nullptr, into ? &into->body : nullptr};
+  std::vector<std::string_view>* lists[2] = {into ? &into->rhs : nullptr,
+                                             into ? &into->body : nullptr};
   for (auto* list : lists) {
     const std::size_t n = r.count();
-    if (list) list->reserve(n);
+    if (list) list->clear();
     for (std::size_t i = 0; i < n && r.ok(); ++i) {
       const std::string_view s = r.str();
-      if (list) list->emplace_back(s);
+      if (list) list->push_back(s);
     }
   }
   if (!into) return;
@@ -113,7 +119,23 @@ std::string RuleSnapshotWriter::finish() {
   return done;
 }
 
-bool read_rule_snapshot(std::string_view blob, const std::function<void(StoredRule&&)>& each) {
+StoredRule StoredRuleView::materialize() const {
+  StoredRule r;
+  r.id = id;
+  r.lhs = lhs;
+  r.rhs.assign(rhs.begin(), rhs.end());
+  r.semantics = semantics;
+  r.author = author;
+  r.head = head;
+  r.body.assign(body.begin(), body.end());
+  r.how = how;
+  r.created = created;
+  r.definition = definition;
+  return r;
+}
+
+bool read_rule_snapshot(std::string_view blob,
+                        const std::function<void(const StoredRuleView&)>& each) {
   if (blob.size() < 16 || std::memcmp(blob.data(), kMagic, sizeof kMagic) != 0) return false;
   Reader head(blob.substr(4));
   if (head.u(4) != kRuleSnapshotFormat) return false;
@@ -122,12 +144,12 @@ bool read_rule_snapshot(std::string_view blob, const std::function<void(StoredRu
   Reader check(blob.substr(16));
   for (std::uint64_t i = 0; i < n && check.ok(); ++i) read_one(check, nullptr);
   if (!check.ok() || !check.at_end()) return false;
-  // Pass 2: decode.
+  // Pass 2: hand out views, one reused StoredRuleView.
   Reader r(blob.substr(16));
+  StoredRuleView view;
   for (std::uint64_t i = 0; i < n; ++i) {
-    StoredRule rule;
-    read_one(r, &rule);
-    each(std::move(rule));
+    read_one(r, &view);
+    each(view);
   }
   return true;
 }

@@ -22,12 +22,12 @@ sdk::StopCondition stop_at(std::chrono::steady_clock::time_point deadline) {
   return stop;
 }
 
-sdk::RuleOrigin origin_from_string(const std::string& how) {
+sdk::RuleOrigin origin_from_string(std::string_view how) {
   if (how == "simple") return sdk::RuleOrigin::simple;
   if (how == "best") return sdk::RuleOrigin::best;
   if (how == "alignment") return sdk::RuleOrigin::alignment;
   if (how == "rewriting") return sdk::RuleOrigin::rewriting;
-  throw sdk::Error(lexicon_codes::kBadLexicon, "unknown rule origin '" + how + "'");
+  throw sdk::Error(lexicon_codes::kBadLexicon, "unknown rule origin '" + std::string(how) + "'");
 }
 
 /// Whether a rule of `author` serves `user` under `sharing` (induced rules only).
@@ -51,9 +51,11 @@ std::string symbol_text(const sdk::Symbol& s) {
   return s.text;
 }
 
-std::string rule_shape_text(const StoredRule& s) {
-  std::string text = s.lhs + " ->";
-  for (const auto& sym : s.rhs) text += " " + sym;
+template <class Stored>
+std::string rule_shape_text(const Stored& s) {
+  std::string text(s.lhs);
+  text += " ->";
+  for (const auto& sym : s.rhs) (text += ' ') += sym;
   return text;
 }
 
@@ -84,7 +86,7 @@ namespace {
 // Templates repeat across a lexicon (one definition's rules, and users define alike); a program
 // is immutable, so rules with the same template text and sorts share one (start-up reads each
 // distinct template once). Per thread, bounded.
-sdk::Program cached_template(const std::string& text, sdk::Sort sort,
+sdk::Program cached_template(std::string_view text, sdk::Sort sort,
                              const std::vector<sdk::Sort>& holes) {
   thread_local std::unordered_map<std::string, sdk::Program> cache;
   thread_local std::string key;  // reused: a lookup allocates nothing
@@ -101,11 +103,11 @@ sdk::Program cached_template(const std::string& text, sdk::Sort sort,
 
 // The sort of a category's normal form (normalize + look up: several allocations), remembered
 // per category text; a lexicon uses a handful. Throws like sdk::category_sort for unknown ones.
-sdk::Sort cached_sort(const std::string& category) {
+sdk::Sort cached_sort(std::string_view category) {
   thread_local std::vector<std::pair<std::string, sdk::Sort>> known;
   for (const auto& [name, sort] : known)
     if (name == category) return sort;
-  const sdk::Sort sort = sdk::category_sort(sdk::normalize_category(category));
+  const sdk::Sort sort = sdk::category_sort(sdk::normalize_category(std::string(category)));
   if (known.size() < 64) known.emplace_back(category, sort);
   return sort;
 }
@@ -125,16 +127,19 @@ sdk::RulePtr build_rule(Stored&& s) {
                          " as a hole (induced by an older Flipper); re-induce the store's "
                          "definitions: flipper lexicon export FILE, then flipper lexicon import "
                          "FILE into a new lexicon.path");
-  constexpr bool kMove = std::is_rvalue_reference_v<Stored&&>;
-  auto take = [](auto& field) -> decltype(auto) {
+  // Moves out of an owned StoredRule; copies from a const one or from a view.
+  constexpr bool kMove = std::is_rvalue_reference_v<Stored&&> &&
+                         std::is_same_v<std::remove_cvref_t<Stored>, StoredRule>;
+  auto take = [](auto& field) -> std::string {
     if constexpr (kMove)
       return std::move(field);
     else
-      return static_cast<const std::remove_reference_t<decltype(field)>&>(field);
+      return std::string(field);
   };
   // Induced RHS hold plain tokens and categories only; a token never starts with '$'.
-  auto is_category = [](const std::string& text) { return !text.empty() && text[0] == '$'; };
-  std::vector<sdk::Sort> holes;
+  auto is_category = [](std::string_view text) { return !text.empty() && text[0] == '$'; };
+  thread_local std::vector<sdk::Sort> holes;  // reused: no allocation per rule
+  holes.clear();
   for (const auto& text : s.rhs)
     if (is_category(text)) holes.push_back(cached_sort(text));
   sdk::Program sem = cached_template(s.semantics, cached_sort(s.lhs), holes);
@@ -154,7 +159,10 @@ sdk::RulePtr build_rule(Stored&& s) {
   rule->how = how;
   rule->author = take(s.author);
   rule->head = take(s.head);
-  rule->body = take(s.body);
+  if constexpr (kMove)
+    rule->body = std::move(s.body);
+  else
+    rule->body.assign(s.body.begin(), s.body.end());
   rule->created = s.created;
   return rule;
 }
@@ -166,6 +174,10 @@ sdk::RulePtr rule_from_stored(const StoredRule& s) {
 
 sdk::RulePtr rule_from_stored(StoredRule&& s) {
   return build_rule(std::move(s));
+}
+
+sdk::RulePtr rule_from_stored(const StoredRuleView& s) {
+  return build_rule(s);
 }
 
 std::optional<std::string> quarantine_reason(const StoredRule& stored) {
@@ -248,7 +260,7 @@ bool Naturalizer::restore_from_snapshot() {
   by_id_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
   rules_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
   // The blob is checked whole before the first rule is handed out: false means nothing was added.
-  if (!read_rule_snapshot(snapshot->data, [&](StoredRule&& r) { add_stored(std::move(r)); })) {
+  if (!read_rule_snapshot(snapshot->data, [&](const StoredRuleView& r) { add_viewed(r); })) {
     options_.warn("lexicon store '" + store_->path() +
                   "': the rule snapshot does not decode; rebuilt from the rules");
     return false;
@@ -326,6 +338,19 @@ bool Naturalizer::add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr
   runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(rule); });
   add_live(std::move(rule));
   return true;
+}
+
+void Naturalizer::add_viewed(const StoredRuleView& viewed) {
+  sdk::RulePtr rule;
+  try {
+    rule = rule_from_stored(viewed);
+  } catch (const std::exception&) {
+    add_stored(viewed.materialize());  // quarantines it, with the same warning
+    return;
+  }
+  if (by_id_.count(rule->id)) return;
+  runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(rule); });
+  add_live(std::move(rule));
 }
 
 void Naturalizer::apply(const LexiconChanges& changes, const std::vector<sdk::RulePtr>& own) {

@@ -12,6 +12,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "flipper/naturalization/lexicon_store.hpp"
 
@@ -34,10 +35,21 @@ class RuleSnapshotWriter {
   std::size_t count_ = 0;
 };
 
+/// One rule as it lies in a blob: views into it, valid during the callback only (decoding
+/// allocates nothing per rule; the reader keeps the lists' capacity).
+struct StoredRuleView {
+  std::string_view id, lhs, semantics, author, head, how;
+  std::vector<std::string_view> rhs, body;
+  std::int64_t created = 0;
+  std::int64_t definition = 0;
+  StoredRule materialize() const;  ///< an owning copy (use counters zero)
+};
+
 /// Reads a blob written by RuleSnapshotWriter. The whole blob is checked (bounds, counts, no
 /// trailing bytes) before the first rule is handed out, so a damaged blob yields nothing and
 /// returns false. `each` gets the rules in the order they were added.
-bool read_rule_snapshot(std::string_view blob, const std::function<void(StoredRule&&)>& each);
+bool read_rule_snapshot(std::string_view blob,
+                        const std::function<void(const StoredRuleView&)>& each);
 
 /// 64-bit checksum of a blob (not cryptographic: it catches damage, not forgery).
 std::uint64_t snapshot_checksum(std::string_view blob);

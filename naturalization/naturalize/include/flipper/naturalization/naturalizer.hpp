@@ -25,6 +25,7 @@
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/naturalization/rule_snapshot.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/world.hpp"
 
@@ -111,9 +112,9 @@ struct PreloadReport {
 
 /// How start-up read the rules (docs/naturalization.md §5 "Start-up at scale").
 struct StartupReport {
-  bool from_snapshot = false;     ///< the stored snapshot, then the rows changed since
+  bool from_snapshot = false;       ///< the stored snapshot, then the rows changed since
   std::int64_t snapshot_rules = 0;  ///< rules the snapshot held (from_snapshot)
-  bool snapshot_saved = false;    ///< a fresh snapshot was stored (after reading the rows)
+  bool snapshot_saved = false;      ///< a fresh snapshot was stored (after reading the rows)
 };
 
 class Naturalizer {
@@ -168,6 +169,8 @@ class Naturalizer {
   void restore_from_rows();
   /// Serves one stored rule (or quarantines it); its use counters are set by the caller.
   bool add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr>& own = {});
+  /// The same for a rule read from a snapshot (built straight from the blob's bytes).
+  void add_viewed(const StoredRuleView& viewed);
   /// by_shape_ on first use (define): start-up does not pay for it.
   void index_shapes() const;
   void preload(const std::string& path);
@@ -205,6 +208,8 @@ std::string rule_shape(const sdk::Rule& rule);
 sdk::RulePtr rule_from_stored(const StoredRule& stored);
 /// The same, moving the strings out of `stored` (left as it was when it throws).
 sdk::RulePtr rule_from_stored(StoredRule&& stored);
+/// The same from a snapshot's view (nothing is copied twice).
+sdk::RulePtr rule_from_stored(const StoredRuleView& stored);
 /// Why a stored rule would be quarantined (nullopt: it loads).
 std::optional<std::string> quarantine_reason(const StoredRule& stored);
 /// Refuses a head with a token starting with '$' (head_reserved_token).
