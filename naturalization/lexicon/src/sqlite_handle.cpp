@@ -144,7 +144,8 @@ Stmt& Stmt::bind_real(int i, double value) {
 }
 
 Stmt& Stmt::bind_blob(int i, std::string_view bytes) {
-  const int rc = sqlite3_bind_blob64(stmt_, i, bytes.data(), bytes.size(), SQLITE_TRANSIENT);
+  // Not copied (a snapshot is megabytes): the caller keeps `bytes` alive until the statement ran.
+  const int rc = sqlite3_bind_blob64(stmt_, i, bytes.data(), bytes.size(), SQLITE_STATIC);
   if (rc != SQLITE_OK) db_.fail("bind", rc);
   return *this;
 }

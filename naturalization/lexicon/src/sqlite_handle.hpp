@@ -56,6 +56,7 @@ class Stmt {
   Stmt& bind(int i, std::int64_t value);
   Stmt& bind_real(int i, double value);
   Stmt& bind_null(int i);
+  /// Binds without copying: `bytes` must stay alive until the statement has run.
   Stmt& bind_blob(int i, std::string_view bytes);
   /// Steps once: true when a row is available, false when done.
   bool step();
