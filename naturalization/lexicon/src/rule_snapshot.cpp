@@ -9,11 +9,17 @@ namespace {
 
 constexpr char kMagic[4] = {'F', 'L', 'X', 'S'};
 
+template <int Bytes>
+void put_le(std::string& out, std::uint64_t v) {
+  char buf[Bytes];
+  for (int i = 0; i < Bytes; ++i) buf[i] = static_cast<char>((v >> (8 * i)) & 0xff);
+  out.append(buf, Bytes);  // one append: the per-byte push_back was most of a rebuild's encoding
+}
 void put_u32(std::string& out, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  put_le<4>(out, v);
 }
 void put_u64(std::string& out, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  put_le<8>(out, v);
 }
 void put_str(std::string& out, std::string_view s) {
   put_u32(out, static_cast<std::uint32_t>(s.size()));
