@@ -67,6 +67,15 @@ std::string rule_shape(const sdk::Rule& rule) {
   return key;
 }
 
+std::uint64_t shape_hash(const sdk::Rule& rule) {
+  // The texts of rule_shape() hashed piece by piece: no string is built (start-up hashes every
+  // rule). Equal shapes hash equal; a collision only costs a same_rule() comparison.
+  std::uint64_t h = std::hash<std::string_view>{}(rule.lhs);
+  for (const auto& s : rule.rhs)
+    h = (h ^ std::hash<std::string_view>{}(s.text)) * 0x100000001B3ULL + 0x9E3779B97F4A7C15ULL;
+  return h;
+}
+
 StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
   StoredRule s;
   s.id = rule.id;
@@ -258,6 +267,7 @@ bool Naturalizer::restore_from_snapshot() {
   if (snapshot->changed > std::max(options_.snapshot_min_rules, snapshot->rules / 4))
     return false;  // cheaper to read the rows once and leave a fresh snapshot
   by_id_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
+  by_shape_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
   rules_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
   // The blob is checked whole before the first rule is handed out: false means nothing was added.
   if (!read_rule_snapshot(snapshot->data, [&](const StoredRuleView& r) { add_viewed(r); })) {
@@ -277,7 +287,8 @@ void Naturalizer::restore_from_rows() {
   // No snapshot vouches for the file: check every page, as a plain open does.
   store_->verify();
   RuleSnapshotWriter writer;
-  const bool keep = options_.snapshot_min_rules > 0 && !store_->read_only();
+  const bool keep =
+      options_.snapshot_min_rules > 0 && !store_->read_only() && store_->path() != ":memory:";
   const LiveRulesRead read = store_->read_live_rules([&](StoredRule&& r) {
     if (keep) writer.add(r);
     add_stored(std::move(r));
@@ -379,15 +390,8 @@ void Naturalizer::select_user(const std::string& user) {
 
 void Naturalizer::add_live(sdk::RulePtr rule) {
   by_id_.emplace(rule->id, rule);
-  if (shapes_indexed_) by_shape_.emplace(rule_shape(*rule), rule);
+  by_shape_.emplace(shape_hash(*rule), rule);
   rules_.push_back(std::move(rule));
-}
-
-void Naturalizer::index_shapes() const {
-  if (shapes_indexed_) return;
-  by_shape_.reserve(rules_.size());
-  for (const auto& r : rules_) by_shape_.emplace(rule_shape(*r), r);
-  shapes_indexed_ = true;
 }
 
 void Naturalizer::remove_live(const std::string& id) {
@@ -396,14 +400,12 @@ void Naturalizer::remove_live(const std::string& id) {
   runtime_->parser.call("remove_rule", [&](sdk::Parser& p) { p.remove_rule(id); });
   runtime_->usage->erase(id);
   by_id_.erase(id);
-  if (shapes_indexed_) {
-    auto [lo, hi] = by_shape_.equal_range(rule_shape(*rule));
-    for (auto it = lo; it != hi; ++it)
-      if (it->second == rule) {
-        by_shape_.erase(it);
-        break;
-      }
-  }
+  auto [lo, hi] = by_shape_.equal_range(shape_hash(*rule));
+  for (auto it = lo; it != hi; ++it)
+    if (it->second == rule) {
+      by_shape_.erase(it);
+      break;
+    }
   rules_.erase(std::remove(rules_.begin(), rules_.end(), rule), rules_.end());
 }
 
@@ -417,8 +419,7 @@ std::function<bool(const sdk::Rule&)> Naturalizer::visibility_for(const std::str
 }
 
 bool Naturalizer::exists_for(const sdk::Rule& rule, const std::string& author) const {
-  index_shapes();
-  auto [lo, hi] = by_shape_.equal_range(rule_shape(rule));
+  auto [lo, hi] = by_shape_.equal_range(shape_hash(rule));
   for (auto it = lo; it != hi; ++it)
     if (visible(*it->second, author) && same_rule(*it->second, rule)) return true;
   return false;
