@@ -4,9 +4,11 @@
 /// `delete_rule`): owns the lexicon store and the induced rules, keeps the parser's grammar in
 /// step with the store, and decides which rules a user sees (sharing modes).
 ///
-/// Start-up: the store's live rules are re-added to the parser in creation order, the scorer's
-/// weights restored, then the preload file (if any) replayed through induction (definitions the
-/// store already holds are skipped, so a restart does not replay them twice). A stored rule that
+/// Start-up: the store's live rules are re-added to the parser in creation order — from the
+/// store's rule snapshot plus the rows changed after it when there is a usable one, else from the
+/// rows, leaving a snapshot for the next start (docs/naturalization.md §5 "Start-up at scale") —
+/// the scorer's weights restored, then the preload file (if any) replayed through induction
+/// (definitions the store already holds are skipped, so a restart does not replay them twice). A stored rule that
 /// no longer loads (unknown category, bad template) is quarantined: not served, reported once
 /// through `warn`, kept in the file.
 /// Every definition is committed to the store in one transaction before define() returns.
