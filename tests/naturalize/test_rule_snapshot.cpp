@@ -14,6 +14,7 @@
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/naturalization/rule_snapshot.hpp"
 #include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/errors.hpp"
 #include "naturalize_fixture.hpp"
 
 using namespace flipper;
@@ -321,4 +322,47 @@ TEST_CASE("a damaged, undecodable or inconsistent snapshot is rebuilt, never ser
   Started after(store, 1);  // whatever happened, the rebuilt snapshot serves the next start
   CHECK(after.nat->startup().from_snapshot);
   CHECK(ids(*after.nat) == live_ids(store));
+}
+
+namespace {
+/// Makes the definitions table's root page unreadable (its b-tree page type byte), a page the
+/// rule start-up itself never reads: only SQLite's page check, or a statement on that table, sees
+/// it.
+void damage_definitions_page(const std::string& store) {
+  const std::int64_t page_size = sql_int(store, "PRAGMA page_size");
+  const std::int64_t root =
+      sql_int(store, "SELECT rootpage FROM sqlite_master WHERE name = 'definitions'");
+  REQUIRE(root > 1);
+  std::fstream f(store, std::ios::in | std::ios::out | std::ios::binary);
+  REQUIRE(f);
+  f.seekp((root - 1) * page_size);
+  f.put(static_cast<char>(0x55));  // not a b-tree page type
+  REQUIRE(f);
+}
+}  // namespace
+
+TEST_CASE("a damaged page is lexicon_corrupt: at start-up without a snapshot, else when read",
+          "[naturalize][snapshot][faults]") {
+  SECTION("no snapshot: the page check at start-up finds it") {
+    const std::string store = store_with(40, "snapshot-page");
+    damage_definitions_page(store);
+    try {
+      Started s(store, 1);
+      FAIL("started on a damaged store");
+    } catch (const flipper::sdk::Error& e) {
+      CHECK(std::string(e.code()) == "lexicon_corrupt");
+      CHECK_THAT(e.what(), Catch::Contains(store));
+    }
+  }
+  SECTION("a valid snapshot vouches for the rules; the damaged table answers lexicon_corrupt") {
+    const std::string store = store_with(40, "snapshot-page-later");
+    { Started first(store, 1); }
+    damage_definitions_page(store);
+    Started s(store, 1);
+    REQUIRE(s.nat->startup().from_snapshot);
+    CHECK(ids(*s.nat).size() == 40);
+    user(*s.session, "ana");
+    const Json a = define(*s.session, "zorp left", {"move left"});
+    CHECK(error_code(a) == "lexicon_corrupt");
+  }
 }
