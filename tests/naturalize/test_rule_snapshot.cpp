@@ -251,7 +251,7 @@ TEST_CASE("a snapshot left stale by other writers is completed from the rows aft
   user(*snap.session, "carl");
   CHECK(status(*snap.session, "zork 3") == "induced");
 
-  // Much changed since (more than a quarter of its rules): rebuilt from the rows, mark moved on.
+  // Much changed since (more than an eighth of its rules): rebuilt from the rows, mark moved on.
   {
     kernel::LexiconStore other(store);
     for (int i = 0; i < 12; ++i)

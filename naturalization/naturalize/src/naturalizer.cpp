@@ -264,7 +264,7 @@ bool Naturalizer::restore_from_snapshot() {
                     "': the rule snapshot does not match its checksum; rebuilt from the rules");
     return false;
   }
-  if (snapshot->changed > std::max(options_.snapshot_min_rules, snapshot->rules / 4))
+  if (snapshot->changed > std::max(options_.snapshot_min_rules, snapshot->rules / 8))
     return false;  // cheaper to read the rows once and leave a fresh snapshot
   by_id_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
   by_shape_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));

@@ -52,7 +52,7 @@ struct NaturalizeOptions {
   bool per_user_weights = false;        ///< lexicon.weights == per_user
   LexiconStoreOptions store;            ///< lexicon.busy_timeout_ms (+ test-only limits)
   /// Start-up keeps a rule snapshot in the store once it holds this many live rules, and rebuilds
-  /// it when more than max(this, a quarter of its rules) rows changed since (docs/naturalization.md
+  /// it when more than max(this, an eighth of its rules) rows changed since (docs/naturalization.md
   /// §5 "Start-up at scale"). 0: never use or write one.
   std::int64_t snapshot_min_rules = keys::kSnapshotMinRules.def;  ///< lexicon.snapshot_min_rules
   /// Where warnings go (quarantined rules); default: standard error, "flipper: warning: ...".
