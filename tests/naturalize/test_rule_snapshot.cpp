@@ -366,3 +366,23 @@ TEST_CASE("a damaged page is lexicon_corrupt: at start-up without a snapshot, el
     CHECK(error_code(a) == "lexicon_corrupt");
   }
 }
+
+TEST_CASE("after a start from the snapshot a rule already held is not induced again",
+          "[naturalize][snapshot]") {
+  const std::string store = scratch_path("snapshot-duplicate") + ".sqlite";
+  {
+    auto s = open(store);
+    user(*s, "ana");
+    for (int i = 0; i < 20; ++i)
+      REQUIRE(define(*s, "zorble" + std::to_string(i) + " left", {"move left"})["rules"].size() == 1);
+  }
+  { Started first(store, 1); }
+  Started s(store, 1);
+  REQUIRE(s.nat->startup().from_snapshot);
+  user(*s.session, "ana");
+  // `zorble7 $Direction => {move $1}` is held: nothing new; a new head induces its one rule.
+  CHECK(define(*s.session, "zorble7 left", {"move left"})["rules"].empty());
+  CHECK(define(*s.session, "fnord left", {"move left"})["rules"].size() == 1);
+  CHECK(define(*s.session, "fnord left", {"move left"})["rules"].empty());
+  CHECK(s.nat->induced_rules().size() == 21);
+}

@@ -267,7 +267,7 @@ bool Naturalizer::restore_from_snapshot() {
   if (snapshot->changed > std::max(options_.snapshot_min_rules, snapshot->rules / 8))
     return false;  // cheaper to read the rows once and leave a fresh snapshot
   by_id_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
-  by_shape_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
+  shapes_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
   rules_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
   // The blob is checked whole before the first rule is handed out: false means nothing was added.
   if (!read_rule_snapshot(snapshot->data, [&](const StoredRuleView& r) { add_viewed(r); })) {
@@ -390,7 +390,7 @@ void Naturalizer::select_user(const std::string& user) {
 
 void Naturalizer::add_live(sdk::RulePtr rule) {
   by_id_.emplace(rule->id, rule);
-  by_shape_.emplace(shape_hash(*rule), rule);
+  shapes_.push_back(shape_hash(*rule));
   rules_.push_back(std::move(rule));
 }
 
@@ -400,13 +400,9 @@ void Naturalizer::remove_live(const std::string& id) {
   runtime_->parser.call("remove_rule", [&](sdk::Parser& p) { p.remove_rule(id); });
   runtime_->usage->erase(id);
   by_id_.erase(id);
-  auto [lo, hi] = by_shape_.equal_range(shape_hash(*rule));
-  for (auto it = lo; it != hi; ++it)
-    if (it->second == rule) {
-      by_shape_.erase(it);
-      break;
-    }
-  rules_.erase(std::remove(rules_.begin(), rules_.end(), rule), rules_.end());
+  const auto at = std::find(rules_.begin(), rules_.end(), rule) - rules_.begin();
+  rules_.erase(rules_.begin() + at);
+  shapes_.erase(shapes_.begin() + at);
 }
 
 bool Naturalizer::visible(const sdk::Rule& rule, const std::string& user) const {
@@ -419,9 +415,12 @@ std::function<bool(const sdk::Rule&)> Naturalizer::visibility_for(const std::str
 }
 
 bool Naturalizer::exists_for(const sdk::Rule& rule, const std::string& author) const {
-  auto [lo, hi] = by_shape_.equal_range(shape_hash(rule));
-  for (auto it = lo; it != hi; ++it)
-    if (visible(*it->second, author) && same_rule(*it->second, rule)) return true;
+  // A scan of 8 bytes per rule (0.1 ms at 100k rules), run a few times per define: cheaper
+  // overall than a hash map built for every rule at start-up.
+  const std::uint64_t shape = shape_hash(rule);
+  for (std::size_t i = 0; i < shapes_.size(); ++i)
+    if (shapes_[i] == shape && visible(*rules_[i], author) && same_rule(*rules_[i], rule))
+      return true;
   return false;
 }
 
