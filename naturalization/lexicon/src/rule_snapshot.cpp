@@ -12,7 +12,9 @@ constexpr char kMagic[4] = {'F', 'L', 'X', 'S'};
 template <int Bytes>
 void put_le(std::string& out, std::uint64_t v) {
   char buf[Bytes];
-  for (int i = 0; i < Bytes; ++i) buf[i] = static_cast<char>((v >> (8 * i)) & 0xff);
+  for (int i = 0; i < Bytes; ++i) {
+    buf[i] = static_cast<char>((v >> (8 * i)) & 0xff);
+  }
   out.append(buf, Bytes);  // one append: the per-byte push_back was most of a rebuild's encoding
 }
 void put_u32(std::string& out, std::uint32_t v) {
@@ -27,7 +29,9 @@ void put_str(std::string& out, std::string_view s) {
 }
 void put_list(std::string& out, const std::vector<std::string>& v) {
   put_u32(out, static_cast<std::uint32_t>(v.size()));
-  for (const auto& s : v) put_str(out, s);
+  for (const auto& s : v) {
+    put_str(out, s);
+  }
 }
 
 /// A bounds-checked cursor: every read fails (and stays failed) past the end.
@@ -37,20 +41,25 @@ class Reader {
   bool ok() const { return ok_; }
   bool at_end() const { return pos_ == in_.size(); }
   std::uint64_t u(int bytes) {
-    if (!need(static_cast<std::size_t>(bytes))) return 0;
+    if (!need(static_cast<std::size_t>(bytes))) {
+      return 0;
+    }
     std::uint64_t v = 0;
     if constexpr (std::endian::native == std::endian::little) {
       std::memcpy(&v, in_.data() + pos_, static_cast<std::size_t>(bytes));  // the blob's order
     } else {
-      for (int i = 0; i < bytes; ++i)
+      for (int i = 0; i < bytes; ++i) {
         v |= static_cast<std::uint64_t>(static_cast<unsigned char>(in_[pos_ + i])) << (8 * i);
+      }
     }
     pos_ += static_cast<std::size_t>(bytes);
     return v;
   }
   std::string_view str() {
     const auto n = static_cast<std::size_t>(u(4));
-    if (!need(n)) return {};
+    if (!need(n)) {
+      return {};
+    }
     std::string_view s = in_.substr(pos_, n);
     pos_ += n;
     return s;
@@ -58,13 +67,17 @@ class Reader {
   /// A list's count, refused when it could not fit in what is left (4 bytes per item at least).
   std::size_t count() {
     const auto n = static_cast<std::size_t>(u(4));
-    if (n > (in_.size() - pos_) / 4) ok_ = false;
+    if (n > (in_.size() - pos_) / 4) {
+      ok_ = false;
+    }
     return ok_ ? n : 0;
   }
 
  private:
   bool need(std::size_t n) {
-    if (!ok_ || in_.size() - pos_ < n) ok_ = false;
+    if (!ok_ || in_.size() - pos_ < n) {
+      ok_ = false;
+    }
     return ok_;
   }
   std::string_view in_;
@@ -77,18 +90,26 @@ void read_one(Reader& r, StoredRuleView* into) {
   const auto created = static_cast<std::int64_t>(r.u(8));
   const auto definition = static_cast<std::int64_t>(r.u(8));
   std::string_view fields[6];  // id, lhs, semantics, author, head, how
-  for (auto& f : fields) f = r.str();
+  for (auto& f : fields) {
+    f = r.str();
+  }
   std::vector<std::string_view>* lists[2] = {into ? &into->rhs : nullptr,
                                              into ? &into->body : nullptr};
   for (auto* list : lists) {
     const std::size_t n = r.count();
-    if (list) list->clear();
+    if (list) {
+      list->clear();
+    }
     for (std::size_t i = 0; i < n && r.ok(); ++i) {
       const std::string_view s = r.str();
-      if (list) list->push_back(s);
+      if (list) {
+        list->push_back(s);
+      }
     }
   }
-  if (!into) return;
+  if (!into) {
+    return;
+  }
   into->created = created;
   into->definition = definition;
   into->id = fields[0];
@@ -110,16 +131,18 @@ RuleSnapshotWriter::RuleSnapshotWriter() {
 void RuleSnapshotWriter::add(const StoredRule& r) {
   put_u64(out_, static_cast<std::uint64_t>(r.created));
   put_u64(out_, static_cast<std::uint64_t>(r.definition));
-  for (const std::string* s : {&r.id, &r.lhs, &r.semantics, &r.author, &r.head, &r.how})
+  for (const std::string* s : {&r.id, &r.lhs, &r.semantics, &r.author, &r.head, &r.how}) {
     put_str(out_, *s);
+  }
   put_list(out_, r.rhs);
   put_list(out_, r.body);
   ++count_;
 }
 
 std::string RuleSnapshotWriter::finish() {
-  for (int i = 0; i < 8; ++i)
+  for (int i = 0; i < 8; ++i) {
     out_[8 + static_cast<std::size_t>(i)] = static_cast<char>((count_ >> (8 * i)) & 0xff);
+  }
   std::string done = std::move(out_);
   *this = RuleSnapshotWriter();
   return done;
@@ -142,14 +165,22 @@ StoredRule StoredRuleView::materialize() const {
 
 bool read_rule_snapshot(std::string_view blob,
                         const std::function<void(const StoredRuleView&)>& each) {
-  if (blob.size() < 16 || std::memcmp(blob.data(), kMagic, sizeof kMagic) != 0) return false;
+  if (blob.size() < 16 || std::memcmp(blob.data(), kMagic, sizeof kMagic) != 0) {
+    return false;
+  }
   Reader head(blob.substr(4));
-  if (head.u(4) != kRuleSnapshotFormat) return false;
+  if (head.u(4) != kRuleSnapshotFormat) {
+    return false;
+  }
   const std::uint64_t n = head.u(8);
   // Pass 1: the whole blob is well formed (a damaged one hands out nothing).
   Reader check(blob.substr(16));
-  for (std::uint64_t i = 0; i < n && check.ok(); ++i) read_one(check, nullptr);
-  if (!check.ok() || !check.at_end()) return false;
+  for (std::uint64_t i = 0; i < n && check.ok(); ++i) {
+    read_one(check, nullptr);
+  }
+  if (!check.ok() || !check.at_end()) {
+    return false;
+  }
   // Pass 2: hand out views, one reused StoredRuleView.
   Reader r(blob.substr(16));
   StoredRuleView view;
@@ -176,8 +207,9 @@ std::uint64_t snapshot_checksum(std::string_view blob) {
     round(w);
   }
   std::uint64_t tail = 0;
-  for (std::size_t j = 0; i + j < blob.size(); ++j)
+  for (std::size_t j = 0; i + j < blob.size(); ++j) {
     tail |= static_cast<std::uint64_t>(static_cast<unsigned char>(blob[i + j])) << (8 * j);
+  }
   round(tail);
   h ^= h >> 33;
   h *= k2;

@@ -35,28 +35,42 @@ std::optional<StoredSnapshot> LexiconStore::load_snapshot(SnapshotMiss* miss) co
   auto& db = *impl_->db;
   SnapshotMiss why = SnapshotMiss::none;
   auto fail = [&](SnapshotMiss m) -> std::optional<StoredSnapshot> {
-    if (miss) *miss = m;
+    if (miss) {
+      *miss = m;
+    }
     return std::nullopt;
   };
-  if (miss) *miss = why;
-  if (impl_->path == ":memory:") return fail(SnapshotMiss::absent);
+  if (miss) {
+    *miss = why;
+  }
+  if (impl_->path == ":memory:") {
+    return fail(SnapshotMiss::absent);
+  }
   sqlite::ReadTransaction read(db);
   {
     sqlite::Stmt has(db, "SELECT 1 FROM sqlite_master WHERE type='table' AND name='rule_snapshot'");
-    if (!has.step()) return fail(SnapshotMiss::absent);
+    if (!has.step()) {
+      return fail(SnapshotMiss::absent);
+    }
   }
   sqlite::Stmt s(db,
                  "SELECT format, created_mark, deleted_mark, rows, rules, checksum, data "
                  "FROM rule_snapshot WHERE id = 1");
-  if (!s.step()) return fail(SnapshotMiss::absent);
-  if (s.int64(0) != kRuleSnapshotFormat) return fail(SnapshotMiss::other_format);
+  if (!s.step()) {
+    return fail(SnapshotMiss::absent);
+  }
+  if (s.int64(0) != kRuleSnapshotFormat) {
+    return fail(SnapshotMiss::other_format);
+  }
   StoredSnapshot out;
   out.mark = {s.int64(1), s.int64(2)};
   const std::int64_t rows = s.int64(3);
   out.rules = s.int64(4);
   const auto checksum = static_cast<std::uint64_t>(s.int64(5));
   out.data = s.blob(6);
-  if (snapshot_checksum(out.data) != checksum) return fail(SnapshotMiss::damaged);
+  if (snapshot_checksum(out.data) != checksum) {
+    return fail(SnapshotMiss::damaged);
+  }
   // Fits the store: every row below the mark was there when it was taken (an import of old rows,
   // or a store swapped for an older copy, invalidates it).
   sqlite::Stmt m(db,
@@ -66,8 +80,9 @@ std::optional<StoredSnapshot> LexiconStore::load_snapshot(SnapshotMiss* miss) co
   const std::int64_t after =
       one_int(db, "SELECT count(*) FROM rules WHERE created > ?", out.mark.created);
   if (out.mark.created > m.int64(0) || out.mark.deleted > m.int64(1) ||
-      m.int64(2) != rows + after || out.rules < 0 || out.rules > rows)
+      m.int64(2) != rows + after || out.rules < 0 || out.rules > rows) {
     return fail(SnapshotMiss::inconsistent);
+  }
   out.changed =
       after + one_int(db, "SELECT count(*) FROM rules WHERE deleted_seq > ?", out.mark.deleted);
   return out;
@@ -76,7 +91,9 @@ std::optional<StoredSnapshot> LexiconStore::load_snapshot(SnapshotMiss* miss) co
 bool LexiconStore::save_snapshot(const LiveRulesRead& read, std::int64_t rules,
                                  const std::string& data) {
   auto& db = *impl_->db;
-  if (impl_->path == ":memory:" || db.read_only()) return false;
+  if (impl_->path == ":memory:" || db.read_only()) {
+    return false;
+  }
   const int timeout = db.busy_timeout_ms();
   db.set_busy_timeout_ms(kSaveBusyMs);
   try {
@@ -107,8 +124,9 @@ bool LexiconStore::save_snapshot(const LiveRulesRead& read, std::int64_t rules,
     tx.commit();
   } catch (const sdk::Error& e) {
     db.set_busy_timeout_ms(timeout);
-    if (lexicon_codes::is_store_fault(e.code()) && e.code() != lexicon_codes::kCorrupt)
+    if (lexicon_codes::is_store_fault(e.code()) && e.code() != lexicon_codes::kCorrupt) {
       return false;
+    }
     throw;
   }
   db.set_busy_timeout_ms(timeout);
