@@ -39,7 +39,7 @@ echo "$answer" | grep -q '"ok":true'
 # serve runs in the installed flipper-frontends, which finds the installed page.
 env -u FLIPPER_PLUGIN_PATH "$flipper" serve --set serve.port=0 >serve.log 2>&1 &
 serve_pid=$!
-for _ in $(seq 100); do grep -q "listening" serve.log && break; sleep 0.1; done
+for _ in $(seq 600); do grep -q "listening" serve.log && break; sleep 0.1; done
 kill "$serve_pid"; wait "$serve_pid" || true
 cat serve.log
 grep -q "^flipper serve: listening on http://127.0.0.1:[0-9]*/$" serve.log
