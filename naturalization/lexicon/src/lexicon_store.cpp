@@ -210,6 +210,7 @@ LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
       if (mode != "wal") db.exec("PRAGMA journal_mode=WAL");
     }
     db.exec("PRAGMA synchronous=FULL");
+    if (!memory) db.checkpoint_in_background();
     if (version < kSchemaVersion) create_or_upgrade(db);
   }
   impl_->data_version = std::make_unique<sqlite::Stmt>(db, "PRAGMA data_version");
