@@ -12,6 +12,12 @@ void add_session_command(CLI::App& app);  // session.cpp
 void add_repl_command(CLI::App& app);     // repl.cpp
 void add_replay_command(CLI::App& app);   // replay.cpp
 void add_lexicon_command(CLI::App& app);  // lexicon.cpp  (lexicon list|export|import)
-void add_serve_command(CLI::App& app);    // serve.cpp    (apps/studio: HTTP + the web page)
-void add_dds_command(CLI::App& app);      // dds.cpp      (DDS request node)
+void add_serve_command(CLI::App& app);    // frontend_commands.cpp (apps/studio: HTTP, web page)
+void add_dds_command(CLI::App& app);      // frontend_commands.cpp (DDS request node)
+
+struct CommonOptions;
+/// The work of `serve` and `dds`: in flipper-frontends serve_run.cpp and dds_run.cpp; in flipper
+/// they exec flipper-frontends (frontend_launch.cpp, frontends.hpp).
+int run_serve(const CommonOptions& opts);
+int run_dds_node(const CommonOptions& opts);
 }  // namespace flipper::cli

@@ -15,7 +15,7 @@ DdsServices DdsServices::start(kernel::SessionHost& host, bool force_participant
   const bool plans = config.get_string("publish.plans") == "dds";
   const bool replicate = config.get_string("lexicon.replication") == "dds";
   DdsServices s;
-  if (!plans && !replicate && !force_participant) return s;
+  if (!wants_dds_services(config) && !force_participant) return s;
   const int dims =
       host.runtime->default_world.geometry ? host.runtime->default_world.geometry->dims() : 2;
   // Check everything before the participant exists.

@@ -2,8 +2,11 @@
 // The DDS services a front end runs when its config asks for them (apps/dds): plans out
 // (publish.plans: dds) and lexicon replication (lexicon.replication: dds). One participant per
 // process, created only when a service needs it (apps/dds/transport.hpp: loopback unless the
-// config names interfaces). Shared by `session`, `repl` and `dds`.
+// config names interfaces). Shared by `session`, `repl` and `dds`. In `flipper` itself start()
+// execs flipper-frontends when a service is asked for (frontends.hpp).
 #include <memory>
+
+#include "flipper/kernel/config.hpp"
 
 #include "flipper/wiring/session_factory.hpp"
 
@@ -14,6 +17,12 @@ class LexiconReplicator;
 }  // namespace flipper::dds
 
 namespace flipper::cli {
+
+/// The config asks for a DDS service: plans published on DDS or lexicon replication over DDS.
+inline bool wants_dds_services(const kernel::Config& config) {
+  return config.get_string("publish.plans") == "dds" ||
+         config.get_string("lexicon.replication") == "dds";
+}
 
 struct DdsServices {
   std::shared_ptr<dds::Participant> participant;  // null: no DDS service configured

@@ -6,6 +6,7 @@
 #include "common.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/version.hpp"
+#include "frontends.hpp"
 
 namespace {
 
@@ -30,6 +31,7 @@ std::string version_text() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  flipper::cli::enter(argc, argv);
   CLI::App app{"Flipper: precise but natural specifications for robot tasks"};
   app.set_version_flag("--version", version_text(), "Print the version and exit");
   app.require_subcommand(1);

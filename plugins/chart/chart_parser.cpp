@@ -1,12 +1,14 @@
 // The parse itself: spans by increasing length; per span every non-unary rule whose first symbol
-// fits the span start is matched symbol by symbol against the tokens and the (strictly smaller)
-// chart cells inside the span, then unary rules run to a fixpoint. Cells keep at most `beam`
-// derivations per category, best first by score (ties: creation order).
+// fits the span start (and that StartRules keeps: its later terminals occur after it) is matched
+// symbol by symbol against the tokens and the (strictly smaller) chart cells inside the span, then
+// unary rules run to a fixpoint. Cells keep at most `beam` derivations per category, best first by
+// score (ties: creation order).
 #include <algorithm>
 #include <unordered_map>
 
 #include "chart_parser.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "start_rules.hpp"
 
 namespace flipper::chart {
 
@@ -39,20 +41,19 @@ constexpr int kMaxUnaryDepth = 24;
 
 class Run {
  public:
-  Run(const RuleIndex& index, const sdk::ParseRequest& req, int beam)
-      : index_(index), req_(req), beam_(beam), n_(static_cast<int>(req.tokens.size())) {
+  Run(const RuleIndex& index, const sdk::ParseRequest& req, int beam, bool exhaustive)
+      : index_(index),
+        req_(req),
+        beam_(beam),
+        n_(static_cast<int>(req.tokens.size())),
+        token_ids_(index.token_ids(req.tokens)),
+        classes_(index.classes(req.tokens)),
+        starts_(index, token_ids_, classes_, req.visible, exhaustive) {
     ctx_ = req.context;
     if (ctx_.tokens == nullptr) ctx_.tokens = &req.tokens;
-    token_ids_.reserve(req.tokens.size());
-    classes_.reserve(req.tokens.size());
-    for (const auto& t : req.tokens) {
-      token_ids_.push_back(index.token_id(t));
-      classes_.push_back(index.classes_of(t));
-    }
     // (n + 1)^2 cells in size_t: with int the index wraps at 65,535 tokens (do_parse bounds n).
     cells_.resize(static_cast<std::size_t>(n_ + 1) * static_cast<std::size_t>(n_ + 1));
-    visible_.assign(index.rules().size(), -1);
-    tried_.assign(index.rules().size(), 0);
+    tried_.assign(index.category_count(), 0);
   }
 
   sdk::ParseResult run() {
@@ -87,31 +88,23 @@ class Run {
     return stopped_;
   }
 
-  bool visible(int r) {
-    if (!req_.visible) return true;
-    signed char& v = visible_[static_cast<std::size_t>(r)];
-    if (v < 0) v = req_.visible(*index_.rules()[static_cast<std::size_t>(r)].rule) ? 1 : 0;
-    return v == 1;
-  }
-
   void fill(int i, int j) {
     pending_.clear();
     // Non-unary rules, selected by the first symbol at position i.
     if (token_ids_[i] >= 0)
-      for (int r : index_.by_first_token(token_ids_[i])) try_rule(r, i, j);
+      for (int r : starts_.at(i, FirstKind::token, token_ids_[i])) try_rule(r, i, j);
     for (int b = 0; b < 4; ++b)
       if (classes_[i] & (1 << b))
-        for (int r : index_.by_first_class(b)) try_rule(r, i, j);
-    // A category-first rule may be reachable from several cells (i, e); try it once per span.
+        for (int r : starts_.at(i, FirstKind::klass, b)) try_rule(r, i, j);
+    // A category may be in several cells (i, e); its rules are tried once per span.
     ++span_stamp_;
     for (int e = i + 1; e < j; ++e)
-      for (const auto& cc : cell(i, e).cats)
-        for (int r : index_.by_first_category(cc.cat)) {
-          int& st = tried_[static_cast<std::size_t>(r)];
-          if (st == span_stamp_) continue;
-          st = span_stamp_;
-          try_rule(r, i, j);
-        }
+      for (const auto& cc : cell(i, e).cats) {
+        int& st = tried_[static_cast<std::size_t>(cc.cat)];
+        if (st == span_stamp_) continue;
+        st = span_stamp_;
+        for (int r : starts_.at(i, FirstKind::category, cc.cat)) try_rule(r, i, j);
+      }
     Cell& here = cell(i, j);
     std::vector<std::pair<DerivationPtr, int>> queue;
     for (auto& d : pending_)
@@ -122,7 +115,7 @@ class Run {
       if (depth >= kMaxUnaryDepth) continue;
       const int cat = index_.category_id(kid->rule->lhs);
       for (int r : index_.unary_from(cat)) {
-        if (!visible(r)) continue;
+        if (!starts_.visible(r)) continue;
         kids_.assign(1, kid);
         auto d = build(r, i, j, {});
         if (d && insert(here, d)) queue.emplace_back(std::move(d), depth + 1);
@@ -130,21 +123,21 @@ class Run {
     }
   }
 
+  // `r` comes from StartRules: alive and visible.
   void try_rule(int r, int i, int j) {
-    const CompiledRule& rule = index_.rules()[static_cast<std::size_t>(r)];
-    if (static_cast<int>(rule.rhs.size()) > j - i || !rule.alive) return;
+    const auto rhs = index_.rhs(r);
+    if (static_cast<int>(rhs.size()) > j - i) return;
     // Cheap rejection: a final token must match the span's last token.
-    const Sym& last = rule.rhs.back();
+    const Sym& last = rhs.back();
     if (last.type == Sym::Type::token && token_ids_[j - 1] != last.id) return;
     if (last.type == Sym::Type::klass && !(classes_[j - 1] & last.id)) return;
-    if (!visible(r)) return;
     kids_.clear();
-    match(r, rule, 0, i, i, j);
+    match(r, rhs, 0, i, i, j);
   }
 
-  void match(int r, const CompiledRule& rule, std::size_t k, int p, int i, int j) {
+  void match(int r, std::span<const Sym> rhs, std::size_t k, int p, int i, int j) {
     if (poll()) return;
-    const std::size_t nsym = rule.rhs.size();
+    const std::size_t nsym = rhs.size();
     if (k == nsym) {
       if (p == j) {
         auto d = build(r, i, j, req_.tokens[static_cast<std::size_t>(i)]);
@@ -154,13 +147,13 @@ class Run {
     }
     const int remaining = static_cast<int>(nsym - k);
     if (p + remaining > j) return;
-    const Sym& s = rule.rhs[k];
+    const Sym& s = rhs[k];
     switch (s.type) {
       case Sym::Type::token:
-        if (token_ids_[p] == s.id) match(r, rule, k + 1, p + 1, i, j);
+        if (token_ids_[p] == s.id) match(r, rhs, k + 1, p + 1, i, j);
         return;
       case Sym::Type::klass:
-        if (classes_[p] & s.id) match(r, rule, k + 1, p + 1, i, j);
+        if (classes_[p] & s.id) match(r, rhs, k + 1, p + 1, i, j);
         return;
       case Sym::Type::category: {
         const int e_min = k + 1 == nsym ? j : p + 1;
@@ -171,7 +164,7 @@ class Run {
           if (cc == nullptr) continue;
           for (const auto& d : cc->ds) {
             kids_.push_back(d);
-            match(r, rule, k + 1, e, i, j);
+            match(r, rhs, k + 1, e, i, j);
             kids_.pop_back();
             if (stopped_) return;
           }
@@ -256,14 +249,14 @@ class Run {
   const int beam_;
   const int n_;
   sdk::ScoreContext ctx_;
-  std::vector<int> token_ids_;
-  std::vector<std::uint8_t> classes_;
+  const std::vector<int> token_ids_;
+  const std::vector<std::uint8_t> classes_;
+  StartRules starts_;
   std::vector<Cell> cells_;
-  std::vector<signed char> visible_;
   std::vector<DerivationPtr> pending_;
   std::vector<DerivationPtr> kids_;
   std::vector<sdk::Program> sems_;
-  std::vector<int> tried_;
+  std::vector<int> tried_;  // per category: the span whose rules of that first category ran
   int span_stamp_ = 0;
   std::uint64_t built_ = 0;
   std::uint64_t steps_ = 0;
@@ -281,7 +274,7 @@ sdk::ParseResult ChartParser::do_parse(const sdk::ParseRequest& request) const {
     throw sdk::Error(sdk::codes::kInputTooLong,
                      "chart parser: " + std::to_string(request.tokens.size()) +
                          " tokens; the limit is max_tokens = " + std::to_string(max_tokens_));
-  return Run(index_, request, beam).run();
+  return Run(index_, request, beam, !rule_index_).run();
 }
 
 }  // namespace flipper::chart

@@ -20,6 +20,7 @@ class ChartParser : public sdk::Parser {
   RuleIndex index_;
   int beam_ = 50;
   std::size_t max_tokens_ = 4096;  // the chart has (n + 1)^2 cells
+  bool rule_index_ = true;         // false: the unindexed matcher (StartRules' oracle)
 };
 
 }  // namespace flipper::chart

@@ -6,6 +6,7 @@ ChartParser::ChartParser(const sdk::Params& params) {
   if (params.has("beam")) beam_ = static_cast<int>(params.get_int("beam"));
   if (params.has("max_tokens"))
     max_tokens_ = static_cast<std::size_t>(params.get_int("max_tokens"));
+  if (params.has("rule_index")) rule_index_ = params.get_bool("rule_index");
 }
 
 sdk::ParamSchema ChartParser::schema() {
@@ -14,6 +15,10 @@ sdk::ParamSchema ChartParser::schema() {
   s.add_int("max_tokens", 4096,
             "longest token sequence parsed (the chart has (n+1)^2 cells); longer: input_too_long",
             1, 65534);
+  s.add_bool("rule_index", true,
+             "try only the rules the rule index selects for each position (docs/naturalization.md "
+             "§2); false tries every rule whose first symbol fits: the same parses, slower with "
+             "large lexicons (the oracle of the index tests)");
   return s;
 }
 

@@ -10,6 +10,7 @@ FloatingParser::FloatingParser(const sdk::Params& params) {
     options_.floating_beam = static_cast<int>(params.get_int("floating_beam"));
   if (params.has("max_skips")) options_.max_skips = static_cast<int>(params.get_int("max_skips"));
   if (params.has("skip_cost")) options_.skip_cost = params.get_double("skip_cost");
+  if (params.has("rule_index")) options_.rule_index = params.get_bool("rule_index");
 }
 
 sdk::ParamSchema FloatingParser::schema() {
@@ -20,6 +21,10 @@ sdk::ParamSchema FloatingParser::schema() {
             100000);
   s.add_int("max_skips", 4, "words one derivation may leave out (0: parse exactly as chart)", 0, 8);
   s.add_double("skip_cost", 1.0, "score subtracted per skipped word", 0.0, 1000.0);
+  s.add_bool("rule_index", true,
+             "try only the rules the rule index selects for each position (docs/naturalization.md "
+             "§2); false tries every rule whose first symbol fits: the same parses, slower with "
+             "large lexicons (the oracle of the index tests)");
   return s;
 }
 

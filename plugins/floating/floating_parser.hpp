@@ -16,6 +16,7 @@ struct Options {
   int floating_beam = 10;  ///< floating derivations per (category, span)
   int max_skips = 4;       ///< words a derivation may leave out
   double skip_cost = 1.0;  ///< subtracted from the score per skipped word
+  bool rule_index = true;  ///< false: try every rule whose first symbol fits (the index's oracle)
 };
 
 class FloatingParser : public sdk::Parser {

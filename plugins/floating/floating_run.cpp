@@ -15,13 +15,15 @@
 
 #include "flipper/sdk/errors.hpp"
 #include "floating_parser.hpp"
+#include "start_rules.hpp"
 
 namespace flipper::floating {
 
 namespace {
 
-using chart::CompiledRule;
+using chart::FirstKind;
 using chart::RuleIndex;
+using chart::StartRules;
 using chart::Sym;
 using sdk::DerivationPtr;
 
@@ -60,23 +62,25 @@ struct Cell {
 // Unary chains longer than this are cut (guards against cyclic unary rules), as in chart.
 constexpr int kMaxUnaryDepth = 24;
 
+using Rhs = std::span<const Sym>;
+
 class Run {
  public:
   Run(const RuleIndex& index, const sdk::ParseRequest& req, const Options& o)
-      : index_(index), req_(req), o_(o), n_(static_cast<int>(req.tokens.size())) {
+      : index_(index),
+        req_(req),
+        o_(o),
+        n_(static_cast<int>(req.tokens.size())),
+        token_ids_(index.token_ids(req.tokens)),
+        classes_(index.classes(req.tokens)),
+        starts_(index, token_ids_, classes_, req.visible, !o.rule_index) {
     ctx_ = req.context;
     if (ctx_.tokens == nullptr) ctx_.tokens = &req.tokens;
-    token_ids_.reserve(req.tokens.size());
-    classes_.reserve(req.tokens.size());
     fixed_before_.assign(1, 0);
-    for (const auto& t : req.tokens) {
-      token_ids_.push_back(index.token_id(t));
-      classes_.push_back(index.classes_of(t));
+    for (const auto& t : req.tokens)
       fixed_before_.push_back(fixed_before_.back() + (skippable(t) ? 0 : 1));
-    }
     cells_.resize(static_cast<std::size_t>(n_ + 1) * static_cast<std::size_t>(n_ + 1));
-    visible_.assign(index.rules().size(), -1);
-    tried_.assign(index.rules().size(), 0);
+    tried_.assign(index.category_count(), 0);
   }
 
   sdk::ParseResult run() {
@@ -107,31 +111,22 @@ class Run {
   // Every token of [a, b) may be skipped.
   bool all_skippable(int a, int b) const { return fixed_before_[b] == fixed_before_[a]; }
 
-  bool visible(int r) {
-    if (!req_.visible) return true;
-    signed char& v = visible_[static_cast<std::size_t>(r)];
-    if (v < 0) v = req_.visible(*index_.rules()[static_cast<std::size_t>(r)].rule) ? 1 : 0;
-    return v == 1;
-  }
-
   void fill(int i, int j) {
     pending_.clear();
     pending_floating_.clear();
     if (token_ids_[i] >= 0)
-      for (int r : index_.by_first_token(token_ids_[i])) try_rule(r, i, j);
+      for (int r : starts_.at(i, FirstKind::token, token_ids_[i])) try_rule(r, i, j);
     for (int b = 0; b < 4; ++b)
       if (classes_[i] & (1 << b))
-        for (int r : index_.by_first_class(b)) try_rule(r, i, j);
+        for (int r : starts_.at(i, FirstKind::klass, b)) try_rule(r, i, j);
     // Category-first rules, once per span: those of exact kids first, in chart's order; a rule
     // reached only through floating kids cannot yield an exact derivation.
     ++span_stamp_;
     auto try_first_category = [&](int cat) {
-      for (int r : index_.by_first_category(cat)) {
-        int& st = tried_[static_cast<std::size_t>(r)];
-        if (st == span_stamp_) continue;
-        st = span_stamp_;
-        try_rule(r, i, j);
-      }
+      int& st = tried_[static_cast<std::size_t>(cat)];
+      if (st == span_stamp_) return;
+      st = span_stamp_;
+      for (int r : starts_.at(i, FirstKind::category, cat)) try_rule(r, i, j);
     };
     for (int e = i + 1; e < j; ++e)
       for (const auto& cc : cell(i, e).exact) try_first_category(cc.cat);
@@ -152,7 +147,7 @@ class Run {
       if (item.depth >= kMaxUnaryDepth) continue;
       const int cat = index_.category_id(item.d->rule->lhs);
       for (int r : index_.unary_from(cat)) {
-        if (!visible(r)) continue;
+        if (!starts_.visible(r)) continue;
         kids_.assign(1, item.d);
         auto d = build(r, i, j, {});
         if (!d) continue;
@@ -163,21 +158,21 @@ class Run {
     }
   }
 
+  // `r` comes from StartRules: alive and visible.
   void try_rule(int r, int i, int j) {
-    const CompiledRule& rule = index_.rules()[static_cast<std::size_t>(r)];
-    if (static_cast<int>(rule.rhs.size()) > j - i || !rule.alive) return;
-    const Sym& last = rule.rhs.back();
+    const auto rhs = index_.rhs(r);
+    if (static_cast<int>(rhs.size()) > j - i) return;
+    const Sym& last = rhs.back();
     if (last.type == Sym::Type::token && token_ids_[j - 1] != last.id) return;
     if (last.type == Sym::Type::klass && !(classes_[j - 1] & last.id)) return;
-    if (!visible(r)) return;
     kids_.clear();
-    match(r, rule, 0, i, i, j, 0);
+    match(r, rhs, 0, i, i, j, 0);
   }
 
   // Matches RHS symbol k at position p or, leaving out words, later (not before the first).
-  void match(int r, const CompiledRule& rule, std::size_t k, int p, int i, int j, int skips) {
+  void match(int r, Rhs rhs, std::size_t k, int p, int i, int j, int skips) {
     if (stopped_) return;
-    const std::size_t nsym = rule.rhs.size();
+    const std::size_t nsym = rhs.size();
     if (k == nsym) {
       if (p != j) return;
       auto d = build(r, i, j, req_.tokens[static_cast<std::size_t>(i)]);
@@ -192,28 +187,27 @@ class Run {
     const int max_gap = k == 0 ? 0 : std::min(o_.max_skips - skips, j - p - remaining);
     for (int gap = 0; gap <= max_gap && !stopped_; ++gap) {
       if (gap > 0 && !all_skippable(p, p + gap)) return;  // longer gaps include this word too
-      match_at(r, rule, k, p, p + gap, i, j, skips + gap);
+      match_at(r, rhs, k, p, p + gap, i, j, skips + gap);
     }
   }
 
   // Symbol k starts at q; words [p, q) are left out (wrapped onto a neighbouring kid).
-  void match_at(int r, const CompiledRule& rule, std::size_t k, int p, int q, int i, int j,
-                int skips) {
-    const std::size_t nsym = rule.rhs.size();
+  void match_at(int r, Rhs rhs, std::size_t k, int p, int q, int i, int j, int skips) {
+    const std::size_t nsym = rhs.size();
     const int remaining = static_cast<int>(nsym - k);
-    const Sym& s = rule.rhs[k];
+    const Sym& s = rhs[k];
     if (s.type != Sym::Type::category) {
       const bool fits = s.type == Sym::Type::token ? token_ids_[q] == s.id : (classes_[q] & s.id);
       if (!fits) return;
       if (q == p) {
-        match(r, rule, k + 1, q + 1, i, j, skips);
+        match(r, rhs, k + 1, q + 1, i, j, skips);
         return;
       }
       // Words before a token symbol belong to the category kid before it, if there is one.
-      if (rule.rhs[k - 1].type != Sym::Type::category) return;
+      if (rhs[k - 1].type != Sym::Type::category) return;
       const DerivationPtr before = kids_.back();
       kids_.back() = extend(before, before->start, q);
-      if (kids_.back()) match(r, rule, k + 1, q + 1, i, j, skips);
+      if (kids_.back()) match(r, rhs, k + 1, q + 1, i, j, skips);
       kids_.back() = before;
       return;
     }
@@ -224,22 +218,22 @@ class Run {
       const Cell& c = cell(q, e);
       if (const auto* exact = Cell::find(c.exact, s.id))
         for (const auto& d : *exact)
-          if (!use_kid(r, rule, k, p, q, d, e, i, j, skips)) return;
+          if (!use_kid(r, rhs, k, p, q, d, e, i, j, skips)) return;
       if (const auto* floating = Cell::find(c.floating, s.id))
         for (const auto& f : *floating) {
           if (skips + f.skips > o_.max_skips) continue;
-          if (!use_kid(r, rule, k, p, q, f.d, e, i, j, skips + f.skips)) return;
+          if (!use_kid(r, rhs, k, p, q, f.d, e, i, j, skips + f.skips)) return;
         }
     }
   }
 
   // Continues the match with `d` (over [q, e)) as kid k, wrapped over [p, e). False: stopped.
-  bool use_kid(int r, const CompiledRule& rule, std::size_t k, int p, int q, const DerivationPtr& d,
-               int e, int i, int j, int skips) {
+  bool use_kid(int r, Rhs rhs, std::size_t k, int p, int q, const DerivationPtr& d, int e, int i,
+               int j, int skips) {
     DerivationPtr kid = q == p ? d : extend(d, p, e);
     if (!kid) return false;
     kids_.push_back(std::move(kid));
-    match(r, rule, k + 1, e, i, j, skips);
+    match(r, rhs, k + 1, e, i, j, skips);
     kids_.pop_back();
     return !stopped_;
   }
@@ -294,7 +288,7 @@ class Run {
       stopped_ = true;
       return nullptr;
     }
-    const CompiledRule& rule = index_.rules()[static_cast<std::size_t>(r)];
+    const chart::CompiledRule& rule = index_.rules()[static_cast<std::size_t>(r)];
     sems_.clear();
     for (const auto& k : kids_) sems_.push_back(k->sem);
     sdk::Program sem;
@@ -402,16 +396,16 @@ class Run {
   const Options o_;
   const int n_;
   sdk::ScoreContext ctx_;
-  std::vector<int> token_ids_;
-  std::vector<std::uint8_t> classes_;
+  const std::vector<int> token_ids_;
+  const std::vector<std::uint8_t> classes_;
+  StartRules starts_;
   std::vector<int> fixed_before_;  // words that may not be skipped among tokens [0, i)
   std::vector<Cell> cells_;
-  std::vector<signed char> visible_;
   std::vector<DerivationPtr> pending_;
   std::vector<Floating> pending_floating_;
   std::vector<DerivationPtr> kids_;
   std::vector<sdk::Program> sems_;
-  std::vector<int> tried_;
+  std::vector<int> tried_;  // per category: the span whose rules of that first category ran
   std::map<std::pair<std::string, std::string>, sdk::RulePtr> skip_rules_;
   ProgramIndex exact_programs_, floating_programs_;
   int span_stamp_ = 0;

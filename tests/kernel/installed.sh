@@ -12,15 +12,18 @@ trap 'rm -rf "$tmp"' EXIT
 
 cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
 flipper=$tmp/prefix/bin/flipper
+frontends=$tmp/prefix/libexec/flipper-frontends  # runs serve and dds for flipper
 plugins=$tmp/prefix/lib/flipper/plugins
 cd "$tmp"
 
 # No path of this checkout or its build is compiled in.
-for dir in "$src" "$build"; do
-  if grep -aFq "$dir" "$flipper"; then
-    echo "installed flipper contains the path $dir:"; grep -aoF "$dir[^\"]*" "$flipper" | head -3
-    exit 1
-  fi
+for bin in "$flipper" "$frontends"; do
+  for dir in "$src" "$build"; do
+    if grep -aFq "$dir" "$bin"; then
+      echo "installed $bin contains the path $dir:"; grep -aoF "$dir[^\"]*" "$bin" | head -3
+      exit 1
+    fi
+  done
 done
 
 # Every listed plugin comes from the prefix.
@@ -32,6 +35,14 @@ if echo "$listing" | grep -F "$build"; then echo "a plugin of the build tree was
 env -u FLIPPER_PLUGIN_PATH "$flipper" config check >/dev/null
 answer=$(echo '{"op":"query","text":"move up"}' | env -u FLIPPER_PLUGIN_PATH "$flipper" session)
 echo "$answer" | grep -q '"ok":true'
+
+# serve runs in the installed flipper-frontends, which finds the installed page.
+env -u FLIPPER_PLUGIN_PATH "$flipper" serve --set serve.port=0 >serve.log 2>&1 &
+serve_pid=$!
+for _ in $(seq 600); do grep -q "listening" serve.log && break; sleep 0.1; done
+kill "$serve_pid"; wait "$serve_pid" || true
+cat serve.log
+grep -q "^flipper serve: listening on http://127.0.0.1:[0-9]*/$" serve.log
 
 # The embedded default config's files are the installed ones: without the installed world file
 # the binary names that file (and finds no other).

@@ -283,6 +283,7 @@ TEST_CASE("naturalization options start from the kernel schema's defaults",
   CHECK(o.generalize == std::get<bool>(def("induction.generalize")));
   CHECK(o.perturbed_checks == std::get<std::int64_t>(def("induction.perturbed_checks")));
   CHECK(o.store.busy_timeout_ms == std::get<std::int64_t>(def("lexicon.busy_timeout_ms")));
+  CHECK(o.snapshot_min_rules == std::get<std::int64_t>(def("lexicon.snapshot_min_rules")));
   CHECK(to_string(o.sharing) == std::get<std::string>(def("lexicon.sharing")));
   CHECK(o.per_user_weights == (std::get<std::string>(def("lexicon.weights")) == "per_user"));
 }

@@ -1,11 +1,16 @@
 // `flipper session` processes over one lexicon file: rules come back in a new process, a rule or
 // deletion acknowledged in one process is seen by the others before their next parse, and a
 // session killed with SIGKILL at random moments never loses a definition it answered.
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cstdio>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <regex>
 #include <set>
 #include <thread>
 
@@ -176,6 +181,92 @@ TEST_CASE("SIGKILL of flipper session loses no answered definition",
   }
   CHECK(kills_mid_stream == 30);
   CHECK(answered.size() >= 30);
+}
+
+namespace {
+std::uintmax_t file_size(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 ? static_cast<std::uintmax_t>(st.st_size) : 0;
+}
+}  // namespace
+
+// WAL checkpoints run in a background thread of each process (sqlite_handle.hpp): kill a session
+// right after an answered define, often while that thread copies pages into the database file.
+TEST_CASE("SIGKILL right after an answered define, with background checkpoints, loses nothing",
+          "[naturalize][process][kill]") {
+  const std::string store = scratch_path("kill-checkpoint") + ".sqlite";
+  std::mt19937 rng(11);
+  std::set<std::string> answered;
+  long next = 0;
+  int checkpointed_rounds = 0;
+  for (int round = 0; round < 6; ++round) {
+    const std::uintmax_t size_before = file_size(store);
+    {
+      Session s(store);
+      REQUIRE(s.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
+      // ~7 WAL pages per define: 150-250 defines cross the 1,000-page checkpoint mark.
+      const int defines = std::uniform_int_distribution<int>(150, 250)(rng);
+      for (int i = 0; i < defines; ++i, ++next) {
+        const std::string head = head_for(next);
+        const Json a = s.ask({{"op", "define"}, {"head", head}, {"body", {"move left"}}});
+        REQUIRE(a["ok"] == true);
+        answered.insert(head);
+      }
+      s.kill_now();  // right after the last answer
+    }
+    // Only a checkpoint writes the database file of a process that never closed it.
+    if (file_size(store) > size_before) ++checkpointed_rounds;
+    REQUIRE(flipper::testsupport::sqlite_integrity(store) == "ok");
+    flipper::kernel::LexiconStore reopened(store);
+    std::set<std::string> heads;
+    for (const auto& d : reopened.definitions()) heads.insert(d.head);
+    for (const auto& h : answered) {
+      INFO("round " << round << ": answered definition '" << h << "'");
+      REQUIRE(heads.count(h) == 1);
+    }
+  }
+  CHECK(checkpointed_rounds >= 4);  // the kills did land on processes that checkpointed
+}
+
+// Durability against power loss, which a kill cannot show: every answered define was preceded,
+// in the answering thread, by an fdatasync of the WAL after the define's last write to it.
+TEST_CASE("every answered define is synced to the WAL before its answer is written",
+          "[naturalize][process][durability]") {
+  const std::string store = scratch_path("sync-order") + ".sqlite";
+  const std::string script = scratch_path("sync-order") + ".jsonl";
+  const std::string trace = scratch_path("sync-order") + ".strace";
+  {
+    std::ofstream f(script);
+    f << Json{{"op", "user"}, {"name", "ana"}}.dump() << "\n";
+    for (long n = 0; n < 40; ++n)
+      f << Json{{"op", "define"}, {"head", head_for(n)}, {"body", {"move left"}}}.dump() << "\n";
+  }
+  const std::string cmd = "strace -f -qq -y -s 40 -e trace=write,pwrite64,fdatasync,fsync -o '" +
+                          trace + "' " + kFlipper + " session --set lexicon.path=" + store + " '" +
+                          script + "' > /dev/null 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);  // strace must be installed (tests/README)
+  // "PID write(1</dev/null>, ..." / "PID pwrite64(4</x.sqlite-wal>, ..." / "PID fdatasync(4<..."
+  const std::regex line_re(R"(^(\d+) +(\w+)\((\d+)<([^>]*)>)");
+  // Per thread: wrote the WAL since its last answer / since its last WAL sync.
+  std::map<std::string, bool> wrote, unsynced;
+  int answers = 0, synced_answers = 0;
+  std::ifstream in(trace);
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (!std::regex_search(line, m, line_re)) continue;
+    const std::string tid = m[1], call = m[2], fd = m[3], file = m[4];
+    const bool wal = file.size() > 4 && file.compare(file.size() - 4, 4, "-wal") == 0;
+    if (call == "pwrite64" && wal) wrote[tid] = unsynced[tid] = true;
+    if ((call == "fdatasync" || call == "fsync") && wal) unsynced[tid] = false;
+    if (call == "write" && fd == "1" &&
+        line.find(R"({\"ok\":true,\"op\":\"define\")") != std::string::npos) {
+      ++answers;
+      if (wrote[tid] && !unsynced[tid]) ++synced_answers;
+      wrote[tid] = false;
+    }
+  }
+  CHECK(answers == 40);
+  CHECK(synced_answers == 40);
 }
 
 TEST_CASE("a rule acknowledged in one process serves a running other one, and so does its deletion",

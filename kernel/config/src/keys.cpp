@@ -66,6 +66,7 @@ ParamSchema build() {
   s.add_path("lexicon.preload", std::string(), "definitions replayed at start (empty: none)");
   s.add_string("lexicon.weights", "global", "scorer weights", {"global", "per_user"});
   add(s, keys::kBusyTimeoutMs);
+  add(s, keys::kSnapshotMinRules);
   s.add_string("lexicon.replication", "none", "share rules between sites", {"none", "dds"});
   s.add_string("lexicon.site", "", "this site's name (replication)");
 

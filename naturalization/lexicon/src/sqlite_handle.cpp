@@ -2,6 +2,8 @@
 
 #include <cerrno>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <random>
 #include <thread>
 
@@ -60,6 +62,69 @@ const char* code_for(int rc, int system_errno) {
   }
 }
 
+/// The background checkpoints of one store (Db::checkpoint_in_background). Its thread starts at
+/// the first request and owns its own connection; a failed or busy checkpoint is simply retried at
+/// the next request: the frames stay in the WAL, which is as durable as the database file.
+class Checkpointer {
+ public:
+  explicit Checkpointer(std::string path) : path_(std::move(path)) {}
+  ~Checkpointer() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    if (thread_.joinable()) thread_.join();
+    sqlite3_close_v2(db_);
+  }
+  Checkpointer(const Checkpointer&) = delete;
+  Checkpointer& operator=(const Checkpointer&) = delete;
+
+  void request() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      pending_ = true;
+      if (!thread_.joinable()) thread_ = std::thread([this] { run(); });
+    }
+    wake_.notify_one();
+  }
+
+ private:
+  void run() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [this] { return stop_ || pending_; });
+      if (stop_) return;
+      pending_ = false;
+      lock.unlock();
+      checkpoint();
+      lock.lock();
+    }
+  }
+
+  void checkpoint() {
+    if (db_ == nullptr) {
+      if (sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_NOMUTEX,
+                          nullptr) != SQLITE_OK) {
+        sqlite3_close_v2(db_);
+        db_ = nullptr;
+        return;
+      }
+      // The WAL is synced before pages are copied, the database file after.
+      sqlite3_exec(db_, "PRAGMA synchronous=FULL", nullptr, nullptr, nullptr);
+    }
+    sqlite3_wal_checkpoint_v2(db_, "main", SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
+  }
+
+  std::string path_;
+  sqlite3* db_ = nullptr;  // used by the thread only
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool pending_ = false;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
 Db::Db(const std::string& path, bool create, int busy_timeout_ms)
     : path_(path), busy_timeout_ms_(busy_timeout_ms), jitter_(std::random_device{}()) {
   int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_NOMUTEX;
@@ -72,7 +137,24 @@ Db::Db(const std::string& path, bool create, int busy_timeout_ms)
 }
 
 Db::~Db() {
-  sqlite3_close_v2(db_);
+  checkpointer_.reset();
+  sqlite3_close_v2(db_);  // the last connection to close checkpoints and removes the WAL
+}
+
+void Db::checkpoint_in_background() {
+  checkpointer_ = std::make_unique<Checkpointer>(path_);
+  // Replaces the auto-checkpoint hook (sqlite3_wal_autocheckpoint installs one).
+  sqlite3_wal_hook(db_, &Db::on_wal_commit, this);
+}
+
+// Called by SQLite after each commit, once the commit is durable, with the WAL's frame count.
+int Db::on_wal_commit(void* self, sqlite3* db, const char* name, int pages) {
+  auto& d = *static_cast<Db*>(self);
+  if (pages >= kMaxWalPages)
+    sqlite3_wal_checkpoint_v2(db, name, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
+  else if (pages >= kCheckpointPages)
+    d.checkpointer_->request();
+  return SQLITE_OK;
 }
 
 // Called by SQLite while a lock is held elsewhere; `attempts` is 0 on the first call of a wait.
@@ -143,6 +225,13 @@ Stmt& Stmt::bind_real(int i, double value) {
   return *this;
 }
 
+Stmt& Stmt::bind_blob(int i, std::string_view bytes) {
+  // Not copied (a snapshot is megabytes): the caller keeps `bytes` alive until the statement ran.
+  const int rc = sqlite3_bind_blob64(stmt_, i, bytes.data(), bytes.size(), SQLITE_STATIC);
+  if (rc != SQLITE_OK) db_.fail("bind", rc);
+  return *this;
+}
+
 Stmt& Stmt::bind_null(int i) {
   const int rc = sqlite3_bind_null(stmt_, i);
   if (rc != SQLITE_OK) db_.fail("bind", rc);
@@ -177,6 +266,12 @@ double Stmt::real(int col) const {
 
 std::string Stmt::text(int col) const {
   const auto* p = reinterpret_cast<const char*>(sqlite3_column_text(stmt_, col));
+  return p ? std::string(p, static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
+           : std::string();
+}
+
+std::string Stmt::blob(int col) const {
+  const auto* p = static_cast<const char*>(sqlite3_column_blob(stmt_, col));
   return p ? std::string(p, static_cast<std::size_t>(sqlite3_column_bytes(stmt_, col)))
            : std::string();
 }

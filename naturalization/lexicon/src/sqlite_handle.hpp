@@ -6,6 +6,7 @@
 #include <sqlite3.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,8 @@ namespace flipper::kernel::sqlite {
 
 /// The lexicon error code for an SQLite result code (and the OS errno behind it).
 const char* code_for(int rc, int system_errno);
+
+class Checkpointer;
 
 class Db {
  public:
@@ -27,21 +30,33 @@ class Db {
   sqlite3* raw() const { return db_; }
   const std::string& path() const { return path_; }
   int busy_timeout_ms() const { return busy_timeout_ms_; }
+  void set_busy_timeout_ms(int ms) { busy_timeout_ms_ = ms; }
   /// The file could only be opened for reading (permissions, read-only file system).
   bool read_only() const;
   /// Runs one or more statements without results.
   void exec(const char* sql);
   /// Throws the lexicon error for `rc` with `what` and SQLite's message.
   [[noreturn]] void fail(const std::string& what, int rc) const;
+  /// WAL checkpoints off the committing path (docs/naturalization.md §5): no auto-checkpoint in
+  /// COMMIT; once the WAL holds kCheckpointPages frames, a thread with its own connection
+  /// checkpoints (PASSIVE: it never blocks a writer or reader). Only a WAL past kMaxWalPages (the
+  /// thread cannot keep up) is checkpointed by the commit that grows it. A COMMIT still returns
+  /// only after its frames are synced to the WAL (synchronous=FULL).
+  void checkpoint_in_background();
+
+  static constexpr int kCheckpointPages = 1000;  // SQLite's own auto-checkpoint size
+  static constexpr int kMaxWalPages = 16000;     // ~64 MiB with 4 KiB pages
 
  private:
   static int on_busy(void* self, int attempts);
+  static int on_wal_commit(void* self, sqlite3* db, const char* name, int pages);
 
   sqlite3* db_ = nullptr;
   std::string path_;
   int busy_timeout_ms_ = 0;
   std::int64_t busy_since_us_ = 0;
   std::uint64_t jitter_ = 0;
+  std::unique_ptr<Checkpointer> checkpointer_;  // stopped before the connection closes
 };
 
 class Stmt {
@@ -55,6 +70,8 @@ class Stmt {
   Stmt& bind(int i, std::int64_t value);
   Stmt& bind_real(int i, double value);
   Stmt& bind_null(int i);
+  /// Binds without copying: `bytes` must stay alive until the statement has run.
+  Stmt& bind_blob(int i, std::string_view bytes);
   /// Steps once: true when a row is available, false when done.
   bool step();
   /// Steps to completion (statements without rows).
@@ -64,6 +81,7 @@ class Stmt {
   std::int64_t int64(int col) const;
   double real(int col) const;
   std::string text(int col) const;
+  std::string blob(int col) const;
   bool is_null(int col) const;
 
  private:

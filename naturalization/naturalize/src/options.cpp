@@ -16,6 +16,7 @@ NaturalizeOptions NaturalizeOptions::from_config(const Config& config) {
   o.preload = preload.empty() ? preload : config.resolve_path_of("lexicon.preload", preload);
   o.per_user_weights = config.get_string("lexicon.weights") == "per_user";  // schema: enum
   o.store.busy_timeout_ms = static_cast<int>(config.get(keys::kBusyTimeoutMs));
+  o.snapshot_min_rules = config.get(keys::kSnapshotMinRules);
   o.induction.alignment = config.get(keys::kAlignment);
   o.generalize = config.get(keys::kGeneralize);
   o.perturbed_checks = static_cast<int>(config.get(keys::kPerturbedChecks));

@@ -61,6 +61,10 @@ inline constexpr Int kMaxFileBytes{"input.max_file_bytes", 67108864, 1, 10995116
 inline constexpr Int kMaxWorldCells{"world.max_cells", 4194304, 1, 268435456, "cells of a world"};
 inline constexpr Int kBusyTimeoutMs{"lexicon.busy_timeout_ms", 10000, 1, 600000,
                                     "longest wait for other writers, then lexicon_busy"};
+inline constexpr Int kSnapshotMinRules{
+    "lexicon.snapshot_min_rules", 512, 0, 1000000000,
+    "keep a rule snapshot for fast start-up once the store holds this many live rules "
+    "(docs/naturalization.md §5); 0: never"};
 inline constexpr Bool kAlignment{"induction.alignment", true,
                                  "induce rules by aligning head and body"};
 inline constexpr Bool kGeneralize{"induction.generalize", true,

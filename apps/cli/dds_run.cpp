@@ -1,6 +1,6 @@
-// flipper dds [--config F] [--set k=v]: a DDS node answering session-protocol requests from
-// rt/flipper/request on rt/flipper/answer (apps/dds/request_node.hpp), with the config's other
-// DDS services (plans, lexicon replication). Runs until SIGINT/SIGTERM.
+// flipper dds, run by flipper-frontends (frontends.hpp): a DDS node answering session-protocol
+// requests from rt/flipper/request on rt/flipper/answer (apps/dds/request_node.hpp), with the
+// config's other DDS services (plans, lexicon replication). Runs until SIGINT/SIGTERM.
 #include <atomic>
 #include <csignal>
 #include <iostream>
@@ -18,7 +18,9 @@ extern "C" void on_signal(int) {
   g_stop.store(true);
 }
 
-int run_node(const CommonOptions& opts) {
+}  // namespace
+
+int run_dds_node(const CommonOptions& opts) {
   kernel::SessionHost host = kernel::open_host(config_file(opts), opts.overrides);
   const DdsServices services = DdsServices::start(host, /*force_participant=*/true);
   dds::RequestNode node(
@@ -33,13 +35,4 @@ int run_node(const CommonOptions& opts) {
   return kExitOk;
 }
 
-}  // namespace
-
-void add_dds_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "dds", "Serve session-protocol requests over Cyclone DDS (rt/flipper/request -> answer)");
-  static CommonOptions opts;
-  add_common_options(*cmd, opts);
-  on_run(*cmd, [] { return run_node(opts); });
-}
 }  // namespace flipper::cli

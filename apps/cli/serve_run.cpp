@@ -1,5 +1,6 @@
-// flipper serve [--config F] [--set k=v]: the web front end (Flipper Studio) and the session
-// protocol over HTTP, until SIGINT/SIGTERM. See apps/studio and README "Flipper Studio".
+// flipper serve, run by flipper-frontends (frontends.hpp): the web front end (Flipper Studio) and
+// the session protocol over HTTP, until SIGINT/SIGTERM. See apps/studio and README "Flipper
+// Studio".
 #include <csignal>
 #include <iostream>
 #include <thread>
@@ -9,7 +10,6 @@
 #include "flipper/studio/server.hpp"
 
 namespace flipper::cli {
-namespace {
 
 int run_serve(const CommonOptions& opts) {
   const kernel::Config config = load_config(opts);
@@ -42,13 +42,4 @@ int run_serve(const CommonOptions& opts) {
   return kExitOk;
 }
 
-}  // namespace
-
-void add_serve_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand(
-      "serve", "Serve the web page and the session protocol over HTTP (serve.host:serve.port)");
-  static CommonOptions opts;
-  add_common_options(*cmd, opts);
-  on_run(*cmd, [] { return run_serve(opts); });
-}
 }  // namespace flipper::cli
