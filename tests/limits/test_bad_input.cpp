@@ -29,7 +29,7 @@ void write(const std::string& path, const std::string& text) {
 }
 
 const Scratch& scratch() {
-  static const Scratch s = [] {
+  static const Scratch made = [] {
     Scratch s;
     // One directory per process: ctest runs the test cases in parallel processes.
     s.dir =
@@ -80,7 +80,7 @@ const Scratch& scratch() {
     REQUIRE(session.finish() == 0);
     return s;
   }();
-  return s;
+  return made;
 }
 
 std::string shell_quote(const std::string& s) {
