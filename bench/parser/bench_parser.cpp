@@ -116,7 +116,8 @@ int main() {
       }
       std::sort(ms.begin(), ms.end());
       auto pct = [&](double p) {
-        return ms[std::min(ms.size() - 1, static_cast<std::size_t>(p * ms.size()))];
+        return ms[std::min(ms.size() - 1,
+                           static_cast<std::size_t>(p * static_cast<double>(ms.size())))];
       };
       std::printf(
           "%-8s induced=%5d utterances=%zu parsed=%zu  p50=%.3f ms  p99=%.3f ms  max=%.3f ms%s\n",

@@ -185,11 +185,12 @@ TEST_CASE("plots fit for a paper: integer count ticks, legends inside, y title c
     return at == std::string::npos ? -1.0 : std::stod(svg.substr(at + key.size()));
   };
   const double width = number_after(b, "width=\"", 0);
-  for (const char* name : {"induced (original)", "induced (ours)", "core (original)", "core (ours)"}) {
+  for (const char* name :
+       {"induced (original)", "induced (ours)", "core (original)", "core (ours)"}) {
     const auto at = b.find(std::string(">") + name + "</text>");
     REQUIRE(at != std::string::npos);
     const double x = number_after(b, "<text x=\"", b.rfind("<text x=\"", at));
-    CHECK(x + 7.0 * std::string(name).size() <= width);
+    CHECK(x + 7.0 * static_cast<double>(std::string(name).size()) <= width);
   }
   // The widest tick ("1000") ends 6 px left of the axis; the rotated y title sits left of it.
   const double axis_left = number_after(b, "<line x1=\"", 0);

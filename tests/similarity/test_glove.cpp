@@ -5,6 +5,7 @@
 
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/similarity.hpp"
+#include "flipper/testing/loader.hpp"
 #include "flipper/testing/similarity_conformance.hpp"
 #include "plugin_fixture.hpp"
 
@@ -93,4 +94,13 @@ TEST_CASE("glove: similarity conformance", "[glove][conformance]") {
   auto sim = glove(write_file("small.txt", kVectors));
   flipper::testing::check_similarity_conformance(
       *sim, {{"red"}, {"blue", "visit"}, {"red", "triangle"}, {"crimson", "blorp"}, {"visit"}});
+}
+
+// The loader-layer kit every in-tree plugin passes (tests/plugins), here because glove's required
+// `path` has no default the generic kit could pass: opened through the SDK's host loader like the
+// kernel does, with a vectors file for `path`.
+TEST_CASE("glove: loader conformance through the host loader", "[glove][conformance][loader]") {
+  flipper::testing::check_loader_conformance(
+      std::string(FLIPPER_PLUGIN_DIR) + "/glove.so",
+      {{"path", flipper::sdk::ParamValue{write_file("small.txt", kVectors)}}});
 }

@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "flipper/replay/output.hpp"
-#include "flipper/svg/svg.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/svg/svg.hpp"
 #include "out_file.hpp"
 
 namespace flipper::kernel::replay {
@@ -38,12 +38,18 @@ std::string tick_text(double v, bool whole) {
 }
 
 // Approximate width of a label in the 12 px sans-serif font (for layout, not for typesetting).
+// Counts are far below 2^53: the conversion is exact; spelled out for -Wconversion.
+double as_double(std::size_t n) {
+  return static_cast<double>(n);
+}
+
 double text_width(const std::string& s) {
   return 7.0 * static_cast<double>(s.size());
 }
 
 std::string render_svg(const BarChart& c) {
-  const double width = std::max(480.0, 120.0 + 40.0 * c.categories.size() * (c.series.size() + 1));
+  const double width = std::max(
+      480.0, 120.0 + 40.0 * as_double(c.categories.size()) * as_double(c.series.size() + 1));
   double vmax = 0;
   bool counts = true;  // every value a whole number: integer ticks
   for (std::size_t s = 0; s < c.values.size(); ++s)
@@ -91,13 +97,13 @@ std::string render_svg(const BarChart& c) {
   }
   o << "<text transform=\"translate(16," << num(top + plot_h / 2)
     << ") rotate(-90)\" text-anchor=\"middle\">" << escape(c.y_label) << "</text>\n";
-  const double cluster = plot_w / std::max<std::size_t>(1, c.categories.size());
-  const double bar = cluster / (c.series.size() + 1);
+  const double cluster = plot_w / as_double(std::max<std::size_t>(1, c.categories.size()));
+  const double bar = cluster / as_double(c.series.size() + 1);
   for (std::size_t k = 0; k < c.categories.size(); ++k) {
-    const double x0 = left + cluster * k + bar / 2;
+    const double x0 = left + cluster * as_double(k) + bar / 2;
     for (std::size_t s = 0; s < c.series.size(); ++s) {
       const double v = k < c.values[s].size() ? c.values[s][k] : 0;
-      const double x = x0 + bar * s;
+      const double x = x0 + bar * as_double(s);
       o << "<rect x=\"" << num(x) << "\" y=\"" << num(y(v)) << "\" width=\"" << num(bar * 0.9)
         << "\" height=\"" << num(top + plot_h - y(v)) << "\" fill=\"" << kColors[s % 6]
         << "\"><title>" << escape(c.series[s]) << ", " << escape(c.categories[k]) << ": " << num(v)
@@ -108,8 +114,9 @@ std::string render_svg(const BarChart& c) {
           << "\" y2=\"" << num(y(c.high[s][k])) << "\" stroke=\"black\"/>\n";
       }
     }
-    o << "<text x=\"" << num(left + cluster * (k + 0.5)) << "\" y=\"" << num(top + plot_h + 16)
-      << "\" text-anchor=\"middle\">" << escape(c.categories[k]) << "</text>\n";
+    o << "<text x=\"" << num(left + cluster * (as_double(k) + 0.5)) << "\" y=\""
+      << num(top + plot_h + 16) << "\" text-anchor=\"middle\">" << escape(c.categories[k])
+      << "</text>\n";
   }
   o << "<line x1=\"" << num(left) << "\" x2=\"" << num(left + plot_w) << "\" y1=\""
     << num(top + plot_h) << "\" y2=\"" << num(top + plot_h) << "\" stroke=\"black\"/>\n";

@@ -45,6 +45,7 @@ const std::vector<KeySpec> kSchema = {
     {"lexicon.preload", T::Path, "''", ""},
     {"lexicon.weights", T::String, "global", "global|per_user"},
     row(keys::kBusyTimeoutMs),
+    row(keys::kSnapshotMinRules),
     {"lexicon.replication", T::String, "none", "none|dds"},
     {"lexicon.site", T::String, "''", ""},
     {"publish.plans", T::String, "none", "none|dds"},

@@ -8,6 +8,7 @@
 
 #include "flipper/sdk/errors.hpp"
 #include "sqlite_handle.hpp"
+#include "store_impl.hpp"
 
 namespace flipper::kernel {
 namespace fs = std::filesystem;
@@ -103,18 +104,19 @@ bool lexicon_codes::is_store_fault(const std::string& code) {
          code == kCorrupt;
 }
 
-struct LexiconStore::Impl {
-  std::unique_ptr<sqlite::Db> db;
-  std::string path;
-  std::unique_ptr<sqlite::Stmt> data_version;  // cached: checked before every parse
-  std::optional<std::int64_t> last_data_version;
-};
-
 namespace {
+
+void verify_pages(sqlite::Db& db) {
+  sqlite::Stmt check(db, "PRAGMA quick_check");
+  if (check.step() && check.text(0) != "ok")
+    throw sdk::Error(lexicon_codes::kCorrupt, "lexicon store '" + db.path() +
+                                                  "' is corrupt; the file was left as it is (" +
+                                                  check.text(0) + ")");
+}
 
 /// Refuses anything that is not an empty database or a Flipper lexicon, before any write.
 /// Returns the schema version (0: an empty database).
-std::int64_t check_existing(sqlite::Db& db) {
+std::int64_t check_existing(sqlite::Db& db, bool quick_check) {
   sqlite::Stmt tables(db, "SELECT name FROM sqlite_master WHERE type='table'");
   bool any = false, ours = false;
   while (tables.step()) {
@@ -134,11 +136,7 @@ std::int64_t check_existing(sqlite::Db& db) {
                            std::to_string(version) + " is newer than this build's " +
                            std::to_string(LexiconStore::kSchemaVersion));
   }
-  sqlite::Stmt check(db, "PRAGMA quick_check");
-  if (check.step() && check.text(0) != "ok")
-    throw sdk::Error(lexicon_codes::kCorrupt, "lexicon store '" + db.path() +
-                                                  "' is corrupt; the file was left as it is (" +
-                                                  check.text(0) + ")");
+  if (quick_check) verify_pages(db);
   return version;
 }
 
@@ -191,7 +189,7 @@ LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
   auto& db = *impl_->db;
   if (options.max_page_count > 0)
     db.exec(("PRAGMA max_page_count = " + std::to_string(options.max_page_count)).c_str());
-  const std::int64_t version = existed ? check_existing(db) : 0;
+  const std::int64_t version = existed ? check_existing(db, options.check_on_open) : 0;
   if (db.read_only()) {
     // Readable but not writable: serve it as it is if it needs no change.
     // (Version 2 only lacks the weight table, which read_weight_changes treats as empty.)
@@ -260,6 +258,12 @@ void insert_rule(sqlite::Db& db, const StoredRule& r, std::int64_t definition) {
       .bind(3, static_cast<std::int64_t>(r.uses_by_others))
       .run();
 }
+
+// One min/max aggregate per subquery: SQLite answers each from its index in O(log n) (two in
+// one SELECT would scan the table).
+constexpr const char* kMarkAndRows =
+    "SELECT (SELECT coalesce(max(created), 0) FROM rules), "
+    "(SELECT coalesce(max(deleted_seq), 0) FROM rules), (SELECT count(*) FROM rules)";
 
 constexpr const char* kRuleSelect =
     "SELECT r.id, r.lhs, r.rhs, r.template, r.author, r.head, r.body, r.how, r.created, "
@@ -411,10 +415,55 @@ LexiconChanges LexiconStore::changes_since(const ChangeMark& since) const {
     s.bind(1, since.deleted);
     while (s.step()) out.deleted.push_back(s.text(0));
   }
-  sqlite::Stmt m(db, "SELECT coalesce(max(created), 0), coalesce(max(deleted_seq), 0) FROM rules");
+  sqlite::Stmt m(db, kMarkAndRows);
   m.step();
   out.mark = {std::max(since.created, m.int64(0)), std::max(since.deleted, m.int64(1))};
   return out;
+}
+
+LiveRulesRead LexiconStore::read_live_rules(const std::function<void(StoredRule&&)>& each) const {
+  auto& db = *impl_->db;
+  sqlite::ReadTransaction snapshot(db);
+  LiveRulesRead out;
+  {
+    sqlite::Stmt s(db,
+                   "SELECT id, lhs, rhs, template, author, head, body, how, created, definition "
+                   "FROM rules WHERE deleted = 0 ORDER BY created");
+    while (s.step()) {
+      StoredRule r;
+      r.id = s.text(0);
+      r.lhs = s.text(1);
+      r.rhs = from_json_list(s.text(2), impl_->path);
+      r.semantics = s.text(3);
+      r.author = s.text(4);
+      r.head = s.text(5);
+      r.body = from_json_list(s.text(6), impl_->path);
+      r.how = s.text(7);
+      r.created = s.int64(8);
+      r.definition = s.int64(9);
+      each(std::move(r));
+    }
+  }
+  sqlite::Stmt m(db, kMarkAndRows);
+  m.step();
+  out.mark = {m.int64(0), m.int64(1)};
+  out.rows = m.int64(2);
+  return out;
+}
+
+std::vector<RuleUses> LexiconStore::nonzero_uses() const {
+  sqlite::Stmt s(*impl_->db,
+                 "SELECT rule, by_author, by_others FROM rule_uses "
+                 "WHERE by_author <> 0 OR by_others <> 0");
+  std::vector<RuleUses> out;
+  while (s.step())
+    out.push_back({s.text(0), static_cast<std::uint64_t>(s.int64(1)),
+                   static_cast<std::uint64_t>(s.int64(2))});
+  return out;
+}
+
+void LexiconStore::verify() {
+  verify_pages(*impl_->db);
 }
 
 bool LexiconStore::changed_elsewhere() {

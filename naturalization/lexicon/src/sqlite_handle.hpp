@@ -27,6 +27,7 @@ class Db {
   sqlite3* raw() const { return db_; }
   const std::string& path() const { return path_; }
   int busy_timeout_ms() const { return busy_timeout_ms_; }
+  void set_busy_timeout_ms(int ms) { busy_timeout_ms_ = ms; }
   /// The file could only be opened for reading (permissions, read-only file system).
   bool read_only() const;
   /// Runs one or more statements without results.
@@ -55,6 +56,8 @@ class Stmt {
   Stmt& bind(int i, std::int64_t value);
   Stmt& bind_real(int i, double value);
   Stmt& bind_null(int i);
+  /// Binds without copying: `bytes` must stay alive until the statement has run.
+  Stmt& bind_blob(int i, std::string_view bytes);
   /// Steps once: true when a row is available, false when done.
   bool step();
   /// Steps to completion (statements without rows).
@@ -64,6 +67,7 @@ class Stmt {
   std::int64_t int64(int col) const;
   double real(int col) const;
   std::string text(int col) const;
+  std::string blob(int col) const;
   bool is_null(int col) const;
 
  private:

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <ctime>
 #include <iostream>
+#include <type_traits>
 #include <unordered_map>
 
 #include "flipper/naturalization/generalizer.hpp"
+#include "flipper/naturalization/rule_snapshot.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/grammar.hpp"
@@ -20,12 +22,12 @@ sdk::StopCondition stop_at(std::chrono::steady_clock::time_point deadline) {
   return stop;
 }
 
-sdk::RuleOrigin origin_from_string(const std::string& how) {
+sdk::RuleOrigin origin_from_string(std::string_view how) {
   if (how == "simple") return sdk::RuleOrigin::simple;
   if (how == "best") return sdk::RuleOrigin::best;
   if (how == "alignment") return sdk::RuleOrigin::alignment;
   if (how == "rewriting") return sdk::RuleOrigin::rewriting;
-  throw sdk::Error(lexicon_codes::kBadLexicon, "unknown rule origin '" + how + "'");
+  throw sdk::Error(lexicon_codes::kBadLexicon, "unknown rule origin '" + std::string(how) + "'");
 }
 
 /// Whether a rule of `author` serves `user` under `sharing` (induced rules only).
@@ -49,9 +51,11 @@ std::string symbol_text(const sdk::Symbol& s) {
   return s.text;
 }
 
-std::string rule_shape_text(const StoredRule& s) {
-  std::string text = s.lhs + " ->";
-  for (const auto& sym : s.rhs) text += " " + sym;
+template <class Stored>
+std::string rule_shape_text(const Stored& s) {
+  std::string text(s.lhs);
+  text += " ->";
+  for (const auto& sym : s.rhs) (text += ' ') += sym;
   return text;
 }
 
@@ -61,6 +65,15 @@ std::string rule_shape(const sdk::Rule& rule) {
   std::string key = rule.lhs + " ->";
   for (const auto& s : rule.rhs) key += " " + symbol_text(s);
   return key;
+}
+
+std::uint64_t shape_hash(const sdk::Rule& rule) {
+  // The texts of rule_shape() hashed piece by piece: no string is built (start-up hashes every
+  // rule). Equal shapes hash equal; a collision only costs a same_rule() comparison.
+  std::uint64_t h = std::hash<std::string_view>{}(rule.lhs);
+  for (const auto& s : rule.rhs)
+    h = (h ^ std::hash<std::string_view>{}(s.text)) * 0x100000001B3ULL + 0x9E3779B97F4A7C15ULL;
+  return h;
 }
 
 StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition) {
@@ -82,53 +95,98 @@ namespace {
 // Templates repeat across a lexicon (one definition's rules, and users define alike); a program
 // is immutable, so rules with the same template text and sorts share one (start-up reads each
 // distinct template once). Per thread, bounded.
-sdk::Program cached_template(const std::string& text, sdk::Sort sort,
+sdk::Program cached_template(std::string_view text, sdk::Sort sort,
                              const std::vector<sdk::Sort>& holes) {
   thread_local std::unordered_map<std::string, sdk::Program> cache;
-  std::string key = text;
+  thread_local std::string key;  // reused: a lookup allocates nothing
+  key.assign(text);
   key += '\0';
   key += static_cast<char>(sort);
   for (sdk::Sort h : holes) key += static_cast<char>(h);
   if (auto it = cache.find(key); it != cache.end()) return it->second;
   sdk::Program p = sdk::read_template(text, sort, holes);
   if (cache.size() >= 4096) cache.clear();
-  cache.emplace(std::move(key), p);
+  cache.emplace(key, p);
   return p;
+}
+
+// The sort of a category's normal form (normalize + look up: several allocations), remembered
+// per category text; a lexicon uses a handful. Throws like sdk::category_sort for unknown ones.
+sdk::Sort cached_sort(std::string_view category) {
+  thread_local std::vector<std::pair<std::string, sdk::Sort>> known;
+  for (const auto& [name, sort] : known)
+    if (name == category) return sort;
+  const sdk::Sort sort = sdk::category_sort(sdk::normalize_category(std::string(category)));
+  if (known.size() < 64) known.emplace_back(category, sort);
+  return sort;
 }
 }  // namespace
 
-sdk::RulePtr rule_from_stored(const StoredRule& s) {
+namespace {
+// Checks everything that can throw before taking anything from `s`, so a rule that does not
+// load leaves its StoredRule intact for the quarantine report.
+template <class Stored>
+sdk::RulePtr build_rule(Stored&& s) {
   // Older versions induced `$Action -> $ROOT thrice`-like rules, whose hole takes a whole
   // sequence; such a rule is not read (so it is quarantined, with this message).
-  const std::string root = sdk::Grammar{}.root;
+  static const std::string root = sdk::Grammar{}.root;
   if (s.lhs == root || std::find(s.rhs.begin(), s.rhs.end(), root) != s.rhs.end())
     throw sdk::Error(lexicon_codes::kBadLexicon,
                      "'" + rule_shape_text(s) + "' uses the grammar root " + root +
                          " as a hole (induced by an older Flipper); re-induce the store's "
                          "definitions: flipper lexicon export FILE, then flipper lexicon import "
                          "FILE into a new lexicon.path");
+  // Moves out of an owned StoredRule; copies from a const one or from a view.
+  constexpr bool kMove = std::is_rvalue_reference_v<Stored&&> &&
+                         std::is_same_v<std::remove_cvref_t<Stored>, StoredRule>;
+  auto take = [](auto& field) -> std::string {
+    if constexpr (kMove)
+      return std::move(field);
+    else
+      return std::string(field);
+  };
+  // Induced RHS hold plain tokens and categories only; a token never starts with '$'.
+  auto is_category = [](std::string_view text) { return !text.empty() && text[0] == '$'; };
+  thread_local std::vector<sdk::Sort> holes;  // reused: no allocation per rule
+  holes.clear();
+  for (const auto& text : s.rhs)
+    if (is_category(text)) holes.push_back(cached_sort(text));
+  sdk::Program sem = cached_template(s.semantics, cached_sort(s.lhs), holes);
+  const sdk::RuleOrigin how = origin_from_string(s.how);
+  // Nothing below throws but allocation.
+  std::vector<sdk::Symbol> rhs;
+  rhs.reserve(s.rhs.size());
+  for (auto& text : s.rhs)
+    rhs.push_back(
+        {is_category(text) ? sdk::Symbol::Type::category : sdk::Symbol::Type::token, take(text)});
   auto rule = std::make_shared<sdk::Rule>();
-  rule->id = s.id;
-  rule->lhs = s.lhs;
-  std::vector<sdk::Sort> holes;
-  for (const auto& text : s.rhs) {
-    // Induced RHS hold plain tokens and categories only; a token never starts with '$'.
-    if (!text.empty() && text[0] == '$') {
-      rule->rhs.push_back({sdk::Symbol::Type::category, text});
-      holes.push_back(sdk::category_sort(sdk::normalize_category(text)));
-    } else {
-      rule->rhs.push_back({sdk::Symbol::Type::token, text});
-    }
-  }
-  rule->sem =
-      cached_template(s.semantics, sdk::category_sort(sdk::normalize_category(s.lhs)), holes);
+  rule->id = take(s.id);
+  rule->lhs = take(s.lhs);
+  rule->rhs = std::move(rhs);
+  rule->sem = std::move(sem);
   rule->induced = true;
-  rule->how = origin_from_string(s.how);
-  rule->author = s.author;
-  rule->head = s.head;
-  rule->body = s.body;
+  rule->how = how;
+  rule->author = take(s.author);
+  rule->head = take(s.head);
+  if constexpr (kMove)
+    rule->body = std::move(s.body);
+  else
+    rule->body.assign(s.body.begin(), s.body.end());
   rule->created = s.created;
   return rule;
+}
+}  // namespace
+
+sdk::RulePtr rule_from_stored(const StoredRule& s) {
+  return build_rule(s);
+}
+
+sdk::RulePtr rule_from_stored(StoredRule&& s) {
+  return build_rule(std::move(s));
+}
+
+sdk::RulePtr rule_from_stored(const StoredRuleView& s) {
+  return build_rule(s);
 }
 
 std::optional<std::string> quarantine_reason(const StoredRule& stored) {
@@ -175,7 +233,10 @@ Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions opt
     throw sdk::Error(sdk::codes::kInternal,
                      "naturalization needs a runtime with parser and scorer");
   if (!options_.warn) options_.warn = warn_stderr;
-  store_ = std::make_unique<LexiconStore>(options_.store_path, options_.store);
+  // The page check runs in restore_from_rows(), when no rule snapshot vouches for the file.
+  LexiconStoreOptions store_options = options_.store;
+  store_options.check_on_open = false;
+  store_ = std::make_unique<LexiconStore>(options_.store_path, store_options);
   restore();
   if (!options_.preload.empty()) preload(options_.preload);
 }
@@ -184,10 +245,59 @@ Naturalizer::~Naturalizer() = default;
 
 void Naturalizer::restore() {
   store_->changed_elsewhere();  // the baseline for refresh(), taken before reading
-  apply(store_->changes_since({}));
+  if (!restore_from_snapshot()) restore_from_rows();
+  // Counters last: they change on every accept without moving the mark, so no snapshot has them.
+  for (const auto& u : store_->nonzero_uses())
+    if (by_id_.count(u.rule)) runtime_->usage->set(u.rule, {u.by_author, u.by_others});
   initial_weights_ = save_weights();
   weights_user_.clear();
   if (!options_.per_user_weights) load_weights(weights_key({}));
+}
+
+bool Naturalizer::restore_from_snapshot() {
+  if (options_.snapshot_min_rules <= 0) return false;
+  SnapshotMiss miss = SnapshotMiss::none;
+  auto snapshot = store_->load_snapshot(&miss);
+  if (!snapshot) {
+    if (miss == SnapshotMiss::damaged)
+      options_.warn("lexicon store '" + store_->path() +
+                    "': the rule snapshot does not match its checksum; rebuilt from the rules");
+    return false;
+  }
+  if (snapshot->changed > std::max(options_.snapshot_min_rules, snapshot->rules / 8))
+    return false;  // cheaper to read the rows once and leave a fresh snapshot
+  by_id_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
+  shapes_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
+  rules_.reserve(static_cast<std::size_t>(snapshot->rules + snapshot->changed));
+  // The blob is checked whole before the first rule is handed out: false means nothing was added.
+  if (!read_rule_snapshot(snapshot->data, [&](const StoredRuleView& r) { add_viewed(r); })) {
+    options_.warn("lexicon store '" + store_->path() +
+                  "': the rule snapshot does not decode; rebuilt from the rules");
+    return false;
+  }
+  mark_ = snapshot->mark;
+  startup_.from_snapshot = true;
+  startup_.snapshot_rules = snapshot->rules;
+  snapshot.reset();  // the blob's memory, before the rows changed since are read
+  apply(store_->changes_since(mark_));
+  return true;
+}
+
+void Naturalizer::restore_from_rows() {
+  // No snapshot vouches for the file: check every page, as a plain open does.
+  store_->verify();
+  RuleSnapshotWriter writer;
+  const bool keep =
+      options_.snapshot_min_rules > 0 && !store_->read_only() && store_->path() != ":memory:";
+  const LiveRulesRead read = store_->read_live_rules([&](StoredRule&& r) {
+    if (keep) writer.add(r);
+    add_stored(std::move(r));
+  });
+  mark_ = read.mark;
+  if (keep && static_cast<std::int64_t>(writer.size()) >= options_.snapshot_min_rules) {
+    const auto n = static_cast<std::int64_t>(writer.size());
+    startup_.snapshot_saved = store_->save_snapshot(read, n, writer.finish());
+  }
 }
 
 namespace {
@@ -217,29 +327,48 @@ void Naturalizer::refresh() {
   if (store_->changed_elsewhere()) apply(store_->changes_since(mark_));
 }
 
+bool Naturalizer::add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr>& own) {
+  if (by_id_.count(stored.id)) return false;
+  auto mine = std::find_if(own.begin(), own.end(),
+                           [&](const sdk::RulePtr& r) { return r->id == stored.id; });
+  sdk::RulePtr rule;
+  if (mine != own.end()) {
+    rule = *mine;
+  } else {
+    try {
+      rule = rule_from_stored(std::move(stored));  // untouched when it throws
+    } catch (const std::exception& e) {
+      // One bad rule must not lock everyone out of a shared lexicon: skip it, say which.
+      options_.warn("lexicon store '" + store_->path() + "': rule " + stored.id + " (author '" +
+                    stored.author + "', head '" + stored.head +
+                    "') is quarantined, not served: " + e.what());
+      quarantined_.push_back({std::move(stored), e.what()});
+      return false;
+    }
+  }
+  runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(rule); });
+  add_live(std::move(rule));
+  return true;
+}
+
+void Naturalizer::add_viewed(const StoredRuleView& viewed) {
+  sdk::RulePtr rule;
+  try {
+    rule = rule_from_stored(viewed);
+  } catch (const std::exception&) {
+    add_stored(viewed.materialize());  // quarantines it, with the same warning
+    return;
+  }
+  if (by_id_.count(rule->id)) return;
+  runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(rule); });
+  add_live(std::move(rule));
+}
+
 void Naturalizer::apply(const LexiconChanges& changes, const std::vector<sdk::RulePtr>& own) {
   for (const auto& stored : changes.added) {
-    if (by_id_.count(stored.id)) continue;
-    auto mine = std::find_if(own.begin(), own.end(),
-                             [&](const sdk::RulePtr& r) { return r->id == stored.id; });
-    sdk::RulePtr rule;
-    if (mine != own.end()) {
-      rule = *mine;
-    } else {
-      try {
-        rule = rule_from_stored(stored);
-      } catch (const std::exception& e) {
-        // One bad rule must not lock everyone out of a shared lexicon: skip it, say which.
-        quarantined_.push_back({stored, e.what()});
-        options_.warn("lexicon store '" + store_->path() + "': rule " + stored.id + " (author '" +
-                      stored.author + "', head '" + stored.head +
-                      "') is quarantined, not served: " + e.what());
-        continue;
-      }
-    }
-    runtime_->usage->set(stored.id, {stored.uses_by_author, stored.uses_by_others});
-    runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(rule); });
-    add_live(std::move(rule));
+    const RuleUses uses{stored.id, stored.uses_by_author, stored.uses_by_others};
+    if (add_stored(StoredRule(stored), own))
+      runtime_->usage->set(uses.rule, {uses.by_author, uses.by_others});
   }
   for (const auto& id : changes.deleted) remove_live(id);
   mark_ = changes.mark;
@@ -260,8 +389,8 @@ void Naturalizer::select_user(const std::string& user) {
 }
 
 void Naturalizer::add_live(sdk::RulePtr rule) {
-  by_id_[rule->id] = rule;
-  by_shape_.emplace(rule_shape(*rule), rule);
+  by_id_.emplace(rule->id, rule);
+  shapes_.push_back(shape_hash(*rule));
   rules_.push_back(std::move(rule));
 }
 
@@ -271,13 +400,9 @@ void Naturalizer::remove_live(const std::string& id) {
   runtime_->parser.call("remove_rule", [&](sdk::Parser& p) { p.remove_rule(id); });
   runtime_->usage->erase(id);
   by_id_.erase(id);
-  auto [lo, hi] = by_shape_.equal_range(rule_shape(*rule));
-  for (auto it = lo; it != hi; ++it)
-    if (it->second == rule) {
-      by_shape_.erase(it);
-      break;
-    }
-  rules_.erase(std::remove(rules_.begin(), rules_.end(), rule), rules_.end());
+  const auto at = std::find(rules_.begin(), rules_.end(), rule) - rules_.begin();
+  rules_.erase(rules_.begin() + at);
+  shapes_.erase(shapes_.begin() + at);
 }
 
 bool Naturalizer::visible(const sdk::Rule& rule, const std::string& user) const {
@@ -290,9 +415,12 @@ std::function<bool(const sdk::Rule&)> Naturalizer::visibility_for(const std::str
 }
 
 bool Naturalizer::exists_for(const sdk::Rule& rule, const std::string& author) const {
-  auto [lo, hi] = by_shape_.equal_range(rule_shape(rule));
-  for (auto it = lo; it != hi; ++it)
-    if (visible(*it->second, author) && same_rule(*it->second, rule)) return true;
+  // A scan of 8 bytes per rule (0.1 ms at 100k rules), run a few times per define: cheaper
+  // overall than a hash map built for every rule at start-up.
+  const std::uint64_t shape = shape_hash(rule);
+  for (std::size_t i = 0; i < shapes_.size(); ++i)
+    if (shapes_[i] == shape && visible(*rules_[i], author) && same_rule(*rules_[i], rule))
+      return true;
   return false;
 }
 

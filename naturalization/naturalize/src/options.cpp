@@ -17,6 +17,7 @@ NaturalizeOptions NaturalizeOptions::from_config(const Config& config) {
   o.per_user_weights = config.get_string("lexicon.weights") == "per_user";  // schema: enum
   o.store.busy_timeout_ms =
       static_cast<int>(config.get_int(std::string(keys::kBusyTimeoutMs.path)));
+  o.snapshot_min_rules = config.get_int(std::string(keys::kSnapshotMinRules.path));
   o.induction.alignment = config.get_bool("induction.alignment");
   o.generalize = config.get_bool("induction.generalize");
   o.perturbed_checks = static_cast<int>(config.get_int(std::string(keys::kPerturbedChecks.path)));

@@ -33,6 +33,7 @@ inline constexpr Int kMaxBodyLines{"input.max_body_lines", 100, 1, 100000};
 inline constexpr Int kMaxFileBytes{"input.max_file_bytes", 67108864, 1, 1099511627776};
 inline constexpr Int kMaxWorldCells{"world.max_cells", 4194304, 1, 268435456};
 inline constexpr Int kBusyTimeoutMs{"lexicon.busy_timeout_ms", 10000, 1, 600000};
+inline constexpr Int kSnapshotMinRules{"lexicon.snapshot_min_rules", 512, 0, 1000000000};
 inline constexpr Int kPerturbedChecks{"induction.perturbed_checks", 0, 0, 1000};
 
 }  // namespace flipper::kernel::keys

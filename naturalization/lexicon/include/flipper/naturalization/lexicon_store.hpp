@@ -47,6 +47,10 @@ struct LexiconStoreOptions {
   /// SQLite's max_page_count (0: SQLite's default): caps the file size. Tests use it to make a
   /// store "full" without a full device.
   std::int64_t max_page_count = 0;
+  /// Runs SQLite's quick_check (every page read) while opening. The naturalizer turns it off and
+  /// calls verify() itself when it cannot start from a valid rule snapshot (docs/naturalization.md
+  /// §5 "Start-up at scale").
+  bool check_on_open = true;
 };
 
 /// One definition as the user gave it.
@@ -96,6 +100,24 @@ struct LexiconChanges {
   std::vector<std::string> deleted;
   ChangeMark mark;  ///< the store's position after these changes
 };
+
+/// Where a full read of the live rules ended: the mark, and how many rule rows (deleted included)
+/// the store held then (a snapshot taken at that mark is only valid while no row appears below it).
+struct LiveRulesRead {
+  ChangeMark mark;
+  std::int64_t rows = 0;
+};
+
+/// A stored rule snapshot (rule_snapshot.hpp) that passed its checks against the store.
+struct StoredSnapshot {
+  ChangeMark mark;           ///< the rules it holds: every live rule at this mark
+  std::int64_t rules = 0;    ///< how many
+  std::int64_t changed = 0;  ///< rule rows created or deleted after the mark
+  std::string data;          ///< the encoded rules
+};
+
+/// Why load_snapshot() gave nothing.
+enum class SnapshotMiss { none, absent, other_format, damaged, inconsistent };
 
 /// A committed definition: its id and its rules as stored (ids, `created` assigned).
 struct DefinitionCommit {
@@ -156,6 +178,23 @@ class LexiconStore {
   /// `not_found` (a hidden rule does not reveal its owner).
   DeleteResult delete_rule(const std::string& id, const std::string& user, std::int64_t time,
                            const std::function<bool(const std::string& author)>& visible_to_user);
+
+  /// Every live rule in creation order, handed to `each` as it is read (one read transaction);
+  /// use counters are left zero (see nonzero_uses()).
+  LiveRulesRead read_live_rules(const std::function<void(StoredRule&&)>& each) const;
+  /// The use counters that are not zero (one scan of the counters table).
+  std::vector<RuleUses> nonzero_uses() const;
+  /// SQLite's quick_check; throws lexicon_corrupt naming the file when it fails.
+  void verify();
+
+  /// The stored rule snapshot, when it exists, has this build's format, matches its checksum and
+  /// fits the store (no rule row appeared below its mark, the mark is not past the store's).
+  /// Otherwise nullopt, with the reason in `miss`.
+  std::optional<StoredSnapshot> load_snapshot(SnapshotMiss* miss = nullptr) const;
+  /// Stores a snapshot of `rules` live rules at `read` (best effort: a cache). Never waits long for
+  /// the write lock and never replaces a snapshot with a newer mark; false when it did not store
+  /// (busy, read-only, full, in-memory store).
+  bool save_snapshot(const LiveRulesRead& read, std::int64_t rules, const std::string& data);
 
   /// Rules added and deleted after `since` (any process), read in one snapshot.
   LexiconChanges changes_since(const ChangeMark& since) const;

@@ -4,14 +4,16 @@
 /// `delete_rule`): owns the lexicon store and the induced rules, keeps the parser's grammar in
 /// step with the store, and decides which rules a user sees (sharing modes).
 ///
-/// Start-up: the store's live rules are re-added to the parser in creation order, the scorer's
-/// weights restored, then the preload file (if any) replayed through induction (definitions the
-/// store already holds are skipped, so a restart does not replay them twice). A stored rule that
-/// no longer loads (unknown category, bad template) is quarantined: not served, reported once
-/// through `warn`, kept in the file.
-/// Every definition is committed to the store in one transaction before define() returns.
-/// Many processes may share the store: refresh() (called before every parse, define, listing
-/// and delete) picks up the rules and deletions other processes committed, incrementally.
+/// Start-up: the store's live rules are re-added to the parser in creation order — from the
+/// store's rule snapshot plus the rows changed after it when there is a usable one, else from the
+/// rows, leaving a snapshot for the next start (docs/naturalization.md §5 "Start-up at scale") —
+/// the scorer's weights restored, then the preload file (if any) replayed through induction
+/// (definitions the store already holds are skipped, so a restart does not replay them twice). A
+/// stored rule that no longer loads (unknown category, bad template) is quarantined: not served,
+/// reported once through `warn`, kept in the file. Every definition is committed to the store in
+/// one transaction before define() returns. Many processes may share the store: refresh() (called
+/// before every parse, define, listing and delete) picks up the rules and deletions other processes
+/// committed, incrementally.
 
 #include <chrono>
 #include <cstdint>
@@ -22,9 +24,10 @@
 #include <unordered_map>
 #include <vector>
 
+#include "flipper/kernel/runtime.hpp"
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
-#include "flipper/kernel/runtime.hpp"
+#include "flipper/naturalization/rule_snapshot.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/world.hpp"
 
@@ -48,6 +51,10 @@ struct NaturalizeOptions {
   std::string preload;                  ///< lexicon.preload (JSON Lines; empty: none)
   bool per_user_weights = false;        ///< lexicon.weights == per_user
   LexiconStoreOptions store;            ///< lexicon.busy_timeout_ms (+ test-only limits)
+  /// Start-up keeps a rule snapshot in the store once it holds this many live rules, and rebuilds
+  /// it when more than max(this, an eighth of its rules) rows changed since (docs/naturalization.md
+  /// §5 "Start-up at scale"). 0: never use or write one.
+  std::int64_t snapshot_min_rules = keys::kSnapshotMinRules.def;  ///< lexicon.snapshot_min_rules
   /// Where warnings go (quarantined rules); default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
   InductionOptions induction;  ///< induction.alignment (+ parser beam)
@@ -105,6 +112,13 @@ struct PreloadReport {
   std::vector<std::string> failures;  ///< "line N: code: message"
 };
 
+/// How start-up read the rules (docs/naturalization.md §5 "Start-up at scale").
+struct StartupReport {
+  bool from_snapshot = false;       ///< the stored snapshot, then the rows changed since
+  std::int64_t snapshot_rules = 0;  ///< rules the snapshot held (from_snapshot)
+  bool snapshot_saved = false;      ///< a fresh snapshot was stored (after reading the rows)
+};
+
 class Naturalizer {
  public:
   /// Opens the store and restores rules and weights into the runtime's parser and scorer, then
@@ -143,12 +157,22 @@ class Naturalizer {
   const std::vector<sdk::RulePtr>& induced_rules() const { return rules_; }
   sdk::RulePtr find_rule(const std::string& id) const;
   const PreloadReport& preload_report() const { return preload_report_; }
+  const StartupReport& startup() const { return startup_; }
   /// Stored rules that did not load, in the order they were met.
   const std::vector<QuarantinedRule>& quarantined() const { return quarantined_; }
   LexiconStore& store() { return *store_; }
 
  private:
   void restore();
+  /// Start-up from the stored snapshot plus the rows changed since; false (nothing loaded) when
+  /// there is no usable snapshot or too much changed since.
+  bool restore_from_snapshot();
+  /// Start-up from the rule rows (after SQLite's quick_check), leaving a snapshot for the next.
+  void restore_from_rows();
+  /// Serves one stored rule (or quarantines it); its use counters are set by the caller.
+  bool add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr>& own = {});
+  /// The same for a rule read from a snapshot (built straight from the blob's bytes).
+  void add_viewed(const StoredRuleView& viewed);
   void preload(const std::string& path);
   /// Applies changes read from the store; `own` holds this process's just-committed rules (used
   /// as they are instead of being read back).
@@ -166,19 +190,29 @@ class Naturalizer {
   std::unique_ptr<LexiconStore> store_;
   std::vector<sdk::RulePtr> rules_;
   std::unordered_map<std::string, sdk::RulePtr> by_id_;
-  std::unordered_multimap<std::string, sdk::RulePtr> by_shape_;  ///< "lhs -> rhs" key
+  /// shape_hash() of each rule in rules_ (same index): the candidates same_rule() compares a
+  /// new rule with. Computed while the rule is hot (a hash map built at start-up cost ~10% of a
+  /// 100k start; one built lazily cost the first define ~0.1 s, the rules out of the cache).
+  std::vector<std::uint64_t> shapes_;
   ChangeMark mark_;              ///< how far this process has read the store's history
   std::string initial_weights_;  ///< scorer state before any learning (per_user default)
   std::string weights_user_;     ///< whose weights the scorer holds (per_user)
   PreloadReport preload_report_;
+  StartupReport startup_;
   std::vector<QuarantinedRule> quarantined_;
 };
 
 /// "$Action -> pick $Number items": the key rules with equal LHS and RHS share.
 std::string rule_shape(const sdk::Rule& rule);
+/// A hash of rule_shape()'s text, computed without building it.
+std::uint64_t shape_hash(const sdk::Rule& rule);
 /// A stored rule back to a grammar rule (template read with sorts from the RHS categories).
 /// Throws sdk::Error when it does not load (unknown category, bad template).
 sdk::RulePtr rule_from_stored(const StoredRule& stored);
+/// The same, moving the strings out of `stored` (left as it was when it throws).
+sdk::RulePtr rule_from_stored(StoredRule&& stored);
+/// The same from a snapshot's view (nothing is copied twice).
+sdk::RulePtr rule_from_stored(const StoredRuleView& stored);
 /// Why a stored rule would be quarantined (nullopt: it loads).
 std::optional<std::string> quarantine_reason(const StoredRule& stored);
 /// Refuses a head with a token starting with '$' (head_reserved_token).
