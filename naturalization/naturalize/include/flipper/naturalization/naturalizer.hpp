@@ -21,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -189,7 +190,9 @@ class Naturalizer {
   NaturalizeOptions options_;
   std::unique_ptr<LexiconStore> store_;
   std::vector<sdk::RulePtr> rules_;
-  std::unordered_map<std::string, sdk::RulePtr> by_id_;
+  /// Keyed by a view of the rule's own id (rules are immutable; the value keeps the id alive):
+  /// no second copy of every id.
+  std::unordered_map<std::string_view, sdk::RulePtr> by_id_;
   /// shape_hash() of each rule in rules_ (same index): the candidates same_rule() compares a
   /// new rule with. Computed while the rule is hot (a hash map built at start-up cost ~10% of a
   /// 100k start; one built lazily cost the first define ~0.1 s, the rules out of the cache).
