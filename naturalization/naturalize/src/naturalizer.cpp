@@ -331,6 +331,10 @@ void Naturalizer::load_weights(const std::string& key) {
   }
 }
 
+void Naturalizer::close_store() {
+  store_.reset();
+}
+
 void Naturalizer::refresh() {
   // data_version is read before the changes, so a commit racing with this read shows next time.
   if (store_->changed_elsewhere()) apply(store_->changes_since(mark_));

@@ -139,6 +139,11 @@ class Naturalizer {
   /// Picks up what other processes committed since the last look (new rules, deletions); a
   /// cheap check (PRAGMA data_version) when nothing changed.
   void refresh();
+  /// Closes the lexicon store now (its last connection checkpoints and removes the WAL), for a
+  /// process about to exit without destroying the naturalizer: every write is already committed
+  /// when its op answers, so nothing is lost. Nothing that reads or writes the store may be
+  /// called afterwards.
+  void close_store();
   /// Live rules visible to `user`, optionally only those of `author`, in creation order.
   std::vector<RuleListing> rules(const std::string& user,
                                  const std::optional<std::string>& author = std::nullopt) const;
