@@ -16,10 +16,10 @@
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/runtime.hpp"
-#include "flipper/wiring/session_factory.hpp"
-#include "flipper/svg/svg.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/svg/svg.hpp"
+#include "flipper/wiring/session_factory.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -47,18 +47,18 @@ Reading interpret(kernel::Session& session, const std::string& text) {
     return {sdk::read_canonical(text)};
   } catch (const sdk::Error&) {
   }
-  const kernel::Json a = session.handle(kernel::Json{{"op", "query"}, {"text", text}, {"k", 1}});
-  if (!a.value("ok", false))
-    throw sdk::Error(a["error"].value("code", std::string(sdk::codes::kBadProgram)),
-                     a["error"].value("message", std::string()));
-  if (a["candidates"].empty())
+  kernel::QueryRequest request;
+  request.text = text;
+  request.k = 1;
+  const kernel::QueryResult result = session.query(request);  // the session's checks and codes
+  if (result.query->shown.empty())
     throw sdk::Error(sdk::codes::kBadProgram,
                      "cannot understand '" + text +
                          "': it is neither canonical text nor core language, nor a phrase of the "
                          "lexicon visible to this user (teach it in `flipper repl`)");
-  const kernel::Json& top = a["candidates"][0];
-  return {sdk::read_canonical(top.value("formula", std::string())),
-          a.value("total", std::size_t{1}), top.value("prob", 1.0)};
+  const kernel::LastQuery& q = *result.query;
+  const kernel::ShownCandidate& top = q.shown.front();
+  return {q.parse.candidates[top.index].program, result.total(), q.probs[top.index]};
 }
 
 const char* act_name(sdk::TraceStep::Act a) {
@@ -128,8 +128,7 @@ int run(const RunOptions& opts) {
   if (o.error) return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed);
   if (!opts.svg_file.empty()) {
     const kernel::Json before = session->world_json(world);
-    const kernel::Json trace =
-        kernel::Json::parse(kernel::protocol::outcome_json(o, dims)["trace"].dump());
+    const kernel::Json trace = kernel::protocol::trace_json(o.trace, dims);
     std::ofstream f(opts.svg_file);
     f << kernel::svg::world_picture(before, &trace, sdk::render(program));
     f.flush();

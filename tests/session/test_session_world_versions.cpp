@@ -1,73 +1,23 @@
-// Protocol 2 (docs/protocol.md § "Protocol versions"): world versions and change-only worlds. The oracle is the world
-// plugin itself: every world a session answers with (the world op's, each candidate's, each
-// accept's, the state's) must equal the plugin's own text for that state, in the full form, and
-// a client that applies the change-only answers must rebuild exactly that world — over every
-// request of the whole dev corpus.
+// Protocol 2 (docs/protocol.md § "Protocol versions"): world versions and change-only worlds. The
+// oracle is the world plugin itself: every world a session answers with (the world op's, each
+// candidate's, each accept's, the state's) must equal the plugin's own text for that state, in the
+// full form, and a client that applies the change-only answers must rebuild exactly that world —
+// over every request of the whole dev corpus.
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "dev_stream.hpp"
 #include "session_fixture.hpp"
 
 using flipper::kernel::Json;
 using flipper::testsupport::ask;
+using flipper::testsupport::dev_stream;
 using flipper::testsupport::error_code;
 using Plain = nlohmann::json;  // key order does not matter when comparing worlds
 
 namespace {
-
-const std::string kDev = std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/";
-
-std::vector<Plain> read_jsonl(const std::string& path) {
-  std::vector<Plain> out;
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) out.push_back(Plain::parse(line));
-  return out;
-}
-
-// The dev corpus as protocol requests, session by session (as bench/scale replays it): user,
-// then world + query per logged query, accept rank 0, define, and a state at the end of each.
-std::vector<std::string> dev_stream() {
-  std::map<std::string, Plain> worlds, defs;
-  for (auto& w : read_jsonl(kDev + "worlds.jsonl")) {
-    Plain obj;
-    for (const char* k : {"walls", "items", "robot", "rooms", "bounds"})
-      if (w.contains(k)) obj[k] = w[k];
-    worlds[w["world_id"].get<std::string>()] = obj;
-  }
-  for (auto& d : read_jsonl(kDev + "definitions.jsonl")) defs[d["def_id"].get<std::string>()] = d;
-  std::vector<std::string> order;
-  std::map<std::string, std::vector<Plain>> by_session;
-  for (auto& q : read_jsonl(kDev + "queries.jsonl")) {
-    const std::string s = q.value("session", "");
-    if (!by_session.count(s)) order.push_back(s);
-    by_session[s].push_back(q);
-  }
-  std::vector<std::string> out;
-  for (const auto& s : order) {
-    out.push_back(Plain{{"op", "user"}, {"name", by_session[s].front().value("user", s)}}.dump());
-    for (const auto& q : by_session[s]) {
-      const std::string kind = q.value("kind", "");
-      if (kind == "q" && q["utterance"].is_string()) {
-        if (auto w = worlds.find(q.value("world_id", "")); w != worlds.end())
-          out.push_back(Plain{{"op", "world"}, {"world", w->second}}.dump());
-        out.push_back(Plain{{"op", "query"}, {"text", q["utterance"]}}.dump());
-      } else if (kind == "accept") {
-        out.push_back(R"({"op":"accept","rank":0})");
-      } else if (kind == "def" || kind == "def_ret" || kind == "def_iso") {
-        auto d = defs.find("d:" + q.value("qid", ""));
-        if (d == defs.end()) continue;
-        Plain body = Plain::array();
-        for (const auto& b : d->second["body"]) body.push_back(b["utterance"]);
-        out.push_back(Plain{{"op", "define"}, {"head", d->second["head"]}, {"body", body}}.dump());
-      }
-    }
-    out.push_back(R"({"op":"state"})");
-  }
-  return out;
-}
 
 // What a protocol-2 client keeps: the geometry of each version it was sent.
 struct Client {

@@ -6,9 +6,9 @@
 #include <ostream>
 #include <set>
 
-#include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/msg/LexiconEvent.h"
+#include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -366,34 +366,37 @@ void LexiconReplicator::attach(kernel::Session& session) {
     kernel::Session::OpHandler inner = *session.find_op(name);
     kernel::Session::OpHandler wrapped;
     if (name == "define")
-      wrapped = [weak, inner](kernel::Session& s, const Json& r) {
+      wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
-        if (!self) return inner(s, r);
+        if (!self) return inner(s, r, a);
         std::lock_guard lock(self->mutex_);
-        return self->define_op(inner, s, r);
+        self->define_op(inner, s, r, a);
       };
     else if (name == "delete_rule")
-      wrapped = [weak, inner](kernel::Session& s, const Json& r) {
+      wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
-        if (!self) return inner(s, r);
+        if (!self) return inner(s, r, a);
         std::lock_guard lock(self->mutex_);
-        return self->delete_op(inner, s, r);
+        self->delete_op(inner, s, r, a);
       };
     else
-      wrapped = [weak, inner](kernel::Session& s, const Json& r) {
+      wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
-        if (!self) return inner(s, r);
+        if (!self) return inner(s, r, a);
         std::lock_guard lock(self->mutex_);
-        return inner(s, r);
+        inner(s, r, a);
       };
     session.set_op(name, std::move(wrapped));
   }
 }
 
-Json LexiconReplicator::define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
-                                  const Json& req) {
+void LexiconReplicator::define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
+                                  const Json& req, kernel::JsonWriter& a) {
   const std::string world = s.world_json(s.world()).dump();
-  Json answer = inner(s, req);  // committed to the store when it returns
+  // The op writes its members after "ok" and "op": read them back for the rule ids.
+  const std::size_t from = a.text().size();
+  inner(s, req, a);  // committed to the store when it returns
+  const Json answer = Json::parse("{" + a.text().substr(from + 1) + "}");
   LogRow row;
   row.event = next_local_event("define");
   row.event.author = s.user();
@@ -413,13 +416,12 @@ Json LexiconReplicator::define_op(const kernel::Session::OpHandler& inner, kerne
   row.status = "applied";
   log_db_->put(row);
   publish(row.event);
-  return answer;
 }
 
-Json LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
-                                  const Json& req) {
+void LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
+                                  const Json& req, kernel::JsonWriter& a) {
   const auto rule_field = req.find("rule");
-  if (rule_field == req.end() || !rule_field->is_string()) return inner(s, req);
+  if (rule_field == req.end() || !rule_field->is_string()) return inner(s, req, a);
   const std::string id = rule_field->get<std::string>();
   const LogRow* origin = nullptr;
   for (const auto& [key, row] : log_db_->rows())
@@ -442,7 +444,7 @@ Json LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kerne
     e.target_site = target->event.site;
     e.target_version = target->event.version;
   }
-  Json answer = inner(s, req);  // refuses (forbidden, not_found) before anything is published
+  inner(s, req, a);  // refuses (forbidden, not_found) before anything is published
   if (target != nullptr) {
     e.author = s.user();
     e.target_rule = description;
@@ -452,7 +454,6 @@ Json LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kerne
     log_db_->put(row);
     publish(e);
   }
-  return answer;
 }
 
 }  // namespace flipper::dds

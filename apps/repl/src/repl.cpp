@@ -9,9 +9,11 @@
 
 #include <fstream>
 
+#include "flipper/kernel/protocol.hpp"
+#include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/repl/repl.hpp"
-#include "flipper/svg/svg.hpp"
 #include "flipper/sdk/canonical.hpp"
+#include "flipper/svg/svg.hpp"
 
 namespace flipper::kernel::repl {
 namespace {
@@ -45,20 +47,45 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-std::string rhs_text(const Json& r) {
+std::string rhs_text(const sdk::Rule& r) {
   std::string rhs;
-  for (const auto& t : r.value("rhs", Json::array()))
-    rhs += (rhs.empty() ? "" : " ") + (t.is_string() ? t.get<std::string>() : t.dump());
+  for (const auto& symbol : r.rhs) rhs += (rhs.empty() ? "" : " ") + symbol.text;
   return rhs;
 }
 
-// "  r1  zig zag -> ...  =>  {...}  (by ana, used 2x)"; tolerant of missing fields.
-std::string describe_rule(const Json& r) {
-  std::string line = "  " + r.value("id", std::string("?")) + "  " + r.value("lhs", std::string()) +
-                     " -> " + rhs_text(r) + "  =>  " + r.value("semantics", std::string());
-  line += "  (by " + r.value("author", std::string("?"));
-  if (r.contains("uses") && r["uses"].is_number()) line += ", used " + r["uses"].dump() + "x";
-  return line + ")\n";
+// "  r1  zig zag -> ...  =>  {...}"
+std::string rule_text(const sdk::Rule& r) {
+  return "  " + r.id + "  " + r.lhs + " -> " + rhs_text(r) + "  =>  " + sdk::render(r.sem);
+}
+
+// "  r1  zig zag -> ...  =>  {...}  (by ana, used 2x)"
+std::string describe_rule(const RuleListing& l) {
+  return rule_text(*l.rule) + "  (by " + l.rule->author + ", used " +
+         std::to_string(l.uses_by_author + l.uses_by_others) + "x)\n";
+}
+
+// A shown candidate in the protocol's candidate shape (docs/protocol.md § query), the input of
+// the candidate view.
+Json candidate_view(const LastQuery& q, const ShownCandidate& sc) {
+  const sdk::Candidate& c = q.parse.candidates[sc.index];
+  const int dims = q.world.geometry ? q.world.geometry->dims() : 2;
+  Json rules = Json::array(), authors = Json::array();
+  for (const auto& r : sc.induced_rules) {
+    rules.push_back(r->id);
+    if (std::find(authors.begin(), authors.end(), r->author) == authors.end())
+      authors.push_back(r->author);
+  }
+  Json v{{"formula", sdk::render(c.program)},
+         {"prob", q.probs[sc.index]},
+         {"induced", !c.core_only},
+         {"rules", std::move(rules)},
+         {"authors", std::move(authors)},
+         {"realizable", sc.outcome.realizable && !sc.outcome.error},
+         {"trace", protocol::trace_json(sc.outcome.trace, dims)},
+         {"warnings", protocol::strings_json(sc.outcome.warnings)}};
+  if (sc.error_code)
+    v["error"] = protocol::error_json(*sc.error_code, sc.outcome.error.value_or(""));
+  return v;
 }
 
 std::optional<int> parse_int(const std::string& s) {
@@ -107,14 +134,31 @@ class Repl {
   }
 
  private:
-  Json call(const Json& request) {
-    Json answer = session_.handle(request);
-    if (!answer.value("ok", false)) {
-      const Json& e = answer["error"];
-      out_ << "error (" << e.value("code", std::string())
-           << "): " << e.value("message", std::string()) << '\n';
+  // Runs a typed session call; a refusal is printed as the protocol names it. False then.
+  template <class F>
+  bool call(F&& f) {
+    try {
+      f();
+      return true;
+    } catch (const sdk::Error& e) {
+      out_ << "error (" << e.code() << "): " << e.what() << '\n';
+    } catch (const std::exception& e) {
+      out_ << "error (" << sdk::codes::kInternal << "): internal error: " << e.what() << '\n';
     }
-    return answer;
+    return false;
+  }
+
+  // The lexicon's define/rules/delete service (null in a session without naturalization).
+  NaturalizationExtension* lexicon() {
+    auto* nat = session_.extension<NaturalizationExtension>();
+    if (nat == nullptr) out_ << "error (unknown_op): this session has no lexicon\n";
+    return nat;
+  }
+
+  Json world_view(const sdk::WorldState& state) {
+    Json world;
+    call([&] { world = session_.world_json(state); });
+    return world;
   }
 
   MapOptions map_options(const Json* trace = nullptr, bool legend = true) const {
@@ -126,8 +170,8 @@ class Repl {
   }
 
   void show_map() {
-    Json a = call(Json{{"op", "state"}});
-    if (a.value("ok", false)) out_ << render_map(a["world"], map_options());
+    const Json world = world_view(session_.world());
+    if (!world.is_null()) out_ << render_map(world, map_options());
   }
 
   // The words the grammar knows: core terminals, colour/shape/direction words, and the words
@@ -142,12 +186,12 @@ class Repl {
       for (const auto* list : {&g->colors, &g->shapes, &g->directions})
         words.insert(words.end(), list->begin(), list->end());
     }
-    Json a = session_.handle(Json{{"op", "rules"}});
-    if (a.value("ok", false))
-      for (const auto& r : a.value("rules", Json::array()))
-        for (const auto& t : r.value("rhs", Json::array()))
-          if (t.is_string() && !t.get<std::string>().empty() && t.get<std::string>()[0] != '$')
-            words.push_back(t.get<std::string>());
+    if (auto* nat = session_.extension<NaturalizationExtension>()) try {
+        for (const auto& l : nat->rules(session_, std::nullopt))
+          for (const auto& symbol : l.rule->rhs)
+            if (!symbol.text.empty() && symbol.text[0] != '$') words.push_back(symbol.text);
+      } catch (const std::exception&) {  // the words are a hint: none from the lexicon then
+      }
     std::sort(words.begin(), words.end());
     words.erase(std::unique(words.begin(), words.end()), words.end());
     return words;
@@ -167,26 +211,27 @@ class Repl {
     trail_ = Json();
     readings_ = Json::array();
     shown_ = 0;
-    const Json state = session_.handle(Json{{"op", "state"}});
-    query_world_ = state.value("world", Json());  // the paths start here
-    Json a = call(Json{{"op", "query"}, {"text", text}, {"k", kKeep}});
+    query_world_ = world_view(session_.world());  // the paths start here
+    QueryResult result;
+    const bool ok = call([&] { result = session_.query(QueryRequest{text, kKeep}); });
     // The session cannot be stopped mid-query (session.deadline_ms bounds it); Ctrl-C while it
     // ran drops its answer.
     if (reader_.take_interrupt()) {
       out_ << "\nCancelled (Ctrl-C): the readings are not shown.\n";  // after the echoed ^C
       return;
     }
-    if (!a.value("ok", false)) return;
-    if (a["candidates"].empty()) {
+    if (!ok) return;
+    if (result.query->shown.empty()) {
       const std::string note = unknown_words_note(text);
       out_ << "I did not understand that. " << note
            << (note.empty() ? "" : "Fix the spelling, or teach the phrase with `:define`.\n")
            << (note.empty() ? "Teach me with `:define` (then the steps, one per line).\n" : "");
       return;
     }
-    readings_ = a["candidates"];
-    total_ = a.value("total", readings_.size());
-    out_ << "Readings (" << a.value("status", std::string()) << "):\n";
+    for (const ShownCandidate& sc : result.query->shown)
+      readings_.push_back(candidate_view(*result.query, sc));
+    total_ = result.total();
+    out_ << "Readings (" << result.status << "):\n";
     show_more();
   }
 
@@ -232,18 +277,21 @@ class Repl {
       return true;
     }
     const sdk::WorldState before = session_.world();
-    Json a = call(Json{{"op", "accept"}, {"rank", *n - 1}});
-    if (!a.value("ok", false)) return true;
+    AcceptResult accepted;
+    if (!call([&] { accepted = session_.accept(AcceptRequest{*n - 1}); })) return true;
+    const sdk::Outcome& o = accepted.outcome;
     undo_.push_back(before);
-    trail_ = a["trace"];
+    trail_ = protocol::trace_json(o.trace, o.world.geometry ? o.world.geometry->dims() : 2);
     trail_title_ = readings_[static_cast<std::size_t>(*n - 1)].value("formula", std::string());
     trail_world_ = query_world_;
     readings_ = Json::array();
     std::size_t steps = 0;
-    for (const auto& s : a["trace"]) steps += s.value("act", std::string()) == "move";
+    for (const auto& s : o.trace) steps += s.act == sdk::TraceStep::Act::move;
     out_ << "Done: " << steps << (steps == 1 ? " step" : " steps") << ". (:undo puts it back)\n";
-    for (const auto& w : collapse_warnings(a["warnings"])) out_ << "warning: " << w << '\n';
-    out_ << render_map(a["world"], map_options(&a["trace"]));
+    for (const auto& w : collapse_warnings(protocol::strings_json(o.warnings)))
+      out_ << "warning: " << w << '\n';
+    const Json world = world_view(o.world);
+    if (!world.is_null()) out_ << render_map(world, map_options(&trail_));
     return true;
   }
 
@@ -272,12 +320,11 @@ class Repl {
         return true;
       }
       const sdk::WorldState before = session_.world();
-      Json a = call(Json{{"op", "world"}, {"file", arg}});
-      if (a.value("ok", false)) {
+      if (call([&] { session_.open_world_file(arg); })) {
         undo_.push_back(before);
         readings_ = Json::array();
         floor_.reset();
-        out_ << render_map(a["world"], map_options());
+        show_map();
       }
     } else if (cmd == ":save") {
       save(arg);
@@ -288,12 +335,11 @@ class Repl {
         out_ << "usage: :user NAME\n";
         return true;
       }
-      Json a = call(Json{{"op", "user"}, {"name", arg}});
-      if (a.value("ok", false)) out_ << "You are " << a["name"].get<std::string>() << ".\n";
+      if (call([&] { session_.set_user(arg); })) out_ << "You are " << session_.user() << ".\n";
     } else if (cmd == ":rules") {
-      Json a = call(Json{{"op", "rules"}});
-      if (a.value("ok", false)) {
-        const Json rules = a.value("rules", Json::array());
+      std::vector<RuleListing> rules;
+      auto* nat = lexicon();
+      if (nat != nullptr && call([&] { rules = nat->rules(session_, std::nullopt); })) {
         if (rules.empty()) out_ << "No rules.\n";
         for (const auto& r : rules) out_ << describe_rule(r);
         if (!rules.empty()) out_ << "(:delete ID removes one of your own rules)\n";
@@ -303,8 +349,9 @@ class Repl {
         out_ << "usage: :delete ID (ids from :rules)\n";
         return true;
       }
-      Json a = call(Json{{"op", "delete_rule"}, {"rule", arg}});
-      if (a.value("ok", false)) out_ << "Deleted rule " << arg << ".\n";
+      auto* nat = lexicon();
+      if (nat != nullptr && call([&] { nat->delete_rule(session_, arg); }))
+        out_ << "Deleted rule " << arg << ".\n";
     } else if (cmd == ":define") {
       define(arg.empty() ? last_text_ : arg);
     } else {
@@ -323,8 +370,7 @@ class Repl {
     if (trail_.is_array()) {
       picture = svg::world_picture(trail_world_, &trail_, trail_title_);
     } else {
-      const Json state = session_.handle(Json{{"op", "state"}});
-      picture = svg::world_picture(state.value("world", Json::object()), nullptr, "world");
+      picture = svg::world_picture(session_.world_json(session_.world()), nullptr, "world");
     }
     std::ofstream f(file);
     f << picture;
@@ -367,15 +413,21 @@ class Repl {
       return;
     }
     // The head is checked first: a phrase the core language already reads is not taught.
-    Json h = session_.handle(Json{{"op", "query"}, {"text", head}, {"k", 1}});
-    if (h.value("ok", false) && h.value("status", std::string()) == "core") {
-      out_ << "\"" << head << "\" already means " << h["candidates"][0].value("formula", "")
-           << " in the core language; use it as it is.\n";
-      return;
+    try {
+      const QueryResult h = session_.query(QueryRequest{head, 1});
+      if (std::string_view(h.status) == "core") {
+        const LastQuery& q = *h.query;
+        out_ << "\"" << head << "\" already means "
+             << sdk::render(q.parse.candidates[q.shown.at(0).index].program)
+             << " in the core language; use it as it is.\n";
+        return;
+      }
+    } catch (const std::exception&) {  // not readable as it is: a head to teach
     }
     out_ << "Defining \"" << head << "\". Enter the steps, one per line; an empty line ends, "
          << "Ctrl-C (or :cancel) abandons it.\n";
-    Json body = Json::array(), ranks = Json::array();
+    DefineCall definition;
+    definition.head = head;
     std::string line;
     bool ended = false;  // by the empty line (not by :cancel or the end of input)
     while (read_definition_line("  ...> ", line)) {
@@ -383,13 +435,15 @@ class Repl {
         ended = true;
         break;
       }
-      Json a = call(Json{{"op", "query"}, {"text", line}, {"k", kKeep}});
+      QueryResult result;
+      const bool ok = call([&] { result = session_.query(QueryRequest{line, kKeep}); });
       if (reader_.take_interrupt()) {
         out_ << "Definition cancelled; nothing was learned.\n";
         return;
       }
-      if (!a.value("ok", false)) continue;
-      const Json& cands = a["candidates"];
+      if (!ok) continue;
+      const LastQuery& q = *result.query;
+      const auto& cands = q.shown;
       if (cands.empty()) {
         out_ << "  I do not understand \"" << line << "\". " << unknown_words_note(line)
              << "  Type the step again (an empty line ends the definition).\n";
@@ -399,7 +453,8 @@ class Repl {
       if (cands.size() > 1) {
         out_ << "  \"" << line << "\" has " << cands.size() << " readings:\n";
         for (std::size_t i = 0; i < cands.size() && i < 9; ++i)
-          out_ << "    [" << i + 1 << "] " << cands[i].value("formula", std::string()) << '\n';
+          out_ << "    [" << i + 1 << "] "
+               << sdk::render(q.parse.candidates[cands[i].index].program) << '\n';
         std::string pick;
         while (true) {
           if (!read_definition_line("  which reading? [1] ", pick)) return;
@@ -411,23 +466,23 @@ class Repl {
           out_ << "  Choose 1.." << cands.size() << " (empty: 1).\n";
         }
       }
-      body.push_back(line);
-      ranks.push_back(rank);
+      definition.body.push_back(line);
+      definition.ranks.push_back(rank);
     }
     if (!ended) return;
-    if (body.empty()) {
+    if (definition.body.empty()) {
       out_ << "Nothing defined.\n";
       return;
     }
-    Json a = call(Json{{"op", "define"}, {"head", head}, {"body", body}, {"ranks", ranks}});
-    if (!a.value("ok", false)) return;
-    const Json rules = a.value("rules", Json::array());
+    auto* nat = lexicon();
+    DefineOutcome defined;
+    if (nat == nullptr || !call([&] { defined = nat->define(session_, definition); })) return;
+    const auto& rules = defined.rules;
     out_ << "Learned " << rules.size() << (rules.size() == 1 ? " rule" : " rules") << ":\n";
-    for (const auto& r : rules)
-      out_ << "  " << r.value("id", std::string("?")) << "  " << r.value("lhs", std::string())
-           << " -> " << rhs_text(r) << "  =>  " << r.value("semantics", std::string()) << '\n';
-    if (a.contains("generalized") && !a["generalized"].is_null())
-      out_ << "(generalized the body to: " << a["generalized"].dump() << ")\n";
+    for (const auto& r : rules) out_ << rule_text(*r) << '\n';
+    if (defined.generalized)  // quoted, as the protocol's "generalized" string
+      out_ << "(generalized the body to: " << Json(sdk::render(defined.generalized)).dump()
+           << ")\n";
     // The lexicon picks up other processes' rules before each parse (docs/naturalization.md).
     out_ << "(Stored in the lexicon: other repls and sessions on the same store can use it from "
             "their next query on.)\n";

@@ -8,12 +8,13 @@
 
 #include "flipper/corpus/accept_diff.hpp"
 #include "flipper/corpus/original_text.hpp"
+#include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/replay/deletion_map.hpp"
 #include "flipper/replay/rule_oracle.hpp"
-#include "flipper/wiring/session_factory.hpp"
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/session_factory.hpp"
 
 namespace flipper::kernel::replay {
 namespace {
@@ -62,6 +63,20 @@ WorldDigest digest(const J& w) {
   return d;
 }
 
+// Runs one typed session call; returns "" when it succeeded, else the protocol's error code for
+// what it threw (as the session would have answered the request).
+template <class F>
+std::string attempt(F&& call) {
+  try {
+    call();
+    return {};
+  } catch (const sdk::Error& e) {
+    return e.code();
+  } catch (const std::exception&) {
+    return sdk::codes::kInternal;
+  }
+}
+
 class RunReplay {
  public:
   RunReplay(const Corpus& corpus, const Run& run, const ReplayOptions& options, ReplayResult& out)
@@ -69,6 +84,9 @@ class RunReplay {
     std::vector<std::string> sets = mode_overrides(run.group);
     sets.insert(sets.end(), options.sets.begin(), options.sets.end());
     session_ = open_session(options.config_file, sets);
+    naturalization_ = session_->extension<NaturalizationExtension>();
+    if (naturalization_ == nullptr)
+      throw sdk::Error(sdk::codes::kInternal, "replay: the session has no naturalization");
   }
 
   void preload() {
@@ -95,11 +113,14 @@ class RunReplay {
   }
 
  private:
-  Json call(Json request) { return session_->handle(request); }
-
   void set_user(const std::string& user) {
     if (user == session_->user()) return;
-    call(Json{{"op", "user"}, {"name", user}});
+    attempt([&] { session_->set_user(user); });  // an empty name keeps the current user
+  }
+
+  // Asks the session again without recording (the accept of another user's query needs it).
+  void requery(const std::string& text, std::optional<std::int64_t> k = std::nullopt) {
+    attempt([&] { session_->query(QueryRequest{text, k}); });
   }
 
   void set_world(const std::string& id) {
@@ -129,24 +150,26 @@ class RunReplay {
     row.original_author = c.author.value_or("");
     row.original_parses = c.n_parses;
     row.original_ms = c.walltime_s * 1000.0;
-    Json a = call(Json{{"op", "query"}, {"text", c.utterance}});
+    QueryResult result;
+    const bool ok = attempt([&] {
+                      result = session_->query(QueryRequest{c.utterance, {}});
+                    }).empty();
     last_qid_ = c.qid;
-    if (a.value("ok", false)) {
-      row.ours = a.value("status", std::string("error"));
-      row.ms = a.value("ms", 0.0);
+    if (ok) {
+      const LastQuery& q = *result.query;
+      row.ours = result.status;
+      row.ms = result.ms;
       row.our_author = "none";
-      const auto& cands = a["candidates"];
-      if (!cands.empty() && cands[0].value("induced", false) && !cands[0]["rules"].empty()) {
+      if (!q.shown.empty() && !q.parse.candidates[q.shown[0].index].core_only &&
+          !q.shown[0].induced_rules.empty()) {
         row.our_author = "self";
-        for (const auto& author : cands[0]["authors"])
-          if (author.get<std::string>() != c.user) row.our_author = "other";
+        for (const auto& rule : q.shown[0].induced_rules)
+          if (rule->author != c.user) row.our_author = "other";
       }
-      if (const LastQuery* q = session_->last_query()) {
-        row.our_candidates = static_cast<int>(q->parse.candidates.size());
-        const auto& top = q->parse.candidates;
-        row.floating = !top.empty() && !top[0].derivations.empty() &&
-                       words_left_out(*top[0].derivations[0]) > 0;
-      }
+      row.our_candidates = static_cast<int>(q.parse.candidates.size());
+      const auto& top = q.parse.candidates;
+      row.floating =
+          !top.empty() && !top[0].derivations.empty() && words_left_out(*top[0].derivations[0]) > 0;
     } else {
       row.ours = "error";
     }
@@ -169,7 +192,7 @@ class RunReplay {
     // Users of one run interleave: another user's command may have replaced the session's last
     // query since this user's `q`, so ask it again (same user, same logged world; not recorded).
     if ((last_qid_ != c.for_qid || !session_->last_query()) && !c.utterance.empty()) {
-      call(Json{{"op", "query"}, {"text", c.utterance}});
+      requery(c.utterance);
       last_qid_ = c.for_qid;
     }
     AcceptRow row;
@@ -207,7 +230,7 @@ class RunReplay {
   void execute(const Command& c, const OriginalAnswer::Candidate& original, AcceptRow& row) {
     if (row.rank >= static_cast<int>(session_->last_query()->shown.size())) {
       const std::string text = session_->last_query()->text;  // copy: re-querying replaces it
-      call(Json{{"op", "query"}, {"text", text}, {"k", row.rank + 1}});
+      requery(text, row.rank + 1);
     }
     // What the classification needs, before the accept consumes the query: the shown
     // candidate's outcome is the execution the accept commits (same program, same world).
@@ -216,18 +239,20 @@ class RunReplay {
     const sdk::WorldState start = q.world;
     const sdk::Program program = q.parse.candidates[static_cast<std::size_t>(row.rank)].program;
 
-    Json a = call(Json{{"op", "accept"}, {"rank", row.rank}});
-    row.executed = a.value("ok", false);
-    if (row.executed) {
+    AcceptResult accepted;
+    const std::string error =
+        attempt([&] { accepted = session_->accept(AcceptRequest{row.rank}); });
+    row.executed = error.empty();
+    if (row.executed)
       world_id_.clear();  // the session now holds our world, not a logged one
-    } else {
-      row.note = a.contains("error") ? a["error"].value("code", std::string()) : "accept failed";
-    }
+    else
+      row.note = error;
     auto after = corpus_.worlds.find(c.next_world_id);
     if (after == corpus_.worlds.end()) return;
     if (row.executed) {
       row.compared = true;
-      const WorldDigest ours = digest(a["world"]), theirs = digest(after->second);
+      const WorldDigest ours = digest(session_->world_json(accepted.outcome.world)),
+                        theirs = digest(after->second);
       row.robot = ours.robot == theirs.robot;
       row.held = ours.held == theirs.held;
       row.floor = ours.floor == theirs.floor;
@@ -236,8 +261,7 @@ class RunReplay {
     // classification then cannot detect a wrong start).
     auto before = corpus_.worlds.find(c.world_id);
     const nlohmann::json start_json =
-        before == corpus_.worlds.end() ? nlohmann::json::parse(session_->world_json(start).dump())
-                                       : nlohmann::json();
+        before == corpus_.worlds.end() ? session_->world_json(start) : nlohmann::json();
     const nlohmann::json& before_json =
         before == corpus_.worlds.end() ? start_json : before->second;
     row.diff = corpus::class_id(
@@ -257,21 +281,21 @@ class RunReplay {
 
   void define(const Definition& def, const std::string& head, const std::vector<BodyLine>& body,
               DefineRow& row) {
-    Json lines = Json::array();
-    for (const auto& b : body) lines.push_back(b.utterance);
-    Json a = call(Json{{"op", "define"}, {"head", head}, {"body", std::move(lines)}});
+    DefineCall call;
+    call.head = head;
+    for (const auto& b : body) call.body.push_back(b.utterance);
+    DefineOutcome defined;
+    row.error_code = attempt([&] { defined = naturalization_->define(*session_, call); });
+    row.ok = row.error_code.empty();
     std::vector<OurRule> ours;
     std::vector<RuleShape> shapes;
-    row.ok = a.value("ok", false);
-    if (row.ok) {
-      for (const auto& r : a["rules"]) {
-        ours.push_back({r.value("id", std::string()), r.value("how", std::string())});
-        shapes.push_back(
-            {r.value("lhs", std::string()), r.value("rhs", std::vector<std::string>{})});
+    if (row.ok)
+      for (const auto& r : defined.rules) {
+        ours.push_back({r->id, sdk::to_string(r->how)});
+        RuleShape shape{r->lhs, {}};
+        for (const auto& symbol : r->rhs) shape.rhs.push_back(symbol.text);
+        shapes.push_back(std::move(shape));
       }
-    } else if (a.contains("error")) {
-      row.error_code = a["error"].value("code", std::string());
-    }
     row.rules = static_cast<int>(ours.size());
     row.rule_match = compare_rules(def.rules, shapes);
     // Definitions not in definitions.jsonl have no logged rules: they only take part in the
@@ -287,11 +311,11 @@ class RunReplay {
     row.definition = m.def_id;
     row.note = m.note;
     for (const auto& id : m.ids) {
-      Json a = call(Json{{"op", "delete_rule"}, {"rule", id}});
-      if (a.value("ok", false))
+      const std::string error = attempt([&] { naturalization_->delete_rule(*session_, id); });
+      if (error.empty())
         row.deleted.push_back(id);
-      else if (a.contains("error"))
-        row.note += (row.note.empty() ? "" : "; ") + id + ": " + a["error"].value("code", "");
+      else
+        row.note += (row.note.empty() ? "" : "; ") + id + ": " + error;
     }
     out_.deletes.push_back(std::move(row));
   }
@@ -300,7 +324,8 @@ class RunReplay {
   const Run& run_;
   ReplayResult& out_;
   std::unique_ptr<Session> session_;
-  std::string last_qid_;  ///< the `q` the session's last query answers
+  NaturalizationExtension* naturalization_ = nullptr;  ///< the session's define/delete service
+  std::string last_qid_;                               ///< the `q` the session's last query answers
   std::string world_id_;  ///< the logged world the session holds ("" after our own accept)
   std::unordered_map<std::string, sdk::WorldState> world_cache_;
   DeletionMap deletions_;

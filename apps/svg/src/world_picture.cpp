@@ -9,7 +9,7 @@
 
 namespace flipper::kernel::svg {
 
-Pt point_of(const nlohmann::ordered_json& p) {
+Pt point_of(const nlohmann::json& p) {
   Pt out;
   if (p.is_array() && p.size() >= 2) {
     out.x = p[0].get<int>();
@@ -25,12 +25,12 @@ Pt point_of(const nlohmann::ordered_json& p) {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
+using Json = nlohmann::json;
 
 // CSS colours for the grammar's colour words; anything else grey.
 std::string css_color(const std::string& c) {
-  static const std::set<std::string> known = {"black",  "blue", "gray",   "green", "orange",
-                                              "pink",   "purple", "red", "yellow"};
+  static const std::set<std::string> known = {"black", "blue",   "gray", "green", "orange",
+                                              "pink",  "purple", "red",  "yellow"};
   if (c == "grey") return "gray";
   return known.count(c) ? c : "#999";
 }
@@ -62,7 +62,8 @@ std::string world_picture(const Json& world, const Json* trace, const std::strin
     min_y = std::min(min_y, p.y), max_y = std::max(max_y, p.y);
   }
   for (const auto& b : boxes) {
-    const Pt lo = point_of(b.value("min", Json::array())), hi = point_of(b.value("max", Json::array()));
+    const Pt lo = point_of(b.value("min", Json::array())),
+             hi = point_of(b.value("max", Json::array()));
     if (floor < lo.z || floor > hi.z) continue;
     for (int x = lo.x; x <= hi.x; ++x)
       for (int y = lo.y; y <= hi.y; ++y) walls.insert({x, y});
@@ -121,9 +122,9 @@ std::string world_picture(const Json& world, const Json* trace, const std::strin
       if (shape == "circle") {
         w.circle(cx, cy, s / 2, fill, "#333");
       } else if (shape == "triangle") {
-        w.raw("<polygon points=\"" + num(cx) + "," + num(cy - s / 2) + " " + num(cx - s / 2) +
-              "," + num(cy + s / 2) + " " + num(cx + s / 2) + "," + num(cy + s / 2) +
-              "\" fill=\"" + fill + "\" stroke=\"#333\"/>");
+        w.raw("<polygon points=\"" + num(cx) + "," + num(cy - s / 2) + " " + num(cx - s / 2) + "," +
+              num(cy + s / 2) + " " + num(cx + s / 2) + "," + num(cy + s / 2) + "\" fill=\"" +
+              fill + "\" stroke=\"#333\"/>");
       } else {
         w.rect(cx - s / 2, cy - s / 2, s, s, fill, "#333");
       }
@@ -137,7 +138,8 @@ std::string world_picture(const Json& world, const Json* trace, const std::strin
   // P/D where items were picked and dropped.
   std::size_t moves = 0, picks = 0, drops = 0;
   if (trace != nullptr) {
-    std::vector<std::pair<double, double>> path = {{px(robot.x) + kCell / 2, py(robot.y) + kCell / 2}};
+    std::vector<std::pair<double, double>> path = {
+        {px(robot.x) + kCell / 2, py(robot.y) + kCell / 2}};
     for (const auto& s : *trace) {
       const std::string act = s.value("act", std::string());
       const Pt p = point_of(act == "move" ? s.value("to", Json()) : s.value("at", Json()));

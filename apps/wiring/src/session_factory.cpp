@@ -18,7 +18,7 @@ std::unique_ptr<Session> open_session(const std::optional<std::string>& config_f
 
 std::unique_ptr<Session> SessionHost::open() const {
   auto session = std::make_unique<Session>(runtime);
-  for (const auto& extension : extensions) extension->install(*session);
+  for (const auto& extension : extensions) session->install(extension);
   return session;
 }
 

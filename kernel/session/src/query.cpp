@@ -62,16 +62,16 @@ void Session::check_length(std::string_view text) const {
                                                     std::to_string(options_.max_chars));
 }
 
-Json Session::op_query(const Json& req) {
+QueryResult Session::query(const QueryRequest& request) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::string text = request::require_string(req, "text", "the utterance to parse");
-  std::int64_t k =
-      request::optional_int(req, "k", "how many candidates to show").value_or(options_.k);
+  begin_call();
+  for (const auto& hook : query_hooks_) hook(*this);
+  const std::int64_t k = request.k.value_or(options_.k);
   if (k < 0) throw sdk::Error(sdk::codes::kBadRequest, "field 'k' must not be negative");
-  check_length(text);
+  check_length(request.text);
 
-  auto q = std::make_unique<LastQuery>();
-  q->text = std::move(text);
+  auto q = std::make_shared<LastQuery>();
+  q->text = request.text;
   q->user = user_;
   sdk::ParseRequest pr;
   pr.tokens = sdk::tokenize(q->text);
@@ -101,8 +101,6 @@ Json Session::op_query(const Json& req) {
 
   const auto& cands = q->parse.candidates;
   const std::size_t shown = std::min<std::size_t>(static_cast<std::size_t>(k), cands.size());
-  const int dims = world_.geometry ? world_.geometry->dims() : 2;
-  Json list = Json::array();
   q->shown.reserve(shown);
   for (std::size_t i = 0; i < shown; ++i) {
     ShownCandidate sc;
@@ -113,48 +111,64 @@ Json Session::op_query(const Json& req) {
     // A candidate cut by the request's deadline cannot be shown: the whole query is refused.
     if (sc.outcome.error_code == sdk::codes::kDeadlineExceeded) check_deadline("executing");
     if (sc.outcome.error) sc.error_code = sc.outcome.error_code.value_or(sdk::codes::kExecution);
-
-    Json rules = Json::array(), authors = Json::array();
-    for (const auto& r : sc.induced_rules) {
-      rules.push_back(r->id);
-      if (std::find(authors.begin(), authors.end(), r->author) == authors.end())
-        authors.push_back(r->author);
-    }
-    Json c;
-    c["rank"] = i;
-    c["score"] = cands[i].score;
-    c["prob"] = q->probs[i];
-    c["formula"] = sdk::render(cands[i].program);
-    c["induced"] = !cands[i].core_only;
-    c["rules"] = std::move(rules);
-    c["authors"] = std::move(authors);
-    c["realizable"] = sc.outcome.realizable && !sc.outcome.error;
-    c["trace"] = answer_trace(sc.outcome.trace, dims);
-    c["world"] = answer_changed_world(sc.outcome.world);
-    c["warnings"] = Json(protocol::strings_json(sc.outcome.warnings));
-    if (sc.error_code)
-      c["error"] = Json{{"code", *sc.error_code}, {"message", sc.outcome.error.value_or("")}};
-    list.push_back(std::move(c));
     q->shown.push_back(std::move(sc));
   }
 
   check_deadline("writing the answer");
-  const char* status = "unparsable";
+  QueryResult result;
   if (!cands.empty())
-    status =
+    result.status =
         std::any_of(cands.begin(), cands.end(), [](const sdk::Candidate& c) { return c.core_only; })
             ? "core"
             : "induced";
-  last_query_ = std::move(q);
-  const double ms =
+  last_query_ = q;
+  result.query = std::move(q);
+  result.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  Json answer;
-  answer["status"] = status;
-  answer["candidates"] = std::move(list);
-  answer["total"] = cands.size();  // distinct readings found; `candidates` holds the first k
-  answer["ms"] = ms;
-  add_world_version(answer, last_query_->world);
-  return answer;
+  return result;
+}
+
+// docs/protocol.md § query: {"status","candidates":[{"rank","score","prob","formula","induced",
+// "rules","authors","realizable","trace","world","warnings"[,"error"]}],"total","ms"}.
+void Session::op_query(const Json& req, JsonWriter& a) {
+  QueryRequest request;
+  request.text = request::require_string(req, "text", "the utterance to parse");
+  request.k = request::optional_int(req, "k", "how many candidates to show");
+  const QueryResult result = query(request);
+  const LastQuery& q = *result.query;
+  const int dims = q.world.geometry ? q.world.geometry->dims() : 2;
+  a.key("status").string(result.status).key("candidates").begin_array();
+  for (const ShownCandidate& sc : q.shown) {
+    const sdk::Candidate& c = q.parse.candidates[sc.index];
+    a.begin_object();
+    a.key("rank").unsigned_integer(sc.index);
+    a.key("score").number(c.score).key("prob").number(q.probs[sc.index]);
+    a.key("formula").string(sdk::render(c.program)).key("induced").boolean(!c.core_only);
+    a.key("rules").begin_array();
+    for (const auto& r : sc.induced_rules) a.string(r->id);
+    a.end_array().key("authors").begin_array();
+    std::vector<const std::string*> authors;
+    for (const auto& r : sc.induced_rules)
+      if (std::none_of(authors.begin(), authors.end(),
+                       [&](const std::string* s) { return *s == r->author; })) {
+        authors.push_back(&r->author);
+        a.string(r->author);
+      }
+    a.end_array().key("realizable").boolean(sc.outcome.realizable && !sc.outcome.error);
+    a.key("trace");
+    protocol::append_trace_text(a.raw_begin(), sc.outcome.trace, dims);
+    write_changed_world(a.key("world"), sc.outcome.world);
+    a.key("warnings").begin_array();
+    for (const auto& w : sc.outcome.warnings) a.string(w);
+    a.end_array();
+    if (sc.error_code) {
+      a.key("error").begin_object().key("code").string(*sc.error_code);
+      a.key("message").string(sc.outcome.error.value_or("")).end_object();
+    }
+    a.end_object();
+  }
+  a.end_array().key("total").unsigned_integer(result.total()).key("ms").number(result.ms);
+  write_world_version(a, q.world);
 }
 
 void Session::notify_plan_observers(const LastQuery& q, const ShownCandidate& sc,
@@ -171,12 +185,13 @@ void Session::notify_plan_observers(const LastQuery& q, const ShownCandidate& sc
   }
 }
 
-Json Session::op_accept(const Json& req) {
-  std::int64_t rank = request::require_int(req, "rank", "index into the last query's candidates",
-                                           session_codes::kRankOutOfRange);
+AcceptResult Session::accept(const AcceptRequest& request,
+                             const std::function<void(const sdk::Outcome&)>& before_commit) {
+  begin_call();
+  const std::int64_t rank = request.rank;
   if (!last_query_)
     throw sdk::Error(session_codes::kNoQuery, "there is no query to accept a candidate of");
-  LastQuery& q = *last_query_;
+  const LastQuery& q = *last_query_;
   if (rank < 0 || static_cast<std::size_t>(rank) >= q.shown.size())
     throw sdk::Error(session_codes::kRankOutOfRange,
                      "rank " + std::to_string(rank) + " is out of range: the last query showed " +
@@ -187,17 +202,13 @@ Json Session::op_accept(const Json& req) {
                      "candidate " + std::to_string(rank) +
                          " cannot be accepted: its execution failed (" +
                          sc.outcome.error.value_or(*sc.error_code) + ")");
-  sdk::Outcome outcome = executor_.run(q.parse.candidates[sc.index].program, world_, deadline());
+  AcceptResult result;
+  sdk::Outcome& outcome = result.outcome;
+  outcome = executor_.run(q.parse.candidates[sc.index].program, world_, deadline());
   if (outcome.error)
     throw sdk::Error(session_codes::kNotAcceptable, "candidate " + std::to_string(rank) +
                                                         " cannot be accepted: " + *outcome.error);
-
-  const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
-  Json answer;  // built first: nothing may fail after the commit
-  add_world_version(answer, outcome.world);
-  answer["world"] = answer_changed_world(outcome.world);
-  answer["trace"] = answer_trace(outcome.trace, dims);
-  answer["warnings"] = Json(protocol::strings_json(outcome.warnings));
+  if (before_commit) before_commit(outcome);  // the answer: nothing may fail after the commit
 
   // Nothing is applied unless everything commits: learning and counters are undone when the
   // scorer or the persistence hook (the lexicon transaction) fails, and the world and the last
@@ -228,7 +239,8 @@ Json Session::op_accept(const Json& req) {
   } catch (...) {
     if (counted) count(-1);
     if (incremental != nullptr)
-      runtime_->scorer.call("discard_changes", [&](sdk::Scorer&) { incremental->discard_changes(); });
+      runtime_->scorer.call("discard_changes",
+                            [&](sdk::Scorer&) { incremental->discard_changes(); });
     else if (on_accept_)
       runtime_->scorer.call("load_state", [&](sdk::Scorer& s) { s.load_state(scorer_before); });
     throw;
@@ -240,7 +252,24 @@ Json Session::op_accept(const Json& req) {
   notify_plan_observers(q, sc, outcome);  // after the commit: the accept stands
   // The query is consumed: accepting again would apply it twice.
   last_query_.reset();
-  return answer;
+  return result;
+}
+
+// docs/protocol.md § accept: {"world","trace","warnings"} (protocol 2: "world_version" first).
+void Session::op_accept(const Json& req, JsonWriter& a) {
+  AcceptRequest request;
+  request.rank = request::require_int(req, "rank", "index into the last query's candidates",
+                                      session_codes::kRankOutOfRange);
+  accept(request, [&](const sdk::Outcome& outcome) {
+    const int dims = outcome.world.geometry ? outcome.world.geometry->dims() : 2;
+    write_world_version(a, outcome.world);
+    write_changed_world(a.key("world"), outcome.world);
+    a.key("trace");
+    protocol::append_trace_text(a.raw_begin(), outcome.trace, dims);
+    a.key("warnings").begin_array();
+    for (const auto& w : outcome.warnings) a.string(w);
+    a.end_array();
+  });
 }
 
 }  // namespace flipper::kernel

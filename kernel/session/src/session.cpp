@@ -3,8 +3,8 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <random>
 
+#include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -13,70 +13,36 @@
 namespace flipper::kernel {
 namespace {
 
-Json error_answer(const Json* op, const Json* id, const std::string& code,
-                  const std::string& message) {
-  Json a;
-  a["ok"] = false;
-  a["op"] = op != nullptr ? *op : Json(nullptr);
-  if (id != nullptr) a["id"] = *id;
-  a["error"] = Json{{"code", code}, {"message", message}};
-  return a;
+// {"ok":false,"op":OP,"id":ID,"error":{"code","message"}}: op and id echoed from the request's
+// text when it is at hand (object key order as sent), else from the tree.
+void write_error(std::string& out, const Json* op, std::string_view op_text, const Json* id,
+                 std::string_view id_text, const std::string& code, const std::string& message);
+
+void write_echo(JsonWriter& w, const Json& value, std::string_view text, bool raw_float) {
+  if (!text.empty())
+    w.echo(text, raw_float);
+  else
+    w.value(value);
 }
 
-// Answers are dumped with invalid UTF-8 replaced (U+FFFD): a message may quote the request's bytes.
-std::string dump_answer(const Json& answer) {
-  return answer.dump(-1, ' ', false, Json::error_handler_t::replace);
+void write_error(std::string& out, const Json* op, std::string_view op_text, const Json* id,
+                 std::string_view id_text, const std::string& code, const std::string& message) {
+  out.clear();
+  JsonWriter w(out);
+  w.begin_object().key("ok").boolean(false).key("op");
+  if (op != nullptr)
+    write_echo(w, *op, op_text, false);
+  else
+    w.null();
+  if (id != nullptr) write_echo(w.key("id"), *id, id_text, true);
+  w.key("error").begin_object().key("code").string(code).key("message").string(message);
+  w.end_object().end_object();
 }
 
-// The text of the top-level "id" when it is a number: a 25-digit id or 1.10 must come back as
-// sent, and the parsed double would not (nlohmann hands its SAX the number's raw text).
-class RawIdSax : public nlohmann::json_sax<Json> {
- public:
-  std::string raw;
-  bool null() override { return value(); }
-  bool boolean(bool) override { return value(); }
-  bool number_integer(number_integer_t) override { return value(); }
-  bool number_unsigned(number_unsigned_t) override { return value(); }
-  bool number_float(number_float_t, const string_t& s) override {
-    if (depth_ == 1 && in_id_) raw = s;
-    return value();
-  }
-  bool string(string_t&) override { return value(); }
-  bool binary(binary_t&) override { return value(); }
-  bool start_object(std::size_t) override { return open(); }
-  bool key(string_t& k) override {
-    in_id_ = depth_ == 1 && k == "id";
-    return true;
-  }
-  bool end_object() override { return close(); }
-  bool start_array(std::size_t) override { return open(); }
-  bool end_array() override { return close(); }
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
-    return false;
-  }
-
- private:
-  bool value() {
-    if (depth_ == 1) in_id_ = false;
-    return true;
-  }
-  bool open() {
-    value();
-    ++depth_;
-    return true;
-  }
-  bool close() {
-    --depth_;
-    return true;
-  }
-  int depth_ = 0;
-  bool in_id_ = false;
-};
-
-std::string raw_id_text(std::string_view line) {
-  RawIdSax sax;
-  Json::sax_parse(line, &sax);
-  return sax.raw;
+std::string error_line(const std::string& code, const std::string& message) {
+  std::string out;
+  write_error(out, nullptr, {}, nullptr, {}, code, message);
+  return out;
 }
 
 bool is_blank(std::string_view s) {
@@ -102,21 +68,24 @@ Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)
         if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
         return text;
       })) {
-  // A control character and a random tag: no request value can collide with a placeholder.
-  std::random_device rd;
-  marker_ = "\x01w" + std::to_string(rd()) + std::to_string(rd()) + ":";
   install_default_ops();
 }
 
 Session::~Session() = default;
 
 void Session::install_default_ops() {
-  set_op("hello", [](Session& s, const Json& r) { return s.op_hello(r); });
-  set_op("world", [](Session& s, const Json& r) { return s.op_world(r); });
-  set_op("user", [](Session& s, const Json& r) { return s.op_user(r); });
-  set_op("state", [](Session& s, const Json& r) { return s.op_state(r); });
-  set_op("query", [](Session& s, const Json& r) { return s.op_query(r); });
-  set_op("accept", [](Session& s, const Json& r) { return s.op_accept(r); });
+  set_op("hello", [](Session& s, const Json& r, JsonWriter& a) { s.op_hello(r, a); });
+  set_op("world", [](Session& s, const Json& r, JsonWriter& a) { s.op_world(r, a); });
+  set_op("user", [](Session& s, const Json& r, JsonWriter& a) {
+    s.set_user(request::require_string(r, "name", "the user's name"));
+    a.key("name").string(s.user());
+  });
+  set_op("state", [](Session& s, const Json&, JsonWriter& a) {
+    s.write_world_version(a, s.world(), true);  // a client may ask for the state to resync
+    s.write_changed_world(a.key("world"), s.world());
+  });
+  set_op("query", [](Session& s, const Json& r, JsonWriter& a) { s.op_query(r, a); });
+  set_op("accept", [](Session& s, const Json& r, JsonWriter& a) { s.op_accept(r, a); });
 }
 
 void Session::set_op(const std::string& name, OpHandler handler) {
@@ -134,6 +103,11 @@ std::vector<std::string> Session::op_names() const {
   return names;
 }
 
+void Session::install(std::shared_ptr<SessionExtension> extension) {
+  extension->install(*this);
+  extensions_.push_back(std::move(extension));
+}
+
 std::function<bool(const sdk::Rule&)> Session::visible_rules() const {
   if (!visibility_) return {};
   return [hook = visibility_, user = user_](const sdk::Rule& r) { return hook(r, user); };
@@ -142,6 +116,12 @@ std::function<bool(const sdk::Rule&)> Session::visible_rules() const {
 void Session::set_world(sdk::WorldState world) {
   world_ = std::move(world);
   last_query_.reset();
+}
+
+void Session::set_user(std::string name) {
+  if (name.empty()) throw sdk::Error(sdk::codes::kBadRequest, "field 'name' must not be empty");
+  user_ = std::move(name);
+  for (const auto& hook : user_hooks_) hook(*this);
 }
 
 Json Session::world_json(const sdk::WorldState& state) const {
@@ -163,68 +143,35 @@ const std::string& Session::world_text(const sdk::WorldState& state) {
   return world_cache_[0].text;
 }
 
-Json Session::raw_json(std::string text) {
-  if (!line_mode_) return Json::parse(text);
-  spliced_.push_back(std::move(text));
-  return marker_ + std::to_string(spliced_.size() - 1);
+void Session::write_changed_world(JsonWriter& w, const sdk::WorldState& state) {
+  if (protocol_ < 2)
+    w.raw(world_text(state));
+  else
+    w.raw(texts_->changes(state));
 }
 
-Json Session::answer_changed_world(const sdk::WorldState& state) {
-  if (protocol_ < 2) return answer_world(state);
-  return raw_json(texts_->changes(state));
-}
-
-void Session::add_world_version(Json& payload, const sdk::WorldState& state, bool always) {
+void Session::write_world_version(JsonWriter& w, const sdk::WorldState& state, bool always) {
   if (protocol_ < 2 || !state.geometry) return;
   const std::uint64_t v = texts_->version(state);
-  payload["world_version"] = v;
+  w.key("world_version").unsigned_integer(v);
   const bool sent =
       std::find(sent_versions_.begin(), sent_versions_.end(), v) != sent_versions_.end();
   if (sent && !always) return;
-  payload["geometry"] = raw_json(texts_->geometry(state));
+  w.key("geometry").raw(texts_->geometry(state));
   if (!sent) sent_versions_.push_back(v);
 }
 
-Json Session::answer_world(const sdk::WorldState& state) {
-  if (!line_mode_) return Json::parse(world_text(state));
-  spliced_.push_back(world_text(state));
-  return marker_ + std::to_string(spliced_.size() - 1);
-}
-
-Json Session::answer_trace(const std::vector<sdk::TraceStep>& trace, int dims) {
-  if (!line_mode_) return protocol::trace_json(trace, dims);
-  std::string text;
-  text.reserve(trace.size() * 28 + 2);
-  protocol::append_trace_text(text, trace, dims);
-  spliced_.push_back(std::move(text));
-  return marker_ + std::to_string(spliced_.size() - 1);
-}
-
-// Replaces each placeholder string ("\u0001w<tag>:<i>" once dumped) by world text i.
-std::string Session::splice_worlds(std::string answer) const {
-  if (spliced_.empty()) return answer;
-  const std::string needle = "\"\\u0001" + marker_.substr(1);
-  std::string out;
-  out.reserve(answer.size() + spliced_.size() * (spliced_.front().size() + 8));
-  std::size_t from = 0;
-  for (std::size_t at = answer.find(needle); at != std::string::npos;
-       at = answer.find(needle, from)) {
-    out.append(answer, from, at - from);
-    std::size_t digits = at + needle.size();
-    std::size_t end = answer.find('"', digits);
-    std::size_t index = std::stoul(answer.substr(digits, end - digits));
-    out += spliced_.at(index);
-    from = end + 1;
-  }
-  out.append(answer, from, std::string::npos);
-  return out;
-}
-
 std::string Session::line_too_long(std::uint64_t bytes) const {
-  return dump_answer(error_answer(nullptr, nullptr, sdk::codes::kInputTooLong,
-                                  "the request line has " + std::to_string(bytes) +
-                                      " bytes; the limit is input.max_line_bytes = " +
-                                      std::to_string(options_.input.max_line_bytes)));
+  return error_line(sdk::codes::kInputTooLong, "the request line has " + std::to_string(bytes) +
+                                                   " bytes; the limit is input.max_line_bytes = " +
+                                                   std::to_string(options_.input.max_line_bytes));
+}
+
+void Session::begin_call() {
+  if (in_request_) return;
+  deadline_ = options_.input.deadline.count() > 0
+                  ? std::chrono::steady_clock::now() + options_.input.deadline
+                  : std::chrono::steady_clock::time_point::max();
 }
 
 void Session::check_deadline(const char* stage) const {
@@ -237,88 +184,100 @@ void Session::check_deadline(const char* stage) const {
 
 std::string Session::handle_line(std::string_view line) {
   if (is_blank(line)) return {};
-  line_mode_ = false;
   try {
     if (line.size() > options_.input.max_line_bytes) return line_too_long(line.size());
     // Nesting is checked before parsing: the tree of a deeply nested value is copied and
     // destroyed recursively, and no request needs more than a few levels.
     const int limit = options_.input.max_json_depth;
     if (int depth = json_depth(line, limit); depth > limit)
-      return dump_answer(error_answer(nullptr, nullptr, sdk::codes::kTooDeep,
-                                      "the request is nested deeper than input.max_json_depth = " +
-                                          std::to_string(limit) + " levels"));
+      return error_line(sdk::codes::kTooDeep,
+                        "the request is nested deeper than input.max_json_depth = " +
+                            std::to_string(limit) + " levels");
     Json request;
     try {
       request = Json::parse(line);
     } catch (const Json::exception& e) {
       // Syntax errors and numbers beyond double range (1e999); nlohmann's message carries the
-      // byte position and may quote bytes that are not UTF-8 (dump_answer replaces them).
-      return dump_answer(error_answer(nullptr, nullptr, session_codes::kBadJson,
-                                      std::string("the line is not valid JSON: ") + e.what()));
+      // byte position and may quote bytes that are not UTF-8 (the writer replaces them).
+      return error_line(session_codes::kBadJson,
+                        std::string("the line is not valid JSON: ") + e.what());
     }
-    spliced_.clear();
-    if (request.is_object())
-      if (auto id = request.find("id"); id != request.end() && id->is_number_float())
-        if (std::string raw = raw_id_text(line); !raw.empty()) {
-          spliced_.push_back(std::move(raw));
-          *id = marker_ + std::to_string(spliced_.size() - 1);
-        }
-    line_mode_ = true;
-    line_ = line;
-    Json answer = handle(request);
-    line_mode_ = false;
-    line_ = {};
-    return splice_worlds(dump_answer(answer));
+    std::string out;
+    answer(request, line, out);
+    return out;
   } catch (const std::exception& e) {
-    line_mode_ = false;
-    line_ = {};
-    return dump_answer(error_answer(nullptr, nullptr, sdk::codes::kInternal,
-                                    std::string("internal error: ") + e.what()));
+    return error_line(sdk::codes::kInternal, std::string("internal error: ") + e.what());
   }
 }
 
 Json Session::handle(const Json& request) {
-  deadline_ = options_.input.deadline.count() > 0
-                  ? std::chrono::steady_clock::now() + options_.input.deadline
-                  : std::chrono::steady_clock::time_point::max();
+  std::string out;
+  try {
+    answer(request, {}, out);
+  } catch (const std::exception& e) {
+    out = error_line(sdk::codes::kInternal, std::string("internal error: ") + e.what());
+  }
+  return Json::parse(out);
+}
+
+void Session::answer(const Json& request, std::string_view line, std::string& out) {
+  in_request_ = false;
+  begin_call();
   if (!request.is_object())
-    return error_answer(nullptr, nullptr, session_codes::kBadJson,
-                        "a request must be a JSON object, got " + std::string(request.type_name()));
+    return write_error(out, nullptr, {}, nullptr, {}, session_codes::kBadJson,
+                       "a request must be a JSON object, got " + std::string(request.type_name()));
   const Json* op = nullptr;
   const Json* id = nullptr;
   if (auto it = request.find("op"); it != request.end()) op = &*it;
   if (auto it = request.find("id"); it != request.end()) id = &*it;
+  // Echoed from the line when the tree would not give the bytes sent: an id such as a 25-digit
+  // number or 1.10, and an object's key order (the tree sorts keys).
+  auto echo_text = [&](const Json* v, const char* key) {
+    return v != nullptr && !line.empty() && (v->is_structured() || v->is_number_float())
+               ? top_level_value(line, key)
+               : std::string_view();
+  };
+  const std::string_view op_text = echo_text(op, "op");
+  const std::string_view id_text = echo_text(id, "id");
+  auto refuse = [&](const std::string& code, const std::string& message) {
+    write_error(out, op, op_text, id, id_text, code, message);
+  };
   if (op == nullptr || op->is_null())
-    return error_answer(op, id, session_codes::kMissingField,
-                        "missing field 'op' (the operation to perform)");
-  if (!op->is_string())
-    return error_answer(op, id, sdk::codes::kBadRequest, "field 'op' must be a string");
+    return refuse(session_codes::kMissingField, "missing field 'op' (the operation to perform)");
+  if (!op->is_string()) return refuse(sdk::codes::kBadRequest, "field 'op' must be a string");
   const std::string& name = op->get_ref<const std::string&>();
   auto handler = ops_.find(name);
   if (handler == ops_.end()) {
     std::string known;
     for (const auto& [n, h] : ops_) known += (known.empty() ? "" : ", ") + n;
-    return error_answer(op, id, session_codes::kUnknownOp,
-                        "unknown op '" + name + "' (known ops: " + known + ")");
+    return refuse(session_codes::kUnknownOp,
+                  "unknown op '" + name + "' (known ops: " + known + ")");
   }
+  struct InRequest {  // the typed calls of the op keep the request's deadline
+    Session& s;
+    explicit InRequest(Session& session) : s(session) { s.in_request_ = true; }
+    ~InRequest() {
+      s.in_request_ = false;
+      s.line_ = {};
+    }
+  } scope(*this);
+  line_ = line;
   try {
-    Json payload = handler->second(*this, request);
-    Json answer;
-    answer["ok"] = true;
-    answer["op"] = *op;
-    if (id != nullptr) answer["id"] = *id;
-    for (auto& [key, value] : payload.items()) answer[key] = std::move(value);
-    return answer;
+    JsonWriter w(out);
+    w.begin_object().key("ok").boolean(true).key("op").string(name);
+    if (id != nullptr) write_echo(w.key("id"), *id, id_text, true);
+    handler->second(*this, request, w);
+    w.end_object();
   } catch (const sdk::Error& e) {
-    return error_answer(op, id, e.code(), e.what());
+    refuse(e.code(), e.what());
   } catch (const Json::exception& e) {
-    return error_answer(op, id, sdk::codes::kBadRequest, std::string("bad request: ") + e.what());
+    refuse(sdk::codes::kBadRequest, std::string("bad request: ") + e.what());
   } catch (const std::exception& e) {
-    return error_answer(op, id, sdk::codes::kInternal, std::string("internal error: ") + e.what());
+    refuse(sdk::codes::kInternal, std::string("internal error: ") + e.what());
   }
 }
 
-Json Session::op_hello(const Json& req) {
+void Session::op_hello(const Json& req, JsonWriter& a) {
   if (auto p = request::optional_int(req, "protocol", "the protocol version to speak")) {
     if (*p != 1 && *p != 2)
       throw sdk::Error(sdk::codes::kBadRequest,
@@ -326,7 +285,7 @@ Json Session::op_hello(const Json& req) {
     protocol_ = static_cast<int>(*p);
     sent_versions_.clear();  // a protocol-2 client is sent every geometry it will need
   }
-  return Json{{"protocol", protocol_}, {"protocols", Json::array({1, 2})}};
+  a.key("protocol").integer(protocol_).key("protocols").raw("[1,2]");
 }
 
 // The world a `world` request gives: loaded by the plugin, or the state loaded from the same text
@@ -345,49 +304,41 @@ sdk::WorldState Session::load_requested_world(const std::string& text, const std
   return state;
 }
 
-Json Session::op_world(const Json& req) {
-  sdk::WorldState state;
+const sdk::WorldState& Session::open_world_text(const std::string& text, const std::string& base) {
+  begin_call();
+  sdk::WorldState state = load_requested_world(text, base);
+  check_deadline("loading the world");
+  set_world(std::move(state));
+  return world_;
+}
+
+const sdk::WorldState& Session::open_world_file(const std::string& file) {
+  begin_call();
+  std::filesystem::path path(file);
+  // Relative paths: the caller's directory first, then the config's.
+  std::error_code ec;
+  if (path.is_relative() && !std::filesystem::exists(path, ec))
+    path = runtime_->config.resolve_path(file);
+  std::string text = read_regular_file(path.string(), options_.input.max_file_bytes, "world file",
+                                       sdk::codes::kBadWorld);
+  return open_world_text(text, path.parent_path().string());
+}
+
+void Session::op_world(const Json& req, JsonWriter& a) {
   auto world_field = req.find("world");
   if (world_field != req.end() && !world_field->is_null()) {
     if (!world_field->is_object())
       throw sdk::Error(sdk::codes::kBadRequest, "field 'world' must be a world object");
-    const std::string base = std::filesystem::current_path().string();
     // The object's text as sent when the line is at hand: no second serialisation.
     std::string_view raw = line_.empty() ? std::string_view() : top_level_value(line_, "world");
     std::string text = !raw.empty() && raw.front() == '{' ? std::string(raw) : world_field->dump();
-    state = load_requested_world(text, base);
+    open_world_text(text, std::filesystem::current_path().string());
   } else {
-    std::string file =
-        request::require_string(req, "file", "a world object 'world' or a path 'file'");
-    std::filesystem::path path(file);
-    // Relative paths: the caller's directory first, then the config's.
-    std::error_code ec;
-    if (path.is_relative() && !std::filesystem::exists(path, ec))
-      path = runtime_->config.resolve_path(file);
-    std::string text = read_regular_file(path.string(), options_.input.max_file_bytes, "world file",
-                                         sdk::codes::kBadWorld);
-    state = load_requested_world(text, path.parent_path().string());
+    open_world_file(
+        request::require_string(req, "file", "a world object 'world' or a path 'file'"));
   }
-  check_deadline("loading the world");
-  set_world(std::move(state));
-  Json payload;
-  add_world_version(payload, world_);
-  payload["world"] = answer_changed_world(world_);
-  return payload;
-}
-
-Json Session::op_user(const Json& req) {
-  std::string name = request::require_string(req, "name", "the user's name");
-  if (name.empty()) throw sdk::Error(sdk::codes::kBadRequest, "field 'name' must not be empty");
-  user_ = name;
-  return Json{{"name", std::move(name)}};
-}
-
-Json Session::op_state(const Json&) {
-  Json payload;
-  add_world_version(payload, world_, true);  // a client may ask for the state to resync
-  payload["world"] = answer_changed_world(world_);
-  return payload;
+  write_world_version(a, world_);
+  write_changed_world(a.key("world"), world_);
 }
 
 }  // namespace flipper::kernel

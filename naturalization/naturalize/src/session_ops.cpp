@@ -9,15 +9,18 @@
 
 namespace flipper::kernel {
 
-Json rule_json(const sdk::Rule& rule) {
-  Json rhs = Json::array();
-  for (const auto& s : rule.rhs) rhs.push_back(s.text);
-  return Json{{"id", rule.id},         {"lhs", rule.lhs},
-              {"rhs", std::move(rhs)}, {"semantics", sdk::render(rule.sem)},
-              {"author", rule.author}, {"how", sdk::to_string(rule.how)}};
+void write_rule(JsonWriter& w, const sdk::Rule& rule, bool close) {
+  w.begin_object().key("id").string(rule.id).key("lhs").string(rule.lhs);
+  w.key("rhs").begin_array();
+  for (const auto& s : rule.rhs) w.string(s.text);
+  w.end_array().key("semantics").string(sdk::render(rule.sem));
+  w.key("author").string(rule.author).key("how").string(sdk::to_string(rule.how));
+  if (close) w.end_object();
 }
 
 namespace {
+
+constexpr int kMaxRank = 1000000;  // a body line's reading rank
 
 // The session's executor bound to the request's deadline (generalization runs many programs).
 class DeadlineExecution : public sdk::ExecutionService {
@@ -42,104 +45,120 @@ void check_length(const InputLimits& limits, const std::string& text, const std:
                                                     std::to_string(limits.max_tokens));
 }
 
-Json op_define(Naturalizer& nat, Session& s, const Json& req) {
-  DefineRequest d;
-  d.user = s.user();
-  d.head = request::require_string(req, "head", "the utterance to define");
-  d.body = request::require_string_list(req, "body", "a list of utterances");
+}  // namespace
+
+DefineOutcome define(Naturalizer& nat, Session& s, const DefineCall& call) {
+  s.begin_call();
   const InputLimits& limits = s.options().input;
-  check_length(limits, d.head, "the head");
-  if (d.body.size() > limits.max_body_lines)
-    throw sdk::Error(sdk::codes::kInputTooLong, "the body has " + std::to_string(d.body.size()) +
+  check_length(limits, call.head, "the head");
+  if (call.body.size() > limits.max_body_lines)
+    throw sdk::Error(sdk::codes::kInputTooLong, "the body has " + std::to_string(call.body.size()) +
                                                     " lines; the limit is input.max_body_lines = " +
                                                     std::to_string(limits.max_body_lines));
-  for (std::size_t i = 0; i < d.body.size(); ++i)
-    check_length(limits, d.body[i], "body line " + std::to_string(i + 1));
+  for (std::size_t i = 0; i < call.body.size(); ++i)
+    check_length(limits, call.body[i], "body line " + std::to_string(i + 1));
+  for (int r : call.ranks)
+    if (r < 0 || r > kMaxRank)
+      throw sdk::Error(
+          sdk::codes::kBadRequest,
+          "field 'ranks' must be a list of integers from 0 to 1000000, got " + std::to_string(r));
+  DefineRequest d;
+  d.user = s.user();
+  d.head = call.head;
+  d.body = call.body;
+  d.body_ranks = call.ranks;
+  const DeadlineExecution exec(s.executor(), s.deadline());
+  d.before = &s.world();
+  d.exec = &exec;
+  d.deadline = s.deadline();
+  return nat.define(d);
+}
+
+std::vector<RuleListing> list_rules(Naturalizer& nat, Session& s,
+                                    const std::optional<std::string>& author) {
+  s.begin_call();
+  nat.refresh();
+  return nat.rules(s.user(), author);
+}
+
+void delete_rule(Naturalizer& nat, Session& s, const std::string& id) {
+  s.begin_call();
+  nat.delete_rule(s.user(), id);
+}
+
+namespace {
+
+// docs/protocol.md § define: {"rules":[rule...],"generalized"[,"discarded"]}.
+void op_define(Naturalizer& nat, Session& s, const Json& req, JsonWriter& a) {
+  DefineCall call;
+  call.head = request::require_string(req, "head", "the utterance to define");
+  call.body = request::require_string_list(req, "body", "a list of utterances");
   if (req.contains("ranks") && !req["ranks"].is_null()) {
     if (!req["ranks"].is_array())
       throw sdk::Error(sdk::codes::kBadRequest, "field 'ranks' must be a list of integers");
     for (const auto& r : req["ranks"]) {
       // get<int> would wrap a large rank into a small (even valid) one.
-      if (!r.is_number_integer() || r < 0 || r > 1000000)
+      if (!r.is_number_integer() || r < 0 || r > kMaxRank)
         throw sdk::Error(
             sdk::codes::kBadRequest,
             "field 'ranks' must be a list of integers from 0 to 1000000, got " + r.dump());
-      d.body_ranks.push_back(r.get<int>());
+      call.ranks.push_back(r.get<int>());
     }
   }
-  const DeadlineExecution exec(s.executor(), s.deadline());
-  d.before = &s.world();
-  d.exec = &exec;
-  d.deadline = s.deadline();
-  DefineOutcome out = nat.define(d);
-  Json rules = Json::array();
-  for (const auto& r : out.rules) rules.push_back(rule_json(*r));
-  Json answer{{"rules", std::move(rules)},
-              {"generalized", out.generalized ? Json(sdk::render(out.generalized)) : Json()}};
+  const DefineOutcome out = define(nat, s, call);
+  a.key("rules").begin_array();
+  for (const auto& r : out.rules) write_rule(a, *r);
+  a.end_array().key("generalized");
+  if (out.generalized)
+    a.string(sdk::render(out.generalized));
+  else
+    a.null();
   if (out.generalization_ran) {
-    Json discarded = Json::array();
-    for (const auto& c : out.discarded)
-      discarded.push_back({{"formula", c.program ? sdk::render(c.program) : std::string()},
-                           {"rewriting", c.rewriting},
-                           {"reason", c.reason}});
-    answer["discarded"] = std::move(discarded);
+    a.key("discarded").begin_array();
+    for (const auto& c : out.discarded) {
+      a.begin_object().key("formula").string(c.program ? sdk::render(c.program) : std::string());
+      a.key("rewriting").string(c.rewriting).key("reason").string(c.reason).end_object();
+    }
+    a.end_array();
   }
-  return answer;
 }
 
-Json op_rules(Naturalizer& nat, Session& s, const Json& req) {
+// docs/protocol.md § rules: each rule with "head", "body", "uses", "uses_by_author/others".
+void op_rules(Naturalizer& nat, Session& s, const Json& req, JsonWriter& a) {
   const auto author = request::optional_string(req, "author", "a user name");
-  Json rules = Json::array();
-  for (const auto& l : nat.rules(s.user(), author)) {
-    Json j = rule_json(*l.rule);
-    j["head"] = l.rule->head;
-    j["body"] = l.rule->body;
-    j["uses"] = l.uses_by_author + l.uses_by_others;
-    j["uses_by_author"] = l.uses_by_author;
-    j["uses_by_others"] = l.uses_by_others;
-    rules.push_back(std::move(j));
+  a.key("rules").begin_array();
+  for (const auto& l : list_rules(nat, s, author)) {
+    write_rule(a, *l.rule, false);
+    a.key("head").string(l.rule->head).key("body").begin_array();
+    for (const auto& line : l.rule->body) a.string(line);
+    a.end_array().key("uses").unsigned_integer(l.uses_by_author + l.uses_by_others);
+    a.key("uses_by_author").unsigned_integer(l.uses_by_author);
+    a.key("uses_by_others").unsigned_integer(l.uses_by_others).end_object();
   }
-  return Json{{"rules", std::move(rules)}};
-}
-
-Json op_delete_rule(Naturalizer& nat, Session& s, const Json& req) {
-  const std::string id = request::require_string(req, "rule", "a rule id");
-  nat.delete_rule(s.user(), id);
-  return Json{{"deleted", id}};
+  a.end_array();
 }
 
 }  // namespace
 
 void install_naturalization(Session& session, std::shared_ptr<Naturalizer> nat) {
-  session.set_op("define", [nat](Session& s, const Json& r) { return op_define(*nat, s, r); });
-  session.set_op("rules", [nat](Session& s, const Json& r) {
-    nat->refresh();
-    return op_rules(*nat, s, r);
+  session.set_op("define",
+                 [nat](Session& s, const Json& r, JsonWriter& a) { op_define(*nat, s, r, a); });
+  session.set_op("rules",
+                 [nat](Session& s, const Json& r, JsonWriter& a) { op_rules(*nat, s, r, a); });
+  session.set_op("delete_rule", [nat](Session& s, const Json& r, JsonWriter& a) {
+    const std::string id = request::require_string(r, "rule", "a rule id");
+    delete_rule(*nat, s, id);
+    a.key("deleted").string(id);
   });
   // Every parse sees the rules and deletions other processes committed before it.
-  if (const auto* query_op = session.find_op("query")) {
-    Session::OpHandler inner = *query_op;
-    session.set_op("query", [nat, inner](Session& s, const Json& r) {
-      nat->refresh();
-      return inner(s, r);
-    });
-  }
-  session.set_op("delete_rule",
-                 [nat](Session& s, const Json& r) { return op_delete_rule(*nat, s, r); });
+  session.add_query_hook([nat](Session&) { nat->refresh(); });
   if (nat->options().sharing != Sharing::shared)
     session.set_visibility(
         [nat](const sdk::Rule& rule, const std::string& user) { return nat->visible(rule, user); });
   session.set_on_accept(
       [nat](Session&, const AcceptEvent& e) { nat->on_accept(e.user, e.candidate.induced_rules); });
   if (nat->options().per_user_weights) {
-    if (const auto* user_op = session.find_op("user")) {
-      Session::OpHandler inner = *user_op;
-      session.set_op("user", [nat, inner](Session& s, const Json& r) {
-        Json answer = inner(s, r);
-        nat->select_user(s.user());
-        return answer;
-      });
-    }
+    session.add_user_hook([nat](Session& s) { nat->select_user(s.user()); });
     nat->select_user(session.user());
   }
 }

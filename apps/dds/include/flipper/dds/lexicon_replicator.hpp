@@ -76,10 +76,10 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   void retire(LogRow& row);
   void publish(const LexiconEvent& e);
   LexiconEvent next_local_event(const std::string& kind) const;
-  kernel::Json define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
-                         const kernel::Json& req);
-  kernel::Json delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
-                         const kernel::Json& req);
+  void define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
+                 const kernel::Json& req, kernel::JsonWriter& answer);
+  void delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
+                 const kernel::Json& req, kernel::JsonWriter& answer);
 
   std::shared_ptr<Participant> participant_;
   kernel::SessionHost host_;

@@ -46,13 +46,13 @@ class Writer {
 struct Pt {
   int x = 0, y = 0, z = 0;
 };
-Pt point_of(const nlohmann::ordered_json& p);
+Pt point_of(const nlohmann::json& p);
 
 /// The world (protocol world object, 2-D or one floor of 3-D) as a picture: walls, rooms
 /// (labelled), items (coloured shapes, stacks counted), the robot; with `trace` (protocol trace
 /// steps) the path from `start` as a line, its end, picks and drops. Title on top, a legend
 /// below. 3-D worlds show the floor of the robot's z (or of the path's end).
-std::string world_picture(const nlohmann::ordered_json& world, const nlohmann::ordered_json* trace,
+std::string world_picture(const nlohmann::json& world, const nlohmann::json* trace,
                           const std::string& title);
 
 }  // namespace flipper::kernel::svg

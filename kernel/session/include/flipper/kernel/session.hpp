@@ -1,19 +1,29 @@
 #pragma once
 /// @file session.hpp
 /// One protocol session (docs/protocol.md): the runtime, the current world and user, and the
-/// last query's full parse result. `handle_line` turns one request line into exactly one answer
-/// line; every front end (`flipper session`, `flipper repl`, experiment runs) goes through it.
+/// last query's full parse result.
 ///
-/// Ops are looked up in a table, so another module adds or replaces an op in one place:
+/// Two faces over one implementation:
+/// - the typed query service (query_service.hpp): `query`, `accept`, `open_world_file`,
+///   `set_user`, `set_world`; `flipper run`, `repl` and `replay` call these directly;
+/// - the protocol: `handle_line` turns one request line into exactly one answer line. Ops are
+///   looked up in a table; each JSON op is a thin adapter that reads the request's fields, calls
+///   the typed service and writes the result with a JsonWriter. Another module adds or wraps an
+///   op in one place:
 /// @code
-///   session.set_op("define", [&](Session& s, const Json& req) { ...; return Json{{"rules", ...}};
-///   }); session.set_visibility([&](const sdk::Rule& r, const std::string& user) { ... });
-///   session.set_on_accept([&](Session& s, const AcceptEvent& e) { /* persist weights, counters */
+///   session.set_op("define", [&](Session& s, const Json& req, JsonWriter& answer) {
+///     DefineOutcome out = ...;                        // the typed call
+///     answer.key("rules").begin_array(); ...; answer.end_array();  // the payload members
 ///   });
+///   session.set_visibility([&](const sdk::Rule& r, const std::string& user) { ... });
+///   session.set_on_accept([&](Session& s, const AcceptEvent& e) { /* persist */ });
 /// @endcode
-/// A handler returns the answer's payload fields; the session adds `ok`, `op` and `id`. A handler
-/// reports a refusal by throwing sdk::Error(code, message) and must leave the state unchanged then.
+/// A handler writes the answer's payload members into the open answer object; the session has
+/// written `ok`, `op` and `id` before and closes it after. A handler reports a refusal by
+/// throwing sdk::Error(code, message) and must leave the state unchanged then (what it wrote is
+/// discarded).
 
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <map>
@@ -26,8 +36,11 @@
 
 #include "flipper/kernel/accepted_plan.hpp"
 #include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/limits.hpp"
+#include "flipper/kernel/query_service.hpp"
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/kernel/session_extension.hpp"
 #include "flipper/sdk/derivation.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/parser.hpp"
@@ -37,8 +50,9 @@ namespace flipper::kernel {
 
 class WorldTexts;
 
-/// Requests and answers keep their field order ("ok", "op", "id" first).
-using Json = nlohmann::ordered_json;
+/// Requests as parsed. Answers are written with a JsonWriter (field order as written), so
+/// the tree's key order never reaches a client.
+using Json = nlohmann::json;
 
 /// Protocol error codes owned by the session (sdk::codes has the shared ones).
 namespace session_codes {
@@ -62,26 +76,6 @@ struct SessionOptions {
   static SessionOptions from_config(const Config& config);
 };
 
-/// A candidate shown to the user, with what is needed to accept it.
-struct ShownCandidate {
-  std::size_t index = 0;                    ///< into LastQuery::parse.candidates
-  sdk::DerivationPtr derivation;            ///< the derivation whose rules are reported/credited
-  std::vector<sdk::RulePtr> induced_rules;  ///< distinct induced rules of that derivation
-  sdk::Outcome outcome;                     ///< executed on the world of the query
-  std::optional<std::string> error_code;    ///< set when the candidate cannot be accepted
-};
-
-/// The last query: everything learning and definitions need.
-struct LastQuery {
-  std::string text;
-  std::vector<std::string> tokens;
-  std::string user;
-  sdk::ParseResult parse;     ///< all candidates with every derivation
-  std::vector<double> probs;  ///< softmax over all candidates' scores
-  std::vector<ShownCandidate> shown;
-  sdk::WorldState world;  ///< the world the query was answered in
-};
-
 /// What an accept did, for the naturalization module's persistence hook.
 struct AcceptEvent {
   const LastQuery& query;
@@ -93,9 +87,10 @@ struct AcceptEvent {
 
 class Session {
  public:
-  using OpHandler = std::function<Json(Session&, const Json& request)>;
+  using OpHandler = std::function<void(Session&, const Json& request, JsonWriter& answer)>;
   using VisibilityHook = std::function<bool(const sdk::Rule&, const std::string& user)>;
   using AcceptHook = std::function<void(Session&, const AcceptEvent&)>;
+  using Hook = std::function<void(Session&)>;
 
   /// Options from the runtime's config.
   explicit Session(std::shared_ptr<Runtime> runtime);
@@ -104,6 +99,31 @@ class Session {
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
+  // ---- the typed query service (query_service.hpp) ----
+
+  /// Parses `text`, ranks the readings and runs the first k on the current world. Throws
+  /// sdk::Error: input_too_long (input.max_chars code points, input.max_semicolons, max_tokens),
+  /// bad_request (negative k), deadline_exceeded, plugin errors. The query becomes the last one.
+  QueryResult query(const QueryRequest& request);
+  /// Accepts a shown candidate of the last query: the scorer learns, use counters count, the
+  /// accept hook persists, then the world becomes the candidate's. Throws no_query,
+  /// rank_out_of_range, not_acceptable, or the hook's error (then nothing changed).
+  /// `before_commit` sees the outcome before anything is applied (the protocol op writes its
+  /// answer there: nothing may fail after the commit).
+  AcceptResult accept(const AcceptRequest& request,
+                      const std::function<void(const sdk::Outcome&)>& before_commit = {});
+  /// Loads a world file (relative: the caller's directory first, then the config's) and makes it
+  /// the current world. Throws bad_world.
+  const sdk::WorldState& open_world_file(const std::string& file);
+  /// Loads a world object's text (relative paths in it: from `base`) and makes it current.
+  const sdk::WorldState& open_world_text(const std::string& text, const std::string& base);
+  /// Replaces the current world (and forgets the last query, whose plans no longer apply).
+  void set_world(sdk::WorldState world);
+  /// Makes `name` the current user (bad_request when empty) and runs the user hooks.
+  void set_user(std::string name);
+
+  // ---- the protocol (docs/protocol.md) ----
+
   /// One request line -> one answer line (no trailing newline). Empty (blank) lines give an empty
   /// string: no answer. Never throws. Lines longer than input.max_line_bytes or nested deeper
   /// than input.max_json_depth are refused before they are parsed.
@@ -111,14 +131,20 @@ class Session {
   /// The answer to a line a front end did not keep because it was longer than
   /// input.max_line_bytes (`bytes` read so far, at least the limit + 1).
   std::string line_too_long(std::uint64_t bytes) const;
-  /// The deadline of the request being handled (session.deadline_ms after it arrived).
+  /// The same for an already parsed request, the answer parsed again (for tests and in-process
+  /// callers that want a tree). Never throws.
+  Json handle(const Json& request);
+
+  /// The deadline of the request being handled (session.deadline_ms after it arrived, or after a
+  /// typed call began when no request is being handled).
   std::chrono::steady_clock::time_point deadline() const { return deadline_; }
+  /// Starts the deadline of a typed call made outside a protocol request (a define called by a
+  /// front end); inside a request it keeps the request's.
+  void begin_call();
   /// Throws sdk::Error(deadline_exceeded) naming `stage` when the deadline has passed.
   void check_deadline(const char* stage) const;
   /// Throws sdk::Error(input_too_long) when `text` has more than input.max_chars code points.
   void check_length(std::string_view text) const;
-  /// The same for an already parsed request. Never throws.
-  Json handle(const Json& request);
 
   /// Installs or replaces an op.
   void set_op(const std::string& name, OpHandler handler);
@@ -126,6 +152,21 @@ class Session {
   const OpHandler* find_op(const std::string& name) const;
   std::vector<std::string> op_names() const;
 
+  // ---- extension points (session_extension.hpp) ----
+
+  /// Installs an extension's ops and hooks and keeps it (find it again with extension<T>()).
+  void install(std::shared_ptr<SessionExtension> extension);
+  /// The installed extension of type T, or null.
+  template <class T>
+  T* extension() const {
+    for (const auto& e : extensions_)
+      if (auto* t = dynamic_cast<T*>(e.get())) return t;
+    return nullptr;
+  }
+  /// Runs at the start of every query (typed or protocol), before the input is parsed.
+  void add_query_hook(Hook hook) { query_hooks_.push_back(std::move(hook)); }
+  /// Runs after the user changed (set_user, the user op).
+  void add_user_hook(Hook hook) { user_hooks_.push_back(std::move(hook)); }
   /// Per-user rule visibility (sharing modes). Default: every rule is visible.
   void set_visibility(VisibilityHook hook) { visibility_ = std::move(hook); }
   /// Called during an accept after the scorer has learned and the use counters were counted,
@@ -143,10 +184,7 @@ class Session {
   const Executor& executor() const { return executor_; }
 
   const sdk::WorldState& world() const { return world_; }
-  /// Replaces the current world (and forgets the last query, whose plans no longer apply).
-  void set_world(sdk::WorldState world);
   const std::string& user() const { return user_; }
-  void set_user(std::string name) { user_ = std::move(name); }
   /// Null before the first query, after an accept and after a world change.
   const LastQuery* last_query() const { return last_query_.get(); }
   /// The rule filter for the current user (null when every rule is visible).
@@ -154,19 +192,16 @@ class Session {
 
   /// The world object of a state, as the world plugin writes it.
   Json world_json(const sdk::WorldState& state) const;
-  /// The world of a state for an answer payload. While handle_line runs this is a placeholder
-  /// that handle_line replaces by the world's text, so worlds skip the JSON tree entirely;
-  /// otherwise it is world_json(state).
-  Json answer_world(const sdk::WorldState& state);
-  /// The protocol version the client asked for with `hello` (docs/protocol.md § "Protocol versions"); 1 by default.
+  /// The protocol version the client asked for with `hello` (docs/protocol.md § "Protocol
+  /// versions"); 1 by default.
   int protocol() const { return protocol_; }
-  /// A world that changed in a protocol-1 answer is the full object (answer_world); in protocol 2
-  /// it is only `{"items", "robot"}`, and add_world_version() must be called for the answer.
-  Json answer_changed_world(const sdk::WorldState& state);
-  /// Protocol 2: adds "world_version" (the id of the state's geometry and rooms) to `payload`,
+  /// Writes the value of a world that changed: in protocol 1 the full world object, in protocol 2
+  /// only `{"items", "robot"}` (then write_world_version() must be called for the answer).
+  void write_changed_world(JsonWriter& w, const sdk::WorldState& state);
+  /// Protocol 2: writes the member "world_version" (the id of the state's geometry and rooms),
   /// and "geometry" (the world object without items and robot) when this client has not been
-  /// sent that version yet or `always` is set. Protocol 1: does nothing.
-  void add_world_version(Json& payload, const sdk::WorldState& state, bool always = false);
+  /// sent that version yet or `always` is set. Protocol 1: writes nothing.
+  void write_world_version(JsonWriter& w, const sdk::WorldState& state, bool always = false);
 
  private:
   struct CachedWorld {
@@ -176,20 +211,16 @@ class Session {
   /// The full text for a state; the last few are cached (candidates often end in the same
   /// world, and the current world is written again and again).
   const std::string& world_text(const sdk::WorldState& state);
-  /// JSON text for an answer payload: a placeholder in line mode, else parsed.
-  Json raw_json(std::string text);
-  std::string splice_worlds(std::string answer) const;
-  /// A trace for an answer payload: like answer_world, a placeholder for its text in line mode.
-  Json answer_trace(const std::vector<sdk::TraceStep>& trace, int dims);
+  /// The answer to a parsed request, written to `out`; `line` is its text (empty when the
+  /// request did not come as a line): `op` and `id` are echoed from it.
+  void answer(const Json& request, std::string_view line, std::string& out);
 
   void install_default_ops();
-  Json op_hello(const Json& request);
-  Json op_world(const Json& request);
   sdk::WorldState load_requested_world(const std::string& text, const std::string& base);
-  Json op_user(const Json& request);
-  Json op_state(const Json& request);
-  Json op_query(const Json& request);
-  Json op_accept(const Json& request);
+  void op_hello(const Json& request, JsonWriter& answer);
+  void op_world(const Json& request, JsonWriter& answer);
+  void op_query(const Json& request, JsonWriter& answer);
+  void op_accept(const Json& request, JsonWriter& answer);
   void notify_plan_observers(const LastQuery& q, const ShownCandidate& sc,
                              const sdk::Outcome& outcome);
 
@@ -198,8 +229,10 @@ class Session {
   Executor executor_;
   sdk::WorldState world_;
   std::string user_ = "anonymous";
-  std::unique_ptr<LastQuery> last_query_;
+  std::shared_ptr<LastQuery> last_query_;
   std::map<std::string, OpHandler, std::less<>> ops_;
+  std::vector<std::shared_ptr<SessionExtension>> extensions_;
+  std::vector<Hook> query_hooks_, user_hooks_;
   VisibilityHook visibility_;
   AcceptHook on_accept_;
   std::vector<std::shared_ptr<AcceptedPlanObserver>> plan_observers_;
@@ -214,9 +247,7 @@ class Session {
   int protocol_ = 1;
   std::vector<std::uint64_t> sent_versions_;  // protocol 2: versions whose geometry was sent
   std::string_view line_;                     // the request line being handled (handle_line)
-  bool line_mode_ = false;                    // inside handle_line: answer_world gives placeholders
-  std::vector<std::string> spliced_;          // world and trace texts of the answer being built
-  std::string marker_;                        // placeholder prefix, unique per session
+  bool in_request_ = false;                   // a protocol request is being handled
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
 };
 

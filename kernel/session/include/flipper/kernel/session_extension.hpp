@@ -2,8 +2,10 @@
 /// @file session_extension.hpp
 /// The kernel's extension point for sessions (docs/architecture.md §3). A module above the kernel
 /// (naturalization, a front end) adds its ops and hooks to a session through Session::set_op,
-/// set_visibility and set_on_accept. The kernel names no extension and reserves no op name for
-/// one: the app layer decides which extensions a session gets (apps/wiring).
+/// add_query_hook, add_user_hook, set_visibility and set_on_accept; Session::install keeps it, so
+/// a front end finds its typed service with session.extension<T>(). The kernel names no
+/// extension and reserves no op name for one: the app layer decides which extensions a session
+/// gets (apps/wiring).
 
 namespace flipper::kernel {
 

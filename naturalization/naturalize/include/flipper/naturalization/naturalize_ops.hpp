@@ -4,6 +4,9 @@
 /// sharing-mode visibility hook, accept persistence, and per-user weights on `user`.
 
 #include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "flipper/kernel/session.hpp"
 #include "flipper/kernel/session_extension.hpp"
@@ -18,9 +21,25 @@ void install_naturalization(Session& session, std::shared_ptr<Naturalizer> natur
 std::shared_ptr<Naturalizer> install_naturalization(Session& session,
                                                     std::shared_ptr<Runtime> runtime);
 
+/// The typed definition request of the naturalization service: what a `define` carries.
+struct DefineCall {
+  std::string head;
+  std::vector<std::string> body;
+  std::vector<int> ranks;  ///< per body line, the rank of the reading meant (empty: 0 each)
+};
+
+/// The typed naturalization service of one session (the define/rules/delete_rule ops call it,
+/// front ends call it directly): validation against input.* and the session's deadline here.
+/// Throws sdk::Error like the ops (input_too_long, naturalize_codes, deadline_exceeded).
+DefineOutcome define(Naturalizer& nat, Session& session, const DefineCall& call);
+std::vector<RuleListing> list_rules(Naturalizer& nat, Session& session,
+                                    const std::optional<std::string>& author);
+void delete_rule(Naturalizer& nat, Session& session, const std::string& id);
+
 /// Naturalization as a session extension over one naturalizer that several sessions share:
 /// install() wires the ops and hooks above; activate() selects the caller's weights
-/// (lexicon.weights: per_user) before one of the sessions handles a request.
+/// (lexicon.weights: per_user) before one of the sessions handles a request. Front ends find it
+/// with `session.extension<NaturalizationExtension>()` and call the typed service through it.
 class NaturalizationExtension final : public SessionExtension {
  public:
   explicit NaturalizationExtension(std::shared_ptr<Naturalizer> naturalizer)
@@ -29,11 +48,22 @@ class NaturalizationExtension final : public SessionExtension {
   void activate(const Session& session) override;
   const std::shared_ptr<Naturalizer>& naturalizer() const { return naturalizer_; }
 
+  DefineOutcome define(Session& session, const DefineCall& call) {
+    return kernel::define(*naturalizer_, session, call);
+  }
+  std::vector<RuleListing> rules(Session& session, const std::optional<std::string>& author) {
+    return list_rules(*naturalizer_, session, author);
+  }
+  void delete_rule(Session& session, const std::string& id) {
+    kernel::delete_rule(*naturalizer_, session, id);
+  }
+
  private:
   std::shared_ptr<Naturalizer> naturalizer_;
 };
 
-/// Protocol form of a rule: {"id","lhs","rhs","semantics","author","how"}.
-Json rule_json(const sdk::Rule& rule);
+/// Protocol form of a rule: {"id","lhs","rhs","semantics","author","how"}; `close` false leaves
+/// the object open for more members.
+void write_rule(JsonWriter& w, const sdk::Rule& rule, bool close = true);
 
 }  // namespace flipper::kernel

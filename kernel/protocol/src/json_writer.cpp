@@ -1,0 +1,170 @@
+#include "flipper/kernel/json_writer.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace flipper::kernel {
+namespace {
+
+using nlohmann::json;
+
+// Printable ASCII other than '"' and '\\' is written as is; anything else (control characters,
+// UTF-8 sequences that may be invalid) goes through nlohmann's escaping, so the bytes stay
+// nlohmann's.
+bool plain(std::string_view s) {
+  for (char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u >= 0x80 || c == '"' || c == '\\') return false;
+  }
+  return true;
+}
+
+void append_escaped(std::string& out, std::string_view s) {
+  if (plain(s)) {
+    out += '"';
+    out += s;
+    out += '"';
+    return;
+  }
+  out += json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+// Writes the events of a SAX parse through a JsonWriter: the text again, compact, in order.
+class EchoSax : public nlohmann::json_sax<json> {
+ public:
+  EchoSax(JsonWriter& w, bool raw_float) : w_(w), raw_float_(raw_float) {}
+  bool null() override { return w_.null(), true; }
+  bool boolean(bool v) override { return w_.boolean(v), true; }
+  bool number_integer(number_integer_t v) override { return w_.integer(v), true; }
+  bool number_unsigned(number_unsigned_t v) override { return w_.unsigned_integer(v), true; }
+  bool number_float(number_float_t v, const string_t& text) override {
+    if (raw_float_ && depth_ == 0)
+      w_.raw(text);
+    else
+      w_.number(v);
+    return true;
+  }
+  bool string(string_t& v) override { return w_.string(v), true; }
+  bool binary(binary_t&) override { return false; }
+  bool start_object(std::size_t) override { return ++depth_, w_.begin_object(), true; }
+  bool key(string_t& k) override { return w_.key(k), true; }
+  bool end_object() override { return --depth_, w_.end_object(), true; }
+  bool start_array(std::size_t) override { return ++depth_, w_.begin_array(), true; }
+  bool end_array() override { return --depth_, w_.end_array(), true; }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    return false;
+  }
+
+ private:
+  JsonWriter& w_;
+  bool raw_float_;
+  int depth_ = 0;
+};
+
+}  // namespace
+
+void JsonWriter::separate() {
+  if (after_key_) {
+    after_key_ = false;
+    return;
+  }
+  if (first_.empty()) return;
+  if (first_.back())
+    first_.back() = false;
+  else
+    out_ += ',';
+}
+
+JsonWriter& JsonWriter::begin_object() {
+  separate();
+  out_ += '{';
+  first_.push_back(true);
+  return *this;
+}
+
+JsonWriter& JsonWriter::end_object() {
+  out_ += '}';
+  first_.pop_back();
+  return *this;
+}
+
+JsonWriter& JsonWriter::begin_array() {
+  separate();
+  out_ += '[';
+  first_.push_back(true);
+  return *this;
+}
+
+JsonWriter& JsonWriter::end_array() {
+  out_ += ']';
+  first_.pop_back();
+  return *this;
+}
+
+JsonWriter& JsonWriter::key(std::string_view name) {
+  separate();
+  append_escaped(out_, name);
+  out_ += ':';
+  after_key_ = true;
+  return *this;
+}
+
+JsonWriter& JsonWriter::string(std::string_view value) {
+  separate();
+  append_escaped(out_, value);
+  return *this;
+}
+
+JsonWriter& JsonWriter::boolean(bool value) {
+  separate();
+  out_ += value ? "true" : "false";
+  return *this;
+}
+
+JsonWriter& JsonWriter::integer(std::int64_t value) {
+  separate();
+  out_ += std::to_string(value);
+  return *this;
+}
+
+JsonWriter& JsonWriter::unsigned_integer(std::uint64_t value) {
+  separate();
+  out_ += std::to_string(value);
+  return *this;
+}
+
+JsonWriter& JsonWriter::number(double value) {
+  separate();
+  out_ += json(value).dump();  // nlohmann's shortest round-trip form (and null for NaN/inf)
+  return *this;
+}
+
+JsonWriter& JsonWriter::null() {
+  separate();
+  out_ += "null";
+  return *this;
+}
+
+JsonWriter& JsonWriter::raw(std::string_view text) {
+  separate();
+  out_ += text;
+  return *this;
+}
+
+JsonWriter& JsonWriter::value(const json& j) {
+  separate();
+  out_ += j.dump(-1, ' ', false, json::error_handler_t::replace);
+  return *this;
+}
+
+JsonWriter& JsonWriter::echo(std::string_view text, bool raw_float) {
+  EchoSax sax(*this, raw_float);
+  json::sax_parse(text, &sax);
+  return *this;
+}
+
+std::string& JsonWriter::raw_begin() {
+  separate();
+  return out_;
+}
+
+}  // namespace flipper::kernel
