@@ -295,3 +295,30 @@ TEST_CASE("a rule acknowledged in one process serves a running other one, and so
   CHECK(b.ask({{"op", "query"}, {"text", "glorp left"}})["status"] == "unparsable");
   CHECK(b.ask({{"op", "rules"}})["rules"].size() == 1);
 }
+
+// `flipper session` does not free its rules at exit (docs/naturalization.md §5 "Start-up at
+// scale") but must still close the store: the last connection checkpoints the WAL into the
+// database and removes it, as a process that tears everything down does.
+TEST_CASE("flipper session closes the store at the end of its input though it keeps its rules",
+          "[naturalize][process]") {
+  const std::string store = scratch_path("exit") + ".sqlite";
+  {
+    flipper::testsupport::ChildProcess child(
+        {kFlipper, "session", "--set", "lexicon.path=" + store, "-"});
+    REQUIRE(child.write_line(R"({"op":"user","name":"ana"})"));
+    REQUIRE(Json::parse(child.read_line())["ok"] == true);
+    REQUIRE(child.write_line(
+        R"({"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]})"));
+    REQUIRE(Json::parse(child.read_line())["ok"] == true);
+    struct stat st {};
+    REQUIRE(stat((store + "-wal").c_str(), &st) == 0);  // the define is in the WAL
+    CHECK(child.finish() == 0);
+  }
+  struct stat st {};
+  CHECK(stat((store + "-wal").c_str(), &st) != 0);  // checkpointed and removed: closed
+  CHECK(stat((store + "-shm").c_str(), &st) != 0);
+  Session s(store);
+  REQUIRE(s.ask({{"op", "user"}, {"name", "bob"}})["ok"] == true);
+  CHECK(s.ask({{"op", "query"}, {"text", "drop 2 items"}})["candidates"][0]["formula"] ==
+        "{repeat 2 times {drop item }}");
+}

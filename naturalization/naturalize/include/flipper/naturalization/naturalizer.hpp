@@ -21,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -138,6 +139,11 @@ class Naturalizer {
   /// Picks up what other processes committed since the last look (new rules, deletions); a
   /// cheap check (PRAGMA data_version) when nothing changed.
   void refresh();
+  /// Closes the lexicon store now (its last connection checkpoints and removes the WAL), for a
+  /// process about to exit without destroying the naturalizer: every write is already committed
+  /// when its op answers, so nothing is lost. Nothing that reads or writes the store may be
+  /// called afterwards.
+  void close_store();
   /// Live rules visible to `user`, optionally only those of `author`, in creation order.
   std::vector<RuleListing> rules(const std::string& user,
                                  const std::optional<std::string>& author = std::nullopt) const;
@@ -189,7 +195,9 @@ class Naturalizer {
   NaturalizeOptions options_;
   std::unique_ptr<LexiconStore> store_;
   std::vector<sdk::RulePtr> rules_;
-  std::unordered_map<std::string, sdk::RulePtr> by_id_;
+  /// Keyed by a view of the rule's own id (rules are immutable; the value keeps the id alive):
+  /// no second copy of every id.
+  std::unordered_map<std::string_view, sdk::RulePtr> by_id_;
   /// shape_hash() of each rule in rules_ (same index): the candidates same_rule() compares a
   /// new rule with. Computed while the rule is hot (a hash map built at start-up cost ~10% of a
   /// 100k start; one built lazily cost the first define ~0.1 s, the rules out of the cache).
