@@ -322,3 +322,19 @@ TEST_CASE("flipper session closes the store at the end of its input though it ke
   CHECK(s.ask({{"op", "query"}, {"text", "drop 2 items"}})["candidates"][0]["formula"] ==
         "{repeat 2 times {drop item }}");
 }
+
+TEST_CASE("processes that create one new store at the same moment all start",
+          "[naturalize][process][create]") {
+  // Switching a new store to WAL needs it to itself, and SQLite answers the loser of that race
+  // SQLITE_BUSY at once (no busy handler): the loser must look again and go on, not fail with
+  // lexicon_busy. Each round starts six processes on a store that does not exist yet.
+  int failed = 0;
+  for (int round = 0; round < 30; ++round) {
+    const std::string store = scratch_path("create-race") + ".sqlite";
+    std::vector<std::unique_ptr<Session>> crowd;
+    for (int i = 0; i < 6; ++i) crowd.push_back(std::make_unique<Session>(store));
+    for (auto& s : crowd)
+      if (s->ask({{"op", "user"}, {"name", "ana"}})["ok"] != true) ++failed;
+  }
+  CHECK(failed == 0);
+}

@@ -1,11 +1,14 @@
 #pragma once
 // Test support for session tests: a real runtime from the embedded default config (plugins from
 // this build), with the lexicon in a scratch file so no test touches $HOME.
+#include <stdlib.h>
 #include <unistd.h>
+
 #include <atomic>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -14,13 +17,20 @@
 
 namespace flipper::testsupport {
 
+// A fresh path under build/tests/scratch/run-XXXXXX, a directory made once per test process by
+// mkdtemp. Not "<stem>-<pid>": pids wrap (pid_max 32768, and the crowd tests spawn hundreds of
+// processes), and a later run's store then opened an earlier run's leftover .sqlite file.
 inline std::string scratch_path(const std::string& stem) {
   static std::atomic<int> counter{0};
-  auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "scratch";
-  std::filesystem::create_directories(dir);
-  auto p = dir / (stem + "-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
-  std::filesystem::remove(p);
-  return p.string();
+  static const std::filesystem::path dir = [] {
+    const auto root = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "scratch";
+    std::filesystem::create_directories(root);
+    std::string pattern = (root / "run-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr)
+      throw std::runtime_error("cannot make a scratch directory under " + root.string());
+    return std::filesystem::path(pattern);
+  }();
+  return (dir / (stem + "-" + std::to_string(counter++))).string();
 }
 
 inline std::vector<std::string> test_overrides(std::vector<std::string> extra = {}) {

@@ -1,10 +1,12 @@
 #include "flipper/naturalization/lexicon_store.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <istream>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <thread>
 
 #include "flipper/sdk/errors.hpp"
 #include "sqlite_handle.hpp"
@@ -162,6 +164,35 @@ void create_or_upgrade(sqlite::Db& db) {
 
 }  // namespace
 
+namespace {
+
+std::string journal_mode(sqlite::Db& db) {
+  sqlite::Stmt m(db, "PRAGMA journal_mode");
+  return m.step() ? m.text(0) : std::string();
+}  // finalized: an active statement would hold a read transaction open
+
+/// Switches a store to WAL. Two processes creating one store race here: switching needs the
+/// database to itself, and SQLite answers a loser SQLITE_BUSY at once, without its busy handler.
+/// The loser looks again (the winner has usually switched it) and retries within the busy timeout.
+void use_wal(sqlite::Db& db) {
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(db.busy_timeout_ms());
+  for (int attempt = 0;; ++attempt) {
+    if (journal_mode(db) == "wal") return;
+    try {
+      db.exec("PRAGMA journal_mode=WAL");
+      return;
+    } catch (const sdk::Error& e) {
+      if (std::string(e.code()) != lexicon_codes::kBusy ||
+          std::chrono::steady_clock::now() >= deadline)
+        throw;
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(500 << std::min(attempt, 5)));
+  }
+}
+
+}  // namespace
+
 LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
@@ -201,14 +232,7 @@ LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
                                                std::to_string(kSchemaVersion)));
   } else {
     // WAL + FULL: every COMMIT is on disk when it returns, and a kill mid-write never corrupts.
-    if (!memory) {
-      std::string mode;
-      {
-        sqlite::Stmt m(db, "PRAGMA journal_mode");
-        if (m.step()) mode = m.text(0);
-      }  // finalized: an active statement would hold a read transaction open
-      if (mode != "wal") db.exec("PRAGMA journal_mode=WAL");
-    }
+    if (!memory) use_wal(db);
     db.exec("PRAGMA synchronous=FULL");
     if (!memory) db.checkpoint_in_background();
     if (version < kSchemaVersion) create_or_upgrade(db);

@@ -186,7 +186,8 @@ void Db::exec(const char* sql) {
     sqlite3_free(err);
     const char* code = code_for(rc, sqlite3_system_errno(db_));
     throw sdk::Error(code, "lexicon store '" + path_ + "' " + explain(code, busy_timeout_ms_) +
-                               " (" + msg + ")");
+                               " (" + sql + ": " + msg + ", sqlite code " +
+                               std::to_string(sqlite3_extended_errcode(db_)) + ")");
   }
 }
 
