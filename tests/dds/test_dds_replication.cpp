@@ -144,6 +144,25 @@ TEST_CASE("three sites share a definition, a deletion and a conflicting pair", "
   std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("a site that redefines a head it received keeps only its own, later definition",
+          "[dds]") {
+  // The interleaving the conflicting pair above only meets by chance: b has applied a's "go home"
+  // before b defines it. b's definition saw a's, so it is later and wins at every site, b included.
+  const auto dir = scratch_dir("redefine");
+  constexpr int kDomain = 165;
+  Site a("a", dir, kDomain), b("b", dir, kDomain);
+  for (Site* s : {&a, &b}) s->call({{"op", "user"}, {"name", "ana"}});
+  REQUIRE(a.call({{"op", "define"}, {"head", "go home"}, {"body", {"visit room1"}}})["ok"] == true);
+  REQUIRE(wait_until([&] { return b.top("go home") == "{visit room1}"; }));
+  REQUIRE(b.call({{"op", "define"}, {"head", "go home"}, {"body", {"visit room2"}}})["ok"] == true);
+  for (Site* s : {&a, &b}) CHECK(wait_until([&] { return s->top("go home") == "{visit room2}"; }));
+  const std::set<std::string> own = {"$Action -> [\"go\",\"home\"] => {visit room2}"};
+  CHECK(rule_shapes(b, "go home") == own);
+  CHECK(wait_until([&] { return rule_shapes(a, "go home") == own; }));
+  for (Site* s : {&a, &b}) CHECK(s->child->finish() == 0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("a site killed mid-stream catches up with 0 lost and 0 duplicate definitions", "[dds]") {
   const auto dir = scratch_dir("kill");
   constexpr int kDomain = 164;

@@ -415,6 +415,9 @@ void LexiconReplicator::define_op(const kernel::Session::OpHandler& inner, kerne
   }
   row.status = "applied";
   log_db_->put(row);
+  // A definition of the same head from another site may have arrived before this one: this one
+  // saw it, so it is later and wins; the other site's rules go here too, as they do elsewhere.
+  settle(row.event.head);
   publish(row.event);
 }
 
