@@ -44,16 +44,9 @@ std::string copied_flipper(const std::string& dir) {
   return to.string();
 }
 
+/// `cmd` with its stderr merged into the output.
 Run run_command(const std::string& cmd) {
-  Run r;
-  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p) != nullptr) r.out += buf.data();
-  const int raw = ::pclose(p);
-  REQUIRE(WIFEXITED(raw));
-  r.status = WEXITSTATUS(raw);
-  return r;
+  return run_shell(cmd + " 2>&1");
 }
 
 }  // namespace

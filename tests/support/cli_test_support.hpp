@@ -17,9 +17,8 @@ struct Run {
   std::string out;  ///< stdout, then stderr when `merge` (the default)
 };
 
-inline Run run_flipper(const std::string& args, bool merge = true) {
-  const std::string cmd =
-      std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args + (merge ? " 2>&1" : " 2>/dev/null");
+/// Runs a shell command line as written (redirections included); its stdout and exit status.
+inline Run run_shell(const std::string& cmd) {
   Run r;
   FILE* p = ::popen(cmd.c_str(), "r");
   REQUIRE(p != nullptr);
@@ -29,6 +28,11 @@ inline Run run_flipper(const std::string& args, bool merge = true) {
   REQUIRE(WIFEXITED(raw));  // never killed by a signal
   r.status = WEXITSTATUS(raw);
   return r;
+}
+
+inline Run run_flipper(const std::string& args, bool merge = true) {
+  return run_shell(std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args +
+                   (merge ? " 2>&1" : " 2>/dev/null"));
 }
 
 /// A fresh path under build/tests/tmp/cli (any old file removed).
