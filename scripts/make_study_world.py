@@ -8,7 +8,7 @@ import json
 import sys
 
 WORLD_ID = "wdd05b0e5ff41"
-src = sys.argv[1] if len(sys.argv) > 1 else "../shared/corpus/dev/worlds.jsonl"
+src = sys.argv[1] if len(sys.argv) > 1 else "data/study2018/dev/worlds.jsonl"
 out = sys.argv[2] if len(sys.argv) > 2 else "configs/worlds/study2018.json"
 
 rec = next(w for w in map(json.loads, open(src)) if w["world_id"] == WORLD_ID)

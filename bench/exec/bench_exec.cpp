@@ -37,7 +37,7 @@ int main() {
   auto planner = load_plugin<sdk::Planner>("astar");
   const auto worlds = corpus_worlds();
   std::map<std::string, nlohmann::json> answers;
-  for (auto& a : read_jsonl(shared_path("corpus/dev/original-answers.jsonl"))) {
+  for (auto& a : read_jsonl(study_path("dev/original-answers.jsonl"))) {
     std::string q = a["qid"];
     answers.emplace(std::move(q), std::move(a));
   }
@@ -48,7 +48,7 @@ int main() {
   };
   std::vector<Job> jobs;
   std::map<std::string, sdk::WorldState> loaded;
-  for (const auto& q : read_jsonl(shared_path("corpus/dev/queries.jsonl"))) {
+  for (const auto& q : read_jsonl(study_path("dev/queries.jsonl"))) {
     if (q["kind"] != "accept" || !worlds.count(q["world_id"])) continue;
     auto ans = answers.find(q["for_qid"].get<std::string>());
     if (ans == answers.end()) continue;

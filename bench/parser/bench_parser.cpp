@@ -80,7 +80,7 @@ std::vector<sdk::RulePtr> induced_rules(int n) {
 
 int main() {
   std::vector<std::vector<std::string>> utterances;
-  std::ifstream in(std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/queries.jsonl");
+  std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/dev/queries.jsonl");
   for (std::string line; std::getline(in, line);) {
     auto j = nlohmann::json::parse(line);
     if (j.value("kind", "") == "q" && j["utterance"].is_string())

@@ -51,7 +51,7 @@ using nlohmann::json;
 namespace {
 
 std::string g_flipper = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper";
-std::string kCorpus = std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/";
+std::string kCorpus = std::string(FLIPPER_STUDY_DIR) + "/dev/";
 fs::path g_tmp;
 int g_runs = 3;
 

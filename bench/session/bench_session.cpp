@@ -130,7 +130,7 @@ std::string query_line(const std::string& text, int k) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string corpus = std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/queries.jsonl";
+  std::string corpus = std::string(FLIPPER_STUDY_DIR) + "/dev/queries.jsonl";
   std::string flipper = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper";
   int runs = 10;
   bool latency_only = false;

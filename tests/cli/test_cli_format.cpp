@@ -70,8 +70,8 @@ TEST_CASE("json output (--json) of plugins, config check, lexicon list and repla
   CHECK(l["rules"][0]["author"] == "ana");
 
   const std::string out = scratch_dir("json-replay");
-  const Run replay = run_flipper("replay --json --corpus " + std::string(FLIPPER_SHARED_DIR) +
-                                     "/corpus/dev --runs sep2018/TuesdayAfternoon --max-queries 3 "
+  const Run replay = run_flipper("replay --json --corpus " + std::string(FLIPPER_STUDY_DIR) +
+                                     "/dev --runs sep2018/TuesdayAfternoon --max-queries 3 "
                                      "--out " + out,
                                  false);
   INFO(replay.out);

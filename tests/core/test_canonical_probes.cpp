@@ -30,7 +30,7 @@ TEST_CASE("normalising the original's printing", "[canonical][probes]") {
 }
 
 TEST_CASE("every probe interpretation reads and round-trips", "[canonical][probes]") {
-  std::ifstream in(std::string(FLIPPER_SHARED_DIR) + "/spec/original-probes.jsonl");
+  std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/original-probes.jsonl");
   REQUIRE(in.good());
   std::set<std::string> texts;
   for (std::string line; std::getline(in, line);) {

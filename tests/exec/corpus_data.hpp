@@ -17,14 +17,14 @@ inline std::vector<nlohmann::json> read_jsonl(const std::string& path) {
   return out;
 }
 
-inline std::string shared_path(const std::string& rel) {
-  return std::string(FLIPPER_SHARED_DIR) + "/" + rel;
+inline std::string study_path(const std::string& rel) {
+  return std::string(FLIPPER_STUDY_DIR) + "/" + rel;
 }
 
 /// worlds.jsonl by world_id.
 inline std::map<std::string, nlohmann::json> corpus_worlds() {
   std::map<std::string, nlohmann::json> out;
-  for (auto& w : read_jsonl(shared_path("corpus/dev/worlds.jsonl"))) {
+  for (auto& w : read_jsonl(study_path("dev/worlds.jsonl"))) {
     std::string id = w["world_id"];
     out.emplace(std::move(id), std::move(w));
   }

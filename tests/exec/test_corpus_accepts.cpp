@@ -29,7 +29,7 @@ TEST_CASE("corpus accepts: world after our execution against the logged next wor
   Study st;
   const auto worlds = corpus_worlds();
   std::map<std::string, json> answers;
-  for (auto& a : read_jsonl(shared_path("corpus/dev/original-answers.jsonl"))) {
+  for (auto& a : read_jsonl(study_path("dev/original-answers.jsonl"))) {
     std::string q = a["qid"];
     answers.emplace(std::move(q), std::move(a));
   }
@@ -42,7 +42,7 @@ TEST_CASE("corpus accepts: world after our execution against the logged next wor
     if (!examples.count(std::to_string(k) + cls)) examples[std::to_string(k) + cls] = what;
   };
   int skipped_no_candidate = 0, skipped_no_world = 0;
-  for (const auto& q : read_jsonl(shared_path("corpus/dev/queries.jsonl"))) {
+  for (const auto& q : read_jsonl(study_path("dev/queries.jsonl"))) {
     if (q["kind"] != "accept") continue;
     auto ans = answers.find(q["for_qid"].get<std::string>());
     const json* cand = nullptr;

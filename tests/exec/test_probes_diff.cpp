@@ -1,4 +1,4 @@
-// Differential test (a): every probe candidate of the original (spec/original-probes.jsonl) is run
+// Differential test (a): every probe candidate of the original (data/study2018/original-probes.jsonl) is run
 // on its world with the probe's robot and held items; our trace is compared with the original's
 // path, normalised as core-language §5 says. Differences are classified by the spec [decision]
 // that explains them; none may stay unexplained.
@@ -48,7 +48,7 @@ TEST_CASE("probe candidates: our traces against the original's paths", "[exec][d
     ++classes[cls];
     if (!examples.count(cls)) examples[cls] = what;
   };
-  for (const auto& probe : read_jsonl(shared_path("spec/original-probes.jsonl"))) {
+  for (const auto& probe : read_jsonl(study_path("original-probes.jsonl"))) {
     json doc = worlds.at(probe["world_id"].get<std::string>());
     doc["robot"] = {
         {"x", probe["robot"][0]}, {"y", probe["robot"][1]}, {"holding", probe["holding"]}};

@@ -13,7 +13,7 @@ using namespace flipper;
 TEST_CASE("dev corpus: Core stays core and first, group-A Nothing floats to a reading") {
   auto& chart = parsetest::shared_stack();
   const floatingtest::FloatingStack st;
-  std::ifstream in(std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/queries.jsonl");
+  std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/dev/queries.jsonl");
   REQUIRE(in);
   int core_total = 0, core_first = 0, nothing_total = 0, nothing_floated = 0, chart_parsed = 0;
   std::string line;

@@ -10,7 +10,7 @@ namespace flipper::testsupport {
 
 /// Every line of the corpus world file (one world object per line).
 inline std::vector<std::string> corpus_worlds() {
-  std::ifstream in(std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/worlds.jsonl");
+  std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/dev/worlds.jsonl");
   if (!in) throw std::runtime_error("cannot read corpus/dev/worlds.jsonl");
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);)

@@ -38,7 +38,7 @@ Json world_object(const Json& w) {
 }  // namespace
 
 TEST_CASE("replay of the corpus definitions", "[naturalize][corpus]") {
-  const std::string dir = std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/";
+  const std::string dir = std::string(FLIPPER_STUDY_DIR) + "/dev/";
   std::map<std::string, Json> worlds;
   for (auto& w : read_jsonl(dir + "worlds.jsonl")) worlds[w["world_id"]] = world_object(w);
 

@@ -172,7 +172,7 @@ TEST_CASE("a snapshot blob reads back exactly, and a damaged one hands out nothi
 
 TEST_CASE("the dev corpus's induced rules: the same rules and parses with and without a snapshot",
           "[naturalize][snapshot][corpus]") {
-  const std::string dir = std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/";
+  const std::string dir = std::string(FLIPPER_STUDY_DIR) + "/dev/";
   const std::string store = scratch_path("snapshot-corpus") + ".sqlite";
   {
     auto s = open(store);

@@ -86,8 +86,8 @@ inline std::vector<sdk::RulePtr> synthetic_rules(int n, const std::vector<std::s
 
 /// The dev corpus's distinct query utterances, in corpus order.
 inline std::vector<std::string> dev_utterances() {
-  std::ifstream in(std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/queries.jsonl");
-  if (!in) throw std::runtime_error("no dev corpus under " + std::string(FLIPPER_SHARED_DIR));
+  std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/dev/queries.jsonl");
+  if (!in) throw std::runtime_error("no dev corpus under " + std::string(FLIPPER_STUDY_DIR));
   std::vector<std::string> out;
   std::set<std::string> seen;
   for (std::string line; std::getline(in, line);) {

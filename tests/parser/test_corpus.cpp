@@ -13,7 +13,7 @@ using namespace flipper;
 
 TEST_CASE("dev corpus: original Core queries parse as core, group A Nothing stays unparsable") {
   auto& st = parsetest::shared_stack();
-  std::ifstream in(std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/queries.jsonl");
+  std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/dev/queries.jsonl");
   REQUIRE(in);
   int core_total = 0, core_ok = 0, nothing_total = 0, nothing_ok = 0;
   std::map<std::string, int> failures;

@@ -1,5 +1,5 @@
 // Differential test against the original system's answers to the 277 probes
-// (shared/spec/original-probes.jsonl): for every probe our candidate set must equal the original's
+// (data/study2018/original-probes.jsonl): for every probe our candidate set must equal the original's
 // de-duplicated set after normalising its printing, except where a [decision] differs.
 #include <catch2/catch.hpp>
 #include <fstream>
@@ -91,7 +91,7 @@ TEST_CASE("normalising the original's printing") {
 
 TEST_CASE("every probe of the original yields the expected candidate set") {
   auto& st = parsetest::shared_stack();
-  std::ifstream in(std::string(FLIPPER_SHARED_DIR) + "/spec/original-probes.jsonl");
+  std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/original-probes.jsonl");
   REQUIRE(in);
   // [decision]s: Java number syntax is not a number; number words are case-insensitive;
   // `has color/shape` is a synonym of `is`. Probes the kernel refuses (limits) are skipped.

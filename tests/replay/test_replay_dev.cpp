@@ -17,7 +17,7 @@
 using namespace flipper::kernel::replay;
 
 TEST_CASE("reduced dev replay agrees with the original's statuses above the floor") {
-  const Corpus corpus = load_corpus(FLIPPER_SHARED_DIR "/corpus/dev");
+  const Corpus corpus = load_corpus(FLIPPER_STUDY_DIR "/dev");
   ReplayOptions o;
   o.sets = {"induction.generalize=false"};
   o.max_queries = 150;

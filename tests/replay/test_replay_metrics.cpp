@@ -123,7 +123,7 @@ TEST_CASE("the SVG writer emits one bar per series and category") {
 }
 
 TEST_CASE("dev split deletions map to the definitions that lost rules") {
-  const Corpus corpus = load_corpus(FLIPPER_SHARED_DIR "/corpus/dev");
+  const Corpus corpus = load_corpus(FLIPPER_STUDY_DIR "/dev");
   const std::string run = "sep2018/FridayMorningC";
   DeletionMap map;
   for (const Definition* d : corpus.preloaded(run)) map.add_definition(*d, d->author(), {});

@@ -136,7 +136,7 @@ TEST_CASE("experiment files are validated") {
   CHECK_THROWS_WITH(load_experiment(f.string()), Catch::Contains("unknown key 'variant'"));
   const Experiment e = load_experiment(FLIPPER_SOURCE_DIR "/configs/experiments/ablation.yaml");
   CHECK(e.variants.size() == 5);
-  // Relative to the file (configs/experiments/): three levels up is the repository's parent.
-  const fs::path parent = fs::weakly_canonical(FLIPPER_SOURCE_DIR).parent_path();
-  CHECK(e.corpus == (parent / "shared" / "corpus" / "dev").string());
+  // Relative to the file (configs/experiments/): two levels up is the repository's root.
+  const fs::path root = fs::weakly_canonical(FLIPPER_SOURCE_DIR);
+  CHECK(e.corpus == (root / "data" / "study2018" / "dev").string());
 }

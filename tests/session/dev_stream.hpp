@@ -1,5 +1,5 @@
 #pragma once
-// The dev corpus (FLIPPER_SHARED_DIR/corpus/dev) as protocol request lines, session by session (as
+// The dev corpus (FLIPPER_STUDY_DIR/dev, i.e. data/study2018/dev) as protocol request lines, session by session (as
 // bench/scale replays it): user, then world + query per logged query, accept rank 0, define, and a
 // state at the end of each. Shared by the protocol-2 oracle and the byte-identity golden test.
 #include <fstream>
@@ -10,7 +10,7 @@
 
 namespace flipper::testsupport {
 
-inline const std::string kDev = std::string(FLIPPER_SHARED_DIR) + "/corpus/dev/";
+inline const std::string kDev = std::string(FLIPPER_STUDY_DIR) + "/dev/";
 
 inline std::vector<nlohmann::json> read_jsonl(const std::string& path) {
   std::vector<nlohmann::json> out;

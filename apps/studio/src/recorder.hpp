@@ -1,5 +1,5 @@
 #pragma once
-// Study recording in the corpus format `flipper replay` reads (as ../shared/corpus/dev):
+// Study recording in the corpus format `flipper replay` reads (as data/study2018/dev):
 // queries.jsonl (q, accept, def commands), worlds.jsonl (every world a command started or ended
 // in), definitions.jsonl (the definitions and group C's preloaded ones), original-answers.jsonl
 // (the candidates each query showed, so an accept can be matched on replay) and sessions.json.

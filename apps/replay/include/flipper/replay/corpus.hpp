@@ -1,6 +1,6 @@
 #pragma once
 /// @file corpus.hpp
-/// The user-study corpus split (shared/corpus/README.md): worlds, commands in log order,
+/// The user-study corpus split (data/study2018/README.md): worlds, commands in log order,
 /// definitions (also the preloaded expert ones) and, when present, the original server's full
 /// answers. Loaded once; the replay and the metrics read it, never change it.
 

@@ -4,7 +4,7 @@
 /// @code
 ///   name: Ablation on the dev split
 ///   config: ../default.yaml           # optional (default: the embedded config)
-///   corpus: ../../../shared/corpus/dev  # relative paths: against this file's directory
+///   corpus: ../../data/study2018/dev  # relative paths: against this file's directory
 ///   runs: [sep2018/FridayMorning]     # optional (default: every run)
 ///   max_queries: 0                    # optional, per run
 ///   set: [induction.generalize=false] # optional, applied to every variant
