@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <functional>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,10 +43,27 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;
 inline constexpr int kExitUsage = 2;
 
-/// The one error format of every subcommand: `flipper <cmd>: [code] message` on stderr.
+/// Whether the command line asked for --json: then every outcome, errors included, is one JSON
+/// object on standard output (main sets it before parsing, so usage errors obey it too).
+inline bool& json_output() {
+  static bool on = false;
+  return on;
+}
+
+/// The one error format of every subcommand: `flipper <cmd>: [code] message` on stderr, or with
+/// --json `{"ok":false,"command":CMD,"error":{"code","message"}}` on stdout and nothing on stderr.
 /// Returns `status` so callers can `return report_error(...)`.
-inline int report_error(const std::string& cmd, const std::string& code,
-                        const std::string& message, int status) {
+inline int report_error(const std::string& cmd, const std::string& code, const std::string& message,
+                        int status) {
+  if (json_output()) {
+    std::cout << nlohmann::json{{"ok", false},
+                                {"command", cmd},
+                                {"error", {{"code", code}, {"message", message}}}}
+                     .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+              << "\n"
+              << std::flush;
+    return status;
+  }
   std::cerr << "flipper" << (cmd.empty() ? "" : " " + cmd) << ": [" << code << "] " << message
             << "\n";
   return status;

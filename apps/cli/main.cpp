@@ -1,10 +1,14 @@
 // build/bin/flipper: the command-line front door of the kernel.
+#include <algorithm>
 #include <iostream>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "common.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/param_check.hpp"
 #include "flipper/sdk/version.hpp"
 #include "frontends.hpp"
 
@@ -28,9 +32,25 @@ std::string version_text() {
          std::to_string(FLIPPER_SDK_VERSION_PATCH) + ")";
 }
 
+// `flipper runn`: CLI11 would say "A subcommand is required"; name the unknown command and the
+// closest one instead (only within a typo's distance, see sdk::did_you_mean).
+std::optional<std::string> unknown_command(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return std::nullopt;
+  const std::string word = argv[1];
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+  if (std::find(names.begin(), names.end(), word) != names.end()) return std::nullopt;
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  return "unknown command '" + word + "'" + flipper::sdk::did_you_mean(word, names) +
+         "; the commands are " + list + " (see --help)";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc && std::string(argv[i]) != "--"; ++i)
+    if (std::string(argv[i]) == "--json") flipper::cli::json_output() = true;
   flipper::cli::enter(argc, argv);
   CLI::App app{"Flipper: precise but natural specifications for robot tasks"};
   app.set_version_flag("--version", version_text(), "Print the version and exit");
@@ -44,6 +64,8 @@ int main(int argc, char** argv) {
   flipper::cli::add_lexicon_command(app);
   flipper::cli::add_serve_command(app);
   flipper::cli::add_dds_command(app);
+  if (const auto unknown = unknown_command(app, argc, argv))
+    return flipper::cli::report_error("", "usage", *unknown, 2);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

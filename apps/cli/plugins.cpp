@@ -57,7 +57,9 @@ void print_params(const kernel::LoadedPlugin& p) {
     std::cout << "  (no parameters)\n";
     return;
   }
-  std::cout << text_table(specs_under(schema, ""), "PARAM", "  ");
+  TableOptions table;
+  table.width = terminal_width();
+  std::cout << text_table(specs_under(schema, ""), "PARAM", "  ", table);
 }
 
 // The parameter schemas of every loadable plugin, or of `only`; exit 2 when `only` is unknown
@@ -135,15 +137,20 @@ int list_plugins(const CommonOptions& opts, bool params, const std::string& only
     }
     rows.push_back(std::move(r));
   }
-  // A selected plugin that is missing altogether is reported like any config error.
+  // A selected plugin that is missing altogether is reported like any config error (with
+  // --json: in the listing's "errors", so that stdout stays one JSON object).
+  nlohmann::json errors = nlohmann::json::array();
   for (const auto& section : kernel::Config::plugin_sections()) {
     if (!config.has_section(section)) continue;
     const std::string name = config.plugin_name(section);
     bool present = false;
     for (const auto& r : rows) present = present || (r.mark == "*" && r.name == name);
     if (!present) {
-      report_error("plugins", "plugin_not_found",
-                   "selected " + section + " plugin '" + name + "' was not found", kExitUsage);
+      const std::string message = "selected " + section + " plugin '" + name + "' was not found";
+      if (json)
+        errors.push_back({{"code", "plugin_not_found"}, {"message", message}});
+      else
+        report_error("plugins", "plugin_not_found", message, kExitUsage);
       selected_ok = false;
     }
   }
@@ -160,9 +167,11 @@ int list_plugins(const CommonOptions& opts, bool params, const std::string& only
     if (!only.empty() && list.empty())
       return report_error("plugins", "plugin_not_found", "no plugin named '" + only + "'",
                           kExitUsage);
-    std::cout << nlohmann::json{{"config", config.source()},
+    std::cout << nlohmann::json{{"ok", selected_ok},
+                                {"config", config.source()},
                                 {"search_path", loader.search_path()},
-                                {"plugins", std::move(list)}}
+                                {"plugins", std::move(list)},
+                                {"errors", std::move(errors)}}
                      .dump(2)
               << "\n";
     return selected_ok ? kExitOk : kExitUsage;

@@ -16,6 +16,7 @@
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/repl/repl.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/svg/svg.hpp"
@@ -51,11 +52,15 @@ Reading interpret(kernel::Session& session, const std::string& text) {
   request.text = text;
   request.k = 1;
   const kernel::QueryResult result = session.query(request);  // the session's checks and codes
-  if (result.query->shown.empty())
+  if (result.query->shown.empty()) {
+    const std::string note = kernel::repl::unknown_words_note(session, text);
     throw sdk::Error(sdk::codes::kBadProgram,
                      "cannot understand '" + text +
                          "': it is neither canonical text nor core language, nor a phrase of the "
-                         "lexicon visible to this user (teach it in `flipper repl`)");
+                         "lexicon visible to this user" +
+                         (note.empty() ? "" : ". " + note.substr(0, note.size() - 1)) +
+                         " (teach a phrase in `flipper repl`)");
+  }
   const kernel::LastQuery& q = *result.query;
   const kernel::ShownCandidate& top = q.shown.front();
   return {q.parse.candidates[top.index].program, result.total(), q.probs[top.index]};
@@ -74,7 +79,8 @@ void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
       std::cout << " " << s.item.color << " " << s.item.shape << " (id " << s.item.id << ")";
     std::cout << "\n";
   }
-  for (const auto& w : o.warnings) std::cout << "warning: " << w << "\n";
+  for (const auto& w : kernel::repl::collapse_warnings(kernel::protocol::strings_json(o.warnings)))
+    std::cout << "warning: " << w << "\n";
   std::cout << "realizable: " << (o.realizable ? "yes" : "no") << "\n";
   const sdk::WorldState& w = o.world;
   std::cout << "robot: " << sdk::to_string(w.robot, dims) << ", holding " << w.held.size()
@@ -87,23 +93,19 @@ void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
 }
 
 int run(const RunOptions& opts) {
+  // With --json every failure is one JSON object on stdout (report_error, json_output()).
+  auto fail = [](const std::string& code, const std::string& message, int exit_code) {
+    return report_error("run", code, message, exit_code);
+  };
   std::unique_ptr<kernel::Session> session;
   try {
     session = kernel::open_session(config_file(opts.common), opts.common.overrides);
   } catch (const sdk::Error& e) {
-    return report_error("run", e.code(), e.what(), kExitUsage);
+    return fail(e.code(), e.what(), kExitUsage);
   }
   kernel::Runtime& rt = session->runtime();
   if (!opts.user.empty()) session->set_user(opts.user);
   const int dims = rt.world.call("dims", [](const sdk::World& w) { return w.dims(); });
-  auto fail = [&](const std::string& code, const std::string& message, int exit_code) {
-    if (opts.json)
-      std::cout << nlohmann::json{{"ok", false},
-                                  {"error", kernel::protocol::error_json(code, message)}}
-                       .dump()
-                << "\n";
-    return report_error("run", code, message, exit_code);
-  };
   sdk::WorldState world;
   try {
     world =
@@ -119,7 +121,7 @@ int run(const RunOptions& opts) {
     return fail(e.code(), e.what(), kExitFailed);
   }
   const sdk::Program& program = reading.program;
-  if (reading.readings > 1)
+  if (reading.readings > 1 && !opts.json)
     std::fprintf(stderr,
                  "flipper run: note: took the top of %zu readings (p=%.2f); `flipper repl` shows "
                  "them all and lets you choose\n",

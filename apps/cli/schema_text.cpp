@@ -5,6 +5,10 @@
 #include <cstdint>
 #include <sstream>
 
+#include <sys/ioctl.h>
+#include <unistd.h>
+#include <cstdlib>
+
 #include "flipper/sdk/param_check.hpp"
 
 namespace flipper::cli {
@@ -46,10 +50,15 @@ std::string allowed_text(const sdk::ParamSpec& p) {
   return "-";
 }
 
-std::string default_text(const sdk::ParamSpec& p) {
+std::string default_text(const sdk::ParamSpec& p, const sdk::ParamSchema* schema) {
   if (p.type == sdk::ParamType::Map) return "{}";
   if (p.default_value) return sdk::to_string(*p.default_value);
-  return p.required ? "(required)" : "(none)";
+  if (!p.required) return "(none)";
+  // A key required only when its optional section is given ("rewriter.plugin") is not required.
+  const std::string section = p.name.substr(0, p.name.find('.'));
+  const sdk::ParamSection* s =
+      schema != nullptr && section != p.name ? schema->find_section(section) : nullptr;
+  return s != nullptr && s->optional ? "(none; needed with " + section + ")" : "(required)";
 }
 
 std::vector<const sdk::ParamSpec*> specs_under(const sdk::ParamSchema& schema,
@@ -60,22 +69,68 @@ std::vector<const sdk::ParamSpec*> specs_under(const sdk::ParamSchema& schema,
   return out;
 }
 
+std::size_t terminal_width() {
+  winsize ws{};
+  if (isatty(STDOUT_FILENO) && ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col >= 40)
+    return ws.ws_col;
+  if (const char* columns = std::getenv("COLUMNS")) {
+    const long n = std::strtol(columns, nullptr, 10);
+    if (n >= 40 && n <= 1000) return static_cast<std::size_t>(n);
+  }
+  return 100;
+}
+
+std::vector<std::string> wrap_words(const std::string& text, std::size_t width) {
+  std::vector<std::string> lines;
+  std::string line;
+  std::istringstream words(text);
+  for (std::string w; words >> w;) {
+    if (!line.empty() && line.size() + 1 + w.size() > width) {
+      lines.push_back(line);
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + w;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
 std::string text_table(const std::vector<const sdk::ParamSpec*>& specs, const std::string& header,
-                       const std::string& indent) {
+                       const std::string& indent, const TableOptions& options) {
   std::vector<std::array<std::string, 5>> rows = {
       {header, "TYPE", "DEFAULT", "ALLOWED", "DESCRIPTION"}};
   for (const auto* s : specs)
-    rows.push_back(
-        {s->name, sdk::to_string(s->type), default_text(*s), allowed_text(*s), s->description});
-  std::array<std::size_t, 4> w{};
+    rows.push_back({options.name_prefix + s->name, sdk::to_string(s->type),
+                    default_text(*s, options.schema), allowed_text(*s), s->description});
+  // Name and type keep their width; a long default or list of allowed values wraps within 24
+  // columns; the description wraps within what is left of the width (at least 24 columns).
+  constexpr std::size_t kValueColumn = 24;
+  std::array<std::size_t, 5> w{};
   for (const auto& r : rows)
-    for (std::size_t i = 0; i < w.size(); ++i) w[i] = std::max(w[i], r[i].size());
+    for (std::size_t i = 0; i < 4; ++i) w[i] = std::max(w[i], r[i].size());
+  w[2] = std::min(w[2], kValueColumn);
+  w[3] = std::min(w[3], kValueColumn);
+  std::size_t lead = indent.size();
+  for (std::size_t i = 0; i < 4; ++i) lead += w[i] + 2;
+  w[4] = options.width > lead + kValueColumn ? options.width - lead : kValueColumn;
   std::string out;
   for (const auto& r : rows) {
-    out += indent;
-    for (std::size_t i = 0; i < w.size(); ++i)
-      out += r[i] + std::string(w[i] + 2 - r[i].size(), ' ');
-    out += r[4] + "\n";
+    std::array<std::vector<std::string>, 5> cells;
+    std::size_t height = 1;
+    for (std::size_t i = 0; i < 5; ++i) {
+      cells[i] = i < 2 ? std::vector<std::string>{r[i]} : wrap_words(r[i], w[i]);
+      height = std::max(height, cells[i].size());
+    }
+    for (std::size_t line = 0; line < height; ++line) {
+      std::string text = indent;
+      for (std::size_t i = 0; i < 5; ++i) {
+        const std::string part = line < cells[i].size() ? cells[i][line] : "";
+        text += part;
+        if (i < 4) text += std::string(w[i] + 2 > part.size() ? w[i] + 2 - part.size() : 1, ' ');
+      }
+      while (!text.empty() && text.back() == ' ') text.pop_back();
+      out += text + "\n";
+    }
   }
   return out;
 }
@@ -91,8 +146,9 @@ std::string markdown_table(const sdk::ParamSchema& schema) {
       out += "| **`" + section + "`** | section | | " + (s->optional ? "optional" : "") + " | " +
              cell(s->description) + " |\n";
     }
-    out += "| `" + p.name + "` | " + sdk::to_string(p.type) + " | `" + cell(default_text(p)) +
-           "` | " + cell(allowed_text(p)) + " | " + cell(p.description) + " |\n";
+    out += "| `" + p.name + "` | " + sdk::to_string(p.type) + " | `" +
+           cell(default_text(p, &schema)) + "` | " + cell(allowed_text(p)) + " | " +
+           cell(p.description) + " |\n";
   }
   return out;
 }

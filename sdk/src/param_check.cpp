@@ -10,19 +10,23 @@ namespace flipper::sdk {
 inline namespace v1 {
 namespace {
 
+// Optimal string alignment distance: insertions, deletions, substitutions and transpositions
+// of two neighbours ("mvoe" -> "move" is one edit), each costing 1.
 std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  std::vector<std::size_t> before(b.size() + 1), prev(b.size() + 1), row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
     row[0] = i;
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
+      row[j] =
+          std::min({prev[j] + 1, row[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        row[j] = std::min(row[j], before[j - 2] + 1);
     }
+    std::swap(before, prev);
+    std::swap(prev, row);
   }
-  return row[b.size()];
+  return prev[b.size()];
 }
 
 bool type_matches(ParamType type, const ParamValue& v) {
@@ -184,18 +188,24 @@ const char* to_string(ParamType type) {
 }
 
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+  // About one edit per three letters, at least one: catches typos ("vist", "mvoe", "sesion"),
+  // not unrelated words. A one-letter word has no likely intent; a two-letter one must keep its
+  // first letter ("kk" -> "k", but "go" is neither "to" nor "+"). With these rules a word of
+  // letters is never offered punctuation: the grammar's symbols are one or two characters long.
+  if (word.size() < 2) return "";
+  const std::size_t limit = std::max<std::size_t>(1, word.size() / 3);
   const std::string* best = nullptr;
   std::size_t best_d = 0;
   for (const auto& c : candidates) {
+    if (word.size() == 2 && (c.empty() || c[0] != word[0])) continue;
     const std::size_t d = edit_distance(word, c);
+    if (d == 0 || d > limit) continue;
     if (best == nullptr || d < best_d) {
       best = &c;
       best_d = d;
     }
   }
-  // Allow about one edit per three letters, at least two: catches typos, not unrelated words.
-  const std::size_t limit = std::max<std::size_t>(2, word.size() / 3);
-  if (best == nullptr || best_d > limit) return "";
+  if (best == nullptr) return "";
   return " (did you mean '" + *best + "'?)";
 }
 

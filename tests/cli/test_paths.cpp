@@ -66,17 +66,27 @@ TEST_CASE(
   CHECK(contains(ok.out, "move [2,5]"));
   CHECK(fs::exists(dir / "sub" / "lex.sqlite"));
 
-  // configs/default.yaml copied elsewhere: its grammars/ and worlds/ are not next to the copy.
+  // configs/default.yaml copied elsewhere works: the keys it leaves to their defaults
+  // (world.file, grammar.file) were written in no file, so they resolve against the default
+  // configs directory, not against the copy's.
   fs::copy_file(fs::path(FLIPPER_SOURCE_DIR) / "configs/default.yaml", dir / "copy.yaml",
                 fs::copy_options::overwrite_existing);
-  const Run bad = run_from(dir, "config check copy.yaml");
+  const Run copied = run_from(dir, "config check copy.yaml --set lexicon.path=:memory:");
+  INFO(copied.out);
+  CHECK(copied.status == 0);
+
+  // A config that writes the paths itself is read relative to itself: copied without its
+  // worlds/, it fails, naming the resolved path and the file that wrote it.
+  std::ofstream(dir / "writes.yaml") << "world: {plugin: grid2d, file: worlds/study2018.json}\n";
+  const Run bad = run_from(dir, "config check writes.yaml");
   INFO(bad.out);
   CHECK(bad.status == 2);
   // The world is loaded first (its direction words are the grammar's).
   CHECK(contains(bad.out, "flipper config check: [bad_world] no world file at '" +
                               (dir / "worlds/study2018.json").string() +
-                              "' (world.file 'worlds/study2018.json' from copy.yaml: relative to "
-                              "its directory " + dir.string() + ")"));
+                              "' (world.file 'worlds/study2018.json' from writes.yaml: relative "
+                              "to its directory " +
+                              dir.string() + ")"));
 }
 
 TEST_CASE("paths in an experiment file resolve against its directory", "[cli][paths]") {

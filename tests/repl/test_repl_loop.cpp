@@ -45,11 +45,20 @@ TEST_CASE("repl: reject, unparsable, commands and errors", "[repl][loop]") {
   CHECK(s->user() == "ana");
   CHECK_THAT(out, Catch::Contains(":define HEAD"));
   // :examples is the language guide's table (docs/language.md), embedded in the binary.
-  CHECK_THAT(out, Catch::Contains("  strict {move left; move left; move left}\n"
-                                  "      strict: all or nothing: ends at [2,4], 0 moves; 2 warnings"));
+  CHECK_THAT(out,
+             Catch::Contains("  strict {move left; move left; move left}\n"
+                             "      strict: all or nothing: ends at [2,4], 0 moves; 2 warnings"));
   CHECK_THAT(out, Catch::Contains("Defining \"zorp blah\""));
   CHECK_THAT(out, Catch::Contains("Unknown command :bogus"));
   CHECK_THAT(out, Catch::Contains("error (bad_world)"));
+}
+
+TEST_CASE("repl: :floor in a 2-D world says the world is flat", "[repl][loop]") {
+  auto s = flipper::testsupport::bare_session();
+  const std::string out = run_script(*s, ":floor 1\n");
+  CHECK_THAT(out, Catch::Contains("This world is flat (2-D): it has no floors, and the map shows "
+                                  "all of it. :floor is for 3-D worlds."));
+  CHECK_THAT(out, !Catch::Contains("Floor z=1"));
 }
 
 TEST_CASE("repl: define an unparsable utterance, then use it", "[repl][loop]") {
@@ -77,6 +86,7 @@ TEST_CASE("repl: :save draws the plan just chosen", "[repl][loop]") {
   std::stringstream svg;
   svg << in.rdbuf();
   // From [2,4] three cells right: four points, 28 px apart.
-  CHECK_THAT(svg.str(), Catch::Contains("points=\"134.0,198.0 162.0,198.0 190.0,198.0 218.0,198.0 \""));
+  CHECK_THAT(svg.str(),
+             Catch::Contains("points=\"134.0,198.0 162.0,198.0 190.0,198.0 218.0,198.0 \""));
   CHECK_THAT(svg.str(), Catch::Contains(">{visit [5,4]}</text>"));
 }

@@ -190,6 +190,9 @@ TEST_CASE("repl on a 3-D world: floors labelled, z kept, other floors listed, :f
   CHECK_THAT(tmux.screen(), Catch::Contains(" 1 ################. ##"));
   REQUIRE(tmux.ask(":floor 2", "Floor z=2"));
   CHECK_THAT(tmux.screen(), Catch::Contains("floor z=0: red circle at [2,6,0]"));
+  // Floors 0..2: 3 is one past the top, -1 one below the bottom.
+  REQUIRE(tmux.ask(":floor 3", "There is no floor 3: this world's floors go from z = 0 to 2."));
+  REQUIRE(tmux.ask(":floor -1", "There is no floor -1: this world's floors go from z = 0 to 2."));
   CHECK(tmux.quit());
 }
 

@@ -47,7 +47,9 @@ std::vector<std::string> unknown_words(const std::vector<std::string>& tokens,
       continue;
     if (!t.empty() && std::ispunct(static_cast<unsigned char>(t.front())) != 0 && t.size() == 1)
       continue;
-    const std::string entry = "'" + t + "'" + sdk::did_you_mean(t, vocabulary);
+    std::string hint = sdk::did_you_mean(t, vocabulary);
+    if (hint.empty()) hint = plain_word_hint(t);
+    const std::string entry = "'" + t + "'" + hint;
     if (std::find(out.begin(), out.end(), entry) == out.end()) out.push_back(entry);
   }
   return out;

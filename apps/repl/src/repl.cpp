@@ -174,36 +174,10 @@ class Repl {
     if (!world.is_null()) out_ << render_map(world, map_options());
   }
 
-  // The words the grammar knows: core terminals, colour/shape/direction words, and the words
-  // of the induced rules this user can see.
-  std::vector<std::string> vocabulary() {
-    std::vector<std::string> words;
-    const auto& g = session_.runtime().core_grammar;
-    if (g) {
-      for (const auto& r : g->rules)
-        for (const auto& s : r->rhs)
-          if (s.type == sdk::Symbol::Type::token) words.push_back(s.text);
-      for (const auto* list : {&g->colors, &g->shapes, &g->directions})
-        words.insert(words.end(), list->begin(), list->end());
-    }
-    if (auto* nat = session_.extension<NaturalizationExtension>()) try {
-        for (const auto& l : nat->rules(session_, std::nullopt))
-          for (const auto& symbol : l.rule->rhs)
-            if (!symbol.text.empty() && symbol.text[0] != '$') words.push_back(symbol.text);
-      } catch (const std::exception&) {  // the words are a hint: none from the lexicon then
-      }
-    std::sort(words.begin(), words.end());
-    words.erase(std::unique(words.begin(), words.end()), words.end());
-    return words;
-  }
-
-  // "Unknown words: 'vist' (did you mean 'visit'?)." or empty.
+  // "Unknown words: 'vist' (did you mean 'visit'?).\n" or empty.
   std::string unknown_words_note(const std::string& text) {
-    const auto unknown = unknown_words(sdk::tokenize(text), vocabulary());
-    if (unknown.empty()) return {};
-    std::string note = unknown.size() == 1 ? "Unknown word: " : "Unknown words: ";
-    for (std::size_t i = 0; i < unknown.size(); ++i) note += (i ? ", " : "") + unknown[i];
-    return note + ".\n";
+    const std::string note = repl::unknown_words_note(session_, text);
+    return note.empty() ? note : note + "\n";
   }
 
   void query(const std::string& text) {
@@ -307,9 +281,21 @@ class Repl {
     } else if (cmd == ":map" || cmd == ":state") {
       show_map();
     } else if (cmd == ":floor") {
+      const auto& geometry = session_.world().geometry;
+      if (!geometry || geometry->dims() != 3) {
+        out_ << "This world is flat (2-D): it has no floors, and the map shows all of it. "
+                ":floor is for 3-D worlds.\n";
+        return true;
+      }
       const auto z = parse_int(arg);
       if (!z) {
         out_ << "usage: :floor Z (a z coordinate of a 3-D world)\n";
+        return true;
+      }
+      if (*z < geometry->min().z || *z > geometry->max().z) {
+        out_ << "There is no floor " << *z
+             << ": this world's floors go from z = " << geometry->min().z << " to "
+             << geometry->max().z << ".\n";
         return true;
       }
       floor_ = *z;

@@ -159,6 +159,27 @@ YAML::Node assignment_value(const std::vector<std::string>& segs, const std::str
   return YAML::Node(text);
 }
 
+// `--set SECTION.plugin=NAME` that selects another plugin than the files did: the files' params
+// belong to the other plugin, so they go, as they do when an `extends` overlay switches the
+// plugin (README "Configuration"). Params given by an earlier --set stay: the user asked for them.
+void drop_other_plugin_params(YAML::Node& root, const std::string& section,
+                              const YAML::Node& plugin, const std::set<std::string>& cli_keys) {
+  const auto& sections = Config::plugin_sections();
+  if (std::find(sections.begin(), sections.end(), section) == sections.end()) return;
+  YAML::Node sec = root[section];
+  if (!sec.IsMap() || !sec["plugin"].IsScalar() || !plugin.IsScalar() ||
+      sec["plugin"].Scalar() == plugin.Scalar() || !sec["params"].IsDefined())
+    return;
+  const YAML::Node old_params = sec["params"];
+  YAML::Node kept(YAML::NodeType::Map);
+  if (old_params.IsMap())
+    for (const auto& kv : old_params)
+      if (cli_keys.count(section + ".params." + kv.first.Scalar()))
+        kept[kv.first.Scalar()] = YAML::Clone(kv.second);
+  sec.remove("params");
+  if (kept.size() > 0) sec["params"] = kept;
+}
+
 void apply_assignment(YAML::Node& root, const std::string& assignment,
                       std::set<std::string>& cli_keys) {
   const std::size_t eq = assignment.find('=');
@@ -170,8 +191,10 @@ void apply_assignment(YAML::Node& root, const std::string& assignment,
   if (!is_valid_key(key)) fail(malformed + ": '" + key + "' is not a dotted key path");
   const auto segs = split_key(key);
   const YAML::Node value = assignment_value(segs, text, malformed);
-  cli_keys.insert(key);
   if (!root.IsMap()) root = YAML::Node(YAML::NodeType::Map);
+  if (segs.size() == 2 && segs[1] == "plugin")
+    drop_other_plugin_params(root, segs[0], value, cli_keys);
+  cli_keys.insert(key);
   set_path(root, segs, 0, value);
 }
 
@@ -341,6 +364,8 @@ Config build(YAML::Node root, std::string source, std::string base_dir,
              std::map<std::string, ConfigOrigin> origins = {}) {
   for (const auto& a : overrides) apply_assignment(root, a, cli_keys);
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  for (auto it = origins.begin(); it != origins.end();)  // keys an override removed
+    it = lookup(root, split_key(it->first)) ? std::next(it) : origins.erase(it);
   auto impl = std::make_shared<Config::Impl>();
   impl->given = without_nulls(root);
   try {
@@ -545,10 +570,17 @@ std::string Config::resolve_path(const std::string& path) const {
   return resolve_against(impl_->base_dir, path);
 }
 
+// A path nobody wrote (the schema's default) resolves against the directory of the embedded
+// default config, wherever the config that left it out lives (README "Configuration").
+bool Config::written(const std::string& key) const {
+  return impl_->cli_keys.count(key) || lookup(impl_->given, split_key(key)).has_value();
+}
+
 std::string Config::resolve_path_of(const std::string& key, const std::string& path) const {
   if (impl_->cli_keys.count(key)) return resolve_against(impl_->cwd, path);
   if (auto it = impl_->origins.find(key); it != impl_->origins.end())
     return resolve_against(it->second.dir, path);
+  if (!written(key)) return resolve_against(default_config_dir(), path);
   return resolve_against(impl_->base_dir, path);
 }
 
@@ -565,6 +597,9 @@ std::string Config::path_origin(const std::string& key) const {
   if (auto it = impl_->origins.find(key); it != impl_->origins.end())
     return key + value + " from " + it->second.file + " (extended by " + impl_->source +
            "): relative to its directory " + it->second.dir;
+  if (!written(key))
+    return key + value + " (the default, written in no config): relative to the default " +
+           "configs directory " + default_config_dir();
   return key + value + " from " + impl_->source + ": relative to its directory " + impl_->base_dir;
 }
 
@@ -678,14 +713,15 @@ sdk::Params Config::plugin_params(const std::string& section,
       to_given(*node, schema, where, "", resolve, given);
     }
     sdk::Params params = sdk::validate_params(schema, given, where);
-    // Path defaults are relative to the config too.
+    // Path defaults were written in no config: relative to the default configs directory.
+    const std::string defaults_dir = default_config_dir();
     for (const auto& spec : schema.params) {
       if (given.count(spec.name) || !params.has(spec.name)) continue;
       if (spec.type == ParamType::Path)
-        params.set(spec.name, resolve_path(params.get_string(spec.name)));
+        params.set(spec.name, resolve_against(defaults_dir, params.get_string(spec.name)));
       if (spec.type == ParamType::PathList) {
         std::vector<std::string> list = params.get_string_list(spec.name);
-        for (auto& p : list) p = resolve_path(p);
+        for (auto& p : list) p = resolve_against(defaults_dir, p);
         params.set(spec.name, std::move(list));
       }
     }

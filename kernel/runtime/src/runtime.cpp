@@ -9,6 +9,7 @@
 #include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/loader.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/param_check.hpp"
 #include "flipper/sdk/world_format.hpp"
 
 namespace flipper::kernel {
@@ -33,6 +34,48 @@ void refuse_large(std::uint64_t cells, std::uint64_t limit) {
                     " cells; the limit is world.max_cells = " + std::to_string(limit));
 }
 
+// The discoverable world plugins that read `dims`-D worlds (each instantiated with its default
+// params; one that needs params of its own is left out). Only asked on an error path.
+std::vector<std::string> world_plugins_of(const Config& config, int dims) {
+  std::vector<std::string> names;
+  const PluginLoader loader(PluginLoader::search_path_for(config));
+  for (const auto& e : loader.entries()) {
+    if (!e.shadowed_by.empty() || (!e.kind.empty() && e.kind != "world")) continue;
+    try {
+      const LoadedPlugin p = loader.open_entry(e, sdk::PluginKind::world);
+      const auto object = loader.instantiate(p, sdk::validate_params(p.schema(), {}, ""));
+      const auto* w = dynamic_cast<const sdk::World*>(object.get());
+      if (w != nullptr && w->dims() == dims) names.push_back(e.name);
+    } catch (const std::exception&) {  // a hint: plugins that do not load are not offered
+    }
+  }
+  return names;
+}
+
+// A world of the other dimension (a 3-D world for a 2-D plugin, or the reverse) fails inside the
+// plugin with a message about one point; say what is wrong instead, and which plugin reads it.
+void refuse_other_dims(const Error& error, const Config& config, const std::string& text,
+                       int dims) {
+  if (error.code() != codes::kBadWorld) return;
+  const int other = dims == 2 ? 3 : 2;
+  try {
+    sdk::world_format::parse_world(text, other);
+  } catch (const std::exception&) {
+    return;  // not a world of the other dimension either: the plugin's message stands
+  }
+  const auto plugins = world_plugins_of(config, other);
+  std::string which;
+  for (const auto& n : plugins) which += (which.empty() ? "" : " or ") + n;
+  throw Error(
+      codes::kBadWorld,
+      "this is a " + std::to_string(other) + "-D world (its points have " + std::to_string(other) +
+          " coordinates), but world plugin '" + config.plugin_name("world") + "' reads " +
+          std::to_string(dims) + "-D worlds: " +
+          (which.empty() ? "select a " + std::to_string(other) + "-D world plugin"
+                         : "select " + which + " (--set world.plugin=" + plugins.front() + ")") +
+          " (" + error.what() + ")");
+}
+
 sdk::WorldState load_world(const PluginRef<sdk::World>& world, const Config& config,
                            const std::string& text, const std::string& base_dir) {
   const InputLimits limits = InputLimits::from_config(config);
@@ -47,8 +90,13 @@ sdk::WorldState load_world(const PluginRef<sdk::World>& world, const Config& con
   } catch (const Error&) {
   }
   if (box) refuse_large(cells_of(box->min, box->max), limits.max_world_cells);
-  sdk::WorldState state =
-      world.call("load", [&](const sdk::World& w) { return w.load(text, base_dir); });
+  sdk::WorldState state;
+  try {
+    state = world.call("load", [&](const sdk::World& w) { return w.load(text, base_dir); });
+  } catch (const Error& e) {
+    refuse_other_dims(e, config, text, dims);
+    throw;
+  }
   // The plugin may grow the box (an octree's extent): check what it built as well.
   if (state.geometry) refuse_large(state.geometry->cell_count(), limits.max_world_cells);
   return state;

@@ -25,7 +25,9 @@ FLIPPER_SDK_API Params validate_params(const ParamSchema& schema,
                                        const std::map<std::string, ParamValue>& given,
                                        const std::string& where);
 
-/// " (did you mean 'x'?)" for the closest candidate within a small edit distance, else "".
+/// " (did you mean 'x'?)" for the closest candidate within a small edit distance (one edit per
+/// three letters, a transposition counts one; never for a one-letter word; a two-letter word
+/// keeps its first letter), else "".
 FLIPPER_SDK_API std::string did_you_mean(const std::string& word,
                                          const std::vector<std::string>& candidates);
 

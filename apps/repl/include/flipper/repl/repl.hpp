@@ -36,9 +36,17 @@ std::string describe_candidate(const Json& candidate, int number);
 std::vector<std::string> collapse_warnings(const Json& warnings);
 
 /// Words of `tokens` the grammar does not know (not a terminal of `vocabulary`, not a number),
-/// each with " (did you mean 'x'?)" when a known word is close.
+/// each with " (did you mean 'x'?)" when a known word is close, else with what the core language
+/// says instead when it is a plain word people try first (plain_word_hint).
 std::vector<std::string> unknown_words(const std::vector<std::string>& tokens,
                                        const std::vector<std::string>& vocabulary);
+/// " (the core language says 'pick item')" for "take", "grab", ...; "" for other words.
+std::string plain_word_hint(const std::string& word);
+/// Every word `session`'s parser may know: the core grammar's terminals, colour, shape and
+/// direction words, and the words of the lexicon rules visible to its user.
+std::vector<std::string> vocabulary(Session& session);
+/// "Unknown words: 'vist' (did you mean 'visit'?), 'go' (the core language says ...)." or "".
+std::string unknown_words_note(Session& session, const std::string& text);
 
 /// One row of the language guide's example table (docs/language.md).
 struct GuideExample {

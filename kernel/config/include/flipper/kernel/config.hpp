@@ -58,8 +58,11 @@ class Config {
   /// Resolves a path relative to base_dir(); "~/" expands to $HOME. Empty stays empty.
   std::string resolve_path(const std::string& path) const;
   /// Resolves the value `path` of key `key`: against the current directory when `key` was given
-  /// by --set, else against base_dir().
+  /// by --set, against the directory of the file that wrote it (base_dir() or a file it
+  /// extends), and against the default configs directory when no file wrote it (a default).
   std::string resolve_path_of(const std::string& key, const std::string& path) const;
+  /// Whether `key` (or a key below it) was written by a config file or --set, not defaulted.
+  bool written(const std::string& key) const;
   /// Where a path key's value came from and what it is relative to, for error messages:
   /// "grammar.file 'g.grammar' from F: relative to its directory D".
   std::string path_origin(const std::string& key) const;
