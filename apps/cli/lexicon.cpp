@@ -23,9 +23,9 @@
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "flipper/kernel/runtime.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
-#include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::cli {
@@ -76,6 +76,9 @@ int list_rules(const LexiconArgs& a) {
     else
       rules.push_back(std::move(r));
   }
+  std::vector<kernel::PreloadFailure> preload_failures;
+  for (auto& f : store->preload_failures())
+    if (a.author.empty() || f.author == a.author) preload_failures.push_back(std::move(f));
   std::size_t w_id = 2, w_author = 6, w_how = 3, w_uses = 4;
   std::vector<std::string> uses;
   for (const auto& r : rules) {
@@ -96,7 +99,22 @@ int list_rules(const LexiconArgs& a) {
                       {"semantics", r.semantics},
                       {"uses_by_author", r.uses_by_author},
                       {"uses_by_others", r.uses_by_others}});
-    std::cout << nlohmann::json{{"store", store->path()}, {"rules", std::move(list)}}.dump(2)
+    nlohmann::json held = nlohmann::json::array();
+    for (const auto& [r, why] : quarantined)
+      held.push_back({{"id", r.id}, {"author", r.author}, {"head", r.head}, {"reason", why}});
+    nlohmann::json failed = nlohmann::json::array();
+    for (const auto& f : preload_failures)
+      failed.push_back({{"file", f.file},
+                        {"line", f.line},
+                        {"head", f.head},
+                        {"author", f.author},
+                        {"code", f.code},
+                        {"message", f.message}});
+    std::cout << nlohmann::json{{"store", store->path()},
+                                {"rules", std::move(list)},
+                                {"quarantined", std::move(held)},
+                                {"preload_failures", std::move(failed)}}
+                     .dump(2)
               << "\n";
     return kExitOk;
   }
@@ -120,6 +138,12 @@ int list_rules(const LexiconArgs& a) {
               << "'): " << r.lhs << " -> " << join(r.rhs) << " => " << r.semantics << ": " << why
               << "\n";
   if (!quarantined.empty()) std::cout << quarantined.size() << " quarantined (not served)\n";
+  // Definitions of lexicon.preload that did not load at the last start that read that file.
+  for (const auto& f : preload_failures)
+    std::cout << "PRELOAD FAILED " << f.file << " line " << f.line << " '" << f.head
+              << "' (author '" << f.author << "'): " << f.code << ": " << f.message << "\n";
+  if (!preload_failures.empty())
+    std::cout << preload_failures.size() << " preloaded definition(s) not loaded\n";
   return kExitOk;
 }
 
@@ -215,7 +239,7 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
     try {
       const auto j = nlohmann::json::parse(line);
       const std::string type = j.value("type", std::string("definition"));
-      if (type == "rule" || type == "weights" || type == "weight") {
+      if (type == "rule" || type == "weights" || type == "weight" || type == "preload_failure") {
         ++not_copied;
         continue;
       }
@@ -303,7 +327,8 @@ std::function<int()> guarded(const char* what, int (*action)(const LexiconArgs&)
 }  // namespace
 
 void add_lexicon_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("lexicon", "List, export, import and delete in the community lexicon");
+  auto* cmd =
+      app.add_subcommand("lexicon", "List, export, import and delete in the community lexicon");
   cmd->require_subcommand(1);
   static LexiconArgs list_args, export_args, import_args;
 

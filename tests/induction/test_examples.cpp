@@ -208,3 +208,30 @@ TEST_CASE("best_packing_score prefers bodies whose parts the head names", "[indu
   CHECK(s_red > s_plain);
   CHECK(s_both > s_red);
 }
+
+TEST_CASE("pick green item := pick item is green keeps the phrase whole, as the original did",
+          "[induction][examples]") {
+  // After `pick green` := `pick item is green` (sep2018/SundayMorning#175 in
+  // data/study2018/dev/definitions.jsonl; the original induced `pick $Color` and
+  // `$ItemActionFragment $Property`), `pick green item` := the same body packs `pick green` as
+  // one $Action or as `pick` + `green`, both scoring alike and held by the one body statement.
+  // The original induced `$Action item` (a held-out run), so `get all item` parses once
+  // `get all` means something; `$ItemAct $Property item` would leave it unparsable.
+  Lexicon lex(false);  // the study ran without alignment
+  const auto green = lex.define("pick green", {"pick item is green"});
+  CHECK(has_rule(green, sdk::RuleOrigin::simple, "pick $Color"));
+  CHECK(has_rule(green, sdk::RuleOrigin::best, "$ItemAct $Property"));
+  const auto item = lex.define("pick green item", {"pick item is green"});
+  REQUIRE(item.size() == 2);
+  CHECK(has_rule(item, sdk::RuleOrigin::simple, "pick $Color item"));
+  CHECK(has_rule(item, sdk::RuleOrigin::best, "$Action item"));
+  CHECK_FALSE(has_rule(item, sdk::RuleOrigin::best, "$ItemAct $Property item"));
+  CHECK(lex.parses_to("drop circle item", lex.core("drop item is circle")));
+
+  // The shape of the held-out queries that regressed: `get all` (FridayMorningC's preloaded
+  // `get all`), then `get all item`.
+  const std::string all = "foreach point in world containing item {visit point; pick every item}";
+  lex.define("get all", {all});
+  REQUIRE(lex.parses_to("get all", lex.core(all)));
+  CHECK(lex.parses_to("get all item", lex.core(all)));
+}

@@ -107,6 +107,71 @@ TEST_CASE("best packing: non-overlapping, maximal, greatest total", "[induction]
   }
 }
 
+TEST_CASE("best packing ties: parts win only when several body statements share them",
+          "[induction]") {
+  // Totals are equal (an induced phrase scores what its parts score): the whole phrase
+  // [0,2) against its parts [0,1) + [1,2), then a token no match covers.
+  auto matches = [](int statements) {
+    return std::vector<kernel::Match>{
+        {0, 1, "$ItemAct", sdk::make_word(K::ItemAct, "pick"), 1.0, true, statements},
+        {0, 2, "$Action", pick(item_is(is(color("green")))), 3.0, false, 1},
+        {1, 2, "$Property", color("green"), 2.0, true, statements}};
+  };
+  SECTION("held by one statement: the whole phrase (pick green item := pick item is green)") {
+    const auto p = kernel::best_packing(matches(1), 3);
+    REQUIRE(p.size() == 1);
+    CHECK(p[0].category == "$Action");
+  }
+  SECTION("held by two statements: the parts (walk and grab blue square)") {
+    const auto p = kernel::best_packing(matches(2), 3);
+    REQUIRE(p.size() == 2);
+    CHECK(p[0].category == "$ItemAct");
+    CHECK(p[1].category == "$Property");
+  }
+  SECTION("one shared part is enough, and a higher total still wins first") {
+    auto m = matches(1);
+    m[2].statements = 2;
+    CHECK(kernel::best_packing(m, 3).size() == 2);
+    m[1].score = 3.5;
+    CHECK(kernel::best_packing(m, 3).size() == 1);
+  }
+  SECTION("totals within 1e-9 are equal") {
+    auto m = matches(2);
+    m[1].score = 3.0 + 5e-10;
+    CHECK(kernel::best_packing(m, 3).size() == 2);
+    m[1].score = 3.0 + 5e-9;
+    CHECK(kernel::best_packing(m, 3).size() == 1);
+  }
+}
+
+TEST_CASE("matches count the body statements that hold them", "[induction]") {
+  // `walk and grab blue square` := `visit world containing item is blue and is square;
+  // pick item is blue and is square`: `blue` and `square` are in both statements.
+  const auto filter = sdk::make(K::FilterAnd, {is(color("blue")), is(shape("square"))});
+  const auto visit = sdk::make(
+      K::VisitArea, {sdk::make(K::AreaContaining, {sdk::make(K::World), item_is(filter)})});
+  const auto grab = pick(item_is(filter));
+  const auto body = sdk::make_seq({visit, grab});
+  const std::vector<sdk::DerivationPtr> chart = {
+      node("$Action", 2, 5, grab, 2.0),
+      node("$Color", 3, 4, color("blue"), 1.0),
+      node("$Shape", 4, 5, shape("square"), 1.0),
+      node("$ItemAct", 2, 3, sdk::make_word(K::ItemAct, "pick"), 1.0),
+  };
+  const auto m = kernel::find_matches(chart, body, 5);
+  REQUIRE(m.size() == 4);  // ordered by (start, end)
+  CHECK(m[0].category == "$ItemAct");
+  CHECK(m[0].statements == 1);  // the verb of the pick (full form) only: the visit has none
+  CHECK(m[1].category == "$Action");
+  CHECK(m[1].statements == 1);
+  CHECK(m[2].category == "$Color");
+  CHECK(m[2].statements == 2);
+  CHECK(m[3].category == "$Shape");
+  CHECK(m[3].statements == 2);
+  // A body that is no sequence is one statement.
+  for (const auto& x : kernel::find_matches(chart, grab, 5)) CHECK(x.statements == 1);
+}
+
 TEST_CASE("rule construction replaces every equal subtree by the match's hole", "[induction]") {
   // `red to room1` := `pick item is red; drop item is red` (made-up body with `red` twice)
   const auto body =

@@ -62,6 +62,21 @@ const std::vector<SessionRow>& session_rows() {
       {"a request line over `input.max_line_bytes` (2 MiB here)", "input_too_long",
        "the limit is input.max_line_bytes = 1048576", none,
        [](const Scratch&) { return query(std::string(2 << 20, 'a')); }},
+      {"a request line of `input.max_line_bytes` + 1 bytes", "input_too_long",
+       "the request line has 1048577 bytes; the limit is input.max_line_bytes = 1048576", none,
+       [](const Scratch&) {
+         const std::string head = R"({"op":"query","text":")", tail = R"("})";
+         return head + std::string((1u << 20) + 1 - head.size() - tail.size(), 'a') + tail;
+       }},
+      {"a query of `input.max_tokens` + 1 tokens", "input_too_long",
+       "the utterance has 401 tokens; the limit is input.max_tokens = 400", none,
+       [](const Scratch&) { return query(words("a", 401)); }, true},
+      {"a define head of `input.max_tokens` + 1 tokens", "input_too_long",
+       "the head has 2001 tokens; the limit is input.max_tokens = 2000", none,
+       [](const Scratch&) { return define(words("zz", 2001), {"move left"}); }},
+      {"a define body line of `input.max_tokens` + 1 tokens", "input_too_long",
+       "body line 1 has 2001 tokens; the limit is input.max_tokens = 2000", none,
+       [](const Scratch&) { return define("glorb", {words("a", 2001)}); }},
       {"a query over `input.max_tokens` (default 400)", "input_too_long",
        "the utterance has 450 tokens; the limit is input.max_tokens = 400", none,
        [](const Scratch&) { return query(words("a", 450)); }, true},
@@ -182,6 +197,34 @@ const std::vector<CliRow>& cli_rows() {
        }},
       {"a duplicate key in a config file", "bad_config", "duplicate key 'k' (first at line 2)", 2,
        [](const Scratch& s) { return "{flipper} config check " + s.dup_config; }},
+      {"a YAML alias bomb as the config (395 bytes, 9 levels of 9 aliases: 387 million nodes), "
+       "under a 2 s CPU limit",
+       "bad_config",
+       "YAML nodes once its aliases are expanded (an alias counts as the nodes it repeats); the "
+       "limit for a config is 100000 nodes",
+       2, [](const Scratch& s) { return "ulimit -t 2; {flipper} config check " + s.alias_bomb; }},
+      {"the same alias bomb in a `--set` value, under a 2 s CPU limit", "bad_config",
+       "the limit for a config is 100000 nodes", 2,
+       [](const Scratch&) {
+         std::string value = "[&a [lol,lol,lol,lol,lol,lol,lol,lol,lol]";
+         std::string prev = "a";
+         for (const char* name : {"b", "c", "d", "e", "f", "g", "h", "i"}) {
+           value += std::string(", &") + name + " [";
+           for (int i = 0; i < 9; ++i) value += (i ? ",*" : "*") + prev;
+           value += "]";
+           prev = name;
+         }
+         return "ulimit -t 2; {flipper} config print --set 'planner.params.x=" + value + "]'";
+       }},
+      {"a config giving a plugin 40,000 params, under a 5 s CPU limit", "bad_config",
+       "unknown config key 'planner.params.p0'", 2,
+       [](const Scratch& s) { return "ulimit -t 5; {flipper} config check " + s.many_params; }},
+      {"a config extending another, each giving a plugin 40,000 params, under a 5 s CPU limit",
+       "bad_config", "unknown config key 'planner.params.p0'", 2,
+       [](const Scratch& s) { return "ulimit -t 5; {flipper} config check " + s.many_overlay; }},
+      {"a config file of 1 MiB + 1 byte", "bad_config",
+       "has 1048577 bytes; the limit for a config is 1048576 bytes (1 MiB)", 2,
+       [](const Scratch& s) { return "{flipper} config check " + s.big_config; }},
       {"`/dev/zero` as the config file", "bad_config",
        "config file '/dev/zero' is not a regular file", 2,
        [](const Scratch&) { return std::string("{flipper} run --config /dev/zero 'move left'"); }},

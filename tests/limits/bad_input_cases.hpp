@@ -20,6 +20,10 @@ struct Scratch {
   std::string bad_variant;    ///< an experiment whose variant is named ../../x
   std::string experiment;     ///< a valid experiment (for the full-device run)
   std::string lexicon;        ///< a store with one definition (for export)
+  std::string alias_bomb;     ///< a 395-byte config whose aliases expand to 387 million nodes
+  std::string many_params;    ///< a config giving the planner 40,000 params
+  std::string many_overlay;   ///< a config extending many_params with 40,000 params of its own
+  std::string big_config;     ///< a config file of 1 MiB + 1 byte
 };
 
 /// A request line sent to one running `flipper session` (after its setup lines, each answered

@@ -7,7 +7,9 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "bad_input_cases.hpp"
 #include "child_process.hpp"
@@ -73,6 +75,33 @@ const Scratch& scratch() {
     write(s.experiment, "name: t\ncorpus: " + corpus +
                             "\nset: [induction.generalize=false]\nvariants:\n  - name: plain\n");
 
+    {
+      std::string bomb =
+          "planner:\n  plugin: astar\n  params:\n    a: &a [lol,lol,lol,lol,lol,lol,lol,lol,lol]\n";
+      std::string prev = "a";
+      for (const char* name : {"b", "c", "d", "e", "f", "g", "h", "i"}) {
+        bomb += std::string("    ") + name + ": &" + name + " [";
+        for (int i = 0; i < 9; ++i) bomb += (i ? ",*" : "*") + prev;
+        bomb += "]\n";
+        prev = name;
+      }
+      REQUIRE(bomb.size() == 395);
+      s.alias_bomb = s.dir + "/alias-bomb.yaml";
+      write(s.alias_bomb, bomb);
+      std::string params = "planner:\n  plugin: astar\n  params:\n";
+      for (int i = 0; i < 40000; ++i) params += "    p" + std::to_string(i) + ": 1\n";
+      s.many_params = s.dir + "/many-params.yaml";
+      write(s.many_params, params);
+      std::string overlay = "extends: many-params.yaml\nplanner:\n  params:\n";
+      for (int i = 0; i < 40000; ++i) overlay += "    p" + std::to_string(i) + ": 2\n";
+      s.many_overlay = s.dir + "/many-params-overlay.yaml";
+      write(s.many_overlay, overlay);
+      std::string big = "# padding\n";
+      big += "#" + std::string((1u << 20) + 1 - big.size() - 2, 'x') + "\n";
+      REQUIRE(big.size() == (1u << 20) + 1);
+      s.big_config = s.dir + "/big.yaml";
+      write(s.big_config, big);
+    }
     s.lexicon = s.dir + "/lexicon.sqlite";
     ChildProcess session({kFlipper, "session", "--set", "lexicon.path=" + s.lexicon});
     REQUIRE(session.write_line(R"({"op":"define","head":"go west","body":["move left"]})"));
@@ -207,4 +236,102 @@ TEST_CASE("a k beyond the candidates shows them all and a 2.0 rank is rank 2") {
   CHECK(a.at("error").at("message") ==
         "rank 2 is out of range: the last query showed 1 candidate(s)");
   CHECK(session.finish() == 0);
+}
+
+namespace {
+
+/// A figure of /proc/PID/status ("VmHWM", ...) in KiB; -1 when absent.
+long status_kib(pid_t pid, const std::string& field) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
+  return -1;
+}
+
+/// User + system CPU seconds PID has used so far (/proc/PID/stat, fields 14 and 15).
+double cpu_seconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::istringstream fields(stat.substr(stat.rfind(')') + 2));  // after "pid (comm) "
+  std::string f;
+  long ticks = 0;
+  for (int i = 3; i <= 15 && fields >> f; ++i)
+    if (i >= 14) ticks += std::stol(f);
+  return static_cast<double>(ticks) / static_cast<double>(::sysconf(_SC_CLK_TCK));
+}
+
+}  // namespace
+
+TEST_CASE("a world of 16382² cells is refused before the world plugin allocates it") {
+  // world.max_cells is checked on the bounds before loading (kernel/runtime): the plugin would
+  // otherwise allocate the 268 million cells (3.4 GB, 8.7 s) before the check after loading
+  // refused the same world. Bounded here by the session's peak memory and CPU time, which a
+  // refusal after allocating exceeds many times over.
+  ChildProcess session({kFlipper, "session", "--set", "lexicon.path=:memory:"});
+  REQUIRE(session.write_line(R"({"op":"state"})"));
+  REQUIRE(json::parse(session.read_line()).at("ok") == true);
+  const long before_kib = status_kib(session.pid(), "VmHWM");
+  REQUIRE(session.write_line(
+      R"({"op":"world","world":{"bounds":{"min":[0,0],"max":[16381,16381]},"robot":{"x":0,"y":0}}})"));
+  const json answer = json::parse(session.read_line());
+  CHECK(answer.at("error").at("code") == "world_too_large");
+  CHECK(answer.at("error").at("message") ==
+        "the world has 268369924 cells; the limit is world.max_cells = 4194304");
+  const long peak_kib = status_kib(session.pid(), "VmHWM");
+  const double cpu = cpu_seconds(session.pid());
+  INFO("peak RSS before the request " << before_kib << " KiB, after " << peak_kib << " KiB; CPU "
+                                      << cpu << " s");
+  REQUIRE(peak_kib > 0);
+  CHECK(peak_kib - before_kib < 64 * 1024);  // the refusal allocated less than 64 MiB
+  CHECK(peak_kib < 512 * 1024);              // and the whole session stayed under 512 MiB
+  CHECK(cpu < 3.0);                          // start-up and refusal (an allocating one: 8.7 s)
+  CHECK(session.finish() == 0);
+}
+
+TEST_CASE(
+    "flipper session serves a line of input.max_line_bytes and heads and bodies of "
+    "input.max_tokens; one more is refused") {
+  ChildProcess session({kFlipper, "session", "--set", "lexicon.path=:memory:", "--set",
+                        "input.max_line_bytes=64", "--set", "input.max_tokens=40", "--set",
+                        "induction.generalize=false"});
+  const std::string head = R"({"op":"query","text":")", tail = R"("})";
+  auto line_of = [&](std::size_t bytes) {
+    return head + std::string(bytes - head.size() - tail.size(), 'a') + tail;
+  };
+  // The reader keeps exactly input.max_line_bytes bytes of a line (not one fewer).
+  REQUIRE(session.write_line(line_of(64)));
+  json a = json::parse(session.read_line());
+  INFO(a.dump());
+  CHECK(a.at("ok") == true);
+  CHECK(a.at("status") == "unparsable");
+  REQUIRE(session.write_line(line_of(65)));
+  a = json::parse(session.read_line());
+  CHECK(a.at("error").at("code") == "input_too_long");
+  CHECK(a.at("error").at("message") ==
+        "the request line has 65 bytes; the limit is input.max_line_bytes = 64");
+
+  // Defines are bounded by input.max_tokens too (a longer line limit for them).
+  ChildProcess defines({kFlipper, "session", "--set", "lexicon.path=:memory:", "--set",
+                        "input.max_tokens=40", "--set", "induction.generalize=false"});
+  auto words = [](std::size_t n, const std::string& w) {
+    std::string out;
+    for (std::size_t i = 0; i < n; ++i) out += (i ? " " : "") + w;
+    return out;
+  };
+  auto define = [&](const std::string& h, const std::string& body) {
+    REQUIRE(defines.write_line(json{{"op", "define"}, {"head", h}, {"body", {body}}}.dump()));
+    return json::parse(defines.read_line());
+  };
+  a = define(words(40, "zz"), "move left");
+  CHECK(a.at("ok") == true);
+  a = define(words(41, "zz"), "move left");
+  CHECK(a.at("error").at("message") ==
+        "the head has 41 tokens; the limit is input.max_tokens = 40");
+  a = define("glorb", words(40, "a"));
+  CHECK(a.at("error").at("code") == "body_unparsable");  // read, and found not to parse
+  a = define("glorb", words(41, "a"));
+  CHECK(a.at("error").at("message") ==
+        "body line 1 has 41 tokens; the limit is input.max_tokens = 40");
+  CHECK(session.finish() == 0);
+  CHECK(defines.finish() == 0);
 }

@@ -2,8 +2,6 @@
 // exactly the rules (and parses) a start-up from the rows serves, on the dev corpus's induced
 // rules; a snapshot left stale by other writers is completed from the rows after its mark (or
 // rebuilt when much changed); a damaged, undecodable or inconsistent one is rebuilt, never served.
-#include <sqlite3.h>
-
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -16,6 +14,7 @@
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "naturalize_fixture.hpp"
+#include "store_sql.hpp"
 
 using namespace flipper;
 using namespace flipper::naturalizetest;
@@ -69,30 +68,6 @@ std::vector<std::string> ids(const kernel::Naturalizer& nat) {
   return out;
 }
 
-void sql(const std::string& store, const std::string& statement) {
-  sqlite3* db = nullptr;
-  REQUIRE(sqlite3_open(store.c_str(), &db) == SQLITE_OK);
-  char* err = nullptr;
-  const int rc = sqlite3_exec(db, statement.c_str(), nullptr, nullptr, &err);
-  const std::string message = err ? err : "";
-  sqlite3_free(err);
-  sqlite3_close(db);
-  INFO(statement << ": " << message);
-  REQUIRE(rc == SQLITE_OK);
-}
-
-std::int64_t sql_int(const std::string& store, const std::string& query) {
-  sqlite3* db = nullptr;
-  REQUIRE(sqlite3_open(store.c_str(), &db) == SQLITE_OK);
-  sqlite3_stmt* st = nullptr;
-  REQUIRE(sqlite3_prepare_v2(db, query.c_str(), -1, &st, nullptr) == SQLITE_OK);
-  REQUIRE(sqlite3_step(st) == SQLITE_ROW);
-  const std::int64_t v = sqlite3_column_int64(st, 0);
-  sqlite3_finalize(st);
-  sqlite3_close(db);
-  return v;
-}
-
 kernel::StoredRule rule(const std::string& token, const std::string& author) {
   kernel::StoredRule r;
   r.lhs = "$Action";
@@ -138,6 +113,7 @@ TEST_CASE("a snapshot blob reads back exactly, and a damaged one hands out nothi
   b.definition = 4;
   b.body = {};
   b.how = "alignment";
+  b.decode_error = "the row does not decode: column 'body' holds 'x', not a JSON list of strings";
   kernel::RuleSnapshotWriter w;
   w.add(a);
   w.add(b);
@@ -158,11 +134,14 @@ TEST_CASE("a snapshot blob reads back exactly, and a damaged one hands out nothi
     CHECK(back[i].head == want.head);
     CHECK(back[i].body == want.body);
     CHECK(back[i].how == want.how);
+    CHECK(back[i].decode_error == want.decode_error);
   }
-  // Truncated, one byte too many, a count that promises more: nothing at all is handed out.
+  // Truncated, one byte too many, a count that promises more, the format before this one
+  // (without decode_error): nothing at all is handed out.
+  REQUIRE(kernel::kRuleSnapshotFormat == 2);
   for (const std::string& bad : {blob.substr(0, blob.size() - 1), blob + "x",
                                  blob.substr(0, 8) + std::string("\x03", 1) + blob.substr(9),
-                                 std::string("FLXS\x02\0\0\0", 8) + blob.substr(8)}) {
+                                 std::string("FLXS\x01\0\0\0", 8) + blob.substr(8)}) {
     int handed = 0;
     CHECK_FALSE(kernel::read_rule_snapshot(bad, [&](const kernel::StoredRuleView&) { ++handed; }));
     CHECK(handed == 0);
@@ -374,7 +353,8 @@ TEST_CASE("after a start from the snapshot a rule already held is not induced ag
     auto s = open(store);
     user(*s, "ana");
     for (int i = 0; i < 20; ++i)
-      REQUIRE(define(*s, "zorble" + std::to_string(i) + " left", {"move left"})["rules"].size() == 1);
+      REQUIRE(define(*s, "zorble" + std::to_string(i) + " left", {"move left"})["rules"].size() ==
+              1);
   }
   { Started first(store, 1); }
   Started s(store, 1);

@@ -16,10 +16,13 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <unordered_map>
+#include <utility>
 
 #include "flipper/kernel/limits.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/param_check.hpp"
+#include "yaml_bounds.hpp"
 
 namespace flipper::kernel {
 namespace detail {
@@ -87,16 +90,6 @@ void set_path(YAML::Node node, const std::vector<std::string>& segs, std::size_t
   YAML::Node child = node[segs[i]];
   if (!child.IsMap()) child = YAML::Node(YAML::NodeType::Map);
   set_path(child, segs, i + 1, value);
-}
-
-// A null value means "not set": `rewriter: ~` removes the optional section, `--set x=null`
-// restores a default.
-YAML::Node without_nulls(const YAML::Node& n) {
-  if (!n.IsMap()) return n;
-  YAML::Node out(YAML::NodeType::Map);
-  for (const auto& kv : n)
-    if (!kv.second.IsNull()) out[kv.first.Scalar()] = without_nulls(kv.second);
-  return out;
 }
 
 bool is_valid_key(const std::string& key) {
@@ -364,10 +357,13 @@ Config build(YAML::Node root, std::string source, std::string base_dir,
              std::map<std::string, ConfigOrigin> origins = {}) {
   for (const auto& a : overrides) apply_assignment(root, a, cli_keys);
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  yaml_bounds::check_expanded_size(root, source);  // --set values may hold aliases too
   for (auto it = origins.begin(); it != origins.end();)  // keys an override removed
     it = lookup(root, split_key(it->first)) ? std::next(it) : origins.erase(it);
   auto impl = std::make_shared<Config::Impl>();
-  impl->given = without_nulls(root);
+  // A null value means "not set": `rewriter: ~` removes the optional section, `--set x=null`
+  // restores a default.
+  impl->given = yaml_bounds::without_nulls(root);
   try {
     impl->values = kernel_values(impl->given);
   } catch (const Error& e) {
@@ -404,6 +400,8 @@ void check_unique_keys(const YAML::Node& node, const std::string& source) {
 YAML::Node parse_yaml(const std::string& text, const std::string& source) {
   try {
     YAML::Node root = YAML::Load(text);
+    // Before anything walks the tree: an alias bomb loads at once and expands when walked.
+    yaml_bounds::check_expanded_size(root, source);
     check_unique_keys(root, source);
     return root;
   } catch (const YAML::ParserException& e) {
@@ -427,20 +425,27 @@ std::string resolve_against(const std::string& base, const std::string& path) {
 
 constexpr std::size_t kMaxExtendsDepth = 16;
 
-// A config file is small: regular files of at most 16 MiB (a fixed limit, since the config
-// cannot set its own), so /dev/zero or a FIFO is an error, not a hang.
+// A config file is small: a regular file of at most yaml_bounds::kMaxConfigBytes (a fixed limit,
+// since the config cannot set its own), so /dev/zero or a FIFO is an error, not a hang, and a
+// huge document is refused before yaml-cpp reads it (about 75 MB of nodes per MiB of YAML).
 std::string read_config_file(const std::string& path) {
-  constexpr std::uint64_t kMaxConfigBytes = 16u << 20;
   try {
-    return read_regular_file(path, kMaxConfigBytes, "config file", codes::kBadConfig);
+    return read_regular_file(path, yaml_bounds::kMaxConfigBytes, "config file", codes::kBadConfig);
   } catch (const Error& e) {
+    std::error_code ec;
+    const auto bytes = fs::file_size(path, ec);
+    if (std::string(e.code()) == codes::kFileTooLarge && !ec)
+      fail("config file '" + path + "' has " + std::to_string(bytes) +
+           " bytes; the limit for a config is " + std::to_string(yaml_bounds::kMaxConfigBytes) +
+           " bytes (1 MiB)");
     fail(e.what());  // every config problem is bad_config (exit status 2)
   }
 }
 
+// Forgets the origins of `prefix` and every key below it (`prefix.*`, a contiguous range).
 void erase_below(std::map<std::string, ConfigOrigin>& origins, const std::string& prefix) {
-  for (auto it = origins.begin(); it != origins.end();)
-    it = starts_with_key(it->first, prefix) ? origins.erase(it) : std::next(it);
+  origins.erase(prefix);
+  origins.erase(origins.lower_bound(prefix + "."), origins.lower_bound(prefix + "/"));
 }
 
 // Records `origin` for every leaf under `node` that has none yet (deeper bases recorded theirs).
@@ -458,29 +463,42 @@ void record_leaves(const YAML::Node& node, const std::string& prefix, const Conf
 
 // `overlay` over `base`: maps merge key by key, anything else (scalars, lists, null) replaces.
 // A plugin section whose `plugin` the overlay changes starts with no params: the base's params
-// belong to the other plugin.
+// belong to the other plugin. Linear in the sizes of both (keys are found through an index, not
+// yaml-cpp's linear lookup).
 YAML::Node merge(const YAML::Node& base, const YAML::Node& overlay, const std::string& prefix,
                  std::map<std::string, ConfigOrigin>& origins) {
   if (!base.IsMap() || !overlay.IsMap()) {
     erase_below(origins, prefix);
     return YAML::Clone(overlay);
   }
-  YAML::Node out = YAML::Clone(base);
   const auto& sections = Config::plugin_sections();
   const bool plugin_section = std::find(sections.begin(), sections.end(), prefix) != sections.end();
-  if (plugin_section && overlay["plugin"].IsDefined() && base["plugin"].IsDefined() &&
-      overlay["plugin"].IsScalar() && base["plugin"].IsScalar() &&
-      overlay["plugin"].Scalar() != base["plugin"].Scalar()) {
-    out.remove("params");
-    erase_below(origins, prefix + ".params");
+  const bool other_plugin = plugin_section && overlay["plugin"].IsDefined() &&
+                            base["plugin"].IsDefined() && overlay["plugin"].IsScalar() &&
+                            base["plugin"].IsScalar() &&
+                            overlay["plugin"].Scalar() != base["plugin"].Scalar();
+  if (other_plugin) erase_below(origins, prefix + ".params");
+  std::vector<std::pair<std::string, YAML::Node>> entries;  // the base's order, then new keys
+  std::unordered_map<std::string, std::size_t> at;
+  for (const auto& kv : base) {
+    const std::string name = kv.first.Scalar();
+    if (other_plugin && name == "params") continue;
+    at.emplace(name, entries.size());
+    entries.emplace_back(name, YAML::Clone(kv.second));
   }
   for (const auto& kv : overlay) {
     const std::string name = kv.first.Scalar();
     const std::string key = prefix.empty() ? name : prefix + "." + name;
-    const YAML::Node here = out[name];
-    out[name] = here.IsDefined() ? merge(here, kv.second, key, origins) : YAML::Clone(kv.second);
-    if (!here.IsDefined()) erase_below(origins, key);
+    if (auto it = at.find(name); it != at.end()) {
+      entries[it->second].second = merge(entries[it->second].second, kv.second, key, origins);
+    } else {
+      erase_below(origins, key);
+      at.emplace(name, entries.size());
+      entries.emplace_back(name, YAML::Clone(kv.second));
+    }
   }
+  YAML::Node out(YAML::NodeType::Map);
+  for (auto& [name, value] : entries) out.force_insert(name, value);
   return out;
 }
 

@@ -75,15 +75,33 @@ std::string matching_category(const sdk::Derivation& d) {
   return cat;
 }
 
+/// Every subtree of `p`, in the normal form and the full form (where the verb of pick/drop is a
+/// node of its own).
+ProgramSet subtrees_of(const sdk::Program& p) {
+  ProgramSet out;
+  collect_subtrees(p, out);
+  collect_subtrees(sdk::full_form(p), out);
+  return out;
+}
+
+/// The subtrees of each statement of the body: the kids of its top-level sequence, or the body.
+std::vector<ProgramSet> statement_subtrees(const sdk::Program& body) {
+  std::vector<ProgramSet> out;
+  if (body && body->kind == sdk::Kind::Seq)
+    for (const auto& s : body->kids) out.push_back(subtrees_of(s));
+  else
+    out.push_back(subtrees_of(body));
+  return out;
+}
+
 }  // namespace
 
 std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
                                 const sdk::Program& body, int head_length) {
   // Chart meanings are in normal form (pick/drop as Pick/Drop); the verb of an item action is a
   // node only in the full form (ItemAction(ItemAct, item)), so both forms' subtrees count.
-  ProgramSet nodes;
-  collect_subtrees(body, nodes);
-  collect_subtrees(sdk::full_form(body), nodes);
+  const ProgramSet nodes = subtrees_of(body);
+  const std::vector<ProgramSet> statements = statement_subtrees(body);
   std::vector<Match> out;
   for (const auto& d : chart) {
     if (!d || !d->sem || (d->start == 0 && d->end == head_length)) continue;
@@ -100,7 +118,9 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
       same->core_only = same->core_only || d->core_only;
       continue;
     }
-    out.push_back({d->start, d->end, std::move(cat), d->sem, d->score, d->core_only});
+    int held_by = 0;
+    for (const auto& s : statements) held_by += s.count(d->sem) > 0 ? 1 : 0;
+    out.push_back({d->start, d->end, std::move(cat), d->sem, d->score, d->core_only, held_by});
   }
   std::stable_sort(out.begin(), out.end(), [](const Match& a, const Match& b) {
     return std::tie(a.start, a.end) < std::tie(b.start, b.end);

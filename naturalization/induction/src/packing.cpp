@@ -48,18 +48,22 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
         std::min(min_end[static_cast<std::size_t>(a)], min_end[static_cast<std::size_t>(a) + 1]);
   auto gap_free = [&](int a, int b) { return min_end[static_cast<std::size_t>(a)] > b; };
 
-  // best[j]: best (total score, match count) of a valid packing prefix whose last packed span
-  // is matches[j]. On equal scores the packing with more matches wins: a phrase matched as a
-  // whole (`grab blue square` as one $Action) scores what its parts (`blue`, `square`) score,
-  // and only the parts let every statement of the body share their holes (issue 13).
+  // best[j]: best (total score, shared matches) of a valid packing prefix whose last packed span
+  // is matches[j]. On equal scores the packing with more matches held by several body
+  // statements wins, and otherwise the first in match order (docs/naturalization.md §4.6): a
+  // phrase matched as a whole (`grab blue square` as one $Action) scores what its parts (`blue`,
+  // `square`) score; the parts win only when they let several statements share their holes
+  // (`walk and grab blue square`), and the whole wins where nothing is shared, as the original
+  // induced (`pick green item` := `pick item is green` gives `$Action item`, not
+  // `$ItemAct $Property item`).
   struct Total {
     double score = -std::numeric_limits<double>::infinity();
-    int count = 0;
+    int shared = 0;
     bool valid() const { return score != -std::numeric_limits<double>::infinity(); }
     bool beats(const Total& o) const {
       if (!o.valid()) return valid();
       if (std::abs(score - o.score) > kScoreTolerance) return score > o.score;
-      return count > o.count;
+      return shared > o.shared;
     }
   };
   std::vector<Total> best(m);
@@ -78,7 +82,7 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
       }
     }
     if (!base.valid()) continue;
-    best[j] = {base.score + x.score, base.count + 1};
+    best[j] = {base.score + x.score, base.shared + (x.statements > 1 ? 1 : 0)};
     prev[j] = from;
   }
   int last = -1;

@@ -8,6 +8,7 @@
 #include <ostream>
 #include <thread>
 
+#include "degraded_open.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "sqlite_handle.hpp"
 #include "store_impl.hpp"
@@ -62,7 +63,8 @@ std::string to_json_list(const std::vector<std::string>& v) {
   return json(v).dump();
 }
 
-std::vector<std::string> from_json_list(const std::string& text, const std::string& path) {
+/// A stored list column back to its strings; nullopt when it is not a JSON list of strings.
+std::optional<std::vector<std::string>> from_json_list(const std::string& text) {
   // The common case without a JSON tree: ["a","$B",...] with no escapes (start-up reads two
   // lists per rule).
   if (text.size() >= 2 && text.front() == '[' && text.back() == ']' &&
@@ -91,12 +93,31 @@ std::vector<std::string> from_json_list(const std::string& text, const std::stri
     }
     if (ok) return out;
   }
-  try {
-    return json::parse(text).get<std::vector<std::string>>();
-  } catch (const std::exception&) {
-    throw sdk::Error(lexicon_codes::kCorrupt,
-                     "lexicon store '" + path + "' is corrupt: malformed list column: " + text);
+  const json j = json::parse(text, nullptr, false);
+  if (!j.is_array()) return std::nullopt;
+  std::vector<std::string> out;
+  for (const auto& e : j) {
+    if (!e.is_string()) return std::nullopt;
+    out.push_back(e.get<std::string>());
   }
+  return out;
+}
+
+/// Reads list column `column` of a row into `into`; a value that does not decode leaves `into`
+/// empty and says why in `error` (the first such column of the row), so the row is quarantined
+/// instead of stopping the store.
+void decode_list(const std::string& text, const char* column, std::vector<std::string>& into,
+                 std::string& error) {
+  if (auto list = from_json_list(text)) {
+    into = std::move(*list);
+    return;
+  }
+  into.clear();
+  if (!error.empty()) return;
+  constexpr std::size_t kShown = 80;
+  error = std::string("the row does not decode: column '") + column + "' holds '" +
+          text.substr(0, kShown) + (text.size() > kShown ? "...'" : "'") +
+          ", not a JSON list of strings";
 }
 
 }  // namespace
@@ -193,6 +214,43 @@ void use_wal(sqlite::Db& db) {
 
 }  // namespace
 
+namespace {
+
+/// A store opened for reading only must need no change: it holds a lexicon of this build's
+/// schema (version 2 only lacks the weight table, which weight_changes() treats as empty).
+void check_readable_version(sqlite::Db& db, std::int64_t version) {
+  if (version != LexiconStore::kSchemaVersion && version != 2)
+    throw sdk::Error(lexicon_codes::kReadOnly,
+                     "lexicon store '" + db.path() + "' is read-only and " +
+                         (version == 0 ? std::string("holds no lexicon yet")
+                                       : "needs an upgrade to schema version " +
+                                             std::to_string(LexiconStore::kSchemaVersion)));
+}
+
+/// Opens (or creates) the store for reading and writing, in WAL mode with the current schema.
+void open_writable(std::unique_ptr<sqlite::Db>& into, const std::string& path, bool existed,
+                   const LexiconStoreOptions& options) {
+  const bool memory = path == ":memory:";
+  into = std::make_unique<sqlite::Db>(path, !existed, options.busy_timeout_ms);
+  auto& db = *into;
+  if (options.max_page_count > 0)
+    db.exec(("PRAGMA max_page_count = " + std::to_string(options.max_page_count)).c_str());
+  const std::int64_t version = existed ? check_existing(db, options.check_on_open) : 0;
+  if (db.read_only()) {
+    // SQLite could only open the file for reading: serve it as it is if it needs no change.
+    check_readable_version(db, version);
+    db.refuse_writes(lexicon_codes::kReadOnly);
+  } else {
+    // WAL + FULL: every COMMIT is on disk when it returns, and a kill mid-write never corrupts.
+    if (!memory) use_wal(db);
+    db.exec("PRAGMA synchronous=FULL");
+    if (!memory) db.checkpoint_in_background();
+    if (version < LexiconStore::kSchemaVersion) create_or_upgrade(db);
+  }
+}
+
+}  // namespace
+
 LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
@@ -216,28 +274,21 @@ LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
                 "': " + ec.message());
     }
   }
-  impl_->db = std::make_unique<sqlite::Db>(path, !existed, options.busy_timeout_ms);
-  auto& db = *impl_->db;
-  if (options.max_page_count > 0)
-    db.exec(("PRAGMA max_page_count = " + std::to_string(options.max_page_count)).c_str());
-  const std::int64_t version = existed ? check_existing(db, options.check_on_open) : 0;
-  if (db.read_only()) {
-    // Readable but not writable: serve it as it is if it needs no change.
-    // (Version 2 only lacks the weight table, which read_weight_changes treats as empty.)
-    if (version != kSchemaVersion && version != 2)
-      throw sdk::Error(lexicon_codes::kReadOnly,
-                       "lexicon store '" + path + "' is read-only and " +
-                           (version == 0 ? std::string("holds no lexicon yet")
-                                         : "needs an upgrade to schema version " +
-                                               std::to_string(kSchemaVersion)));
-  } else {
-    // WAL + FULL: every COMMIT is on disk when it returns, and a kill mid-write never corrupts.
-    if (!memory) use_wal(db);
-    db.exec("PRAGMA synchronous=FULL");
-    if (!memory) db.checkpoint_in_background();
-    if (version < kSchemaVersion) create_or_upgrade(db);
+  try {
+    open_writable(impl_->db, path, existed, options);
+    impl_->data_version = std::make_unique<sqlite::Stmt>(*impl_->db, "PRAGMA data_version");
+  } catch (const sdk::Error& e) {
+    // A store that exists but cannot be written (read-only file, folder or file system, or a
+    // full device) still serves its rules; only writes fail (docs/naturalization.md §5).
+    const char* refusal = existed ? degraded_reason(path, e) : nullptr;
+    if (refusal == nullptr) throw;
+    impl_->data_version.reset();
+    impl_->db.reset();
+    impl_->db = open_for_reading(path, options.busy_timeout_ms, e);
+    check_readable_version(*impl_->db, check_existing(*impl_->db, options.check_on_open));
+    impl_->db->refuse_writes(refusal);
+    impl_->data_version = std::make_unique<sqlite::Stmt>(*impl_->db, "PRAGMA data_version");
   }
-  impl_->data_version = std::make_unique<sqlite::Stmt>(db, "PRAGMA data_version");
 }
 
 LexiconStore::~LexiconStore() = default;
@@ -248,6 +299,10 @@ const std::string& LexiconStore::path() const {
 
 bool LexiconStore::read_only() const {
   return impl_->db->read_only();
+}
+
+const char* LexiconStore::write_refusal() const {
+  return impl_->db->write_refusal();
 }
 
 namespace {
@@ -295,15 +350,15 @@ constexpr const char* kRuleSelect =
     "r.definition, r.deleted, r.deleted_at, coalesce(u.by_author,0), coalesce(u.by_others,0) "
     "FROM rules r LEFT JOIN rule_uses u ON u.rule = r.id ";
 
-StoredRule read_rule(const sqlite::Stmt& s, const std::string& path) {
+StoredRule read_rule(const sqlite::Stmt& s) {
   StoredRule r;
   r.id = s.text(0);
   r.lhs = s.text(1);
-  r.rhs = from_json_list(s.text(2), path);
+  decode_list(s.text(2), "rhs", r.rhs, r.decode_error);
   r.semantics = s.text(3);
   r.author = s.text(4);
   r.head = s.text(5);
-  r.body = from_json_list(s.text(6), path);
+  decode_list(s.text(6), "body", r.body, r.decode_error);
   r.how = s.text(7);
   r.created = s.int64(8);
   r.definition = s.int64(9);
@@ -346,9 +401,11 @@ std::int64_t LexiconStore::add_definition(const StoredDefinition& d,
 std::vector<StoredDefinition> LexiconStore::definitions() const {
   sqlite::Stmt s(*impl_->db, "SELECT id, head, body, author, time FROM definitions ORDER BY id");
   std::vector<StoredDefinition> out;
-  while (s.step())
-    out.push_back(
-        {s.int64(0), s.text(1), from_json_list(s.text(2), impl_->path), s.text(3), s.int64(4)});
+  while (s.step()) {
+    StoredDefinition d{s.int64(0), s.text(1), {}, s.text(3), s.int64(4), {}};
+    decode_list(s.text(2), "body", d.body, d.decode_error);
+    out.push_back(std::move(d));
+  }
   return out;
 }
 
@@ -358,7 +415,7 @@ std::vector<StoredRule> LexiconStore::rules(bool include_deleted) const {
   sql += "ORDER BY r.created";
   sqlite::Stmt s(*impl_->db, sql.c_str());
   std::vector<StoredRule> out;
-  while (s.step()) out.push_back(read_rule(s, impl_->path));
+  while (s.step()) out.push_back(read_rule(s));
   return out;
 }
 
@@ -367,7 +424,7 @@ std::optional<StoredRule> LexiconStore::rule(const std::string& id) const {
   sqlite::Stmt s(*impl_->db, sql.c_str());
   s.bind(1, id);
   if (!s.step()) return std::nullopt;
-  return read_rule(s, impl_->path);
+  return read_rule(s);
 }
 
 std::int64_t LexiconStore::max_created() const {
@@ -433,7 +490,7 @@ LexiconChanges LexiconStore::changes_since(const ChangeMark& since) const {
         std::string(kRuleSelect) + "WHERE r.created > ? AND r.deleted = 0 ORDER BY r.created";
     sqlite::Stmt s(db, sql.c_str());
     s.bind(1, since.created);
-    while (s.step()) out.added.push_back(read_rule(s, impl_->path));
+    while (s.step()) out.added.push_back(read_rule(s));
   }
   {
     sqlite::Stmt s(db, "SELECT id FROM rules WHERE deleted_seq > ? ORDER BY deleted_seq");
@@ -458,11 +515,11 @@ LiveRulesRead LexiconStore::read_live_rules(const std::function<void(StoredRule&
       StoredRule r;
       r.id = s.text(0);
       r.lhs = s.text(1);
-      r.rhs = from_json_list(s.text(2), impl_->path);
+      decode_list(s.text(2), "rhs", r.rhs, r.decode_error);
       r.semantics = s.text(3);
       r.author = s.text(4);
       r.head = s.text(5);
-      r.body = from_json_list(s.text(6), impl_->path);
+      decode_list(s.text(6), "body", r.body, r.decode_error);
       r.how = s.text(7);
       r.created = s.int64(8);
       r.definition = s.int64(9);
@@ -602,11 +659,12 @@ std::optional<std::string> LexiconStore::load_weights(const std::string& key) co
 void LexiconStore::export_jsonl(
     std::ostream& out,
     const std::function<std::optional<std::string>(const StoredRule&)>& quarantine_reason) const {
-  for (const auto& d : definitions())
-    out << json{{"type", "definition"}, {"id", d.id},         {"head", d.head},
-                {"body", d.body},       {"author", d.author}, {"time", d.time}}
-               .dump()
-        << '\n';
+  for (const auto& d : definitions()) {
+    json line{{"type", "definition"}, {"id", d.id},         {"head", d.head},
+              {"body", d.body},       {"author", d.author}, {"time", d.time}};
+    if (!d.decode_error.empty()) line["quarantined"] = d.decode_error;
+    out << line.dump() << '\n';
+  }
   for (const auto& r : rules(true)) {
     json line{{"type", "rule"},
               {"id", r.id},
@@ -637,6 +695,17 @@ void LexiconStore::export_jsonl(
                   {"feature", c.feature}, {"weight", c.weight},  {"aux", c.aux}}
                  .dump()
           << '\n';
+  for (const auto& f : preload_failures())
+    out << json{{"type", "preload_failure"},
+                {"file", f.file},
+                {"line", f.line},
+                {"head", f.head},
+                {"author", f.author},
+                {"code", f.code},
+                {"message", f.message},
+                {"time", f.time}}
+               .dump()
+        << '\n';
 }
 
 std::size_t LexiconStore::import_jsonl(std::istream& in) {
@@ -644,6 +713,7 @@ std::size_t LexiconStore::import_jsonl(std::istream& in) {
   sqlite::Transaction tx(db);
   std::string line;
   std::size_t n = 0, line_no = 0;
+  std::vector<PreloadFailure> failures;  // the report of the exporting store, copied as it was
   while (std::getline(in, line)) {
     ++line_no;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
@@ -689,6 +759,11 @@ std::size_t LexiconStore::import_jsonl(std::istream& in) {
                              j.at("weight").get<double>(), j.value("aux", 0.0)}});
       } else if (type == "weights") {
         upsert_weights(db, j.at("key").get<std::string>(), j.at("state").get<std::string>());
+      } else if (type == "preload_failure") {
+        failures.push_back({j.at("file").get<std::string>(), j.at("line").get<std::int64_t>(),
+                            j.at("head").get<std::string>(), j.at("author").get<std::string>(),
+                            j.at("code").get<std::string>(), j.at("message").get<std::string>(),
+                            j.value("time", std::int64_t{0})});
       } else {
         throw std::runtime_error("unknown type '" + type + "'");
       }
@@ -700,6 +775,7 @@ std::size_t LexiconStore::import_jsonl(std::istream& in) {
                        "lexicon import line " + std::to_string(line_no) + ": " + e.what());
     }
   }
+  insert_preload_failures(db, failures);
   tx.commit();
   return n;
 }

@@ -89,7 +89,7 @@ class Reader {
 void read_one(Reader& r, StoredRuleView* into) {
   const auto created = static_cast<std::int64_t>(r.u(8));
   const auto definition = static_cast<std::int64_t>(r.u(8));
-  std::string_view fields[6];  // id, lhs, semantics, author, head, how
+  std::string_view fields[7];  // id, lhs, semantics, author, head, how, decode_error
   for (auto& f : fields) {
     f = r.str();
   }
@@ -118,6 +118,7 @@ void read_one(Reader& r, StoredRuleView* into) {
   into->author = fields[3];
   into->head = fields[4];
   into->how = fields[5];
+  into->decode_error = fields[6];
 }
 
 }  // namespace
@@ -131,7 +132,8 @@ RuleSnapshotWriter::RuleSnapshotWriter() {
 void RuleSnapshotWriter::add(const StoredRule& r) {
   put_u64(out_, static_cast<std::uint64_t>(r.created));
   put_u64(out_, static_cast<std::uint64_t>(r.definition));
-  for (const std::string* s : {&r.id, &r.lhs, &r.semantics, &r.author, &r.head, &r.how}) {
+  for (const std::string* s :
+       {&r.id, &r.lhs, &r.semantics, &r.author, &r.head, &r.how, &r.decode_error}) {
     put_str(out_, *s);
   }
   put_list(out_, r.rhs);
@@ -160,6 +162,7 @@ StoredRule StoredRuleView::materialize() const {
   r.how = how;
   r.created = created;
   r.definition = definition;
+  r.decode_error = decode_error;
   return r;
 }
 

@@ -136,6 +136,35 @@ Db::Db(const std::string& path, bool create, int busy_timeout_ms)
   sqlite3_busy_handler(db_, &Db::on_busy, this);
 }
 
+namespace {
+/// `path` as the path of a `file:` URI (RFC 3986 percent-encoding of what SQLite reads specially).
+std::string uri_path(const std::string& path) {
+  static const char* kHex = "0123456789ABCDEF";
+  std::string out;
+  for (const char c : path) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '%' || c == '?' || c == '#' || u < 0x20 || u >= 0x7f) {
+      out += '%';
+      out += kHex[u >> 4];
+      out += kHex[u & 15];
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+}  // namespace
+
+Db::Db(const std::string& path, const ReadOnly& how, int busy_timeout_ms)
+    : path_(path), busy_timeout_ms_(busy_timeout_ms), jitter_(std::random_device{}()) {
+  const std::string uri = "file:" + uri_path(path) + "?" + how.uri_query;
+  const int rc = sqlite3_open_v2(
+      uri.c_str(), &db_, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI | SQLITE_OPEN_NOMUTEX, nullptr);
+  if (rc != SQLITE_OK) fail("cannot open read-only", rc);
+  sqlite3_extended_result_codes(db_, 1);
+  sqlite3_busy_handler(db_, &Db::on_busy, this);
+}
+
 Db::~Db() {
   checkpointer_.reset();
   sqlite3_close_v2(db_);  // the last connection to close checkpoints and removes the WAL
@@ -282,6 +311,10 @@ bool Stmt::is_null(int col) const {
 }
 
 Transaction::Transaction(Db& db) : db_(db) {
+  if (const char* code = db_.write_refusal())
+    throw sdk::Error(code, "lexicon store '" + db_.path() + "' " + explain(code, 0) +
+                               " (it was so when this process opened it: it serves its rules, "
+                               "and every write is refused until the store is reopened)");
   db_.exec("BEGIN IMMEDIATE");
 }
 

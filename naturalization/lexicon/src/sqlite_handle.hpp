@@ -23,6 +23,14 @@ class Db {
   /// Opens `path`; `create` allows creating a missing file. Waits for other writers up to
   /// `busy_timeout_ms` (jittered backoff), then reports lexicon_busy.
   Db(const std::string& path, bool create, int busy_timeout_ms);
+  /// How a read-only connection opens (the query of its `file:` URI).
+  struct ReadOnly {
+    std::string
+        uri_query;  ///< `mode=ro`, or `immutable=1` when not even the WAL's index can be made
+  };
+  /// Opens `path` for reading only, through the URI `file:PATH?<query>`. `path` names the store in
+  /// messages.
+  Db(const std::string& path, const ReadOnly& how, int busy_timeout_ms);
   ~Db();
   Db(const Db&) = delete;
   Db& operator=(const Db&) = delete;
@@ -33,6 +41,11 @@ class Db {
   void set_busy_timeout_ms(int ms) { busy_timeout_ms_ = ms; }
   /// The file could only be opened for reading (permissions, read-only file system).
   bool read_only() const;
+  /// The store serves reads only, degraded at open (docs/naturalization.md §5 "Store faults"):
+  /// every write transaction is refused with `code` (lexicon_read_only or lexicon_full).
+  void refuse_writes(const char* code) { write_refusal_ = code; }
+  /// The code writes are refused with, or null.
+  const char* write_refusal() const { return write_refusal_; }
   /// Runs one or more statements without results.
   void exec(const char* sql);
   /// Throws the lexicon error for `rc` with `what` and SQLite's message.
@@ -57,6 +70,7 @@ class Db {
   std::int64_t busy_since_us_ = 0;
   std::uint64_t jitter_ = 0;
   std::unique_ptr<Checkpointer> checkpointer_;  // stopped before the connection closes
+  const char* write_refusal_ = nullptr;
 };
 
 class Stmt {

@@ -4,11 +4,16 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "sqlite_handle.hpp"
 
 namespace flipper::kernel {
+
+/// Adds preload failures to the store inside the caller's write transaction (creating their
+/// table when there are any).
+void insert_preload_failures(sqlite::Db& db, const std::vector<PreloadFailure>& failures);
 
 struct LexiconStore::Impl {
   std::unique_ptr<sqlite::Db> db;

@@ -133,6 +133,16 @@ namespace {
 // load leaves its StoredRule intact for the quarantine report.
 template <class Stored>
 sdk::RulePtr build_rule(Stored&& s) {
+  // A row whose lists do not decode, or whose right-hand side could not be a rule of the grammar
+  // (nothing, or one category alone: docs/naturalization.md §4.7), is quarantined.
+  if (!s.decode_error.empty())
+    throw sdk::Error(lexicon_codes::kCorrupt, std::string(s.decode_error));
+  if (s.rhs.empty())
+    throw sdk::Error(lexicon_codes::kCorrupt,
+                     "'" + rule_shape_text(s) + "' has an empty right-hand side (column 'rhs')");
+  if (s.rhs.size() == 1 && !s.rhs[0].empty() && s.rhs[0][0] == '$')
+    throw sdk::Error(lexicon_codes::kCorrupt,
+                     "'" + rule_shape_text(s) + "' has a single category as its right-hand side");
   // Older versions induced `$Action -> $ROOT thrice`-like rules, whose hole takes a whole
   // sequence; such a rule is not read (so it is quarantined, with this message).
   static const std::string root = sdk::Grammar{}.root;
@@ -247,6 +257,13 @@ Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions opt
   store_options.check_on_open = false;
   store_ = std::make_unique<LexiconStore>(options_.store_path, store_options);
   restore();
+  if (const char* refusal = store_->write_refusal())
+    options_.warn("lexicon store '" + store_->path() + "' is " +
+                  (std::string(refusal) == lexicon_codes::kFull ? "full" : "read-only") +
+                  ": it serves its " + std::to_string(rules_.size()) +
+                  (rules_.size() == 1 ? " rule" : " rules") +
+                  "; definitions and deletions are refused with " + refusal +
+                  ", and what accepts teach lasts only until this process ends");
   if (!options_.preload.empty()) preload(options_.preload);
 }
 
@@ -351,17 +368,21 @@ bool Naturalizer::add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr
     try {
       rule = rule_from_stored(std::move(stored));  // untouched when it throws
     } catch (const std::exception& e) {
-      // One bad rule must not lock everyone out of a shared lexicon: skip it, say which.
-      options_.warn("lexicon store '" + store_->path() + "': rule " + stored.id + " (author '" +
-                    stored.author + "', head '" + stored.head +
-                    "') is quarantined, not served: " + e.what());
-      quarantined_.push_back({std::move(stored), e.what()});
+      quarantine(std::move(stored), e.what());
       return false;
     }
   }
   runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(rule); });
   add_live(std::move(rule));
   return true;
+}
+
+void Naturalizer::quarantine(StoredRule&& stored, const std::string& reason) {
+  // One bad rule must not lock everyone out of a shared lexicon: skip it, say which.
+  options_.warn("lexicon store '" + store_->path() + "': rule " + stored.id + " (author '" +
+                stored.author + "', head '" + stored.head +
+                "') is quarantined, not served: " + reason);
+  quarantined_.push_back({std::move(stored), reason});
 }
 
 void Naturalizer::add_viewed(const StoredRuleView& viewed) {
@@ -533,6 +554,9 @@ void Naturalizer::delete_rule(const std::string& user, const std::string& id) {
 }
 
 void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::RulePtr>& used) {
+  // A store that opened degraded cannot keep what the accept taught: the session keeps it in
+  // memory (counters counted, weights learnt), as the start-up warning said.
+  if (store_->write_refusal()) return;
   std::vector<RuleUses> deltas;
   std::vector<sdk::RulePtr> rules;
   for (const auto& r : used) {

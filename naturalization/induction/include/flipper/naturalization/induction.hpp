@@ -34,6 +34,10 @@ struct Match {
   sdk::Program program;
   double score = 0;  ///< best derivation's score for this (span, category, program)
   bool core_only = true;
+  /// How many statements of the body hold `program` (the body's top-level sequence; a body that
+  /// is no sequence is one statement). Best packing prefers, on equal scores, the packing with
+  /// more matches held by several statements (docs/naturalization.md §4.6).
+  int statements = 0;
 };
 
 /// The category naming a sort ($Action, $Area, $CountedItem, ...).
@@ -52,7 +56,8 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
 
 /// Simple packing (§4.5): core-only, one-token, primitive matches; the first at each position.
 std::vector<Match> simple_packing(const std::vector<Match>& matches);
-/// Best packing (§4.6): non-overlapping, maximal, greatest total score (ties: leftmost first).
+/// Best packing (§4.6): non-overlapping, maximal, greatest total score; on equal totals the one
+/// with more matches held by several body statements, then the first in match order.
 std::vector<Match> best_packing(const std::vector<Match>& matches, int head_length);
 /// Total score of a packing.
 double packing_score(const std::vector<Match>& packing);

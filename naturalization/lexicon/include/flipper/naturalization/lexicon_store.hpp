@@ -60,6 +60,9 @@ struct StoredDefinition {
   std::vector<std::string> body;
   std::string author;
   std::int64_t time = 0;  ///< seconds since the epoch
+  /// Set when the stored row does not decode (its body is not a JSON list of strings): the body
+  /// is then empty and this says why (docs/naturalization.md §5 "Quarantine").
+  std::string decode_error{};
 };
 
 /// One induced rule with its provenance; `semantics` is the template's canonical text.
@@ -78,6 +81,10 @@ struct StoredRule {
   std::int64_t deleted_at = 0;
   std::uint64_t uses_by_author = 0;
   std::uint64_t uses_by_others = 0;
+  /// Set when the stored row does not decode (rhs or body is not a JSON list of strings): the
+  /// list is then empty and this says why. Such a rule is quarantined, never served, and never
+  /// stops the store from opening (docs/naturalization.md §5 "Quarantine").
+  std::string decode_error{};
 };
 
 /// An incremental scorer's weight (or a change to it): sdk::WeightChange without the SDK type.
@@ -119,6 +126,18 @@ struct StoredSnapshot {
 /// Why load_snapshot() gave nothing.
 enum class SnapshotMiss { none, absent, other_format, damaged, inconsistent };
 
+/// A definition of a `lexicon.preload` file that did not load at a start (docs/naturalization.md
+/// §5): kept in the store, so `flipper lexicon list` and `export` show it.
+struct PreloadFailure {
+  std::string file;       ///< the preload file, as the config resolved it
+  std::int64_t line = 0;  ///< its line in the file (1-based)
+  std::string head;
+  std::string author;
+  std::string code;       ///< why: the error code (head_is_core, body_unparsable, ...)
+  std::string message;    ///< and its message
+  std::int64_t time = 0;  ///< the start that met it (seconds since the epoch)
+};
+
 /// A committed definition: its id and its rules as stored (ids, `created` assigned).
 struct DefinitionCommit {
   std::int64_t definition = 0;
@@ -142,8 +161,9 @@ class LexiconStore {
  public:
   /// Opens (or creates, with parent directories) the store at `path`; ":memory:" is a private
   /// in-memory store. A corrupt file throws Error(lexicon_corrupt), a foreign one bad_lexicon,
-  /// naming the file, which is left untouched. A file that can only be read opens read-only
-  /// (reads work, writes throw lexicon_read_only) when it already holds a lexicon.
+  /// naming the file, which is left untouched. A store that already holds a lexicon but cannot
+  /// be written — a read-only file, folder or file system, or a full device — opens degraded:
+  /// reads work, every write throws write_refusal() (lexicon_read_only or lexicon_full).
   explicit LexiconStore(const std::string& path, LexiconStoreOptions options = {});
   ~LexiconStore();
   LexiconStore(const LexiconStore&) = delete;
@@ -154,6 +174,9 @@ class LexiconStore {
   /// upgraded in place on open.
   static constexpr int kSchemaVersion = 3;
   bool read_only() const;
+  /// The code every write is refused with when the store opened degraded (lexicon_read_only,
+  /// lexicon_full); null when it opened for writing.
+  const char* write_refusal() const;
 
   /// Commits a definition and its rules in ONE transaction (durable on return). The store
   /// assigns the definition id and each rule's `created` (one past the largest ever stored) and
@@ -218,8 +241,17 @@ class LexiconStore {
   void save_weights(const std::string& key, const std::string& state);
   std::optional<std::string> load_weights(const std::string& key) const;
 
-  /// JSON Lines: one object per line, `{"type":"definition"|"rule"|"weights"|"weight", ...}`. A
-  /// rule for which `quarantine_reason` returns a reason gets `"quarantined": reason`.
+  /// Replaces the recorded failures of preload file `file` with `failures`, in one transaction.
+  /// Best effort (a report, not the lexicon): false when it did not store (read-only, full or
+  /// busy store). Writes nothing when there is nothing to record or to clear.
+  bool record_preload_failures(const std::string& file,
+                               const std::vector<PreloadFailure>& failures);
+  /// The recorded preload failures (file, then line order).
+  std::vector<PreloadFailure> preload_failures() const;
+
+  /// JSON Lines: one object per line, `{"type":"definition"|"rule"|"weights"|"weight"|
+  /// "preload_failure", ...}`. A rule for which `quarantine_reason` returns a reason gets
+  /// `"quarantined": reason`, and so does a definition whose row does not decode.
   void export_jsonl(std::ostream& out,
                     const std::function<std::optional<std::string>(const StoredRule&)>&
                         quarantine_reason = {}) const;

@@ -5,9 +5,11 @@
 /// row instead of building a StoredRule per SQLite row. A derived cache: the rows stay the truth.
 ///
 /// Encoding (little-endian, no alignment): "FLXS", u32 format, u64 rule count, then per rule
-/// i64 created, i64 definition, and the strings id, lhs, semantics, author, head, how, each as u32
-/// length + bytes, then the rhs and body lists as u32 count + strings. Use counters are not in it
-/// (they change on every accept, without moving the mark).
+/// i64 created, i64 definition, and the strings id, lhs, semantics, author, head, how and
+/// decode_error (empty unless the row does not decode: such a rule is kept, to be quarantined at
+/// every start, docs/naturalization.md §5 "Quarantine"), each as u32 length + bytes, then the rhs
+/// and body lists as u32 count + strings. Use counters are not in it (they change on every accept,
+/// without moving the mark).
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -18,8 +20,9 @@
 
 namespace flipper::kernel {
 
-/// Version of the encoding above; a snapshot of another format is ignored (rebuilt).
-inline constexpr std::uint32_t kRuleSnapshotFormat = 1;
+/// Version of the encoding above; a snapshot of another format is ignored (rebuilt). Format 1 had
+/// no decode_error.
+inline constexpr std::uint32_t kRuleSnapshotFormat = 2;
 
 /// Appends rules to a snapshot blob.
 class RuleSnapshotWriter {
@@ -38,7 +41,7 @@ class RuleSnapshotWriter {
 /// One rule as it lies in a blob: views into it, valid during the callback only (decoding
 /// allocates nothing per rule; the reader keeps the lists' capacity).
 struct StoredRuleView {
-  std::string_view id, lhs, semantics, author, head, how;
+  std::string_view id, lhs, semantics, author, head, how, decode_error;
   std::vector<std::string_view> rhs, body;
   std::int64_t created = 0;
   std::int64_t definition = 0;

@@ -8,12 +8,14 @@
 /// store's rule snapshot plus the rows changed after it when there is a usable one, else from the
 /// rows, leaving a snapshot for the next start (docs/naturalization.md §5 "Start-up at scale") —
 /// the scorer's weights restored, then the preload file (if any) replayed through induction
-/// (definitions the store already holds are skipped, so a restart does not replay them twice). A
-/// stored rule that no longer loads (unknown category, bad template) is quarantined: not served,
-/// reported once through `warn`, kept in the file. Every definition is committed to the store in
-/// one transaction before define() returns. Many processes may share the store: refresh() (called
-/// before every parse, define, listing and delete) picks up the rules and deletions other processes
-/// committed, incrementally.
+/// (definitions the store already holds are skipped, so a restart does not replay them twice; one
+/// that does not load is reported through `warn` and recorded in the store). A stored rule that no
+/// longer loads (unknown category, bad template, a row that does not decode) is quarantined: not
+/// served, reported through `warn` at every start (from the rows or the snapshot), kept in the
+/// file. A store that opened degraded (read-only, full) serves its rules and refuses writes.
+/// Every definition is committed to the store in one transaction before define() returns. Many
+/// processes may share the store: refresh() (called before every parse, define, listing and delete)
+/// picks up the rules and deletions other processes committed, incrementally.
 
 #include <chrono>
 #include <cstdint>
@@ -56,9 +58,10 @@ struct NaturalizeOptions {
   /// it when more than max(this, an eighth of its rules) rows changed since (docs/naturalization.md
   /// §5 "Start-up at scale"). 0: never use or write one.
   std::int64_t snapshot_min_rules = keys::kSnapshotMinRules.def;  ///< lexicon.snapshot_min_rules
-  /// Where warnings go (quarantined rules); default: standard error, "flipper: warning: ...".
+  /// Where warnings go (quarantined rules, preload failures, a store that opened degraded);
+  /// default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
-  InductionOptions induction;  ///< induction.alignment (+ parser beam)
+  InductionOptions induction;               ///< induction.alignment (+ parser beam)
   bool generalize = keys::kGeneralize.def;  ///< induction.generalize
   int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
   /// Reads the keys above from a validated config (the schema filled every default).
@@ -106,11 +109,12 @@ struct QuarantinedRule {
   std::string reason;
 };
 
-/// Preload outcome (definitions replayed, skipped because stored, failed with the reason).
+/// Preload outcome (definitions replayed, skipped because stored, failed with the reason). Each
+/// failure is also a warning, and a row of the store (LexiconStore::preload_failures()).
 struct PreloadReport {
   std::size_t replayed = 0;
   std::size_t already_stored = 0;
-  std::vector<std::string> failures;  ///< "line N: code: message"
+  std::vector<PreloadFailure> failures;
 };
 
 /// How start-up read the rules (docs/naturalization.md §5 "Start-up at scale").
@@ -179,6 +183,8 @@ class Naturalizer {
   bool add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr>& own = {});
   /// The same for a rule read from a snapshot (built straight from the blob's bytes).
   void add_viewed(const StoredRuleView& viewed);
+  /// Keeps a stored rule that does not load out of the grammar, with a warning naming it.
+  void quarantine(StoredRule&& stored, const std::string& reason);
   void preload(const std::string& path);
   /// Applies changes read from the store; `own` holds this process's just-committed rules (used
   /// as they are instead of being read back).
