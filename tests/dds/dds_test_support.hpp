@@ -1,20 +1,25 @@
 #pragma once
-// DDS test helpers: the loopback configuration (never a participant without it), flipper
-// children on their own DDS domain and lexicon, waiting for conditions, a test participant.
+// DDS test helpers: the loopback configuration (never a participant without it), this test
+// process's own DDS domain (dds_domain.hpp: no other checkout's run can meet it), flipper
+// children on that domain with their own lexicon, waiting for conditions, a test participant.
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "child_process.hpp"
+#include "dds_domain.hpp"
+#include "flipper/dds/cyclone_config.hpp"
 #include "flipper/dds/participant.hpp"
 #include "flipper/dds/transport.hpp"
 
@@ -26,8 +31,15 @@ using nlohmann::json;
 inline void ensure_loopback_env() {
   const char* uri = std::getenv("CYCLONEDDS_URI");
   if (uri == nullptr || *uri == '\0') setenv("CYCLONEDDS_URI", dds::loopback_xml().c_str(), 1);
-  REQUIRE(dds::selected_interfaces(std::getenv("CYCLONEDDS_URI")) ==
-          std::vector<std::string>{"lo"});
+  const auto sel = dds::network_selection(
+      dds::resolve_cyclone_config(std::getenv("CYCLONEDDS_URI"), "CYCLONEDDS_URI"), 0);
+  REQUIRE(sel.interfaces == std::vector<std::string>{"lo"});
+  REQUIRE(sel.unprovable.empty());
+}
+
+/// This test process's DDS domain (claimed for the life of the process).
+inline int test_domain() {
+  return testsupport::claimed_dds_domain();
 }
 
 /// A participant of the test itself on `domain`, loopback only.
@@ -98,5 +110,28 @@ struct Site {
     return a["candidates"].empty() ? "" : a["candidates"][0]["formula"].get<std::string>();
   }
 };
+
+inline std::set<std::string> rule_shapes(Site& site, const std::string& head = {}) {
+  std::set<std::string> out;
+  for (const auto& r : site.rules())
+    if (head.empty() || r["head"] == head)
+      out.insert(r["lhs"].get<std::string>() + " -> " + r["rhs"].dump() + " => " +
+                 r["semantics"].get<std::string>());
+  return out;
+}
+
+/// Definitions per head in a store, read through `flipper lexicon export`.
+inline std::map<std::string, int> definitions_per_head(const std::string& store) {
+  testsupport::ChildProcess p(
+      {flipper_bin(), "lexicon", "export", "-", "--set", "lexicon.path=" + store});
+  std::map<std::string, int> out;
+  std::istringstream lines(p.read_all());
+  for (std::string line; std::getline(lines, line);) {
+    const json j = json::parse(line);
+    if (j["type"] == "definition") ++out[j["head"].get<std::string>()];
+  }
+  REQUIRE(p.finish() == 0);
+  return out;
+}
 
 }  // namespace flipper::ddstest

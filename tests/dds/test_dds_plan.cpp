@@ -16,8 +16,6 @@ using namespace flipper::ddstest;
 
 namespace {
 
-constexpr int kDomain = 161;
-
 json study_world_with_robot(int x, int y) {
   std::ifstream in(std::string(FLIPPER_SOURCE_DIR) + "/configs/worlds/study2018.json");
   json w = json::parse(in);
@@ -62,6 +60,7 @@ struct Reader {
 }  // namespace
 
 TEST_CASE("accepted visit room3 arrives on rt/flipper/plan as a ROS 2 Path in metres", "[dds]") {
+  const int kDomain = test_domain();
   auto participant = test_participant(kDomain);
   Reader<nav_msgs_msg_dds__Path_> plans(*participant, &nav_msgs_msg_dds__Path__desc,
                                         dds::kPlanTopic);

@@ -8,8 +8,13 @@
 ///     world they were made in when the event carries it (so generalization runs too);
 ///   - idempotent: an event whose (site, version) is in the replication log is skipped, and a
 ///     kill between the store's commit and the log's is recovered at start-up (replication_log);
-///   - catch-up: at start-up every site re-publishes its whole log, so a late or restarted site
-///     gets every event any live site has seen;
+///   - catch-up from any live site: at start-up every site re-publishes its whole log, and it
+///     relays every event it receives (own writer, TRANSIENT_LOCAL, keep-all), so every live
+///     site's writer holds every event that site knows and a late or restarted site gets them
+///     all from whichever sites are up, the author down or not;
+///   - identity (DDS Security on, keystore given): this site signs its events; an event is
+///     accepted only when signed by the site it names (event_signature.hpp), otherwise dropped
+///     unlogged. Security off: any participant on the domain is trusted;
 ///   - deletions: only the author's site may delete a definition's rules (a local delete_rule of
 ///     another site's rule is refused with `forbidden`; a received deletion from another site is
 ///     refused); both are logged;
@@ -28,9 +33,12 @@
 #include <iosfwd>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
+#include "flipper/dds/event_signature.hpp"
+#include "flipper/dds/keystore.hpp"
 #include "flipper/dds/lexicon_event.hpp"
 #include "flipper/dds/participant.hpp"
 #include "flipper/dds/replication_log.hpp"
@@ -45,9 +53,11 @@ inline constexpr const char* kLexiconTopic = "rt/flipper/lexicon";
 class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator> {
  public:
   /// Recovers the log, re-publishes the history and starts the reader thread.
+  /// `keystore`: DDS Security on (lexicon.site must be an identity of it).
   static std::shared_ptr<LexiconReplicator> start(std::shared_ptr<Participant> participant,
                                                   const kernel::SessionHost& host,
-                                                  std::ostream& log);
+                                                  std::ostream& log,
+                                                  const std::optional<Keystore>& keystore = {});
   ~LexiconReplicator();
   LexiconReplicator(const LexiconReplicator&) = delete;
   LexiconReplicator& operator=(const LexiconReplicator&) = delete;
@@ -59,10 +69,12 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   /// Received events applied, and samples dropped as malformed (for tests and benchmarks).
   std::uint64_t applied() const { return applied_.load(); }
   std::uint64_t dropped() const { return dropped_.load(); }
+  /// Well-formed events refused as not authentic (DDS Security on).
+  std::uint64_t refused() const { return refused_.load(); }
 
  private:
   LexiconReplicator(std::shared_ptr<Participant> participant, const kernel::SessionHost& host,
-                    std::ostream& log);
+                    std::ostream& log, const std::optional<Keystore>& keystore);
   void recover();
   void loop();
   void take_available();
@@ -94,6 +106,9 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> applied_{0};
   std::atomic<std::uint64_t> dropped_{0};
+  std::atomic<std::uint64_t> refused_{0};
+  std::unique_ptr<EventSigner> signer_;  // DDS Security on
+  std::unique_ptr<EventVerifier> verifier_;
   std::thread thread_;
 };
 
