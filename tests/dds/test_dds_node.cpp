@@ -194,7 +194,7 @@ TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("two nodes, one answer each; each robot's plans on its own topics", "[dds]") {
+TEST_CASE("two nodes give one answer each and each robot's plans go to its own topics", "[dds]") {
   const int domain = test_domain();
   const auto dir = scratch_dir("robots");
   auto participant = test_participant(domain);

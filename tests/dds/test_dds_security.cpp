@@ -105,10 +105,13 @@ TEST_CASE("flipper dds security makes a keystore openssl verifies", "[dds][secur
         "subject=CN=Flipper DDS CA\n");
   // The signed documents verify against the CA and carry exactly the plain documents.
   for (const std::string doc : {"governance", "identities/robot_a/permissions"}) {
-    const std::string text = shell("openssl smime -verify -in " + ks + "/" + doc + ".p7s -CAfile " +
-                                   ca + " -text 2>/dev/null");
-    std::ifstream plain(ks + "/" + doc + ".xml");
-    CHECK(text == std::string(std::istreambuf_iterator<char>(plain), {}));
+    const std::string verified = (dir / "verified.xml").string();
+    CHECK(shell("openssl smime -verify -in " + ks + "/" + doc + ".p7s -CAfile " + ca +
+                " -text -out " + verified) == "Verification successful\n");
+    std::ifstream plain(ks + "/" + doc + ".xml"), got(verified);
+    std::string signed_text(std::istreambuf_iterator<char>(got), {});
+    std::erase(signed_text, '\r');  // S/MIME text is signed with CRLF line ends
+    CHECK(signed_text == std::string(std::istreambuf_iterator<char>(plain), {}));
   }
   const std::string perms = shell("cat " + ks + "/identities/robot_a/permissions.xml");
   CHECK(perms.find("<subject_name>CN=robot_a</subject_name>") != std::string::npos);
@@ -121,7 +124,7 @@ TEST_CASE("flipper dds security makes a keystore openssl verifies", "[dds][secur
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("secured sites replicate; forged deletions and unsigned participants are refused",
+TEST_CASE("secured sites replicate while forged deletions and unsigned participants are refused",
           "[dds][security]") {
   const auto dir = scratch_dir("secured");
   const std::string ks = (dir / "ks").string();

@@ -87,6 +87,7 @@ TEST_CASE("soak: random kills, restarts and late joins converge with nothing los
       const std::string head = "soak task " + std::to_string(next_head++);
       const json r =
           s.call({{"op", "define"}, {"head", head}, {"body", bodies[pick(bodies.size())]}});
+      INFO("step " << step << ": " << r.dump());
       REQUIRE(r["ok"] == true);
       acknowledged.insert(head);
     } else if (roll < 70 && up.size() > 1) {  // SIGKILL, sometimes in the middle of a define

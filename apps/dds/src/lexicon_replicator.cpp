@@ -70,6 +70,7 @@ std::shared_ptr<LexiconReplicator> LexiconReplicator::start(
   std::shared_ptr<LexiconReplicator> r(
       new LexiconReplicator(std::move(participant), host, log, keystore));
   r->thread_ = std::thread([raw = r.get()] { raw->loop(); });
+  r->publisher_ = std::thread([raw = r.get()] { raw->publish_loop(); });
   return r;
 }
 
@@ -122,7 +123,9 @@ LexiconReplicator::LexiconReplicator(std::shared_ptr<Participant> participant,
 
 LexiconReplicator::~LexiconReplicator() {
   stop_.store(true);
+  outbox_ready_.notify_one();
   if (thread_.joinable()) thread_.join();
+  if (publisher_.joinable()) publisher_.join();
   for (dds_entity_t e : {waitset_, reader_, writer_})
     if (e > 0) dds_delete(e);
 }
@@ -191,6 +194,34 @@ LexiconEvent LexiconReplicator::next_local_event(const std::string& kind) const 
 }
 
 void LexiconReplicator::publish(const LexiconEvent& e) {
+  {
+    std::lock_guard lock(outbox_mutex_);
+    outbox_.push_back(e);
+  }
+  outbox_ready_.notify_one();
+}
+
+// The outbox's thread: dds_write of a reliable keep-all writer blocks while readers that died
+// (and still count until their lease ends) hold back acknowledgements; it blocks here, never
+// in a session's request or the reader thread. An event that times out is tried again.
+void LexiconReplicator::publish_loop() {
+  for (;;) {
+    std::unique_lock lock(outbox_mutex_);
+    outbox_ready_.wait(lock, [&] { return stop_.load() || !outbox_.empty(); });
+    if (outbox_.empty()) return;  // stopping, everything handed to DDS
+    const LexiconEvent e = outbox_.front();
+    lock.unlock();
+    const dds_return_t rc = write_now(e);
+    if (rc == DDS_RETCODE_TIMEOUT && !stop_.load()) continue;
+    if (rc < 0)
+      log_ << "flipper: lexicon replication: publishing " << e.identity()
+           << " failed: " << dds_strretcode(rc) << std::endl;
+    lock.lock();
+    outbox_.pop_front();
+  }
+}
+
+dds_return_t LexiconReplicator::write_now(const LexiconEvent& e) {
   std::vector<char*> body, rules;
   flipper_msg_dds__LexiconEvent_ s{};
   s.site_ = c(e.site);
@@ -214,9 +245,7 @@ void LexiconReplicator::publish(const LexiconEvent& e) {
   s.signature_._length = s.signature_._maximum = static_cast<uint32_t>(e.signature.size());
   s.signature_._buffer = reinterpret_cast<uint8_t*>(const_cast<char*>(e.signature.data()));
   s.signature_._release = false;
-  if (const dds_return_t rc = dds_write(writer_, &s); rc < 0)
-    log_ << "flipper: lexicon replication: publishing " << e.identity()
-         << " failed: " << dds_strretcode(rc) << std::endl;
+  return dds_write(writer_, &s);
 }
 
 void LexiconReplicator::loop() {
@@ -253,6 +282,8 @@ void LexiconReplicator::take_available() {
              << *why << std::endl;
         continue;
       }
+      // Sessions first: a user's request never waits behind a whole catch-up.
+      while (sessions_waiting_.load() > 0) std::this_thread::yield();
       std::lock_guard lock(mutex_);
       try {
         receive(e);
@@ -399,6 +430,13 @@ void LexiconReplicator::settle(const std::string& head) {
   for (auto& row : losers) retire(row);
 }
 
+std::unique_lock<std::recursive_mutex> LexiconReplicator::session_lock() {
+  sessions_waiting_.fetch_add(1);
+  std::unique_lock lock(mutex_);
+  sessions_waiting_.fetch_sub(1);
+  return lock;
+}
+
 void LexiconReplicator::attach(kernel::Session& session) {
   std::weak_ptr<LexiconReplicator> weak = weak_from_this();
   for (const auto& name : session.op_names()) {
@@ -408,21 +446,21 @@ void LexiconReplicator::attach(kernel::Session& session) {
       wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
-        std::lock_guard lock(self->mutex_);
+        const auto lock = self->session_lock();
         self->define_op(inner, s, r, a);
       };
     else if (name == "delete_rule")
       wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
-        std::lock_guard lock(self->mutex_);
+        const auto lock = self->session_lock();
         self->delete_op(inner, s, r, a);
       };
     else
       wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
-        std::lock_guard lock(self->mutex_);
+        const auto lock = self->session_lock();
         inner(s, r, a);
       };
     session.set_op(name, std::move(wrapped));

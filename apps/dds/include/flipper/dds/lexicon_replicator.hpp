@@ -26,10 +26,14 @@
 /// Malformed samples are logged and dropped.
 ///
 /// Thread model: a reader thread applies events under one mutex; attach() wraps every op of a
-/// session in the same mutex, so sessions and replication never touch the lexicon at once.
+/// session in the same mutex, so sessions and replication never touch the lexicon at once. The
+/// reader takes the mutex per event and only when no session waits for it, so a request waits
+/// for at most one event's application, never for a whole catch-up.
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <iosfwd>
 #include <memory>
 #include <mutex>
@@ -86,8 +90,12 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   void settle(const std::string& head);
   bool dominated(const LexiconEvent& e) const;
   void retire(LogRow& row);
-  void publish(const LexiconEvent& e);
+  void publish(const LexiconEvent& e);  // queued for publish_loop
+  void publish_loop();
+  dds_return_t write_now(const LexiconEvent& e);
   LexiconEvent next_local_event(const std::string& kind) const;
+  /// The mutex for a session's op; the reader thread lets waiting sessions go first.
+  std::unique_lock<std::recursive_mutex> session_lock();
   void define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
                  const kernel::Json& req, kernel::JsonWriter& answer);
   void delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
@@ -100,6 +108,7 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   kernel::Executor executor_;
   std::unique_ptr<ReplicationLog> log_db_;
   std::recursive_mutex mutex_;
+  std::atomic<int> sessions_waiting_{0};
   dds_entity_t reader_ = 0;
   dds_entity_t writer_ = 0;
   dds_entity_t waitset_ = 0;
@@ -110,6 +119,10 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   std::unique_ptr<EventSigner> signer_;  // DDS Security on
   std::unique_ptr<EventVerifier> verifier_;
   std::thread thread_;
+  std::mutex outbox_mutex_;
+  std::condition_variable outbox_ready_;
+  std::deque<LexiconEvent> outbox_;
+  std::thread publisher_;
 };
 
 /// "lhs -> rhs => semantics": how events name a rule across sites (never by local id).
