@@ -20,8 +20,10 @@
 #include "child_process.hpp"
 #include "dds_domain.hpp"
 #include "flipper/dds/cyclone_config.hpp"
+#include "flipper/dds/lexicon_replicator.hpp"
 #include "flipper/dds/participant.hpp"
 #include "flipper/dds/transport.hpp"
+#include "flipper/msg/LexiconEvent.h"
 
 namespace flipper::ddstest {
 
@@ -132,6 +134,85 @@ inline std::map<std::string, int> definitions_per_head(const std::string& store)
   }
   REQUIRE(p.finish() == 0);
   return out;
+}
+
+/// The study world with the robot at (x, y), holding nothing.
+inline json study_world_with_robot(int x, int y) {
+  std::ifstream in(std::string(FLIPPER_SOURCE_DIR) + "/configs/worlds/study2018.json");
+  json w = json::parse(in);
+  w["robot"] = {{"x", x}, {"y", y}, {"holding", json::array()}};
+  return w;
+}
+
+/// A transient-local, keep-all reader of T on `topic` (a late reader gets the latched sample).
+template <class T>
+struct SampleReader {
+  dds_entity_t reader = 0;
+  SampleReader(dds::Participant& p, const dds_topic_descriptor_t* desc, const std::string& topic) {
+    dds::Qos qos;
+    dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_durability(qos.q, DDS_DURABILITY_TRANSIENT_LOCAL);
+    dds_qset_history(qos.q, DDS_HISTORY_KEEP_ALL, DDS_LENGTH_UNLIMITED);
+    reader = dds_create_reader(p.handle(), p.topic(desc, topic), qos.q, nullptr);
+    REQUIRE(reader > 0);
+  }
+  ~SampleReader() { dds_delete(reader); }
+  SampleReader(const SampleReader&) = delete;
+  SampleReader& operator=(const SampleReader&) = delete;
+  /// Calls `f` on every valid sample received so far; how many there were.
+  int take(const std::function<void(const T&)>& f, int at_most = 1 << 30) {
+    int got = 0;
+    void* samples[1] = {nullptr};
+    dds_sample_info_t info;
+    while (got < at_most && dds_take(reader, samples, &info, 1, 1) > 0) {
+      if (info.valid_data) {
+        f(*static_cast<const T*>(samples[0]));
+        ++got;
+      }
+      dds_return_loan(reader, samples, 1);
+    }
+    return got;
+  }
+  /// Calls `f` on the next valid sample within 10 s; false when none came.
+  bool next(const std::function<void(const T&)>& f) {
+    return wait_until([&] { return take(f, 1) == 1; }, std::chrono::seconds(10));
+  }
+};
+
+/// A writer on the lexicon topic with the replication's QoS.
+inline dds_entity_t lexicon_writer(dds::Participant& p) {
+  dds::Qos qos;
+  dds::history_qos(qos);
+  const dds_entity_t w = dds_create_writer(
+      p.handle(), p.topic(&flipper_msg_dds__LexiconEvent__desc, dds::kLexiconTopic), qos.q,
+      nullptr);
+  REQUIRE(w > 0);
+  return w;
+}
+
+/// Writes `e` as it is (no check, no signature added): forged and malformed events included.
+inline void write_event(dds_entity_t w, const dds::LexiconEvent& e) {
+  const auto text = [](const std::string& str) { return const_cast<char*>(str.c_str()); };
+  flipper_msg_dds__LexiconEvent_ s{};
+  std::vector<char*> body;
+  for (const auto& b : e.body) body.push_back(text(b));
+  s.site_ = text(e.site);
+  s.version_ = e.version;
+  s.kind_ = text(e.kind);
+  s.lamport_ = e.lamport;
+  s.time_ = e.time;
+  s.author_ = text(e.author);
+  s.head_ = text(e.head);
+  s.body_._buffer = body.data();
+  s.body_._length = s.body_._maximum = static_cast<uint32_t>(body.size());
+  s.world_ = text(e.world);
+  s.target_site_ = text(e.target_site);
+  s.target_version_ = e.target_version;
+  s.target_rule_ = text(e.target_rule);
+  s.certificate_ = text(e.certificate);
+  s.signature_._buffer = reinterpret_cast<uint8_t*>(text(e.signature));
+  s.signature_._length = s.signature_._maximum = static_cast<uint32_t>(e.signature.size());
+  REQUIRE(dds_write(w, &s) == DDS_RETCODE_OK);
 }
 
 }  // namespace flipper::ddstest

@@ -94,38 +94,6 @@ std::vector<std::string> protocol_example() {
   return lines;
 }
 
-json study_world_with_robot(int x, int y) {
-  std::ifstream in(std::string(FLIPPER_SOURCE_DIR) + "/configs/worlds/study2018.json");
-  json w = json::parse(in);
-  w["robot"] = {{"x", x}, {"y", y}, {"holding", json::array()}};
-  return w;
-}
-
-/// Every sample on `topic` so far, as T (transient-local: a late reader gets the latest).
-template <class T>
-struct Taker {
-  dds_entity_t reader = 0;
-  Taker(dds::Participant& p, const dds_topic_descriptor_t* desc, const std::string& topic) {
-    dds::Qos qos;
-    dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-    dds_qset_durability(qos.q, DDS_DURABILITY_TRANSIENT_LOCAL);
-    dds_qset_history(qos.q, DDS_HISTORY_KEEP_ALL, DDS_LENGTH_UNLIMITED);
-    reader = dds_create_reader(p.handle(), p.topic(desc, topic), qos.q, nullptr);
-    REQUIRE(reader > 0);
-  }
-  ~Taker() { dds_delete(reader); }
-  void take(const std::function<void(const T&)>& f) {
-    void* samples[4] = {};
-    dds_sample_info_t infos[4];
-    dds_return_t n;
-    while ((n = dds_take(reader, samples, infos, 4, 4)) > 0) {
-      for (dds_return_t i = 0; i < n; ++i)
-        if (infos[i].valid_data) f(*static_cast<const T*>(samples[i]));
-      dds_return_loan(reader, samples, n);
-    }
-  }
-};
-
 }  // namespace
 
 TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]") {
@@ -199,12 +167,12 @@ TEST_CASE("two nodes give one answer each and each robot's plans go to its own t
   const auto dir = scratch_dir("robots");
   auto participant = test_participant(domain);
   Client robot1(*participant, "robot1"), robot2(*participant, "robot2");
-  Taker<nav_msgs_msg_dds__Path_> plans1(*participant, &nav_msgs_msg_dds__Path__desc,
-                                        dds::node_topic("robot1", "plan"));
-  Taker<nav_msgs_msg_dds__Path_> plans2(*participant, &nav_msgs_msg_dds__Path__desc,
-                                        dds::node_topic("robot2", "plan"));
-  Taker<flipper_msg_dds__ActionList_> actions1(*participant, &flipper_msg_dds__ActionList__desc,
-                                               dds::node_topic("robot1", "actions"));
+  SampleReader<nav_msgs_msg_dds__Path_> plans1(*participant, &nav_msgs_msg_dds__Path__desc,
+                                               dds::node_topic("robot1", "plan"));
+  SampleReader<nav_msgs_msg_dds__Path_> plans2(*participant, &nav_msgs_msg_dds__Path__desc,
+                                               dds::node_topic("robot2", "plan"));
+  SampleReader<flipper_msg_dds__ActionList_> actions1(
+      *participant, &flipper_msg_dds__ActionList__desc, dds::node_topic("robot1", "actions"));
   std::vector<std::unique_ptr<testsupport::ChildProcess>> nodes;
   for (const char* ns : {"robot1", "robot2"})
     nodes.push_back(std::make_unique<testsupport::ChildProcess>(std::vector<std::string>{

@@ -18,28 +18,8 @@ using namespace flipper::ddstest;
 namespace {
 
 void publish_raw(dds::Participant& p, const dds::LexiconEvent& e) {
-  dds::Qos qos;
-  dds::history_qos(qos);
-  const dds_entity_t w = dds_create_writer(
-      p.handle(), p.topic(&flipper_msg_dds__LexiconEvent__desc, dds::kLexiconTopic), qos.q,
-      nullptr);
-  REQUIRE(w > 0);
-  flipper_msg_dds__LexiconEvent_ s{};
-  std::vector<char*> body;
-  for (const auto& b : e.body) body.push_back(const_cast<char*>(b.c_str()));
-  s.site_ = const_cast<char*>(e.site.c_str());
-  s.version_ = e.version;
-  s.kind_ = const_cast<char*>(e.kind.c_str());
-  s.lamport_ = e.lamport;
-  s.author_ = const_cast<char*>(e.author.c_str());
-  s.head_ = const_cast<char*>(e.head.c_str());
-  s.body_._buffer = body.data();
-  s.body_._length = s.body_._maximum = static_cast<uint32_t>(body.size());
-  s.world_ = const_cast<char*>(e.world.c_str());
-  s.target_site_ = const_cast<char*>(e.target_site.c_str());
-  s.target_version_ = e.target_version;
-  s.target_rule_ = const_cast<char*>(e.target_rule.c_str());
-  REQUIRE(dds_write(w, &s) == DDS_RETCODE_OK);
+  const dds_entity_t w = lexicon_writer(p);
+  write_event(w, e);
   // Keep the writer until its (transient-local) sample is delivered to the sites.
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   dds_delete(w);

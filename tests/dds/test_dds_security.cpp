@@ -41,39 +41,6 @@ std::shared_ptr<dds::Participant> secured(int domain, const std::string& keystor
       domain, t, sink, dds::security_properties(dds::Keystore{keystore}, identity));
 }
 
-dds_entity_t lexicon_writer(dds::Participant& p) {
-  dds::Qos qos;
-  dds::history_qos(qos);
-  const dds_entity_t w = dds_create_writer(
-      p.handle(), p.topic(&flipper_msg_dds__LexiconEvent__desc, dds::kLexiconTopic), qos.q,
-      nullptr);
-  REQUIRE(w > 0);
-  return w;
-}
-
-void write_event(dds_entity_t w, const dds::LexiconEvent& e) {
-  flipper_msg_dds__LexiconEvent_ s{};
-  std::vector<char*> body;
-  for (const auto& b : e.body) body.push_back(const_cast<char*>(b.c_str()));
-  s.site_ = const_cast<char*>(e.site.c_str());
-  s.version_ = e.version;
-  s.kind_ = const_cast<char*>(e.kind.c_str());
-  s.lamport_ = e.lamport;
-  s.time_ = e.time;
-  s.author_ = const_cast<char*>(e.author.c_str());
-  s.head_ = const_cast<char*>(e.head.c_str());
-  s.body_._buffer = body.data();
-  s.body_._length = s.body_._maximum = static_cast<uint32_t>(body.size());
-  s.world_ = const_cast<char*>(e.world.c_str());
-  s.target_site_ = const_cast<char*>(e.target_site.c_str());
-  s.target_version_ = e.target_version;
-  s.target_rule_ = const_cast<char*>(e.target_rule.c_str());
-  s.certificate_ = const_cast<char*>(e.certificate.c_str());
-  s.signature_._buffer = reinterpret_cast<uint8_t*>(const_cast<char*>(e.signature.data()));
-  s.signature_._length = s.signature_._maximum = static_cast<uint32_t>(e.signature.size());
-  REQUIRE(dds_write(w, &s) == DDS_RETCODE_OK);
-}
-
 std::uint32_t matched(dds_entity_t writer) {
   dds_publication_matched_status_t st{};
   dds_get_publication_matched_status(writer, &st);
