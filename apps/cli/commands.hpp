@@ -3,6 +3,8 @@
 // main.cpp only wires them. Every subcommand takes --config FILE and repeated --set key=value
 // (see common.hpp). Exit status: 0 ok, 1 the work failed, 2 misuse or bad config.
 #include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
 
 namespace flipper::cli {
 void add_plugins_command(CLI::App& app);  // plugins.cpp
@@ -13,11 +15,19 @@ void add_repl_command(CLI::App& app);     // repl.cpp
 void add_replay_command(CLI::App& app);   // replay.cpp
 void add_lexicon_command(CLI::App& app);  // lexicon.cpp  (lexicon list|export|import)
 void add_serve_command(CLI::App& app);    // frontend_commands.cpp (apps/studio: HTTP, web page)
-void add_dds_command(CLI::App& app);      // frontend_commands.cpp (DDS request node)
+void add_dds_command(CLI::App& app);      // frontend_commands.cpp (DDS node, dds security)
 
 struct CommonOptions;
 /// The work of `serve` and `dds`: in flipper-frontends serve_run.cpp and dds_run.cpp; in flipper
 /// they exec flipper-frontends (frontend_launch.cpp, frontends.hpp).
 int run_serve(const CommonOptions& opts);
 int run_dds_node(const CommonOptions& opts);
+
+/// `flipper dds security init DIR` / `add DIR NAME [--namespace NS]...` (dds_security.cpp).
+struct DdsSecurityArgs {
+  std::string dir;
+  std::string name;
+  std::vector<std::string> namespaces;
+};
+int run_dds_security(const std::string& action, const DdsSecurityArgs& args);
 }  // namespace flipper::cli

@@ -2,7 +2,9 @@
 
 #include <iostream>
 
+#include "flipper/dds/keystore.hpp"
 #include "flipper/dds/lexicon_replicator.hpp"
+#include "flipper/dds/names.hpp"
 #include "flipper/dds/participant.hpp"
 #include "flipper/dds/plan_publisher.hpp"
 #include "flipper/kernel/runtime.hpp"
@@ -24,9 +26,24 @@ DdsServices DdsServices::start(kernel::SessionHost& host, bool force_participant
   if (replicate && config.get_string("lexicon.site").empty())
     throw sdk::Error(sdk::codes::kBadConfig,
                      "lexicon.replication: dds needs this site's name in lexicon.site");
+  const std::string ns = config.get_string("dds.namespace");
+  dds::check_namespace(ns);
+  const auto security = dds::security_config(config);
+  if (security && replicate && security->identity != config.get_string("lexicon.site"))
+    throw sdk::Error(sdk::codes::kBadConfig,
+                     "with DDS Security a site is its certificate: dds.security.identity '" +
+                         security->identity + "' must be lexicon.site '" +
+                         config.get_string("lexicon.site") + "'");
+  if (security && ns.empty() && (plans || force_participant))
+    throw sdk::Error(sdk::codes::kBadConfig,
+                     "with DDS Security a node serves a namespace its permissions name: set "
+                     "dds.namespace (`flipper dds security add` grants the identity's own name)");
   s.participant = std::make_shared<dds::Participant>(config, std::cerr);
-  if (plans) s.plans = std::make_shared<dds::PlanPublisher>(s.participant, *frame);
-  if (replicate) s.replicator = dds::LexiconReplicator::start(s.participant, host, std::cerr);
+  if (plans) s.plans = std::make_shared<dds::PlanPublisher>(s.participant, *frame, ns);
+  if (replicate)
+    s.replicator = dds::LexiconReplicator::start(
+        s.participant, host, std::cerr,
+        security ? std::optional<dds::Keystore>(security->keystore) : std::nullopt);
   return s;
 }
 

@@ -14,14 +14,39 @@ void add_serve_command(CLI::App& app) {
   on_run(*cmd, [] { return run_serve(opts); });
 }
 
-// flipper dds [--config F] [--set k=v]: answers rt/flipper/request on rt/flipper/answer, with the
+// flipper dds [--config F] [--set k=v]: answers rt/<ns>/flipper/request on .../answer, with the
 // config's other DDS services (plans, lexicon replication), until SIGINT/SIGTERM.
+// flipper dds security init DIR | add DIR NAME [--namespace NS]...: the DDS Security keystore
+// (apps/dds/keystore.hpp).
 void add_dds_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
-      "dds", "Serve session-protocol requests over Cyclone DDS (rt/flipper/request -> answer)");
+      "dds",
+      "Serve session-protocol requests over Cyclone DDS (rt/<ns>/flipper/request -> answer)");
   static CommonOptions opts;
   add_common_options(*cmd, opts);
-  on_run(*cmd, [] { return run_dds_node(opts); });
+  auto* security = cmd->add_subcommand(
+      "security", "Make the DDS Security keystore: a project CA, identities, permissions");
+  security->require_subcommand(1);
+  static CommonOptions init_opts, add_opts;
+  static DdsSecurityArgs init_args, add_args;
+  auto* init = security->add_subcommand(
+      "init", "Create a keystore: the project CA and the signed governance document");
+  add_common_options(*init, init_opts);
+  init->add_option("dir", init_args.dir, "The keystore folder (created)")->required();
+  on_run(*init, [] { return run_dds_security("init", init_args); });
+  auto* add = security->add_subcommand(
+      "add", "Add a site's or robot's identity: certificate (CN=NAME), key, signed permissions");
+  add_common_options(*add, add_opts);
+  add->add_option("dir", add_args.dir, "The keystore folder (from init)")->required();
+  add->add_option("name", add_args.name, "The identity: a site's lexicon.site or a robot's name")
+      ->required();
+  add->add_option("--namespace", add_args.namespaces,
+                  "A dds.namespace this identity may serve (repeatable; default: NAME)");
+  on_run(*cmd, [cmd] {
+    if (!cmd->get_subcommands().empty()) return kExitOk;  // `dds security ...` ran instead
+    return run_dds_node(opts);
+  });
+  on_run(*add, [] { return run_dds_security("add", add_args); });
 }
 
 }  // namespace flipper::cli

@@ -3,17 +3,18 @@
 // over N definitions, target p99 <= 1000 ms ("usable within 1 s"); (2) plan publication
 // overhead per accept — the PlanPublisher call alone, and accept with vs without it.
 // Two sites in one process (two participants on one loopback domain, each its own store in a
-// temp dir); the domain id is random in 200..231 so parallel runs do not meet.
+// temp dir); the domain is claimed like the DDS tests' (tests/support/dds_domain.hpp), so runs
+// from other checkouts do not meet.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <random>
 #include <sstream>
 #include <thread>
 #include <vector>
 
+#include "dds_domain.hpp"
 #include "flipper/dds/lexicon_replicator.hpp"
 #include "flipper/dds/plan_publisher.hpp"
 #include "flipper/kernel/runtime.hpp"
@@ -50,8 +51,7 @@ std::shared_ptr<dds::Participant> participant(int domain, std::ostream& log) {
 
 int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 200;
-  std::random_device rd;
-  const int domain = 200 + static_cast<int>(rd() % 32);
+  const int domain = flipper::testsupport::claimed_dds_domain();
   const auto dir =
       std::filesystem::temp_directory_path() / ("flipper-bench-dds-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);

@@ -1,31 +1,36 @@
 // Requests in: `flipper dds` answers session-protocol requests from rt/flipper/request on
-// rt/flipper/answer, with the same answer lines as `flipper session` for the same script (only
-// the timing field `ms` differs); malformed samples are answered with an error or dropped.
+// rt/flipper/answer, with the same answer lines as `flipper session` for the same script (the
+// example of docs/protocol.md and more; only the timing field `ms` differs); malformed samples
+// are answered with an error or dropped. Two nodes in two namespaces: each request gets one
+// answer, from the node it names, and each robot's plans go to its own topics.
+#include <fstream>
 #include <map>
 
 #include "dds_test_support.hpp"
+#include "flipper/dds/names.hpp"
+#include "flipper/dds/plan_publisher.hpp"
 #include "flipper/dds/request_node.hpp"
+#include "flipper/msg/Actions.h"
 #include "flipper/msg/SessionLine.h"
+#include "nav_msgs/msg/Path.h"
 
 using namespace flipper;
 using namespace flipper::ddstest;
 
 namespace {
 
-constexpr int kDomain = 162;
-
 struct Client {
   dds_entity_t writer = 0, reader = 0;
-  explicit Client(dds::Participant& p) {
+  explicit Client(dds::Participant& p, const std::string& ns = {}) {
     dds::Qos qos;
     dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(10));
     dds_qset_history(qos.q, DDS_HISTORY_KEEP_ALL, DDS_LENGTH_UNLIMITED);
-    writer = dds_create_writer(p.handle(),
-                               p.topic(&flipper_msg_dds__SessionLine__desc, dds::kRequestTopic),
-                               qos.q, nullptr);
-    reader = dds_create_reader(p.handle(),
-                               p.topic(&flipper_msg_dds__SessionLine__desc, dds::kAnswerTopic),
-                               qos.q, nullptr);
+    writer = dds_create_writer(
+        p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, dds::node_topic(ns, "request")),
+        qos.q, nullptr);
+    reader = dds_create_reader(
+        p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, dds::node_topic(ns, "answer")),
+        qos.q, nullptr);
     REQUIRE(writer > 0);
     REQUIRE(reader > 0);
   }
@@ -36,8 +41,9 @@ struct Client {
     s.line_ = const_cast<char*>(line.c_str());
     REQUIRE(dds_write(writer, &s) == DDS_RETCODE_OK);
   }
-  /// Answers received so far, by request id (session checked).
+  /// Answers received so far, by request id (session checked), and how many came per id.
   std::map<std::uint64_t, std::pair<std::string, std::string>> answers;
+  std::map<std::uint64_t, int> count;
   void poll() {
     void* samples[8] = {};
     dds_sample_info_t infos[8];
@@ -47,6 +53,7 @@ struct Client {
         if (infos[i].valid_data) {
           const auto* s = static_cast<const flipper_msg_dds__SessionLine_*>(samples[i]);
           answers[s->request_id_] = {s->session_, s->line_};
+          ++count[s->request_id_];
         }
       dds_return_loan(reader, samples, n);
     }
@@ -57,6 +64,12 @@ struct Client {
       return answers.count(id) > 0;
     });
   }
+  bool matched() {
+    return wait_until([&] {
+      dds_publication_matched_status_t st;
+      return dds_get_publication_matched_status(writer, &st) == 0 && st.current_count > 0;
+    });
+  }
 };
 
 json without_ms(json a) {
@@ -64,22 +77,38 @@ json without_ms(json a) {
   return a;
 }
 
+/// The request lines of docs/protocol.md's "Example" section.
+std::vector<std::string> protocol_example() {
+  std::ifstream doc(std::string(FLIPPER_SOURCE_DIR) + "/docs/protocol.md");
+  std::vector<std::string> lines;
+  bool section = false, block = false;
+  for (std::string line; std::getline(doc, line);) {
+    if (line.rfind("## ", 0) == 0)
+      section = line == "## Example";
+    else if (section && line.rfind("```", 0) == 0) {
+      if (block) break;
+      block = true;
+    } else if (section && block && !line.empty())
+      lines.push_back(line);
+  }
+  return lines;
+}
+
 }  // namespace
 
 TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]") {
+  const int kDomain = test_domain();
   const auto dir = scratch_dir("node");
-  const std::vector<std::string> script = {
-      R"({"op":"user","name":"ana","id":1})",
-      R"({"op":"query","text":"pick 3 items"})",
-      R"({"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]})",
-      R"({"op":"query","text":"drop 2 items","id":"q"})",
-      R"({"op":"accept","rank":0})",
-      R"({"op":"rules"})",
-      R"({"op":"nonsense"})",
-      R"({"op":"state"})"};
+  std::vector<std::string> script = protocol_example();
+  REQUIRE(script.size() == 6);
+  REQUIRE(script[0] == R"({"op":"world","file":"configs/worlds/study2018.json"})");
+  for (const char* more : {R"({"op":"query","text":"drop 2 items","id":"q"})", R"({"op":"rules"})",
+                           R"({"op":"nonsense"})", R"({"op":"state"})"})
+    script.push_back(more);
   // The reference: flipper session on its own lexicon.
   testsupport::ChildProcess reference(
       {flipper_bin(), "session", "--set", "lexicon.path=" + (dir / "ref.sqlite").string()});
+  // (The example's world file exists and loads: its answer is checked to be ok below.)
   std::vector<json> expected;
   for (const auto& line : script) {
     REQUIRE(reference.write_line(line));
@@ -104,6 +133,7 @@ TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]
     CHECK(client.answers[id].first == "s1");
     CHECK(without_ms(json::parse(client.answers[id].second)) == without_ms(expected[i]));
   }
+  CHECK(expected[0]["ok"] == true);
 
   SECTION("malformed samples are answered with an error or dropped, never a crash") {
     client.send("s1", 500, "{not json");
@@ -125,9 +155,85 @@ TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]
     // Session s1 still has its state: the user from the script.
     client.send("s1", 506, R"({"op":"rules","author":"ana"})");
     REQUIRE(client.wait_for(506));
-    CHECK(json::parse(client.answers[506].second)["rules"].size() == expected[5]["rules"].size());
+    CHECK(json::parse(client.answers[506].second)["rules"].size() == expected[7]["rules"].size());
   }
   kill(node.pid(), SIGTERM);
   CHECK(node.finish() == 0);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("two nodes give one answer each and each robot's plans go to its own topics", "[dds]") {
+  const int domain = test_domain();
+  const auto dir = scratch_dir("robots");
+  auto participant = test_participant(domain);
+  Client robot1(*participant, "robot1"), robot2(*participant, "robot2");
+  SampleReader<nav_msgs_msg_dds__Path_> plans1(*participant, &nav_msgs_msg_dds__Path__desc,
+                                               dds::node_topic("robot1", "plan"));
+  SampleReader<nav_msgs_msg_dds__Path_> plans2(*participant, &nav_msgs_msg_dds__Path__desc,
+                                               dds::node_topic("robot2", "plan"));
+  SampleReader<flipper_msg_dds__ActionList_> actions1(
+      *participant, &flipper_msg_dds__ActionList__desc, dds::node_topic("robot1", "actions"));
+  std::vector<std::unique_ptr<testsupport::ChildProcess>> nodes;
+  for (const char* ns : {"robot1", "robot2"})
+    nodes.push_back(std::make_unique<testsupport::ChildProcess>(std::vector<std::string>{
+        flipper_bin(), "dds", "--set", "dds.domain=" + std::to_string(domain), "--set",
+        std::string("dds.namespace=") + ns, "--set", "publish.plans=dds", "--set",
+        "lexicon.path=" + (dir / (std::string(ns) + ".sqlite")).string()}));
+  REQUIRE(robot1.matched());
+  REQUIRE(robot2.matched());
+
+  // One request to each node, then one more to each as a barrier: each was read by one node.
+  robot1.send("s1", 1, R"({"op":"user","name":"ana"})");
+  robot2.send("s1", 2, R"({"op":"user","name":"bo"})");
+  robot1.send("s1", 3, R"({"op":"state"})");
+  robot2.send("s1", 4, R"({"op":"state"})");
+  REQUIRE(robot1.wait_for(3));
+  REQUIRE(robot2.wait_for(4));
+  CHECK(robot1.count == std::map<std::uint64_t, int>{{1, 1}, {3, 1}});
+  CHECK(robot2.count == std::map<std::uint64_t, int>{{2, 1}, {4, 1}});
+  CHECK(json::parse(robot1.answers[1].second)["name"] == "ana");
+  CHECK(json::parse(robot2.answers[2].second)["name"] == "bo");
+
+  // Two sessions on two robots: robot1 visits room3 from (10,7) (4 poses, first at x=10),
+  // robot2 moves up from (3,7) (2 poses, first at x=3); world.resolution is 1, origin 0.
+  const auto accept = [](Client& c, std::uint64_t id, const json& world, const std::string& text) {
+    c.send("s1", id, json{{"op", "world"}, {"world", world}}.dump());
+    c.send("s1", id + 1, json{{"op", "query"}, {"text", text}}.dump());
+    c.send("s1", id + 2, R"({"op":"accept","rank":0})");
+    REQUIRE(c.wait_for(id + 2));
+    CHECK(json::parse(c.answers[id + 2].second)["ok"] == true);
+  };
+  accept(robot1, 10, study_world_with_robot(10, 7), "visit room3");
+  accept(robot2, 20, study_world_with_robot(3, 7), "move up");
+  std::vector<std::pair<std::uint32_t, double>> got1, got2;  // (poses, first x)
+  const auto record = [](auto& into) {
+    return [&into](const nav_msgs_msg_dds__Path_& p) {
+      into.emplace_back(p.poses_._length, p.poses_._buffer[0].pose_.position_.x_);
+    };
+  };
+  CHECK(wait_until([&] {
+    plans1.take(record(got1));
+    plans2.take(record(got2));
+    return !got1.empty() && !got2.empty();
+  }));
+  CHECK(got1 == std::vector<std::pair<std::uint32_t, double>>{{4, 10.0}});
+  CHECK(got2 == std::vector<std::pair<std::uint32_t, double>>{{2, 3.0}});
+
+  // A second session on robot1: plan_seq counts robot1's plans, whichever session made them.
+  robot1.send("s2", 30, json{{"op", "world"}, {"world", study_world_with_robot(3, 7)}}.dump());
+  robot1.send("s2", 31, R"({"op":"query","text":"move up"})");
+  robot1.send("s2", 32, R"({"op":"accept","rank":0})");
+  REQUIRE(robot1.wait_for(32));
+  std::vector<std::uint64_t> seqs;
+  CHECK(wait_until([&] {
+    actions1.take([&](const flipper_msg_dds__ActionList_& a) { seqs.push_back(a.plan_seq_); });
+    return !seqs.empty() && seqs.back() == 2;
+  }));
+  // Before this change every session started at 1: the two plans were both plan_seq 1.
+  CHECK(seqs == std::vector<std::uint64_t>{1, 2});
+  for (auto& n : nodes) {
+    kill(n->pid(), SIGTERM);
+    CHECK(n->finish() == 0);
+  }
   std::filesystem::remove_all(dir);
 }

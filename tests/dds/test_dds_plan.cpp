@@ -14,59 +14,13 @@
 using namespace flipper;
 using namespace flipper::ddstest;
 
-namespace {
-
-constexpr int kDomain = 161;
-
-json study_world_with_robot(int x, int y) {
-  std::ifstream in(std::string(FLIPPER_SOURCE_DIR) + "/configs/worlds/study2018.json");
-  json w = json::parse(in);
-  w["robot"] = {{"x", x}, {"y", y}, {"holding", json::array()}};
-  return w;
-}
-
-template <class T>
-struct Reader {
-  dds_entity_t reader = 0;
-  Reader(dds::Participant& p, const dds_topic_descriptor_t* desc, const char* topic) {
-    dds::Qos qos;
-    dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-    dds_qset_durability(qos.q, DDS_DURABILITY_TRANSIENT_LOCAL);
-    dds_qset_history(qos.q, DDS_HISTORY_KEEP_ALL, DDS_LENGTH_UNLIMITED);
-    reader = dds_create_reader(p.handle(), p.topic(desc, topic), qos.q, nullptr);
-    REQUIRE(reader > 0);
-  }
-  ~Reader() { dds_delete(reader); }
-  /// Calls `f` on the next valid sample within 10 s; false when none came.
-  bool next(const std::function<void(const T&)>& f) {
-    bool got = false;
-    wait_until(
-        [&] {
-          void* samples[1] = {nullptr};
-          dds_sample_info_t info;
-          const dds_return_t n = dds_take(reader, samples, &info, 1, 1);
-          if (n > 0) {
-            if (info.valid_data) {
-              f(*static_cast<const T*>(samples[0]));
-              got = true;
-            }
-            dds_return_loan(reader, samples, n);
-          }
-          return got;
-        },
-        std::chrono::seconds(10));
-    return got;
-  }
-};
-
-}  // namespace
-
 TEST_CASE("accepted visit room3 arrives on rt/flipper/plan as a ROS 2 Path in metres", "[dds]") {
+  const int kDomain = test_domain();
   auto participant = test_participant(kDomain);
-  Reader<nav_msgs_msg_dds__Path_> plans(*participant, &nav_msgs_msg_dds__Path__desc,
-                                        dds::kPlanTopic);
-  Reader<flipper_msg_dds__ActionList_> actions(*participant, &flipper_msg_dds__ActionList__desc,
-                                               dds::kActionsTopic);
+  SampleReader<nav_msgs_msg_dds__Path_> plans(*participant, &nav_msgs_msg_dds__Path__desc,
+                                              dds::kPlanTopic);
+  SampleReader<flipper_msg_dds__ActionList_> actions(
+      *participant, &flipper_msg_dds__ActionList__desc, dds::kActionsTopic);
   // ROS 2's DDS names: what rmw_cyclonedds matches on.
   CHECK(std::string(nav_msgs_msg_dds__Path__desc.m_typename) == "nav_msgs::msg::dds_::Path_");
   CHECK(std::string(dds::kPlanTopic) == "rt/flipper/plan");

@@ -17,52 +17,9 @@ using namespace flipper::ddstest;
 
 namespace {
 
-std::set<std::string> rule_shapes(Site& site, const std::string& head = {}) {
-  std::set<std::string> out;
-  for (const auto& r : site.rules())
-    if (head.empty() || r["head"] == head)
-      out.insert(r["lhs"].get<std::string>() + " -> " + r["rhs"].dump() + " => " +
-                 r["semantics"].get<std::string>());
-  return out;
-}
-
-/// Definitions per head in a store, read through `flipper lexicon export`.
-std::map<std::string, int> definitions_per_head(const std::string& store) {
-  testsupport::ChildProcess p(
-      {flipper_bin(), "lexicon", "export", "-", "--set", "lexicon.path=" + store});
-  std::map<std::string, int> out;
-  std::istringstream lines(p.read_all());
-  for (std::string line; std::getline(lines, line);) {
-    const json j = json::parse(line);
-    if (j["type"] == "definition") ++out[j["head"].get<std::string>()];
-  }
-  REQUIRE(p.finish() == 0);
-  return out;
-}
-
 void publish_raw(dds::Participant& p, const dds::LexiconEvent& e) {
-  dds::Qos qos;
-  dds::history_qos(qos);
-  const dds_entity_t w = dds_create_writer(
-      p.handle(), p.topic(&flipper_msg_dds__LexiconEvent__desc, dds::kLexiconTopic), qos.q,
-      nullptr);
-  REQUIRE(w > 0);
-  flipper_msg_dds__LexiconEvent_ s{};
-  std::vector<char*> body;
-  for (const auto& b : e.body) body.push_back(const_cast<char*>(b.c_str()));
-  s.site_ = const_cast<char*>(e.site.c_str());
-  s.version_ = e.version;
-  s.kind_ = const_cast<char*>(e.kind.c_str());
-  s.lamport_ = e.lamport;
-  s.author_ = const_cast<char*>(e.author.c_str());
-  s.head_ = const_cast<char*>(e.head.c_str());
-  s.body_._buffer = body.data();
-  s.body_._length = s.body_._maximum = static_cast<uint32_t>(body.size());
-  s.world_ = const_cast<char*>(e.world.c_str());
-  s.target_site_ = const_cast<char*>(e.target_site.c_str());
-  s.target_version_ = e.target_version;
-  s.target_rule_ = const_cast<char*>(e.target_rule.c_str());
-  REQUIRE(dds_write(w, &s) == DDS_RETCODE_OK);
+  const dds_entity_t w = lexicon_writer(p);
+  write_event(w, e);
   // Keep the writer until its (transient-local) sample is delivered to the sites.
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   dds_delete(w);
@@ -72,7 +29,7 @@ void publish_raw(dds::Participant& p, const dds::LexiconEvent& e) {
 
 TEST_CASE("three sites share a definition, a deletion and a conflicting pair", "[dds]") {
   const auto dir = scratch_dir("three");
-  constexpr int kDomain = 163;
+  const int kDomain = test_domain();
   Site a("a", dir, kDomain), b("b", dir, kDomain), c("c", dir, kDomain);
   for (Site* s : {&a, &b, &c}) s->call({{"op", "user"}, {"name", "ana"}});
 
@@ -149,7 +106,7 @@ TEST_CASE("a site that redefines a head it received keeps only its own, later de
   // The interleaving the conflicting pair above only meets by chance: b has applied a's "go home"
   // before b defines it. b's definition saw a's, so it is later and wins at every site, b included.
   const auto dir = scratch_dir("redefine");
-  constexpr int kDomain = 165;
+  const int kDomain = test_domain();
   Site a("a", dir, kDomain), b("b", dir, kDomain);
   for (Site* s : {&a, &b}) s->call({{"op", "user"}, {"name", "ana"}});
   REQUIRE(a.call({{"op", "define"}, {"head", "go home"}, {"body", {"visit room1"}}})["ok"] == true);
@@ -165,7 +122,7 @@ TEST_CASE("a site that redefines a head it received keeps only its own, later de
 
 TEST_CASE("a site killed mid-stream catches up with 0 lost and 0 duplicate definitions", "[dds]") {
   const auto dir = scratch_dir("kill");
-  constexpr int kDomain = 164;
+  const int kDomain = test_domain();
   const std::vector<std::string> words = {"alpha",   "bravo",  "charlie", "delta",    "echo",
                                           "foxtrot", "golf",   "hotel",   "india",    "juliet",
                                           "kilo",    "lima",   "mike",    "november", "oscar",
@@ -200,6 +157,46 @@ TEST_CASE("a site killed mid-stream catches up with 0 lost and 0 duplicate defin
       CHECK(n == 1);
     }
     CHECK(testsupport::sqlite_integrity(s->store) == "ok");
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a late joiner catches up from a live site while the author is down", "[dds]") {
+  // Start lab2, then lab1; lab1 defines 35 rules; lab1 stops; lab4 starts: lab4 must get all 35
+  // from lab2, which relays what it receives (lexicon_replicator.hpp).
+  const auto dir = scratch_dir("late");
+  const int kDomain = test_domain();
+  Site lab2("lab2", dir, kDomain);
+  Site lab1("lab1", dir, kDomain);
+  lab1.call({{"op", "user"}, {"name", "ana"}});
+  constexpr int kRules = 35;
+  const std::vector<std::string> moves = {"move left", "move right", "move up", "move down"};
+  std::set<std::string> heads;
+  for (int i = 0; i < kRules; ++i) {
+    const std::string head = "chore number " + std::to_string(i);
+    heads.insert(head);
+    REQUIRE(lab1.call({{"op", "define"},
+                       {"head", head},
+                       {"body", {moves[static_cast<std::size_t>(i) % 4], "move up"}}})["ok"] ==
+            true);
+  }
+  const auto heads_at = [](Site& s) {
+    std::set<std::string> out;
+    for (const auto& r : s.rules()) out.insert(r["head"].get<std::string>());
+    return out;
+  };
+  REQUIRE(wait_until([&] { return heads_at(lab2) == heads; }));
+  const auto expected = rule_shapes(lab1);
+  CHECK(lab1.child->finish() == 0);  // the author is down from here on
+  Site lab4("lab4", dir, kDomain);
+  CHECK(wait_until([&] { return heads_at(lab4).size() == kRules; }, std::chrono::seconds(60)));
+  CHECK(heads_at(lab4) == heads);
+  CHECK(rule_shapes(lab4) == expected);
+  for (Site* s : {&lab2, &lab4}) CHECK(s->child->finish() == 0);
+  for (const Site* s : {&lab1, &lab2, &lab4}) {
+    const auto per_head = definitions_per_head(s->store);
+    CHECK(per_head.size() == static_cast<std::size_t>(kRules));
+    for (const auto& [head, n] : per_head) CHECK(n == 1);
   }
   std::filesystem::remove_all(dir);
 }

@@ -37,6 +37,8 @@ LexiconEvent from_sample(const flipper_msg_dds__LexiconEvent_& s) {
   e.target_site = text(s.target_site_);
   e.target_version = s.target_version_;
   e.target_rule = text(s.target_rule_);
+  e.certificate = text(s.certificate_);
+  e.signature.assign(reinterpret_cast<const char*>(s.signature_._buffer), s.signature_._length);
   return e;
 }
 
@@ -63,23 +65,33 @@ std::string rule_description(const sdk::Rule& rule) {
 }
 
 std::shared_ptr<LexiconReplicator> LexiconReplicator::start(
-    std::shared_ptr<Participant> participant, const kernel::SessionHost& host, std::ostream& log) {
-  std::shared_ptr<LexiconReplicator> r(new LexiconReplicator(std::move(participant), host, log));
+    std::shared_ptr<Participant> participant, const kernel::SessionHost& host, std::ostream& log,
+    const std::optional<Keystore>& keystore) {
+  std::shared_ptr<LexiconReplicator> r(
+      new LexiconReplicator(std::move(participant), host, log, keystore));
   r->thread_ = std::thread([raw = r.get()] { raw->loop(); });
+  r->publisher_ = std::thread([raw = r.get()] { raw->publish_loop(); });
   return r;
 }
 
 LexiconReplicator::LexiconReplicator(std::shared_ptr<Participant> participant,
-                                     const kernel::SessionHost& host, std::ostream& log)
+                                     const kernel::SessionHost& host, std::ostream& log,
+                                     const std::optional<Keystore>& keystore)
     : participant_(std::move(participant)),
       host_(host),
       log_(log),
       site_(host.runtime->config.get_string("lexicon.site")),
       executor_(host.runtime->planner,
                 kernel::SessionOptions::from_config(host.runtime->config).limits) {
+  if (keystore) {
+    signer_ = std::make_unique<EventSigner>(*keystore, site_);
+    verifier_ = std::make_unique<EventVerifier>(*keystore);
+  }
   log_db_ = std::make_unique<ReplicationLog>(host_.naturalizer->store().path());
   Qos qos;
   history_qos(qos);
+  // This site's own events never come back to it through its reader.
+  dds_qset_ignorelocal(qos.q, DDS_IGNORELOCAL_PARTICIPANT);
   auto& p = *participant_;
   const dds_entity_t topic = p.topic(&flipper_msg_dds__LexiconEvent__desc, kLexiconTopic);
   writer_ =
@@ -91,15 +103,29 @@ LexiconReplicator::LexiconReplicator(std::shared_ptr<Participant> participant,
   check(dds_waitset_attach(waitset_, reader_, reader_), "attaching the lexicon reader");
   std::lock_guard lock(mutex_);
   recover();
-  // Catch-up for late and restarted sites: the whole log, every site's events as they were.
-  for (const auto& [key, row] : log_db_->rows()) publish(row.event);
+  // Catch-up for late and restarted sites: the whole log, every site's events as they were
+  // (this site's own, made before security was on, signed now).
+  std::vector<LogRow> rows;
+  for (const auto& [key, row] : log_db_->rows()) rows.push_back(row);
+  for (auto& row : rows) {
+    if (signer_ && row.event.site == site_ && row.event.signature.empty()) {
+      signer_->sign(row.event);
+      log_db_->put(row);
+    }
+    publish(row.event);
+  }
   log_ << "flipper: lexicon replication: site '" << site_ << "', " << log_db_->rows().size()
-       << " events in the log, topic " << kLexiconTopic << std::endl;
+       << " events in the log, topic " << kLexiconTopic
+       << (signer_ ? ", events signed and checked (DDS Security)"
+                   : ", every participant on the domain trusted (DDS Security off)")
+       << std::endl;
 }
 
 LexiconReplicator::~LexiconReplicator() {
   stop_.store(true);
+  outbox_ready_.notify_one();
   if (thread_.joinable()) thread_.join();
+  if (publisher_.joinable()) publisher_.join();
   for (dds_entity_t e : {waitset_, reader_, writer_})
     if (e > 0) dds_delete(e);
 }
@@ -151,6 +177,7 @@ void LexiconReplicator::recover() {
       if (auto rule = host_.naturalizer->find_rule(id))
         row.event.rules.push_back(rule_description(*rule));
     row.status = "applied";
+    if (signer_) signer_->sign(row.event);
     log_db_->put(row);
   }
   retry_pending();
@@ -167,6 +194,34 @@ LexiconEvent LexiconReplicator::next_local_event(const std::string& kind) const 
 }
 
 void LexiconReplicator::publish(const LexiconEvent& e) {
+  {
+    std::lock_guard lock(outbox_mutex_);
+    outbox_.push_back(e);
+  }
+  outbox_ready_.notify_one();
+}
+
+// The outbox's thread: dds_write of a reliable keep-all writer blocks while readers that died
+// (and still count until their lease ends) hold back acknowledgements; it blocks here, never
+// in a session's request or the reader thread. An event that times out is tried again.
+void LexiconReplicator::publish_loop() {
+  for (;;) {
+    std::unique_lock lock(outbox_mutex_);
+    outbox_ready_.wait(lock, [&] { return stop_.load() || !outbox_.empty(); });
+    if (outbox_.empty()) return;  // stopping, everything handed to DDS
+    const LexiconEvent e = outbox_.front();
+    lock.unlock();
+    const dds_return_t rc = write_now(e);
+    if (rc == DDS_RETCODE_TIMEOUT && !stop_.load()) continue;
+    if (rc < 0)
+      log_ << "flipper: lexicon replication: publishing " << e.identity()
+           << " failed: " << dds_strretcode(rc) << std::endl;
+    lock.lock();
+    outbox_.pop_front();
+  }
+}
+
+dds_return_t LexiconReplicator::write_now(const LexiconEvent& e) {
   std::vector<char*> body, rules;
   flipper_msg_dds__LexiconEvent_ s{};
   s.site_ = c(e.site);
@@ -186,9 +241,11 @@ void LexiconReplicator::publish(const LexiconEvent& e) {
   s.target_site_ = c(e.target_site);
   s.target_version_ = e.target_version;
   s.target_rule_ = c(e.target_rule);
-  if (const dds_return_t rc = dds_write(writer_, &s); rc < 0)
-    log_ << "flipper: lexicon replication: publishing " << e.identity()
-         << " failed: " << dds_strretcode(rc) << std::endl;
+  s.certificate_ = c(e.certificate);
+  s.signature_._length = s.signature_._maximum = static_cast<uint32_t>(e.signature.size());
+  s.signature_._buffer = reinterpret_cast<uint8_t*>(const_cast<char*>(e.signature.data()));
+  s.signature_._release = false;
+  return dds_write(writer_, &s);
 }
 
 void LexiconReplicator::loop() {
@@ -218,6 +275,15 @@ void LexiconReplicator::take_available() {
              << e.site.substr(0, 64) << "': " << *why << std::endl;
         continue;
       }
+      // Not logged: the authentic event of the same (site, version) must still get in.
+      if (auto why = verifier_ ? verifier_->why_not(e) : std::nullopt) {
+        ++refused_;
+        log_ << "flipper: lexicon replication: refused event " << e.identity().substr(0, 80) << ": "
+             << *why << std::endl;
+        continue;
+      }
+      // Sessions first: a user's request never waits behind a whole catch-up.
+      while (sessions_waiting_.load() > 0) std::this_thread::yield();
       std::lock_guard lock(mutex_);
       try {
         receive(e);
@@ -233,7 +299,11 @@ void LexiconReplicator::receive(const LexiconEvent& e) {
   if (log_db_->find({e.site, e.version}) != nullptr) return;  // replay: already here
   LogRow row;
   row.event = e;
-  if (apply(row)) {
+  const bool done = apply(row);
+  // Logged (applied, pending, refused or superseded): relayed, so this site's writer holds every
+  // event it knows and a site that joins later catches up from it, whoever is down.
+  publish(e);
+  if (done) {
     ++applied_;
     retry_pending();
   }
@@ -360,6 +430,13 @@ void LexiconReplicator::settle(const std::string& head) {
   for (auto& row : losers) retire(row);
 }
 
+std::unique_lock<std::recursive_mutex> LexiconReplicator::session_lock() {
+  sessions_waiting_.fetch_add(1);
+  std::unique_lock lock(mutex_);
+  sessions_waiting_.fetch_sub(1);
+  return lock;
+}
+
 void LexiconReplicator::attach(kernel::Session& session) {
   std::weak_ptr<LexiconReplicator> weak = weak_from_this();
   for (const auto& name : session.op_names()) {
@@ -369,21 +446,21 @@ void LexiconReplicator::attach(kernel::Session& session) {
       wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
-        std::lock_guard lock(self->mutex_);
+        const auto lock = self->session_lock();
         self->define_op(inner, s, r, a);
       };
     else if (name == "delete_rule")
       wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
-        std::lock_guard lock(self->mutex_);
+        const auto lock = self->session_lock();
         self->delete_op(inner, s, r, a);
       };
     else
       wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
-        std::lock_guard lock(self->mutex_);
+        const auto lock = self->session_lock();
         inner(s, r, a);
       };
     session.set_op(name, std::move(wrapped));
@@ -414,6 +491,7 @@ void LexiconReplicator::define_op(const kernel::Session::OpHandler& inner, kerne
       row.event.rules.push_back(rule_description(*rule));
   }
   row.status = "applied";
+  if (signer_) signer_->sign(row.event);
   log_db_->put(row);
   // A definition of the same head from another site may have arrived before this one: this one
   // saw it, so it is later and wins; the other site's rules go here too, as they do elsewhere.
@@ -451,6 +529,7 @@ void LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kerne
   if (target != nullptr) {
     e.author = s.user();
     e.target_rule = description;
+    if (signer_) signer_->sign(e);
     LogRow row;
     row.event = e;
     row.status = "applied";

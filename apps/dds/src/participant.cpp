@@ -1,7 +1,14 @@
 #include "flipper/dds/participant.hpp"
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <mutex>
+#include <optional>
 #include <ostream>
+
+#include "flipper/dds/keystore.hpp"
+#include "flipper/dds/loopback_sockets.hpp"
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -13,24 +20,64 @@ dds_return_t check(dds_return_t rc, const std::string& what) {
   return rc;
 }
 
+namespace {
+
+std::vector<std::pair<std::string, std::string>> configured_security(const kernel::Config& config,
+                                                                     std::ostream& log) {
+  const auto sc = security_config(config);
+  if (!sc) return {};
+  log << "flipper: DDS Security on: identity '" << sc->identity << "' of keystore "
+      << sc->keystore.dir << std::endl;
+  return security_properties(sc->keystore, sc->identity);
+}
+
+}  // namespace
+
 Participant::Participant(const kernel::Config& config, std::ostream& log)
     : Participant(static_cast<int>(config.get_int("dds.domain")),
-                  choose_transport(config, std::getenv("CYCLONEDDS_URI")), log) {}
+                  choose_transport(config, std::getenv("CYCLONEDDS_URI")), log,
+                  configured_security(config, log)) {}
 
-Participant::Participant(int domain, const Transport& transport, std::ostream& log)
-    : domain_(domain), transport_(transport) {
+Participant::Participant(int domain, const Transport& transport, std::ostream& log,
+                         const std::vector<std::pair<std::string, std::string>>& security)
+    : domain_(domain), transport_(transport), secure_(!security.empty()) {
   log << "flipper: " << transport_.describe(domain_) << std::endl;
+  Qos qos;
+  for (const auto& [name, value] : security) dds_qset_prop(qos.q, name.c_str(), value.c_str());
   const auto id = static_cast<dds_domainid_t>(domain_);
-  // dds_create_domain never reads CYCLONEDDS_URI: the XML chosen above is the whole config.
-  const dds_entity_t d = dds_create_domain(id, transport_.xml.c_str());
-  if (d < 0 && d != DDS_RETCODE_PRECONDITION_NOT_MET)  // already created in this process
-    check(d, "creating DDS domain " + std::to_string(domain_));
-  if (d >= 0) domain_entity_ = d;
-  participant_ = dds_create_participant(id, nullptr, nullptr);
+  {
+    // One creation at a time, so LoopbackBinds covers only loopback-only domains' sockets.
+    static std::mutex creating;
+    std::lock_guard lock(creating);
+    std::optional<LoopbackBinds> loopback;
+    if (transport_.loopback_only) loopback.emplace();
+    // dds_create_domain never reads CYCLONEDDS_URI: the XML chosen above is the whole config.
+    const dds_entity_t d = dds_create_domain(id, transport_.xml.c_str());
+    if (d < 0 && d != DDS_RETCODE_PRECONDITION_NOT_MET)  // already created in this process
+      check(d, "creating DDS domain " + std::to_string(domain_));
+    if (d >= 0) domain_entity_ = d;
+    participant_ = dds_create_participant(id, qos.q, nullptr);
+  }
   if (participant_ < 0) {
     if (domain_entity_ > 0) dds_delete(domain_entity_);
-    check(participant_, "creating a DDS participant in domain " + std::to_string(domain_));
+    check(participant_, "creating a DDS participant in domain " + std::to_string(domain_) +
+                            (secure_ ? " (DDS Security: Cyclone's log above says why)" : ""));
   }
+  if (transport_.loopback_only) check_sockets_on_loopback();
+}
+
+void Participant::check_sockets_on_loopback() {
+  for (const UdpSocket& s : udp_sockets(::getpid()))
+    if (!s.loopback()) {
+      dds_delete(participant_);
+      participant_ = 0;
+      if (domain_entity_ > 0) dds_delete(domain_entity_);
+      domain_entity_ = 0;
+      throw sdk::Error("dds_error", "a UDP socket of this process is bound to " + s.address + ":" +
+                                        std::to_string(s.port) +
+                                        ", not loopback, though the DDS configuration is "
+                                        "loopback only; the participant was not created");
+    }
 }
 
 Participant::~Participant() {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <vector>
 
+#include "flipper/dds/names.hpp"
 #include "flipper/msg/Actions.h"
 #include "nav_msgs/msg/Path.h"
 
@@ -30,11 +31,15 @@ dds_entity_t latched_writer(Participant& p, const dds_topic_descriptor_t* desc, 
 
 }  // namespace
 
-PlanPublisher::PlanPublisher(std::shared_ptr<Participant> participant, PlanFrame frame)
-    : participant_(std::move(participant)), frame_(std::move(frame)) {
-  plan_writer_ = latched_writer(*participant_, &nav_msgs_msg_dds__Path__desc, kPlanTopic);
+PlanPublisher::PlanPublisher(std::shared_ptr<Participant> participant, PlanFrame frame,
+                             const std::string& ns)
+    : participant_(std::move(participant)),
+      frame_(std::move(frame)),
+      plan_topic_(node_topic(ns, "plan")),
+      actions_topic_(node_topic(ns, "actions")) {
+  plan_writer_ = latched_writer(*participant_, &nav_msgs_msg_dds__Path__desc, plan_topic_.c_str());
   actions_writer_ =
-      latched_writer(*participant_, &flipper_msg_dds__ActionList__desc, kActionsTopic);
+      latched_writer(*participant_, &flipper_msg_dds__ActionList__desc, actions_topic_.c_str());
 }
 
 PlanPublisher::~PlanPublisher() {
@@ -43,6 +48,7 @@ PlanPublisher::~PlanPublisher() {
 }
 
 void PlanPublisher::on_accepted_plan(const kernel::AcceptedPlan& plan) {
+  std::lock_guard lock(mutex_);
   const auto stamp = now_stamp();
   char frame_id[] = "map";
   const std::vector<Pose> poses = frame_.poses(plan.before.robot, plan.outcome.trace);
@@ -62,7 +68,7 @@ void PlanPublisher::on_accepted_plan(const kernel::AcceptedPlan& plan) {
   path.poses_._length = path.poses_._maximum = static_cast<uint32_t>(stamped.size());
   path.poses_._buffer = stamped.data();
   path.poses_._release = false;
-  check(dds_write(plan_writer_, &path), "publishing a plan on rt/flipper/plan");
+  check(dds_write(plan_writer_, &path), "publishing a plan on " + plan_topic_);
 
   std::vector<flipper_msg_dds__Action_> acts;
   std::vector<std::string> colours, shapes;  // owners of the strings the samples point to
@@ -90,11 +96,11 @@ void PlanPublisher::on_accepted_plan(const kernel::AcceptedPlan& plan) {
   flipper_msg_dds__ActionList_ actions{};
   actions.header_.stamp_ = stamp;
   actions.header_.frame_id_ = frame_id;
-  actions.plan_seq_ = plan.sequence;
+  actions.plan_seq_ = published_ + 1;
   actions.actions_._length = actions.actions_._maximum = static_cast<uint32_t>(acts.size());
   actions.actions_._buffer = acts.data();
   actions.actions_._release = false;
-  check(dds_write(actions_writer_, &actions), "publishing actions on rt/flipper/actions");
+  check(dds_write(actions_writer_, &actions), "publishing actions on " + actions_topic_);
   ++published_;
 }
 

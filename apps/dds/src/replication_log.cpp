@@ -22,42 +22,6 @@ const char* kSchema =
     " definition INTEGER NOT NULL DEFAULT 0, local_rules TEXT NOT NULL DEFAULT '[]',"
     " event TEXT NOT NULL, PRIMARY KEY(site, version))";
 
-json event_json(const LexiconEvent& e) {
-  return json{{"site", e.site},
-              {"version", e.version},
-              {"kind", e.kind},
-              {"lamport", e.lamport},
-              {"time", e.time},
-              {"author", e.author},
-              {"head", e.head},
-              {"body", e.body},
-              {"ranks", e.ranks},
-              {"world", e.world},
-              {"rules", e.rules},
-              {"target_site", e.target_site},
-              {"target_version", e.target_version},
-              {"target_rule", e.target_rule}};
-}
-
-LexiconEvent event_from(const json& j) {
-  LexiconEvent e;
-  e.site = j.at("site");
-  e.version = j.at("version");
-  e.kind = j.at("kind");
-  e.lamport = j.at("lamport");
-  e.time = j.at("time");
-  e.author = j.at("author");
-  e.head = j.at("head");
-  e.body = j.at("body").get<std::vector<std::string>>();
-  e.ranks = j.at("ranks").get<std::vector<int>>();
-  e.world = j.at("world");
-  e.rules = j.at("rules").get<std::vector<std::string>>();
-  e.target_site = j.at("target_site");
-  e.target_version = j.at("target_version");
-  e.target_rule = j.at("target_rule");
-  return e;
-}
-
 }  // namespace
 
 struct ReplicationLog::Db {
@@ -84,7 +48,8 @@ ReplicationLog::ReplicationLog(const std::string& path) : db_(std::make_unique<D
     row.definition = sqlite3_column_int64(st, 1);
     row.local_rules = json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 2)))
                           .get<std::vector<std::string>>();
-    row.event = event_from(json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 3))));
+    row.event =
+        event_from_json(json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 3))));
     rows_[{row.event.site, row.event.version}] = std::move(row);
   }
   sqlite3_finalize(st);
@@ -100,8 +65,7 @@ void ReplicationLog::put(const LogRow& row) {
                          -1, &st, nullptr) != SQLITE_OK)
     fail(db_->db, "preparing a write");
   const std::string rules = json(row.local_rules).dump();
-  const std::string event =
-      event_json(row.event).dump(-1, ' ', false, json::error_handler_t::replace);
+  const std::string event = to_json(row.event).dump(-1, ' ', false, json::error_handler_t::replace);
   sqlite3_bind_text(st, 1, row.event.site.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_int64(st, 2, static_cast<sqlite3_int64>(row.event.version));
   sqlite3_bind_text(st, 3, row.status.c_str(), -1, SQLITE_TRANSIENT);

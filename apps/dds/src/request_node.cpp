@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
+#include "flipper/dds/names.hpp"
 #include "flipper/msg/SessionLine.h"
 
 namespace flipper::dds {
@@ -37,20 +38,22 @@ std::string shown(const std::string& s) {
 }  // namespace
 
 RequestNode::RequestNode(std::shared_ptr<Participant> participant, SessionMaker make_session,
-                         std::ostream& log, std::size_t max_sessions)
+                         std::ostream& log, const std::string& ns, std::size_t max_sessions)
     : participant_(std::move(participant)),
       make_session_(std::move(make_session)),
       log_(log),
-      max_sessions_(max_sessions) {
+      max_sessions_(max_sessions),
+      request_topic_(node_topic(ns, "request")),
+      answer_topic_(node_topic(ns, "answer")) {
   Qos qos;
   keep_all_reliable(qos);
   auto& p = *participant_;
   reader_ = check(
-      dds_create_reader(p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, kRequestTopic),
+      dds_create_reader(p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, request_topic_),
                         qos.q, nullptr),
       "creating the request reader");
   writer_ = check(
-      dds_create_writer(p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, kAnswerTopic),
+      dds_create_writer(p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, answer_topic_),
                         qos.q, nullptr),
       "creating the answer writer");
   waitset_ = check(dds_create_waitset(p.handle()), "creating a waitset");

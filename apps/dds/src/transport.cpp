@@ -1,11 +1,10 @@
-// The loopback rule for Cyclone DDS (transport.hpp). Cyclone's config is XML; the checks below
-// read only the elements that choose the network (interfaces, peers), which is all the rule needs.
+// The loopback rule for Cyclone DDS (transport.hpp). A user's configuration is resolved and read
+// as Cyclone reads it (cyclone_config.hpp); the rule looks at what selects the network.
 #include "flipper/dds/transport.hpp"
 
 #include <algorithm>
-#include <fstream>
-#include <regex>
-#include <sstream>
+
+#include "flipper/dds/cyclone_config.hpp"
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -21,23 +20,6 @@ std::string join(const std::vector<std::string>& v) {
   std::string out;
   for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
   return out;
-}
-
-// CYCLONEDDS_URI may be XML or a (list of) file:// URIs / paths.
-std::string uri_text(const std::string& uri) {
-  if (uri.find('<') != std::string::npos) return uri;
-  std::string text;
-  std::stringstream list(uri);
-  std::string item;
-  while (std::getline(list, item, ',')) {
-    std::string path = item.rfind("file://", 0) == 0 ? item.substr(7) : item;
-    std::ifstream in(path);
-    if (!in) refuse("CYCLONEDDS_URI names '" + item + "', which cannot be read");
-    std::ostringstream s;
-    s << in.rdbuf();
-    text += s.str();
-  }
-  return text;
 }
 
 }  // namespace
@@ -60,46 +42,8 @@ std::string interfaces_xml(const std::vector<std::string>& interfaces) {
   return xml + "</Interfaces></General></Domain></CycloneDDS>";
 }
 
-std::vector<std::string> selected_interfaces(const std::string& xml) {
-  std::vector<std::string> out;
-  static const std::regex element(R"(<NetworkInterface\b([^>]*)>)", std::regex::icase);
-  static const std::regex attribute(R"(\b(name|address)\s*=\s*["']([^"']*)["'])",
-                                    std::regex::icase);
-  static const std::regex old_style(R"(<NetworkInterfaceAddress>\s*([^<]*?)\s*<)",
-                                    std::regex::icase);
-  for (std::sregex_iterator it(xml.begin(), xml.end(), element), end; it != end; ++it) {
-    const std::string attrs = (*it)[1];
-    bool any = false;
-    for (std::sregex_iterator a(attrs.begin(), attrs.end(), attribute); a != end; ++a) {
-      out.push_back((*a)[2]);
-      any = true;
-    }
-    if (!any) out.push_back("(unnamed interface)");
-  }
-  for (std::sregex_iterator it(xml.begin(), xml.end(), old_style), end; it != end; ++it) {
-    std::stringstream list((*it)[1].str());
-    std::string item;
-    while (std::getline(list, item, ','))
-      if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 bool is_loopback(const std::string& i) {
-  return i == "lo" || i == "loopback" || i == "localhost" || i == "::1" || i.rfind("127.", 0) == 0;
-}
-
-bool peers_on_loopback(const std::string& xml) {
-  static const std::regex peer(R"(<Peer\b[^>]*\baddress\s*=\s*["']([^"']*)["'])",
-                               std::regex::icase);
-  for (std::sregex_iterator it(xml.begin(), xml.end(), peer), end; it != end; ++it) {
-    std::string address = (*it)[1];
-    if (const auto colon = address.rfind(':');
-        colon != std::string::npos && address.find(':') == colon)
-      address = address.substr(0, colon);  // host:port
-    if (!is_loopback(address)) return false;
-  }
-  return true;
+  return i == "lo" || loopback_address(i);
 }
 
 std::string Transport::describe(int domain) const {
@@ -111,38 +55,49 @@ std::string Transport::describe(int domain) const {
 Transport choose_transport(const kernel::Config& config, const char* env_uri) {
   const std::vector<std::string> named = config.get_string_list("dds.interfaces");
   const std::string given = config.get_string("dds.config");
+  const int domain = static_cast<int>(config.get_int("dds.domain"));
   const bool loop_named = !named.empty() && std::all_of(named.begin(), named.end(), is_loopback);
+  const auto is_named = [&](const std::string& i) {
+    return std::find(named.begin(), named.end(), i) != named.end();
+  };
 
-  const auto checked = [&](std::string xml, const std::string& source) {
+  // A user's configuration, resolved as Cyclone resolves it (cyclone_config.hpp).
+  const auto checked = [&](const std::string& uri, const std::string& source) {
+    const CycloneConfig resolved = resolve_cyclone_config(uri, source);
+    const NetworkSelection sel = network_selection(resolved, domain);
+    if (!sel.unprovable.empty() && named.empty())
+      refuse(source + " has settings the loopback check cannot prove stay on this machine: " +
+             join(sel.unprovable) + "; remove them, or name the interfaces in dds.interfaces");
+    if (!sel.selects_for_domain)
+      refuse(source + " selects no network interface for DDS domain " + std::to_string(domain) +
+             ", so Cyclone would choose one itself (with multicast); name them (e.g. "
+             "<NetworkInterface name=\"lo\"/>) or remove it to get Flipper's loopback-only "
+             "default");
     Transport t;
-    t.interfaces = selected_interfaces(xml);
-    if (t.interfaces.empty())
-      refuse(source +
-             " selects no network interface, so Cyclone would use any interface with "
-             "multicast; name them (e.g. <NetworkInterface name=\"lo\"/>) or remove it "
-             "to get Flipper's loopback-only default");
+    for (const auto& i : sel.interfaces)
+      if (std::find(t.interfaces.begin(), t.interfaces.end(), i) == t.interfaces.end())
+        t.interfaces.push_back(i);
+    const bool peers_local = std::all_of(sel.peers.begin(), sel.peers.end(), loopback_address);
     t.loopback_only = std::all_of(t.interfaces.begin(), t.interfaces.end(), is_loopback) &&
-                      peers_on_loopback(xml);
-    if (!t.loopback_only) {
-      for (const auto& i : t.interfaces)
-        if (!is_loopback(i) && std::find(named.begin(), named.end(), i) == named.end())
-          refuse(source + " selects interface '" + i +
-                 "', which is not loopback; Flipper stays on loopback unless dds.interfaces "
-                 "names every interface explicitly (dds.interfaces: [" +
-                 join(named) + "])");
-      if (!peers_on_loopback(xml) && named.empty())
-        refuse(source +
-               " lists discovery peers off loopback; name the interfaces in "
-               "dds.interfaces to allow that");
-    }
-    t.xml = std::move(xml);
+                      peers_local && sel.unprovable.empty();
+    for (const auto& i : t.interfaces)
+      if (!is_loopback(i) && !is_named(i))
+        refuse(source + " selects interface '" + i +
+               "', which is not loopback; Flipper stays on loopback unless dds.interfaces "
+               "names every interface explicitly (dds.interfaces: [" +
+               join(named) + "])");
+    if (!peers_local && named.empty())
+      refuse(source +
+             " lists discovery peers off loopback; name the interfaces in dds.interfaces to "
+             "allow that");
+    t.xml = resolved.text();
     t.source = source;
     return t;
   };
 
   if (!given.empty()) return checked(given, "dds.config");
   if (named.empty() || loop_named) {
-    if (env_uri != nullptr && *env_uri != '\0') return checked(uri_text(env_uri), "CYCLONEDDS_URI");
+    if (env_uri != nullptr && *env_uri != '\0') return checked(env_uri, "CYCLONEDDS_URI");
     Transport t;
     t.xml = loopback_xml();
     t.interfaces = {"lo"};

@@ -76,6 +76,14 @@ ParamSchema build() {
   s.add_int("dds.domain", 0, "DDS domain id", 0, 232);
   s.add_string_list("dds.interfaces", {}, "network interfaces (empty: loopback only)");
   s.add_string("dds.config", "", "a Cyclone DDS XML config (empty: the built-in one)");
+  s.add_string("dds.namespace", "",
+               "this node's ROS 2 namespace: topics rt/<namespace>/flipper/... (empty: "
+               "rt/flipper/...)");
+  s.add_path("dds.security.keystore", std::string(),
+             "DDS Security: the folder of `flipper dds security init` (empty: security off)");
+  s.add_string("dds.security.identity", "",
+               "DDS Security: this participant's identity in the keystore (empty: lexicon.site, "
+               "else dds.namespace)");
 
   s.add_section("induction", "grammar induction from definitions");
   add(s, keys::kAlignment);

@@ -4,6 +4,7 @@
 /// checks a received sample must pass before anything is applied.
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,8 @@ struct LexiconEvent {
   std::string target_site;
   std::uint64_t target_version = 0;
   std::string target_rule;
+  std::string certificate;  ///< PEM of the origin site's certificate (DDS Security on)
+  std::string signature;    ///< the origin site's signature over signed_text() (bytes)
 
   /// (lamport, site): orders conflicting definitions of one head across sites.
   bool wins_over(const LexiconEvent& other) const {
@@ -35,5 +38,11 @@ struct LexiconEvent {
 
 /// Why a received event is malformed, or nothing when it may be applied.
 std::optional<std::string> malformed(const LexiconEvent& e);
+
+/// The event as JSON, every field (the signature in hex), and back (throws on a bad object).
+nlohmann::json to_json(const LexiconEvent& e);
+LexiconEvent event_from_json(const nlohmann::json& j);
+/// What a site signs: the JSON of every field but certificate and signature, keys sorted.
+std::string signed_text(const LexiconEvent& e);
 
 }  // namespace flipper::dds

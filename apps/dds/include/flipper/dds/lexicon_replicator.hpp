@@ -8,8 +8,13 @@
 ///     world they were made in when the event carries it (so generalization runs too);
 ///   - idempotent: an event whose (site, version) is in the replication log is skipped, and a
 ///     kill between the store's commit and the log's is recovered at start-up (replication_log);
-///   - catch-up: at start-up every site re-publishes its whole log, so a late or restarted site
-///     gets every event any live site has seen;
+///   - catch-up from any live site: at start-up every site re-publishes its whole log, and it
+///     relays every event it receives (own writer, TRANSIENT_LOCAL, keep-all), so every live
+///     site's writer holds every event that site knows and a late or restarted site gets them
+///     all from whichever sites are up, the author down or not;
+///   - identity (DDS Security on, keystore given): this site signs its events; an event is
+///     accepted only when signed by the site it names (event_signature.hpp), otherwise dropped
+///     unlogged. Security off: any participant on the domain is trusted;
 ///   - deletions: only the author's site may delete a definition's rules (a local delete_rule of
 ///     another site's rule is refused with `forbidden`; a received deletion from another site is
 ///     refused); both are logged;
@@ -21,16 +26,23 @@
 /// Malformed samples are logged and dropped.
 ///
 /// Thread model: a reader thread applies events under one mutex; attach() wraps every op of a
-/// session in the same mutex, so sessions and replication never touch the lexicon at once.
+/// session in the same mutex, so sessions and replication never touch the lexicon at once. The
+/// reader takes the mutex per event and only when no session waits for it, so a request waits
+/// for at most one event's application, never for a whole catch-up.
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <iosfwd>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
+#include "flipper/dds/event_signature.hpp"
+#include "flipper/dds/keystore.hpp"
 #include "flipper/dds/lexicon_event.hpp"
 #include "flipper/dds/participant.hpp"
 #include "flipper/dds/replication_log.hpp"
@@ -45,9 +57,11 @@ inline constexpr const char* kLexiconTopic = "rt/flipper/lexicon";
 class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator> {
  public:
   /// Recovers the log, re-publishes the history and starts the reader thread.
+  /// `keystore`: DDS Security on (lexicon.site must be an identity of it).
   static std::shared_ptr<LexiconReplicator> start(std::shared_ptr<Participant> participant,
                                                   const kernel::SessionHost& host,
-                                                  std::ostream& log);
+                                                  std::ostream& log,
+                                                  const std::optional<Keystore>& keystore = {});
   ~LexiconReplicator();
   LexiconReplicator(const LexiconReplicator&) = delete;
   LexiconReplicator& operator=(const LexiconReplicator&) = delete;
@@ -59,10 +73,12 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   /// Received events applied, and samples dropped as malformed (for tests and benchmarks).
   std::uint64_t applied() const { return applied_.load(); }
   std::uint64_t dropped() const { return dropped_.load(); }
+  /// Well-formed events refused as not authentic (DDS Security on).
+  std::uint64_t refused() const { return refused_.load(); }
 
  private:
   LexiconReplicator(std::shared_ptr<Participant> participant, const kernel::SessionHost& host,
-                    std::ostream& log);
+                    std::ostream& log, const std::optional<Keystore>& keystore);
   void recover();
   void loop();
   void take_available();
@@ -74,8 +90,12 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   void settle(const std::string& head);
   bool dominated(const LexiconEvent& e) const;
   void retire(LogRow& row);
-  void publish(const LexiconEvent& e);
+  void publish(const LexiconEvent& e);  // queued for publish_loop
+  void publish_loop();
+  dds_return_t write_now(const LexiconEvent& e);
   LexiconEvent next_local_event(const std::string& kind) const;
+  /// The mutex for a session's op; the reader thread lets waiting sessions go first.
+  std::unique_lock<std::recursive_mutex> session_lock();
   void define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
                  const kernel::Json& req, kernel::JsonWriter& answer);
   void delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
@@ -88,13 +108,21 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   kernel::Executor executor_;
   std::unique_ptr<ReplicationLog> log_db_;
   std::recursive_mutex mutex_;
+  std::atomic<int> sessions_waiting_{0};
   dds_entity_t reader_ = 0;
   dds_entity_t writer_ = 0;
   dds_entity_t waitset_ = 0;
   std::atomic<bool> stop_{false};
   std::atomic<std::uint64_t> applied_{0};
   std::atomic<std::uint64_t> dropped_{0};
+  std::atomic<std::uint64_t> refused_{0};
+  std::unique_ptr<EventSigner> signer_;  // DDS Security on
+  std::unique_ptr<EventVerifier> verifier_;
   std::thread thread_;
+  std::mutex outbox_mutex_;
+  std::condition_variable outbox_ready_;
+  std::deque<LexiconEvent> outbox_;
+  std::thread publisher_;
 };
 
 /// "lhs -> rhs => semantics": how events name a rule across sites (never by local id).

@@ -9,6 +9,8 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "flipper/dds/transport.hpp"
 
@@ -26,10 +28,14 @@ dds_return_t check(dds_return_t rc, const std::string& what);
 class Participant {
  public:
   /// Chooses the transport (transport.hpp), prints Transport::describe to `log`, creates the
-  /// domain `dds.domain` and a participant. Throws sdk::Error (bad_config, dds_error).
+  /// domain `dds.domain` and a participant. A loopback-only one binds its sockets to loopback
+  /// (loopback_sockets.hpp) and checks that every UDP socket of the process is on loopback.
+  /// Throws sdk::Error (bad_config, dds_error).
   Participant(const kernel::Config& config, std::ostream& log);
-  /// Explicit domain and transport (tests and benchmarks).
-  Participant(int domain, const Transport& transport, std::ostream& log);
+  /// Explicit domain and transport (tests and benchmarks); `security`: the DDS Security
+  /// participant properties (keystore.hpp security_properties), empty for none.
+  Participant(int domain, const Transport& transport, std::ostream& log,
+              const std::vector<std::pair<std::string, std::string>>& security = {});
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
@@ -37,13 +43,17 @@ class Participant {
   dds_entity_t handle() const { return participant_; }
   int domain() const { return domain_; }
   const Transport& transport() const { return transport_; }
+  bool secure() const { return secure_; }
 
   /// A topic of `descriptor` named `name` (created once per name).
   dds_entity_t topic(const dds_topic_descriptor_t* descriptor, const std::string& name);
 
  private:
+  void check_sockets_on_loopback();
+
   int domain_;
   Transport transport_;
+  bool secure_ = false;
   dds_entity_t domain_entity_ = 0;
   dds_entity_t participant_ = 0;
 };

@@ -1,7 +1,10 @@
 #pragma once
 /// @file request_node.hpp
-/// `flipper dds`: session-protocol requests in on rt/flipper/request, answers out on
-/// rt/flipper/answer (type flipper::msg::dds_::SessionLine_: session, request_id, line). Each
+/// `flipper dds`: session-protocol requests in on rt/<dds.namespace>/flipper/request, answers
+/// out on rt/<dds.namespace>/flipper/answer (names.hpp; rt/flipper/... in the root namespace;
+/// type flipper::msg::dds_::SessionLine_: session, request_id, line). The namespace addresses
+/// the node, as ROS 2 addresses nodes: a request reaches only the node of its namespace, so one
+/// node answers it (give each node its own namespace). Each
 /// session name is its own Flipper session (world, user, last query), made on first use, all
 /// sharing one runtime and lexicon; the answer line is exactly what `flipper session` writes for
 /// the same request line. QoS of both topics: reliable, volatile, keep-all.
@@ -36,7 +39,7 @@ class RequestNode {
   static constexpr std::size_t kMaxSessionName = 256;
 
   RequestNode(std::shared_ptr<Participant> participant, SessionMaker make_session,
-              std::ostream& log, std::size_t max_sessions = 64);
+              std::ostream& log, const std::string& ns = {}, std::size_t max_sessions = 64);
   ~RequestNode();
   RequestNode(const RequestNode&) = delete;
   RequestNode& operator=(const RequestNode&) = delete;
@@ -48,6 +51,8 @@ class RequestNode {
                                     const std::string& line);
   std::uint64_t answered() const { return answered_; }
   std::uint64_t dropped() const { return dropped_; }
+  const std::string& request_topic() const { return request_topic_; }
+  const std::string& answer_topic() const { return answer_topic_; }
 
  private:
   void serve_available();
@@ -56,6 +61,7 @@ class RequestNode {
   SessionMaker make_session_;
   std::ostream& log_;
   std::size_t max_sessions_;
+  std::string request_topic_, answer_topic_;
   std::map<std::string, std::unique_ptr<kernel::Session>, std::less<>> sessions_;
   dds_entity_t reader_ = 0;
   dds_entity_t writer_ = 0;

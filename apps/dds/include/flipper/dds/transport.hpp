@@ -6,8 +6,12 @@
 ///   - `dds.interfaces: []` (default) and no `dds.config`: Flipper generates the loopback XML
 ///     (lo, no multicast, unicast peers on 127.0.0.1). A CYCLONEDDS_URI in the environment is
 ///     used only when it is itself loopback only; anything else is refused.
-///   - `dds.config: XML`: used when it is loopback only, or when `dds.interfaces` names every
-///     interface it selects; refused otherwise.
+///   - `dds.config: XML or items`: used when it is loopback only, or when `dds.interfaces` names
+///     every interface it selects; refused otherwise.
+///   A user's configuration (CYCLONEDDS_URI, dds.config) is resolved as Cyclone resolves it
+///   (cyclone_config.hpp: every item, every file, comments ignored) and Cyclone gets exactly
+///   what was checked; a setting the check cannot prove loopback-only is refused. A loopback-only
+///   participant also binds its sockets to loopback (loopback_sockets.hpp).
 ///   - `dds.interfaces: [eth0, ...]` without `dds.config`: Flipper generates XML for exactly
 ///     those interfaces (multicast as Cyclone decides for them).
 
@@ -29,17 +33,12 @@ struct Transport {
   std::string describe(int domain) const;
 };
 
-/// The loopback-only Cyclone XML (docs: /work/shared/docs/toolchain.md).
+/// The loopback-only Cyclone XML.
 std::string loopback_xml();
 /// Cyclone XML selecting exactly these interfaces.
 std::string interfaces_xml(const std::vector<std::string>& interfaces);
-/// Interfaces a Cyclone XML config selects (NetworkInterface name/address attributes and the
-/// older NetworkInterfaceAddress element); empty when it selects none (Cyclone's default: any).
-std::vector<std::string> selected_interfaces(const std::string& xml);
-/// Whether a name or address is the loopback interface (lo, loopback, 127.x.y.z, ::1).
+/// Whether a name or address is the loopback interface: `lo`, 127.0.0.0/8 or ::1.
 bool is_loopback(const std::string& interface);
-/// Whether every address a config lists as a discovery peer is on loopback.
-bool peers_on_loopback(const std::string& xml);
 
 /// The transport for `dds.*` of `config` and the value of CYCLONEDDS_URI (null when unset).
 /// Throws sdk::Error(bad_config) naming what is not allowed.

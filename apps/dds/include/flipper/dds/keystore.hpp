@@ -1,0 +1,84 @@
+#pragma once
+/// @file keystore.hpp
+/// DDS Security for sites and robots (README "Flipper with ROS 2", "Secured sites"): a keystore
+/// folder in the layout of ROS 2's SROS2, made with OpenSSL (libcrypto), read by Cyclone's OMG
+/// DDS Security plugins (libdds_security_auth, _ac, _crypto) and by the lexicon replication:
+///
+///   DIR/ca.pem                   the project CA: issues identities, signs governance and
+///                                permissions (identity CA and permissions CA in one, as SROS2's
+///                                default keystore)
+///   DIR/private/ca.key           its key (keep it off the robots)
+///   DIR/governance.xml, .p7s     domains 0..230: only authenticated participants join, every
+///                                topic's readers and writers are access-controlled, discovery,
+///                                liveliness, metadata and data encrypted, RTPS messages signed
+///   DIR/identities/NAME/         one per site or robot: cert.pem (subject CN=NAME), key.pem,
+///                                permissions.xml and its signed permissions.p7s
+///
+/// Permissions of identity NAME serving namespaces NS (default: NAME itself):
+///   publish   rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}, rt/*/flipper/request
+///   subscribe rt/flipper/lexicon, rt/NS/flipper/request, rt/*/flipper/{plan,actions,answer}
+/// so only NAME may serve NAME's robot (answer its requests, publish its plans), any identity may
+/// send requests and read plans, and every site may replicate the lexicon (whose events carry
+/// their site's signature: event_signature.hpp).
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace flipper::kernel {
+class Config;
+}
+
+namespace flipper::dds {
+
+struct Keystore {
+  std::string dir;
+
+  std::string ca_certificate() const { return dir + "/ca.pem"; }
+  std::string ca_key() const { return dir + "/private/ca.key"; }
+  std::string governance() const { return dir + "/governance.p7s"; }
+  std::string identity_dir(const std::string& name) const { return dir + "/identities/" + name; }
+  std::string certificate(const std::string& name) const {
+    return identity_dir(name) + "/cert.pem";
+  }
+  std::string private_key(const std::string& name) const { return identity_dir(name) + "/key.pem"; }
+  std::string permissions(const std::string& name) const {
+    return identity_dir(name) + "/permissions.p7s";
+  }
+};
+
+/// Highest DDS domain the governance and permissions cover (Cyclone's limit for them).
+inline constexpr int kMaxSecureDomain = 230;
+
+/// Creates the CA, the governance document and its signed copy in `dir` (created if missing;
+/// throws sdk::Error(bad_request) when it already holds a keystore). Lines of what was written
+/// go to `out`.
+void init_keystore(const std::string& dir, std::ostream& out);
+
+/// Adds identity `name` (a ROS 2 name token: names.hpp) with its certificate, key and signed
+/// permissions for `namespaces` (empty: {name}). Throws sdk::Error(bad_request) when the
+/// keystore is missing or already has `name`.
+void add_identity(const std::string& dir, const std::string& name,
+                  const std::vector<std::string>& namespaces, std::ostream& out);
+
+/// The DDS Security participant QoS properties (dds.sec.*) for identity `name` of `keystore`:
+/// plugins, CA, certificate, key, governance, permissions. Throws sdk::Error(bad_config) naming
+/// a missing file.
+std::vector<std::pair<std::string, std::string>> security_properties(const Keystore& keystore,
+                                                                     const std::string& name);
+
+/// DDS Security as the config asks for it: the keystore (dds.security.keystore) and this
+/// participant's identity (dds.security.identity, else lexicon.site, else dds.namespace).
+struct SecurityConfig {
+  Keystore keystore;
+  std::string identity;
+};
+/// Nothing when dds.security.keystore is empty (security off). Throws sdk::Error(bad_config)
+/// when no identity can be named or dds.domain is above kMaxSecureDomain.
+std::optional<SecurityConfig> security_config(const kernel::Config& config);
+
+/// The common name (CN) of a PEM certificate's subject; throws sdk::Error(bad_config).
+std::string certificate_common_name(const std::string& pem_path);
+
+}  // namespace flipper::dds

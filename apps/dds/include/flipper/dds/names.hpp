@@ -1,0 +1,19 @@
+#pragma once
+/// @file names.hpp
+/// Topic names under a node namespace, as ROS 2 names topics per robot (README "Flipper with
+/// ROS 2", "Topics and types"): the node of namespace `robot1` uses rt/robot1/flipper/plan,
+/// .../actions, .../request, .../answer (ROS 2: /robot1/flipper/plan, ...); the root namespace
+/// (empty) uses rt/flipper/plan, ... The lexicon topic is one for all sites: rt/flipper/lexicon.
+
+#include <string>
+
+namespace flipper::dds {
+
+/// "rt/<ns>/flipper/<leaf>", or "rt/flipper/<leaf>" when `ns` is empty.
+std::string node_topic(const std::string& ns, const std::string& leaf);
+
+/// Throws sdk::Error(bad_config) unless `ns` is empty or one ROS 2 name token: a letter or `_`,
+/// then letters, digits or `_`, at most 64 characters in all.
+void check_namespace(const std::string& ns, const std::string& key = "dds.namespace");
+
+}  // namespace flipper::dds
