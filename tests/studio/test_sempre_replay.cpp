@@ -1,0 +1,165 @@
+// The dev corpus through /sempre: whole study runs, their logged `raw` commands in log order from
+// their logged sessionIds, each query preceded by its context, as the 2018 client sent them; the
+// statuses answered agree with the original's logged ones as `flipper replay`'s (computed here,
+// over the same runs and keys) do. And definitions from history (pairs with formulas) induce the
+// same rules through /sempre as through /api/v1's define with body formulas.
+#include <fstream>
+#include <iostream>
+
+#include "flipper/corpus/original_formula.hpp"
+#include "flipper/replay/corpus.hpp"
+#include "flipper/replay/metrics.hpp"
+#include "flipper/replay/replayer.hpp"
+#include "sempre_client.hpp"
+#include "studio_server.hpp"
+
+namespace flipper::sempretest {
+namespace {
+
+using studiotest::fresh_dir;
+using studiotest::StudioServer;
+namespace replay = kernel::replay;
+
+std::map<std::string, json> records_by_qid() {
+  std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/dev/queries.jsonl");
+  REQUIRE(in.good());
+  std::map<std::string, json> out;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) {
+      json r = json::parse(line);
+      std::string qid = r["qid"];
+      out.emplace(std::move(qid), std::move(r));
+    }
+  return out;
+}
+
+// The run's keys as `flipper replay` sets them (mode_overrides, then the dev experiment's
+// induction.generalize=false), its preloaded expert definitions in lexicon.preload's format.
+std::vector<std::string> run_keys(const replay::Corpus& corpus, const replay::Run& run,
+                                  const std::string& dir) {
+  std::vector<std::string> sets = replay::mode_overrides(run.group);
+  sets.push_back("induction.generalize=false");
+  sets.push_back("serve.sempre=true");
+  const auto preloaded = corpus.preloaded(run.source);
+  if (run.group == "C" && !preloaded.empty()) {
+    const std::string file = dir + "/preload.jsonl";
+    std::ofstream out(file);
+    for (const auto* d : preloaded) {
+      json body = json::array();
+      for (const auto& b : d->body) body.push_back(b.utterance);
+      out << json{{"head", d->head}, {"body", body}, {"author", d->author()}}.dump() << "\n";
+    }
+    sets.push_back("lexicon.preload=" + file);
+  }
+  return sets;
+}
+
+struct StatusTally {
+  int n = 0, agree = 0;
+};
+
+}  // namespace
+
+TEST_CASE("the dev corpus through /sempre agrees with the original's statuses as replay does") {
+  const replay::Corpus corpus = replay::load_corpus(FLIPPER_STUDY_DIR "/dev");
+  replay::ReplayOptions o;
+  o.sets = {"induction.generalize=false"};
+  const replay::Metrics m = replay::compute_metrics(replay::replay(corpus, o));
+
+  const auto records = records_by_qid();
+  StatusTally tally;
+  std::map<std::string, StatusTally> by_run;
+  for (const auto& run : corpus.runs) {
+    const std::string dir = fresh_dir("sempre-replay");
+    StudioServer server(dir, run_keys(corpus, run, dir));
+    auto http = server.client();
+    for (const std::size_t i : run.commands) {
+      const replay::Command& c = corpus.commands[i];
+      const json& r = records.at(c.qid);
+      if (c.kind == "q") {
+        const auto world = corpus.worlds.find(c.world_id);
+        REQUIRE(world != corpus.worlds.end());
+        const SempreReply ctx = sempre_get(http, context_command(world->second), c.session);
+        REQUIRE(ctx.body["lines"] == json::array());
+      }
+      const SempreReply a = sempre_get(http, r["raw"].get<std::string>(), c.session);
+      INFO(c.qid << " " << r["raw"].get<std::string>().substr(0, 200) << "\n" << a.body.dump());
+      REQUIRE(a.body.is_object());
+      REQUIRE(a.body["candidates"].is_array());
+      if (c.kind != "q") continue;
+      ++tally.n;
+      ++by_run[run.source].n;
+      if (a.body["stats"]["status"] == c.status) {
+        ++tally.agree;
+        ++by_run[run.source].agree;
+      }
+    }
+  }
+  std::cout << "status agreement with the original: /sempre " << tally.agree << "/" << tally.n
+            << ", flipper replay " << m.overall.agree << "/" << m.overall.n << "\n";
+  for (const auto& [run, t] : by_run)
+    std::cout << "  " << run << ": " << t.agree << "/" << t.n << "\n";
+  std::cout << std::flush;
+  CHECK(tally.n == m.overall.n);
+  CHECK(tally.agree >= m.overall.agree);
+}
+
+TEST_CASE("definitions from history induce the same rules through /sempre and /api/v1") {
+  // Every definition of the dev corpus, in log order, into two fresh servers: as the client's
+  // (:def "head" "[[utterance, formula], ...]") through /sempre, and as /api/v1 define requests
+  // whose body lines carry the same formulas (as canonical text).
+  const auto records = records_by_qid();
+  std::vector<const json*> defs;
+  for (const auto& [qid, r] : records)
+    if (r["kind"] == "def" || r["kind"] == "def_ret" || r["kind"] == "def_iso") defs.push_back(&r);
+  REQUIRE(defs.size() == 227);
+  std::sort(defs.begin(), defs.end(), [](const json* a, const json* b) {
+    return std::make_pair((*a)["source"].get<std::string>(), (*a)["line"].get<int>()) <
+           std::make_pair((*b)["source"].get<std::string>(), (*b)["line"].get<int>());
+  });
+  StudioServer sempre(fresh_dir("sempre-defs"), {"serve.sempre=true"});
+  StudioServer api(fresh_dir("api-defs"));
+  auto s = sempre.client(), a = api.client();
+  const std::string session = studiotest::new_session(a);
+  int ok = 0, refused = 0;
+  for (const json* d : defs) {
+    INFO((*d)["qid"].get<std::string>() << " " << (*d)["raw"].get<std::string>().substr(0, 300));
+    const SempreReply viaSempre = sempre_get(s, (*d)["raw"], (*d)["session"]);
+    json body = json::array();
+    for (const auto& line : (*d)["body"]) {
+      const std::string f = line["formula"];
+      if (f == "()")
+        body.push_back(line["utterance"]);
+      else
+        body.push_back(json{{"text", line["utterance"]},
+                            {"formula", kernel::corpus::original_formula_to_canonical(f)}});
+    }
+    const studiotest::Reply viaApi = studiotest::post_json(
+        a, session, json{{"op", "define"}, {"head", (*d)["head"]}, {"body", body}});
+    const bool sempre_ok = viaSempre.body["lines"] == json::array();
+    CHECK(sempre_ok == (viaApi.body["ok"] == true));
+    if (!sempre_ok) {
+      CHECK(viaSempre.body["error"]["code"] == viaApi.body["error"]["code"]);
+      ++refused;
+      continue;
+    }
+    ++ok;
+    CHECK(viaSempre.body["stats"]["rules"] == viaApi.body["rules"].size());
+  }
+  // The same rules, in the same order (lhs, rhs, semantics, head, body).
+  auto shapes = [](httplib::Client& c) {
+    const std::string token = studiotest::new_session(c);
+    json rules = studiotest::post(c, token, R"({"op":"rules"})").body["rules"];
+    for (auto& r : rules)
+      for (const char* k : {"id", "author", "uses", "uses_by_author", "uses_by_others"}) r.erase(k);
+    return rules;
+  };
+  const json ours = shapes(s), theirs = shapes(a);
+  std::cout << "definitions from history: " << ok << " induced, " << refused << " refused; "
+            << ours.size() << " rules through /sempre, " << theirs.size() << " through /api/v1\n"
+            << std::flush;
+  CHECK(ours == theirs);
+  CHECK(ours.size() > 200);
+}
+
+}  // namespace flipper::sempretest
