@@ -83,33 +83,66 @@ class PathWriter {
   nlohmann::json path_ = nlohmann::json::array();
 };
 
+// The statements a program runs one after the other: a sequence's statements and the copies of
+// a `repeat` with a literal count, recursively; everything else is one statement. Stops adding
+// (returns false) beyond `limit` statements.
+bool split(const sdk::Program& p, std::vector<sdk::Program>& out, std::size_t limit) {
+  if (p->kind == Kind::Seq) {
+    for (const auto& k : p->kids)
+      if (!split(k, out, limit)) return false;
+    return true;
+  }
+  if (p->kind == Kind::Repeat && p->kids[0]->kind == Kind::Num) {
+    const double n = p->kids[0]->number;
+    if (n != static_cast<double>(static_cast<long long>(n))) return false;  // fails as a whole
+    for (long long i = 0; i < static_cast<long long>(n); ++i)
+      if (!split(p->kids[1], out, limit)) return false;
+    return true;
+  }
+  out.push_back(p);
+  return out.size() <= limit;
+}
+
+// Most statements one program is split into for its value (beyond: one compound statement).
+constexpr std::size_t kMaxStatements = 1000;
+
+std::string value_text(const sdk::Outcome& whole, PathWriter& writer) {
+  const nlohmann::json value{{"status", whole.warnings.empty() ? "" : whole.warnings.back()},
+                             {"path", writer.take()}};
+  return value.dump();
+}
+
 }  // namespace
 
 std::string sempre_value(const sdk::Program& program, const sdk::WorldState& start,
                          const sdk::Outcome& whole, const sdk::ExecutionService& exec) {
   if (whole.error) return "execution error: " + *whole.error;
   PathWriter writer(start.robot);
-  bool split = program->kind == Kind::Seq;
-  if (split) {
+  std::vector<sdk::Program> statements;
+  const bool split_ok = split(program, statements, kMaxStatements);
+  if (split_ok && statements.size() == 1) {
+    writer.statement(statements[0], whole.trace, !whole.warnings.empty());
+    return value_text(whole, writer);
+  }
+  bool apart = split_ok && statements.size() > 1;
+  if (apart) {
     // The statements one by one: where each movement ends and which pick or drop failed.
     std::vector<sdk::Outcome> parts;
     std::vector<Step> joined;
     sdk::WorldState world = start;
-    for (const auto& s : program->kids) {
+    for (const auto& s : statements) {
       parts.push_back(exec.run(s, world));
       if (parts.back().error) break;
       world = parts.back().world;
       joined.insert(joined.end(), parts.back().trace.begin(), parts.back().trace.end());
     }
     // The same execution as a whole (it always is, unless a budget cut one of them).
-    split = parts.size() == program->kids.size() && joined == whole.trace;
-    for (std::size_t i = 0; split && i < parts.size(); ++i)
-      writer.statement(program->kids[i], parts[i].trace, !parts[i].warnings.empty());
+    apart = parts.size() == statements.size() && joined == whole.trace;
+    for (std::size_t i = 0; apart && i < parts.size(); ++i)
+      writer.statement(statements[i], parts[i].trace, !parts[i].warnings.empty());
   }
-  if (!split) writer.statement(program, whole.trace, !whole.warnings.empty());
-  const nlohmann::json value{{"status", whole.warnings.empty() ? "" : whole.warnings.back()},
-                             {"path", writer.take()}};
-  return value.dump();
+  if (!apart) writer.statement(program, whole.trace, !whole.warnings.empty());
+  return value_text(whole, writer);
 }
 
 }  // namespace flipper::studio
