@@ -189,18 +189,25 @@ TEST_CASE(":q answers stats, lines and candidates of the spec's shape on the 201
                      step(8, 0, "destination")}));
 }
 
+// Each 'or'/'containing' doubles the readings of a chain.
+const std::string kChain =
+    "visit room1 or room2 containing item or room3 containing item or room4 containing item or "
+    "room5 containing item or room6 containing item";
+
 TEST_CASE("more than 50 readings: the first 50 and the line 'Exceeded max options'") {
   // The chart parser keeps 50 derivations per cell by default: a wider beam finds more.
   StudioServer server(fresh_dir("sempre-many"), {"serve.sempre=true", "parser.params.beam=200"});
   auto http = server.client();
-  // Each 'or'/'containing' doubles the readings of a chain.
-  const json a = ask(http, "s1",
-                     "visit room1 or room2 containing item or room3 containing item or room4 "
-                     "containing item or room5 containing item or room6 containing item",
-                     study_map());
+  const json a = ask(http, "s1", kChain, study_map());
   REQUIRE(a["candidates"].size() == 50);
   CHECK(a["stats"]["size"] == 50);
   CHECK(a["lines"] == json::array({"Exceeded max options"}));
+  // With the default beam the same query has exactly 50 readings: all answered, no line.
+  StudioServer fifty(fresh_dir("sempre-fifty"), kSempre);
+  auto http50 = fifty.client();
+  const json b = ask(http50, "s1", kChain, study_map());
+  CHECK(b["candidates"].size() == 50);
+  CHECK(b["lines"] == json::array());
 }
 
 TEST_CASE("a context that is not a world is refused with a line, and the next query says so") {

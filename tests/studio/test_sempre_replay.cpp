@@ -148,6 +148,11 @@ TEST_CASE("the dev corpus through /sempre agrees with the original's statuses as
             << std::flush;
   CHECK(tally.n == m.overall.n);
   CHECK(tally.agree >= m.overall.agree);
+  // Measured 3863 against replay's 3830: /sempre's definitions carry each step's accepted
+  // formula, so the 42 queries of definitions whose lines do not parse to it (or at all, like
+  // "pick every red item") are Induced as in the original; without the formulas the two agree
+  // exactly (3830).
+  CHECK(tally.agree >= 3863);
   // Measured: 776 of 1470 identical, of 782 with the same execution (6 differ inside foreach).
   CHECK(paths.compared == 1470);
   CHECK(paths.same >= paths.same_execution - 6);
