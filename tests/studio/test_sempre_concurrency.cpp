@@ -85,6 +85,16 @@ TEST_CASE("concurrent clients: definitions, dictionaries, accepts and deletions 
     return r;
   };
 
+  // `n` dictionaries on connection `b`, not awaited: each must be a whole list, whatever it holds.
+  auto race_dictionaries = [&](httplib::Client& b, const std::string& sid, int n) {
+    return std::async(std::launch::async, [&, sid, n] {
+      for (int k = 0; k < n; ++k) {
+        const SempreReply r = get(b, "(:dictionary)", sid);
+        if (dictionary_of(r).is_null()) fail("a racing dictionary is not a list: " + r.body.dump());
+      }
+    });
+  };
+
   // Phase 1: each client defines while its other connection asks for the dictionary repeatedly.
   // Phase 2: it asks for its phrase and accepts it without waiting, its next context and query
   // going out at once.
@@ -93,17 +103,12 @@ TEST_CASE("concurrent clients: definitions, dictionaries, accepts and deletions 
     const std::string sid = "client" + std::to_string(i);
     const std::string head = std::string("hop ") + kWords[i];
     httplib::Client a = server.client(), b = server.client();
-    auto racing = std::async(std::launch::async, [&] {
-      std::vector<SempreReply> out;
-      for (int k = 0; k < 3; ++k) out.push_back(get(b, "(:dictionary)", sid));
-      return out;
-    });
+    auto racing = race_dictionaries(b, sid, 3);
     const SempreReply def = get(a, definition(head), sid);
     if (def.body["lines"] != json::array() ||
         def.body["candidates"][0]["formula"] != "{{move up};{move right}}")
       fail(head + ": " + def.body.dump());
-    for (const auto& r : racing.get())  // before or after the definition, but whole
-      if (dictionary_of(r).is_null()) fail("a racing dictionary is not a list: " + r.body.dump());
+    racing.get();  // answered before or after the definition, but whole
     // Asked after the definition's answer arrived: it is there.
     const json dict = dictionary_of(get(a, "(:dictionary)", sid));
     if (!lists_head(dict, head)) fail(head + " missing from " + dict.dump());
@@ -132,15 +137,10 @@ TEST_CASE("concurrent clients: definitions, dictionaries, accepts and deletions 
     const std::string sid = "client" + std::to_string(i);
     const std::string head = std::string("hop ") + kWords[i];
     httplib::Client a = server.client(), b = server.client();
-    auto racing = std::async(std::launch::async, [&] {
-      std::vector<SempreReply> out;
-      for (int k = 0; k < 2; ++k) out.push_back(get(b, "(:dictionary)", sid));
-      return out;
-    });
+    auto racing = race_dictionaries(b, sid, 2);
     const SempreReply del =
         get(a, "(:delete " + std::to_string(indexes[static_cast<std::size_t>(i)]) + ")", sid);
-    for (const auto& r : racing.get())
-      if (dictionary_of(r).is_null()) fail("a racing dictionary is not a list: " + r.body.dump());
+    racing.get();
     if (del.body["lines"] != json::array()) fail(head + ": delete: " + del.body.dump());
     const json after = dictionary_of(get(a, "(:dictionary)", sid));
     if (after.is_null() || lists_head(after, head))

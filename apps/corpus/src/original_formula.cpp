@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,22 @@ std::string braced(const std::string& a, const char* op, const std::string& b) {
   return "{" + a + op + b + "}";
 }
 
+// (and A B), (or A B) and, where the sort has it, (not A), over parts of the same sort read by
+// `part`; nullopt for any other form.
+std::optional<std::string> connective(const Sexp& e, std::string (*part)(const Sexp&),
+                                      bool with_not) {
+  const std::string& h = head(e);
+  if (h == "and" || h == "or") {
+    arity(e, 3);
+    return braced(part(e.kids[1]), h == "and" ? " and " : " or ", part(e.kids[2]));
+  }
+  if (with_not && h == "not") {
+    arity(e, 2);
+    return "{not " + part(e.kids[1]) + "}";
+  }
+  return std::nullopt;
+}
+
 std::string number(const Sexp& e);
 std::string action(const Sexp& e);
 std::string location(const Sexp& e);
@@ -131,14 +148,7 @@ std::string filter(const Sexp& e) {
     arity(e, 2);
     return "{is " + e.kids[1].atom + "}";
   }
-  if (h == "and" || h == "or") {
-    arity(e, 3);
-    return braced(filter(e.kids[1]), h == "and" ? " and " : " or ", filter(e.kids[2]));
-  }
-  if (h == "not") {
-    arity(e, 2);
-    return "{not " + filter(e.kids[1]) + "}";
-  }
+  if (auto c = connective(e, filter, true)) return *c;
   fail("'" + show(e) + "' is not an item filter");
 }
 
@@ -174,11 +184,7 @@ std::string location(const Sexp& e) {
     if (e.atom.rfind("room", 0) == 0 && e.atom.size() > 4) return e.atom;
     fail("'" + e.atom + "' is not a location");
   }
-  const std::string& h = head(e);
-  if (h == "and" || h == "or") {
-    arity(e, 3);
-    return braced(location(e.kids[1]), h == "and" ? " and " : " or ", location(e.kids[2]));
-  }
+  if (auto c = connective(e, location, false)) return *c;
   const std::string& f = called(e);
   if (f == "makePoint") {
     arity(e, 4);
@@ -221,14 +227,7 @@ std::string item_at(const Sexp& items, const Sexp& where) {
 
 std::string condition(const Sexp& e) {
   const std::string& h = head(e);
-  if (h == "and" || h == "or") {
-    arity(e, 3);
-    return braced(condition(e.kids[1]), h == "and" ? " and " : " or ", condition(e.kids[2]));
-  }
-  if (h == "not") {
-    arity(e, 2);
-    return "{not " + condition(e.kids[1]) + "}";
-  }
+  if (auto c = connective(e, condition, true)) return *c;
   if (h == ":realizable") {
     arity(e, 2);
     return "{possible " + action(e.kids[1]) + "}";
