@@ -148,15 +148,16 @@ TEST_CASE("the dev corpus through /sempre agrees with the original's statuses as
             << std::flush;
   CHECK(tally.n == m.overall.n);
   CHECK(tally.agree >= m.overall.agree);
-  // Measured 3863 against replay's 3830: /sempre's definitions carry each step's accepted
-  // formula, so the 42 queries of definitions whose lines do not parse to it (or at all, like
-  // "pick every red item") are Induced as in the original; without the formulas the two agree
-  // exactly (3830).
-  CHECK(tally.agree >= 3863);
+  // More, in fact: /sempre's definitions carry each step's accepted formula, so the queries of
+  // definitions whose lines do not parse to it (or at all, like "pick every red item") are
+  // Induced as in the original. Measured 3863 against replay's 3830; without the formulas the
+  // two agree exactly (3830 both).
+  CHECK(tally.agree > m.overall.agree);
   // Measured: 776 of 1470 identical, of 782 with the same execution (6 differ inside foreach).
-  CHECK(paths.compared == 1470);
+  // The floors leave 2% to changes of the executor's tie rules and of induction.
   CHECK(paths.same >= paths.same_execution - 6);
-  CHECK(paths.same_execution >= 782);
+  CHECK(paths.compared >= 1440);
+  CHECK(paths.same_execution >= 765);
 }
 
 TEST_CASE("definitions from history induce the same rules through /sempre and /api/v1") {
