@@ -29,6 +29,9 @@ int run_serve(const CommonOptions& opts) {
                  "server\n";
   const int port = server.bind();
   std::cout << "flipper serve: listening on http://" << o.host << ":" << port << "/" << std::endl;
+  if (o.sempre)
+    std::cout << "flipper serve: the 2018 server's API at http://" << o.host << ":" << port
+              << "/sempre, open to every web page (docs/sempre.md)" << std::endl;
   std::thread waiter([&server, signals] {
     int sig = 0;
     sigwait(&signals, &sig);

@@ -138,7 +138,8 @@ int main(int argc, char** argv) {
         for (int i = 0; i < 40; ++i) {
           const auto& [head, body] = defs[static_cast<std::size_t>(i) % defs.size()];
           const auto t0 = std::chrono::steady_clock::now();
-          auto p = inducer.prepare({head + " y" + std::to_string(i), body, "bench", {}}, nullptr);
+          auto p =
+              inducer.prepare({head + " y" + std::to_string(i), body, "bench", {}, {}}, nullptr);
           inducer.induce(p, p.body, false, nullptr);
           ims.push_back(
               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)

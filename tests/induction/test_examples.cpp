@@ -33,7 +33,7 @@ struct Lexicon {
   std::vector<sdk::RulePtr> define(const std::string& head, std::vector<std::string> body,
                                    const std::string& user = "ana") {
     kernel::Inducer inducer(parser, scorer, options);
-    auto prepared = inducer.prepare({head, std::move(body), user, {}}, nullptr);
+    auto prepared = inducer.prepare({head, std::move(body), user, {}, {}}, nullptr);
     auto result = inducer.induce(prepared, prepared.body, false, [&](const sdk::Rule& r) {
       for (const auto& e : rules)
         if (kernel::same_rule(*e, r)) return true;
@@ -195,7 +195,7 @@ TEST_CASE("definition checks: empty head, core head, unparsable body line", "[in
 TEST_CASE("best_packing_score prefers bodies whose parts the head names", "[induction]") {
   Lexicon lex;
   kernel::Inducer inducer(lex.parser, lex.scorer);
-  auto prepared = inducer.prepare({"visit red triangle", {"move right"}, "ana", {}}, nullptr);
+  auto prepared = inducer.prepare({"visit red triangle", {"move right"}, "ana", {}, {}}, nullptr);
   const int n = 3;
   const auto plain = sdk::read_canonical("{visit {world containing item }}");
   const auto both =

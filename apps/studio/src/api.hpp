@@ -54,6 +54,14 @@ class Api {
   /// "did you mean", sharing mode, world files, the study and the participant's place in it).
   HttpReply info(const HttpRequest& request);
 
+  /// Runs `f(kernel)` with the plain server's kernel under the lock that serialises every kernel
+  /// call: the /sempre endpoint (sempre.hpp) keeps its own sessions over that kernel.
+  template <class F>
+  decltype(auto) with_kernel(F&& f) {
+    std::lock_guard lock(mutex_);
+    return f(kernel_for(std::string()));
+  }
+
   /// Study mode: every protocol exchange is handed to the recorder.
   void set_recorder(std::shared_ptr<Recorder> recorder) { recorder_ = std::move(recorder); }
   void set_study(std::shared_ptr<Study> study) { study_ = std::move(study); }

@@ -23,6 +23,7 @@ ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   o.session_idle_s = static_cast<int>(c.get(keys::kServeSessionIdleS));
   if (!c.get_string("serve.web_dir").empty()) o.web_dir = c.get_path("serve.web_dir");
   if (!c.get_string("serve.study").empty()) o.study = c.get_path("serve.study");
+  o.sempre = c.get(keys::kServeSempre);
   return o;
 }
 

@@ -63,6 +63,8 @@ bool SessionRegistry::admit(SessionEntry& e, Clock::time_point now) {
 }
 
 bool SessionRegistry::claim_user(const std::string& name, const std::string& token) {
+  // Names under "sempre:" are /sempre's sessionIds (docs/sempre.md): never an /api/v1 user.
+  if (name.rfind("sempre:", 0) == 0) return false;
   auto [it, inserted] = owners_.emplace(name, token);
   // "guest-N" names are only ever given by add(); an unclaimed one is not up for grabs.
   if (inserted && name.rfind("guest-", 0) == 0) {

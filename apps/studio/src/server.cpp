@@ -10,6 +10,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/studio/server.hpp"
 #include "recorder.hpp"
+#include "sempre.hpp"
 #include "static_files.hpp"
 #include "study.hpp"
 
@@ -82,6 +83,7 @@ struct Server::Impl {
   ServeOptions options;
   std::unique_ptr<StaticFiles> files;
   std::unique_ptr<Api> api;
+  std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre
   httplib::Server http;
   bool bound = false;
 };
@@ -93,6 +95,10 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   std::shared_ptr<Study> study;
   std::vector<std::pair<std::string, kernel::Config>> kernels{{"", config}};
   if (!m.options.study.empty()) {
+    if (m.options.sempre)
+      throw sdk::Error(sdk::codes::kBadConfig,
+                       "serve.sempre cannot be combined with serve.study: /sempre sessions belong "
+                       "to no study group");
     study = Study::load(m.options.study);
     std::error_code ec;
     std::filesystem::create_directories(study->record_dir(), ec);
@@ -120,6 +126,16 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   m.http.Get("/api/v1/info", [api](const httplib::Request& req, httplib::Response& res) {
     send(res, api->info(to_request(req)));
   });
+  if (m.options.sempre) {  // docs/sempre.md; registered before the page's catch-all route
+    m.sempre = std::make_unique<SempreEndpoint>(*m.api, m.options);
+    auto sempre = [endpoint = m.sempre.get()](const httplib::Request& req, httplib::Response& res) {
+      const std::size_t q = req.target.find('?');
+      send(res, endpoint->handle({req.method, q == std::string::npos ? std::string()
+                                                                     : req.target.substr(q + 1)}));
+    };
+    m.http.Get("/sempre", sempre);
+    m.http.Options("/sempre", sempre);
+  }
   const StaticFiles* files = m.files.get();
   m.http.Get(".*", [files](const httplib::Request& req, httplib::Response& res) {
     const StaticFile* f = files->find(req.path);

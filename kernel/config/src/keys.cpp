@@ -118,6 +118,7 @@ ParamSchema build() {
   add(s, keys::kServeSessionIdleS);
   s.add_path("serve.web_dir", std::string(), "the page's files (empty: the installed ones)");
   s.add_path("serve.study", std::string(), "a study description (empty: no study)");
+  add(s, keys::kServeSempre);
   return s;
 }
 

@@ -11,6 +11,26 @@ Inducer::Inducer(PluginRef<const sdk::Parser> parser, PluginRef<const sdk::Score
                  InductionOptions options, const sdk::UsageCounters* usage)
     : parser_(std::move(parser)), scorer_(std::move(scorer)), options_(options), usage_(usage) {}
 
+namespace {
+
+// A body line given with its program (DefinitionInput::body_programs): the parser's candidate
+// with that program when the line reads so, else the program alone (no derivation to align).
+void take_program_line(const sdk::Program& program, sdk::ParseResult& parsed,
+                       std::vector<sdk::Program>& lines, PreparedDefinition& out) {
+  sdk::Candidate chosen;
+  for (auto& c : parsed.candidates)
+    if (sdk::equal(c.program, program)) {
+      chosen = std::move(c);
+      break;
+    }
+  if (!chosen.program) chosen.program = program;
+  lines.push_back(chosen.program);
+  out.body_derivations.push_back(chosen.derivations.empty() ? nullptr : chosen.derivations[0]);
+  out.body_candidates.push_back(std::move(chosen));
+}
+
+}  // namespace
+
 PreparedDefinition Inducer::prepare(const DefinitionInput& def,
                                     const std::function<bool(const sdk::Rule&)>& visible,
                                     const sdk::StopCondition& stop) const {
@@ -59,6 +79,11 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
     sdk::ParseResult r;
     if (!req.tokens.empty()) r = parse();
     refuse_if_stopped(r, "body line " + std::to_string(i + 1));
+    if (i < def.body_programs.size() && def.body_programs[i]) {
+      take_program_line(def.body_programs[i], r, lines, out);
+      out.body_tokens.push_back(std::move(req.tokens));
+      continue;
+    }
     if (r.candidates.empty())
       throw sdk::Error(induction_codes::kBodyUnparsable, line + " does not parse");
     const int rank = i < def.body_ranks.size() ? def.body_ranks[i] : 0;

@@ -468,10 +468,12 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   refresh();  // induce against every rule committed so far, by any process
   Inducer inducer(runtime_->parser, runtime_->scorer, options_.induction, runtime_->usage.get());
   const auto visible_rules = visibility_for(req.user);
-  PreparedDefinition prepared = inducer.prepare({req.head, req.body, req.user, req.body_ranks},
-                                                visible_rules, stop_at(req.deadline));
+  PreparedDefinition prepared =
+      inducer.prepare({req.head, req.body, req.user, req.body_ranks, req.body_programs},
+                      visible_rules, stop_at(req.deadline));
 
   DefineOutcome out;
+  out.body = prepared.body;
   sdk::Program winner = prepared.body;
   bool rewritten = false;
   if (options_.generalize && runtime_->rewriter && req.before && req.exec) {

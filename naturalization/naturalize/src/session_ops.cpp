@@ -57,6 +57,10 @@ DefineOutcome define(Naturalizer& nat, Session& s, const DefineCall& call) {
                                                     std::to_string(limits.max_body_lines));
   for (std::size_t i = 0; i < call.body.size(); ++i)
     check_length(limits, call.body[i], "body line " + std::to_string(i + 1));
+  if (call.programs.size() > call.body.size())
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "the definition has " + std::to_string(call.programs.size()) +
+                         " line programs for " + std::to_string(call.body.size()) + " body lines");
   for (int r : call.ranks)
     if (r < 0 || r > kMaxRank)
       throw sdk::Error(
@@ -67,6 +71,7 @@ DefineOutcome define(Naturalizer& nat, Session& s, const DefineCall& call) {
   d.head = call.head;
   d.body = call.body;
   d.body_ranks = call.ranks;
+  d.body_programs = call.programs;
   const DeadlineExecution exec(s.executor(), s.deadline());
   d.before = &s.world();
   d.exec = &exec;
@@ -88,11 +93,39 @@ void delete_rule(Naturalizer& nat, Session& s, const std::string& id) {
 
 namespace {
 
+// docs/protocol.md § define: `body` lines are utterances or {"text", "formula"} objects, the
+// formula (core-language text, as a query answers it) naming the line's reading.
+void read_body(const Json& req, DefineCall& call) {
+  const char* what = "a list of utterances or {\"text\", \"formula\"} objects";
+  const Json& body = request::require(req, "body", what);
+  if (!body.is_array())
+    throw sdk::Error(sdk::codes::kBadRequest, std::string("field 'body' must be ") + what);
+  for (const auto& line : body) {
+    const std::string n = std::to_string(call.body.size() + 1);
+    if (line.is_string()) {
+      call.body.push_back(line.get<std::string>());
+      continue;
+    }
+    if (!line.is_object() || !line.contains("text") || !line["text"].is_string() ||
+        !line.contains("formula") || !line["formula"].is_string())
+      throw sdk::Error(sdk::codes::kBadRequest, "body line " + n + " must be an utterance or " +
+                                                    "an object with string fields 'text' and " +
+                                                    "'formula'");
+    call.body.push_back(line["text"].get<std::string>());
+    call.programs.resize(call.body.size());
+    try {
+      call.programs.back() = sdk::read_canonical(line["formula"].get<std::string>());
+    } catch (const sdk::Error& e) {
+      throw sdk::Error(e.code(), "body line " + n + ": the formula does not read: " + e.what());
+    }
+  }
+}
+
 // docs/protocol.md § define: {"rules":[rule...],"generalized"[,"discarded"]}.
 void op_define(Naturalizer& nat, Session& s, const Json& req, JsonWriter& a) {
   DefineCall call;
   call.head = request::require_string(req, "head", "the utterance to define");
-  call.body = request::require_string_list(req, "body", "a list of utterances");
+  read_body(req, call);
   if (req.contains("ranks") && !req["ranks"].is_null()) {
     if (!req["ranks"].is_array())
       throw sdk::Error(sdk::codes::kBadRequest, "field 'ranks' must be a list of integers");

@@ -27,6 +27,7 @@ struct ServeOptions {
   int session_idle_s = static_cast<int>(kernel::keys::kServeSessionIdleS.def);
   std::string web_dir;  ///< empty: found next to the binary or in the source tree
   std::string study;    ///< a study description file (empty: no study mode)
+  bool sempre = kernel::keys::kServeSempre.def;  ///< also answer GET /sempre (docs/sempre.md)
   static ServeOptions from_config(const kernel::Config& config);
 };
 

@@ -83,5 +83,8 @@ inline constexpr Int kServeRateBurst{"serve.rate_burst", 200, 1, 1000000, "burst
 inline constexpr Int kServeMaxSessions{"serve.max_sessions", 1000, 1, 1000000, "open sessions"};
 inline constexpr Int kServeSessionIdleS{"serve.session_idle_s", 3600, 1, 31536000,
                                         "idle seconds before a session may be evicted"};
+inline constexpr Bool kServeSempre{"serve.sempre", false,
+                                   "also answer the 2018 server's API at GET /sempre, to any web "
+                                   "page (docs/sempre.md)"};
 
 }  // namespace flipper::kernel::keys

@@ -104,6 +104,11 @@ struct DefinitionInput {
   std::vector<std::string> body;
   std::string author;
   std::vector<int> body_ranks;  ///< optional: candidate rank per body line (default 0)
+  /// Optional per body line: the program the line means (the reading the user accepted for it,
+  /// docs/protocol.md § define). A line with one takes the parser's candidate with that program
+  /// (its derivation serves alignment) or, when the line does not parse to it, the program alone;
+  /// its rank is not used. Null or absent: the candidate of the line's rank.
+  std::vector<sdk::Program> body_programs;
 };
 
 /// What parsing the definition gave, before rules are built (the generalizer needs it).
@@ -133,8 +138,9 @@ class Inducer {
           InductionOptions options = {}, const sdk::UsageCounters* usage = nullptr);
 
   /// §4.1–4.3: checks, body program, head chart. Throws sdk::Error with the codes above
-  /// (bad_request for a rank past the candidates). Head and body parses stop at `stop`; a
-  /// stopped parse refuses the definition (deadline_exceeded).
+  /// (bad_request for a rank past the candidates; body_unparsable only for a line without a
+  /// program). Head and body parses stop at `stop`; a stopped parse refuses the definition
+  /// (deadline_exceeded).
   PreparedDefinition prepare(const DefinitionInput& def,
                              const std::function<bool(const sdk::Rule&)>& visible,
                              const sdk::StopCondition& stop = {}) const;

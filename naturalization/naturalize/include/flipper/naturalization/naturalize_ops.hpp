@@ -26,6 +26,9 @@ struct DefineCall {
   std::string head;
   std::vector<std::string> body;
   std::vector<int> ranks;  ///< per body line, the rank of the reading meant (empty: 0 each)
+  /// Per body line, the program meant (the reading accepted for it; null or absent: the line's
+  /// rank decides). docs/protocol.md § define, body lines with a `formula`.
+  std::vector<sdk::Program> programs;
 };
 
 /// The typed naturalization service of one session (the define/rules/delete_rule ops call it,

@@ -73,6 +73,7 @@ struct DefineRequest {
   std::string head;
   std::vector<std::string> body;
   std::vector<int> body_ranks;                  ///< optional per line
+  std::vector<sdk::Program> body_programs;      ///< optional per line (null: by rank)
   const sdk::WorldState* before = nullptr;      ///< world before the first body line
   const sdk::ExecutionService* exec = nullptr;  ///< both needed for generalization
   /// The request's deadline: parses stop at it, and a definition that reaches it before its
@@ -89,6 +90,7 @@ struct Discarded {
 
 struct DefineOutcome {
   std::vector<sdk::RulePtr> rules;  ///< the rules added (already in the parser and the store)
+  sdk::Program body;                ///< the body's program: its lines' readings in sequence
   std::int64_t definition = 0;      ///< store id of the definition
   bool generalization_ran = false;
   sdk::Program generalized;  ///< the winning rewriting (null when the body won)

@@ -1,0 +1,46 @@
+#pragma once
+// What each /sempre command does to one session (docs/sempre.md has the mapping table): the
+// context becomes the session's world, a query is the typed `query`, an accept the typed `accept`
+// of the reading its formula names, a definition naturalization's typed `define` with each body
+// line's program, the dictionary its `rules`, a deletion its `delete_rule`. Every call runs under
+// the kernel lock (Api::with_kernel).
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "flipper/kernel/session.hpp"
+#include "sempre_command.hpp"
+
+namespace flipper::studio {
+
+/// The original's cap on the candidates of one answer (beyond it: "Exceeded max options").
+inline constexpr std::int64_t kSempreMaxCandidates = 50;
+
+/// The lexicon author of a sessionId's rules, "sempre:<id>": a name of its own namespace, which
+/// no /api/v1 session can take (docs/sempre.md § "Who is who").
+std::string sempre_user(const std::string& session_id);
+/// A rule author as the dictionary's `uid`: the sessionId for /sempre authors, else the name.
+std::string sempre_uid(const std::string& author);
+
+/// One answer: `stats` (the command's own members; the endpoint adds type, count, walltime),
+/// `lines` (messages; the client shows a non-empty list as an alert) and `candidates`.
+struct SempreAnswer {
+  nlohmann::json stats = nlohmann::json::object();
+  std::vector<std::string> lines;
+  nlohmann::json candidates = nlohmann::json::array();
+};
+
+struct SempreSession {
+  std::unique_ptr<kernel::Session> session;
+  std::string context;        ///< the context text the session's world was loaded from
+  std::string context_error;  ///< why the last context was refused ("" when it loaded)
+  std::chrono::steady_clock::time_point last_used;
+};
+
+/// Runs one command. Refusals (sdk::Error) propagate; the endpoint turns them into `lines`.
+SempreAnswer run_sempre_command(SempreSession& s, const SempreCommand& command);
+
+}  // namespace flipper::studio
