@@ -1,6 +1,7 @@
 #pragma once
-// An output file whose write errors are reported: a full device makes close() throw
-// sdk::Error(write_failed) naming the file and the system's reason, instead of a short file.
+/// @file out_file.hpp
+/// An output file whose write errors are reported: a full device makes close() throw
+/// sdk::Error(write_failed) naming the file and the system's reason, instead of a short file.
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -9,7 +10,7 @@
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::record {
 
 class OutFile {
  public:
@@ -45,4 +46,4 @@ class OutFile {
   std::ofstream out_;
 };
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::record
