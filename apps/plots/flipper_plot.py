@@ -6,8 +6,8 @@ units that were plotted, so tests check what a figure shows without looking at p
 
 The rules every figure follows:
 - axes fitted to the data: a value axis ends a little above the largest bar (room for its label),
-  never at a round number far beyond it; when the bars differ by little relative to their size
-  (less than a fifth of the largest) the axis is zoomed onto them and says so;
+  never at a round number far beyond it; when the bars differ, but by little relative to their
+  size (less than a fifth of the largest), the axis is zoomed onto them and the title says so;
 - every bar carries its value as a label;
 - durations below 1 ms are drawn in µs (no "0.0 ms");
 - error bars over seeds (sample standard deviation) where a condition has several seeds;
@@ -122,7 +122,7 @@ def fit_axis(lows, highs):
     if not highs or max(highs) <= 0:
         return 0.0, 1.0, False
     lo, hi = min(lows), max(highs)
-    if lo > 0 and (hi - lo) < 0.2 * hi:
+    if lo > 0 and 0 < (hi - lo) < 0.2 * hi:
         margin = max((hi - lo) * 0.6, hi * 0.01)
         return max(0.0, lo - margin), hi + margin, True
     return min(lo, 0.0), hi * 1.12, False

@@ -190,9 +190,9 @@ std::vector<std::string> provenance_warnings(const json& recorded, const json& n
     if (text_at(rb, key) != text_at(nb, key))
       out.push_back(std::string("flipper ") + key + " differs: recorded " + text_at(rb, key) +
                     ", now " + text_at(nb, key));
+  const json now_list = now.value("variants", json::array());
   std::map<std::string, const json*> now_variants;
-  for (const auto& v : now.value("variants", json::array()))
-    now_variants[text_at(v, "name")] = &v;
+  for (const auto& v : now_list) now_variants[text_at(v, "name")] = &v;
   std::set<std::string> seen_plugins;
   for (const auto& v : recorded.value("variants", json::array())) {
     const std::string name = text_at(v, "name");
@@ -204,9 +204,9 @@ std::vector<std::string> provenance_warnings(const json& recorded, const json& n
     if (rc != nc)
       out.push_back("variant '" + name + "': the effective config differs (" +
                     first_difference(nc, rc) + ")");
+    const json plugin_list = w.value("plugins", json::array());
     std::map<std::string, const json*> now_plugins;
-    for (const auto& p : w.value("plugins", json::array()))
-      now_plugins[text_at(p, "section")] = &p;
+    for (const auto& p : plugin_list) now_plugins[text_at(p, "section")] = &p;
     for (const auto& p : v.value("plugins", json::array())) {
       const std::string section = text_at(p, "section");
       auto np = now_plugins.find(section);

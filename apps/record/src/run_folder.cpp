@@ -46,7 +46,8 @@ std::string utc_now() { return utc_format("%Y-%m-%dT%H:%M:%SZ"); }
 std::string directory_name(const std::string& name) {
   std::string out;
   for (char c : name)
-    out += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' ||
+    out += c == ',' ? '+'
+           : std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' ||
                    c == '+' || c == '='
                ? c
                : '_';

@@ -146,7 +146,7 @@ PlannerFigures planner_figures(const std::vector<AcceptRow>& rows) {
     ++p.executed;
     p.path_length += r.path_length;
     p.turns += r.turns;
-    cpu.push_back(r.plan_cpu_ms);
+    if (r.plan_calls > 0) cpu.push_back(r.plan_cpu_ms);
   }
   std::sort(cpu.begin(), cpu.end());
   p.plan_cpu_ms_p50 = quantile(cpu, 0.5);

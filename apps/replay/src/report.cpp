@@ -20,8 +20,9 @@ std::string text(const json& j, const char* key) {
 
 class VariantSection {
  public:
-  VariantSection(std::ostream& o, const FigureTable& t, const record::VariantInfo& v)
-      : o_(o), t_(t), v_(v) {}
+  VariantSection(std::ostream& o, const std::vector<record::Figure>& figures, const FigureTable& t,
+                 const record::VariantInfo& v)
+      : o_(o), figures_(figures), t_(t), v_(v) {}
 
   void write(const json& manifest_variant) {
     o_ << "## Variant `" << v_.name << "`\n\n";
@@ -183,16 +184,13 @@ class VariantSection {
   // The groups a metric has for this variant, in the order figures.csv lists them.
   std::vector<std::string> groups_of(const std::string& metric) const {
     std::vector<std::string> out;
-    for (const auto& f : *all_)
+    for (const auto& f : figures_)
       if (f.variant == v_.name && f.source == "ours" && f.metric == metric) out.push_back(f.group);
     return out;
   }
 
- public:
-  const std::vector<record::Figure>* all_ = nullptr;
-
- private:
   std::ostream& o_;
+  const std::vector<record::Figure>& figures_;
   const FigureTable& t_;
   const record::VariantInfo& v_;
 };
@@ -299,9 +297,7 @@ void write_report(const std::string& run_dir, const json& manifest,
     json mv = json::object();
     for (const auto& x : manifest_variants)
       if (text(x, "name") == v.name) mv = x;
-    VariantSection section(o, table, v);
-    section.all_ = &figures;
-    section.write(mv);
+    VariantSection(o, figures, table, v).write(mv);
   }
   file.close();
 }

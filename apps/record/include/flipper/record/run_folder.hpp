@@ -18,8 +18,8 @@ std::string create_run_folder(const std::string& parent, const std::string& stem
 /// Whether `dir` is a run folder (holds manifest.json).
 bool is_run_folder(const std::string& dir);
 
-/// A directory name from a readable name: letters, digits, '.', '_', '-', '+', '=' kept, every
-/// other character '_'; names longer than 120 characters keep their first 100 and add the first
+/// A directory name from a readable name: letters, digits, '.', '_', '-', '+', '=' kept, ','
+/// (between a sweep point's settings) '+', every other character '_'; names longer than 120 characters keep their first 100 and add the first
 /// 12 hex digits of the name's SHA-256, so distinct long names stay distinct.
 std::string directory_name(const std::string& name);
 

@@ -78,7 +78,8 @@ struct PlannerFigures {
   long path_length = 0, turns = 0;
   long plan_calls = 0;
   double plan_cpu_ms = 0;  ///< sum (a timing figure)
-  double plan_cpu_ms_p50 = 0, plan_cpu_ms_p90 = 0;  ///< per executed accept (timing)
+  /// Per executed accept whose program called the planner (timing).
+  double plan_cpu_ms_p50 = 0, plan_cpu_ms_p90 = 0;
 };
 PlannerFigures planner_figures(const std::vector<AcceptRow>& rows);
 
