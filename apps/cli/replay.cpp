@@ -83,15 +83,24 @@ void say_plots(const record::PlotOutcome& plots) {
     std::cerr << "flipper replay: note: " << plots.message << "\n";
 }
 
-// The --print tables: what README blocks generate (scripts/readme-figures).
-std::string table_text(const std::string& name, const RunSummary& s) {
+std::string one_table(const std::string& name, const RunSummary& s) {
   const record::FigureTable t(s.figures);
-  if (name == "variants") return kernel::replay::variants_table(t, s.variants);
+  if (name == "headline") return kernel::replay::headline_text(t, s.variants);
   if (name == "oracles") return kernel::replay::oracles_text(t, s.variants);
+  if (name == "variants") return kernel::replay::variants_table(t, s.variants);
   if (name == "planner") return kernel::replay::planner_table(t, s.variants);
   if (name == "seeds") return kernel::replay::seeds_table(s.figures, s.variants);
   throw sdk::Error(sdk::codes::kBadRequest,
-                   "--print '" + name + "': no such table (variants, oracles, planner, seeds)");
+                   "--print '" + name +
+                       "': no such table (headline, variants, oracles, planner, seeds)");
+}
+
+// The --print tables: what README blocks generate (scripts/readme-figures). `names` is one
+// table or several, comma-separated, printed in that order.
+std::string table_text(const std::string& names, const RunSummary& s) {
+  std::string out;
+  for (const auto& name : split_commas(names)) out += one_table(name, s);
+  return out;
 }
 
 int run_replay(const CommonOptions& common, const ReplayArgs& args) {
@@ -271,7 +280,8 @@ void add_replay_command(CLI::App& app) {
   cmd->add_option("--shard", args.shard,
                   "Run only shard I of N of the variants (I from 0), for merge");
   cmd->add_option("--print", args.print,
-                  "Print only this table to standard output: variants, oracles, planner, seeds");
+                  "Print only these tables (comma-separated) to standard output: headline, "
+                  "variants, oracles, planner, seeds");
   cmd->add_flag("--json", args.json, "Print the per-variant summary as one JSON object");
   cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
   cmd->require_subcommand(0, 1);

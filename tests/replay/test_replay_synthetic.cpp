@@ -9,6 +9,7 @@
 #include "flipper/replay/experiment.hpp"
 #include "flipper/replay/metrics.hpp"
 #include "flipper/replay/replayer.hpp"
+#include "flipper/record/figures.hpp"
 
 using namespace flipper::kernel::replay;
 
@@ -99,7 +100,7 @@ TEST_CASE("replay is deterministic and --max-queries stops each run") {
   CHECK_THROWS(run({"no/such-run"}));
 }
 
-TEST_CASE("an experiment writes metrics, CSV, SVG and the report") {
+TEST_CASE("an experiment writes a run folder: metrics, CSV, figures and the report") {
   namespace fs = std::filesystem;
   const fs::path out = fs::path(FLIPPER_BINARY_DIR) / "replay-test-out";
   fs::remove_all(out);
@@ -107,26 +108,29 @@ TEST_CASE("an experiment writes metrics, CSV, SVG and the report") {
   e.corpus = FLIPPER_SOURCE_DIR "/tests/replay/data";
   e.sets = {"induction.generalize=false"};
   e.variants = {{"plain", {}}, {"beam5", {"parser.params.beam=5"}}};
-  const auto variants = run_experiment(e, out.string());
-  REQUIRE(variants.size() == 2);
-  for (const char* f :
-       {"metrics.json", "queries.csv", "participants.csv", "groups.csv", "accepts.csv",
-        "tokens.svg", "induced_core.svg", "others_self.svg", "latency.svg"})
-    CHECK(fs::exists(out / "plain" / f));
-  std::ifstream report(out / "report.md");
+  RunOptions options;
+  options.out = out.string();
+  options.plots = false;
+  const RunSummary s = run_experiment(e, options);
+  REQUIRE(s.variants.size() == 2);
+  CHECK(fs::path(s.run_dir).parent_path() == out);
+  for (const char* f : {"metrics.json", "queries.csv", "participants.csv", "groups.csv",
+                        "accepts.csv", "definitions.csv", "figures.csv"})
+    CHECK(fs::exists(fs::path(s.run_dir) / "plain" / f));
+  for (const char* f : {"manifest.json", "figures.csv", "variants.csv", "settings.csv", "report.md"})
+    CHECK(fs::exists(fs::path(s.run_dir) / f));
+  std::ifstream report(fs::path(s.run_dir) / "report.md");
   const std::string text((std::istreambuf_iterator<char>(report)), {});
-  CHECK(text.find("Variants side by side") != std::string::npos);
+  CHECK(text.find("## Variants compared") != std::string::npos);
   CHECK(text.find("plain/tokens.svg") != std::string::npos);
-  // The latency plot: labelled as two different measures, only the occupied bins (every
-  // original walltime is 50 ms: nothing at 100 ms or above).
-  std::ifstream lat_file(out / "plain" / "latency.svg");
-  const std::string lat((std::istreambuf_iterator<char>(lat_file)), {});
-  CHECK(lat.find("original: logged server wall time") != std::string::npos);
-  CHECK(lat.find(">32+</text>") != std::string::npos);
-  CHECK(lat.find(">100+</text>") == std::string::npos);
-  CHECK(lat.find(">1000+</text>") == std::string::npos);
   CHECK(text.find("| `agree` | 1 | agree |") != std::string::npos);  // the class table
   CHECK(text.find("Unexplained: 0.") != std::string::npos);
+  // The synthetic corpus's figures (see above): 11 of 12 statuses agree, in every variant.
+  const record::FigureTable t(s.figures);
+  for (const auto& v : s.variants) {
+    CHECK(t.get(v.name, "ours", "all", "agree") == 11);
+    CHECK(t.get(v.name, "ours", "all", "queries") == 12);
+  }
 }
 
 TEST_CASE("experiment files are validated") {

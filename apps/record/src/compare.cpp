@@ -120,7 +120,7 @@ std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all) {
     o << (only_b.empty() ? " none" : "") << ".\n\n";
   }
   o << differing << " of " << compared << " figures differ";
-  if (timing_rows) o << " (" << timing_rows << " timing figures apart)";
+  if (timing_rows) o << "; timing figures (not compared): " << timing_rows;
   o << ".\n";
   return o.str();
 }

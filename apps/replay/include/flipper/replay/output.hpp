@@ -24,7 +24,7 @@ nlohmann::ordered_json metrics_json(const Metrics& m);
 /// Writes metrics.json and the CSV files into `dir` (created).
 void write_metrics(const std::string& dir, const ReplayResult& result, const Metrics& m);
 
-/// A figure as the report shows it: one decimal ("97.0"), whole numbers without ("3830").
+/// A mean as the report shows it: one decimal ("97.0", "1435.0").
 std::string one_decimal(double v);
 /// A duration in ms as the report shows it: µs below 1 ms ("21 µs", "4.2 µs"), else ms.
 std::string duration_text(double ms);
@@ -35,6 +35,10 @@ std::string duration_text(double ms);
 /// commands per participant, induced and core commands per participant.
 std::string variants_table(const record::FigureTable& figures,
                            const std::vector<record::VariantInfo>& variants);
+/// The headline per variant (Markdown lines): status agreement, accepted programs found,
+/// executions agreeing with the logged next world.
+std::string headline_text(const record::FigureTable& figures,
+                          const std::vector<record::VariantInfo>& variants);
 /// The oracles per variant (Markdown lines): induced rules against the original's logged ones,
 /// execution differences nothing explains.
 std::string oracles_text(const record::FigureTable& figures,
