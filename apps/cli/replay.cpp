@@ -73,7 +73,9 @@ class Progress {
   std::string variant_;
 };
 
-int jobs_or_cores(int jobs) { return jobs > 0 ? jobs : record::available_cores(); }
+int jobs_or_cores(int jobs) {
+  return jobs > 0 ? jobs : record::available_cores();
+}
 
 // Where plots went, or why not (a note on stderr, never a failure of the run).
 void say_plots(const record::PlotOutcome& plots) {
@@ -90,9 +92,9 @@ std::string one_table(const std::string& name, const RunSummary& s) {
   if (name == "variants") return kernel::replay::variants_table(t, s.variants);
   if (name == "planner") return kernel::replay::planner_table(t, s.variants);
   if (name == "seeds") return kernel::replay::seeds_table(s.figures, s.variants);
-  throw sdk::Error(sdk::codes::kBadRequest,
-                   "--print '" + name +
-                       "': no such table (headline, variants, oracles, planner, seeds)");
+  throw sdk::Error(
+      sdk::codes::kBadRequest,
+      "--print '" + name + "': no such table (headline, variants, oracles, planner, seeds)");
 }
 
 // The --print tables: what README blocks generate (scripts/readme-figures). `names` is one
@@ -142,12 +144,13 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
   if (args.json) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& v : s.variants)
-      list.push_back({{"variant", v.name},
-                      {"status_agree", t.find(v.name, "ours", "all", "agree").value_or(0)},
-                      {"queries", t.find(v.name, "ours", "all", "queries").value_or(0)},
-                      {"accepts_matched", t.find(v.name, "ours", "all", "accepts_matched").value_or(0)},
-                      {"accepts", t.find(v.name, "ours", "all", "accepts").value_or(0)},
-                      {"metrics", s.run_dir + "/" + v.directory + "/metrics.json"}});
+      list.push_back(
+          {{"variant", v.name},
+           {"status_agree", t.find(v.name, "ours", "all", "agree").value_or(0)},
+           {"queries", t.find(v.name, "ours", "all", "queries").value_or(0)},
+           {"accepts_matched", t.find(v.name, "ours", "all", "accepts_matched").value_or(0)},
+           {"accepts", t.find(v.name, "ours", "all", "accepts").value_or(0)},
+           {"metrics", s.run_dir + "/" + v.directory + "/metrics.json"}});
     std::cout << nlohmann::json{{"run", s.run_dir},
                                 {"variants", std::move(list)},
                                 {"figures", s.run_dir + "/figures.csv"},
@@ -160,8 +163,8 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
   std::ostream& summary = args.print.empty() ? std::cout : std::cerr;
   for (const auto& v : s.variants)
     summary << v.name << ": status agreement " << figure(v.name, "agree") << "/"
-            << figure(v.name, "queries") << ", accepts matched " << figure(v.name, "accepts_matched")
-            << "/" << figure(v.name, "accepts") << "\n";
+            << figure(v.name, "queries") << ", accepts matched "
+            << figure(v.name, "accepts_matched") << "/" << figure(v.name, "accepts") << "\n";
   summary << "run: " << s.run_dir << "\nreport: " << s.run_dir << "/report.md\n";
   say_plots(s.plots);
   if (!args.print.empty()) std::cout << table_text(args.print, s);

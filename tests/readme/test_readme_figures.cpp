@@ -37,8 +37,8 @@ std::vector<Block> figure_blocks(const std::string& readme_path) {
         line.compare(line.size() - kOpenEnd.size(), kOpenEnd.size(), kOpenEnd) == 0) {
       INFO("README.md line " << n << ": a figures block opens inside another");
       CHECK_FALSE(inside);
-      out.push_back({line.substr(kOpen.size(), line.size() - kOpen.size() - kOpenEnd.size()),
-                     "", n, false});
+      out.push_back(
+          {line.substr(kOpen.size(), line.size() - kOpen.size() - kOpenEnd.size()), "", n, false});
       inside = true;
     } else if (line == kClose) {
       INFO("README.md line " << n << ": an end marker without a block");

@@ -38,8 +38,8 @@ TEST_CASE("CSV fields are quoted exactly when they must be, and read back", "[re
 }
 
 TEST_CASE("figure values survive the CSV bit for bit", "[record][figures]") {
-  const std::vector<double> values = {0.1, 1.0 / 3, 3830, 97.0 / 3950 * 100, 1e-300, 5e-324,
-                                      -2.5, 0.0, 123456789.123456789};
+  const std::vector<double> values = {0.1,    1.0 / 3, 3830, 97.0 / 3950 * 100,  1e-300,
+                                      5e-324, -2.5,    0.0,  123456789.123456789};
   std::vector<Figure> figures;
   for (std::size_t i = 0; i < values.size(); ++i)
     figures.push_back({"v,1", "ours", "g" + std::to_string(i), "m", values[i], "%", i % 2 == 1});
@@ -48,7 +48,7 @@ TEST_CASE("figure values survive the CSV bit for bit", "[record][figures]") {
   const auto back = read_figures((dir / "figures.csv").string());
   REQUIRE(back.size() == values.size());
   for (std::size_t i = 0; i < values.size(); ++i) {
-    CHECK(back[i].variant == "v,1");  // quoted in the file
+    CHECK(back[i].variant == "v,1");    // quoted in the file
     CHECK(back[i].value == values[i]);  // exact, not approximately
     CHECK(back[i].timing == (i % 2 == 1));
   }
@@ -60,7 +60,8 @@ TEST_CASE("figure values survive the CSV bit for bit", "[record][figures]") {
   CHECK_THROWS_WITH(t.get("v,1", "ours", "g0", "other"), Catch::Contains("v,1/ours/g0/other"));
 }
 
-TEST_CASE("differences: deterministic figures count, timing figures are apart", "[record][figures]") {
+TEST_CASE("differences: deterministic figures count, timing figures are apart",
+          "[record][figures]") {
   const std::vector<Figure> a = {{"v", "ours", "all", "agree", 3830, "", false},
                                  {"v", "ours", "all", "latency_p50", 0.02, "ms", true},
                                  {"v", "ours", "all", "gone", 1, "", false},
@@ -80,9 +81,8 @@ TEST_CASE("differences: deterministic figures count, timing figures are apart", 
   CHECK(d.only_b.size() == 1);
   CHECK(d.compared == 2);  // agree and same; the timing figure is not counted
   // The smallest change of a double is a difference.
-  const FigureDiff tiny =
-      diff_figures({{"v", "s", "g", "m", 0.1, "", false}},
-                   {{"v", "s", "g", "m", std::nextafter(0.1, 1.0), "", false}});
+  const FigureDiff tiny = diff_figures({{"v", "s", "g", "m", 0.1, "", false}},
+                                       {{"v", "s", "g", "m", std::nextafter(0.1, 1.0), "", false}});
   CHECK(tiny.changed.size() == 1);
 }
 

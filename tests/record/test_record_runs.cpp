@@ -47,7 +47,8 @@ TEST_CASE("every run gets a new folder; none is overwritten", "[record][runs]") 
   // <stem>-YYYYMMDD-HHMMSS: 10 + 1 + 8 + 1 + 6 characters; a second run in the same second adds -2.
   CHECK(fs::path(a).filename().string().size() == std::string("dev-replay-20250101-120000").size());
   for (const auto& dir : {a, b, c}) CHECK(fs::is_directory(dir));
-  if (fs::path(a).filename().string().substr(0, 26) == fs::path(b).filename().string().substr(0, 26))
+  if (fs::path(a).filename().string().substr(0, 26) ==
+      fs::path(b).filename().string().substr(0, 26))
     CHECK(fs::path(b).filename().string().substr(26) == "-2");
   // `latest` links the newest, relative (the parent can move).
   CHECK(fs::read_symlink(parent / "latest") == fs::path(c).filename());
@@ -78,18 +79,17 @@ TEST_CASE("directory names from readable names", "[record][runs]") {
 }
 
 TEST_CASE("a sweep is the cartesian product, last axis fastest", "[record][sweep]") {
-  const auto points =
-      expand_grid({{"planner.plugin", {"astar", "ompl"}}, {"planner.params.seed", {"1", "2", "3"}}});
+  const auto points = expand_grid(
+      {{"planner.plugin", {"astar", "ompl"}}, {"planner.params.seed", {"1", "2", "3"}}});
   REQUIRE(points.size() == 6);
   std::vector<std::string> names;
   for (const auto& p : points) names.push_back(point_name(p));
-  CHECK(names == std::vector<std::string>{
-                     "planner.plugin=astar,planner.params.seed=1",
-                     "planner.plugin=astar,planner.params.seed=2",
-                     "planner.plugin=astar,planner.params.seed=3",
-                     "planner.plugin=ompl,planner.params.seed=1",
-                     "planner.plugin=ompl,planner.params.seed=2",
-                     "planner.plugin=ompl,planner.params.seed=3"});
+  CHECK(names == std::vector<std::string>{"planner.plugin=astar,planner.params.seed=1",
+                                          "planner.plugin=astar,planner.params.seed=2",
+                                          "planner.plugin=astar,planner.params.seed=3",
+                                          "planner.plugin=ompl,planner.params.seed=1",
+                                          "planner.plugin=ompl,planner.params.seed=2",
+                                          "planner.plugin=ompl,planner.params.seed=3"});
   CHECK(expand_grid({}).size() == 1);  // no sweep: one point, no settings
   CHECK(point_name(expand_grid({}).front()).empty());
   CHECK(is_seed_key("planner.params.seed"));
@@ -98,13 +98,15 @@ TEST_CASE("a sweep is the cartesian product, last axis fastest", "[record][sweep
   CHECK_FALSE(is_seed_key("seedling"));
 }
 
-TEST_CASE("shards: I/N from 0, every N-th variant, together every variant once", "[record][sweep]") {
+TEST_CASE("shards: I/N from 0, every N-th variant, together every variant once",
+          "[record][sweep]") {
   CHECK(parse_shard("0/1").count == 1);
   const Shard s = parse_shard("2/4");
   CHECK(s.index == 2);
   CHECK(s.count == 4);
   CHECK(parse_shard("3/4").index == 3);  // N-1: the last
-  CHECK_THROWS_WITH(parse_shard("4/4"), Catch::Contains("from 0 to 3") && Catch::Contains("--array=0-3"));
+  CHECK_THROWS_WITH(parse_shard("4/4"),
+                    Catch::Contains("from 0 to 3") && Catch::Contains("--array=0-3"));
   CHECK_THROWS_WITH(parse_shard("-1/4"), Catch::Contains("from 0 to 3"));
   CHECK_THROWS_WITH(parse_shard("1/0"), Catch::Contains("at least 1"));
   CHECK_THROWS_WITH(parse_shard("1"), Catch::Contains("expected I/N"));
@@ -146,20 +148,20 @@ TEST_CASE("tasks run in child processes, at most `jobs` at once", "[record][proc
   std::atomic<int>& done = shared[2];
   running = most = done = 0;
   int local = 0;
-  const auto status = run_in_processes(
-      7, 2,
-      [&](std::size_t) {
-        const int now = ++running;
-        for (int m = most.load(); now > m && !most.compare_exchange_weak(m, now);) {
-        }
-        volatile double x = 0;
-        for (int k = 0; k < 2000000; ++k) x = x + k;
-        ++local;  // the child's copy: never the caller's
-        ++done;
-        --running;
-        return 0;
-      },
-      {});
+  const auto status = run_in_processes(7, 2,
+                                       [&](std::size_t) {
+                                         const int now = ++running;
+                                         for (int m = most.load();
+                                              now > m && !most.compare_exchange_weak(m, now);) {
+                                         }
+                                         volatile double x = 0;
+                                         for (int k = 0; k < 2000000; ++k) x = x + k;
+                                         ++local;  // the child's copy: never the caller's
+                                         ++done;
+                                         --running;
+                                         return 0;
+                                       },
+                                       {});
   CHECK(status == std::vector<int>(7, 0));
   CHECK(done == 7);
   CHECK(most <= 2);
@@ -186,7 +188,8 @@ TEST_CASE("tasks run in child processes, at most `jobs` at once", "[record][proc
   ::munmap(shared, 4096);
 }
 
-TEST_CASE("a re-check warns about what differs in the build, plugins and files", "[record][manifest]") {
+TEST_CASE("a re-check warns about what differs in the build, plugins and files",
+          "[record][manifest]") {
   json recorded = {
       {"build", {{"flipper", "0.1.0"}, {"sdk", "2.1.0"}, {"commit", "aaa"}, {"dirty", "no"}}},
       {"inputs", {{{"role", "experiment"}, {"path", "/x/e.yaml"}, {"sha256", "e1"}}}},
@@ -195,7 +198,10 @@ TEST_CASE("a re-check warns about what differs in the build, plugins and files",
        {{{"name", "v"},
          {"config", {{"effective", "a: 1\nb: 2\n"}, {"files", json::array()}}},
          {"plugins",
-          {{{"section", "planner"}, {"name", "astar"}, {"version", "1.0.0"}, {"sha256", "p1"},
+          {{{"section", "planner"},
+            {"name", "astar"},
+            {"version", "1.0.0"},
+            {"sha256", "p1"},
             {"file", "/x/astar.so"}}}}}}}};
   CHECK(provenance_warnings(recorded, recorded).empty());
   json now = recorded;

@@ -38,28 +38,36 @@ std::string hand_made_run(const std::string& name) {
     const std::string& n = kVariants[v];
     variants.push_back({n, "v" + std::to_string(v), n.substr(0, 3), n.substr(4), {{"p", "x"}}});
     const char* groups[] = {"A", "B", "C", "all"};
-    for (int g = 0; g < 4; ++g) f.push_back({n, "ours", groups[g], "agreement", agreement[v][g], "%", false});
+    for (int g = 0; g < 4; ++g)
+      f.push_back({n, "ours", groups[g], "agreement", agreement[v][g], "%", false});
     for (const char* g : {"A", "B", "C"}) {
-      f.push_back({n, "ours", g, "tokens_successful_mean", 100.0 * (1 + static_cast<double>(v)), "tokens", false});
+      f.push_back({n, "ours", g, "tokens_successful_mean", 100.0 * (1 + static_cast<double>(v)),
+                   "tokens", false});
       f.push_back({n, "original", g, "tokens_successful_mean", 90, "tokens", false});
       f.push_back({n, "ours", g, "tokens_all_mean", 500, "tokens", false});
     }
     f.push_back({n, "ours", "all", "accepts_matched", 785, "accepts", false});
-    f.push_back({n, "ours", "all", "accepted_first", 780.0 + static_cast<double>(v), "accepts", false});
+    f.push_back(
+        {n, "ours", "all", "accepted_first", 780.0 + static_cast<double>(v), "accepts", false});
     f.push_back({n, "ours", "all", "accepted_top3", 785, "accepts", false});
     f.push_back({n, "ours", "all", "plan_success_rate", 92.9, "%", false});
-    f.push_back({n, "ours", "all", "path_length_mean", 7.5 + static_cast<double>(v), "cells", false});
+    f.push_back(
+        {n, "ours", "all", "path_length_mean", 7.5 + static_cast<double>(v), "cells", false});
     f.push_back({n, "ours", "all", "turns_mean", 2.25, "turns", false});
-    f.push_back({n, "ours", "all", "plan_cpu_p50", 0.004 + 0.001 * static_cast<double>(v), "ms", true});
+    f.push_back(
+        {n, "ours", "all", "plan_cpu_p50", 0.004 + 0.001 * static_cast<double>(v), "ms", true});
   }
   record::write_figures(dir + "/figures.csv", f);
   record::write_variants(dir, variants);
   record::write_manifest(dir, {{"kind", "replay"}});
-  for (std::size_t v = 0; v < kVariants.size(); ++v) fs::create_directories(dir + "/v" + std::to_string(v));
+  for (std::size_t v = 0; v < kVariants.size(); ++v)
+    fs::create_directories(dir + "/v" + std::to_string(v));
   return dir;
 }
 
-json plotdata(const std::string& path) { return json::parse(read_file(path)); }
+json plotdata(const std::string& path) {
+  return json::parse(read_file(path));
+}
 
 // The mean and sample sd over seeds as the plot script computes them (sum from 0, in order).
 std::pair<double, double> over_seeds(double a, double b) {
@@ -161,10 +169,11 @@ TEST_CASE("without matplotlib a run succeeds and says how to get its plots", "[r
   const std::string python = dir + "/python";
   std::ofstream(python) << "#!/bin/sh\nexec /usr/bin/python3 -S \"$@\"\n";
   fs::permissions(python, fs::perms::owner_all);
-  for (const std::string& env : {"FLIPPER_PYTHON=" + python, std::string("FLIPPER_PYTHON=/no/such/python3")}) {
+  for (const std::string& env :
+       {"FLIPPER_PYTHON=" + python, std::string("FLIPPER_PYTHON=/no/such/python3")}) {
     const auto r = clitest::run_shell(env + " " + FLIPPER_BINARY_DIR +
-                                      "/bin/flipper replay --corpus tests/replay/data --out " + dir +
-                                      "/out 2>&1");
+                                      "/bin/flipper replay --corpus tests/replay/data --out " +
+                                      dir + "/out 2>&1");
     INFO(env << "\n" << r.out);
     CHECK(r.status == 0);
     CHECK(contains(r.out, "flipper replay: note: plots skipped: no Python with matplotlib"));

@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "flipper/record/figures.hpp"
 #include "flipper/replay/corpus.hpp"
 #include "flipper/replay/experiment.hpp"
 #include "flipper/replay/metrics.hpp"
 #include "flipper/replay/replayer.hpp"
-#include "flipper/record/figures.hpp"
 
 using namespace flipper::kernel::replay;
 
@@ -117,7 +117,8 @@ TEST_CASE("an experiment writes a run folder: metrics, CSV, figures and the repo
   for (const char* f : {"metrics.json", "queries.csv", "participants.csv", "groups.csv",
                         "accepts.csv", "definitions.csv", "figures.csv"})
     CHECK(fs::exists(fs::path(s.run_dir) / "plain" / f));
-  for (const char* f : {"manifest.json", "figures.csv", "variants.csv", "settings.csv", "report.md"})
+  for (const char* f :
+       {"manifest.json", "figures.csv", "variants.csv", "settings.csv", "report.md"})
     CHECK(fs::exists(fs::path(s.run_dir) / f));
   std::ifstream report(fs::path(s.run_dir) / "report.md");
   const std::string text((std::istreambuf_iterator<char>(report)), {});

@@ -55,8 +55,8 @@ std::string sweep_experiment(const std::string& dir) {
 TEST_CASE("a replay writes a new run folder whose manifest names what produced it",
           "[replay][record]") {
   const std::string out = clitest::scratch_dir("record-manifest");
-  const std::string run =
-      replay_run("--corpus tests/replay/data --out " + out + " --no-plots --set induction.generalize=false");
+  const std::string run = replay_run("--corpus tests/replay/data --out " + out +
+                                     " --no-plots --set induction.generalize=false");
   CHECK(fs::path(run).parent_path() == fs::path(out));
   CHECK(fs::path(run).filename().string().rfind("replay-", 0) == 0);
   const json m = json::parse(read_file(run + "/manifest.json"));
@@ -96,12 +96,12 @@ TEST_CASE("a replay writes a new run folder whose manifest names what produced i
     sections.insert(p["section"].get<std::string>());
     const std::string file = p["file"].get<std::string>();
     CHECK(p["sha256"] == sha256sum(file));
-    const std::string sidecar =
-        read_file((fs::path(file).parent_path() / (p["name"].get<std::string>() + ".flipper.yaml")).string());
+    const std::string sidecar = read_file(
+        (fs::path(file).parent_path() / (p["name"].get<std::string>() + ".flipper.yaml")).string());
     CHECK(contains(sidecar, "version: " + p["version"].get<std::string>()));
   }
-  CHECK(sections == std::set<std::string>{"world", "planner", "parser", "scorer", "rewriter",
-                                          "similarity"});
+  CHECK(sections ==
+        std::set<std::string>{"world", "planner", "parser", "scorer", "rewriter", "similarity"});
   CHECK(v["seeds"].empty());  // no selected plugin takes a seed
   CHECK(v["mode_overrides"]["B"][1] == "lexicon.sharing=private");
   // report.md names the same.
@@ -111,8 +111,8 @@ TEST_CASE("a replay writes a new run folder whose manifest names what produced i
         "commit `" + m["build"]["commit"].get<std::string>() + "`",
         "| planner: astar | " + v["plugins"][1]["version"].get<std::string>(),
         v["plugins"][1]["sha256"].get<std::string>(),
-        m["corpus"]["files"][0]["sha256"].get<std::string>().substr(0, 16),
-        "Seeds: none", m["started"].get<std::string>(), "```yaml\nworld:\n  plugin: grid2d"})
+        m["corpus"]["files"][0]["sha256"].get<std::string>().substr(0, 16), "Seeds: none",
+        m["started"].get<std::string>(), "```yaml\nworld:\n  plugin: grid2d"})
     CHECK_THAT(report, Catch::Contains(want));
 
   // An OMPL variant records its seed (the plugin's default, 1).
@@ -137,11 +137,13 @@ TEST_CASE("runs are never overwritten, and --out must name a parent", "[replay][
   // A run folder given as --out is refused (it would nest a run in a run).
   const auto nested = run_flipper("replay --corpus tests/replay/data --no-plots --out " + first);
   CHECK(nested.status == 2);
-  CHECK(contains(nested.out, "flipper replay: [bad_request] --out '" + first + "' is a run folder"));
+  CHECK(
+      contains(nested.out, "flipper replay: [bad_request] --out '" + first + "' is a run folder"));
   const auto missing = run_flipper("replay --corpus tests/replay/data");
   CHECK(missing.status == 2);
   CHECK(contains(missing.out, "flipper replay: [usage] --out PARENT is required"));
-  const auto print = run_flipper("replay --corpus tests/replay/data --out " + out + " --print nope");
+  const auto print =
+      run_flipper("replay --corpus tests/replay/data --out " + out + " --print nope");
   CHECK(print.status == 2);
   CHECK(contains(print.out, "--print 'nope': no such table"));
 }
@@ -172,8 +174,8 @@ TEST_CASE("figures.csv holds the report's figures, tidy", "[replay][record]") {
   // Timing figures are marked, the others are not.
   for (const auto& f : figures) {
     INFO(f.metric << " " << f.source);
-    const bool timing = f.source == "ours" && (f.metric.rfind("latency", 0) == 0 ||
-                                               f.metric.rfind("plan_cpu", 0) == 0);
+    const bool timing = f.source == "ours" &&
+                        (f.metric.rfind("latency", 0) == 0 || f.metric.rfind("plan_cpu", 0) == 0);
     CHECK(f.timing == timing);
   }
   // The report shows figures.csv's values (its agreement line, from the table).
@@ -207,8 +209,9 @@ TEST_CASE("a fresh run re-checks without difference; a changed figure is named",
   INFO(bad.out);
   CHECK(bad.status == 1);
   CHECK(contains(bad.out, "figures: 1 of "));
-  CHECK(contains(bad.out, "parser.params.beam=5,scorer.params.step=0.5/ours/all/agree: recorded "
-                          "10, now 11"));
+  CHECK(contains(bad.out,
+                 "parser.params.beam=5,scorer.params.step=0.5/ours/all/agree: recorded "
+                 "10, now 11"));
   CHECK(contains(bad.out, "result: the run does NOT reproduce"));
 
   // Another plugin file than recorded: a warning, and the figures are still compared.
@@ -225,15 +228,18 @@ TEST_CASE("a fresh run re-checks without difference; a changed figure is named",
 
   const auto none = run_flipper("replay check " + dir);
   CHECK(none.status == 2);
-  CHECK(contains(none.out, "flipper replay check: [bad_request] '" + dir + "' is not a run folder"));
+  CHECK(
+      contains(none.out, "flipper replay check: [bad_request] '" + dir + "' is not a run folder"));
 }
 
 TEST_CASE("--jobs 1 and --jobs 2, and shards merged, give the same files",
           "[replay][record][sweep]") {
   const std::string dir = clitest::scratch_dir("record-jobs");
   const std::string experiment = sweep_experiment(dir);
-  const std::string one = replay_run("--experiment " + experiment + " --out " + dir + "/one --jobs 1");
-  const std::string two = replay_run("--experiment " + experiment + " --out " + dir + "/two --jobs 2");
+  const std::string one =
+      replay_run("--experiment " + experiment + " --out " + dir + "/one --jobs 1");
+  const std::string two =
+      replay_run("--experiment " + experiment + " --out " + dir + "/two --jobs 2");
   const auto variants = record::read_variants(one);
   REQUIRE(variants.size() == 4);
   CHECK(variants[1].name == "parser.params.beam=5,scorer.params.step=1");
@@ -247,10 +253,10 @@ TEST_CASE("--jobs 1 and --jobs 2, and shards merged, give the same files",
   CHECK(files.pictures >= 4 * 3 * 2);   // tokens, induced_core, others_self: PDF and SVG
 
   // Two shards, merged: the unsharded run's files.
-  const std::string s0 = replay_run("--experiment " + experiment + " --out " + dir +
-                                    "/shards --shard 0/2 --no-plots");
-  const std::string s1 = replay_run("--experiment " + experiment + " --out " + dir +
-                                    "/shards --shard 1/2 --no-plots");
+  const std::string s0 =
+      replay_run("--experiment " + experiment + " --out " + dir + "/shards --shard 0/2 --no-plots");
+  const std::string s1 =
+      replay_run("--experiment " + experiment + " --out " + dir + "/shards --shard 1/2 --no-plots");
   CHECK(record::read_variants(s0).size() == 2);
   CHECK(record::read_variants(s0)[1].name == "parser.params.beam=10,scorer.params.step=0.5");
   const auto merged = run_flipper("replay merge " + s1 + " " + s0 + " --out " + dir + "/merged");
@@ -302,39 +308,47 @@ TEST_CASE("planner figures of accepted programs on hand-made worlds", "[replay][
       << R"(, "kind": "q", "utterance": "visit room1", "world_id": "w1", "next_world_id": "w1", "line": 1, "status": "Core", "n_parses": 1, "walltime_s": 0.05, "author": null})"
       << "\n"
       << R"({"qid": "t/A#2", )" << common
-      << R"(, "kind": "accept", "utterance": "visit room1", "world_id": "w1", "next_world_id": "w1", "line": 2, "formula": "(: visit room1)", "for_qid": "t/A#1"})"
+      << R"(, "kind": "accept", "utterance": "visit room1", "world_id": "w1", "next_world_id": "w1", "line": 2, "formula": "(: visit room1)",
+      "for_qid" : "t/A#1"
+})"
       << "\n"
       << R"({"qid": "t/A#3", )" << common
       << R"(, "kind": "q", "utterance": "visit room2", "world_id": "w2", "next_world_id": "w2", "line": 3, "status": "Core", "n_parses": 1, "walltime_s": 0.05, "author": null})"
       << "\n"
       << R"({"qid": "t/A#4", )" << common
-      << R"(, "kind": "accept", "utterance": "visit room2", "world_id": "w2", "next_world_id": "w2", "line": 4, "formula": "(: visit room2)", "for_qid": "t/A#3"})"
+      << R"(, "kind": "accept", "utterance": "visit room2", "world_id": "w2", "next_world_id": "w2", "line": 4, "formula": "(: visit room2)", "for_qid": "t/A#3"
+})"
       << "\n";
-  std::ofstream(corpus + "/original-answers.jsonl")
-      << R"({"qid": "t/A#1", "candidates": [{"pretty": "{visit room1}", "formula": "(: visit room1)", "core_only": true}], "accepted_rank": 0})"
+std::ofstream(corpus + "/original-answers.jsonl")
+    << R"({"qid": "t/A#1", "candidates": [{"pretty": "{visit room1}", "formula": "(: visit room1)",
+    "core_only" : true
+}], "accepted_rank": 0
+})"
       << "\n"
-      << R"({"qid": "t/A#3", "candidates": [{"pretty": "{visit room2}", "formula": "(: visit room2)", "core_only": true}], "accepted_rank": 0})"
+      << R"({"qid": "t/A#3", "candidates": [{"pretty": "{visit room2}", "formula": "(: visit room2)", "core_only": true
+}], "accepted_rank": 0
+})"
       << "\n";
-  std::ofstream(corpus + "/definitions.jsonl") << "";
-  const std::string run = replay_run("--corpus " + corpus + " --out " + dir + "/out --no-plots");
-  const record::CsvTable accepts = record::read_csv(run + "/plain/accepts.csv");
-  REQUIRE(accepts.rows.size() == 2);
-  auto cell = [&](std::size_t row, const char* column) {
-    return accepts.rows[row][accepts.column(column, "accepts.csv")];
-  };
-  CHECK(cell(0, "executed") == "1");
-  CHECK(cell(0, "plan_success") == "1");
-  CHECK(cell(0, "path_length") == "4");
-  CHECK(cell(0, "turns") == "1");
-  CHECK(cell(0, "plan_calls") == "1");
-  CHECK(cell(1, "path_length") == "3");
-  CHECK(cell(1, "turns") == "0");
-  CHECK(cell(1, "plan_calls") == "1");
-  const record::FigureTable t(record::read_figures(run + "/figures.csv"));
-  CHECK(t.get("plain", "ours", "all", "plan_runs") == 2);
-  CHECK(t.get("plain", "ours", "all", "plan_success_rate") == 100);
-  CHECK(t.get("plain", "ours", "all", "path_length_sum") == 7);
-  CHECK(t.get("plain", "ours", "all", "path_length_mean") == 3.5);
-  CHECK(t.get("plain", "ours", "all", "turns_mean") == 0.5);
-  CHECK(t.get("plain", "ours", "all", "plan_calls") == 2);
+std::ofstream(corpus + "/definitions.jsonl") << "";
+const std::string run = replay_run("--corpus " + corpus + " --out " + dir + "/out --no-plots");
+const record::CsvTable accepts = record::read_csv(run + "/plain/accepts.csv");
+REQUIRE(accepts.rows.size() == 2);
+auto cell = [&](std::size_t row, const char* column) {
+  return accepts.rows[row][accepts.column(column, "accepts.csv")];
+};
+CHECK(cell(0, "executed") == "1");
+CHECK(cell(0, "plan_success") == "1");
+CHECK(cell(0, "path_length") == "4");
+CHECK(cell(0, "turns") == "1");
+CHECK(cell(0, "plan_calls") == "1");
+CHECK(cell(1, "path_length") == "3");
+CHECK(cell(1, "turns") == "0");
+CHECK(cell(1, "plan_calls") == "1");
+const record::FigureTable t(record::read_figures(run + "/figures.csv"));
+CHECK(t.get("plain", "ours", "all", "plan_runs") == 2);
+CHECK(t.get("plain", "ours", "all", "plan_success_rate") == 100);
+CHECK(t.get("plain", "ours", "all", "path_length_sum") == 7);
+CHECK(t.get("plain", "ours", "all", "path_length_mean") == 3.5);
+CHECK(t.get("plain", "ours", "all", "turns_mean") == 0.5);
+CHECK(t.get("plain", "ours", "all", "plan_calls") == 2);
 }

@@ -12,11 +12,11 @@ extern const char* const kDirty;
 }  // namespace generated
 
 const BuildInfo& build_info() {
-  static const BuildInfo info{
-      FLIPPER_RECORD_VERSION,
-      std::to_string(FLIPPER_SDK_VERSION_MAJOR) + "." + std::to_string(FLIPPER_SDK_VERSION_MINOR) +
-          "." + std::to_string(FLIPPER_SDK_VERSION_PATCH),
-      generated::kCommit, generated::kDescribe, generated::kDirty};
+  static const BuildInfo info{FLIPPER_RECORD_VERSION,
+                              std::to_string(FLIPPER_SDK_VERSION_MAJOR) + "." +
+                                  std::to_string(FLIPPER_SDK_VERSION_MINOR) + "." +
+                                  std::to_string(FLIPPER_SDK_VERSION_PATCH),
+                              generated::kCommit, generated::kDescribe, generated::kDirty};
   return info;
 }
 

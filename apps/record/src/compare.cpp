@@ -16,7 +16,9 @@ std::string spread_text(const Spread& s) {
          show_value(s.max) + ", n=" + std::to_string(s.n) + ")";
 }
 
-std::string signed_value(double v) { return (v > 0 ? "+" : "") + show_value(v); }
+std::string signed_value(double v) {
+  return (v > 0 ? "+" : "") + show_value(v);
+}
 
 using Key = std::tuple<std::string, std::string, std::string, std::string>;
 std::map<Key, Spread> by_key(const std::vector<Spread>& spreads) {
@@ -66,9 +68,11 @@ std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all) {
     int seeds_a = 0, seeds_b = 0;
     std::set<Key> keys;
     for (const auto& [k, s] : ma)
-      if (std::get<0>(k) == condition) keys.insert(k), in_a = true, seeds_a = std::max(seeds_a, s.n);
+      if (std::get<0>(k) == condition)
+        keys.insert(k), in_a = true, seeds_a = std::max(seeds_a, s.n);
     for (const auto& [k, s] : mb)
-      if (std::get<0>(k) == condition) keys.insert(k), in_b = true, seeds_b = std::max(seeds_b, s.n);
+      if (std::get<0>(k) == condition)
+        keys.insert(k), in_b = true, seeds_b = std::max(seeds_b, s.n);
     if (!in_a || !in_b) {
       (in_a ? only_a : only_b).push_back(condition);
       continue;
@@ -77,8 +81,8 @@ std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all) {
       auto ia = ma.find(k), ib = mb.find(k);
       const std::string figure = std::get<1>(k) + " / " + std::get<2>(k) + " / " + std::get<3>(k);
       const std::string unit = (ia != ma.end() ? ia->second.unit : ib->second.unit);
-      const bool is_timing = (ia != ma.end() && ia->second.timing) ||
-                             (ib != mb.end() && ib->second.timing);
+      const bool is_timing =
+          (ia != ma.end() && ia->second.timing) || (ib != mb.end() && ib->second.timing);
       std::string row = "| " + figure + (unit.empty() ? "" : " (" + unit + ")") + " | ";
       row += (ia != ma.end() ? spread_text(ia->second) : "–") + " | ";
       row += (ib != mb.end() ? spread_text(ib->second) : "–") + " | ";

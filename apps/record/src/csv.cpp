@@ -80,10 +80,10 @@ CsvTable parse_csv(const std::string& text, const std::string& where) {
   table.header = std::move(records.front());
   for (std::size_t r = 1; r < records.size(); ++r) {
     if (records[r].size() != table.header.size())
-      throw sdk::Error(sdk::codes::kBadRequest,
-                       where + ": row " + std::to_string(r) + " has " +
-                           std::to_string(records[r].size()) + " fields, the header " +
-                           std::to_string(table.header.size()));
+      throw sdk::Error(sdk::codes::kBadRequest, where + ": row " + std::to_string(r) + " has " +
+                                                    std::to_string(records[r].size()) +
+                                                    " fields, the header " +
+                                                    std::to_string(table.header.size()));
     table.rows.push_back(std::move(records[r]));
   }
   return table;

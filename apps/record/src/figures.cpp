@@ -56,8 +56,7 @@ FigureTable::FigureTable(const std::vector<Figure>& figures) {
 }
 
 std::optional<double> FigureTable::find(const std::string& variant, const std::string& source,
-                                        const std::string& group,
-                                        const std::string& metric) const {
+                                        const std::string& group, const std::string& metric) const {
   auto it = values_.find({variant, source, group, metric});
   if (it == values_.end()) return std::nullopt;
   return it->second;
@@ -73,8 +72,7 @@ double FigureTable::get(const std::string& variant, const std::string& source,
 void write_variants(const std::string& run_dir, const std::vector<VariantInfo>& variants) {
   OutFile v(run_dir + "/variants.csv");
   v << "variant,directory,condition,seed\n";
-  for (const auto& x : variants)
-    v << csv_line({x.name, x.directory, x.condition, x.seed}) << "\n";
+  for (const auto& x : variants) v << csv_line({x.name, x.directory, x.condition, x.seed}) << "\n";
   v.close();
   OutFile s(run_dir + "/settings.csv");
   s << "variant,key,value\n";

@@ -55,10 +55,7 @@ json file_json(const std::string& role, const std::string& path) {
   std::error_code ec;
   const fs::path abs = fs::weakly_canonical(fs::absolute(path), ec);
   const std::string p = ec ? fs::absolute(path).string() : abs.string();
-  return {{"role", role},
-          {"path", p},
-          {"bytes", fs::file_size(p, ec)},
-          {"sha256", sha256_file(p)}};
+  return {{"role", role}, {"path", p}, {"bytes", fs::file_size(p, ec)}, {"sha256", sha256_file(p)}};
 }
 
 json folder_json(const std::string& dir) {
@@ -68,7 +65,8 @@ json folder_json(const std::string& dir) {
   for (const auto& e : fs::directory_iterator(abs, ec))
     if (e.is_regular_file()) files.push_back(e.path());
   if (ec)
-    throw sdk::Error(sdk::codes::kBadRequest, "cannot list '" + abs.string() + "': " + ec.message());
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "cannot list '" + abs.string() + "': " + ec.message());
   std::sort(files.begin(), files.end());
   json list = json::array();
   for (const auto& f : files)
@@ -102,8 +100,7 @@ json plugins_json(const kernel::Config& config) {
     const kernel::LoadedPlugin plugin = loader.open(config.plugin_name(section), kind);
     json params = json::object();
     const sdk::Params effective = config.plugin_params(section, plugin.schema());
-    for (const auto& [name, value] : effective.values())
-      params[name] = sdk::to_string(value);
+    for (const auto& [name, value] : effective.values()) params[name] = sdk::to_string(value);
     out.push_back({{"section", section},
                    {"name", plugin.entry.name},
                    {"version", plugin.descriptor->version},
@@ -145,7 +142,7 @@ namespace {
 
 std::string text_at(const json& j, const char* key) {
   return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>()
-                                                                 : std::string("(none)");
+                                                                : std::string("(none)");
 }
 
 // The first line where two texts differ, for a readable message.

@@ -41,8 +41,7 @@ Ran run(const std::string& command) {
 
 std::vector<std::string> interpreters() {
   std::vector<std::string> out;
-  if (const char* env = std::getenv("FLIPPER_PYTHON"); env != nullptr && *env != '\0')
-    return {env};
+  if (const char* env = std::getenv("FLIPPER_PYTHON"); env != nullptr && *env != '\0') return {env};
   out.push_back("python3");
   if (fs::exists("/usr/bin/python3")) out.push_back("/usr/bin/python3");
   return out;
@@ -68,11 +67,12 @@ PlotOutcome draw_plots(const std::string& script, const std::string& run_dir) {
   if (dir.empty() || !fs::is_regular_file(fs::path(dir) / script))
     return {PlotOutcome::Status::skipped,
             "plots skipped: the plot scripts are not installed (looked for <exe>/../share/"
-            "flipper/plots/" + script + ")."};
+            "flipper/plots/" +
+                script + ")."};
   std::string tried;
   for (const auto& python : interpreters()) {
-    const Ran r = run(quote(python) + " " + quote((fs::path(dir) / script).string()) + " " +
-                      quote(run_dir));
+    const Ran r =
+        run(quote(python) + " " + quote((fs::path(dir) / script).string()) + " " + quote(run_dir));
     if (r.status == 0) return {PlotOutcome::Status::drawn, r.output};
     if (r.status == kNoMatplotlib || r.status == 127 || r.status == 126) {
       tried += (tried.empty() ? "" : ", ") + python;

@@ -20,9 +20,9 @@ int available_cores() {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
-std::vector<int> run_in_processes(
-    std::size_t count, int jobs, const std::function<int(std::size_t)>& task,
-    const std::function<void(const std::exception&)>& on_exception) {
+std::vector<int> run_in_processes(std::size_t count, int jobs,
+                                  const std::function<int(std::size_t)>& task,
+                                  const std::function<void(const std::exception&)>& on_exception) {
   std::vector<int> status(count, -1);
   std::map<pid_t, std::size_t> running;
   const std::size_t limit = static_cast<std::size_t>(std::max(1, jobs));

@@ -41,7 +41,9 @@ void update_latest(const fs::path& parent, const std::string& name) {
 
 }  // namespace
 
-std::string utc_now() { return utc_format("%Y-%m-%dT%H:%M:%SZ"); }
+std::string utc_now() {
+  return utc_format("%Y-%m-%dT%H:%M:%SZ");
+}
 
 std::string directory_name(const std::string& name) {
   std::string out;

@@ -25,9 +25,8 @@ json complete_replay_manifest(const std::string& run_dir) {
   if (m.value("kind", std::string()) != "replay")
     throw sdk::Error(sdk::codes::kBadRequest, "'" + run_dir + "' is not a replay run");
   if (m.value("status", std::string()) != "complete")
-    throw sdk::Error(sdk::codes::kBadRequest,
-                     "'" + run_dir + "' did not complete (status '" +
-                         m.value("status", std::string("unknown")) + "')");
+    throw sdk::Error(sdk::codes::kBadRequest, "'" + run_dir + "' did not complete (status '" +
+                                                  m.value("status", std::string("unknown")) + "')");
   return m;
 }
 
@@ -106,7 +105,8 @@ CheckResult check_run(const std::string& run_dir, int jobs, const std::string& k
   if (!d.timing.empty()) {
     o << "timing figures (measured time: never counted as differences): " << d.timing.size()
       << " differ, e.g.\n";
-    for (std::size_t i = 0; i < d.timing.size() && i < 3; ++i) o << change_line(d.timing[i], true) << "\n";
+    for (std::size_t i = 0; i < d.timing.size() && i < 3; ++i)
+      o << change_line(d.timing[i], true) << "\n";
   }
   o << (result.differs() ? "result: the run does NOT reproduce\n" : "result: the run reproduces\n");
   result.text = o.str();
@@ -136,15 +136,15 @@ RunSummary merge_runs(const std::vector<std::string>& runs, const std::string& o
       throw sdk::Error(sdk::codes::kBadRequest, "'" + runs[i] + "' and '" + runs[0] +
                                                     "' read different corpus files (checksums)");
     if (count >= 0 && shard->count != count)
-      throw sdk::Error(sdk::codes::kBadRequest,
-                       "'" + runs[i] + "' is a shard of " + std::to_string(shard->count) +
-                           ", '" + runs[0] + "' of " + std::to_string(count));
+      throw sdk::Error(sdk::codes::kBadRequest, "'" + runs[i] + "' is a shard of " +
+                                                    std::to_string(shard->count) + ", '" + runs[0] +
+                                                    "' of " + std::to_string(count));
     count = shard->count;
     auto [it, fresh] = by_index.emplace(shard->index, runs[i]);
     if (!fresh)
       throw sdk::Error(sdk::codes::kBadRequest, "shard " + std::to_string(shard->index) +
-                                                    " is given twice: '" + it->second +
-                                                    "' and '" + runs[i] + "'");
+                                                    " is given twice: '" + it->second + "' and '" +
+                                                    runs[i] + "'");
     if (i > 0)
       for (const auto& w : record::provenance_warnings(first, m))
         warnings.push_back(runs[i] + " vs " + runs[0] + ": " + w);
@@ -153,8 +153,8 @@ RunSummary merge_runs(const std::vector<std::string>& runs, const std::string& o
   for (int k = 0; k < count; ++k)
     if (!by_index.count(k)) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
   if (!missing.empty())
-    throw sdk::Error(sdk::codes::kBadRequest, "shard(s) " + missing + " of " +
-                                                  std::to_string(count) + " missing");
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "shard(s) " + missing + " of " + std::to_string(count) + " missing");
 
   // Every variant of the grid exactly once, in the grid's order.
   const Experiment e = experiment_from_json(first.at("experiment"));
@@ -184,9 +184,9 @@ RunSummary merge_runs(const std::vector<std::string>& runs, const std::string& o
   if (!absent.empty())
     throw sdk::Error(sdk::codes::kBadRequest, "the shards lack variant(s) " + absent);
   if (!found.empty())
-    throw sdk::Error(sdk::codes::kBadRequest,
-                     "variant '" + found.begin()->first + "' (in '" + found.begin()->second.second +
-                         "') is not in the experiment's grid");
+    throw sdk::Error(sdk::codes::kBadRequest, "variant '" + found.begin()->first + "' (in '" +
+                                                  found.begin()->second.second +
+                                                  "') is not in the experiment's grid");
 
   json manifest = first;
   const std::string stem =

@@ -60,8 +60,9 @@ std::string set_text(const YAML::Node& value) {
 std::vector<record::SweepAxis> sweep_axes(const YAML::Node& sweep, const std::string& where) {
   if (!sweep.IsMap())
     throw sdk::Error(sdk::codes::kBadConfig,
-                     where + "'sweep' must be a map from config keys to lists of values, e.g. "
-                             "{planner.params.seed: [1, 2, 3]}");
+                     where +
+                         "'sweep' must be a map from config keys to lists of values, e.g. "
+                         "{planner.params.seed: [1, 2, 3]}");
   std::vector<record::SweepAxis> axes;
   for (const auto& kv : sweep) {
     record::SweepAxis axis{kv.first.as<std::string>(), {}};
@@ -76,8 +77,8 @@ std::vector<record::SweepAxis> sweep_axes(const YAML::Node& sweep, const std::st
     for (std::size_t i = 0; i < axis.values.size(); ++i)
       for (std::size_t j = 0; j < i; ++j)
         if (axis.values[i] == axis.values[j])
-          throw sdk::Error(sdk::codes::kBadConfig, where + "sweep key '" + axis.key +
-                                                       "' lists '" + axis.values[i] + "' twice");
+          throw sdk::Error(sdk::codes::kBadConfig, where + "sweep key '" + axis.key + "' lists '" +
+                                                       axis.values[i] + "' twice");
     for (const auto& other : axes)
       if (other.key == axis.key)
         throw sdk::Error(sdk::codes::kBadConfig,
@@ -103,8 +104,8 @@ Experiment load_experiment(const std::string& path) {
   try {
     for (const auto& kv : root) {
       const auto key = kv.first.as<std::string>();
-      static const char* known[] = {"name", "config",   "corpus", "runs",
-                                    "max_queries", "set", "variants", "sweep"};
+      static const char* known[] = {"name",        "config", "corpus",   "runs",
+                                    "max_queries", "set",    "variants", "sweep"};
       if (std::find(std::begin(known), std::end(known), key) == std::end(known))
         throw sdk::Error(
             sdk::codes::kBadConfig,
@@ -169,9 +170,11 @@ Experiment experiment_from_json(const nlohmann::json& j) {
     e.max_queries = j.at("max_queries").get<int>();
     e.sets = j.at("set").get<std::vector<std::string>>();
     for (const auto& v : j.at("variants"))
-      e.variants.push_back({v.at("name").get<std::string>(), v.at("set").get<std::vector<std::string>>()});
+      e.variants.push_back(
+          {v.at("name").get<std::string>(), v.at("set").get<std::vector<std::string>>()});
     for (const auto& a : j.at("sweep"))
-      e.sweep.push_back({a.at("key").get<std::string>(), a.at("values").get<std::vector<std::string>>()});
+      e.sweep.push_back(
+          {a.at("key").get<std::string>(), a.at("values").get<std::vector<std::string>>()});
     return e;
   } catch (const nlohmann::json::exception& ex) {
     throw sdk::Error(sdk::codes::kBadRequest,

@@ -146,7 +146,8 @@ std::vector<record::Figure> replay_figures(const std::string& variant, const Met
   r.add("ours", "all", "preloaded_ok", m.preloaded_ok, "definitions");
   r.add("ours", "all", "defines", m.defines, "definitions");
   r.add("ours", "all", "defines_ok", m.defines_ok, "definitions");
-  for (const auto& [code, n] : m.define_errors) r.add("ours", code, "define_errors", n, "definitions");
+  for (const auto& [code, n] : m.define_errors)
+    r.add("ours", code, "define_errors", n, "definitions");
   int compared = 0;
   for (const auto& [match, n] : m.rule_match) {
     r.add("ours", match, "rule_match", n, "definitions");

@@ -70,7 +70,9 @@ J latency_json(const Latency& l) {
 }
 
 using record::OutFile;
-std::string csv(const std::string& s) { return record::csv_field(s); }
+std::string csv(const std::string& s) {
+  return record::csv_field(s);
+}
 
 }  // namespace
 

@@ -61,8 +61,9 @@ std::vector<PlannedVariant> plan_variants(const Experiment& e) {
     for (const auto& point : points) {
       PlannedVariant p;
       const std::string point_text = record::point_name(point);
-      p.info.name = v.name.empty() ? point_text
-                                   : point_text.empty() ? v.name : v.name + "," + point_text;
+      p.info.name = v.name.empty()       ? point_text
+                    : point_text.empty() ? v.name
+                                         : v.name + "," + point_text;
       p.sets = e.sets;
       p.sets.insert(p.sets.end(), v.sets.begin(), v.sets.end());
       // The point's plugin choices first, so a parameter is checked against the plugin this
@@ -89,25 +90,26 @@ std::vector<PlannedVariant> plan_variants(const Experiment& e) {
       for (const auto& a : point)
         if (!record::is_seed_key(a.first)) rest.push_back(a);
       const std::string rest_text = record::point_name(rest);
-      p.info.condition = v.name.empty() ? (rest_text.empty() ? "all" : rest_text)
-                                        : rest_text.empty() ? v.name : v.name + "," + rest_text;
+      p.info.condition = v.name.empty()      ? (rest_text.empty() ? "all" : rest_text)
+                         : rest_text.empty() ? v.name
+                                             : v.name + "," + rest_text;
       for (const auto& a : point)
         if (record::is_seed_key(a.first))
           p.info.seed += (p.info.seed.empty() ? "" : ",") + a.first + "=" + a.second;
       p.info.directory = record::directory_name(p.info.name);
       if (!directories.insert(p.info.directory).second)
-        throw sdk::Error(sdk::codes::kBadConfig,
-                         "experiment '" + e.name + "': two variants share the folder name '" +
-                             p.info.directory + "' (rename a variant)");
+        throw sdk::Error(sdk::codes::kBadConfig, "experiment '" + e.name +
+                                                     "': two variants share the folder name '" +
+                                                     p.info.directory + "' (rename a variant)");
       out.push_back(std::move(p));
     }
   for (const auto& axis : e.sweep) {
     const auto [section, param] = plugin_param(axis.key);
     if (!section.empty() && applied[axis.key] == 0)
-      throw sdk::Error(sdk::codes::kBadConfig,
-                       "experiment '" + e.name + "': sweep key '" + axis.key +
-                           "': no variant's " + section + " plugin declares a parameter '" +
-                           param + "' (flipper plugins --params lists them)");
+      throw sdk::Error(sdk::codes::kBadConfig, "experiment '" + e.name + "': sweep key '" +
+                                                   axis.key + "': no variant's " + section +
+                                                   " plugin declares a parameter '" + param +
+                                                   "' (flipper plugins --params lists them)");
   }
   return out;
 }

@@ -78,8 +78,7 @@ thread_local PlanTally* g_plan_tally = nullptr;
 
 void tally_planner_call(const kernel::PluginId& plugin, std::string_view op,
                         const kernel::PluginCallTime& time) {
-  if (g_plan_tally == nullptr || plugin.kind != "planner" || (op != "plan" && op != "tour"))
-    return;
+  if (g_plan_tally == nullptr || plugin.kind != "planner" || (op != "plan" && op != "tour")) return;
   ++g_plan_tally->calls;
   g_plan_tally->cpu += time.thread_cpu;
 }

@@ -135,15 +135,14 @@ class VariantSection {
     for (corpus::AcceptClass c : corpus::all_classes()) {
       const std::string id = corpus::class_id(c);
       if (std::find(classes.begin(), classes.end(), id) != classes.end())
-        o_ << "| `" << id << "` | " << count(id, "accept_class") << " | "
-           << corpus::class_label(c) << " |\n";
+        o_ << "| `" << id << "` | " << count(id, "accept_class") << " | " << corpus::class_label(c)
+           << " |\n";
     }
     for (const auto& id : classes)
       if (!corpus::class_from_id(id))
         o_ << "| `" << id << "` | " << count(id, "accept_class") << " | unknown class |\n";
     o_ << "\nUnexplained: " << count("all", "unexplained") << ".\n";
-    o_ << "\n### Planner on the accepted programs\n\n"
-       << planner_table(t_, {v_}) << "\n";
+    o_ << "\n### Planner on the accepted programs\n\n" << planner_table(t_, {v_}) << "\n";
   }
 
   void latency() {
@@ -151,7 +150,8 @@ class VariantSection {
     o_ << "\n### Latency per query\n\n![latency](" << d << "/latency.svg)\n\n"
        << "| | n | p50 | p90 | p99 | max |\n|---|---|---|---|---|---|\n";
     for (const auto& [source, label] :
-         {std::pair<const char*, const char*>{"ours", "ours (`ms`: in-process parse + plan; timing)"},
+         {std::pair<const char*, const char*>{"ours",
+                                              "ours (`ms`: in-process parse + plan; timing)"},
           {"original", "original (`walltime_s`: logged server wall time)"}}) {
       auto ms = [&](const char* metric) {
         return duration_text(t_.find(v_.name, source, "all", metric).value_or(0));
@@ -164,12 +164,14 @@ class VariantSection {
 
   void definitions() {
     o_ << "\n### Definitions and deletions\n\nPreloaded: " << count("all", "preloaded_ok") << " / "
-       << count("all", "preloaded") << " defined. Users' definitions: " << count("all", "defines_ok")
-       << " / " << count("all", "defines") << " accepted.";
+       << count("all", "preloaded")
+       << " defined. Users' definitions: " << count("all", "defines_ok") << " / "
+       << count("all", "defines") << " accepted.";
     const auto errors = groups_of("define_errors");
     if (!errors.empty()) {
       o_ << " Refusals:";
-      for (const auto& code : errors) o_ << " `" << code << "` " << count(code, "define_errors") << ";";
+      for (const auto& code : errors)
+        o_ << " `" << code << "` " << count(code, "define_errors") << ";";
     }
     const auto matches = groups_of("rule_match");
     if (!matches.empty()) {
@@ -206,8 +208,8 @@ void provenance(std::ostream& o, const json& m) {
     << "| date | " << text(m, "started") << " – " << text(m, "finished") << " (UTC) |\n";
   const json host = m.value("host", json::object());
   o << "| host | " << text(host, "name") << " (" << text(host, "system") << " "
-    << text(host, "release") << ", " << host.value("cores", 0) << " cores); jobs: "
-    << m.value("jobs", 1) << " |\n";
+    << text(host, "release") << ", " << host.value("cores", 0)
+    << " cores); jobs: " << m.value("jobs", 1) << " |\n";
   std::string argv;
   for (const auto& a : m.value("command", json::object()).value("argv", json::array()))
     argv += (argv.empty() ? "" : " ") + a.get<std::string>();
@@ -252,8 +254,8 @@ void provenance(std::ostream& o, const json& m) {
       o << "; relative paths from `" << text(config, "base_dir") << "`";
     o << "):\n\n```yaml\n" << text(config, "effective") << "```\n\n";
     for (const auto& f : config.value("files", json::array()))
-      o << "- " << text(f, "role") << " `" << text(f, "path") << "` sha256 `"
-        << text(f, "sha256") << "`\n";
+      o << "- " << text(f, "role") << " `" << text(f, "path") << "` sha256 `" << text(f, "sha256")
+        << "`\n";
     o << "\n</details>\n\n";
   }
 }

@@ -90,9 +90,9 @@ RunSummary run_experiment(const Experiment& e, const RunOptions& options) {
                    {"experiment", experiment_json(e)},
                    {"grid_size", all.size()},
                    {"corpus", record::folder_json(e.corpus)}};
-  manifest["shard"] = options.shard ? json{{"index", options.shard->index},
-                                           {"count", options.shard->count}}
-                                    : json();
+  manifest["shard"] = options.shard
+                          ? json{{"index", options.shard->index}, {"count", options.shard->count}}
+                          : json();
   json inputs = json::array();
   if (!e.file.empty()) inputs.push_back(record::file_json("experiment", e.file));
   manifest["inputs"] = inputs;
@@ -145,8 +145,10 @@ RunSummary assemble_run(const std::string& run_dir, json manifest, bool plots) {
   RunSummary summary;
   summary.run_dir = run_dir;
   for (const auto& v : manifest.value("variants", json::array())) {
-    record::VariantInfo info{v.at("name").get<std::string>(), v.at("directory").get<std::string>(),
-                             v.at("condition").get<std::string>(), v.at("seed").get<std::string>(),
+    record::VariantInfo info{v.at("name").get<std::string>(),
+                             v.at("directory").get<std::string>(),
+                             v.at("condition").get<std::string>(),
+                             v.at("seed").get<std::string>(),
                              {}};
     // Settings: the experiment's and the variant's `--set` assignments, split at the first '='.
     for (const auto& s : v.at("sets")) {
@@ -164,9 +166,9 @@ RunSummary assemble_run(const std::string& run_dir, json manifest, bool plots) {
   if (plots) {
     summary.plots = record::draw_plots("replay_plots.py", run_dir);
   } else {
-    summary.plots = {record::PlotOutcome::Status::skipped,
-                     "plots not drawn (--no-plots); `flipper replay plot " + run_dir +
-                         "` draws them"};
+    summary.plots = {
+        record::PlotOutcome::Status::skipped,
+        "plots not drawn (--no-plots); `flipper replay plot " + run_dir + "` draws them"};
   }
   const char* status[] = {"drawn", "skipped", "failed"};
   manifest["plots"] = {{"status", status[static_cast<int>(summary.plots.status)]},

@@ -90,8 +90,8 @@ std::string headline_text(const record::FigureTable& t,
     o << "status agreement " << f("all", "agree") << " / " << f("all", "queries") << " ("
       << pct(or_zero(t, v.name, "ours", "all", "agreement")) << " %); accepted programs among ours "
       << f("all", "accepts_matched") << " / " << f("all", "accepts")
-      << ", executions agreeing with the logged next world " << f("all", "exec_all_agree")
-      << " / " << f("all", "accepts_compared") << ".\n";
+      << ", executions agreeing with the logged next world " << f("all", "exec_all_agree") << " / "
+      << f("all", "accepts_compared") << ".\n";
   }
   return o.str();
 }
@@ -107,9 +107,9 @@ std::string oracles_text(const record::FigureTable& t,
     o << "induced rules against the original's, per definition: " << f("identical", "rule_match")
       << " identical, " << f("subset", "rule_match") << " subset, " << f("overlap", "rule_match")
       << " overlap, " << f("missing", "rule_match") << " missing of "
-      << f("all", "rule_match_compared") << "; execution differences no tie rule explains: "
-      << f("all", "unexplained") << " of " << f("all", "accepts_classified")
-      << " classified accepts.\n";
+      << f("all", "rule_match_compared")
+      << "; execution differences no tie rule explains: " << f("all", "unexplained") << " of "
+      << f("all", "accepts_classified") << " classified accepts.\n";
   }
   return o.str();
 }
@@ -138,7 +138,7 @@ std::string seeds_table(const std::vector<record::Figure>& figures,
   for (const auto& v : variants) seeded = seeded || !v.seed.empty();
   if (!seeded) return "";
   static const std::pair<const char*, const char*> kShown[] = {
-      {"all", "agreement"},       {"all", "exec_all_agree"}, {"all", "plan_success_rate"},
+      {"all", "agreement"},        {"all", "exec_all_agree"}, {"all", "plan_success_rate"},
       {"all", "path_length_mean"}, {"all", "turns_mean"},     {"all", "plan_cpu_p50"}};
   std::ostringstream o;
   o << "| condition | seeds | agreement (%) | executions agreeing | planner success (%) | path "

@@ -24,7 +24,9 @@ struct Figure {
 
 /// The key that identifies a figure within a run.
 using FigureKey = std::tuple<std::string, std::string, std::string, std::string>;
-inline FigureKey key_of(const Figure& f) { return {f.variant, f.source, f.group, f.metric}; }
+inline FigureKey key_of(const Figure& f) {
+  return {f.variant, f.source, f.group, f.metric};
+}
 
 /// Writes figures.csv (values as exact_number, so a re-read gives the same doubles).
 void write_figures(const std::string& path, const std::vector<Figure>& figures);

@@ -37,10 +37,9 @@ class OutFile {
  private:
   [[noreturn]] void fail() {
     const int err = errno;
-    throw sdk::Error(sdk::codes::kWriteFailed, "cannot write '" + path_ + "'" +
-                                                   (err != 0 ? std::string(": ") +
-                                                                   std::strerror(err)
-                                                             : std::string()));
+    throw sdk::Error(sdk::codes::kWriteFailed,
+                     "cannot write '" + path_ + "'" +
+                         (err != 0 ? std::string(": ") + std::strerror(err) : std::string()));
   }
   std::string path_;
   std::ofstream out_;

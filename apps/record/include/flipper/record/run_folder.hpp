@@ -19,8 +19,9 @@ std::string create_run_folder(const std::string& parent, const std::string& stem
 bool is_run_folder(const std::string& dir);
 
 /// A directory name from a readable name: letters, digits, '.', '_', '-', '+', '=' kept, ','
-/// (between a sweep point's settings) '+', every other character '_'; names longer than 120 characters keep their first 100 and add the first
-/// 12 hex digits of the name's SHA-256, so distinct long names stay distinct.
+/// (between a sweep point's settings) '+', every other character '_'; names longer than 120
+/// characters keep their first 100 and add the first 12 hex digits of the name's SHA-256, so
+/// distinct long names stay distinct.
 std::string directory_name(const std::string& name);
 
 /// The current time in UTC as ISO 8601 ("2025-01-31T12:00:00Z").

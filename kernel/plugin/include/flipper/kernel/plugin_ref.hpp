@@ -72,8 +72,9 @@ class CallTimer {
   }
   ~CallTimer() {
     if (observer_ != nullptr)
-      observer_(plugin_, op_,
-                PluginCallTime{std::chrono::steady_clock::now() - start_, thread_cpu() - cpu_start_});
+      observer_(
+          plugin_, op_,
+          PluginCallTime{std::chrono::steady_clock::now() - start_, thread_cpu() - cpu_start_});
   }
   CallTimer(const CallTimer&) = delete;
   CallTimer& operator=(const CallTimer&) = delete;
