@@ -3,15 +3,13 @@
 // and compared byte for byte. A change that moves a figure fails this test until
 // `bash scripts/readme-figures` has regenerated the README. The commands run in a scratch folder
 // that looks like the repository root (build/, configs/, data/, examples/, docs/ linked).
-#include <sys/wait.h>
-
-#include <array>
 #include <catch2/catch.hpp>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include "cli_test_support.hpp"
 
 namespace fs = std::filesystem;
 
@@ -52,24 +50,11 @@ std::vector<Block> figure_blocks(const std::string& readme_path) {
   return out;
 }
 
-struct Result {
-  int status = -1;
-  std::string out;
-};
-
 // Standard output only (progress and notes go to standard error, kept apart in `log`).
-Result run_in(const fs::path& dir, const std::string& command, const fs::path& log) {
-  const std::string sh = "cd '" + dir.string() + "' && HOME='" + dir.string() + "/home' sh -c '" +
-                         command + "' 2>'" + log.string() + "' < /dev/null";
-  Result r;
-  FILE* p = ::popen(sh.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p) != nullptr) r.out += buf.data();
-  const int raw = ::pclose(p);
-  REQUIRE(WIFEXITED(raw));
-  r.status = WEXITSTATUS(raw);
-  return r;
+flipper::clitest::Run run_in(const fs::path& dir, const std::string& command, const fs::path& log) {
+  return flipper::clitest::run_shell("cd '" + dir.string() + "' && HOME='" + dir.string() +
+                                     "/home' sh -c '" + command + "' 2>'" + log.string() +
+                                     "' < /dev/null");
 }
 
 std::string read(const fs::path& p) {
@@ -97,7 +82,7 @@ TEST_CASE("every README figure block is what its command prints now", "[readme][
     REQUIRE_FALSE(b.command.empty());
     REQUIRE(b.command.find('\'') == std::string::npos);
     const fs::path log = dir / ("block-" + std::to_string(i) + ".log");
-    const Result r = run_in(dir, b.command, log);
+    const auto r = run_in(dir, b.command, log);
     INFO("its standard error:\n" << read(log));
     REQUIRE(r.status == 0);
     REQUIRE_FALSE(r.out.empty());

@@ -37,7 +37,7 @@ std::string generate(const fs::path& source, const fs::path& output) {
 }
 }  // namespace
 
-TEST_CASE("the commit is read at build time; a tree without git says unknown", "[record][build]") {
+TEST_CASE("the commit is read at build time, a tree without git says unknown", "[record][build]") {
   const fs::path dir = fs::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "record" / "build-info";
   fs::remove_all(dir);
   fs::create_directories(dir / "tree");

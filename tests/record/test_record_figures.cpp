@@ -8,17 +8,13 @@
 #include "flipper/record/csv.hpp"
 #include "flipper/record/figures.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "record_scratch.hpp"
 
 using namespace flipper::record;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "record" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using recordtest::scratch;
 }  // namespace
 
 TEST_CASE("CSV fields are quoted exactly when they must be, and read back", "[record][csv]") {

@@ -14,18 +14,14 @@
 #include "flipper/record/run_folder.hpp"
 #include "flipper/record/sweep.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "record_scratch.hpp"
 
 using namespace flipper::record;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "record" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using recordtest::scratch;
 std::string shell_output(const std::string& cmd) {
   std::string out;
   FILE* p = ::popen(cmd.c_str(), "r");
@@ -37,7 +33,7 @@ std::string shell_output(const std::string& cmd) {
 }
 }  // namespace
 
-TEST_CASE("every run gets a new folder; none is overwritten", "[record][runs]") {
+TEST_CASE("every run gets a new folder, and none is overwritten", "[record][runs]") {
   const fs::path parent = scratch("runs") / "out";  // created by the first run
   const std::string a = create_run_folder(parent.string(), "dev-replay");
   const std::string b = create_run_folder(parent.string(), "dev-replay");
@@ -219,7 +215,7 @@ TEST_CASE("a re-check warns about what differs in the build, plugins and files",
   CHECK_THAT(w[3], Catch::StartsWith("corpus file queries.jsonl: checksum differs"));
 }
 
-TEST_CASE("manifests are written whole and read back; a folder without one is refused",
+TEST_CASE("manifests are written whole and read back, a folder without one is refused",
           "[record][manifest]") {
   const fs::path dir = scratch("manifest");
   write_manifest(dir.string(), {{"kind", "replay"}, {"n", 3}});

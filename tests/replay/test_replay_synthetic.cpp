@@ -127,7 +127,7 @@ TEST_CASE("an experiment writes a run folder: metrics, CSV, figures and the repo
   CHECK(text.find("| `agree` | 1 | agree |") != std::string::npos);  // the class table
   CHECK(text.find("Unexplained: 0.") != std::string::npos);
   // The synthetic corpus's figures (see above): 11 of 12 statuses agree, in every variant.
-  const record::FigureTable t(s.figures);
+  const flipper::record::FigureTable t(s.figures);
   for (const auto& v : s.variants) {
     CHECK(t.get(v.name, "ours", "all", "agree") == 11);
     CHECK(t.get(v.name, "ours", "all", "queries") == 12);

@@ -106,13 +106,13 @@ TEST_CASE("a replay writes a new run folder whose manifest names what produced i
   CHECK(v["mode_overrides"]["B"][1] == "lexicon.sharing=private");
   // report.md names the same.
   const std::string report = read_file(run + "/report.md");
-  for (const std::string& want :
-       {"| flipper | " + m["build"]["flipper"].get<std::string>(),
-        "commit `" + m["build"]["commit"].get<std::string>() + "`",
-        "| planner: astar | " + v["plugins"][1]["version"].get<std::string>(),
-        v["plugins"][1]["sha256"].get<std::string>(),
-        m["corpus"]["files"][0]["sha256"].get<std::string>().substr(0, 16), "Seeds: none",
-        m["started"].get<std::string>(), "```yaml\nworld:\n  plugin: grid2d"})
+  for (const std::string& want : std::vector<std::string>{
+           "| flipper | " + m["build"]["flipper"].get<std::string>(),
+           "commit `" + m["build"]["commit"].get<std::string>() + "`",
+           "| planner: astar | " + v["plugins"][1]["version"].get<std::string>(),
+           v["plugins"][1]["sha256"].get<std::string>(),
+           m["corpus"]["files"][0]["sha256"].get<std::string>().substr(0, 16), "Seeds: none",
+           m["started"].get<std::string>(), "```yaml\nworld:\n  plugin: grid2d"})
     CHECK_THAT(report, Catch::Contains(want));
 
   // An OMPL variant records its seed (the plugin's default, 1).
@@ -183,7 +183,7 @@ TEST_CASE("figures.csv holds the report's figures, tidy", "[replay][record]") {
              Catch::Contains("Overall: 11 / 12 = 91.7 %. By group: A 3/4 (75.0 %);"));
 }
 
-TEST_CASE("a fresh run re-checks without difference; a changed figure is named",
+TEST_CASE("a fresh run re-checks without difference, a changed figure is named",
           "[replay][record][check]") {
   const std::string dir = clitest::scratch_dir("record-check");
   const std::string run = replay_run("--experiment " + sweep_experiment(dir) + " --out " + dir +
@@ -295,60 +295,77 @@ TEST_CASE("planner figures of accepted programs on hand-made worlds", "[replay][
   const std::string dir = clitest::scratch_dir("record-planner");
   const std::string corpus = dir + "/corpus";
   fs::create_directories(corpus);
-  const std::string rooms = R"("rooms": {"room1": [[2, 2]], "room2": [[3, 4]]})";
-  std::ofstream(corpus + "/worlds.jsonl")
-      << R"({"world_id": "w1", "bounds": {"min": [0, 0], "max": [4, 4]}, "robot": {"x": 0, "y": 0, "holding": []}, "walls": [[1, 0], [1, 1]], "items": [], )"
-      << rooms << "}\n"
-      << R"({"world_id": "w2", "bounds": {"min": [0, 0], "max": [4, 4]}, "robot": {"x": 0, "y": 4, "holding": []}, "walls": [[1, 0], [1, 1]], "items": [], )"
-      << rooms << "}\n";
-  const std::string common =
-      R"("source": "t/A", "group": "A", "session": "u", "user": "u", "participant": "u", "in_authors_tables": true, "phase": "task")";
+  const json rooms = {{"room1", {{2, 2}}}, {"room2", {{3, 4}}}};
+  auto world = [&](const char* id, int x, int y) {
+    return json{{"world_id", id},
+                {"bounds", {{"min", {0, 0}}, {"max", {4, 4}}}},
+                {"robot", {{"x", x}, {"y", y}, {"holding", json::array()}}},
+                {"walls", {{1, 0}, {1, 1}}},
+                {"items", json::array()},
+                {"rooms", rooms}};
+  };
+  std::ofstream(corpus + "/worlds.jsonl") << world("w1", 0, 0).dump() << "\n"
+                                          << world("w2", 0, 4).dump() << "\n";
+  auto command = [&](int n, const char* kind, const char* text, const char* world_id) {
+    json c = {{"qid", "t/A#" + std::to_string(n)},
+              {"source", "t/A"},
+              {"group", "A"},
+              {"session", "u"},
+              {"user", "u"},
+              {"participant", "u"},
+              {"in_authors_tables", true},
+              {"phase", "task"},
+              {"kind", kind},
+              {"utterance", text},
+              {"world_id", world_id},
+              {"next_world_id", world_id},
+              {"line", n}};
+    if (std::string(kind) == "q") {
+      c["status"] = "Core";
+      c["n_parses"] = 1;
+      c["walltime_s"] = 0.05;
+      c["author"] = nullptr;
+    } else {
+      c["formula"] = std::string("(: ") + text + ")";
+      c["for_qid"] = "t/A#" + std::to_string(n - 1);
+    }
+    return c.dump() + "\n";
+  };
   std::ofstream(corpus + "/queries.jsonl")
-      << R"({"qid": "t/A#1", )" << common
-      << R"(, "kind": "q", "utterance": "visit room1", "world_id": "w1", "next_world_id": "w1", "line": 1, "status": "Core", "n_parses": 1, "walltime_s": 0.05, "author": null})"
-      << "\n"
-      << R"({"qid": "t/A#2", )" << common
-      << R"(, "kind": "accept", "utterance": "visit room1", "world_id": "w1", "next_world_id": "w1", "line": 2, "formula": "(: visit room1)",
-      "for_qid" : "t/A#1"
-})"
-      << "\n"
-      << R"({"qid": "t/A#3", )" << common
-      << R"(, "kind": "q", "utterance": "visit room2", "world_id": "w2", "next_world_id": "w2", "line": 3, "status": "Core", "n_parses": 1, "walltime_s": 0.05, "author": null})"
-      << "\n"
-      << R"({"qid": "t/A#4", )" << common
-      << R"(, "kind": "accept", "utterance": "visit room2", "world_id": "w2", "next_world_id": "w2", "line": 4, "formula": "(: visit room2)", "for_qid": "t/A#3"
-})"
-      << "\n";
-std::ofstream(corpus + "/original-answers.jsonl")
-    << R"({"qid": "t/A#1", "candidates": [{"pretty": "{visit room1}", "formula": "(: visit room1)",
-    "core_only" : true
-}], "accepted_rank": 0
-})"
-      << "\n"
-      << R"({"qid": "t/A#3", "candidates": [{"pretty": "{visit room2}", "formula": "(: visit room2)", "core_only": true
-}], "accepted_rank": 0
-})"
-      << "\n";
-std::ofstream(corpus + "/definitions.jsonl") << "";
-const std::string run = replay_run("--corpus " + corpus + " --out " + dir + "/out --no-plots");
-const record::CsvTable accepts = record::read_csv(run + "/plain/accepts.csv");
-REQUIRE(accepts.rows.size() == 2);
-auto cell = [&](std::size_t row, const char* column) {
-  return accepts.rows[row][accepts.column(column, "accepts.csv")];
-};
-CHECK(cell(0, "executed") == "1");
-CHECK(cell(0, "plan_success") == "1");
-CHECK(cell(0, "path_length") == "4");
-CHECK(cell(0, "turns") == "1");
-CHECK(cell(0, "plan_calls") == "1");
-CHECK(cell(1, "path_length") == "3");
-CHECK(cell(1, "turns") == "0");
-CHECK(cell(1, "plan_calls") == "1");
-const record::FigureTable t(record::read_figures(run + "/figures.csv"));
-CHECK(t.get("plain", "ours", "all", "plan_runs") == 2);
-CHECK(t.get("plain", "ours", "all", "plan_success_rate") == 100);
-CHECK(t.get("plain", "ours", "all", "path_length_sum") == 7);
-CHECK(t.get("plain", "ours", "all", "path_length_mean") == 3.5);
-CHECK(t.get("plain", "ours", "all", "turns_mean") == 0.5);
-CHECK(t.get("plain", "ours", "all", "plan_calls") == 2);
+      << command(1, "q", "visit room1", "w1") << command(2, "accept", "visit room1", "w1")
+      << command(3, "q", "visit room2", "w2") << command(4, "accept", "visit room2", "w2");
+  auto answer = [](int n, const std::string& text) {
+    return json{{"qid", "t/A#" + std::to_string(n)},
+                {"candidates",
+                 {{{"pretty", "{" + text + "}"},
+                   {"formula", "(: " + text + ")"},
+                   {"core_only", true}}}},
+                {"accepted_rank", 0}}
+               .dump() +
+           "\n";
+  };
+  std::ofstream(corpus + "/original-answers.jsonl")
+      << answer(1, "visit room1") << answer(3, "visit room2");
+  std::ofstream(corpus + "/definitions.jsonl") << "";
+  const std::string run = replay_run("--corpus " + corpus + " --out " + dir + "/out --no-plots");
+  const record::CsvTable accepts = record::read_csv(run + "/plain/accepts.csv");
+  REQUIRE(accepts.rows.size() == 2);
+  auto cell = [&](std::size_t row, const char* column) {
+    return accepts.rows[row][accepts.column(column, "accepts.csv")];
+  };
+  CHECK(cell(0, "executed") == "1");
+  CHECK(cell(0, "plan_success") == "1");
+  CHECK(cell(0, "path_length") == "4");
+  CHECK(cell(0, "turns") == "1");
+  CHECK(cell(0, "plan_calls") == "1");
+  CHECK(cell(1, "path_length") == "3");
+  CHECK(cell(1, "turns") == "0");
+  CHECK(cell(1, "plan_calls") == "1");
+  const record::FigureTable t(record::read_figures(run + "/figures.csv"));
+  CHECK(t.get("plain", "ours", "all", "plan_runs") == 2);
+  CHECK(t.get("plain", "ours", "all", "plan_success_rate") == 100);
+  CHECK(t.get("plain", "ours", "all", "path_length_sum") == 7);
+  CHECK(t.get("plain", "ours", "all", "path_length_mean") == 3.5);
+  CHECK(t.get("plain", "ours", "all", "turns_mean") == 0.5);
+  CHECK(t.get("plain", "ours", "all", "plan_calls") == 2);
 }
