@@ -74,7 +74,8 @@ inline bool timing_picture(const fs::path& picture) {
   fs::path data = picture;
   data.replace_extension(".plotdata.json");
   if (!fs::exists(data)) return false;
-  for (const auto& panel : nlohmann::json::parse(slurp(data))["panels"])
+  const nlohmann::json plot = nlohmann::json::parse(slurp(data));
+  for (const auto& panel : plot.at("panels"))
     if (panel.value("timing", false)) return true;
   return false;
 }

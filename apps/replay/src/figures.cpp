@@ -53,7 +53,7 @@ void side_figures(Rows& r, const std::string& source, const Figures& f) {
 void agreement_figures(Rows& r, const std::string& group, const Agreement& a) {
   r.add("ours", group, "queries", a.n, "queries");
   r.add("ours", group, "agree", a.agree, "queries");
-  r.add("ours", group, "agreement", 100.0 * a.rate(), "%");
+  r.add("ours", group, "agreement", a.n ? 100.0 * a.agree / a.n : 0.0, "%");
 }
 
 std::string bin_label(double edge) {
