@@ -132,7 +132,8 @@ run(async () => {
   writeFileSync(experiment, 'name: studio pilot\nconfig: ""\ncorpus: recording\nset: [induction.alignment=true]\nvariants:\n  - {name: plain, set: []}\n');
   const out = join(dir, 'replay');
   execFileSync(opt.flipper, ['replay', '--experiment', experiment, '--corpus', rec, '--out', out], { cwd: root, stdio: 'inherit' });
-  const rows = readCsv(join(out, 'plain', 'queries.csv'));
+  // The run goes into a new folder under --out; `latest` links it (docs/experiments.md §1).
+  const rows = readCsv(join(out, 'latest', 'plain', 'queries.csv'));
   equal(rows.length, recorded.length, 'the replay answers every recorded query');
   equal(rows.map((r) => r.ours), seen, 'the replay gets the same status for every query');
   equal(rows.filter((r) => r.agree !== '1').length, 0, 'every row agrees with the recording');
