@@ -137,7 +137,7 @@ run(async () => {
   equal(rows.length, recorded.length, 'the replay answers every recorded query');
   equal(rows.map((r) => r.ours), seen, 'the replay gets the same status for every query');
   equal(rows.filter((r) => r.agree !== '1').length, 0, 'every row agrees with the recording');
-  const accepts = readCsv(join(out, 'plain', 'accepts.csv'));
+  const accepts = readCsv(join(out, 'latest', 'plain', 'accepts.csv'));
   equal(accepts.map((r) => `${r.matched}${r.executed}${r.robot}${r.held}${r.floor}`), Array(5).fill('11111'),
     'every recorded accept is matched, executed and ends in the recorded world');
 });
