@@ -145,3 +145,48 @@ TEST_CASE("experiment files are validated") {
   const fs::path root = fs::weakly_canonical(FLIPPER_SOURCE_DIR);
   CHECK(e.corpus == (root / "data" / "study2018" / "dev").string());
 }
+
+TEST_CASE("a sweep's grid: names, conditions, seeds, and parameters a plugin lacks",
+          "[replay][sweep]") {
+  Experiment e;
+  e.name = "sweep";
+  e.corpus = FLIPPER_SOURCE_DIR "/tests/replay/data";
+  e.variants = {{"chart", {"parser.plugin=chart"}}};
+  e.sweep = {{"planner.plugin", {"astar", "ompl"}}, {"planner.params.seed", {"1", "2"}}};
+  const auto planned = plan_variants(e);
+  REQUIRE(planned.size() == 4);
+  CHECK(planned[0].info.name == "chart,planner.plugin=astar,planner.params.seed=1");
+  CHECK(planned[0].info.directory == "chart+planner.plugin=astar+planner.params.seed=1");
+  CHECK(planned[3].info.name == "chart,planner.plugin=ompl,planner.params.seed=2");
+  // The condition is the name without the seed; the seed is what the spread is taken over.
+  CHECK(planned[0].info.condition == "chart,planner.plugin=astar");
+  CHECK(planned[3].info.condition == "chart,planner.plugin=ompl");
+  CHECK(planned[3].info.seed == "planner.params.seed=2");
+  // astar declares no seed: left out, with a note; ompl takes it.
+  CHECK(planned[0].sets == std::vector<std::string>{"parser.plugin=chart", "planner.plugin=astar"});
+  REQUIRE(planned[0].notes.size() == 1);
+  CHECK_THAT(planned[0].notes[0],
+             Catch::Contains("`planner.params.seed=1` left out: plugin 'astar' (planner) "
+                             "declares no parameter 'seed'"));
+  CHECK(planned[3].sets == std::vector<std::string>{"parser.plugin=chart", "planner.plugin=ompl",
+                                                    "planner.params.seed=2"});
+  CHECK(planned[3].notes.empty());
+  // A parameter no variant's plugin declares is a typo, not a silent no-op.
+  e.sweep = {{"planner.plugin", {"astar", "ompl"}}, {"planner.params.sed", {"1"}}};
+  CHECK_THROWS_WITH(plan_variants(e), Catch::Contains("sweep key 'planner.params.sed': no "
+                                                      "variant's planner plugin declares a "
+                                                      "parameter 'sed'"));
+  // Sweep files: a map of lists; a repeated value is refused.
+  namespace fs = std::filesystem;
+  const fs::path f = fs::path(FLIPPER_BINARY_DIR) / "replay-sweep-experiment.yaml";
+  std::ofstream(f) << "corpus: x\nsweep: {planner.params.seed: [1, 2, 1]}\n";
+  CHECK_THROWS_WITH(load_experiment(f.string()),
+                    Catch::Contains("sweep key 'planner.params.seed' lists '1' twice"));
+  std::ofstream(f) << "corpus: x\nsweep: [1, 2]\n";
+  CHECK_THROWS_WITH(load_experiment(f.string()), Catch::Contains("'sweep' must be a map"));
+  std::ofstream(f) << "corpus: x\nsweep: {planner.params.seed: [1, 2], parser.params.beam: 5}\n";
+  const Experiment loaded = load_experiment(f.string());
+  REQUIRE(loaded.sweep.size() == 2);
+  CHECK(loaded.sweep[0].values == std::vector<std::string>{"1", "2"});
+  CHECK(loaded.sweep[1].values == std::vector<std::string>{"5"});
+}
