@@ -76,8 +76,7 @@ TEST_CASE(
   CHECK(contains(bad.out, "flipper config check: [bad_world] no world file at '" +
                               (dir / "worlds/study2018.json").string() +
                               "' (world.file 'worlds/study2018.json' from copy.yaml: relative to "
-                              "its directory " +
-                              dir.string() + ")"));
+                              "its directory " + dir.string() + ")"));
 }
 
 TEST_CASE("paths in an experiment file resolve against its directory", "[cli][paths]") {
