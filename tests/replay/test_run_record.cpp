@@ -174,9 +174,9 @@ TEST_CASE("figures.csv holds the report's figures, tidy", "[replay][record]") {
   // Timing figures are marked, the others are not.
   for (const auto& f : figures) {
     INFO(f.metric << " " << f.source);
-    const bool timing =
-        f.source == "ours" && f.metric != "latency_n" &&  // a count of queries, not a time
-        (f.metric.rfind("latency", 0) == 0 || f.metric.rfind("plan_cpu", 0) == 0);
+    const bool timing = f.source == "ours" &&
+                        f.metric != "latency_n" &&  // a count of queries, not a time
+                        (f.metric.rfind("latency", 0) == 0 || f.metric.rfind("plan_cpu", 0) == 0);
     CHECK(f.timing == timing);
   }
   // The report shows figures.csv's values (its agreement line, from the table).
@@ -233,8 +233,7 @@ TEST_CASE("a fresh run re-checks without difference, a changed figure is named",
       contains(none.out, "flipper replay check: [bad_request] '" + dir + "' is not a run folder"));
 }
 
-TEST_CASE("one job or two, and merged shards, give the same files",
-          "[replay][record][sweep]") {
+TEST_CASE("one job or two, and merged shards, give the same files", "[replay][record][sweep]") {
   const std::string dir = clitest::scratch_dir("record-jobs");
   const std::string experiment = sweep_experiment(dir);
   const std::string one =

@@ -79,39 +79,47 @@ std::string variants_table(const record::FigureTable& t,
   return o.str();
 }
 
-std::string headline_text(const record::FigureTable& t,
-                          const std::vector<record::VariantInfo>& variants) {
+namespace {
+
+// One line per variant (its name first when there are several); `line(o, v, f)` writes it, with
+// f(group, metric) a figure of ours as shown.
+template <class Line>
+std::string per_variant(const record::FigureTable& t,
+                        const std::vector<record::VariantInfo>& variants, Line line) {
   std::ostringstream o;
   for (const auto& v : variants) {
     auto f = [&](const std::string& group, const std::string& metric) {
       return record::show_value(or_zero(t, v.name, "ours", group, metric));
     };
     if (variants.size() > 1) o << "`" << v.name << "`: ";
+    line(o, v, f);
+  }
+  return o.str();
+}
+
+}  // namespace
+
+std::string headline_text(const record::FigureTable& t,
+                          const std::vector<record::VariantInfo>& variants) {
+  return per_variant(t, variants, [&](std::ostream& o, const record::VariantInfo& v, auto f) {
     o << "status agreement " << f("all", "agree") << " / " << f("all", "queries") << " ("
       << pct(or_zero(t, v.name, "ours", "all", "agreement")) << " %); accepted programs among ours "
       << f("all", "accepts_matched") << " / " << f("all", "accepts")
       << ", executions agreeing with the logged next world " << f("all", "exec_all_agree") << " / "
       << f("all", "accepts_compared") << ".\n";
-  }
-  return o.str();
+  });
 }
 
 std::string oracles_text(const record::FigureTable& t,
                          const std::vector<record::VariantInfo>& variants) {
-  std::ostringstream o;
-  for (const auto& v : variants) {
-    auto f = [&](const std::string& group, const std::string& metric) {
-      return record::show_value(or_zero(t, v.name, "ours", group, metric));
-    };
-    if (variants.size() > 1) o << "`" << v.name << "`: ";
+  return per_variant(t, variants, [](std::ostream& o, const record::VariantInfo&, auto f) {
     o << "induced rules against the original's, per definition: " << f("identical", "rule_match")
       << " identical, " << f("subset", "rule_match") << " subset, " << f("overlap", "rule_match")
       << " overlap, " << f("missing", "rule_match") << " missing of "
       << f("all", "rule_match_compared")
       << "; execution differences no tie rule explains: " << f("all", "unexplained") << " of "
       << f("all", "accepts_classified") << " classified accepts.\n";
-  }
-  return o.str();
+  });
 }
 
 std::string planner_table(const record::FigureTable& t,
