@@ -1,27 +1,40 @@
-// flipper replay --config F --corpus DIR --out DIR [--experiment FILE] [--runs a,b]
-//                [--max-queries N] [--set k=v]...
-// Replays a corpus split through kernel sessions and writes metrics, SVG figures and report.md.
-// Command-line options override the experiment file; --set applies to every variant.
+// flipper replay --out PARENT [--experiment FILE] [--config F] [--corpus DIR] [--runs a,b]
+//                [--max-queries N] [--set k=v]... [--jobs N] [--shard I/N] [--print TABLE]
+//                [--json] [--no-plots]
+// flipper replay check RUN [--jobs N] [--out PARENT]
+// flipper replay merge RUN... --out PARENT [--no-plots]
+// flipper replay compare RUN_A RUN_B [--all]
+// flipper replay plot RUN
+// Replays a corpus split through kernel sessions into a new run folder under --out: manifest,
+// figures (tidy CSV), metrics, report.md and plots (docs/experiments.md). Command-line options
+// override the experiment file; --set applies to every variant.
 #include <unistd.h>
 
 #include <cstdio>
-#include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "commands.hpp"
 #include "common.hpp"
+#include "flipper/record/compare.hpp"
+#include "flipper/record/processes.hpp"
+#include "flipper/record/run_folder.hpp"
+#include "flipper/replay/check.hpp"
 #include "flipper/replay/experiment.hpp"
+#include "flipper/replay/output.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::cli {
 namespace {
 
+using kernel::replay::RunSummary;
+
 struct ReplayArgs {
-  std::string corpus, out, experiment, runs;
+  std::string corpus, out, experiment, runs, shard, print;
   int max_queries = -1;
-  bool json = false;
+  int jobs = 0;  ///< 0: the cores available
+  bool json = false, no_plots = false;
 };
 
 std::vector<std::string> split_commas(const std::string& s) {
@@ -32,10 +45,11 @@ std::vector<std::string> split_commas(const std::string& s) {
   return out;
 }
 
-// A bar on a terminal (redrawn in place), plain lines every 5 % otherwise.
+// A bar on a terminal (redrawn in place) for one variant at a time; plain lines every 5 %
+// otherwise, and always when variants run in parallel (their lines interleave).
 class Progress {
  public:
-  Progress() : tty_(isatty(STDERR_FILENO) != 0) {}
+  explicit Progress(bool plain) : tty_(!plain && isatty(STDERR_FILENO) != 0) {}
   void operator()(const std::string& variant, std::size_t done, std::size_t total,
                   const std::string& run) {
     const int percent = total ? static_cast<int>(100 * done / total) : 100;
@@ -59,12 +73,54 @@ class Progress {
   std::string variant_;
 };
 
+int jobs_or_cores(int jobs) {
+  return jobs > 0 ? jobs : record::available_cores();
+}
+
+// Where plots went, or why not (a note on stderr, never a failure of the run).
+void say_plots(const record::PlotOutcome& plots) {
+  if (plots.status == record::PlotOutcome::Status::drawn)
+    std::cerr << plots.message;
+  else
+    std::cerr << "flipper replay: note: " << plots.message << "\n";
+}
+
+std::string one_table(const std::string& name, const RunSummary& s) {
+  const record::FigureTable t(s.figures);
+  if (name == "headline") return kernel::replay::headline_text(t, s.variants);
+  if (name == "oracles") return kernel::replay::oracles_text(t, s.variants);
+  if (name == "variants") return kernel::replay::variants_table(t, s.variants);
+  if (name == "planner") return kernel::replay::planner_table(t, s.variants);
+  if (name == "seeds") return kernel::replay::seeds_table(s.figures, s.variants);
+  throw sdk::Error(
+      sdk::codes::kBadRequest,
+      "--print '" + name + "': no such table (headline, variants, oracles, planner, seeds)");
+}
+
+// The --print tables: what README blocks generate (scripts/readme-figures). `names` is one
+// table or several, comma-separated, printed in that order.
+std::string table_text(const std::string& names, const RunSummary& s) {
+  std::string out;
+  for (const auto& name : split_commas(names)) out += one_table(name, s);
+  return out;
+}
+
 int run_replay(const CommonOptions& common, const ReplayArgs& args) {
   using namespace kernel::replay;
+  if (args.out.empty())
+    return report_error("replay", "usage",
+                        "--out PARENT is required: the run goes into a new folder under it "
+                        "(see --help)",
+                        kExitUsage);
+  if (args.jobs < 0)
+    return report_error("replay", "usage", "--jobs must be at least 1", kExitUsage);
+  if (!args.print.empty()) table_text(args.print, {});  // an unknown table before the run
   Experiment e;
   if (!args.experiment.empty()) e = load_experiment(args.experiment);
-  if (!common.config_file.empty()) e.config = common.config_file;
-  if (!args.corpus.empty()) e.corpus = args.corpus;
+  if (!common.config_file.empty())
+    e.config = std::filesystem::absolute(common.config_file).lexically_normal().string();
+  if (!args.corpus.empty())
+    e.corpus = std::filesystem::absolute(args.corpus).lexically_normal().string();
   if (!args.runs.empty()) e.runs = split_commas(args.runs);
   if (args.max_queries >= 0) e.max_queries = args.max_queries;
   e.sets.insert(e.sets.end(), common.overrides.begin(), common.overrides.end());
@@ -72,51 +128,173 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
     return report_error("replay", "bad_config",
                         "no corpus (give --corpus DIR or an experiment with 'corpus')", kExitUsage);
   }
-  Progress progress;
-  auto variants = run_experiment(e, args.out, std::ref(progress));
+  RunOptions options;
+  options.out = args.out;
+  options.jobs = jobs_or_cores(args.jobs);
+  if (!args.shard.empty()) options.shard = record::parse_shard(args.shard);
+  options.plots = !args.no_plots;
+  Progress progress(options.jobs > 1);
+  options.progress = std::ref(progress);
+  const RunSummary s = run_experiment(e, options);
+
+  const record::FigureTable t(s.figures);
+  auto figure = [&](const std::string& v, const std::string& metric) {
+    return record::show_value(t.find(v, "ours", "all", metric).value_or(0));
+  };
   if (args.json) {
     nlohmann::json list = nlohmann::json::array();
-    for (const auto& v : variants)
-      list.push_back({{"variant", v.name},
-                      {"status_agree", v.metrics.overall.agree},
-                      {"queries", v.metrics.overall.n},
-                      {"accepts_matched", v.metrics.exec.matched},
-                      {"accepts", v.metrics.exec.accepts},
-                      {"metrics", args.out + "/" + v.name + "/metrics.json"}});
-    std::cout << nlohmann::json{{"variants", std::move(list)},
-                                {"report", args.out + "/report.md"}}
+    for (const auto& v : s.variants)
+      list.push_back(
+          {{"variant", v.name},
+           {"status_agree", t.find(v.name, "ours", "all", "agree").value_or(0)},
+           {"queries", t.find(v.name, "ours", "all", "queries").value_or(0)},
+           {"accepts_matched", t.find(v.name, "ours", "all", "accepts_matched").value_or(0)},
+           {"accepts", t.find(v.name, "ours", "all", "accepts").value_or(0)},
+           {"metrics", s.run_dir + "/" + v.directory + "/metrics.json"}});
+    std::cout << nlohmann::json{{"run", s.run_dir},
+                                {"variants", std::move(list)},
+                                {"figures", s.run_dir + "/figures.csv"},
+                                {"report", s.run_dir + "/report.md"}}
                      .dump(2)
               << "\n";
     return kExitOk;
   }
-  for (const auto& v : variants)
-    std::cout << v.name << ": status agreement " << v.metrics.overall.agree << "/"
-              << v.metrics.overall.n << ", accepts matched " << v.metrics.exec.matched << "/"
-              << v.metrics.exec.accepts << "\n";
-  std::cout << "report: " << args.out << "/report.md\n";
+  // With --print the table is the only standard output (a README block's content).
+  std::ostream& summary = args.print.empty() ? std::cout : std::cerr;
+  for (const auto& v : s.variants)
+    summary << v.name << ": status agreement " << figure(v.name, "agree") << "/"
+            << figure(v.name, "queries") << ", accepts matched "
+            << figure(v.name, "accepts_matched") << "/" << figure(v.name, "accepts") << "\n";
+  summary << "run: " << s.run_dir << "\nreport: " << s.run_dir << "/report.md\n";
+  say_plots(s.plots);
+  if (!args.print.empty()) std::cout << table_text(args.print, s);
   return kExitOk;
+}
+
+struct CheckArgs {
+  std::string run, out;
+  int jobs = 0;
+};
+
+struct MergeArgs {
+  std::vector<std::string> runs;
+  std::string out;
+  bool no_plots = false;
+};
+
+struct CompareArgs {
+  std::string a, b;
+  bool all = false;
+};
+
+// Runs a replay sub-subcommand with the one error format.
+int guarded(const char* name, const std::function<int()>& f) {
+  try {
+    return f();
+  } catch (const sdk::Error& e) {
+    return report_error(name, e.code(), e.what(), status_for(e.code()));
+  }
+}
+
+void add_check(CLI::App& replay) {
+  auto* cmd = replay.add_subcommand(
+      "check", "Re-run a recorded run from its manifest and report every figure that differs");
+  static CheckArgs args;
+  cmd->add_option("run", args.run, "The run folder")->required();
+  cmd->add_option("--jobs", args.jobs, "Variants in parallel processes (default: the cores)");
+  cmd->add_option("--out", args.out, "Keep the re-run under this folder (default: removed)");
+  on_run(*cmd, [] {
+    return guarded("replay check", [] {
+      const auto r = kernel::replay::check_run(args.run, jobs_or_cores(args.jobs), args.out);
+      std::cout << r.text;
+      return r.differs() ? kExitFailed : kExitOk;
+    });
+  });
+}
+
+void add_merge(CLI::App& replay) {
+  auto* cmd =
+      replay.add_subcommand("merge", "Merge the shard runs of one experiment into one new run");
+  static MergeArgs args;
+  cmd->add_option("runs", args.runs, "The shard run folders")->required();
+  cmd->add_option("--out", args.out, "Parent folder of the merged run")->required();
+  cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
+  on_run(*cmd, [] {
+    return guarded("replay merge", [] {
+      std::vector<std::string> warnings;
+      const auto s = kernel::replay::merge_runs(args.runs, args.out, !args.no_plots, warnings);
+      for (const auto& w : warnings) std::cerr << "flipper replay merge: warning: " << w << "\n";
+      std::cout << "merged " << args.runs.size() << " shards, " << s.variants.size()
+                << " variants\nrun: " << s.run_dir << "\nreport: " << s.run_dir << "/report.md\n";
+      say_plots(s.plots);
+      return kExitOk;
+    });
+  });
+}
+
+void add_compare(CLI::App& replay) {
+  auto* cmd = replay.add_subcommand(
+      "compare", "Two runs side by side: figures per variant (over seeds where there are)");
+  static CompareArgs args;
+  cmd->add_option("run_a", args.a, "Run A")->required();
+  cmd->add_option("run_b", args.b, "Run B")->required();
+  cmd->add_flag("--all", args.all, "List every figure, not only those that differ");
+  on_run(*cmd, [] {
+    return guarded("replay compare", [] {
+      std::cout << record::compare_runs(record::read_run_figures(args.a),
+                                        record::read_run_figures(args.b), args.all);
+      return kExitOk;
+    });
+  });
+}
+
+void add_plot(CLI::App& replay) {
+  auto* cmd = replay.add_subcommand("plot", "Draw (again) a run's plots from its CSV files");
+  static std::string run;
+  cmd->add_option("run", run, "The run folder")->required();
+  on_run(*cmd, [] {
+    return guarded("replay plot", [] {
+      if (!record::is_run_folder(run))
+        throw sdk::Error(sdk::codes::kBadRequest, "'" + run + "' is not a run folder");
+      const auto plots = record::draw_plots("replay_plots.py", run);
+      say_plots(plots);
+      return plots.status == record::PlotOutcome::Status::failed ? kExitFailed : kExitOk;
+    });
+  });
 }
 
 }  // namespace
 
 void add_replay_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
-      "replay", "Replay a user-study corpus split; write metrics, SVG figures and report.md");
+      "replay",
+      "Replay a user-study corpus split into a new run folder (manifest, figures, report, plots)");
   static CommonOptions opts;
   static ReplayArgs args;
   add_common_options(*cmd, opts);
   cmd->add_option("--corpus", args.corpus, "Corpus split directory (overrides the experiment)");
-  cmd->add_option("--out", args.out, "Output directory")->required();
+  cmd->add_option("--out", args.out,
+                  "Parent folder: the run goes into a new folder under it (never overwritten)");
   cmd->add_option("--experiment", args.experiment, "Experiment file (configs/experiments/*.yaml)");
   cmd->add_option("--runs", args.runs, "Runs to replay, comma-separated (default: all)");
   cmd->add_option("--max-queries", args.max_queries, "Per run: stop before the (N+1)-th query");
+  cmd->add_option("--jobs", args.jobs,
+                  "Variants in parallel processes, at most N (default: the cores)");
+  cmd->add_option("--shard", args.shard,
+                  "Run only shard I of N of the variants (I from 0), for merge");
+  cmd->add_option("--print", args.print,
+                  "Print only these tables (comma-separated) to standard output: headline, "
+                  "variants, oracles, planner, seeds");
   cmd->add_flag("--json", args.json, "Print the per-variant summary as one JSON object");
-  on_run(*cmd, [] {
-    try {
-      return run_replay(opts, args);
-    } catch (const sdk::Error& e) {
-      return report_error("replay", e.code(), e.what(), status_for(e.code()));
-    }
+  cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
+  cmd->require_subcommand(0, 1);
+  add_check(*cmd);
+  add_merge(*cmd);
+  add_compare(*cmd);
+  add_plot(*cmd);
+  on_run(*cmd, [cmd] {
+    if (!cmd->get_subcommands().empty()) return kExitOk;  // check, merge, compare, plot
+    return guarded("replay", [] { return run_replay(opts, args); });
   });
 }
 }  // namespace flipper::cli

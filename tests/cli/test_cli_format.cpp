@@ -78,7 +78,11 @@ TEST_CASE("json output (--json) of plugins, config check, lexicon list and repla
   REQUIRE(replay.status == 0);
   const json r = json::parse(replay.out);
   CHECK(r["variants"][0]["variant"] == "plain");
-  CHECK(r["report"] == out + "/report.md");
+  // A new run folder under --out, named after the experiment ("replay" without one).
+  const std::string run = r["run"].get<std::string>();
+  CHECK(run.rfind(out + "/replay-", 0) == 0);
+  CHECK(r["report"] == run + "/report.md");
+  CHECK(r["figures"] == run + "/figures.csv");
 }
 
 TEST_CASE("lexicon delete checks authorship, and run reads the user's phrases", "[cli][format]") {

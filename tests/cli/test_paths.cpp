@@ -101,7 +101,7 @@ TEST_CASE("paths in an experiment file resolve against its directory", "[cli][pa
   INFO(ok.out);
   CHECK(ok.status == 0);
   CHECK(contains(ok.out, "plain: status agreement "));
-  CHECK(fs::exists(dir / "elsewhere" / "out" / "report.md"));
+  CHECK(fs::exists(dir / "elsewhere" / "out" / "latest" / "report.md"));
 
   // A missing corpus is named by the path it resolved to, next to the file.
   std::ofstream(dir / "exp" / "missing.yaml") << "corpus: no-such-corpus\n";

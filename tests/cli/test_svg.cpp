@@ -1,5 +1,5 @@
 // Pictures: `flipper run --svg FILE` and the repl's `:save FILE` draw the world and the plan
-// (apps/svg, shared with the replay plots).
+// (apps/svg).
 #include <nlohmann/json.hpp>
 #include <regex>
 

@@ -2,7 +2,8 @@
 # Installed-binary check: install everything into a temp prefix, then run the installed flipper
 # from a folder outside the source and build trees. It must hold no source or build path, list
 # only its own plugins (<prefix>/lib/flipper/plugins), resolve the default config against
-# <prefix>/share/flipper/configs and answer a query with them.
+# <prefix>/share/flipper/configs and answer a query with them, and draw a replay's plots with the
+# scripts in <prefix>/share/flipper/plots.
 # Usage: installed.sh <source dir> <build dir>
 set -euo pipefail
 src=$(cd "$1" && pwd -P)
@@ -43,6 +44,13 @@ for _ in $(seq 600); do grep -q "listening" serve.log && break; sleep 0.1; done
 kill "$serve_pid"; wait "$serve_pid" || true
 cat serve.log
 grep -q "^flipper serve: listening on http://127.0.0.1:[0-9]*/$" serve.log
+
+# A replay run in a folder outside both trees: the installed plot scripts draw its plots (the
+# corpus is the source's data, which is not installed).
+env -u FLIPPER_PLUGIN_PATH "$flipper" replay --corpus "$src/tests/replay/data" --out runs >replay.log 2>&1
+cat replay.log
+grep -q "^plots: .* in runs/replay-" replay.log
+test -f runs/latest/plain/tokens.pdf
 
 # The embedded default config's files are the installed ones: without the installed world file
 # the binary names that file (and finds no other).

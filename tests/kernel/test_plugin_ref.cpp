@@ -101,7 +101,7 @@ TEST_CASE("sdk::Error from a plugin keeps its code and message", "[plugin_ref]")
 namespace {
 int g_calls = 0;
 std::string g_last;
-void count_call(const kernel::PluginId& id, std::string_view op, std::chrono::nanoseconds) {
+void count_call(const kernel::PluginId& id, std::string_view op, const kernel::PluginCallTime&) {
   ++g_calls;
   g_last = id.name + "." + std::string(op);
 }

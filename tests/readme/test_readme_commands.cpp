@@ -43,7 +43,7 @@ const std::map<std::string, Expected> kExpected = {
      {0, {"interpretation: {visit room1}", "realizable: yes", "robot: [9,"}}},
     {R"(build/bin/flipper replay --experiment configs/experiments/dev-replay.yaml --out out/first-replay)",
      {0, {"plain: status agreement ", "/3950, accepts matched ", "/807",
-          "report: out/first-replay/report.md"}}},
+          "run: out/first-replay/dev-replay-", "report: out/first-replay/dev-replay-"}}},
 
     // Using it
     {R"(build/bin/flipper run "visit world containing item is red; pick item is red")",
@@ -65,7 +65,7 @@ const std::map<std::string, Expected> kExpected = {
           R"({"ok":true,"op":"query","status":"induced")", R"({"ok":true,"op":"accept")"}}},
     {R"(build/bin/flipper repl < /dev/null)", {0, {"Legend:", "Robot at [2,4]", "bye"}}},
     {R"(build/bin/flipper replay --experiment configs/experiments/dev-replay.yaml --max-queries 5 --out out/replay-dev)",
-     {0, {"plain: status agreement ", "report: out/replay-dev/report.md"}}},
+     {0, {"plain: status agreement ", "report: out/replay-dev/dev-replay-"}}},
     {R"(build/bin/flipper plugins)", {0, {"* astar", "* grid2d", "STATUS"}}},
     {R"(build/bin/flipper plugins --params)", {0, {"astar (planner", "heuristic"}}},
     {R"(build/bin/flipper plugins astar)", {0, {"astar (planner", "max_expansions"}}},
@@ -158,7 +158,9 @@ TEST_CASE("every command of the README's marked blocks runs and prints what it s
   }
   // Item 9 of the path rule: `--set lexicon.path=other.sqlite` wrote into the current directory.
   CHECK(fs::exists(dir / "other.sqlite"));
-  CHECK(fs::exists(dir / "out" / "first-replay" / "report.md"));
+  // The run's own folder under --out, reached through the `latest` link.
+  CHECK(fs::exists(dir / "out" / "first-replay" / "latest" / "report.md"));
+  CHECK(fs::exists(dir / "out" / "first-replay" / "latest" / "manifest.json"));
   CHECK_FALSE(fs::exists(src / "configs" / "other.sqlite"));
   // No stale expectations: each entry is a README command.
   for (const auto& [cmd, expected] : kExpected) {

@@ -33,8 +33,10 @@ TEST_CASE("scripts/replay-dev reuses the build tree and shows progress", "[scrip
   CHECK_THAT(text, Catch::Contains("replay plain: 25% (1/4) sep2018/TuesdayAfternoon"));
   CHECK_THAT(text, Catch::Contains("replay plain: 100% (4/4) sep2018/TuesdayAfternoon"));
   CHECK_THAT(text, Catch::Contains("### Status agreement"));
-  CHECK_THAT(text, Catch::Contains("report: " + out.string() + "/report.md"));
-  CHECK(fs::exists(out / "report.md"));
+  // A new run folder under FLIPPER_REPLAY_OUT, and the report in it.
+  CHECK_THAT(text, Catch::Contains("run: " + out.string() + "/dev-replay-"));
+  CHECK_THAT(text, Catch::Contains("report: " + out.string() + "/dev-replay-"));
+  CHECK(fs::exists(out / "latest" / "report.md"));
   // The default is the setup's build/, not a second tree.
   CHECK_FALSE(fs::exists(fs::path(FLIPPER_SOURCE_DIR) / "build-replay" / "CMakeCache.txt"));
 }

@@ -111,17 +111,6 @@ TEST_CASE("latency histogram uses half-decade bins") {
   CHECK(l.p50 == 50);
 }
 
-TEST_CASE("the SVG writer emits one bar per series and category") {
-  BarChart c{"t <1>", "y", {"A", "B"}, {"s1", "s2", "s3"}, {{1, 2}, {3, 4}, {5, 6}}, {}, {}};
-  const std::string svg = render_svg(c);
-  CHECK(svg.rfind("<svg", 0) == 0);
-  std::size_t bars = 0;
-  for (auto p = svg.find("<rect x="); p != std::string::npos; p = svg.find("<rect x=", p + 1))
-    ++bars;
-  CHECK(bars == 6 + 3);  // bars + legend swatches
-  CHECK(svg.find("t &lt;1&gt;") != std::string::npos);
-}
-
 TEST_CASE("dev split deletions map to the definitions that lost rules") {
   const Corpus corpus = load_corpus(FLIPPER_STUDY_DIR "/dev");
   const std::string run = "sep2018/FridayMorningC";
@@ -162,37 +151,4 @@ TEST_CASE("rule oracle: identical, subset, overlap, missing", "[replay][issue13]
   CHECK(compare_rules({simple, best}, {}) == "missing");
   CHECK(compare_rules({aligned}, {our_simple}).empty());
   CHECK(compare_rules({}, {our_simple}).empty());
-}
-
-TEST_CASE("plots fit for a paper: integer count ticks, legends inside, y title clear of ticks") {
-  // Counts up to 2: ticks 0, 1, 2 (not 0.4, 0.8, ...).
-  BarChart counts{"c", "commands", {"A"}, {"s"}, {{2}}, {}, {}};
-  const std::string a = render_svg(counts);
-  CHECK(a.find(">0.4<") == std::string::npos);
-  CHECK(a.find("text-anchor=\"end\">1</text>") != std::string::npos);
-  CHECK(a.find("text-anchor=\"end\">2</text>") != std::string::npos);
-  // Four long series on two categories: the legend wraps instead of running off the picture.
-  BarChart wide{"w",
-                "commands per participant",
-                {"B", "C"},
-                {"induced (original)", "induced (ours)", "core (original)", "core (ours)"},
-                {{1000, 2}, {3, 4}, {5, 6}, {7, 8}},
-                {},
-                {}};
-  const std::string b = render_svg(wide);
-  const auto number_after = [&](const std::string& svg, const std::string& key, std::size_t from) {
-    const auto at = svg.find(key, from);
-    return at == std::string::npos ? -1.0 : std::stod(svg.substr(at + key.size()));
-  };
-  const double width = number_after(b, "width=\"", 0);
-  for (const char* name :
-       {"induced (original)", "induced (ours)", "core (original)", "core (ours)"}) {
-    const auto at = b.find(std::string(">") + name + "</text>");
-    REQUIRE(at != std::string::npos);
-    const double x = number_after(b, "<text x=\"", b.rfind("<text x=\"", at));
-    CHECK(x + 7.0 * static_cast<double>(std::string(name).size()) <= width);
-  }
-  // The widest tick ("1000") ends 6 px left of the axis; the rotated y title sits left of it.
-  const double axis_left = number_after(b, "<line x1=\"", 0);
-  CHECK(axis_left - 6 - 7.0 * 4 >= 16 + 8);
 }

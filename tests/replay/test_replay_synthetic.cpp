@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "flipper/record/figures.hpp"
 #include "flipper/replay/corpus.hpp"
 #include "flipper/replay/experiment.hpp"
 #include "flipper/replay/metrics.hpp"
@@ -99,7 +100,7 @@ TEST_CASE("replay is deterministic and --max-queries stops each run") {
   CHECK_THROWS(run({"no/such-run"}));
 }
 
-TEST_CASE("an experiment writes metrics, CSV, SVG and the report") {
+TEST_CASE("an experiment writes a run folder: metrics, CSV, figures and the report") {
   namespace fs = std::filesystem;
   const fs::path out = fs::path(FLIPPER_BINARY_DIR) / "replay-test-out";
   fs::remove_all(out);
@@ -107,26 +108,30 @@ TEST_CASE("an experiment writes metrics, CSV, SVG and the report") {
   e.corpus = FLIPPER_SOURCE_DIR "/tests/replay/data";
   e.sets = {"induction.generalize=false"};
   e.variants = {{"plain", {}}, {"beam5", {"parser.params.beam=5"}}};
-  const auto variants = run_experiment(e, out.string());
-  REQUIRE(variants.size() == 2);
+  RunOptions options;
+  options.out = out.string();
+  options.plots = false;
+  const RunSummary s = run_experiment(e, options);
+  REQUIRE(s.variants.size() == 2);
+  CHECK(fs::path(s.run_dir).parent_path() == out);
+  for (const char* f : {"metrics.json", "queries.csv", "participants.csv", "groups.csv",
+                        "accepts.csv", "definitions.csv", "figures.csv"})
+    CHECK(fs::exists(fs::path(s.run_dir) / "plain" / f));
   for (const char* f :
-       {"metrics.json", "queries.csv", "participants.csv", "groups.csv", "accepts.csv",
-        "tokens.svg", "induced_core.svg", "others_self.svg", "latency.svg"})
-    CHECK(fs::exists(out / "plain" / f));
-  std::ifstream report(out / "report.md");
+       {"manifest.json", "figures.csv", "variants.csv", "settings.csv", "report.md"})
+    CHECK(fs::exists(fs::path(s.run_dir) / f));
+  std::ifstream report(fs::path(s.run_dir) / "report.md");
   const std::string text((std::istreambuf_iterator<char>(report)), {});
-  CHECK(text.find("Variants side by side") != std::string::npos);
+  CHECK(text.find("## Variants compared") != std::string::npos);
   CHECK(text.find("plain/tokens.svg") != std::string::npos);
-  // The latency plot: labelled as two different measures, only the occupied bins (every
-  // original walltime is 50 ms: nothing at 100 ms or above).
-  std::ifstream lat_file(out / "plain" / "latency.svg");
-  const std::string lat((std::istreambuf_iterator<char>(lat_file)), {});
-  CHECK(lat.find("original: logged server wall time") != std::string::npos);
-  CHECK(lat.find(">32+</text>") != std::string::npos);
-  CHECK(lat.find(">100+</text>") == std::string::npos);
-  CHECK(lat.find(">1000+</text>") == std::string::npos);
   CHECK(text.find("| `agree` | 1 | agree |") != std::string::npos);  // the class table
   CHECK(text.find("Unexplained: 0.") != std::string::npos);
+  // The synthetic corpus's figures (see above): 11 of 12 statuses agree, in every variant.
+  const flipper::record::FigureTable t(s.figures);
+  for (const auto& v : s.variants) {
+    CHECK(t.get(v.name, "ours", "all", "agree") == 11);
+    CHECK(t.get(v.name, "ours", "all", "queries") == 12);
+  }
 }
 
 TEST_CASE("experiment files are validated") {
@@ -139,4 +144,49 @@ TEST_CASE("experiment files are validated") {
   // Relative to the file (configs/experiments/): two levels up is the repository's root.
   const fs::path root = fs::weakly_canonical(FLIPPER_SOURCE_DIR);
   CHECK(e.corpus == (root / "data" / "study2018" / "dev").string());
+}
+
+TEST_CASE("a sweep's grid: names, conditions, seeds, and parameters a plugin lacks",
+          "[replay][sweep]") {
+  Experiment e;
+  e.name = "sweep";
+  e.corpus = FLIPPER_SOURCE_DIR "/tests/replay/data";
+  e.variants = {{"chart", {"parser.plugin=chart"}}};
+  e.sweep = {{"planner.plugin", {"astar", "ompl"}}, {"planner.params.seed", {"1", "2"}}};
+  const auto planned = plan_variants(e);
+  REQUIRE(planned.size() == 4);
+  CHECK(planned[0].info.name == "chart,planner.plugin=astar,planner.params.seed=1");
+  CHECK(planned[0].info.directory == "chart+planner.plugin=astar+planner.params.seed=1");
+  CHECK(planned[3].info.name == "chart,planner.plugin=ompl,planner.params.seed=2");
+  // The condition is the name without the seed; the seed is what the spread is taken over.
+  CHECK(planned[0].info.condition == "chart,planner.plugin=astar");
+  CHECK(planned[3].info.condition == "chart,planner.plugin=ompl");
+  CHECK(planned[3].info.seed == "planner.params.seed=2");
+  // astar declares no seed: left out, with a note; ompl takes it.
+  CHECK(planned[0].sets == std::vector<std::string>{"parser.plugin=chart", "planner.plugin=astar"});
+  REQUIRE(planned[0].notes.size() == 1);
+  CHECK_THAT(planned[0].notes[0],
+             Catch::Contains("`planner.params.seed=1` left out: plugin 'astar' (planner) "
+                             "declares no parameter 'seed'"));
+  CHECK(planned[3].sets == std::vector<std::string>{"parser.plugin=chart", "planner.plugin=ompl",
+                                                    "planner.params.seed=2"});
+  CHECK(planned[3].notes.empty());
+  // A parameter no variant's plugin declares is a typo, not a silent no-op.
+  e.sweep = {{"planner.plugin", {"astar", "ompl"}}, {"planner.params.sed", {"1"}}};
+  CHECK_THROWS_WITH(plan_variants(e), Catch::Contains("sweep key 'planner.params.sed': no "
+                                                      "variant's planner plugin declares a "
+                                                      "parameter 'sed'"));
+  // Sweep files: a map of lists; a repeated value is refused.
+  namespace fs = std::filesystem;
+  const fs::path f = fs::path(FLIPPER_BINARY_DIR) / "replay-sweep-experiment.yaml";
+  std::ofstream(f) << "corpus: x\nsweep: {planner.params.seed: [1, 2, 1]}\n";
+  CHECK_THROWS_WITH(load_experiment(f.string()),
+                    Catch::Contains("sweep key 'planner.params.seed' lists '1' twice"));
+  std::ofstream(f) << "corpus: x\nsweep: [1, 2]\n";
+  CHECK_THROWS_WITH(load_experiment(f.string()), Catch::Contains("'sweep' must be a map"));
+  std::ofstream(f) << "corpus: x\nsweep: {planner.params.seed: [1, 2], parser.params.beam: 5}\n";
+  const Experiment loaded = load_experiment(f.string());
+  REQUIRE(loaded.sweep.size() == 2);
+  CHECK(loaded.sweep[0].values == std::vector<std::string>{"1", "2"});
+  CHECK(loaded.sweep[1].values == std::vector<std::string>{"5"});
 }

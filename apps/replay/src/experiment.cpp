@@ -1,4 +1,4 @@
-// Experiment files and running their variants.
+// Experiment files, and the experiment as a manifest records it.
 #include "flipper/replay/experiment.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -7,8 +7,6 @@
 #include <cctype>
 #include <filesystem>
 
-#include "flipper/replay/corpus.hpp"
-#include "flipper/replay/replayer.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::kernel::replay {
@@ -51,10 +49,50 @@ void check_variant_name(const std::string& name, const std::string& where) {
             "or '..'; at most 100 characters): it names the output folder under --out");
 }
 
+// A sweep value as `--set` text: a scalar as written, a list or map in YAML flow style.
+std::string set_text(const YAML::Node& value) {
+  if (value.IsScalar()) return value.Scalar();
+  YAML::Emitter out;
+  out << YAML::Flow << value;
+  return out.c_str();
+}
+
+std::vector<record::SweepAxis> sweep_axes(const YAML::Node& sweep, const std::string& where) {
+  if (!sweep.IsMap())
+    throw sdk::Error(sdk::codes::kBadConfig,
+                     where +
+                         "'sweep' must be a map from config keys to lists of values, e.g. "
+                         "{planner.params.seed: [1, 2, 3]}");
+  std::vector<record::SweepAxis> axes;
+  for (const auto& kv : sweep) {
+    record::SweepAxis axis{kv.first.as<std::string>(), {}};
+    if (kv.second.IsSequence()) {
+      for (const auto& v : kv.second) axis.values.push_back(set_text(v));
+    } else if (kv.second.IsScalar()) {
+      axis.values.push_back(kv.second.Scalar());
+    }
+    if (axis.values.empty())
+      throw sdk::Error(sdk::codes::kBadConfig,
+                       where + "sweep key '" + axis.key + "' needs a list of values");
+    for (std::size_t i = 0; i < axis.values.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (axis.values[i] == axis.values[j])
+          throw sdk::Error(sdk::codes::kBadConfig, where + "sweep key '" + axis.key + "' lists '" +
+                                                       axis.values[i] + "' twice");
+    for (const auto& other : axes)
+      if (other.key == axis.key)
+        throw sdk::Error(sdk::codes::kBadConfig,
+                         where + "sweep key '" + axis.key + "' is given twice");
+    axes.push_back(std::move(axis));
+  }
+  return axes;
+}
+
 }  // namespace
 
 Experiment load_experiment(const std::string& path) {
   Experiment e;
+  e.file = fs::absolute(path).lexically_normal().string();
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -66,12 +104,13 @@ Experiment load_experiment(const std::string& path) {
   try {
     for (const auto& kv : root) {
       const auto key = kv.first.as<std::string>();
-      static const char* known[] = {"name",        "config", "corpus",  "runs",
-                                    "max_queries", "set",    "variants"};
+      static const char* known[] = {"name",        "config", "corpus",   "runs",
+                                    "max_queries", "set",    "variants", "sweep"};
       if (std::find(std::begin(known), std::end(known), key) == std::end(known))
-        throw sdk::Error(sdk::codes::kBadConfig,
-                         where + "unknown key '" + key +
-                             "' (keys: name, config, corpus, runs, max_queries, set, variants)");
+        throw sdk::Error(
+            sdk::codes::kBadConfig,
+            where + "unknown key '" + key +
+                "' (keys: name, config, corpus, runs, max_queries, set, variants, sweep)");
     }
     if (root["name"]) e.name = root["name"].as<std::string>();
     if (root["config"] && !root["config"].as<std::string>().empty())
@@ -98,45 +137,49 @@ Experiment load_experiment(const std::string& path) {
         e.variants.push_back(std::move(var));
       }
     }
+    if (const auto sweep = root["sweep"]) e.sweep = sweep_axes(sweep, where);
   } catch (const YAML::Exception& ex) {
     throw sdk::Error(sdk::codes::kBadConfig, where + ex.what());
   }
   return e;
 }
 
-std::vector<Variant> run_experiment(
-    const Experiment& experiment, const std::string& out,
-    const std::function<void(const std::string&, std::size_t, std::size_t, const std::string&)>&
-        progress) {
-  if (experiment.corpus.empty())
-    throw sdk::Error(sdk::codes::kBadConfig, "no corpus given (experiment 'corpus' or --corpus)");
-  const Corpus corpus = load_corpus(experiment.corpus);
-  std::vector<ExperimentVariant> variants = experiment.variants;
-  if (variants.empty()) variants.push_back({"plain", {}});
+nlohmann::json experiment_json(const Experiment& e) {
+  nlohmann::json variants = nlohmann::json::array(), sweep = nlohmann::json::array();
+  for (const auto& v : e.variants) variants.push_back({{"name", v.name}, {"set", v.sets}});
+  for (const auto& a : e.sweep) sweep.push_back({{"key", a.key}, {"values", a.values}});
+  return {{"name", e.name},
+          {"file", e.file},
+          {"config", e.config ? nlohmann::json(*e.config) : nlohmann::json()},
+          {"corpus", e.corpus},
+          {"runs", e.runs},
+          {"max_queries", e.max_queries},
+          {"set", e.sets},
+          {"variants", variants},
+          {"sweep", sweep}};
+}
 
-  std::vector<Variant> results;
-  std::vector<std::string> runs;
-  for (const auto& v : variants) {
-    ReplayOptions options;
-    options.config_file = experiment.config;
-    options.sets = experiment.sets;
-    options.sets.insert(options.sets.end(), v.sets.begin(), v.sets.end());
-    options.runs = experiment.runs;
-    options.max_queries = experiment.max_queries;
-    if (progress)
-      options.progress = [&](std::size_t done, std::size_t total, const std::string& run) {
-        progress(v.name, done, total, run);
-      };
-    ReplayResult result = replay(corpus, options);
-    runs = result.runs;
-    Variant out_v{v.name, options.sets, compute_metrics(result), v.name};
-    write_metrics(out + "/" + v.name, result, out_v.metrics);
-    write_figures(out + "/" + v.name, out_v.metrics);
-    results.push_back(std::move(out_v));
+Experiment experiment_from_json(const nlohmann::json& j) {
+  try {
+    Experiment e;
+    e.name = j.at("name").get<std::string>();
+    e.file = j.value("file", std::string());
+    if (j.contains("config") && j["config"].is_string()) e.config = j["config"].get<std::string>();
+    e.corpus = j.at("corpus").get<std::string>();
+    e.runs = j.at("runs").get<std::vector<std::string>>();
+    e.max_queries = j.at("max_queries").get<int>();
+    e.sets = j.at("set").get<std::vector<std::string>>();
+    for (const auto& v : j.at("variants"))
+      e.variants.push_back(
+          {v.at("name").get<std::string>(), v.at("set").get<std::vector<std::string>>()});
+    for (const auto& a : j.at("sweep"))
+      e.sweep.push_back(
+          {a.at("key").get<std::string>(), a.at("values").get<std::vector<std::string>>()});
+    return e;
+  } catch (const nlohmann::json::exception& ex) {
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     std::string("the manifest's 'experiment' is incomplete: ") + ex.what());
   }
-  if (results.size() > 1) write_variant_figure(out, results);
-  write_report(out, experiment.name, results, experiment.corpus, runs);
-  return results;
 }
 
 }  // namespace flipper::kernel::replay

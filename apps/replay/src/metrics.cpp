@@ -133,6 +133,27 @@ double quantile(const std::vector<double>& sorted, double q) {
 }
 }  // namespace
 
+PlannerFigures planner_figures(const std::vector<AcceptRow>& rows) {
+  PlannerFigures p;
+  std::vector<double> cpu;
+  for (const auto& r : rows) {
+    if (!r.matched) continue;
+    ++p.runs;
+    p.success += r.plan_success;
+    p.plan_calls += r.plan_calls;
+    p.plan_cpu_ms += r.plan_cpu_ms;
+    if (!r.executed) continue;
+    ++p.executed;
+    p.path_length += r.path_length;
+    p.turns += r.turns;
+    if (r.plan_calls > 0) cpu.push_back(r.plan_cpu_ms);
+  }
+  std::sort(cpu.begin(), cpu.end());
+  p.plan_cpu_ms_p50 = quantile(cpu, 0.5);
+  p.plan_cpu_ms_p90 = quantile(cpu, 0.9);
+  return p;
+}
+
 Latency latency(std::vector<double> ms) {
   Latency l;
   std::sort(ms.begin(), ms.end());
@@ -162,6 +183,7 @@ Metrics compute_metrics(const ReplayResult& result) {
   m.ours = figures(result.queries, true);
   m.original = figures(result.queries, false);
   m.exec = exec_agreement(result.accepts);
+  m.planner = planner_figures(result.accepts);
   std::vector<double> ours, theirs;
   for (const auto& r : result.queries) {
     if (r.ours != "error") ours.push_back(r.ms);

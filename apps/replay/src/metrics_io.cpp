@@ -4,9 +4,10 @@
 #include <iomanip>
 #include <nlohmann/json.hpp>
 
+#include "flipper/record/csv.hpp"
+#include "flipper/record/out_file.hpp"
 #include "flipper/replay/output.hpp"
 #include "flipper/sdk/errors.hpp"
-#include "out_file.hpp"
 
 namespace flipper::kernel::replay {
 namespace {
@@ -68,13 +69,10 @@ J latency_json(const Latency& l) {
            {"histogram", l.histogram}};
 }
 
+using record::OutFile;
 std::string csv(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
+  return record::csv_field(s);
 }
-
 
 }  // namespace
 
@@ -111,6 +109,16 @@ nlohmann::ordered_json metrics_json(const Metrics& m) {
                            {"rules_deleted", m.rules_deleted}}}};
   metric["floating_top"] = J{{"all", m.floating}, {"by_group", map_json(m.floating_by_group)}};
   metric["accepted_rank"] = J{{"top1", m.accepted_top1}, {"top3", m.accepted_top3}};
+  const PlannerFigures& pl = m.planner;
+  metric["planner"] = J{{"runs", pl.runs},
+                        {"executed", pl.executed},
+                        {"success", pl.success},
+                        {"path_length", pl.path_length},
+                        {"turns", pl.turns},
+                        {"plan_calls", pl.plan_calls},
+                        {"plan_cpu_ms", pl.plan_cpu_ms},
+                        {"plan_cpu_ms_p50", pl.plan_cpu_ms_p50},
+                        {"plan_cpu_ms_p90", pl.plan_cpu_ms_p90}};
   return metric;
 }
 
@@ -160,11 +168,14 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
   }
 
   OutFile acc(dir + "/accepts.csv");
-  acc << "qid,run,group,user,matched,rank,executed,compared,robot,held,floor,class,note\n";
+  acc << "qid,run,group,user,matched,rank,executed,compared,robot,held,floor,class,note,"
+         "plan_success,path_length,turns,plan_calls,plan_cpu_ms\n";
   for (const auto& r : result.accepts)
     acc << csv(r.qid) << ',' << csv(r.run) << ',' << r.group << ',' << csv(r.user) << ','
         << r.matched << ',' << r.rank << ',' << r.executed << ',' << r.compared << ',' << r.robot
-        << ',' << r.held << ',' << r.floor << ',' << r.diff << ',' << csv(r.note) << "\n";
+        << ',' << r.held << ',' << r.floor << ',' << r.diff << ',' << csv(r.note) << ','
+        << r.plan_success << ',' << r.path_length << ',' << r.turns << ',' << r.plan_calls << ','
+        << r.plan_cpu_ms << "\n";
 
   OutFile d(dir + "/definitions.csv");
   d << "qid,run,user,preloaded,ok,error,rules,rule_match,head\n";

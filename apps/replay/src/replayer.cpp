@@ -2,12 +2,16 @@
 #include "flipper/replay/replayer.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string_view>
 #include <tuple>
 #include <unordered_map>
 
 #include "flipper/corpus/accept_diff.hpp"
 #include "flipper/corpus/original_text.hpp"
+#include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/replay/deletion_map.hpp"
 #include "flipper/replay/rule_oracle.hpp"
@@ -61,6 +65,57 @@ WorldDigest digest(const J& w) {
   std::sort(d.held.begin(), d.held.end());
   std::sort(d.floor.begin(), d.floor.end());
   return d;
+}
+
+// The planner calls made while an accepted program executes (AcceptRow's planner figures): the
+// process's plugin-call observer adds each `plan`/`tour` call of a planner to the tally of the
+// thread that made it, while a tally is open.
+struct PlanTally {
+  int calls = 0;
+  std::chrono::nanoseconds cpu{0};
+};
+thread_local PlanTally* g_plan_tally = nullptr;
+
+void tally_planner_call(const kernel::PluginId& plugin, std::string_view op,
+                        const kernel::PluginCallTime& time) {
+  if (g_plan_tally == nullptr || plugin.kind != "planner" || (op != "plan" && op != "tour")) return;
+  ++g_plan_tally->calls;
+  g_plan_tally->cpu += time.thread_cpu;
+}
+
+// Opens a tally for its lifetime (and the observer, restoring the one before).
+class PlanTallyScope {
+ public:
+  explicit PlanTallyScope(PlanTally& tally)
+      : previous_(kernel::set_plugin_call_observer(&tally_planner_call)) {
+    g_plan_tally = &tally;
+  }
+  ~PlanTallyScope() {
+    g_plan_tally = nullptr;
+    kernel::set_plugin_call_observer(previous_);
+  }
+  PlanTallyScope(const PlanTallyScope&) = delete;
+  PlanTallyScope& operator=(const PlanTallyScope&) = delete;
+
+ private:
+  kernel::PluginCallObserver previous_;
+};
+
+// Path length (moves) and turns (a move in another direction than the move before) of a trace
+// that starts at `start`; picks and drops do not break a straight line.
+std::pair<int, int> path_shape(const sdk::Cell& start, const std::vector<sdk::TraceStep>& trace) {
+  int moves = 0, turns = 0;
+  sdk::Cell at = start;
+  std::optional<sdk::Cell> heading;
+  for (const auto& step : trace) {
+    if (step.act != sdk::TraceStep::Act::move) continue;
+    const sdk::Cell d{step.cell.x - at.x, step.cell.y - at.y, step.cell.z - at.z};
+    if (heading && *heading != d) ++turns;
+    heading = d;
+    at = step.cell;
+    ++moves;
+  }
+  return {moves, turns};
 }
 
 // Runs one typed session call; returns "" when it succeeded, else the protocol's error code for
@@ -240,9 +295,18 @@ class RunReplay {
     const sdk::Program program = q.parse.candidates[static_cast<std::size_t>(row.rank)].program;
 
     AcceptResult accepted;
-    const std::string error =
-        attempt([&] { accepted = session_->accept(AcceptRequest{row.rank}); });
+    PlanTally tally;
+    std::string error;
+    {
+      const PlanTallyScope scope(tally);
+      error = attempt([&] { accepted = session_->accept(AcceptRequest{row.rank}); });
+    }
     row.executed = error.empty();
+    row.plan_calls = tally.calls;
+    row.plan_cpu_ms = std::chrono::duration<double, std::milli>(tally.cpu).count();
+    row.plan_success = row.executed && accepted.outcome.realizable;
+    if (row.executed)
+      std::tie(row.path_length, row.turns) = path_shape(start.robot, accepted.outcome.trace);
     if (row.executed)
       world_id_.clear();  // the session now holds our world, not a logged one
     else
@@ -348,22 +412,27 @@ std::vector<std::string> mode_overrides(const std::string& group) {
           "lexicon.preload=", "induction.alignment=false"};
 }
 
-ReplayResult replay(const Corpus& corpus, const ReplayOptions& options) {
+std::vector<const Run*> select_runs(const Corpus& corpus, const std::vector<std::string>& names) {
   std::vector<const Run*> runs;
-  if (options.runs.empty()) {
+  if (names.empty()) {
     for (const auto& r : corpus.runs) runs.push_back(&r);
-  } else {
-    for (const auto& name : options.runs) {
-      const Run* r = corpus.find_run(name);
-      if (!r) {
-        std::string known;
-        for (const auto& k : corpus.runs) known += (known.empty() ? "" : ", ") + k.source;
-        throw sdk::Error(sdk::codes::kBadRequest, "unknown run '" + name + "' in corpus " +
-                                                      corpus.dir + " (runs: " + known + ")");
-      }
-      runs.push_back(r);
-    }
+    return runs;
   }
+  for (const auto& name : names) {
+    const Run* r = corpus.find_run(name);
+    if (!r) {
+      std::string known;
+      for (const auto& k : corpus.runs) known += (known.empty() ? "" : ", ") + k.source;
+      throw sdk::Error(sdk::codes::kBadRequest, "unknown run '" + name + "' in corpus " +
+                                                    corpus.dir + " (runs: " + known + ")");
+    }
+    runs.push_back(r);
+  }
+  return runs;
+}
+
+ReplayResult replay(const Corpus& corpus, const ReplayOptions& options) {
+  const std::vector<const Run*> runs = select_runs(corpus, options.runs);
   std::size_t total = 0, done = 0;
   for (const Run* r : runs) total += kept_commands(corpus, *r, options.max_queries);
 

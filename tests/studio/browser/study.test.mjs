@@ -132,11 +132,12 @@ run(async () => {
   writeFileSync(experiment, 'name: studio pilot\nconfig: ""\ncorpus: recording\nset: [induction.alignment=true]\nvariants:\n  - {name: plain, set: []}\n');
   const out = join(dir, 'replay');
   execFileSync(opt.flipper, ['replay', '--experiment', experiment, '--corpus', rec, '--out', out], { cwd: root, stdio: 'inherit' });
-  const rows = readCsv(join(out, 'plain', 'queries.csv'));
+  // The run goes into a new folder under --out; `latest` links it (docs/experiments.md §1).
+  const rows = readCsv(join(out, 'latest', 'plain', 'queries.csv'));
   equal(rows.length, recorded.length, 'the replay answers every recorded query');
   equal(rows.map((r) => r.ours), seen, 'the replay gets the same status for every query');
   equal(rows.filter((r) => r.agree !== '1').length, 0, 'every row agrees with the recording');
-  const accepts = readCsv(join(out, 'plain', 'accepts.csv'));
+  const accepts = readCsv(join(out, 'latest', 'plain', 'accepts.csv'));
   equal(accepts.map((r) => `${r.matched}${r.executed}${r.robot}${r.held}${r.floor}`), Array(5).fill('11111'),
     'every recorded accept is matched, executed and ends in the recorded world');
 });

@@ -1,6 +1,6 @@
 #pragma once
 /// @file experiment.hpp
-/// Experiment files (configs/experiments/*.yaml):
+/// Experiment files (configs/experiments/*.yaml; docs/experiments.md §4):
 /// @code
 ///   name: Ablation on the dev split
 ///   config: ../default.yaml           # optional (default: the embedded config)
@@ -11,17 +11,26 @@
 ///   variants:                         # optional (default: one variant "plain")
 ///     - {name: plain, set: []}
 ///     - {name: alignment, set: [induction.alignment=true]}
+///   sweep:                            # optional: a grid, crossed with the variants
+///     planner.plugin: [astar, ompl]
+///     planner.params.seed: [1, 2, 3]
 /// @endcode
 /// Each variant replays the same runs with its overrides after the run's mode keys, so a
-/// variant may switch alignment back on. Results: <out>/<variant>/ (metrics, CSV, SVG) and
-/// <out>/report.md with the variants side by side.
+/// variant may switch alignment back on. A sweep's grid points are crossed with the hand-written
+/// variants (each variant at each point; without `variants`, the points alone); a point's
+/// settings come after the variant's. Results: one run folder (flipper/record/run_folder.hpp)
+/// with manifest.json, figures.csv, variants.csv, settings.csv, report.md, plots, and a folder
+/// per variant (metrics.json, CSV files, that variant's figures.csv and plots).
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "flipper/replay/output.hpp"
+#include "flipper/record/figures.hpp"
+#include "flipper/record/plots.hpp"
+#include "flipper/record/sweep.hpp"
 
 namespace flipper::kernel::replay {
 
@@ -32,12 +41,14 @@ struct ExperimentVariant {
 
 struct Experiment {
   std::string name = "Replay";
+  std::string file;  ///< the experiment file ("" for a replay given by options alone)
   std::optional<std::string> config;
   std::string corpus;
   std::vector<std::string> runs;
   int max_queries = 0;
   std::vector<std::string> sets;
   std::vector<ExperimentVariant> variants;
+  std::vector<record::SweepAxis> sweep;
 };
 
 /// Resolves `path`, written in `file`, against the directory `file` is in (the path rule,
@@ -46,10 +57,52 @@ std::string resolve_in_file(const std::string& file, const std::string& path);
 /// Reads an experiment file. Throws sdk::Error(bad_config) naming the file and key.
 Experiment load_experiment(const std::string& path);
 
-/// Runs every variant and writes the results and report into `out`. Returns the variants.
-std::vector<Variant> run_experiment(
-    const Experiment& experiment, const std::string& out,
-    const std::function<void(const std::string& variant, std::size_t, std::size_t,
-                             const std::string& run)>& progress = {});
+/// The experiment as a manifest records it (every path absolute), and back: a check or a merge
+/// reads the experiment from the manifest, not from the file, which may have changed since.
+nlohmann::json experiment_json(const Experiment& e);
+Experiment experiment_from_json(const nlohmann::json& j);
+
+/// One variant to run: what it is (name, folder, condition, seed, settings), its `--set`
+/// assignments in order (experiment, variant, sweep point) and notes (a sweep setting left out
+/// because the variant's plugin does not declare it).
+struct PlannedVariant {
+  record::VariantInfo info;
+  std::vector<std::string> sets;
+  std::vector<std::string> notes;
+};
+/// The variants of an experiment in order: hand-written variants × sweep points. A sweep key
+/// `SECTION.params.NAME` is left out, with a note, for a variant whose SECTION plugin does not
+/// declare NAME (astar has no seed: `planner.params.seed` applies to ompl only), and is an error
+/// when no variant's plugin declares it. Throws sdk::Error(bad_config) for two variants with one
+/// folder name.
+std::vector<PlannedVariant> plan_variants(const Experiment& e);
+
+struct RunOptions {
+  std::string out;  ///< the parent folder of the run folder
+  int jobs = 1;     ///< variants in parallel processes (at most this many)
+  std::optional<record::Shard> shard;
+  bool plots = true;
+  /// Progress of one variant: commands done, commands total, the current run. Called in the
+  /// process that replays the variant.
+  std::function<void(const std::string& variant, std::size_t, std::size_t, const std::string&)>
+      progress;
+};
+
+struct RunSummary {
+  std::string run_dir;
+  std::vector<record::VariantInfo> variants;  ///< those run here (a shard's part)
+  std::vector<record::Figure> figures;
+  record::PlotOutcome plots;
+};
+
+/// Runs the experiment (the shard's variants, when sharded) into a new run folder under
+/// options.out and writes its manifest, figures, report and plots. Throws sdk::Error; a variant
+/// that fails leaves the manifest with status "failed" and throws its error.
+RunSummary run_experiment(const Experiment& e, const RunOptions& options);
+
+/// Writes a run's figures.csv, variants.csv, settings.csv, report.md and plots from its
+/// manifest and its variants' folders, and completes the manifest (status, finish time,
+/// plots). Used after running and after merging.
+RunSummary assemble_run(const std::string& run_dir, nlohmann::json manifest, bool plots);
 
 }  // namespace flipper::kernel::replay

@@ -70,6 +70,19 @@ ExecAgreement exec_agreement(const std::vector<AcceptRow>& rows);
 /// Whether a class id (AcceptRow::diff) is one nothing in the spec explains (unknown ids too).
 bool unexplained_class(const std::string& id);
 
+/// The planner on the accepted programs (AcceptRow's planner figures): `runs` accepts whose
+/// program was run (matched), `success` of them executed with every primitive succeeding;
+/// path length and turns summed over the executed ones; planner calls and their CPU time.
+struct PlannerFigures {
+  int runs = 0, executed = 0, success = 0;
+  long path_length = 0, turns = 0;
+  long plan_calls = 0;
+  double plan_cpu_ms = 0;  ///< sum (a timing figure)
+  /// Per executed accept whose program called the planner (timing).
+  double plan_cpu_ms_p50 = 0, plan_cpu_ms_p90 = 0;
+};
+PlannerFigures planner_figures(const std::vector<AcceptRow>& rows);
+
 struct Latency {
   Summary summary;
   double p50 = 0, p90 = 0, p99 = 0;
@@ -84,6 +97,7 @@ struct Metrics {
   std::map<std::string, Agreement> by_group;
   Figures ours, original;
   ExecAgreement exec;
+  PlannerFigures planner;
   Latency our_latency, original_latency;
   int defines = 0, defines_ok = 0, preloaded = 0, preloaded_ok = 0;
   std::map<std::string, int> define_errors;

@@ -1,13 +1,17 @@
 #pragma once
 /// @file output.hpp
-/// Writing a replay's results: metrics.json, queries.csv, participants.csv, groups.csv,
-/// accepts.csv, definitions.csv (metrics_io.cpp); SVG figures (svg.cpp); report.md (report.cpp).
+/// Writing a replay's results. Per variant (metrics_io.cpp): metrics.json, queries.csv,
+/// participants.csv, groups.csv, accepts.csv, definitions.csv, deletions.csv. Per run
+/// (report.cpp, tables.cpp): report.md and the Markdown tables it shares with `flipper replay
+/// --print`, all read from the run's figures (figures.hpp) and manifest, never from memory, so
+/// a report shows only figures that figures.csv has.
 
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "flipper/record/figures.hpp"
 #include "flipper/replay/metrics.hpp"
 #include "flipper/replay/records.hpp"
 
@@ -20,34 +24,40 @@ nlohmann::ordered_json metrics_json(const Metrics& m);
 /// Writes metrics.json and the CSV files into `dir` (created).
 void write_metrics(const std::string& dir, const ReplayResult& result, const Metrics& m);
 
-/// A grouped bar chart: one cluster per category, one bar per series; optional whiskers.
-struct BarChart {
-  std::string title, y_label;
-  std::vector<std::string> categories, series;
-  std::vector<std::vector<double>> values;     ///< [series][category]
-  std::vector<std::vector<double>> low, high;  ///< optional whiskers, same shape
-};
-std::string render_svg(const BarChart& chart);
+/// A mean as the report shows it: one decimal ("97.0", "1435.0").
+std::string one_decimal(double v);
+/// A duration in ms as the report shows it: µs below 1 ms ("21 µs", "4.2 µs"), else ms.
+std::string duration_text(double ms);
 
-/// Writes tokens.svg, induced_core.svg, others_self.svg, latency.svg into `dir`.
-void write_figures(const std::string& dir, const Metrics& m);
+/// The variants side by side (Markdown): status agreement all / A / B / C, the original's Core
+/// queries we parse as core, the original's Nothing queries we give a reading, floating tops,
+/// accepts whose program is our first / among our first three / matched, tokens of successful
+/// commands per participant, induced and core commands per participant.
+std::string variants_table(const record::FigureTable& figures,
+                           const std::vector<record::VariantInfo>& variants);
+/// The headline per variant (Markdown lines): status agreement, accepted programs found,
+/// executions agreeing with the logged next world.
+std::string headline_text(const record::FigureTable& figures,
+                          const std::vector<record::VariantInfo>& variants);
+/// The oracles per variant (Markdown lines): induced rules against the original's logged ones,
+/// execution differences nothing explains.
+std::string oracles_text(const record::FigureTable& figures,
+                         const std::vector<record::VariantInfo>& variants);
+/// The planner on the accepted programs per variant (Markdown table): runs, success, path
+/// length and turns (mean per executed program), planner calls, plan CPU time (timing).
+std::string planner_table(const record::FigureTable& figures,
+                          const std::vector<record::VariantInfo>& variants);
+/// Conditions over their seeds (Markdown table: mean ± sd, min–max), "" when no variant has a
+/// seed setting.
+std::string seeds_table(const std::vector<record::Figure>& figures,
+                        const std::vector<record::VariantInfo>& variants);
 
-struct Variant {
-  std::string name;
-  std::vector<std::string> sets;
-  Metrics metrics;
-  std::string dir;  ///< relative to the report's directory
-};
-/// Cross-variant comparison (variants.cpp): variants.svg in `dir` (status agreement by group,
-/// tokens of successful commands, induced vs core commands; one bar per variant) and the report
-/// section that shows it with its table (agreement, Nothing turned into readings, floating tops).
-void write_variant_figure(const std::string& dir, const std::vector<Variant>& variants);
-void write_variant_section(std::ostream& o, const std::vector<Variant>& variants);
-
-/// report.md in `dir`: per variant the figures (ours | original | paper), agreement, confusion,
-/// execution, latency, definitions; with several variants a side-by-side table first.
-void write_report(const std::string& dir, const std::string& title,
-                  const std::vector<Variant>& variants, const std::string& corpus,
-                  const std::vector<std::string>& runs);
+/// report.md in `run_dir`: what the run is (manifest: version, commit, plugins, files and
+/// checksums, effective configs, corpus, seeds, command, host, dates), the variants side by
+/// side, then each variant's figures (ours | original | paper), agreement, confusion,
+/// execution, planner, latency, definitions.
+void write_report(const std::string& run_dir, const nlohmann::json& manifest,
+                  const std::vector<record::VariantInfo>& variants,
+                  const std::vector<record::Figure>& figures);
 
 }  // namespace flipper::kernel::replay

@@ -39,6 +39,14 @@ struct AcceptRow {
   /// they do not): set when the accepted program was executed or failed and the next world is
   /// known; "" otherwise.
   std::string diff;
+  /// The planner on the accepted program, when it was run (matched): whether every primitive
+  /// succeeded (executed and realizable); for an executed program the robot's path (moves in
+  /// the trace: cells walked) and its turns (a move whose direction differs from the move before
+  /// it, picks and drops in between ignored), the planner calls (`plan` and `tour`) the execution
+  /// made and their CPU time (thread CPU, ms: a timing figure).
+  bool plan_success = false;
+  int path_length = 0, turns = 0, plan_calls = 0;
+  double plan_cpu_ms = 0;
 };
 
 /// A definition (`def`, `def_ret`, `def_iso`, or a preloaded one).

@@ -40,6 +40,10 @@ struct ReplayOptions {
 /// The config overrides a run's group implies (lexicon.path, lexicon.sharing, alignment off).
 std::vector<std::string> mode_overrides(const std::string& group);
 
+/// The runs named (all when `names` is empty), in the order given. Throws
+/// sdk::Error(bad_request) for an unknown run, listing the corpus's runs.
+std::vector<const Run*> select_runs(const Corpus& corpus, const std::vector<std::string>& names);
+
 /// Replays the selected runs. Throws sdk::Error for an unknown run or a bad config.
 ReplayResult replay(const Corpus& corpus, const ReplayOptions& options);
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file svg.hpp
-/// SVG drawing shared by the replay plots and the world pictures: a small element writer (no
+/// SVG drawing of the world pictures: a small element writer (no
 /// external tool, no scripting: plain SVG 1.1 any browser, paper or bug tracker shows), and the
 /// picture of a world with a plan drawn on it (`flipper run --svg FILE`, `repl :save FILE`).
 #include <nlohmann/json.hpp>

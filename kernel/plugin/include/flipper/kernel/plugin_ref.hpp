@@ -6,9 +6,12 @@
 ///    bad_world, a planner's deadline_exceeded);
 ///  - turns any other exception into `plugin_error` with one message shape everywhere:
 ///    "plugin 'NAME' (FILE): OP: MESSAGE";
-///  - reports the call's duration to the process's plugin-call observer, when one is set.
+///  - reports the call's duration (wall and the calling thread's CPU time) to the process's
+///    plugin-call observer, when one is set.
 /// The loader builds the refs (it knows the file); a ref built from a bare object (tests,
 /// in-process plugins) names the plugin "in-process".
+
+#include <time.h>
 
 #include <atomic>
 #include <chrono>
@@ -33,9 +36,15 @@ struct PluginId {
   std::string label() const;
 };
 
+/// How long one plugin call took: wall-clock time, and the CPU time of the thread that made it
+/// (what a planner's "plan CPU time" is, unaffected by other processes on a busy machine).
+struct PluginCallTime {
+  std::chrono::nanoseconds wall{0}, thread_cpu{0};
+};
+
 /// Called after every plugin call when set: profiling and tracing hook up here, in one place.
 using PluginCallObserver = void (*)(const PluginId& plugin, std::string_view op,
-                                    std::chrono::nanoseconds duration);
+                                    const PluginCallTime& time);
 /// Sets (or, with nullptr, clears) the process-wide observer; returns the previous one.
 PluginCallObserver set_plugin_call_observer(PluginCallObserver observer);
 
@@ -56,10 +65,16 @@ class CallTimer {
       : observer_(g_plugin_call_observer.load(std::memory_order_relaxed)),
         plugin_(plugin),
         op_(op) {
-    if (observer_ != nullptr) start_ = std::chrono::steady_clock::now();
+    if (observer_ != nullptr) {
+      start_ = std::chrono::steady_clock::now();
+      cpu_start_ = thread_cpu();
+    }
   }
   ~CallTimer() {
-    if (observer_ != nullptr) observer_(plugin_, op_, std::chrono::steady_clock::now() - start_);
+    if (observer_ != nullptr)
+      observer_(
+          plugin_, op_,
+          PluginCallTime{std::chrono::steady_clock::now() - start_, thread_cpu() - cpu_start_});
   }
   CallTimer(const CallTimer&) = delete;
   CallTimer& operator=(const CallTimer&) = delete;
@@ -69,6 +84,13 @@ class CallTimer {
   const PluginId& plugin_;
   std::string_view op_;
   std::chrono::steady_clock::time_point start_{};
+  std::chrono::nanoseconds cpu_start_{0};
+
+  static std::chrono::nanoseconds thread_cpu() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return std::chrono::seconds(t.tv_sec) + std::chrono::nanoseconds(t.tv_nsec);
+  }
 };
 }  // namespace detail
 

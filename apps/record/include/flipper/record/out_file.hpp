@@ -1,6 +1,7 @@
 #pragma once
-// An output file whose write errors are reported: a full device makes close() throw
-// sdk::Error(write_failed) naming the file and the system's reason, instead of a short file.
+/// @file out_file.hpp
+/// An output file whose write errors are reported: a full device makes close() throw
+/// sdk::Error(write_failed) naming the file and the system's reason, instead of a short file.
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -9,7 +10,7 @@
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::record {
 
 class OutFile {
  public:
@@ -36,13 +37,12 @@ class OutFile {
  private:
   [[noreturn]] void fail() {
     const int err = errno;
-    throw sdk::Error(sdk::codes::kWriteFailed, "cannot write '" + path_ + "'" +
-                                                   (err != 0 ? std::string(": ") +
-                                                                   std::strerror(err)
-                                                             : std::string()));
+    throw sdk::Error(sdk::codes::kWriteFailed,
+                     "cannot write '" + path_ + "'" +
+                         (err != 0 ? std::string(": ") + std::strerror(err) : std::string()));
   }
   std::string path_;
   std::ofstream out_;
 };
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::record

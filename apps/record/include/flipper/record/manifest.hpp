@@ -1,0 +1,53 @@
+#pragma once
+/// @file manifest.hpp
+/// The parts of a run's manifest.json that say what produced it (docs/experiments.md §2): this
+/// binary's build, the host, input files with their SHA-256, a config's effective text and the
+/// plugins it selects (name, version, library file and its SHA-256, effective params). The
+/// command that runs an experiment adds what is its own (the experiment, variants, seeds,
+/// command line, times) and writes the whole with write_manifest. A re-check compares a
+/// recorded manifest with the present one through provenance_warnings.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "flipper/kernel/config.hpp"
+
+namespace flipper::record {
+
+/// {"flipper", "sdk", "commit", "describe", "dirty"} of this binary (build_info.hpp).
+nlohmann::json build_json();
+/// This process's command line (/proc/self/cmdline) and working directory:
+/// {"argv": [...], "cwd": "..."}.
+nlohmann::json command_json();
+/// {"name", "system", "release", "machine", "cores"}.
+nlohmann::json host_json();
+/// {"role", "path" (absolute), "bytes", "sha256"} of one file.
+nlohmann::json file_json(const std::string& role, const std::string& path);
+/// A corpus or data folder: {"path" (absolute), "files": [{"name", "bytes", "sha256"}]} for each
+/// regular file directly in it, by name.
+nlohmann::json folder_json(const std::string& dir);
+/// A config: {"source", "base_dir", "effective" (the text `flipper config print` shows),
+/// "files": [file_json of the config file, world.file and grammar.file]}.
+nlohmann::json config_json(const kernel::Config& config);
+/// The plugins a config selects, in section order: [{"section", "name", "version", "file",
+/// "sha256", "params": {name: value as text, defaults included}}]. Opens each plugin library
+/// (checks as the kernel does); throws sdk::Error as loading would.
+nlohmann::json plugins_json(const kernel::Config& config);
+
+/// Writes `run_dir`/manifest.json (indented; through a temporary file renamed over it, so a
+/// reader never sees half a manifest). Throws sdk::Error(write_failed).
+void write_manifest(const std::string& run_dir, const nlohmann::json& manifest);
+/// Reads `run_dir`/manifest.json. Throws sdk::Error(bad_request) naming the file when it is
+/// missing or not JSON: "RUN is not a run folder".
+nlohmann::json read_manifest(const std::string& run_dir);
+
+/// What differs between a recorded manifest and the present one that could change figures: the
+/// flipper version, commit or dirty state; a plugin's name, version or file checksum; a
+/// variant's effective config; an input or corpus file's checksum. One readable line each.
+/// Both manifests must have the layout of docs/experiments.md §2 (build, variants[].config,
+/// variants[].plugins, inputs, corpus).
+std::vector<std::string> provenance_warnings(const nlohmann::json& recorded,
+                                             const nlohmann::json& now);
+
+}  // namespace flipper::record
