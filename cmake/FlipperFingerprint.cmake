@@ -9,17 +9,18 @@
 include_guard(GLOBAL)
 
 function(flipper_detect_fingerprint out sdk_include_dir)
-  set(key "${CMAKE_CXX_COMPILER};${CMAKE_CXX_FLAGS};${sdk_include_dir}")
+  set(probe [=[
+#include "flipper/sdk/plugin.hpp"  // as a plugin includes it (the string ABI macro comes first)
+extern const char flipper_fingerprint[];
+const char flipper_fingerprint[] = "FLIPPER_FINGERPRINT[" FLIPPER_BUILD_FINGERPRINT "]";
+]=])
+  string(MD5 key "${CMAKE_CXX_COMPILER}|${CMAKE_CXX_FLAGS}|${sdk_include_dir}|${probe}")
   if(DEFINED FLIPPER_FINGERPRINT_KEY AND FLIPPER_FINGERPRINT_KEY STREQUAL key)
     set(${out} "${FLIPPER_FINGERPRINT_VALUE}" PARENT_SCOPE)
     return()
   endif()
   set(dir ${CMAKE_BINARY_DIR}/CMakeFiles/flipper_fingerprint)
-  file(WRITE ${dir}/fingerprint.cpp [=[
-#include "flipper/sdk/version.hpp"
-extern const char flipper_fingerprint[];
-const char flipper_fingerprint[] = "FLIPPER_FINGERPRINT[" FLIPPER_BUILD_FINGERPRINT "]";
-]=])
+  file(WRITE ${dir}/fingerprint.cpp "${probe}")
   set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
   try_compile(compiled ${dir}/build SOURCES ${dir}/fingerprint.cpp
     CMAKE_FLAGS "-DINCLUDE_DIRECTORIES=${sdk_include_dir}"
@@ -33,6 +34,7 @@ const char flipper_fingerprint[] = "FLIPPER_FINGERPRINT[" FLIPPER_BUILD_FINGERPR
   endif()
   file(STRINGS ${dir}/fingerprint.bin found REGEX "FLIPPER_FINGERPRINT\\[[^]]*\\]")
   string(REGEX REPLACE ".*FLIPPER_FINGERPRINT\\[([^]]*)\\].*" "\\1" value "${found}")
+  string(REPLACE "\\;" ";" value "${value}")  # file(STRINGS) escapes the ';' of its list items
   set(FLIPPER_FINGERPRINT_KEY "${key}" CACHE INTERNAL "compiler and flags of the fingerprint")
   set(FLIPPER_FINGERPRINT_VALUE "${value}" CACHE INTERNAL "the build fingerprint of the compiler")
   set(${out} "${value}" PARENT_SCOPE)

@@ -12,13 +12,6 @@
 # sidecar in <prefix>/lib/flipper/plugins, where an installed kernel looks.
 include_guard(GLOBAL)
 include(GNUInstallDirs)
-# Warnings of plugin code: in tree the project's strict set (FLIPPER_STRICT_WARNINGS, which
-# FLIPPER_WERROR makes errors), out of tree -Wall -Wextra.
-if(DEFINED FLIPPER_STRICT_WARNINGS)
-  set(FLIPPER_PLUGIN_WARNINGS ${FLIPPER_STRICT_WARNINGS})
-else()
-  set(FLIPPER_PLUGIN_WARNINGS -Wall -Wextra)
-endif()
 set(FLIPPER_PLUGIN_INSTALL_DIR "lib/flipper/plugins" CACHE STRING
   "Plugin install directory, relative to the prefix (the kernel searches <exe>/../lib/flipper/plugins)")
 
@@ -62,6 +55,12 @@ function(flipper_add_plugin name)
   endif()
   set(target flipper_plugin_${name})
   add_library(${target} MODULE ${FAP_SOURCES})
+  # Warnings of plugin code: in tree the project's strict set (FLIPPER_STRICT_WARNINGS, which
+  # FLIPPER_WERROR makes errors), out of tree -Wall -Wextra.
+  set(warnings -Wall -Wextra)
+  if(DEFINED FLIPPER_STRICT_WARNINGS)
+    set(warnings ${FLIPPER_STRICT_WARNINGS})
+  endif()
   if(TARGET flipper_sdk)
     target_link_libraries(${target} PRIVATE flipper_sdk flipper_toolkit)
   else()
@@ -83,7 +82,7 @@ function(flipper_add_plugin name)
     FLIPPER_PLUGIN_OUTPUT_DIRECTORY ${FAP_OUTPUT_DIRECTORY})
   # g++ only: clang never emits STB_GNU_UNIQUE symbols (and has no such flag).
   target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-fno-gnu-unique>
-    ${FLIPPER_PLUGIN_WARNINGS})
+    ${warnings})
   target_link_options(${target} PRIVATE -Wl,-z,nodelete)
   # The entry function is the plugin's only exported symbol: template instantiations of std::
   # (default visibility despite -fvisibility=hidden) stay local, so two plugins never bind to

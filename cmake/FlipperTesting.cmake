@@ -18,15 +18,17 @@
 # call testing::load_plugin<Interface>("<plugin>"), flipper/testing/plugin_factory.hpp).
 # Works in tree and out of tree (after find_package(FlipperSDK)).
 include_guard(GLOBAL)
-set(FLIPPER_TESTING_CMAKE_DIR ${CMAKE_CURRENT_LIST_DIR})
-# The core grammar the parser and scorer kits parse with: installed beside this file; in the
-# source tree the top CMakeLists.txt points at configs/grammars.
-if(NOT DEFINED FLIPPER_CONFORMANCE_GRAMMAR)
-  set(FLIPPER_CONFORMANCE_GRAMMAR ${FLIPPER_TESTING_CMAKE_DIR}/core.grammar)
-endif()
 
 function(flipper_add_conformance_test plugin)
   cmake_parse_arguments(FACT "LOADER_ONLY" "WORLD" "PARAMS;SOURCES;LIBRARIES" ${ARGN})
+  # The drivers lie beside this file (installed or in the source tree's cmake/), and so does the
+  # core grammar the parser and scorer kits parse with, once installed (in the source tree the
+  # top CMakeLists.txt points FLIPPER_CONFORMANCE_GRAMMAR at configs/grammars).
+  set(kit_dir ${CMAKE_CURRENT_FUNCTION_LIST_DIR})
+  set(grammar ${kit_dir}/core.grammar)
+  if(DEFINED FLIPPER_CONFORMANCE_GRAMMAR)
+    set(grammar ${FLIPPER_CONFORMANCE_GRAMMAR})
+  endif()
   if(DEFINED FLIPPER_BUILD_TESTS AND NOT FLIPPER_BUILD_TESTS)
     return()
   endif()
@@ -41,11 +43,14 @@ function(flipper_add_conformance_test plugin)
   include(Catch)
   enable_testing()  # in the directory calling this; a top-level enable_testing() is still needed
   set(test conformance_${plugin})
-  set(sources ${FLIPPER_TESTING_CMAKE_DIR}/flipper_loader_conformance.cpp)
+  # The drivers in one translation unit (Catch2's header is parsed once).
+  set(drivers "#include \"flipper_loader_conformance.cpp\"\n")
   if(NOT FACT_LOADER_ONLY)
-    list(APPEND sources ${FLIPPER_TESTING_CMAKE_DIR}/flipper_${kind}_conformance.cpp)
+    string(APPEND drivers "#include \"flipper_${kind}_conformance.cpp\"\n")
   endif()
-  add_executable(${test} ${sources} ${FACT_SOURCES})
+  set(driver ${CMAKE_CURRENT_BINARY_DIR}/${test}_drivers.cpp)
+  file(CONFIGURE OUTPUT ${driver} CONTENT "${drivers}")
+  add_executable(${test} ${driver} ${FACT_SOURCES})
   if(TARGET flipper_sdk)
     target_link_libraries(${test} PRIVATE flipper_sdk flipper_toolkit)
     set_target_properties(${test} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
@@ -65,8 +70,8 @@ function(flipper_add_conformance_test plugin)
     FLIPPER_PLUGIN_DIR="${plugin_dir}"
     FLIPPER_CONFORMANCE_PARAMS="${params}"
     FLIPPER_CONFORMANCE_WORLD="${world}"
-    FLIPPER_CONFORMANCE_GRAMMAR="${FLIPPER_CONFORMANCE_GRAMMAR}")
-  target_include_directories(${test} PRIVATE ${FLIPPER_TESTING_CMAKE_DIR})
+    FLIPPER_CONFORMANCE_GRAMMAR="${grammar}")
+  target_include_directories(${test} PRIVATE ${kit_dir})
   set_target_properties(${test} PROPERTIES CXX_STANDARD 20 CXX_STANDARD_REQUIRED ON)
   add_dependencies(${test} ${target})
   catch_discover_tests(${test} TEST_PREFIX "${test}." PROPERTIES TIMEOUT 300)

@@ -1,31 +1,17 @@
 // The parser kit (flipper/testing/parser_conformance.hpp) on the plugin under test: the core
 // grammar (FLIPPER_CONFORMANCE_GRAMMAR, with the default config's words), core-language
-// utterances, and a scorer that gives each node the core bonus of docs/naturalization.md §3 alone
-// (what every scorer gives before it learns).
+// utterances, and the core bonus alone as the score (flipper/testing/core_scorer.hpp).
 #include <catch2/catch.hpp>
 
+#include "flipper/testing/core_scorer.hpp"
 #include "flipper/testing/parser_conformance.hpp"
-#include "flipper/toolkit/linear_scorer.hpp"
 #include "flipper_conformance_driver.hpp"
-
-namespace {
-
-class UntrainedScorer : public flipper::toolkit::LinearScorer {
- public:
-  UntrainedScorer() : LinearScorer(false, {"untrained", "untrained", ""}) {}
-
- protected:
-  void update(const std::vector<flipper::sdk::Candidate>&, std::size_t,
-              const flipper::sdk::ScoreContext&) override {}
-};
-
-}  // namespace
 
 TEST_CASE(FLIPPER_CONFORMANCE_PLUGIN ": parser conformance", "[conformance][parser]") {
   using namespace flipper;
   const auto parser = testing::driver::plugin<sdk::Parser>();
   parser->set_grammar(testing::driver::core_grammar());
-  const UntrainedScorer scorer;
+  const testing::CoreScorer scorer;
   testing::check_parser_conformance(
       *parser, scorer,
       {"move left", "visit world containing item is red ; pick item is red",

@@ -16,13 +16,14 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/host_loader.hpp"
 #include "flipper/sdk/param_check.hpp"
-#include "flipper/sdk/sdk.hpp"
+#include "flipper/sdk/plugin.hpp"
 
 namespace flipper::testing {
 
