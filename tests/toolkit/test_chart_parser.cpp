@@ -6,6 +6,7 @@
 
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/testing/core_scorer.hpp"
 #include "flipper/toolkit/chart_parser.hpp"
 
 using namespace flipper;
@@ -14,17 +15,11 @@ namespace {
 
 // Every node of an induced rule scores 10, every other node 0 (no core bonus): an induced
 // reading outscores the core one.
-class FavourInduced final : public sdk::Scorer {
+class FavourInduced final : public testing::CoreScorer {
  protected:
   double do_score_node(const sdk::Derivation& node, const sdk::ScoreContext&) const override {
     return node.rule->induced ? 10.0 : 0.0;
   }
-  void do_features(const sdk::Derivation&, const sdk::ScoreContext&,
-                   sdk::FeatureVector&) const override {}
-  void do_learn(const std::vector<sdk::Candidate>&, std::size_t,
-                const sdk::ScoreContext&) override {}
-  std::string do_save_state() const override { return {}; }
-  void do_load_state(std::string_view) override {}
 };
 
 std::shared_ptr<const sdk::Grammar> grammar() {

@@ -3,7 +3,8 @@
 /// A scorer for testing parsers (header-only): every node scores the core bonus of
 /// docs/naturalization.md §3 alone (1.0 when its subtree uses only core rules, else 0), which is
 /// what every scorer gives before it learns; it has no features, learns nothing and has no state.
-/// The parser kit's driver parses with it (cmake/flipper_parser_conformance.cpp).
+/// The parser kit's driver parses with it (cmake/flipper_parser_conformance.cpp); a test may
+/// derive from it to score otherwise.
 
 #include <string>
 #include <string_view>
@@ -13,7 +14,7 @@
 
 namespace flipper::testing {
 
-class CoreScorer final : public sdk::Scorer {
+class CoreScorer : public sdk::Scorer {
  protected:
   double do_score_node(const sdk::Derivation& node, const sdk::ScoreContext&) const override {
     return node.core_only ? 1.0 : 0.0;
