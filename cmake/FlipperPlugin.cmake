@@ -1,7 +1,8 @@
 # flipper_add_plugin(<name> KIND <kind> SOURCES <src>... [LIBRARIES <lib>...] [VERSION <v>]
 #                    [OUTPUT_DIRECTORY <dir>] [NAME <id>] [NO_INSTALL])
 #
-# Builds a Flipper plugin: a MODULE library linked against the SDK only, with hidden visibility,
+# Builds a Flipper plugin: a MODULE library linked against the SDK and the toolkit only (the
+# toolkit is a static library: a plugin takes from it only what it uses), with hidden visibility,
 # -fno-gnu-unique (so g++ does not pin it in memory, see docs) and -z nodelete (the kernel never
 # unloads within a process), written to the plugin directory together with a sidecar manifest
 # <name>.flipper.yaml that lets the kernel index plugins without loading their code.
@@ -11,13 +12,6 @@
 # sidecar in <prefix>/lib/flipper/plugins, where an installed kernel looks.
 include_guard(GLOBAL)
 include(GNUInstallDirs)
-# Warnings of plugin code: in tree the project's strict set (FLIPPER_STRICT_WARNINGS, which
-# FLIPPER_WERROR makes errors), out of tree -Wall -Wextra.
-if(DEFINED FLIPPER_STRICT_WARNINGS)
-  set(FLIPPER_PLUGIN_WARNINGS ${FLIPPER_STRICT_WARNINGS})
-else()
-  set(FLIPPER_PLUGIN_WARNINGS -Wall -Wextra)
-endif()
 set(FLIPPER_PLUGIN_INSTALL_DIR "lib/flipper/plugins" CACHE STRING
   "Plugin install directory, relative to the prefix (the kernel searches <exe>/../lib/flipper/plugins)")
 
@@ -25,6 +19,10 @@ function(flipper_add_plugin name)
   cmake_parse_arguments(FAP "NO_INSTALL" "KIND;VERSION;OUTPUT_DIRECTORY;NAME" "SOURCES;LIBRARIES" ${ARGN})
   if(NOT FAP_KIND)
     message(FATAL_ERROR "flipper_add_plugin(${name}): KIND is required")
+  endif()
+  set(kinds world planner parser scorer rewriter similarity)
+  if(NOT FAP_KIND IN_LIST kinds)
+    message(FATAL_ERROR "flipper_add_plugin(${name}): KIND ${FAP_KIND} is not one of ${kinds}")
   endif()
   if(NOT FAP_SOURCES)
     message(FATAL_ERROR "flipper_add_plugin(${name}): SOURCES is required")
@@ -57,10 +55,16 @@ function(flipper_add_plugin name)
   endif()
   set(target flipper_plugin_${name})
   add_library(${target} MODULE ${FAP_SOURCES})
+  # Warnings of plugin code: in tree the project's strict set (FLIPPER_STRICT_WARNINGS, which
+  # FLIPPER_WERROR makes errors), out of tree -Wall -Wextra.
+  set(warnings -Wall -Wextra)
+  if(DEFINED FLIPPER_STRICT_WARNINGS)
+    set(warnings ${FLIPPER_STRICT_WARNINGS})
+  endif()
   if(TARGET flipper_sdk)
-    target_link_libraries(${target} PRIVATE flipper_sdk)
+    target_link_libraries(${target} PRIVATE flipper_sdk flipper_toolkit)
   else()
-    target_link_libraries(${target} PRIVATE Flipper::sdk)
+    target_link_libraries(${target} PRIVATE Flipper::sdk Flipper::toolkit)
   endif()
   if(FAP_LIBRARIES)
     target_link_libraries(${target} PRIVATE ${FAP_LIBRARIES})
@@ -73,10 +77,12 @@ function(flipper_add_plugin name)
     VISIBILITY_INLINES_HIDDEN ON
     POSITION_INDEPENDENT_CODE ON
     CXX_STANDARD 20
-    CXX_STANDARD_REQUIRED ON)
+    CXX_STANDARD_REQUIRED ON
+    FLIPPER_PLUGIN_KIND ${FAP_KIND}
+    FLIPPER_PLUGIN_OUTPUT_DIRECTORY ${FAP_OUTPUT_DIRECTORY})
   # g++ only: clang never emits STB_GNU_UNIQUE symbols (and has no such flag).
   target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-fno-gnu-unique>
-    ${FLIPPER_PLUGIN_WARNINGS})
+    ${warnings})
   target_link_options(${target} PRIVATE -Wl,-z,nodelete)
   # The entry function is the plugin's only exported symbol: template instantiations of std::
   # (default visibility despite -fvisibility=hidden) stay local, so two plugins never bind to

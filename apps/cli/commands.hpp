@@ -8,6 +8,7 @@
 
 namespace flipper::cli {
 void add_plugins_command(CLI::App& app);  // plugins.cpp
+void add_plugin_command(CLI::App& app);   // plugin_new.cpp (plugin new: scaffold a plugin)
 void add_config_command(CLI::App& app);   // config.cpp   (config check)
 void add_run_command(CLI::App& app);      // run.cpp
 void add_session_command(CLI::App& app);  // session.cpp

@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", version_text(), "Print the version and exit");
   app.require_subcommand(1);
   flipper::cli::add_plugins_command(app);
+  flipper::cli::add_plugin_command(app);
   flipper::cli::add_config_command(app);
   flipper::cli::add_run_command(app);
   flipper::cli::add_session_command(app);

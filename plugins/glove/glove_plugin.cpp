@@ -6,23 +6,29 @@
 
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/sdk/similarity.hpp"
+#include "flipper/toolkit/params.hpp"
 #include "word_vectors.hpp"
 
 namespace flipper::plugins::glove {
 
+namespace {
+
+namespace param = toolkit::param;
+
+constexpr param::Path kPath{
+    "path", "", "word vectors in GloVe or word2vec text format (e.g. glove.6B.100d.txt)", true};
+constexpr param::Int<std::size_t> kMaxWords{"max_words", 0, 0, std::nullopt,
+                                            "read only the first N words of the file (0: all)"};
+
+}  // namespace
+
 class Glove : public sdk::Similarity {
  public:
   explicit Glove(const sdk::Params& params)
-      : vectors_(std::make_shared<const WordVectors>(WordVectors::load(
-            params.get_string("path"), static_cast<std::size_t>(params.get_int("max_words"))))) {}
+      : vectors_(std::make_shared<const WordVectors>(
+            WordVectors::load(param::get(params, kPath), param::get(params, kMaxWords)))) {}
 
-  static sdk::ParamSchema schema() {
-    sdk::ParamSchema s;
-    s.add_path("path", std::nullopt,
-               "word vectors in GloVe or word2vec text format (e.g. glove.6B.100d.txt)", true);
-    s.add_int("max_words", 0, "read only the first N words of the file (0: all)", 0);
-    return s;
-  }
+  static sdk::ParamSchema schema() { return param::schema(kPath, kMaxWords); }
 
  protected:
   double do_similarity(const std::vector<std::string>& a,

@@ -13,42 +13,38 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/sdk/world.hpp"
+#include "flipper/toolkit/params.hpp"
 #include "obstacles.hpp"
 #include "occupancy.hpp"
 
 namespace flipper::octomap3d {
 
+namespace {
+
+namespace param = toolkit::param;
+
+constexpr param::Double kResolution{
+    "resolution", 1.0, 1e-3, 1e3,
+    "edge of one cell (and of the octree voxels built from boxes), metres"};
+constexpr param::Choice<Body::Shape, 2> kBody{
+    "body", Body::Shape::box, {"box", "sphere"}, "robot body shape used for collision checks"};
+constexpr param::Double kBodySize{"body_size", 0.5, 1e-3, 1e3,
+                                  "robot body: box edge or sphere diameter, metres"};
+constexpr param::Int<std::uint64_t> kMaxFileBytes{
+    "max_file_bytes", 268435456, 1, std::uint64_t{1} << 40,
+    "largest .bt file read (regular files only): file_too_large / not_a_regular_file"};
+
+}  // namespace
+
 class OctomapWorld final : public sdk::World {
  public:
-  explicit OctomapWorld(const sdk::Params& p) {
-    resolution_ = p.has("resolution") ? p.get_double("resolution") : 1.0;
-    if (!(resolution_ > 0))
-      throw sdk::Error(sdk::codes::kBadConfig, "octomap3d: resolution must be positive");
-    const std::string shape = p.has("body") ? p.get_string("body") : "box";
-    if (shape == "box")
-      body_.shape = Body::Shape::box;
-    else if (shape == "sphere")
-      body_.shape = Body::Shape::sphere;
-    else
-      throw sdk::Error(sdk::codes::kBadConfig,
-                       "octomap3d: body must be box or sphere, got \"" + shape + "\"");
-    body_.size = p.has("body_size") ? p.get_double("body_size") : 0.5;
-    if (p.has("max_file_bytes"))
-      max_file_bytes_ = static_cast<std::uint64_t>(p.get_int("max_file_bytes"));
-    if (!(body_.size > 0))
-      throw sdk::Error(sdk::codes::kBadConfig, "octomap3d: body_size must be positive");
-  }
+  explicit OctomapWorld(const sdk::Params& p)
+      : resolution_(param::get(p, kResolution)),
+        max_file_bytes_(param::get(p, kMaxFileBytes)),
+        body_{param::get(p, kBody), param::get(p, kBodySize)} {}
 
   static sdk::ParamSchema schema() {
-    sdk::ParamSchema s;
-    s.add_double("resolution", 1.0,
-                 "edge of one cell (and of the octree voxels built from boxes), metres", 1e-3, 1e3);
-    s.add_string("body", "box", "robot body shape used for collision checks", {"box", "sphere"});
-    s.add_double("body_size", 0.5, "robot body: box edge or sphere diameter, metres", 1e-3, 1e3);
-    s.add_int("max_file_bytes", 268435456,
-              "largest .bt file read (regular files only): file_too_large / not_a_regular_file", 1,
-              std::int64_t{1} << 40);
-    return s;
+    return param::schema(kResolution, kBody, kBodySize, kMaxFileBytes);
   }
 
  protected:
@@ -123,9 +119,9 @@ class OctomapWorld final : public sdk::World {
            nlohmann::json(body_.size).dump();
   }
 
-  double resolution_ = 1.0;
-  std::uint64_t max_file_bytes_ = 268435456;
-  Body body_;
+  const double resolution_;
+  const std::uint64_t max_file_bytes_;
+  const Body body_;
 };
 
 }  // namespace flipper::octomap3d

@@ -1,6 +1,7 @@
 // The `rewrites` rewriter plugin: the four rewritings of docs/naturalization.md §6, in generation
 // order. It only proposes; the kernel's generalizer checks equivalence and selects.
 #include <algorithm>
+#include <array>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -8,6 +9,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/sdk/rewriter.hpp"
+#include "flipper/toolkit/params.hpp"
 #include "loop_rolling.hpp"
 #include "predicate_programs.hpp"
 
@@ -18,8 +20,17 @@ namespace {
 using sdk::Kind;
 using sdk::Program;
 
-const std::vector<std::string> kAllRewritings = {"loop", "moves_to_visit", "visit_by_predicate",
-                                                 "pick_by_predicate"};
+namespace param = toolkit::param;
+
+constexpr param::Int<std::size_t> kMaxCandidates{"max_candidates", 64, 0, 10000,
+                                                 "most candidates proposed per definition"};
+constexpr param::Int<std::size_t> kMaxBlock{"max_block", 10, 1, 30,
+                                            "longest block of statements loop rolling repeats"};
+constexpr param::Subset<4> kRewritings{
+    "rewritings",
+    {"loop", "moves_to_visit", "visit_by_predicate", "pick_by_predicate"},
+    "rewritings to apply (loop, moves_to_visit, visit_by_predicate, pick_by_predicate), always "
+    "in that order"};
 
 // Collects candidates in order, without duplicates (or the body itself), up to a limit.
 class CandidateList {
@@ -43,28 +54,11 @@ class CandidateList {
 class Rewrites : public sdk::Rewriter {
  public:
   explicit Rewrites(const sdk::Params& params)
-      : max_candidates_(static_cast<std::size_t>(params.get_int("max_candidates"))),
-        max_block_(static_cast<std::size_t>(params.get_int("max_block"))) {
-    for (const auto& name : params.get_string_list("rewritings")) {
-      auto it = std::find(kAllRewritings.begin(), kAllRewritings.end(), name);
-      if (it == kAllRewritings.end())
-        throw sdk::Error(
-            sdk::codes::kBadConfig,
-            "rewrites: unknown rewriting '" + name +
-                "' (known: loop, moves_to_visit, visit_by_predicate, pick_by_predicate)");
-      enabled_[static_cast<std::size_t>(it - kAllRewritings.begin())] = true;
-    }
-  }
+      : max_candidates_(param::get(params, kMaxCandidates)),
+        max_block_(param::get(params, kMaxBlock)),
+        enabled_(param::get(params, kRewritings)) {}
 
-  static sdk::ParamSchema schema() {
-    sdk::ParamSchema s;
-    s.add_int("max_candidates", 64, "most candidates proposed per definition", 0, 10000);
-    s.add_int("max_block", 10, "longest block of statements loop rolling repeats", 1, 30);
-    s.add_string_list("rewritings", kAllRewritings,
-                      "rewritings to apply (loop, moves_to_visit, visit_by_predicate, "
-                      "pick_by_predicate), always in that order");
-    return s;
-  }
+  static sdk::ParamSchema schema() { return param::schema(kMaxCandidates, kMaxBlock, kRewritings); }
 
  protected:
   std::vector<sdk::RewriteCandidate> do_propose(const sdk::RewriteRequest& req) const override {
@@ -115,7 +109,7 @@ class Rewrites : public sdk::Rewriter {
  private:
   std::size_t max_candidates_;
   std::size_t max_block_;
-  bool enabled_[4] = {false, false, false, false};
+  std::array<bool, 4> enabled_;  // by kRewritings' names
 };
 
 }  // namespace flipper::plugins::rewrites

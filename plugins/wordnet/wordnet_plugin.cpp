@@ -7,22 +7,25 @@
 
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/sdk/similarity.hpp"
+#include "flipper/toolkit/params.hpp"
 #include "word_similarity.hpp"
 #include "wordnet_db.hpp"
 
 namespace flipper::plugins::wordnet {
 
+namespace {
+
+constexpr toolkit::param::Path kPath{
+    "path", "/usr/share/wordnet", "WordNet 3.0 dictionary directory (index.noun, data.noun, ...)"};
+
+}  // namespace
+
 class WordNet : public sdk::Similarity {
  public:
   explicit WordNet(const sdk::Params& params)
-      : db_(std::make_unique<WordNetDb>(params.get_string("path"))), words_(*db_) {}
+      : db_(std::make_unique<WordNetDb>(toolkit::param::get(params, kPath))), words_(*db_) {}
 
-  static sdk::ParamSchema schema() {
-    sdk::ParamSchema s;
-    s.add_path("path", std::string("/usr/share/wordnet"),
-               "WordNet 3.0 dictionary directory (index.noun, data.noun, ...)");
-    return s;
-  }
+  static sdk::ParamSchema schema() { return toolkit::param::schema(kPath); }
 
  protected:
   double do_similarity(const std::vector<std::string>& a,

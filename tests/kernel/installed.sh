@@ -37,6 +37,10 @@ env -u FLIPPER_PLUGIN_PATH "$flipper" config check >/dev/null
 answer=$(echo '{"op":"query","text":"move up"}' | env -u FLIPPER_PLUGIN_PATH "$flipper" session)
 echo "$answer" | grep -q '"ok":true'
 
+# `plugin new` from the installed binary points the scaffold at the installed SDK beside it.
+"$flipper" plugin new planner my_planner "$tmp/my_planner" >/dev/null
+grep -qF -- "-DCMAKE_PREFIX_PATH=$tmp/prefix" "$tmp/my_planner/README.md"
+
 # serve runs in the installed flipper-frontends, which finds the installed page.
 env -u FLIPPER_PLUGIN_PATH "$flipper" serve --set serve.port=0 >serve.log 2>&1 &
 serve_pid=$!

@@ -29,8 +29,9 @@ const std::string kFlipper = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper";
 /// `flipper session` on one lexicon file, driven request by request.
 class Session {
  public:
-  explicit Session(const std::string& store)
-      : child_({kFlipper, "session", "--set", "lexicon.path=" + store, "-"}) {}
+  /// `sets`: more `--set` values (e.g. another scorer).
+  explicit Session(const std::string& store, const std::vector<std::string>& sets = {})
+      : child_(args(store, sets)) {}
   void kill_now() { child_.kill_now(); }
   /// Sends a request; returns its answer, or null when the process died first.
   Json ask(const Json& request) {
@@ -40,6 +41,13 @@ class Session {
   }
 
  private:
+  static std::vector<std::string> args(const std::string& store,
+                                       const std::vector<std::string>& sets) {
+    std::vector<std::string> a{kFlipper, "session", "--set", "lexicon.path=" + store};
+    for (const auto& set : sets) a.insert(a.end(), {"--set", set});
+    a.push_back("-");
+    return a;
+  }
   flipper::testsupport::ChildProcess child_;
 };
 
@@ -141,6 +149,63 @@ TEST_CASE("two processes learning on one lexicon both keep their weight updates"
   learn(c, "cy", 1);
   const Weights after = stored_weights(shared);
   CHECK(after.size() >= both.size());
+}
+
+namespace {
+
+const std::vector<std::string> kPerceptron{"scorer.plugin=perceptron"};
+const std::string kTwoReadings = "pick item not is red and is green";
+
+// The score a new perceptron process on `store` gives the reading `formula` of kTwoReadings.
+double perceptron_score(const std::string& store, const std::string& formula) {
+  Session s(store, kPerceptron);
+  const Json q = s.ask({{"op", "query"}, {"text", kTwoReadings}});
+  for (const auto& c : q["candidates"])
+    if (c["formula"] == formula) return c["score"].get<double>();
+  FAIL("no reading " << formula << " in " << q.dump());
+  return 0;
+}
+
+}  // namespace
+
+// The perceptron is incremental too (flipper/toolkit/linear_scorer.hpp): an accept stores the
+// changes of its weights and of its accept counter as sums, so concurrent learners add up instead
+// of the last whole-state save replacing the others'.
+TEST_CASE("two perceptron processes learning on one lexicon both keep their updates",
+          "[naturalize][process][weights]") {
+  const std::string fresh = scratch_path("p-fresh") + ".sqlite";
+  const std::string only_ana = scratch_path("p-ana") + ".sqlite";
+  const std::string shared = scratch_path("p-both") + ".sqlite";
+  std::string accepted;  // the reading ranked second by a fresh model, which both accept
+  {
+    Session a(only_ana, kPerceptron);
+    REQUIRE(a.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
+    const Json q = a.ask({{"op", "query"}, {"text", kTwoReadings}});
+    REQUIRE(q["candidates"].size() >= 2);
+    accepted = q["candidates"][1]["formula"];
+    REQUIRE(a.ask({{"op", "accept"}, {"rank", 1}})["ok"] == true);
+  }
+  {
+    Session a(shared, kPerceptron), b(shared, kPerceptron);  // both open before either learns
+    learn(a, "ana", 1);
+    learn(b, "bob", 1);
+  }
+  // Ana's update alone: Δ = φ(accepted) − φ(predicted) on w and u (c = 1), one accept counted.
+  const Weights ana = stored_weights(only_ana);
+  REQUIRE(ana.count({"", "#accepts"}) == 1);
+  CHECK(ana.at({"", "#accepts"}) == std::make_pair(1.0, 0.0));
+  REQUIRE(ana.size() > 1);
+  // Bob learnt the same update from the same (empty) model: the store holds twice each.
+  Weights expected;
+  for (const auto& [k, v] : ana) expected[k] = {2 * v.first, 2 * v.second};
+  CHECK(stored_weights(shared) == expected);
+  // A new process scores with both: averaged weights w − u/c = 2Δ − 2Δ/3 = 4Δ/3, against
+  // Δ − Δ/2 = Δ/2 after ana's accept alone, so the accepted reading gains 8/3 as much.
+  const double before = perceptron_score(fresh, accepted);
+  const double after_ana = perceptron_score(only_ana, accepted);
+  const double after_both = perceptron_score(shared, accepted);
+  REQUIRE(after_ana > before);
+  CHECK(after_both - before == Approx(8.0 / 3.0 * (after_ana - before)).epsilon(1e-9));
 }
 
 TEST_CASE("SIGKILL of flipper session loses no answered definition",

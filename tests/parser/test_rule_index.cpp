@@ -1,21 +1,21 @@
-// The rule index (plugins/chart/rule_index.*, start_rules.*; docs/naturalization.md §2, "Rule
-// selection"), against brute force over the sdk::Rule objects themselves: StartRules hands out
-// exactly the live, visible rules whose first symbol fits position i and whose later terminals
+// The rule index (flipper/toolkit/rule_index.hpp, start_rules.hpp; docs/naturalization.md §2,
+// "Rule selection"), against brute force over the sdk::Rule objects themselves: StartRules hands
+// out exactly the live, visible rules whose first symbol fits position i and whose later terminals
 // occur far enough after it, in the order they were added; the exhaustive mode (the unindexed
 // matcher) hands out every live rule whose first symbol fits; anchors are the rarest later tokens.
 #include <catch2/catch.hpp>
 #include <random>
 
-#include "rule_index.hpp"
-#include "start_rules.hpp"
+#include "flipper/toolkit/rule_index.hpp"
+#include "flipper/toolkit/start_rules.hpp"
 #include "synthetic_rules.hpp"
 
 using namespace flipper;
-using chart::FirstKind;
-using chart::RuleIndex;
-using chart::StartRules;
 using indextest::induced_rule;
 using indextest::synthetic_rules;
+using toolkit::FirstKind;
+using toolkit::RuleIndex;
+using toolkit::StartRules;
 
 namespace {
 

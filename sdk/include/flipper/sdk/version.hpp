@@ -24,13 +24,17 @@
 /// add_map(), sections (a trailing member) and add_section(), Params gains get_double_list(),
 /// and sdk::type_phrase(); validate_params words every message "config key '<full key>'" and
 /// hints among a key's siblings. All additions: a 2.0 plugin loads unchanged.
+/// 2.1.1 — no change to the library or its ABI: the installed package adds the toolkit
+/// (Flipper::toolkit, a static library plugins link), the conformance kit of every kind with one
+/// flipper_add_conformance_test call (flipper/testing/plugin_factory.hpp, core_scorer.hpp), and
+/// a configure-time check of the build fingerprint. A 2.1.0 plugin loads unchanged.
 
 #include <boost/version.hpp>
 
 #define FLIPPER_PLUGIN_ABI 2
 #define FLIPPER_SDK_VERSION_MAJOR 2
 #define FLIPPER_SDK_VERSION_MINOR 1
-#define FLIPPER_SDK_VERSION_PATCH 0
+#define FLIPPER_SDK_VERSION_PATCH 1
 
 #define FLIPPER_STRINGIFY_IMPL(x) #x
 #define FLIPPER_STRINGIFY(x) FLIPPER_STRINGIFY_IMPL(x)

@@ -1,7 +1,8 @@
 #pragma once
 /// @file loader.hpp
 /// Conformance kit, loader layer (header-only, Catch2 v2): checks a *built* plugin library the way
-/// the kernel will load it. Use it through CMake, which injects the path:
+/// the kernel will load it. Use it through CMake, which injects the path (and runs the kit of the
+/// plugin's kind too, cmake/FlipperTesting.cmake):
 /// @code
 ///   flipper_add_conformance_test(astar)          # in plugins/astar/CMakeLists.txt
 /// @endcode
@@ -26,32 +27,9 @@
 #include "flipper/sdk/host_loader.hpp"
 #include "flipper/sdk/param_check.hpp"
 #include "flipper/sdk/sdk.hpp"
+#include "flipper/testing/plugin_factory.hpp"
 
 namespace flipper::testing {
-
-/// A plugin library opened by the SDK's host loader, exactly as the kernel opens it, with its
-/// descriptor.
-struct PluginLibrary {
-  sdk::host::Library library;
-  FlipperPluginEntryFn entry = nullptr;
-
-  explicit PluginLibrary(const std::string& path)
-      : library(sdk::host::open_library(path)), entry(library.entry) {}
-  static FlipperHandshake kernel_handshake() { return sdk::host::handshake(); }
-  /// The descriptor after a matching handshake (null if the plugin refuses).
-  const FlipperPluginDescriptor* descriptor() const {
-    const FlipperHandshake mine = kernel_handshake();
-    FlipperHandshake theirs{};
-    return entry ? entry(&mine, &theirs) : nullptr;
-  }
-  /// Creates an object whose deleter keeps the library loaded.
-  std::shared_ptr<sdk::Plugin> create(const sdk::Params& params) const {
-    const FlipperPluginDescriptor* d = descriptor();
-    sdk::Plugin* raw = d->create(params);
-    return std::shared_ptr<sdk::Plugin>(
-        raw, [lib = library.handle, destroy = d->destroy](sdk::Plugin* p) { destroy(p); });
-  }
-};
 
 /// Whether `object` implements the interface of `kind` (dynamic_cast across the boundary works
 /// only if the SDK's typeinfo is shared, which is what this also checks).

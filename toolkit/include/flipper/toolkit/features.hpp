@@ -2,8 +2,8 @@
 // The features of one derivation node (docs/naturalization.md §3), written once for two sinks: a
 // hashing sink (score_node: no strings built, each feature name hashed part by part with FNV-1a)
 // and a naming sink (features(), learning: the readable name, whose FNV-1a hash is the same key).
-// Shared by the scorer plugins (loglinear, perceptron) through the static library
-// flipper_scoring_features, so every scorer sees the same features.
+// Part of the toolkit (docs/architecture.md §2): every scorer built on it (loglinear, perceptron,
+// through linear_model.hpp) sees the same features.
 #include <cstdint>
 #include <initializer_list>
 #include <string>
@@ -12,7 +12,7 @@
 
 #include "flipper/sdk/scorer.hpp"
 
-namespace flipper::features {
+namespace flipper::toolkit::features {
 
 using Parts = std::initializer_list<std::string_view>;
 
@@ -100,4 +100,4 @@ using FeatureNames = std::unordered_map<std::uint64_t, std::string>;
 void add_tree_features(const sdk::Derivation& d, const sdk::ScoreContext& ctx, double coef,
                        SparseVector& out, FeatureNames& names);
 
-}  // namespace flipper::features
+}  // namespace flipper::toolkit::features

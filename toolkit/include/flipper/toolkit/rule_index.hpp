@@ -1,13 +1,13 @@
 #pragma once
-// Compiled, interned form of a grammar for the chart parsers (`chart`, `floating`): tokens and
-// categories become ints, right-hand sides live in one pool, and rules are indexed by their first
-// RHS symbol (token, token class or category) and their *anchor*, the rarest token among the rest
-// of their RHS, so a parse only looks at rules whose first symbol and anchor both occur in the
-// utterance (docs/naturalization.md §2, "Rule selection"). Unary rules are indexed by their single
-// category. Building is linear in the rules and allocates nothing per rule: the RHS symbols share
-// one pool, the buckets are lists threaded through the rules, and the bucket and id tables are
-// open-addressing arrays (100k rules: ~18 ms, 1.2k instructions per rule; with node-based maps
-// and a vector per rule it took 2.5x that).
+// Compiled, interned form of a grammar for the toolkit's chart parsers (chart_run.hpp; the
+// plugins `chart` and `floating`): tokens and categories become ints, right-hand sides live in one
+// pool, and rules are indexed by their first RHS symbol (token, token class or category) and their
+// *anchor*, the rarest token among the rest of their RHS, so a parse only looks at rules whose
+// first symbol and anchor both occur in the utterance (docs/naturalization.md §2, "Rule
+// selection"). Unary rules are indexed by their single category. Building is linear in the rules
+// and allocates nothing per rule: the RHS symbols share one pool, the buckets are lists threaded
+// through the rules, and the bucket and id tables are open-addressing arrays (100k rules: ~18 ms,
+// 1.2k instructions per rule; with node-based maps and a vector per rule it took 2.5x that).
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -17,7 +17,7 @@
 
 #include "flipper/sdk/grammar.hpp"
 
-namespace flipper::chart {
+namespace flipper::toolkit {
 
 /// A token class bit (@number, @color, @shape, @direction).
 enum ClassBit : std::uint8_t { kNumber = 1, kColor = 2, kShape = 4, kDirection = 8 };
@@ -118,4 +118,4 @@ class RuleIndex {
   int root_ = -1;
 };
 
-}  // namespace flipper::chart
+}  // namespace flipper::toolkit

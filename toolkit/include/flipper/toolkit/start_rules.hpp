@@ -15,9 +15,9 @@
 #include <utility>
 #include <vector>
 
-#include "rule_index.hpp"
+#include "flipper/toolkit/rule_index.hpp"
 
-namespace flipper::chart {
+namespace flipper::toolkit {
 
 class StartRules {
  public:
@@ -54,4 +54,4 @@ class StartRules {
   std::unordered_map<std::uint32_t, std::vector<int>> all_;  ///< exhaustive: rules by first symbol
 };
 
-}  // namespace flipper::chart
+}  // namespace flipper::toolkit

@@ -1,6 +1,6 @@
-#include "features.hpp"
+#include "flipper/toolkit/features.hpp"
 
-namespace flipper::features {
+namespace flipper::toolkit::features {
 
 std::string join(Parts parts) {
   std::string s;
@@ -25,4 +25,4 @@ void add_tree_features(const sdk::Derivation& d, const sdk::ScoreContext& ctx, d
   for (const auto& k : d.kids) add_tree_features(*k, ctx, coef, out, names);
 }
 
-}  // namespace flipper::features
+}  // namespace flipper::toolkit::features

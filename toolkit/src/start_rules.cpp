@@ -1,8 +1,8 @@
-#include "start_rules.hpp"
+#include "flipper/toolkit/start_rules.hpp"
 
 #include <algorithm>
 
-namespace flipper::chart {
+namespace flipper::toolkit {
 
 StartRules::StartRules(const RuleIndex& index, const std::vector<int>& token_ids,
                        const std::vector<std::uint8_t>& classes, const Visible& visible,
@@ -105,4 +105,4 @@ void StartRules::scan_all() {
   all_[~std::uint32_t{0}];  // marks the scan done, even when no rule was found
 }
 
-}  // namespace flipper::chart
+}  // namespace flipper::toolkit

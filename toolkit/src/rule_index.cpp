@@ -1,11 +1,11 @@
-#include "rule_index.hpp"
+#include "flipper/toolkit/rule_index.hpp"
 
 #include <algorithm>
 #include <functional>
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::chart {
+namespace flipper::toolkit {
 
 namespace {
 int bit_index(sdk::Symbol::Type t) {
@@ -306,4 +306,4 @@ std::vector<std::uint8_t> RuleIndex::classes(const std::vector<std::string>& tok
   return bits;
 }
 
-}  // namespace flipper::chart
+}  // namespace flipper::toolkit

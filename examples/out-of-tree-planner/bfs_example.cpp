@@ -1,8 +1,10 @@
 // bfs_example: breadth-first search over the world's cell graph. Paths are shortest in steps;
 // among equally near goals the smallest (x, y, z) wins, and neighbours are expanded in the
 // geometry's tie order, as the planner contract asks. Tours are greedy nearest-neighbour.
+// Its one parameter is declared once, as a typed handle (flipper/toolkit/params.hpp).
 #include <flipper/sdk/planner.hpp>
 #include <flipper/sdk/plugin.hpp>
+#include <flipper/toolkit/params.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -15,10 +17,18 @@ using flipper::sdk::Area;
 using flipper::sdk::Cell;
 using flipper::sdk::Geometry;
 
-class BfsPlanner : public flipper::sdk::Planner {
+namespace param = flipper::toolkit::param;
+
+// Name, default, range and description, written once: the schema and the constructor use it.
+constexpr param::Int<std::uint64_t> kMaxExpansions{
+    "max_expansions", 0, 0, std::nullopt,
+    "cells one search may expand before it gives up (0: no limit but the caller's stop)"};
+
+class BfsExample : public flipper::sdk::Planner {
  public:
-  explicit BfsPlanner(const flipper::sdk::Params&) {}
-  static flipper::sdk::ParamSchema schema() { return {}; }
+  explicit BfsExample(const flipper::sdk::Params& p)
+      : max_expansions_(param::get(p, kMaxExpansions)) {}
+  static flipper::sdk::ParamSchema schema() { return param::schema(kMaxExpansions); }
 
  protected:
   flipper::sdk::PathResult do_plan(const Geometry& g, const flipper::sdk::PathRequest& req,
@@ -53,7 +63,8 @@ class BfsPlanner : public flipper::sdk::Planner {
       std::size_t best = kNone;  // smallest goal cell of the next layer
       next.clear();
       for (std::size_t i : layer) {
-        if (stop.should_stop(r.expansions)) {
+        if (stop.should_stop(r.expansions) ||
+            (max_expansions_ > 0 && r.expansions >= max_expansions_)) {
           r.status = flipper::sdk::PlanStatus::stopped;
           return r;
         }
@@ -120,9 +131,12 @@ class BfsPlanner : public flipper::sdk::Planner {
     t.supports_3d = true;  // BFS works on any neighbourhood the geometry defines
     return t;
   }
+
+ private:
+  const std::uint64_t max_expansions_;
 };
 
 }  // namespace bfs_example
 
-FLIPPER_PLUGIN(bfs_example::BfsPlanner, planner, "bfs_example", FLIPPER_PLUGIN_VERSION,
+FLIPPER_PLUGIN(bfs_example::BfsExample, planner, "bfs_example", FLIPPER_PLUGIN_VERSION,
                "Breadth-first search on the world's cell graph (out-of-tree example)")

@@ -1,0 +1,110 @@
+// Typed plugin parameter handles (flipper/toolkit/params.hpp): the schema a plugin declares from
+// them, and what `get` reads — from params the SDK validated, and from hand-made ones (defaults,
+// and refusals naming the parameter).
+#include <catch2/catch.hpp>
+#include <cstdint>
+
+#include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/param_check.hpp"
+#include "flipper/toolkit/params.hpp"
+
+using namespace flipper;
+namespace param = toolkit::param;
+
+namespace {
+
+enum class Shape { box, sphere };
+
+constexpr param::Int<int> kBeam{"beam", 50, 1, 100000, "derivations kept"};
+constexpr param::Int<std::uint64_t> kBudget{"budget", 0, 0, std::nullopt, "0: none"};
+constexpr param::Double kRate{"rate", 0.5, 0.0, 1.0, "step"};
+constexpr param::Bool kFast{"fast", true, "go fast"};
+constexpr param::Text kLabel{"label", "x", "a label"};
+constexpr param::Choice<Shape, 2> kShape{"shape", Shape::box, {"box", "sphere"}, "body"};
+constexpr param::Path kFile{"file", "", "a file", true};
+constexpr param::Path kDir{"dir", "/usr/share", "a folder"};
+constexpr param::TextList<2> kWords{"words", {"a", "b"}, "words"};
+constexpr param::Subset<3> kParts{"parts", {"one", "two", "three"}, "parts used"};
+
+sdk::ParamSchema schema() {
+  return param::schema(kBeam, kBudget, kRate, kFast, kLabel, kShape, kFile, kDir, kWords, kParts);
+}
+
+template <class Handle>
+std::string refusal(const sdk::Params& p, const Handle& h) {
+  try {
+    (void)param::get(p, h);
+  } catch (const sdk::Error& e) {
+    CHECK(e.code() == sdk::codes::kBadConfig);
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+}  // namespace
+
+TEST_CASE("params: the schema holds each handle's name, type, default, range and choices") {
+  const sdk::ParamSchema s = schema();
+  REQUIRE(s.params.size() == 10);
+  const sdk::ParamSpec* beam = s.find("beam");
+  REQUIRE(beam != nullptr);
+  CHECK(beam->type == sdk::ParamType::Int);
+  CHECK(std::get<std::int64_t>(*beam->default_value) == 50);
+  CHECK(*beam->min == 1);
+  CHECK(*beam->max == 100000);
+  CHECK(beam->description == "derivations kept");
+  CHECK_FALSE(s.find("budget")->max.has_value());
+  CHECK(s.find("rate")->type == sdk::ParamType::Double);
+  CHECK(std::get<double>(*s.find("rate")->default_value) == 0.5);
+  CHECK(s.find("shape")->one_of == std::vector<std::string>{"box", "sphere"});
+  CHECK(std::get<std::string>(*s.find("shape")->default_value) == "box");
+  CHECK(s.find("file")->required);
+  CHECK_FALSE(s.find("file")->default_value.has_value());
+  CHECK(std::get<std::string>(*s.find("dir")->default_value) == "/usr/share");
+  CHECK(std::get<std::vector<std::string>>(*s.find("parts")->default_value) ==
+        std::vector<std::string>{"one", "two", "three"});
+}
+
+TEST_CASE("params: get reads validated values, and defaults where a hand-made Params has none") {
+  const sdk::Params validated =
+      sdk::validate_params(schema(),
+                           {{"beam", std::int64_t{7}},
+                            {"shape", std::string("sphere")},
+                            {"file", std::string("/tmp/f")},
+                            {"parts", std::vector<std::string>{"three", "one"}}},
+                           "plugin.params");
+  CHECK(param::get(validated, kBeam) == 7);
+  CHECK(param::get(validated, kShape) == Shape::sphere);
+  CHECK(param::get(validated, kFile) == "/tmp/f");
+  CHECK(param::get(validated, kParts) == std::array<bool, 3>{true, false, true});
+  CHECK(param::get(validated, kRate) == 0.5);  // defaults filled in by the validation
+  const sdk::Params empty;
+  CHECK(param::get(empty, kBeam) == 50);
+  CHECK(param::get(empty, kBudget) == 0u);
+  CHECK(param::get(empty, kFast));
+  CHECK(param::get(empty, kLabel) == "x");
+  CHECK(param::get(empty, kShape) == Shape::box);
+  CHECK(param::get(empty, kDir) == "/usr/share");
+  CHECK(param::get(empty, kWords) == std::vector<std::string>{"a", "b"});
+  CHECK(param::get(empty, kParts) == std::array<bool, 3>{true, true, true});
+  CHECK(param::name_of(kShape, Shape::sphere) == "sphere");
+  // The SDK's validation refuses what the handles declare out of range.
+  CHECK_THROWS_AS(
+      sdk::validate_params(schema(), {{"beam", std::int64_t{0}}, {"file", std::string("f")}},
+                           "plugin.params"),
+      sdk::Error);
+}
+
+TEST_CASE("params: get refuses, naming the parameter, what a hand-made Params gets wrong") {
+  // An int parameter holds an int: 2^31 - 1 fits, 2^31 does not; an unsigned one no negative.
+  CHECK(param::get(sdk::Params({{"beam", std::int64_t{2147483647}}}), kBeam) == 2147483647);
+  CHECK(refusal(sdk::Params({{"beam", std::int64_t{2147483648}}}), kBeam) ==
+        "param 'beam' = 2147483648 does not fit its type");
+  CHECK(refusal(sdk::Params({{"budget", std::int64_t{-1}}}), kBudget) ==
+        "param 'budget' = -1 does not fit its type");
+  CHECK(refusal(sdk::Params({{"shape", std::string("cube")}}), kShape) ==
+        "param 'shape' = \"cube\" is not one of box, sphere");
+  CHECK(refusal(sdk::Params({{"parts", std::vector<std::string>{"two", "four"}}}), kParts) ==
+        "param 'parts' has 'four', which is not one of one, two, three");
+  CHECK(refusal(sdk::Params(), kFile) == "param 'file' is required");
+}
