@@ -83,8 +83,9 @@ ParamSchema build() {
   add(s, keys::kPerturbedChecks);
   s.add_section("execution", "limits of one program's execution");
   add(s, keys::kActionBudget);
-  add(s, keys::kTimeBudgetMs);
+  add(s, keys::kStepBudget);
   add(s, keys::kWhileLimit);
+  add(s, keys::kExecDeadlineMs);
   s.add_section("input", "limits on what a request or a file may make the kernel do");
   add(s, keys::kMaxChars);
   add(s, keys::kMaxSemicolons);
