@@ -140,6 +140,30 @@ inline void check_loader_conformance(const std::string& path,
   }
 }
 
+/// The plugin at `path` created as the kernel creates it (handshake and version checks, params
+/// validated against its schema with defaults filled), as `Interface`: what a behaviour kit
+/// tests, e.g. for a plugin built out of tree (examples/out-of-tree-planner):
+/// @code
+///   FLIPPER_PLANNER_CONFORMANCE("bfs_example", [] {
+///     return flipper::testing::load_library_plugin<flipper::sdk::Planner>(PATH);
+///   })
+/// @endcode
+/// Throws sdk::Error when the library does not load or is not an `Interface`.
+template <class Interface>
+std::shared_ptr<Interface> load_library_plugin(
+    const std::string& path, const std::map<std::string, sdk::ParamValue>& given = {}) {
+  PluginLibrary lib(path);
+  const FlipperPluginDescriptor& d = sdk::host::checked_descriptor(lib.library, path);
+  sdk::ParamSchema schema;
+  d.describe(schema);
+  auto object = lib.create(sdk::validate_params(schema, given, std::string(d.name) + ".params"));
+  auto typed = std::dynamic_pointer_cast<Interface>(object);
+  if (!typed)
+    throw sdk::Error(sdk::codes::kPluginLoadFailed,
+                     path + ": the plugin is not of the kind the kit tests");
+  return typed;
+}
+
 }  // namespace flipper::testing
 
 /// Registers the loader-layer conformance test for the plugin library at `path`.
