@@ -30,6 +30,10 @@ namespace flipper::omplplanner {
 using sdk::Cell;
 
 constexpr std::int64_t kDefaultMaxIterations = 100000;
+constexpr const char* kTimeBudgetRetired =
+    "it was a wall-clock budget per path request, so the plan depended on the machine's load; "
+    "the budget counts work now: max_iterations (termination checks per path request, default "
+    "100000; docs/planners.md §3)";
 using sdk::PlanStatus;
 
 class OmplPlanner final : public sdk::Planner {
@@ -40,12 +44,9 @@ class OmplPlanner final : public sdk::Planner {
       throw sdk::Error(
           sdk::codes::kBadConfig,
           "ompl: planner must be one of rrtconnect, rrt, prm, rrtstar; got \"" + name + "\"");
-    if (p.has("time_budget_ms"))
+    if (p.has("time_budget_ms"))  // a host that did not validate the params (the kernel does)
       throw sdk::Error(sdk::codes::kBadConfig,
-                       "ompl: time_budget_ms is retired: a wall-clock budget made the plan depend "
-                       "on the machine's load; the budget is counted now: max_iterations "
-                       "(termination checks per path request, default " +
-                           std::to_string(kDefaultMaxIterations) + "; docs/planners.md §3)");
+                       std::string("ompl: time_budget_ms is retired: ") + kTimeBudgetRetired);
     if (p.has("max_iterations")) {
       const auto n = p.get_int("max_iterations");
       if (n < 1 || n > 100000000)
@@ -88,16 +89,7 @@ class OmplPlanner final : public sdk::Planner {
               "rrtstar: refinement iterations after the first solution (0: until max_iterations)",
               0, 1e8);
     s.add_bool("simplify", true, "simplify the sampled path before snapping it to cells");
-    // Retired, declared so that an old config gets the constructor's explanation.
-    sdk::ParamSpec retired{"time_budget_ms",
-                           sdk::ParamType::Int,
-                           {},
-                           false,
-                           "retired (refused): was a wall-clock budget; use max_iterations",
-                           {},
-                           {},
-                           {}};
-    s.add(std::move(retired));
+    s.add_retired("time_budget_ms", kTimeBudgetRetired);
     return s;
   }
 

@@ -257,12 +257,6 @@ sdk::ParamValue typed_value(const sdk::ParamSpec& spec, const std::string& key, 
   wrong_type(key, spec.type, v);
 }
 
-// A kernel key that was removed gets its own explanation instead of "unknown" (keys.hpp).
-void fail_if_retired(const std::string& key) {
-  for (const keys::Retired& r : keys::kRetired)
-    if (key == r.path) fail("config key '" + key + "' is retired: " + std::string(r.hint));
-}
-
 // Reads the YAML map `node` (at schema name `inner`, full key `where` + `inner`) into dotted
 // names for sdk::validate_params: declared keys typed, sections descended, an unknown key passed
 // on as is (the engine names it, with a hint among its siblings).
@@ -280,7 +274,6 @@ void to_given(const YAML::Node& node, const sdk::ParamSchema& schema, const std:
              scalar_text(kv.second));
       to_given(kv.second, schema, where, name, path, given);
     } else {
-      if (where.empty()) fail_if_retired(key);
       given[name] = std::string();
     }
   }

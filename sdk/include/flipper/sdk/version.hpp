@@ -24,18 +24,21 @@
 /// add_map(), sections (a trailing member) and add_section(), Params gains get_double_list(),
 /// and sdk::type_phrase(); validate_params words every message "config key '<full key>'" and
 /// hints among a key's siblings. All additions: a 2.0 plugin loads unchanged.
-/// 2.1.1 — no interface or ABI change: the planner contract states the tie rule among equally
-/// near goals for every planner (not only optimal ones) and that budgets count work
+/// 2.2 — ParamSchema::add_retired() and sdk::is_retired() (defined in the header: no new symbol,
+/// no layout change): a retired key is refused by validate_params with its hint ("config key 'K'
+/// is retired: ...") instead of as unknown. The planner contract states the tie rule among
+/// equally near goals for every planner (not only optimal ones) and that budgets count work
 /// (docs/planners.md); the planner conformance kit checks the tie rule and that a deterministic
 /// planner answers the same whatever it was asked before; flipper/testing/loader.hpp gains
-/// load_library_plugin() for running a behaviour kit on a built library (out of tree too).
+/// load_library_plugin() for running a behaviour kit on a built library (out of tree too). A 2.1
+/// plugin loads unchanged.
 
 #include <boost/version.hpp>
 
 #define FLIPPER_PLUGIN_ABI 2
 #define FLIPPER_SDK_VERSION_MAJOR 2
-#define FLIPPER_SDK_VERSION_MINOR 1
-#define FLIPPER_SDK_VERSION_PATCH 1
+#define FLIPPER_SDK_VERSION_MINOR 2
+#define FLIPPER_SDK_VERSION_PATCH 0
 
 #define FLIPPER_STRINGIFY_IMPL(x) #x
 #define FLIPPER_STRINGIFY(x) FLIPPER_STRINGIFY_IMPL(x)

@@ -90,18 +90,4 @@ inline constexpr Int kServeMaxSessions{"serve.max_sessions", 1000, 1, 1000000, "
 inline constexpr Int kServeSessionIdleS{"serve.session_idle_s", 3600, 1, 31536000,
                                         "idle seconds before a session may be evicted"};
 
-/// A key that no longer exists, and what a config that still writes it is told (bad_config).
-struct Retired {
-  std::string_view path;
-  std::string_view hint;
-};
-
-inline constexpr Retired kRetired[] = {
-    {"execution.time_budget_ms",
-     "was a wall-clock budget, so a result depended on the machine's load; results are bounded "
-     "by work now (execution.action_budget, execution.step_budget), and the wall-clock limit is "
-     "the runaway deadline execution.deadline_ms, which refuses the query (deadline_exceeded) "
-     "instead of changing a plan (docs/core-language.md §9)"},
-};
-
 }  // namespace flipper::kernel::keys
