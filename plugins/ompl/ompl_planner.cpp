@@ -28,13 +28,13 @@
 namespace flipper::omplplanner {
 
 using sdk::Cell;
+using sdk::PlanStatus;
 
 constexpr std::int64_t kDefaultMaxIterations = 100000;
 constexpr const char* kTimeBudgetRetired =
     "it was a wall-clock budget per path request, so the plan depended on the machine's load; "
     "the budget counts work now: max_iterations (termination checks per path request, default "
     "100000; docs/planners.md §3)";
-using sdk::PlanStatus;
 
 class OmplPlanner final : public sdk::Planner {
  public:
