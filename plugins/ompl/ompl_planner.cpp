@@ -10,10 +10,11 @@
 //   sequence of neighbour steps (4/6-neighbourhood) through free, non-avoided cells, with short
 //   grid searches where the straight line cut a corner. Not shortest: traits().optimal is false.
 // - Tour: nearest neighbour + 2-opt on straight-line distances (see tour.hpp).
-// - Determinism: with a non-zero seed OMPL is reseeded before every request, so rrtconnect, rrt
-//   and rrtstar (which refines for a counted number of iterations) repeat exactly, as long as
-//   they finish within the time budget; prm grows its roadmap on
-//   two threads and is never deterministic.
+// - Determinism (docs/planners.md §3): every budget counts work (max_iterations termination
+//   checks per request; rrtstar's refinement `iterations`), never wall time, and OMPL is reseeded
+//   before every request from request_seed(seed, start, goal); prm runs on one thread in counted
+//   slices (serial_prm.hpp). Same config, same request => the same path on any machine, under any
+//   load, whatever was planned before. The caller's deadline only stops runaways: `stopped`.
 #include <ompl/util/Console.h>
 
 #include "cell_search.hpp"
@@ -29,6 +30,12 @@ namespace flipper::omplplanner {
 using sdk::Cell;
 using sdk::PlanStatus;
 
+constexpr std::int64_t kDefaultMaxIterations = 100000;
+constexpr const char* kTimeBudgetRetired =
+    "it was a wall-clock budget per path request, so the plan depended on the machine's load; "
+    "the budget counts work now: max_iterations (termination checks per path request, default "
+    "100000; docs/planners.md §3)";
+
 class OmplPlanner final : public sdk::Planner {
  public:
   explicit OmplPlanner(const sdk::Params& p) {
@@ -37,16 +44,23 @@ class OmplPlanner final : public sdk::Planner {
       throw sdk::Error(
           sdk::codes::kBadConfig,
           "ompl: planner must be one of rrtconnect, rrt, prm, rrtstar; got \"" + name + "\"");
-    if (p.has("time_budget_ms"))
-      settings_.time_budget = std::chrono::milliseconds(p.get_int("time_budget_ms"));
-    if (settings_.time_budget.count() < 1)
-      throw sdk::Error(sdk::codes::kBadConfig, "ompl: time_budget_ms must be at least 1");
+    if (p.has("time_budget_ms"))  // a host that did not validate the params (the kernel does)
+      throw sdk::Error(sdk::codes::kBadConfig,
+                       std::string("ompl: time_budget_ms is retired: ") + kTimeBudgetRetired);
+    if (p.has("max_iterations")) {
+      const auto n = p.get_int("max_iterations");
+      if (n < 1 || n > 100000000)
+        throw sdk::Error(sdk::codes::kBadConfig, "ompl: max_iterations must be in [1, 100000000]");
+      settings_.max_iterations = static_cast<std::uint32_t>(n);
+    }
     if (p.has("range")) settings_.range = p.get_double("range");
     if (settings_.range < 0) throw sdk::Error(sdk::codes::kBadConfig, "ompl: range must be >= 0");
     if (p.has("seed")) {
       const auto seed = p.get_int("seed");
-      if (seed < 0 || seed > 0xffffffffLL)
-        throw sdk::Error(sdk::codes::kBadConfig, "ompl: seed must be in [0, 4294967295]");
+      if (seed < 1 || seed > 0xffffffffLL)
+        throw sdk::Error(sdk::codes::kBadConfig,
+                         "ompl: seed must be in [1, 4294967295] (0, unseeded, is not offered: "
+                         "plans repeat for the same config and seed, docs/planners.md §3)");
       settings_.seed = static_cast<std::uint32_t>(seed);
     }
     if (p.has("iterations")) {
@@ -62,13 +76,20 @@ class OmplPlanner final : public sdk::Planner {
   static sdk::ParamSchema schema() {
     sdk::ParamSchema s;
     s.add_string("planner", "rrtconnect", "OMPL planner", {"rrtconnect", "rrt", "prm", "rrtstar"});
-    s.add_int("time_budget_ms", 500, "time budget per path request (ms)", 1, 600000);
+    s.add_int("max_iterations", kDefaultMaxIterations,
+              "work budget per path request: termination checks (OMPL's "
+              "IterationTerminationCondition, about one per planner iteration); no path within "
+              "them is no_path",
+              1, 100000000);
     s.add_double("range", 0.0, "maximum motion length in cells (0: OMPL's default)", 0, 1e6);
-    s.add_int("seed", 1, "random seed; 0 = unseeded (non-deterministic)", 0, 4294967295.0);
+    s.add_int("seed", 1,
+              "random seed; each request derives its own from it, the start and the goal", 1,
+              4294967295.0);
     s.add_int("iterations", 500,
-              "rrtstar: refinement iterations after the first solution (0: until the time budget)",
+              "rrtstar: refinement iterations after the first solution (0: until max_iterations)",
               0, 1e8);
     s.add_bool("simplify", true, "simplify the sampled path before snapping it to cells");
+    s.add_retired("time_budget_ms", kTimeBudgetRetired);
     return s;
   }
 
@@ -109,7 +130,8 @@ class OmplPlanner final : public sdk::Planner {
       return r;
     }
     SamplingOutcome sampled = sample_path(search, *goal, settings_, stop);
-    r.expansions = sampled.states;
+    // The budget's unit (termination checks), also what a caller's max_expansions bounds.
+    r.expansions = sampled.iterations;
     if (sampled.status != PlanStatus::found) {
       r.status = sampled.status;
       r.message = sampled.message + " to " + sdk::to_string(*goal, g.dims());
@@ -136,8 +158,8 @@ class OmplPlanner final : public sdk::Planner {
     t.supports_2d = true;
     t.supports_3d = true;
     t.optimal = false;
-    t.sampling = true;  // may miss a path within time_budget_ms / iterations
-    t.deterministic = settings_.seed != 0 && settings_.algorithm != Algorithm::prm;
+    t.sampling = true;       // may miss a path within max_iterations
+    t.deterministic = true;  // counted budgets, seeded per request (docs/planners.md §3)
     return t;
   }
 

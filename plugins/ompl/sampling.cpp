@@ -1,24 +1,24 @@
 #include "sampling.hpp"
 
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <mutex>
 
 #include <ompl/base/MotionValidator.h>
-#include <ompl/base/PlannerData.h>
 #include <ompl/base/ProblemDefinition.h>
 #include <ompl/base/ScopedState.h>
 #include <ompl/base/SpaceInformation.h>
 #include <ompl/base/objectives/PathLengthOptimizationObjective.h>
 #include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/base/terminationconditions/IterationTerminationCondition.h>
 #include <ompl/geometric/PathGeometric.h>
 #include <ompl/geometric/PathSimplifier.h>
-#include <ompl/geometric/planners/prm/PRM.h>
 #include <ompl/geometric/planners/rrt/RRT.h>
 #include <ompl/geometric/planners/rrt/RRTConnect.h>
 #include <ompl/geometric/planners/rrt/RRTstar.h>
 #include <ompl/util/RandomNumbers.h>
+
+#include "serial_prm.hpp"
 
 namespace flipper::omplplanner {
 namespace ob = ompl::base;
@@ -104,12 +104,20 @@ class SubstepMotionValidator final : public ob::MotionValidator {
   Validity validity_;
 };
 
-// OMPL draws every sampler's seed from one process-wide generator; reseeding it right before the
-// objects of a request are built makes the request reproducible. The lock keeps two concurrent
-// requests from interleaving their draws.
+// OMPL draws the seed of every random generator it creates (samplers, planners, nearest-neighbour
+// structures, the path simplifier) from one process-wide seed generator. Reseeding it right
+// before the objects of a request are built makes the request reproducible; the lock keeps two
+// concurrent requests from interleaving their draws.
 std::mutex& seed_mutex() {
   static std::mutex m;
   return m;
+}
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
 }
 
 ob::PlannerPtr make_planner(const ob::SpaceInformationPtr& si, const SamplingSettings& s) {
@@ -120,7 +128,7 @@ ob::PlannerPtr make_planner(const ob::SpaceInformationPtr& si, const SamplingSet
       return p;
     }
     case Algorithm::prm:
-      return std::make_shared<og::PRM>(si);
+      return std::make_shared<SerialPrm>(si);
     case Algorithm::rrtstar: {
       auto p = std::make_shared<og::RRTstar>(si);
       if (s.range > 0) p->setRange(s.range);
@@ -151,6 +159,14 @@ bool parse_algorithm(const std::string& name, Algorithm& out) {
   return true;
 }
 
+std::uint32_t request_seed(std::uint32_t seed, Cell start, Cell goal) {
+  std::uint64_t h = splitmix64(seed);
+  for (const std::int32_t v : {start.x, start.y, start.z, goal.x, goal.y, goal.z})
+    h = splitmix64(h ^ static_cast<std::uint32_t>(v));
+  const auto folded = static_cast<std::uint32_t>(h ^ (h >> 32));
+  return folded == 0 ? 1 : folded;
+}
+
 const char* algorithm_name(Algorithm a) {
   switch (a) {
     case Algorithm::rrt:
@@ -169,11 +185,8 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
                             const sdk::StopCondition& stop) {
   const sdk::Geometry& g = search.geometry();
   const int dims = g.dims();
-  std::unique_lock<std::mutex> lock(seed_mutex(), std::defer_lock);
-  if (settings.seed != 0) {
-    lock.lock();
-    ompl::RNG::setSeed(settings.seed);
-  }
+  const std::lock_guard<std::mutex> lock(seed_mutex());
+  ompl::RNG::setSeed(request_seed(settings.seed, search.start(), goal));
 
   auto space = std::make_shared<ob::RealVectorStateSpace>(static_cast<unsigned>(dims));
   ob::RealVectorBounds bounds(static_cast<unsigned>(dims));
@@ -214,34 +227,28 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
   planner->setProblemDefinition(pdef);
   planner->setup();
 
-  // Stops on the caller's condition (deadline, cancel, expansion budget counted in planner
-  // iterations), on the own time budget, and for RRT* on its iteration budget.
-  const auto own_deadline = std::chrono::steady_clock::now() + settings.time_budget;
-  // Atomics: PRM evaluates the condition from two threads. RRT* is anytime: after its first
-  // solution it refines for `iterations` more iterations (counted, not timed, so a seeded run
-  // repeats exactly); before that only the time budget and the caller stop it.
-  std::atomic<std::uint64_t> evaluations{0}, first_solution_at{0};
-  std::atomic<bool> caller_stopped{false};
+  // Stops on the caller's condition (deadline, cancel, expansion budget counted in checks) and
+  // on the own budget of max_iterations checks, both counted on this one thread; RRT* is anytime
+  // and, after its first solution, refines for `iterations` more checks (counted too).
+  ob::IterationTerminationCondition budget(settings.max_iterations);
+  std::uint64_t first_solution_at = 0;
+  bool caller_stopped = false;
   const bool refine = settings.algorithm == Algorithm::rrtstar && settings.iterations > 0;
   if (refine)
     pdef->setIntermediateSolutionCallback(
         [&](const ob::Planner*, const std::vector<const ob::State*>&, const ob::Cost&) {
-          std::uint64_t none = 0;
-          first_solution_at.compare_exchange_strong(none, evaluations.load());
+          if (first_solution_at == 0) first_solution_at = budget.getTimesCalled();
         });
-  ob::PlannerTerminationCondition ptc([&] {
-    const std::uint64_t n = ++evaluations;
+  const ob::PlannerTerminationCondition ptc([&] {
+    if (budget.eval()) return true;
+    const std::uint64_t n = budget.getTimesCalled();
     if (stop.should_stop(n)) return caller_stopped = true;
-    if (std::chrono::steady_clock::now() >= own_deadline) return true;
-    const std::uint64_t first = first_solution_at.load();
-    return refine && first > 0 && n - first >= settings.iterations;
+    return refine && first_solution_at > 0 && n - first_solution_at >= settings.iterations;
   });
   planner->solve(ptc);
 
   SamplingOutcome out;
-  ob::PlannerData data(si);
-  planner->getPlannerData(data);
-  out.states = data.numVertices();
+  out.iterations = budget.getTimesCalled();
   if (!pdef->hasExactSolution()) {
     if (caller_stopped) {
       out.status = sdk::PlanStatus::stopped;
@@ -249,7 +256,7 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
     } else {
       out.status = sdk::PlanStatus::no_path;
       out.message = std::string("no path found by ") + algorithm_name(settings.algorithm) +
-                    " within " + std::to_string(settings.time_budget.count()) + " ms";
+                    " within max_iterations = " + std::to_string(settings.max_iterations);
     }
     return out;
   }

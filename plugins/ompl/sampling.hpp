@@ -3,7 +3,7 @@
 // the centre of cell (i, j, k) is (i, j, k)), a validity checker built from the cell mask with the
 // avoid set (start exempt) and, when the world offers one, its ContinuousSpace (FCL in 3-D), and
 // a sub-stepping motion validator. Returns the continuous path; snapping happens elsewhere.
-#include <chrono>
+// Every budget counts work and every random draw follows the request's seed (docs/planners.md §3).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,20 +18,27 @@ enum class Algorithm { rrtconnect, rrt, prm, rrtstar };
 
 struct SamplingSettings {
   Algorithm algorithm = Algorithm::rrtconnect;
-  std::chrono::milliseconds time_budget{500};
+  /// Termination-condition checks per path request (OMPL's IterationTerminationCondition: about
+  /// one per planner iteration); none found within them is no_path.
+  std::uint32_t max_iterations = 100000;
   double range = 0;        ///< maximum motion length in cells; 0 = OMPL's default
-  std::uint32_t seed = 1;  ///< 0 = not reseeded (non-deterministic)
-  std::uint32_t iterations =
-      500;  ///< rrtstar: refinement iterations after the first solution; 0 = time only
+  std::uint32_t seed = 1;  ///< the configured seed; each request draws from request_seed()
+  /// rrtstar: refinement iterations after the first solution; 0 = until max_iterations
+  std::uint32_t iterations = 500;
   bool simplify = true;
 };
 
 struct SamplingOutcome {
   sdk::PlanStatus status = sdk::PlanStatus::no_path;
   std::vector<Waypoint> waypoints;  ///< start ... goal when found
-  std::uint64_t states = 0;         ///< states in the planner's graph
+  std::uint64_t iterations = 0;     ///< termination-condition checks used (the budget's unit)
   std::string message;
 };
+
+/// The seed of one path request (docs/planners.md §3): the configured seed mixed with the start
+/// and goal cells (SplitMix64), folded to 32 bits, never 0. A plan depends on the configured
+/// seed and the request only: not on the machine, its load or earlier requests.
+std::uint32_t request_seed(std::uint32_t seed, sdk::Cell start, sdk::Cell goal);
 
 /// Plans from search.start() to `goal` (both passable). Never throws for "no path".
 SamplingOutcome sample_path(const CellSearch& search, sdk::Cell goal,

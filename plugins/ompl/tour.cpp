@@ -9,6 +9,8 @@ namespace flipper::omplplanner {
 
 using sdk::Cell;
 
+constexpr int kMaxPasses = 1000;  // 2-opt passes over the whole order, at most
+
 sdk::TourResult straight_line_tour(const sdk::Geometry& geometry, Cell start,
                                    const std::vector<Cell>& points,
                                    const sdk::StopCondition& stop) {
@@ -22,13 +24,19 @@ sdk::TourResult straight_line_tour(const sdk::Geometry& geometry, Cell start,
   };
   std::sort(unreachable.begin(), unreachable.end(), by_cell);
 
-  if (stop.should_stop(0)) {  // no time to order: reachable points in (x, y, z) order
+  // The caller's stop (a runaway deadline or a cancel) gives `stopped`, never a shorter-worked
+  // order: every point in (x, y, z) order, the reachable ones first. The work itself is counted
+  // (one nearest-neighbour pass, at most kMaxPasses 2-opt passes), so an order never depends on
+  // the clock (docs/planners.md §3).
+  auto stopped = [&] {
     std::sort(todo.begin(), todo.end(), by_cell);
     result.order = todo;
     result.order.insert(result.order.end(), unreachable.begin(), unreachable.end());
     result.status = sdk::PlanStatus::stopped;
+    result.length = 0;
     return result;
-  }
+  };
+  if (stop.should_stop(0)) return stopped();
 
   // Nearest neighbour; ties by (x, y, z), then by index.
   std::vector<std::size_t> order;
@@ -36,6 +44,7 @@ sdk::TourResult straight_line_tour(const sdk::Geometry& geometry, Cell start,
   std::vector<bool> used(todo.size(), false);
   Cell at = start;
   for (std::size_t n = 0; n < todo.size(); ++n) {
+    if (stop.expired()) return stopped();
     std::size_t best = todo.size();
     double best_d = 0;
     for (std::size_t k = 0; k < todo.size(); ++k) {
@@ -56,9 +65,10 @@ sdk::TourResult straight_line_tour(const sdk::Geometry& geometry, Cell start,
   auto p = [&](std::size_t k) { return k == 0 ? start : points[order[k - 1]]; };  // k in 0..n
   const std::size_t n = order.size();
   bool improved = true;
-  for (int pass = 0; improved && pass < 1000 && !stop.should_stop(0); ++pass) {
+  for (int pass = 0; improved && pass < kMaxPasses; ++pass) {
     improved = false;
-    for (std::size_t i = 1; i + 1 <= n; ++i)
+    for (std::size_t i = 1; i + 1 <= n; ++i) {
+      if (stop.expired()) return stopped();
       for (std::size_t j = i + 1; j <= n; ++j) {
         double delta = distance(p(i - 1), p(j)) - distance(p(i - 1), p(i));
         if (j < n) delta += distance(p(i), p(j + 1)) - distance(p(j), p(j + 1));
@@ -68,6 +78,7 @@ sdk::TourResult straight_line_tour(const sdk::Geometry& geometry, Cell start,
           improved = true;
         }
       }
+    }
   }
   for (std::size_t k = 1; k <= n; ++k) result.length += distance(p(k - 1), p(k));
   order.insert(order.end(), unreachable.begin(), unreachable.end());

@@ -76,7 +76,7 @@ std::vector<std::string> child_names(const ParamSchema& schema, const std::strin
   std::vector<std::string> out;
   const std::size_t skip = prefix.empty() ? 0 : prefix.size() + 1;
   for (const auto& p : schema.params) {
-    if (!below(p.name, prefix)) continue;
+    if (!below(p.name, prefix) || is_retired(p)) continue;
     const std::string rest = p.name.substr(skip);
     const std::string name = rest.substr(0, rest.find('.'));
     if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
@@ -212,8 +212,11 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
 Params validate_params(const ParamSchema& schema, const std::map<std::string, ParamValue>& given,
                        const std::string& where) {
   const std::string prefix = where.empty() ? "" : where + ".";
-  for (const auto& kv : given)
-    if (schema.find(kv.first) == nullptr) fail_unknown(schema, kv.first, prefix, where);
+  for (const auto& kv : given) {
+    const ParamSpec* spec = schema.find(kv.first);
+    if (spec == nullptr) fail_unknown(schema, kv.first, prefix, where);
+    if (is_retired(*spec)) fail("config key '" + prefix + kv.first + "' is " + spec->description);
+  }
   Params out;
   for (const auto& spec : schema.params) {
     const std::string key = prefix + spec.name;

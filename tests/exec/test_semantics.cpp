@@ -166,32 +166,72 @@ TEST_CASE("bad programs are execution errors and change nothing", "[exec][errors
   CHECK(j["realizable"] == false);
 }
 
-TEST_CASE("runaway programs hit a budget", "[exec][budget]") {
+TEST_CASE("runaway programs hit a work budget, whatever the machine", "[exec][budget]") {
   Study st;
-  // The default action budget, with time to spare: a slow (sanitizer, loaded) build must still
-  // hit the action budget, not the 2 s time budget.
+  // The budgets count work (docs/core-language.md §9): the deadline is far away, so a slow
+  // (sanitizer, loaded) build hits the same budget at the same statement.
   kernel::ExecLimits actions;
-  actions.time_budget = std::chrono::minutes(10);
+  actions.deadline = std::chrono::minutes(10);
   auto o = st.run("{repeat 99 times {repeat 99 times {repeat 99 times {move left}}}}", st.state(),
                   actions);
   CHECK(o.error_code == "budget_exceeded");
-  CHECK_THAT(*o.error, Catch::Contains("action budget"));
+  CHECK(*o.error ==
+        "action budget exceeded: more than 100000 primitive actions (execution.action_budget)");
   CHECK(o.trace.empty());
   CHECK(o.world.robot == sdk::Cell{2, 4, 0});
+  // Statements, exactly: `repeat` is one, each of its 3 `if`s one more; the condition is false,
+  // so no move runs. 4 fit in a budget of 4, not in one of 3.
+  const char* idle = "{repeat 3 times {if {robot at [0,0]} {move left}}}";
+  kernel::ExecLimits steps = actions;
+  steps.step_budget = 4;
+  CHECK_FALSE(st.run(idle, st.state(), steps).error);
+  steps.step_budget = 3;
+  auto over = st.run(idle, st.state(), steps);
+  CHECK(over.error_code == "budget_exceeded");
+  CHECK(*over.error == "step budget exceeded: more than 3 statements (execution.step_budget)");
+  // Moves count as statements too (failed ones included): 1 + 10.
+  steps.step_budget = 11;
+  CHECK_FALSE(st.run("{repeat 10 times {move right}}", st.state(), steps).error);
+  steps.step_budget = 10;
+  CHECK(st.run("{repeat 10 times {move right}}", st.state(), steps).error_code ==
+        "budget_exceeded");
+  // The default step budget stops a loop of idle statements (no action at all): 1 + 99 + 9801
+  // repeats and 970299 x (a sequence and two `if`s) is over a million.
+  auto idle_loop = st.run(
+      "{repeat 99 times {repeat 99 times {repeat 99 times {{if {robot at [0,0]} {move left}};"
+      "{if {robot at [0,0]} {move left}}}}}}",
+      st.state(), actions);
+  CHECK(idle_loop.error_code == "budget_exceeded");
+  CHECK_THAT(*idle_loop.error, Catch::Contains("more than 1000000 statements"));
+}
+
+TEST_CASE("the execution deadline only stops runaways, and says so", "[exec][budget]") {
+  Study st;
   kernel::ExecLimits tight;
   tight.action_budget = 1u << 30;
-  tight.time_budget = std::chrono::milliseconds(30);
+  tight.step_budget = 1ull << 40;
+  tight.deadline = std::chrono::milliseconds(30);
   auto t =
       st.run("{repeat 99 times {repeat 99 times {repeat 99 times {{visit [9,8]};{visit [2,4]}}}}}",
              st.state(), tight);
-  CHECK(t.error_code == "budget_exceeded");
-  CHECK_THAT(*t.error, Catch::Contains("time budget"));
+  CHECK(t.error_code == "deadline_exceeded");
+  CHECK(*t.error ==
+        "deadline exceeded: the execution took longer than execution.deadline_ms = 30 ms");
+  CHECK(t.trace.empty());
+  CHECK(t.world.robot == sdk::Cell{2, 4, 0});
   // Loops without primitive actions see the clock too.
   auto idle = st.run(
       "{repeat 99 times {repeat 99 times {repeat 99 times {if {robot at {world containing item }} "
       "{move left}}}}}",
       st.state(), tight);
-  CHECK(idle.error_code == "budget_exceeded");
+  CHECK(idle.error_code == "deadline_exceeded");
+  // A request deadline that comes first is named as the request's.
+  const kernel::Executor exec(st.planner, tight);
+  auto request = exec.run(sdk::read_canonical("{repeat 99 times {repeat 99 times {repeat 99 times "
+                                              "{{visit [9,8]};{visit [2,4]}}}}}"),
+                          st.state(), std::chrono::steady_clock::now());
+  CHECK(request.error_code == "deadline_exceeded");
+  CHECK(*request.error == "deadline exceeded: the request took longer than session.deadline_ms");
 }
 
 TEST_CASE("protocol JSON of trace steps", "[protocol]") {

@@ -40,7 +40,8 @@ TEST_CASE("embedded default config has the documented values", "[config]") {
   CHECK(c.get_bool("induction.generalize"));
   CHECK(c.get_int("induction.perturbed_checks") == 0);
   CHECK(c.get_int("execution.action_budget") == 100000);
-  CHECK(c.get_int("execution.time_budget_ms") == 2000);
+  CHECK(c.get_int("execution.step_budget") == 1000000);
+  CHECK(c.get_int("execution.deadline_ms") == 2000);
   CHECK(c.get_int("execution.while_limit") == 20);
   CHECK(c.get_int("input.max_chars") == 2000);
   CHECK(c.get_int("input.max_semicolons") == 30);
@@ -332,8 +333,23 @@ TEST_CASE("a bad kernel key is refused naming the file, the key and what is wron
   CHECK(load_error("named/unknown.yaml", "execution: {action_budgt: 5}\n") ==
         "config " + tmp("named/unknown.yaml") +
             ": unknown config key 'execution.action_budgt' (did you mean "
-            "'execution.action_budget'?); keys in 'execution': action_budget, time_budget_ms, "
-            "while_limit");
+            "'execution.action_budget'?); keys in 'execution': action_budget, step_budget, "
+            "while_limit, deadline_ms");
+  // A retired key says what replaced it, from a file and from --set alike.
+  const std::string retired = load_error("named/retired.yaml", "execution: {time_budget_ms: 5}\n");
+  CHECK_THAT(retired,
+             Catch::StartsWith("config " + tmp("named/retired.yaml") +
+                               ": config key 'execution.time_budget_ms' is retired: it was "
+                               "a wall-clock budget") &&
+                 Catch::Contains("execution.step_budget") &&
+                 Catch::Contains("execution.deadline_ms"));
+  try {
+    (void)Config::load(std::nullopt, {"execution.time_budget_ms=60000"});
+    FAIL("a retired key was accepted");
+  } catch (const sdk::Error& e) {
+    CHECK(e.code() == sdk::codes::kBadConfig);
+    CHECK_THAT(e.what(), Catch::Contains("'execution.time_budget_ms' is retired"));
+  }
   CHECK(load_error("named/type.yaml", "session: {k: lots}\n") ==
         "config " + tmp("named/type.yaml") +
             ": config key 'session.k' must be an integer, got 'lots'");
@@ -413,7 +429,8 @@ TEST_CASE("the option structs start from the schema's defaults", "[config][schem
   CHECK(input.deadline.count() == def("session.deadline_ms"));
   const kernel::ExecLimits exec;
   CHECK(static_cast<std::int64_t>(exec.action_budget) == def("execution.action_budget"));
-  CHECK(exec.time_budget.count() == def("execution.time_budget_ms"));
+  CHECK(static_cast<std::int64_t>(exec.step_budget) == def("execution.step_budget"));
+  CHECK(exec.deadline.count() == def("execution.deadline_ms"));
   CHECK(exec.while_limit == def("execution.while_limit"));
   const kernel::SessionOptions session;
   CHECK(session.k == def("session.k"));
@@ -436,6 +453,10 @@ TEST_CASE("every declared key is in the effective config and has a description",
   for (const auto& spec : Config::schema().params) {
     INFO(spec.name);
     CHECK(!spec.description.empty());
+    if (sdk::is_retired(spec)) {  // declared only to be refused with its hint
+      CHECK_FALSE(c.has(spec.name));
+      continue;
+    }
     CHECK(c.has(spec.name));  // the embedded default sets both optional sections
     YAML::Node node = YAML::Clone(dumped);
     std::size_t start = 0;

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/param_check.hpp"
 #include "flipper/testing/planner_conformance.hpp"
 #include "space_worlds.hpp"
 
@@ -99,15 +100,12 @@ TEST_CASE("ompl: a goal inside the avoid set is not a goal unless it is the star
   REQUIRE(r.path.empty());
 }
 
-TEST_CASE("ompl: the same seed gives the same path, traits follow the seed", "[ompl]") {
+TEST_CASE("ompl: the same seed gives the same path, and every planner is deterministic", "[ompl]") {
   const sdk::WorldState s = testsupport::two_floors();
   const sdk::PathRequest req{s.robot, &s.rooms->at("room4"), nullptr};
-  for (const char* name : {"rrtconnect", "rrt", "rrtstar"}) {
+  for (const char* name : {"rrtconnect", "rrt", "rrtstar", "prm"}) {
     INFO(name);
-    // RRT* checks many motions per iteration with FCL: it needs more time for the shaft.
-    const sdk::Params p({{"planner", std::string(name)},
-                         {"seed", std::int64_t{7}},
-                         {"time_budget_ms", std::int64_t{10000}}});
+    const sdk::Params p({{"planner", std::string(name)}, {"seed", std::int64_t{7}}});
     auto a = ompl(p);
     auto b = ompl(p);
     REQUIRE(a->traits().deterministic);
@@ -116,14 +114,91 @@ TEST_CASE("ompl: the same seed gives the same path, traits follow the seed", "[o
     INFO(ra.message);
     REQUIRE(ra.status == sdk::PlanStatus::found);
     REQUIRE(ra.path == rb.path);
+    REQUIRE(ra.expansions == rb.expansions);
     REQUIRE(a->plan(*s.geometry, req, sdk::StopCondition{}).path == ra.path);
+    // Another seed samples otherwise: the work differs (the seed is used at all).
+    auto c = ompl(sdk::Params({{"planner", std::string(name)}, {"seed", std::int64_t{8}}}));
+    REQUIRE(c->plan(*s.geometry, req, sdk::StopCondition{}).expansions != ra.expansions);
   }
-  REQUIRE_FALSE(ompl(sdk::Params({{"seed", std::int64_t{0}}}))->traits().deterministic);
-  REQUIRE_FALSE(ompl(sdk::Params({{"planner", std::string("prm")}}))->traits().deterministic);
   const auto t = ompl()->traits();
   REQUIRE(t.supports_2d);
   REQUIRE(t.supports_3d);
   REQUIRE_FALSE(t.optimal);
+  REQUIRE(t.sampling);
+}
+
+TEST_CASE("ompl: max_iterations is the budget, exactly: N checks find what N - 1 cannot",
+          "[ompl]") {
+  // The checks a request used (PathResult::expansions) are the budget's unit: with exactly that
+  // many the same path is found again, with one fewer the request is no_path naming the budget.
+  const sdk::WorldState floors = testsupport::two_floors();
+  const auto g2 = u_turn();
+  const sdk::Area room4 = floors.rooms->at("room4"), across{{9, 1, 0}};
+  struct Case {
+    const sdk::Geometry* g;
+    sdk::PathRequest req;
+  };
+  const std::vector<Case> cases = {{floors.geometry.get(), {floors.robot, &room4, nullptr}},
+                                   {g2.get(), {{1, 1, 0}, &across, nullptr}}};
+  for (const char* name : {"rrtconnect", "rrt"})
+    for (const Case& k : cases) {
+      INFO(name << " on a " << k.g->dims() << "-D world");
+      const sdk::PathResult full =
+          ompl(sdk::Params({{"planner", std::string(name)}}))->plan(*k.g, k.req, {});
+      REQUIRE(full.status == sdk::PlanStatus::found);
+      const auto n = static_cast<std::int64_t>(full.expansions);
+      REQUIRE(n > 1);
+      const sdk::PathResult exact =
+          ompl(sdk::Params({{"planner", std::string(name)}, {"max_iterations", n}}))
+              ->plan(*k.g, k.req, {});
+      REQUIRE(exact.status == sdk::PlanStatus::found);
+      REQUIRE(exact.path == full.path);
+      const sdk::PathResult short_by_one =
+          ompl(sdk::Params({{"planner", std::string(name)}, {"max_iterations", n - 1}}))
+              ->plan(*k.g, k.req, {});
+      REQUIRE(short_by_one.status == sdk::PlanStatus::no_path);
+      REQUIRE(short_by_one.message == std::string("no path found by ") + name +
+                                          " within max_iterations = " + std::to_string(n - 1) +
+                                          " to " + sdk::to_string(full.target, k.g->dims()));
+    }
+}
+
+TEST_CASE("ompl: a time budget, seed 0 and a bad budget are bad_config with the reason", "[ompl]") {
+  auto refused = [](const sdk::Params& p) -> std::string {
+    try {
+      (void)ompl(p);
+    } catch (const sdk::Error& e) {
+      REQUIRE(e.code() == sdk::codes::kBadConfig);
+      return e.what();
+    }
+    FAIL("accepted");
+    return {};
+  };
+  const std::string budget = refused(sdk::Params({{"time_budget_ms", std::int64_t{500}}}));
+  CHECK(budget ==
+        "ompl: time_budget_ms is retired: it was a wall-clock budget per path request, so the plan "
+        "depended on the machine's load; the budget counts work now: max_iterations (termination "
+        "checks per path request, default 100000; docs/planners.md §3)");
+  // Through the kernel's validation the same reason is a bad_config naming the full key.
+  sdk::ParamSchema schema;
+  schema.add_int("max_iterations", 1, "").add_retired("time_budget_ms", "use max_iterations");
+  try {
+    (void)sdk::validate_params(schema, {{"time_budget_ms", std::string("500")}}, "planner.params");
+    FAIL("accepted");
+  } catch (const sdk::Error& e) {
+    CHECK(e.code() == sdk::codes::kBadConfig);
+    CHECK(std::string(e.what()) ==
+          "config key 'planner.params.time_budget_ms' is retired: use max_iterations");
+  }
+  CHECK_THAT(refused(sdk::Params({{"seed", std::int64_t{0}}})),
+             Catch::Contains("seed must be in [1, 4294967295]") && Catch::Contains("unseeded"));
+  CHECK_THAT(refused(sdk::Params({{"max_iterations", std::int64_t{0}}})),
+             Catch::Contains("max_iterations must be in [1, 100000000]"));
+  // 1 is the smallest budget; it plans (and finds nothing to a far goal).
+  const sdk::WorldState s = testsupport::two_floors();
+  const auto one = ompl(sdk::Params({{"max_iterations", std::int64_t{1}}}))
+                       ->plan(*s.geometry, {s.robot, &s.rooms->at("room4"), nullptr}, {});
+  CHECK(one.status == sdk::PlanStatus::no_path);
 }
 
 TEST_CASE("ompl: an expansion budget of one stops the planner", "[ompl]") {

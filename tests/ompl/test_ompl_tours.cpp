@@ -1,6 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <numeric>
 
 #include "flipper/sdk/planner.hpp"
 #include "space_worlds.hpp"
@@ -43,4 +45,43 @@ TEST_CASE("ompl tour: 2-opt removes crossings", "[ompl][tour]") {
     at = c;
   }
   REQUIRE(t.length <= best + 1e-9);
+}
+
+TEST_CASE(
+    "ompl tour: a stop mid-tour is `stopped` in (x, y, z) order, never a shorter-worked order",
+    "[ompl][tour]") {
+  // A runaway deadline or a cancel may cut the tour anywhere (docs/planners.md §2): the answer is
+  // then either the full tour (it finished first) or `stopped` with every point in (x, y, z)
+  // order, whatever the moment. A 2-opt cut short and returned as `found` fails here.
+  std::vector<std::uint8_t> mask(200 * 200, 1);
+  const sdk::Geometry g(2, {0, 0, 0}, {199, 199, 0}, mask,
+                        {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}}, {});
+  std::vector<Cell> pts;
+  std::uint32_t x = 12345;  // a fixed pseudo-random scatter (xorshift)
+  for (int k = 0; k < 1500; ++k) {
+    x ^= x << 13, x ^= x >> 17, x ^= x << 5;
+    pts.push_back(
+        {static_cast<std::int32_t>(x % 200), static_cast<std::int32_t>((x >> 8) % 200), 0});
+  }
+  auto planner = testsupport::load_plugin<sdk::Planner>("ompl");
+  const auto t0 = std::chrono::steady_clock::now();
+  const sdk::TourResult full = planner->tour(g, {0, 0, 0}, pts, sdk::StopCondition{});
+  const auto took = std::chrono::steady_clock::now() - t0;
+  REQUIRE(full.status == sdk::PlanStatus::found);
+  std::vector<std::size_t> sorted(pts.size());
+  std::iota(sorted.begin(), sorted.end(), 0);
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [&](std::size_t a, std::size_t b) { return pts[a] < pts[b]; });
+  for (const int percent : {10, 50, 90}) {
+    INFO("deadline at " << percent << "% of an unstopped tour's time");
+    const sdk::StopCondition stop = sdk::StopCondition::within(
+        std::chrono::duration_cast<std::chrono::milliseconds>(took * percent / 100));
+    const sdk::TourResult cut = planner->tour(g, {0, 0, 0}, pts, stop);
+    if (cut.status == sdk::PlanStatus::found) {
+      REQUIRE(cut.order == full.order);
+    } else {
+      REQUIRE(cut.status == sdk::PlanStatus::stopped);
+      REQUIRE(cut.order == sorted);
+    }
+  }
 }

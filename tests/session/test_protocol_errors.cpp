@@ -109,6 +109,44 @@ TEST_CASE("accept without a query, out of range, twice", "[session][protocol]") 
   CHECK(error_code(ask(*s, R"({"op":"accept","rank":0})")) == "no_query");
 }
 
+TEST_CASE("a candidate cut by the execution deadline refuses the whole query",
+          "[session][protocol]") {
+  // docs/planners.md §2: a runaway deadline is never a different answer (here: a candidate
+  // shown as erroneous beside the others); the query says deadline_exceeded and changes nothing.
+  auto s = flipper::testsupport::bare_session({"execution.deadline_ms=1",
+                                               "execution.step_budget=1000000000000",
+                                               "execution.action_budget=1000000000000"});
+  move_robot(*s);
+  const Json before = ask(*s, R"({"op":"state"})")["world"];
+  Json q = ask(
+      *s,
+      R"({"op":"query","text":"repeat 99 times repeat 99 times repeat 99 times { move left ; move right }"})");
+  CHECK(error_code(q) == "deadline_exceeded");
+  CHECK_THAT(q["error"]["message"].get<std::string>(),
+             Catch::StartsWith("deadline exceeded while executing candidate 0: deadline exceeded: "
+                               "the execution took longer than execution.deadline_ms = 1 ms"));
+  CHECK(ask(*s, R"({"op":"state"})")["world"] == before);
+  CHECK(error_code(ask(*s, R"({"op":"accept","rank":0})")) == "no_query");
+}
+
+TEST_CASE("a define whose generalization meets the execution deadline stores nothing",
+          "[session][protocol]") {
+  // A run cut by a deadline must not count as a program that errs (which would change which
+  // rewriting wins with the machine's load): the define is refused whole.
+  auto s = flipper::kernel::open_session(flipper::testsupport::test_runtime(
+      {"execution.deadline_ms=1", "execution.step_budget=1000000000000",
+       "execution.action_budget=1000000000000"}));
+  Json d = ask(
+      *s,
+      R"({"op":"define","head":"shuffle about","body":["repeat 99 times repeat 99 times repeat 99 times { move left ; move right }"]})");
+  CHECK(error_code(d) == "deadline_exceeded");
+  CHECK_THAT(d["error"]["message"].get<std::string>(),
+             Catch::StartsWith("deadline exceeded while generalizing the definition (deadline "
+                               "exceeded: the execution took longer than execution.deadline_ms "
+                               "= 1 ms)"));
+  CHECK(ask(*s, R"({"op":"rules"})")["rules"].empty());
+}
+
 TEST_CASE("an erroneous candidate is reported and cannot be accepted", "[session][protocol]") {
   auto s = flipper::testsupport::bare_session({"execution.action_budget=50"});
   Json q = ask(*s, R"({"op":"query","text":"repeat 99 times repeat 99 times move left"})");

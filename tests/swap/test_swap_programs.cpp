@@ -281,3 +281,20 @@ TEST_CASE("swap: astar and ompl agree exactly on the edge cases the SDK decides"
     CHECK(r.no_points == "found: ");
   }
 }
+
+TEST_CASE("swap: an OMPL budget that runs out fails the visit, and the warning names it",
+          "[swap]") {
+  // max_iterations counts work (docs/planners.md §2): one check finds no way from [2,4] to [9,8]
+  // on the study map, on every machine alike; the warning says it was the budget, not a wall.
+  const sdk::WorldState s = start_world("grid2d");
+  const kernel::Executor exec(testsupport::load_plugin<sdk::Planner>(
+      "ompl", sdk::Params({{"max_iterations", std::int64_t{1}}})));
+  const sdk::Outcome o = exec.run(sdk::read_canonical("{visit [9,8]}"), s);
+  REQUIRE_FALSE(o.error);
+  CHECK_FALSE(o.realizable);
+  CHECK(o.world.robot == s.robot);
+  REQUIRE(o.warnings.size() == 1);
+  CHECK(o.warnings[0] ==
+        "Could not complete the action: {visit [9,8]} ([9,8] is unreachable; the planner: no path "
+        "found by rrtconnect within max_iterations = 1 to [9,8])");
+}

@@ -91,8 +91,15 @@ ParamSchema build() {
   add(s, keys::kPerturbedChecks);
   s.add_section("execution", "limits of one program's execution");
   add(s, keys::kActionBudget);
-  add(s, keys::kTimeBudgetMs);
+  add(s, keys::kStepBudget);
   add(s, keys::kWhileLimit);
+  add(s, keys::kExecDeadlineMs);
+  s.add_retired("execution.time_budget_ms",
+                "it was a wall-clock budget, so a result depended on the machine's load; results "
+                "are bounded by work now (execution.action_budget, execution.step_budget), and "
+                "the wall-clock limit is the runaway deadline execution.deadline_ms, which "
+                "refuses the query (deadline_exceeded) instead of changing a plan "
+                "(docs/planners.md §2)");
   s.add_section("input", "limits on what a request or a file may make the kernel do");
   add(s, keys::kMaxChars);
   add(s, keys::kMaxSemicolons);

@@ -89,9 +89,8 @@ sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avo
     const NearestGoal n = nearest_goal(geometry_, start, goals, req.avoid, stop_);
     if (n.status != sdk::PlanStatus::found) {
       if (n.status == sdk::PlanStatus::stopped) tick();
-      sdk::PathResult none;
+      sdk::PathResult none;  // the kernel's own search proved it: no planner message
       none.status = n.status;
-      none.message = "no goal cell is reachable";
       return none;
     }
     nearest = {n.target};
@@ -103,6 +102,11 @@ sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avo
   if (r.status == sdk::PlanStatus::stopped) tick();  // the deadline fired inside the planner
   if (distance != nullptr && planner_optimal_) *distance = r.path.size();
   return r;
+}
+
+std::string Interpreter::unproven(const sdk::PathResult& r) const {
+  if (r.message.empty() || (r.status != sdk::PlanStatus::stopped && !planner_sampling_)) return {};
+  return "; the planner: " + r.message;
 }
 
 void Interpreter::follow(const sdk::PathResult& path, WorldState& s, Sinks& out) {
@@ -152,6 +156,7 @@ bool Interpreter::visit_point(const Node& n, WorldState& s, Sinks& out) {
     if (out.warnings) {
       why = cell_text(geometry_, p) + " is unreachable";
       if (n.kids.size() > 1) why += " while avoiding " + text_of(*n.kids[1]);
+      why += unproven(r);
     }
     return fail(n, out, why);
   }
@@ -176,6 +181,7 @@ bool Interpreter::visit_area(const Node& n, WorldState& s, Sinks& out) {
       } else {
         why = text_of(*n.kids[0]) + " is unreachable";
         if (n.kids.size() > 1) why += " while avoiding " + text_of(*n.kids[1]);
+        why += unproven(r);
       }
     }
     return fail(n, out, why);

@@ -28,7 +28,7 @@ class Interpreter {
                   std::chrono::steady_clock::time_point::max());
 
   /// Runs a statement on `state` (the real run); fills trace and warnings. Returns success.
-  /// Throws sdk::Error(execution_error | budget_exceeded).
+  /// Throws sdk::Error(execution_error | budget_exceeded | deadline_exceeded).
   bool run(const sdk::Program& program, sdk::WorldState& state, std::vector<sdk::TraceStep>& trace,
            std::vector<std::string>& warnings);
   std::uint64_t actions() const { return actions_; }
@@ -43,11 +43,12 @@ class Interpreter {
   const PluginRef<const sdk::Planner>& planner_;
   bool planner_optimal_;        // the planner's paths are shortest (else the kernel picks goals)
   bool planner_deterministic_;  // same request, same answer (tours may be reused)
+  bool planner_sampling_;       // "no path" may mean "none within its budget"
   const sdk::Geometry& geometry_;
   const sdk::RoomMap& rooms_;
   ExecLimits limits_;
   sdk::StopCondition stop_;
-  bool request_deadline_binds_ = false;  // the request deadline comes before the time budget
+  bool request_deadline_binds_ = false;  // the request deadline comes before execution.deadline_ms
   std::uint64_t actions_ = 0;
   std::uint64_t steps_ = 0;
   std::vector<sdk::Cell> point_vars_;  // innermost last; popping restores the outer binding (§4.7)
@@ -71,7 +72,8 @@ class Interpreter {
   /// Whether a lone pick, drop or move would succeed on `s` (counted like exec() would), or
   /// nullopt for any other statement.
   std::optional<bool> primitive_succeeds(const sdk::Node& n, const sdk::WorldState& s);
-  void tick();  // loop-iteration budget check (time)
+  void count_step();  // one statement more (execution.step_budget), the deadline now and then
+  void tick();        // the runaway deadline: throws deadline_exceeded once it has passed
 
   // actions.cpp: primitives
   bool move(const sdk::Node& n, sdk::WorldState& s, Sinks& out);
@@ -85,6 +87,9 @@ class Interpreter {
   void count_action();
   bool fail(const sdk::Node& n, Sinks& out, const std::string& reason);
   void follow(const sdk::PathResult& path, sdk::WorldState& s, Sinks& out);
+  /// "; the planner: <message>" when a failed path is no proof (a sampling planner, or a
+  /// planner stopped by its own work budget), so the warning names the budget; else "".
+  std::string unproven(const sdk::PathResult& r) const;
   /// A path to the goal nearest by path (§4.4, §8). For planners that are not `optimal` the
   /// kernel picks that goal itself (nearest.hpp) and asks only for a path to it. `distance`,
   /// when given, receives the goal's path distance (what `visit C` compares across areas).

@@ -29,14 +29,23 @@ Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const Exe
     : planner_(planner),
       planner_optimal_(traits_of(planner).optimal),
       planner_deterministic_(traits_of(planner).deterministic),
+      planner_sampling_(traits_of(planner).sampling),
       geometry_(*start.geometry),
       rooms_(*start.rooms),
       limits_(limits) {
-  stop_.deadline = std::chrono::steady_clock::now() + limits.time_budget;
+  stop_.deadline = std::chrono::steady_clock::now() + limits.deadline;
   if (request_deadline < stop_.deadline) {
     stop_.deadline = request_deadline;
     request_deadline_binds_ = true;
   }
+}
+
+void Interpreter::count_step() {
+  if (++steps_ > limits_.step_budget)
+    throw sdk::Error(sdk::codes::kBudgetExceeded, "step budget exceeded: more than " +
+                                                      std::to_string(limits_.step_budget) +
+                                                      " statements (execution.step_budget)");
+  if ((steps_ & 1023u) == 0) tick();
 }
 
 void Interpreter::tick() {
@@ -44,10 +53,9 @@ void Interpreter::tick() {
   if (request_deadline_binds_)
     throw sdk::Error(sdk::codes::kDeadlineExceeded,
                      "deadline exceeded: the request took longer than session.deadline_ms");
-  throw sdk::Error(sdk::codes::kBudgetExceeded,
-                   "time budget exceeded: execution took longer than " +
-                       std::to_string(limits_.time_budget.count()) +
-                       " ms (execution.time_budget_ms)");
+  throw sdk::Error(sdk::codes::kDeadlineExceeded,
+                   "deadline exceeded: the execution took longer than execution.deadline_ms = " +
+                       std::to_string(limits_.deadline.count()) + " ms");
 }
 
 bool Interpreter::run(const sdk::Program& program, WorldState& state,
@@ -67,8 +75,8 @@ bool Interpreter::trial(const Node& n, const WorldState& s, std::vector<std::str
 }
 
 bool Interpreter::exec(const Node& n, WorldState& s, Sinks& out) {
-  // Loops without primitive actions (`repeat 99 times if ...`) must also see the clock.
-  if ((++steps_ & 1023u) == 0) tick();
+  // Loops without primitive actions (`repeat 99 times if ...`) count too, and see the clock.
+  count_step();
   switch (n.kind) {
     case Kind::Seq: {
       bool ok = true;
@@ -121,7 +129,7 @@ std::optional<bool> Interpreter::primitive_succeeds(const Node& n, const WorldSt
   if (a->kind != Kind::Pick && a->kind != Kind::Drop && a->kind != Kind::Move) return std::nullopt;
   // The same budget steps as exec() (once per statement) and the action (actions.cpp).
   for (const Node* k = &n;; k = k->kids[0].get()) {
-    if ((++steps_ & 1023u) == 0) tick();
+    count_step();
     if (k == a) break;
   }
   return action_succeeds(*a, s);

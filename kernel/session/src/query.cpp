@@ -108,8 +108,14 @@ QueryResult Session::query(const QueryRequest& request) {
     sc.derivation = credited_derivation(cands[i]);
     collect_induced(sc.derivation, sc.induced_rules);
     sc.outcome = executor_.run(cands[i].program, world_, deadline());
-    // A candidate cut by the request's deadline cannot be shown: the whole query is refused.
-    if (sc.outcome.error_code == sdk::codes::kDeadlineExceeded) check_deadline("executing");
+    // A candidate cut by a deadline (the request's, or execution.deadline_ms) cannot be shown:
+    // the whole query is refused rather than answered differently (docs/core-language.md §9).
+    if (sc.outcome.error_code == sdk::codes::kDeadlineExceeded) {
+      check_deadline("executing");
+      throw sdk::Error(sdk::codes::kDeadlineExceeded,
+                       "deadline exceeded while executing candidate " + std::to_string(i) + ": " +
+                           sc.outcome.error.value_or("(no message)"));
+    }
     if (sc.outcome.error) sc.error_code = sc.outcome.error_code.value_or(sdk::codes::kExecution);
     q->shown.push_back(std::move(sc));
   }
@@ -205,6 +211,8 @@ AcceptResult Session::accept(const AcceptRequest& request,
   AcceptResult result;
   sdk::Outcome& outcome = result.outcome;
   outcome = executor_.run(q.parse.candidates[sc.index].program, world_, deadline());
+  if (outcome.error_code == sdk::codes::kDeadlineExceeded)  // says so, applies nothing
+    throw sdk::Error(sdk::codes::kDeadlineExceeded, *outcome.error);
   if (outcome.error)
     throw sdk::Error(session_codes::kNotAcceptable, "candidate " + std::to_string(rank) +
                                                         " cannot be accepted: " + *outcome.error);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <exception>
+#include <optional>
 #include <set>
 #include <unordered_set>
 #include <utility>
@@ -60,6 +61,28 @@ struct PerturbedRun {
   sdk::Outcome body;
 };
 
+// Every run of a generalization, the rewriter's included, goes through this: a run cut by a
+// deadline must not pass for a program that errs (that would make the outcome depend on the
+// machine's load), so the whole generalization is refused instead (docs/core-language.md §9).
+class WatchedExecution final : public sdk::ExecutionService {
+ public:
+  explicit WatchedExecution(const sdk::ExecutionService& inner) : inner_(inner) {}
+  sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override {
+    sdk::Outcome o = inner_.run(program, world);
+    if (o.error_code == sdk::codes::kDeadlineExceeded && !stopped_) stopped_ = o.error;
+    return o;
+  }
+  void throw_if_stopped() const {
+    if (stopped_)
+      throw sdk::Error(sdk::codes::kDeadlineExceeded,
+                       "deadline exceeded while generalizing the definition (" + *stopped_ + ")");
+  }
+
+ private:
+  const sdk::ExecutionService& inner_;
+  mutable std::optional<std::string> stopped_;
+};
+
 }  // namespace
 
 Generalizer::Generalizer(PluginRef<const sdk::Rewriter> rewriter,
@@ -92,13 +115,14 @@ GeneralizeResult Generalizer::generalize(
   };
 
   GeneralizeResult result;
-  const sdk::Outcome body_run = exec_.run(body, before);
+  const WatchedExecution exec(exec_);
+  const sdk::Outcome body_run = exec.run(body, before);
 
   std::vector<PerturbedRun> perturbed;
   if (!body_run.error)
     for (auto& w :
          generalize::perturb(before, options_.perturbed_checks, options_.perturbation_seed)) {
-      sdk::Outcome o = exec_.run(body, w);
+      sdk::Outcome o = exec.run(body, w);
       if (!o.error) perturbed.push_back({std::move(w), std::move(o)});
     }
   result.perturbations = static_cast<int>(perturbed.size());
@@ -116,7 +140,7 @@ GeneralizeResult Generalizer::generalize(
 
   std::vector<sdk::RewriteCandidate> proposals =
       rewriter_.call("propose", [&](const sdk::Rewriter& r) {
-        return r.propose({body, before, &exec_, head_tokens});
+        return r.propose({body, before, &exec, head_tokens});
       });
 
   std::unordered_set<sdk::Program, sdk::ProgramHash, sdk::ProgramEqual> seen{body};
@@ -128,7 +152,7 @@ GeneralizeResult Generalizer::generalize(
     c.rewriting = std::move(proposal.rewriting);
     if (!valid_statement(c.program)) {
       c.rejected_reason = "not a complete statement";
-    } else if (auto why = generalize::difference(body_run, exec_.run(c.program, before))) {
+    } else if (auto why = generalize::difference(body_run, exec.run(c.program, before))) {
       c.rejected_reason = std::move(*why);
     } else if (auto words = unmentioned_words(c.program, mentioned); !words.empty()) {
       c.rejected_reason =
@@ -137,7 +161,7 @@ GeneralizeResult Generalizer::generalize(
       c.equivalent = true;
       for (std::size_t k = 0; k < perturbed.size(); ++k) {
         auto differs =
-            generalize::difference(perturbed[k].body, exec_.run(c.program, perturbed[k].world));
+            generalize::difference(perturbed[k].body, exec.run(c.program, perturbed[k].world));
         if (differs)
           c.failed_checks.push_back("perturbation " + std::to_string(k + 1) + ": " + *differs);
         else
@@ -148,6 +172,7 @@ GeneralizeResult Generalizer::generalize(
     result.candidates.push_back(std::move(c));
   }
 
+  exec.throw_if_stopped();
   for (std::size_t i = 1; i < result.candidates.size(); ++i) {
     const auto& c = result.candidates[i];
     if (c.equivalent && beats(c, result.candidates[result.winner_index])) result.winner_index = i;

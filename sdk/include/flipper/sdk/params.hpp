@@ -86,7 +86,26 @@ struct FLIPPER_SDK_API ParamSchema {
   bool is_section(const std::string& prefix) const;
 
   std::vector<ParamSection> sections;
+
+  // SDK 2.2 (defined here: no new exported symbol, no layout change).
+  /// A key that no longer exists: a config that still gives it is refused (bad_config) with
+  /// "config key '<key>' is retired: <hint>" rather than as an unknown key, so that the hint can
+  /// say what replaced it. It has no default, never reaches the plugin, and no "did you mean"
+  /// suggests it. Declared as an optional string whose description starts with "retired: ".
+  ParamSchema& add_retired(std::string name, const std::string& hint) {
+    ParamSpec spec;
+    spec.name = std::move(name);
+    spec.description = "retired: " + hint;
+    params.push_back(std::move(spec));
+    return *this;
+  }
 };
+
+/// Whether `spec` was declared with ParamSchema::add_retired() (SDK 2.2).
+inline bool is_retired(const ParamSpec& spec) {
+  return spec.type == ParamType::String && !spec.required && !spec.default_value &&
+         spec.description.rfind("retired: ", 0) == 0;
+}
 
 /// The validated parameters a plugin is constructed with: every declared parameter with a
 /// default is present; typed getters throw flipper::sdk::Error(bad_config) on a type mismatch.

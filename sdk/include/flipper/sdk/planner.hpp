@@ -19,7 +19,10 @@
 namespace flipper::sdk {
 inline namespace v1 {
 
-/// When to give up: a deadline, a cancel flag and an expansion budget, any of which stops.
+/// When to give up: a deadline, a cancel flag and an expansion budget, any of which stops. The
+/// budget is work (deterministic); the deadline and the cancel flag are not, so a planner stopped
+/// by them answers `stopped`, never a result it would not give with more time
+/// (docs/planners.md §2).
 struct StopCondition {
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
   const std::atomic<bool>* cancel = nullptr;
@@ -79,7 +82,7 @@ struct PlannerTraits {
   bool supports_2d = true;
   bool supports_3d = false;
   bool optimal = true;        ///< paths are shortest on the cell graph
-  bool deterministic = true;  ///< same input, same output
+  bool deterministic = true;  ///< same input, same output, whatever was asked before
   /// Sampling-based: may miss an existing path within its own budget. Every other planner
   /// must find a path to every reachable goal; the conformance kit holds a sampling planner to
   /// paths for at least 9 in 10 reachable requests.
@@ -91,10 +94,13 @@ class FLIPPER_SDK_API Planner : public Plugin {
   using Interface = Planner;
   ~Planner() override;
 
-  /// Shortest path to the nearest reachable goal cell. Contract for optimal planners:
-  /// path length minimal; among equally near goals the smallest (x, y, z); the path itself is
-  /// the one found by breadth-first search expanding neighbours in geometry.neighbour_offsets()
-  /// order (first discovery wins). Never throws for "no path": returns a status.
+  /// Shortest path to the nearest reachable goal cell. Every planner: among goals it finds
+  /// equally near, the smallest (x, y, z), i.e. the first of the sorted goal set
+  /// (docs/core-language.md §8; the conformance kit checks it). Contract for optimal planners:
+  /// path length minimal; the path itself is the one found by breadth-first search expanding
+  /// neighbours in geometry.neighbour_offsets() order (first discovery wins). A budget that can
+  /// change the answer counts work, never wall time (docs/planners.md §2): `stop.deadline`
+  /// only stops runaways. Never throws for "no path": returns a status.
   /// The edge cases are decided here, the same for every planner (SDK 2.0), before do_plan
   /// runs: no goals -> invalid "the goal set is empty"; a start outside the bounds -> invalid;
   /// a stop condition that already fired (deadline, cancel) -> stopped "stopped before

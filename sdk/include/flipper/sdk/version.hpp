@@ -28,13 +28,19 @@
 /// (Flipper::toolkit, a static library plugins link), the conformance kit of every kind with one
 /// flipper_add_conformance_test call (flipper/testing/plugin_factory.hpp, core_scorer.hpp), and
 /// a configure-time check of the build fingerprint. A 2.1.0 plugin loads unchanged.
+/// 2.2 — ParamSchema::add_retired() and sdk::is_retired() (defined in the header: no new symbol,
+/// no layout change): a retired key is refused by validate_params with its hint ("config key 'K'
+/// is retired: ...") instead of as unknown. The planner contract states the tie rule among
+/// equally near goals for every planner (not only optimal ones) and that budgets count work
+/// (docs/planners.md); the planner conformance kit checks the tie rule and that a deterministic
+/// planner answers the same whatever it was asked before. A 2.1 plugin loads unchanged.
 
 #include <boost/version.hpp>
 
 #define FLIPPER_PLUGIN_ABI 2
 #define FLIPPER_SDK_VERSION_MAJOR 2
-#define FLIPPER_SDK_VERSION_MINOR 1
-#define FLIPPER_SDK_VERSION_PATCH 1
+#define FLIPPER_SDK_VERSION_MINOR 2
+#define FLIPPER_SDK_VERSION_PATCH 0
 
 #define FLIPPER_STRINGIFY_IMPL(x) #x
 #define FLIPPER_STRINGIFY(x) FLIPPER_STRINGIFY_IMPL(x)

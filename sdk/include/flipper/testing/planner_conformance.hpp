@@ -6,9 +6,12 @@
 /// and — for planners whose traits say `optimal` — is as short as a reference breadth-first
 /// search says, which also decides reachability; other planners must find a path to every
 /// reachable goal (`sampling` ones: at least 9 in 10 within their budget); "no path" is a status,
-/// never an exception; a stop condition that is already true stops at once; `deterministic`
-/// planners answer the same twice; tours are permutations with unreachable points last in (x, y, z)
-/// order.
+/// never an exception; a stop condition that is already true stops at once; among equally near
+/// goals every planner takes the smallest (x, y, z) (docs/core-language.md §8; checked with goals
+/// that are mirror images of one another, so they tie under any symmetric distance);
+/// `deterministic` planners answer the same twice and the same whatever they were asked before
+/// (a fresh instance asked in reverse order agrees); tours are permutations with unreachable
+/// points last in (x, y, z) order.
 ///
 /// @code
 ///   FLIPPER_PLANNER_CONFORMANCE("astar", [] { return load_plugin<sdk::Planner>("astar"); })
@@ -271,6 +274,106 @@ inline void check_planner_basics(const sdk::Planner& planner) {
   check_planner_edge_cases(planner);
 }
 
+/// An open box (no walls) of `n` cells per side, 2-D or 3-D.
+inline std::shared_ptr<const sdk::Geometry> open_box(int dims, int n) {
+  const int nz = dims == 3 ? n : 1;
+  std::vector<std::uint8_t> mask(static_cast<std::size_t>(n) * n * nz, 1);
+  std::vector<sdk::Cell> offsets = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+  if (dims == 3) {
+    offsets.push_back({0, 0, 1});
+    offsets.push_back({0, 0, -1});
+  }
+  return std::make_shared<const sdk::Geometry>(
+      dims, sdk::Cell{0, 0, 0}, sdk::Cell{n - 1, n - 1, nz - 1}, std::move(mask), offsets,
+      std::vector<std::pair<std::string, sdk::Cell>>{});
+}
+
+/// The tie rule (docs/core-language.md §8; sdk/planner.hpp): among equally near goals the
+/// smallest (x, y, z), i.e. the first of the sorted goal set, for every planner. Each case's
+/// goals are mirror images of one another around the start on an open map, so they are equally
+/// near by path, by straight line and by any distance that respects the grid's symmetry; a
+/// planner keeping the last (or any other) of them fails, and so does one that lets a farther
+/// but smaller goal win.
+inline void check_goal_ties(const sdk::Planner& planner, int dims) {
+  const int n = 11, c = 5;
+  const auto g = open_box(dims, n);
+  const int z = dims == 3 ? c : 0;
+  const sdk::Cell start{c, c, z};
+  struct Case {
+    const char* what;
+    sdk::Area goals;
+    sdk::Cell want;
+  };
+  std::vector<Case> cases = {
+      {"four goals 3 steps away along the axes",
+       {{2, 5, z}, {8, 5, z}, {5, 2, z}, {5, 8, z}},
+       {2, 5, z}},
+      {"two goals that differ in y only", {{5, 8, z}, {5, 2, z}}, {5, 2, z}},
+      {"eight goals at (+-2, +-1) and (+-1, +-2), and a farther smaller one",
+       {{3, 4, z},
+        {3, 6, z},
+        {7, 4, z},
+        {7, 6, z},
+        {4, 3, z},
+        {6, 3, z},
+        {4, 7, z},
+        {6, 7, z},
+        {0, 5, z}},
+       {3, 4, z}},
+  };
+  if (dims == 3) {
+    cases.push_back({"two goals that differ in z only", {{5, 5, 8}, {5, 5, 2}}, {5, 5, 2}});
+    cases.push_back({"six goals 2 steps away along the axes",
+                     {{3, 5, 5}, {7, 5, 5}, {5, 3, 5}, {5, 7, 5}, {5, 5, 3}, {5, 5, 7}},
+                     {3, 5, 5}});
+  }
+  for (Case& k : cases) {
+    INFO("goal tie: " << k.what << " from " << sdk::to_string(start, dims));
+    sdk::areas::normalize(k.goals);
+    const sdk::PathRequest req{start, &k.goals, nullptr};
+    const sdk::PathResult r = planner.plan(*g, req, sdk::StopCondition{});
+    INFO("reached " << sdk::to_string(r.target, dims) << ", want " << sdk::to_string(k.want, dims));
+    check_path_shape(*g, req, r);
+    REQUIRE(r.target == k.want);
+    if (planner.traits().optimal)
+      REQUIRE(static_cast<int>(r.path.size()) == reference_distance(*g, start, k.goals, {}));
+  }
+}
+
+/// Deterministic planners answer a request the same whatever they were asked before: `factory`
+/// makes a second instance that answers the same requests (and tours) in reverse order.
+inline void check_history_independence(const PlannerFactory& factory, const sdk::Geometry& g,
+                                       std::uint32_t seed, int requests) {
+  const auto first = factory();
+  if (!first->traits().deterministic) return;
+  const auto second = factory();
+  std::mt19937 rng(seed);
+  const sdk::Area& free = g.free_cells();
+  std::uniform_int_distribution<std::size_t> pick_free(0, free.size() - 1);
+  std::vector<std::pair<sdk::Cell, sdk::Area>> asked;
+  for (int k = 0; k < requests; ++k) {
+    sdk::Area goals{free[pick_free(rng)], free[pick_free(rng)]};
+    sdk::areas::normalize(goals);
+    asked.push_back({free[pick_free(rng)], std::move(goals)});
+  }
+  std::vector<sdk::Cell> points;
+  for (int k = 0; k < 12; ++k) points.push_back(free[pick_free(rng)]);
+  std::vector<sdk::PathResult> forward;
+  for (const auto& [start, goals] : asked)
+    forward.push_back(first->plan(g, {start, &goals, nullptr}, sdk::StopCondition{}));
+  const sdk::TourResult tour_after = first->tour(g, free.front(), points, sdk::StopCondition{});
+  const sdk::TourResult tour_before = second->tour(g, free.front(), points, sdk::StopCondition{});
+  REQUIRE(tour_before.order == tour_after.order);
+  for (std::size_t k = asked.size(); k-- > 0;) {
+    INFO("request " << k << " asked last of " << asked.size() << ", then first");
+    const auto& [start, goals] = asked[k];
+    const sdk::PathResult r = second->plan(g, {start, &goals, nullptr}, sdk::StopCondition{});
+    REQUIRE(r.status == forward[k].status);
+    REQUIRE(r.path == forward[k].path);
+    if (r.status == sdk::PlanStatus::found) REQUIRE(r.target == forward[k].target);
+  }
+}
+
 /// Every check on the planner from `factory`.
 inline void check_planner_conformance(const PlannerFactory& factory) {
   auto planner = factory();
@@ -278,16 +381,20 @@ inline void check_planner_conformance(const PlannerFactory& factory) {
   const auto traits = planner->traits();
   check_planner_basics(*planner);
   if (traits.supports_2d) {
+    check_goal_ties(*planner, 2);
     for (std::uint32_t seed : {1u, 2u, 3u}) {
       const auto g = random_maze(2, 24, 17, 1, 0.3, seed);
       check_random_requests(*planner, *g, seed, 60);
       check_tour(*planner, *g, seed);
     }
+    check_history_independence(factory, *random_maze(2, 24, 17, 1, 0.3, 4), 4, 20);
   }
   if (traits.supports_3d) {
+    check_goal_ties(*planner, 3);
     const auto g = random_maze(3, 9, 8, 7, 0.35, 11);
     check_random_requests(*planner, *g, 11, 60);
     check_tour(*planner, *g, 11);
+    check_history_independence(factory, *g, 12, 20);
   }
 }
 

@@ -18,7 +18,7 @@
 ///              replication: none|dds, site}
 ///   publish:  {plans: none|dds}      dds: {domain, interfaces, config}   (apps/dds)
 ///   induction:{alignment, generalize, perturbed_checks}
-///   execution:{action_budget, time_budget_ms, while_limit}
+///   execution:{action_budget, step_budget, while_limit, deadline_ms}
 ///   input:    {max_chars, max_semicolons, max_line_bytes, max_json_depth, max_tokens,
 ///              max_body_lines, max_file_bytes}
 ///   session:  {k, deadline_ms}

@@ -38,11 +38,17 @@ struct Text {
 
 inline constexpr Int kSessionK{"session.k", 3, 1, 1000, "candidates shown per query"};
 inline constexpr Int kDeadlineMs{"session.deadline_ms", 5000, 1, 86400000,
-                                 "one request, end to end (parsing included)"};
+                                 "runaway deadline of one request, end to end (parsing "
+                                 "included): then deadline_exceeded"};
 inline constexpr Int kActionBudget{"execution.action_budget", 100000, 1, 1000000000000,
-                                   "actions one program may take"};
-inline constexpr Int kTimeBudgetMs{"execution.time_budget_ms", 2000, 1, 86400000,
-                                   "wall time of one execution"};
+                                   "primitive actions one program may take (work: then "
+                                   "budget_exceeded)"};
+inline constexpr Int kStepBudget{"execution.step_budget", 1000000, 1, 1000000000000,
+                                 "statements one program may execute, loop iterations and "
+                                 "trial runs included (work: then budget_exceeded)"};
+inline constexpr Int kExecDeadlineMs{"execution.deadline_ms", 2000, 1, 86400000,
+                                     "runaway deadline of one execution (wall time: then "
+                                     "deadline_exceeded, never a different plan)"};
 inline constexpr Int kWhileLimit{"execution.while_limit", 20, 0, 1000000,
                                  "iterations of one `while`"};
 inline constexpr Int kMaxChars{"input.max_chars", 2000, 1, 100000000,

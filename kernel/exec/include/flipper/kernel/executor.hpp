@@ -15,11 +15,14 @@
 
 namespace flipper::kernel {
 
-/// execution.*; defaults from keys.hpp (one place).
+/// execution.*; defaults from keys.hpp (one place). The budgets count work, so whether a program
+/// exceeds one never depends on the machine (docs/core-language.md §9); the deadline only stops
+/// runaways, and then the execution fails with deadline_exceeded instead of giving a plan.
 struct ExecLimits {
   std::uint64_t action_budget = static_cast<std::uint64_t>(keys::kActionBudget.def);
-  std::chrono::milliseconds time_budget{keys::kTimeBudgetMs.def};  ///< wall time per execution
-  int while_limit = static_cast<int>(keys::kWhileLimit.def);       ///< iterations of `while`
+  std::uint64_t step_budget = static_cast<std::uint64_t>(keys::kStepBudget.def);  ///< statements
+  int while_limit = static_cast<int>(keys::kWhileLimit.def);      ///< iterations of `while`
+  std::chrono::milliseconds deadline{keys::kExecDeadlineMs.def};  ///< runaway deadline
 };
 
 class Executor : public sdk::ExecutionService {
@@ -27,11 +30,11 @@ class Executor : public sdk::ExecutionService {
   /// Every planner call goes through `planner` (a bare shared_ptr converts, named "in-process").
   Executor(PluginRef<const sdk::Planner> planner, ExecLimits limits = {});
   /// Runs `program` on a copy of `world`. Never throws: errors (unknown room, fractional count,
-  /// budget exceeded, a failing planner: plugin_error naming it) come back in Outcome::error,
-  /// with Outcome::world equal to the start world.
+  /// budget_exceeded, deadline_exceeded, a failing planner: plugin_error naming it) come back
+  /// in Outcome::error, with Outcome::world equal to the start world.
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override;
   /// The same within a request's deadline as well: execution stops at the earlier of
-  /// execution.time_budget_ms and `deadline`; hitting `deadline` gives `deadline_exceeded`.
+  /// execution.deadline_ms and `deadline`, with `deadline_exceeded` naming the one that fired.
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world,
                    std::chrono::steady_clock::time_point deadline) const;
   const ExecLimits& limits() const { return limits_; }
