@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   flipper::cli::add_lexicon_command(app);
   flipper::cli::add_serve_command(app);
   flipper::cli::add_dds_command(app);
+  flipper::cli::add_accounts_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
