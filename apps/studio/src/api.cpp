@@ -197,8 +197,7 @@ std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
     return nullptr;
   }
   if (auto refused = registry_.admit_new(r.peer, Clock::now())) {
-    reply = error_reply(refused->first == "server_busy" ? 503 : 429, refused->first,
-                        refused->second);
+    reply = error_reply(refused->status, refused->code, refused->message);
     return nullptr;
   }
   auto entry = std::make_shared<SessionEntry>();

@@ -49,7 +49,7 @@ bool SessionRegistry::evict_until(Clock::time_point now, std::chrono::seconds mi
   return false;
 }
 
-std::optional<std::pair<std::string, std::string>> SessionRegistry::admit_new(
+std::optional<SessionRegistry::Refusal> SessionRegistry::admit_new(
     const std::string& address, Clock::time_point now) {
   std::lock_guard lock(mutex_);
   Bucket& b = new_session_buckets_[address];
@@ -59,27 +59,28 @@ std::optional<std::pair<std::string, std::string>> SessionRegistry::admit_new(
                       b.tokens + std::chrono::duration<double>(now - b.refilled).count() * per_s);
   b.refilled = now;
   if (b.tokens < 1.0)
-    return std::pair<std::string, std::string>(
-        "too_many_sessions", "this address opens new sessions too fast "
+    return Refusal{
+        429, "too_many_sessions", "this address opens new sessions too fast "
                              "(serve.new_sessions_per_minute = " +
                                  std::to_string(static_cast<long>(limits_.new_sessions_per_minute)) +
-                                 "); keep using the session you have");
+                                 "); keep using the session you have"};
   if (auto a = per_address_.find(address);
       a != per_address_.end() && a->second >= limits_.sessions_per_address)
-    return std::pair<std::string, std::string>(
-        "too_many_sessions",
-        "this address holds " + std::to_string(a->second) +
-            " sessions (serve.sessions_per_address); keep using the ones you have");
+    return Refusal{429, "too_many_sessions",
+                   "this address holds " + std::to_string(a->second) +
+                       " sessions (serve.sessions_per_address); keep using the ones you have"};
   const bool room = evict_until(now, limits_.idle, [&] {
     return sessions_.size() < limits_.max_sessions &&
            used_bytes_ + limits_.session_base_bytes <= limits_.memory_budget_bytes;
   });
+  if (!room && sessions_.size() >= limits_.max_sessions)
+    return Refusal{503, "too_many_sessions",
+                   "the server has " + std::to_string(sessions_.size()) +
+                       " sessions (serve.max_sessions); try later"};
   if (!room)
-    return std::pair<std::string, std::string>(
-        "server_busy", "the server holds " + std::to_string(sessions_.size()) +
-                           " sessions (serve.max_sessions = " +
-                           std::to_string(limits_.max_sessions) +
-                           ", serve.memory_budget_mb); try later");
+    return Refusal{503, "server_busy",
+                   "the server's memory for sessions is in use (serve.memory_budget_mb = " +
+                       std::to_string(limits_.memory_budget_bytes >> 20) + " MiB); try later"};
   b.tokens -= 1.0;
   return std::nullopt;
 }

@@ -60,10 +60,13 @@ class SessionRegistry {
 
   std::shared_ptr<SessionEntry> find(const std::string& token);
 
-  /// Why a new session for `address` cannot be opened now (an error code and message), after
-  /// evicting idle sessions when the server is full; nullopt when it can.
-  std::optional<std::pair<std::string, std::string>> admit_new(const std::string& address,
-                                                              Clock::time_point now);
+  /// Why a new session for `address` cannot be opened now, after evicting idle sessions when
+  /// the server is full; nullopt when it can.
+  struct Refusal {
+    int status;  ///< 429: this address asks too much; 503: the server is full
+    std::string code, message;
+  };
+  std::optional<Refusal> admit_new(const std::string& address, Clock::time_point now);
   /// Adds a session (call admit_new first) under a fresh token.
   std::shared_ptr<SessionEntry> add(std::shared_ptr<SessionEntry> entry, Clock::time_point now);
   /// Takes one request from the entry's token bucket; false when the rate is exceeded.
