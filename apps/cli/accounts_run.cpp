@@ -38,8 +38,7 @@ std::string read_password() {
 
 }  // namespace
 
-int accounts_action(studio::AccountStore&& store, const std::string& cmd,
-                    const AccountsArgs& args);
+int accounts_action(studio::AccountStore&& store, const std::string& cmd, const AccountsArgs& args);
 
 int run_accounts(const CommonOptions& opts, const AccountsArgs& args) {
   const kernel::Config config = load_config(opts);

@@ -27,7 +27,8 @@ void add_dds_command(CLI::App& app) {
 // flipper accounts add|passwd|list|remove|invite|revoke [NAME] [--config F] [--set k=v]: the
 // accounts of `flipper serve` (docs/accounts.md). Passwords are read from standard input.
 void add_accounts_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("accounts", "Manage the accounts of flipper serve (serve.accounts)");
+  auto* cmd =
+      app.add_subcommand("accounts", "Manage the accounts of flipper serve (serve.accounts)");
   cmd->require_subcommand(1);
   static CommonOptions opts;
   static AccountsArgs args;

@@ -19,9 +19,9 @@ const json kAnaLogin{{"name", "ana"}, {"password", "ana's password"}};
 
 std::string define_as(httplib::Client& http, const std::string& session,
                       const httplib::Headers& who) {
-  const Reply d = post(
-      http, session, R"({"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]})",
-      who);
+  const Reply d =
+      post(http, session,
+           R"({"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]})", who);
   REQUIRE(d.body["ok"] == true);
   return d.body["rules"][0]["id"];
 }
@@ -91,8 +91,9 @@ TEST_CASE("guest names are never given twice, not even after a restart") {
 
 TEST_CASE("account names are validated and reach headers only in a safe form") {
   StudioServer server(fresh_dir("names"));
-  for (const std::string& bad : std::vector<std::string>{"'ana x'", "'ana\nx'", std::string(33, 'a'), "guest-3",
-                                "anonymous", "'.ana'", "'ana;x'", "'a b'"}) {
+  for (const std::string& bad :
+       std::vector<std::string>{"'ana x'", "'ana\nx'", std::string(33, 'a'), "guest-3", "anonymous",
+                                "'.ana'", "'ana;x'", "'a b'"}) {
     INFO(bad);
     const auto r = server.run_accounts("add " + bad, "long enough\n");
     CHECK(r.status == 2);
@@ -153,9 +154,8 @@ TEST_CASE("an administrator may delete anyone's rule") {
   const auto as_ana = cookie(login(http, kAnaLogin));
   const std::string rule = define_as(http, new_session(http, as_ana), as_ana);
   const auto as_mod = cookie(login(http, json{{"name", "mod"}, {"password", "moderator pass"}}));
-  const Reply r =
-      post(http, new_session(http, as_mod), json{{"op", "delete_rule"}, {"rule", rule}}.dump(),
-           as_mod);
+  const Reply r = post(http, new_session(http, as_mod),
+                       json{{"op", "delete_rule"}, {"rule", rule}}.dump(), as_mod);
   CHECK(r.body["ok"] == true);
   CHECK(r.body["deleted"] == rule);
   const Reply left = post(http, new_session(http, as_ana), R"({"op":"rules"})", as_ana);
@@ -200,8 +200,8 @@ TEST_CASE("framing tricks are refused at once, pipelined requests answered in or
     const auto start = Clock::now();
     bool closed = false;
     const std::string out = s.read_all(5s, &closed);
-    CHECK(closed);                          // the connection ends with the refusal
-    CHECK(Clock::now() - start < 2s);       // at once, not after a read timeout
+    CHECK(closed);                     // the connection ends with the refusal
+    CHECK(Clock::now() - start < 2s);  // at once, not after a read timeout
     return out;
   };
   std::string a = answer("POST /api/v1/request HTTP/1.1\r\n" + host +
@@ -210,8 +210,7 @@ TEST_CASE("framing tricks are refused at once, pipelined requests answered in or
   CHECK(a.find("bad_content_length") != std::string::npos);
   a = answer("POST /api/v1/request HTTP/1.1\r\n" + host + "Content-Length: -1\r\n\r\n");
   CHECK(a.rfind("HTTP/1.1 400", 0) == 0);
-  a = answer("POST /api/v1/request HTTP/1.1\r\n" + host +
-             "Content-Length: 99999999999999\r\n\r\n");
+  a = answer("POST /api/v1/request HTTP/1.1\r\n" + host + "Content-Length: 99999999999999\r\n\r\n");
   CHECK(a.rfind("HTTP/1.1 413", 0) == 0);
   a = answer("POST /api/v1/request HTTP/1.1\r\n" + host + "Transfer-Encoding: gzip\r\n\r\n");
   CHECK(a.rfind("HTTP/1.1 501", 0) == 0);

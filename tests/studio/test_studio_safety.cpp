@@ -108,8 +108,8 @@ TEST_CASE("a session cannot act as another session's user") {
   const std::string ana = new_session(http, as_ana), eve = new_session(http);
   CHECK(post(http, ana, R"({"op":"state"})", as_ana).user == "ana");
   const Reply defined =
-      post(http, ana, R"({"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]})",
-           as_ana);
+      post(http, ana,
+           R"({"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]})", as_ana);
   REQUIRE(defined.body["ok"] == true);
   const std::string rule = defined.body["rules"][0]["id"];
   // eve (a guest) cannot become ana, nor another guest, nor any name of her choosing.
@@ -162,9 +162,9 @@ TEST_CASE("a killed server loses no acknowledged definition") {
     // A few more, each acknowledged before the next; then SIGKILL right after the last answer.
     for (int i = 0; i < 4; ++i) {
       const std::string head = "hop " + std::to_string(round * 4 + i) + " times";
-      const Reply d =
-          post(http, s, json{{"op", "define"}, {"head", head}, {"body", {"move up; move down"}}}.dump(),
-               cookie(as_ana));
+      const Reply d = post(
+          http, s, json{{"op", "define"}, {"head", head}, {"body", {"move up; move down"}}}.dump(),
+          cookie(as_ana));
       if (d.status == 200 && d.body["ok"] == true) acknowledged.push_back(head);
     }
     server.kill();

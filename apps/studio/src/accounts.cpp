@@ -53,11 +53,11 @@ std::string token_hash(std::string_view token) {
 
 void check_password(const std::string& password) {
   if (password.size() < kMinPasswordLength)
-    fail("weak_password", "a password needs at least " + std::to_string(kMinPasswordLength) +
-                              " characters");
+    fail("weak_password",
+         "a password needs at least " + std::to_string(kMinPasswordLength) + " characters");
   if (password.size() > kMaxPasswordLength)
-    fail("weak_password", "a password has at most " + std::to_string(kMaxPasswordLength) +
-                              " characters");
+    fail("weak_password",
+         "a password has at most " + std::to_string(kMaxPasswordLength) + " characters");
 }
 
 std::string hash_password(const std::string& password) {
@@ -209,8 +209,8 @@ AccountStore::AccountStore(const std::string& path) : impl_(std::make_unique<Imp
     if (!fs::exists(path, ec)) {
       const int fd = ::open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0600);
       if (fd < 0)
-        fail("bad_accounts", "cannot create the accounts store '" + path + "': " +
-                                 std::strerror(errno));
+        fail("bad_accounts",
+             "cannot create the accounts store '" + path + "': " + std::strerror(errno));
       ::close(fd);
     }
   }
@@ -243,8 +243,9 @@ void AccountStore::add(const std::string& name, const std::string& password, Rol
   const std::string hash = password.empty() ? std::string() : hash_password(password);
   std::lock_guard lock(impl_->mutex);
   if (impl_->taken(name))
-    fail("account_exists", "the name '" + name + "' is taken (an account has or had it; the "
-                           "rules of a removed account keep its name)");
+    fail("account_exists", "the name '" + name +
+                               "' is taken (an account has or had it; the "
+                               "rules of a removed account keep its name)");
   Stmt s(impl_->db, "INSERT INTO accounts(name, password, role, created) VALUES(?,?,?,?)");
   s.bind(1, name).bind(3, std::string(to_string(role))).bind(4, unix_now());
   if (!hash.empty()) s.bind(2, hash);
@@ -256,7 +257,10 @@ void AccountStore::set_password(const std::string& name, const std::string& pass
   const std::string hash = hash_password(password);
   std::lock_guard lock(impl_->mutex);
   if (!impl_->find(name)) fail("no_such_account", "there is no account '" + name + "'");
-  Stmt(impl_->db, "UPDATE accounts SET password = ? WHERE name = ?").bind(1, hash).bind(2, name).step();
+  Stmt(impl_->db, "UPDATE accounts SET password = ? WHERE name = ?")
+      .bind(1, hash)
+      .bind(2, name)
+      .step();
 }
 
 bool AccountStore::remove(const std::string& name) {

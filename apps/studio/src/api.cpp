@@ -1,5 +1,7 @@
 #include "api.hpp"
 
+#include <malloc.h>
+
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -18,6 +20,7 @@ using kernel::Json;
 namespace {
 
 constexpr const char* kCookie = "flipper_login";
+constexpr double kTrimAfterMs = 50;  // requests this long may have grown the heap a lot
 
 // Errors about the request's shape (the body is not a protocol request): HTTP 400. Every other
 // answer, ok or not, is the session's answer: HTTP 200.
@@ -98,12 +101,11 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
       accounts_(accounts),
       scheduler_(scheduler),
       hosts_(hosts),
-      registry_(RegistryLimits{options_.max_sessions, std::chrono::seconds(options_.session_idle_s),
-                               options_.rate_per_second, options_.rate_burst,
-                               options_.sessions_per_address,
-                               static_cast<double>(options_.new_sessions_per_minute),
-                               options_.memory_budget_mb << 20, 64 * 1024,
-                               std::chrono::seconds(options_.evict_after_s)}) {
+      registry_(RegistryLimits{
+          options_.max_sessions, std::chrono::seconds(options_.session_idle_s),
+          options_.rate_per_second, options_.rate_burst, options_.sessions_per_address,
+          static_cast<double>(options_.new_sessions_per_minute), options_.memory_budget_mb << 20,
+          64 * 1024, std::chrono::seconds(options_.evict_after_s)}) {
   for (const auto& [group, config] : kernels) {
     auto k = std::make_unique<Kernel>();
     k->runtime = kernel::make_runtime(config);
@@ -113,11 +115,17 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
         fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();
     k->max_world_bytes = world_bytes(static_cast<std::size_t>(config.get_int("world.max_cells")));
     k->vocabulary = vocabulary(*k->runtime);
+    SchedulerOptions so;
+    so.workers = 1;
+    so.cpu_ms_per_s = options_.cpu_ms_per_s;
+    so.cpu_burst_ms = options_.cpu_burst_ms;
+    k->scheduler = std::make_unique<Scheduler>(so);
     kernels_.emplace(group, std::move(k));
   }
 }
 
 Api::~Api() {
+  for (auto& [group, k] : kernels_) k->scheduler.reset();  // their workers use the sessions
   bury_evicted();
 }
 
@@ -141,10 +149,14 @@ void Api::request(const HttpRequest& r, Respond respond) {
                                "(Origin '" +
                                    r.origin.substr(0, 200) + "')"));
   const std::string token = r.param("session");
-  // One request at a time per session; new sessions queue per address.
-  const std::string key = token.empty() ? "new:" + r.peer : token;
+  // One request at a time per session. A request that opens a session is a key of its own (the
+  // registry's per-address limits bound how many an address may open).
+  const std::string key = token.empty() ? "new:" + std::to_string(++new_requests_) : token;
   auto job = [this, r, respond](int) { respond(serve(r)); };
-  if (!scheduler_.submit(key, std::move(job)))
+  // The session's kernel decides; a new session goes to the kernel of its group.
+  std::shared_ptr<SessionEntry> entry = token.empty() ? nullptr : registry_.find(token);
+  Kernel& k = entry ? *entry->kernel : kernel_for(r.param("group"));
+  if (!k.scheduler->submit(key, std::move(job)))
     respond(error_reply(429, "session_busy",
                         "this session already has requests waiting; send the next one after "
                         "the answer"));
@@ -263,6 +275,9 @@ HttpReply Api::run(SessionEntry& entry, const HttpRequest& r) {
     answer = session.handle_line(r.body);
     ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   }
+  // An expensive request (a long query builds large charts and traces) leaves the heap grown:
+  // give the freed memory back to the system (docs/studio.md §4).
+  if (ms >= kTrimAfterMs) malloc_trim(0);
   if (answer.empty()) {
     reply.status = 400;
     reply.body = error_body("bad_json", "the body is empty: send one request object");
@@ -325,8 +340,8 @@ bool Api::login_allowed(const std::string& address) {
   const auto now = Clock::now();
   auto [it, fresh] = login_buckets_.try_emplace(address, kBurst, now);
   auto& [tokens, refilled] = it->second;
-  tokens = std::min(kBurst,
-                    tokens + std::chrono::duration<double>(now - refilled).count() * kPerSecond);
+  tokens =
+      std::min(kBurst, tokens + std::chrono::duration<double>(now - refilled).count() * kPerSecond);
   refilled = now;
   if (tokens < 1.0) return false;
   tokens -= 1.0;
@@ -378,8 +393,8 @@ void Api::logout(const HttpRequest& r, Respond respond) {
     const std::string token = login_cookie(r.cookie);
     if (!token.empty()) accounts_.logout(token);
     HttpReply reply = json_reply(200, Json{{"ok", true}});
-    reply.set_header("Set-Cookie", std::string(kCookie) +
-                                       "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+    reply.set_header("Set-Cookie",
+                     std::string(kCookie) + "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
     respond(std::move(reply));
   };
   if (!scheduler_.submit("login:" + r.peer, std::move(job)))

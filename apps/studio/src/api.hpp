@@ -4,6 +4,7 @@
 // HttpRequest and answer through a callback. Protocol requests run on the scheduler's workers,
 // one at a time per session; each kernel (one per lexicon mode) is used by one request at a time
 // (its parser, scorer, planner caches and naturalizer are not thread-safe).
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
@@ -34,11 +35,15 @@ struct Kernel {
   std::size_t max_world_bytes = 0;
   kernel::Json vocabulary;  ///< for "did you mean" (computed once)
   std::mutex mutex;         ///< one request at a time
+  /// Its own worker: the fair choice is made when the kernel is free, not before a worker then
+  /// waits for it (docs/studio.md §5).
+  std::unique_ptr<Scheduler> scheduler;
 };
 
 class Api {
  public:
   /// kernels: group name -> config (a plain server: {"", config}).
+  /// `scheduler` runs the work that needs no kernel (logins, info); each kernel has its own.
   Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, ServeOptions options,
       AccountStore& accounts, Scheduler& scheduler, const HostPolicy& hosts);
   ~Api();
@@ -79,6 +84,7 @@ class Api {
   std::shared_ptr<Recorder> recorder_;
   std::shared_ptr<Study> study_;
   std::mutex study_mutex_;  ///< the study's assignment and the recorder
+  std::atomic<std::uint64_t> new_requests_{0};
   std::mutex login_mutex_;
   std::map<std::string, std::pair<double, Clock::time_point>> login_buckets_;
 };

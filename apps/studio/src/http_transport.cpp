@@ -95,7 +95,8 @@ void split_target(std::string_view target, HttpRequest& r) {
     const std::string_view pair = rest.substr(0, amp);
     const auto eq = pair.find('=');
     std::string key = percent_decode(pair.substr(0, eq), true);
-    std::string value = eq == std::string_view::npos ? "" : percent_decode(pair.substr(eq + 1), true);
+    std::string value =
+        eq == std::string_view::npos ? "" : percent_decode(pair.substr(eq + 1), true);
     r.query.emplace(std::move(key), std::move(value));
     if (amp == std::string_view::npos) break;
     rest.remove_prefix(amp + 1);
@@ -150,12 +151,12 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void wait_for_request() {
     if (buffer_.size() > 0) return read_request();
     stream_.expires_after(std::chrono::milliseconds(options().idle_timeout_ms));
-    stream_.async_read_some(buffer_.prepare(4096), [self = shared_from_this()](
-                                                       beast::error_code ec, std::size_t n) {
-      if (ec) return self->close();
-      self->buffer_.commit(n);
-      self->read_request();
-    });
+    stream_.async_read_some(buffer_.prepare(4096),
+                            [self = shared_from_this()](beast::error_code ec, std::size_t n) {
+                              if (ec) return self->close();
+                              self->buffer_.commit(n);
+                              self->read_request();
+                            });
   }
 
   // One deadline for the whole request: headers, then the body.
@@ -164,10 +165,9 @@ class Connection : public std::enable_shared_from_this<Connection> {
     parser_->header_limit(static_cast<std::uint32_t>(options().max_header_bytes));
     parser_->body_limit(options().max_request_bytes);
     stream_.expires_after(std::chrono::milliseconds(options().request_timeout_ms));
-    http::async_read_header(stream_, buffer_, *parser_,
-                            [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                              self->on_header(ec);
-                            });
+    http::async_read_header(
+        stream_, buffer_, *parser_,
+        [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_header(ec); });
   }
 
   void on_header(beast::error_code ec) {
@@ -179,12 +179,12 @@ class Connection : public std::enable_shared_from_this<Connection> {
                     "Transfer-Encoding '" + std::string(sv(te)) +
                         "' is not supported (only chunked, or a Content-Length)");
     if (!te.empty() && req.count(http::field::content_length) > 0)
-      return refuse(400, "bad_framing", "a request may not carry both Transfer-Encoding and "
-                                        "Content-Length");
-    http::async_read(stream_, buffer_, *parser_,
-                     [self = shared_from_this()](beast::error_code e, std::size_t) {
-                       self->on_body(e);
-                     });
+      return refuse(400, "bad_framing",
+                    "a request may not carry both Transfer-Encoding and "
+                    "Content-Length");
+    http::async_read(
+        stream_, buffer_, *parser_,
+        [self = shared_from_this()](beast::error_code e, std::size_t) { self->on_body(e); });
   }
 
   void on_body(beast::error_code ec) {
@@ -220,12 +220,12 @@ class Connection : public std::enable_shared_from_this<Connection> {
     res->keep_alive(!close_after);
     res->prepare_payload();
     stream_.expires_after(std::chrono::milliseconds(options().write_timeout_ms));
-    http::async_write(stream_, *res,
-                      [self = shared_from_this(), res, close_after](beast::error_code ec,
-                                                                    std::size_t) {
-                        if (ec || close_after) return self->close();
-                        self->wait_for_request();
-                      });
+    http::async_write(
+        stream_, *res,
+        [self = shared_from_this(), res, close_after](beast::error_code ec, std::size_t) {
+          if (ec || close_after) return self->close();
+          self->wait_for_request();
+        });
   }
 
   // An answer that ends the connection (the stream may hold the rest of a bad request).
@@ -252,7 +252,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
                     "this Transfer-Encoding is not supported (only chunked)");
     // Timeouts (the stream is closed already), end of stream, resets: nothing to answer.
     if (ec == beast::error::timeout || ec == http::error::end_of_stream ||
-        ec == http::error::partial_message || ec.category() != make_error_code(http::error::body_limit).category())
+        ec == http::error::partial_message ||
+        ec.category() != make_error_code(http::error::body_limit).category())
       return close();
     refuse(400, "bad_http", "malformed HTTP request: " + ec.message());
   }
@@ -297,8 +298,8 @@ void HttpTransport::Impl::admit(tcp::socket socket) {
       refusal = "this address has " + std::to_string(mine) +
                 " open connections (serve.max_connections_per_address)";
     else if (total >= options.max_connections)
-      refusal = "the server has " + std::to_string(total) +
-                " open connections (serve.max_connections)";
+      refusal =
+          "the server has " + std::to_string(total) + " open connections (serve.max_connections)";
     if (refusal.empty()) {
       ++mine;
       ++total;
@@ -308,9 +309,10 @@ void HttpTransport::Impl::admit(tcp::socket socket) {
   }
   if (!refusal.empty()) {
     const std::string body = error_body("too_many_connections", refusal);
-    const std::string text = "HTTP/1.1 503 Service Unavailable\r\nContent-Type: "
-                             "application/json\r\nConnection: close\r\nContent-Length: " +
-                             std::to_string(body.size()) + "\r\n\r\n" + body;
+    const std::string text =
+        "HTTP/1.1 503 Service Unavailable\r\nContent-Type: "
+        "application/json\r\nConnection: close\r\nContent-Length: " +
+        std::to_string(body.size()) + "\r\n\r\n" + body;
     socket.non_blocking(true, ec);
     socket.write_some(net::buffer(text), ec);
     socket.shutdown(tcp::socket::shutdown_both, ec);
@@ -331,8 +333,8 @@ int HttpTransport::bind(const std::string& host, int port) {
   const auto results =
       resolver.resolve(host, std::to_string(port), tcp::resolver::numeric_service, ec);
   auto fail = [&](const std::string& why) -> int {
-    throw sdk::Error("serve_failed", "cannot listen on " + host + ":" + std::to_string(port) +
-                                         " (" + why + ")");
+    throw sdk::Error("serve_failed",
+                     "cannot listen on " + host + ":" + std::to_string(port) + " (" + why + ")");
   };
   if (ec || results.empty()) return fail("not an address of this machine: " + ec.message());
   const tcp::endpoint endpoint = results.begin()->endpoint();

@@ -10,13 +10,13 @@
 namespace flipper::studio {
 
 struct HttpRequest {
-  std::string method;          ///< "GET", "POST", ...
-  std::string path;            ///< the target without the query ("/api/v1/request")
+  std::string method;                        ///< "GET", "POST", ...
+  std::string path;                          ///< the target without the query ("/api/v1/request")
   std::map<std::string, std::string> query;  ///< decoded query parameters (first value wins)
-  std::string host;            ///< the Host header
-  std::string origin;          ///< the Origin header
-  std::string sec_fetch_site;  ///< the Sec-Fetch-Site header
-  std::string cookie;          ///< the Cookie header
+  std::string host;                          ///< the Host header
+  std::string origin;                        ///< the Origin header
+  std::string sec_fetch_site;                ///< the Sec-Fetch-Site header
+  std::string cookie;                        ///< the Cookie header
   std::string body;
   std::string peer;  ///< the client's address (no port)
 

@@ -49,8 +49,8 @@ bool SessionRegistry::evict_until(Clock::time_point now, std::chrono::seconds mi
   return false;
 }
 
-std::optional<SessionRegistry::Refusal> SessionRegistry::admit_new(
-    const std::string& address, Clock::time_point now) {
+std::optional<SessionRegistry::Refusal> SessionRegistry::admit_new(const std::string& address,
+                                                                   Clock::time_point now) {
   std::lock_guard lock(mutex_);
   Bucket& b = new_session_buckets_[address];
   const double per_s = limits_.new_sessions_per_minute / 60.0;
@@ -59,11 +59,11 @@ std::optional<SessionRegistry::Refusal> SessionRegistry::admit_new(
                       b.tokens + std::chrono::duration<double>(now - b.refilled).count() * per_s);
   b.refilled = now;
   if (b.tokens < 1.0)
-    return Refusal{
-        429, "too_many_sessions", "this address opens new sessions too fast "
-                             "(serve.new_sessions_per_minute = " +
-                                 std::to_string(static_cast<long>(limits_.new_sessions_per_minute)) +
-                                 "); keep using the session you have"};
+    return Refusal{429, "too_many_sessions",
+                   "this address opens new sessions too fast "
+                   "(serve.new_sessions_per_minute = " +
+                       std::to_string(static_cast<long>(limits_.new_sessions_per_minute)) +
+                       "); keep using the session you have"};
   if (auto a = per_address_.find(address);
       a != per_address_.end() && a->second >= limits_.sessions_per_address)
     return Refusal{429, "too_many_sessions",

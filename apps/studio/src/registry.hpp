@@ -30,8 +30,8 @@ struct SessionEntry {
   std::string user;     ///< the session's user: the account's name or "guest-N"
   std::string account;  ///< "" for a guest
   Role role = Role::user;
-  std::string login;    ///< the login token that opened it ("" for a guest)
-  std::string address;  ///< the client address that opened it
+  std::string login;        ///< the login token that opened it ("" for a guest)
+  std::string address;      ///< the client address that opened it
   std::string group;        ///< study mode: the participant's group ("" otherwise)
   std::string participant;  ///< study mode: the participant's id
   // Guarded by the registry's mutex:
@@ -51,7 +51,7 @@ struct RegistryLimits {
   double new_sessions_per_minute = 60;  ///< per address (token bucket, this many banked)
   std::size_t memory_budget_bytes = std::size_t{1} << 30;
   std::size_t session_base_bytes = 64 * 1024;  ///< charged for every open session
-  std::chrono::seconds evict_after{120};  ///< idle time after which the budget may evict
+  std::chrono::seconds evict_after{120};       ///< idle time after which the budget may evict
 };
 
 class SessionRegistry {

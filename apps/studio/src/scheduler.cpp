@@ -4,8 +4,14 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace flipper::studio {
+
+namespace {
+// "Lately": CPU time counts with weight e^(-age / 10 s) when choosing who runs next.
+constexpr double kRecentSeconds = 10;
+}  // namespace
 
 double thread_cpu_ms() {
   timespec t{};
@@ -30,6 +36,7 @@ Scheduler::~Scheduler() {
 void Scheduler::refill(Key& k, Clock::time_point now) const {
   const double s = std::chrono::duration<double>(now - k.refilled).count();
   k.allowance_ms = std::min(options_.cpu_burst_ms, k.allowance_ms + s * options_.cpu_ms_per_s);
+  k.recent_ms *= std::exp(-s / kRecentSeconds);
   k.refilled = now;
 }
 
@@ -72,7 +79,8 @@ std::map<std::string, Scheduler::Key>::iterator Scheduler::pick(Clock::time_poin
     refill(k, now);
     if (k.jobs.empty()) {
       // Idle and paid up: nothing to remember (a fresh key starts the same).
-      it = k.allowance_ms >= options_.cpu_burst_ms ? keys_.erase(it) : std::next(it);
+      it = k.allowance_ms >= options_.cpu_burst_ms && k.recent_ms < 0.01 ? keys_.erase(it)
+                                                                         : std::next(it);
       continue;
     }
     if (k.allowance_ms <= 0) {
@@ -80,8 +88,8 @@ std::map<std::string, Scheduler::Key>::iterator Scheduler::pick(Clock::time_poin
                                    std::chrono::duration<double, std::milli>(
                                        -k.allowance_ms / options_.cpu_ms_per_s * 1000.0 + 1.0));
       wake = std::min(wake, until);
-    } else if (best == keys_.end() || k.allowance_ms > best->second.allowance_ms ||
-               (k.allowance_ms == best->second.allowance_ms && k.arrival < best->second.arrival)) {
+    } else if (best == keys_.end() || k.recent_ms < best->second.recent_ms ||
+               (k.recent_ms == best->second.recent_ms && k.arrival < best->second.arrival)) {
       best = it;
     }
     ++it;
@@ -115,6 +123,7 @@ void Scheduler::work(int index) {
     Key& k = keys_[key];
     refill(k, Clock::now());
     k.allowance_ms -= used;
+    k.recent_ms += used;
     k.running = false;
     if (!k.jobs.empty()) {
       k.arrival = ++arrivals_;

@@ -49,12 +49,13 @@ class Scheduler {
     std::deque<Job> jobs;
     bool running = false;
     double allowance_ms = 0;
+    double recent_ms = 0;  ///< CPU time used, decayed with a 10 s time constant
     Clock::time_point refilled;
     std::uint64_t arrival = 0;  ///< of its oldest waiting job: ties go to the older
   };
   void work(int index);
   void refill(Key& k, Clock::time_point now) const;
-  /// The runnable key with the largest allowance; end() when none; `wake` gets the earliest
+  /// The runnable key that used the least CPU lately; end() when none; `wake` gets the earliest
   /// time a spent key becomes runnable.
   std::map<std::string, Key>::iterator pick(Clock::time_point now, Clock::time_point& wake);
 

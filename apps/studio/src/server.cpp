@@ -43,9 +43,8 @@ struct Server::Impl {
 
   void add_routes() {
     Api* a = api.get();
-    router.add("POST", "/api/v1/request", [a](const HttpRequest& r, Respond done) {
-      a->request(r, std::move(done));
-    });
+    router.add("POST", "/api/v1/request",
+               [a](const HttpRequest& r, Respond done) { a->request(r, std::move(done)); });
     router.add("GET", "/api/v1/info",
                [a](const HttpRequest& r, Respond done) { a->info(r, std::move(done)); });
     router.add("POST", "/api/v1/login",

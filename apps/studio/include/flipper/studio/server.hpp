@@ -19,7 +19,7 @@ namespace flipper::studio {
 /// serve.* config keys; defaults from their declaration (flipper/kernel/keys.hpp).
 struct ServeOptions {
   std::string host{kernel::keys::kServeHost.def};
-  int port = static_cast<int>(kernel::keys::kServePort.def);  ///< 0: any free port
+  int port = static_cast<int>(kernel::keys::kServePort.def);        ///< 0: any free port
   int threads = static_cast<int>(kernel::keys::kServeThreads.def);  ///< request workers
   std::size_t max_request_bytes = static_cast<std::size_t>(kernel::keys::kServeMaxRequestBytes.def);
   /// per session (token bucket)

@@ -74,8 +74,7 @@ inline constexpr Int kPerturbedChecks{"induction.perturbed_checks", 0, 0, 1000,
 
 inline constexpr Text kServeHost{"serve.host", "127.0.0.1", "address to listen on"};
 inline constexpr Int kServePort{"serve.port", 8410, 0, 65535, "port (0: any free port, printed)"};
-inline constexpr Int kServeThreads{"serve.threads", 4, 1, 256,
-                                   "worker threads running requests"};
+inline constexpr Int kServeThreads{"serve.threads", 4, 1, 256, "worker threads running requests"};
 inline constexpr Int kServeMaxRequestBytes{"serve.max_request_bytes", 65536, 256, 67108864,
                                            "larger bodies: 413"};
 inline constexpr Int kServeRatePerSecond{"serve.rate_per_second", 100, 1, 1000000,
