@@ -17,6 +17,7 @@ void add_replay_command(CLI::App& app);   // replay.cpp
 void add_lexicon_command(CLI::App& app);  // lexicon.cpp  (lexicon list|export|import)
 void add_serve_command(CLI::App& app);    // frontend_commands.cpp (apps/studio: HTTP, web page)
 void add_dds_command(CLI::App& app);      // frontend_commands.cpp (DDS node, dds security)
+void add_accounts_command(CLI::App& app);  // frontend_commands.cpp (the studio's accounts)
 
 struct CommonOptions;
 /// The work of `serve` and `dds`: in flipper-frontends serve_run.cpp and dds_run.cpp; in flipper
@@ -31,4 +32,15 @@ struct DdsSecurityArgs {
   std::vector<std::string> namespaces;
 };
 int run_dds_security(const std::string& action, const DdsSecurityArgs& args);
+/// `flipper accounts ACTION NAME`: the studio's accounts (docs/accounts.md); runs in
+/// flipper-frontends (accounts_run.cpp) beside the server that reads them.
+struct AccountsArgs {
+  std::string action;  ///< add, passwd, list, remove, invite, revoke
+  std::string name;
+  std::string role;     ///< "" : add makes a user, invite a participant
+  int days = 7;         ///< invite: how long the code lasts
+  std::string url;      ///< invite: the server's address, for the printed link
+  bool json = false;    ///< list
+};
+int run_accounts(const CommonOptions& opts, const AccountsArgs& args);
 }  // namespace flipper::cli

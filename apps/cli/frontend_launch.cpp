@@ -64,6 +64,10 @@ int run_dds_security(const std::string& /*action*/, const DdsSecurityArgs& /*arg
   exec_frontends();
 }
 
+int run_accounts(const CommonOptions& /*opts*/, const AccountsArgs& /*args*/) {
+  exec_frontends();
+}
+
 DdsServices DdsServices::start(kernel::SessionHost& host, bool force_participant) {
   if (force_participant || wants_dds_services(host.runtime->config)) exec_frontends();
   return {};

@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
   flipper::cli::add_lexicon_command(app);
   flipper::cli::add_serve_command(app);
   flipper::cli::add_dds_command(app);
+  flipper::cli::add_accounts_command(app);
   if (const auto unknown = unknown_command(app, argc, argv))
     return flipper::cli::report_error("", "usage", *unknown, 2);
   try {

@@ -154,10 +154,17 @@ int main(int argc, char** argv) {
   char tmpl[] = "/tmp/flipper-bench-studio-XXXXXX";
   const std::string dir = ::mkdtemp(tmpl);
   flipper::testsupport::ChildProcess server(
-      {o.flipper, "serve", "--set", "serve.host=127.0.0.1", "--set", "serve.port=0", "--set",
-       "lexicon.path=" + dir + "/lexicon.sqlite", "--set", "lexicon.preload=", "--set",
-       "serve.threads=" + std::to_string(o.users + 16), "--set", "serve.rate_per_second=1000000",
-       "--set", "serve.rate_burst=1000000"});
+      {o.flipper, "serve",
+       "--set",   "serve.host=127.0.0.1",
+       "--set",   "serve.port=0",
+       "--set",   "lexicon.path=" + dir + "/lexicon.sqlite",
+       "--set",   "lexicon.preload=",
+       "--set",   "serve.threads=" + std::to_string(o.users + 16),
+       "--set",   "serve.rate_per_second=1000000",
+       "--set",   "serve.rate_burst=1000000",
+       "--set",   "serve.sessions_per_address=100000",
+       "--set",   "serve.new_sessions_per_minute=100000",
+       "--set",   "serve.max_connections_per_address=100000"});
   const std::string line = server.read_line(std::chrono::seconds(30));
   const auto at = line.find("127.0.0.1:");
   if (at == std::string::npos) {

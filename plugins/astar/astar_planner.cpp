@@ -10,6 +10,7 @@
 #include "distance_cache.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/planner.hpp"
+#include "flipper/toolkit/params.hpp"
 #include "grid_search.hpp"
 #include "tour_solver.hpp"
 
@@ -18,38 +19,37 @@ namespace {
 
 using sdk::Cell;
 
+namespace param = toolkit::param;
+
+enum class Heuristic { none, manhattan };  // in the order of kHeuristic's names
+constexpr param::Choice<Heuristic, 2> kHeuristic{
+    "heuristic", Heuristic::none, {"none", "manhattan"},
+    "none: breadth-first search, paths follow the core language's tie rule; manhattan: A* for "
+    "single-cell goals, equally short paths but possibly a different one of several shortest "
+    "paths"};
+constexpr param::Int<std::uint64_t> kMaxExpansions{
+    "max_expansions", 0, 0, std::nullopt,
+    "expansion budget per search, on top of the caller's stop condition (0: none)"};
+constexpr param::Int<std::int64_t> kMaxTourPoints{
+    "max_tour_points", 2000, 1, std::nullopt,
+    "tours over more reachable points than this use greedy nearest-neighbour order instead of "
+    "tour T (which needs a distance matrix of that size squared)"};
+constexpr param::Bool kTwoOpt{"two_opt", true, "improve tours with 2-opt moves"};
+constexpr param::Bool kOrOpt{"or_opt", true,
+                             "improve tours with Or-opt moves (segments of 1-3 points)"};
+
 class AStarPlanner final : public sdk::Planner {
  public:
   explicit AStarPlanner(const sdk::Params& p)
-      : budget_(p.has("max_expansions") && p.get_int("max_expansions") > 0
-                    ? static_cast<std::uint64_t>(p.get_int("max_expansions"))
-                    : std::numeric_limits<std::uint64_t>::max()),
-        two_opt_(!p.has("two_opt") || p.get_bool("two_opt")),
-        or_opt_(!p.has("or_opt") || p.get_bool("or_opt")),
-        manhattan_(p.has("heuristic") && p.get_string("heuristic") == "manhattan"),
-        max_tour_points_(p.has("max_tour_points") ? p.get_int("max_tour_points") : 2000) {
-    if (p.has("heuristic") && !manhattan_ && p.get_string("heuristic") != "none")
-      throw sdk::Error(
-          sdk::codes::kBadConfig,
-          "astar: heuristic must be none or manhattan, not \"" + p.get_string("heuristic") + "\"");
-  }
+      : budget_(param::get(p, kMaxExpansions) > 0 ? param::get(p, kMaxExpansions)
+                                                  : std::numeric_limits<std::uint64_t>::max()),
+        two_opt_(param::get(p, kTwoOpt)),
+        or_opt_(param::get(p, kOrOpt)),
+        manhattan_(param::get(p, kHeuristic) == Heuristic::manhattan),
+        max_tour_points_(param::get(p, kMaxTourPoints)) {}
 
   static sdk::ParamSchema schema() {
-    sdk::ParamSchema s;
-    s.add_string("heuristic", "none",
-                 "none: breadth-first search, paths follow the core language's tie rule; "
-                 "manhattan: A* for single-cell goals, equally short paths but possibly a "
-                 "different one of several shortest paths",
-                 {"none", "manhattan"});
-    s.add_int("max_expansions", 0,
-              "expansion budget per search, on top of the caller's stop condition (0: none)", 0);
-    s.add_int("max_tour_points", 2000,
-              "tours over more reachable points than this use greedy nearest-neighbour order "
-              "instead of tour T (which needs a distance matrix of that size squared)",
-              1);
-    s.add_bool("two_opt", true, "improve tours with 2-opt moves");
-    s.add_bool("or_opt", true, "improve tours with Or-opt moves (segments of 1-3 points)");
-    return s;
+    return param::schema(kHeuristic, kMaxExpansions, kMaxTourPoints, kTwoOpt, kOrOpt);
   }
 
  protected:

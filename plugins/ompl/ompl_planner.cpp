@@ -21,6 +21,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/plugin.hpp"
+#include "flipper/toolkit/params.hpp"
 #include "sampling.hpp"
 #include "snap.hpp"
 #include "tour.hpp"
@@ -30,65 +31,46 @@ namespace flipper::omplplanner {
 using sdk::Cell;
 using sdk::PlanStatus;
 
-constexpr std::int64_t kDefaultMaxIterations = 100000;
+namespace param = toolkit::param;
+
 constexpr const char* kTimeBudgetRetired =
     "it was a wall-clock budget per path request, so the plan depended on the machine's load; "
     "the budget counts work now: max_iterations (termination checks per path request, default "
     "100000; docs/planners.md §3)";
+// In the order of Algorithm's enumerators (sampling.hpp).
+constexpr param::Choice<Algorithm, 4> kPlanner{
+    "planner", Algorithm::rrtconnect, {"rrtconnect", "rrt", "prm", "rrtstar"}, "OMPL planner"};
+constexpr param::Int<std::uint32_t> kMaxIterations{
+    "max_iterations", 100000, 1, 100000000,
+    "work budget per path request: termination checks (OMPL's IterationTerminationCondition, "
+    "about one per planner iteration); no path within them is no_path"};
+constexpr param::Double kRange{"range", 0.0, 0.0, 1e6,
+                               "maximum motion length in cells (0: OMPL's default)"};
+constexpr param::Int<std::uint32_t> kSeed{
+    "seed", 1, 1, 4294967295U,
+    "random seed; each request derives its own from it, the start and the goal (0, unseeded, is "
+    "not offered: plans repeat for the same config and seed, docs/planners.md §3)"};
+constexpr param::Int<std::uint32_t> kIterations{
+    "iterations", 500, 0, 100000000,
+    "rrtstar: refinement iterations after the first solution (0: until max_iterations)"};
+constexpr param::Bool kSimplify{"simplify", true,
+                                "simplify the sampled path before snapping it to cells"};
 
 class OmplPlanner final : public sdk::Planner {
  public:
   explicit OmplPlanner(const sdk::Params& p) {
-    const std::string name = p.has("planner") ? p.get_string("planner") : "rrtconnect";
-    if (!parse_algorithm(name, settings_.algorithm))
-      throw sdk::Error(
-          sdk::codes::kBadConfig,
-          "ompl: planner must be one of rrtconnect, rrt, prm, rrtstar; got \"" + name + "\"");
-    if (p.has("time_budget_ms"))  // a host that did not validate the params (the kernel does)
-      throw sdk::Error(sdk::codes::kBadConfig,
-                       std::string("ompl: time_budget_ms is retired: ") + kTimeBudgetRetired);
-    if (p.has("max_iterations")) {
-      const auto n = p.get_int("max_iterations");
-      if (n < 1 || n > 100000000)
-        throw sdk::Error(sdk::codes::kBadConfig, "ompl: max_iterations must be in [1, 100000000]");
-      settings_.max_iterations = static_cast<std::uint32_t>(n);
-    }
-    if (p.has("range")) settings_.range = p.get_double("range");
-    if (settings_.range < 0) throw sdk::Error(sdk::codes::kBadConfig, "ompl: range must be >= 0");
-    if (p.has("seed")) {
-      const auto seed = p.get_int("seed");
-      if (seed < 1 || seed > 0xffffffffLL)
-        throw sdk::Error(sdk::codes::kBadConfig,
-                         "ompl: seed must be in [1, 4294967295] (0, unseeded, is not offered: "
-                         "plans repeat for the same config and seed, docs/planners.md §3)");
-      settings_.seed = static_cast<std::uint32_t>(seed);
-    }
-    if (p.has("iterations")) {
-      const auto it = p.get_int("iterations");
-      if (it < 0 || it > 100000000)
-        throw sdk::Error(sdk::codes::kBadConfig, "ompl: iterations must be in [0, 100000000]");
-      settings_.iterations = static_cast<std::uint32_t>(it);
-    }
-    if (p.has("simplify")) settings_.simplify = p.get_bool("simplify");
+    settings_.algorithm = param::get(p, kPlanner);
+    settings_.max_iterations = param::get(p, kMaxIterations);
+    settings_.range = param::get(p, kRange);
+    settings_.seed = param::get(p, kSeed);
+    settings_.iterations = param::get(p, kIterations);
+    settings_.simplify = param::get(p, kSimplify);
     ompl::msg::setLogLevel(ompl::msg::LOG_NONE);  // failures come back as statuses instead
   }
 
   static sdk::ParamSchema schema() {
-    sdk::ParamSchema s;
-    s.add_string("planner", "rrtconnect", "OMPL planner", {"rrtconnect", "rrt", "prm", "rrtstar"});
-    s.add_int("max_iterations", kDefaultMaxIterations,
-              "work budget per path request: termination checks (OMPL's "
-              "IterationTerminationCondition, about one per planner iteration); no path within "
-              "them is no_path",
-              1, 100000000);
-    s.add_double("range", 0.0, "maximum motion length in cells (0: OMPL's default)", 0, 1e6);
-    s.add_int("seed", 1,
-              "random seed; each request derives its own from it, the start and the goal", 1,
-              4294967295.0);
-    s.add_int("iterations", 500,
-              "rrtstar: refinement iterations after the first solution (0: until max_iterations)",
-              0, 1e8);
-    s.add_bool("simplify", true, "simplify the sampled path before snapping it to cells");
+    sdk::ParamSchema s =
+        param::schema(kPlanner, kMaxIterations, kRange, kSeed, kIterations, kSimplify);
     s.add_retired("time_budget_ms", kTimeBudgetRetired);
     return s;
   }

@@ -145,20 +145,6 @@ ob::PlannerPtr make_planner(const ob::SpaceInformationPtr& si, const SamplingSet
 
 }  // namespace
 
-bool parse_algorithm(const std::string& name, Algorithm& out) {
-  if (name == "rrtconnect")
-    out = Algorithm::rrtconnect;
-  else if (name == "rrt")
-    out = Algorithm::rrt;
-  else if (name == "prm")
-    out = Algorithm::prm;
-  else if (name == "rrtstar")
-    out = Algorithm::rrtstar;
-  else
-    return false;
-  return true;
-}
-
 std::uint32_t request_seed(std::uint32_t seed, Cell start, Cell goal) {
   std::uint64_t h = splitmix64(seed);
   for (const std::int32_t v : {start.x, start.y, start.z, goal.x, goal.y, goal.z})

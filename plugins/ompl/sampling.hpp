@@ -45,7 +45,6 @@ SamplingOutcome sample_path(const CellSearch& search, sdk::Cell goal,
                             const SamplingSettings& settings, const sdk::StopCondition& stop);
 
 /// "rrtconnect", ...; false if unknown.
-bool parse_algorithm(const std::string& name, Algorithm& out);
 const char* algorithm_name(Algorithm a);
 
 }  // namespace flipper::omplplanner

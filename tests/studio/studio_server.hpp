@@ -4,7 +4,9 @@
 #include <httplib.h>
 
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -49,6 +51,35 @@ class StudioServer {
   }
 
   int port() const { return port_; }
+  const std::string& dir() const { return dir_; }
+  /// `flipper accounts add NAME` on this server's store (the server reads it on every login).
+  void add_account(const std::string& name, const std::string& password,
+                   const std::string& role = "user") const {
+    REQUIRE(run_accounts("add " + name + " --role " + role, password + "\n").status == 0);
+  }
+  /// `flipper accounts ARGS` with `input` on standard input: status and output.
+  struct CliRun {
+    int status = 0;
+    std::string out;
+  };
+  CliRun run_accounts(const std::string& args, const std::string& input = "") const {
+    const std::string in = dir_ + "/stdin.txt";
+    {
+      std::ofstream f(in, std::ios::trunc);
+      f << input;
+    }
+    const std::string cmd = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper accounts " + args +
+                            " --set lexicon.path=" + lexicon() + " < " + in + " 2>&1";
+    CliRun r;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    REQUIRE(p != nullptr);
+    char buf[4096];
+    while (std::fgets(buf, sizeof buf, p) != nullptr) r.out += buf;
+    const int raw = ::pclose(p);
+    REQUIRE(WIFEXITED(raw));
+    r.status = WEXITSTATUS(raw);
+    return r;
+  }
   std::string lexicon() const { return dir_ + "/lexicon.sqlite"; }
   std::string origin() const { return "http://127.0.0.1:" + std::to_string(port_); }
   httplib::Client client() const {
@@ -59,6 +90,7 @@ class StudioServer {
     return c;
   }
   void kill() { child_->kill_now(); }
+  int pid() const { return child_->pid(); }
   /// SIGTERM and wait: the exit status.
   int stop() {
     ::kill(child_->pid(), SIGTERM);
@@ -99,9 +131,22 @@ inline Reply post_json(httplib::Client& c, const std::string& session, const jso
   return post(c, session, request.dump());
 }
 
+/// POST /api/v1/login; the Cookie header value of the login ("" when refused).
+inline std::string login(httplib::Client& c, const json& credentials, int* status = nullptr) {
+  auto res = c.Post("/api/v1/login", credentials.dump(), "application/json");
+  REQUIRE(res);
+  if (status != nullptr) *status = res->status;
+  const std::string set = res->get_header_value("Set-Cookie");
+  return set.substr(0, set.find(';'));
+}
+
+inline httplib::Headers cookie(const std::string& value) {
+  return {{"Cookie", value}};
+}
+
 /// A session of its own: its token (from a first `state` request).
-inline std::string new_session(httplib::Client& c) {
-  const Reply r = post_json(c, "", json{{"op", "state"}});
+inline std::string new_session(httplib::Client& c, const httplib::Headers& headers = {}) {
+  const Reply r = post(c, "", json{{"op", "state"}}.dump(), headers);
   REQUIRE(r.status == 200);
   REQUIRE(r.session.size() == 32);
   return r.session;

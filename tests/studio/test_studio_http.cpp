@@ -45,14 +45,18 @@ const std::vector<std::pair<std::string, int>> kScript = {
 TEST_CASE("POST /api/v1/request answers exactly what flipper session answers") {
   const std::string dir = fresh_dir("same-answers");
   StudioServer server(dir);
+  server.add_account("ana", "ana's password");
   auto http = server.client();
+  // Over HTTP the session's user is the account logged in (docs/accounts.md): `user` with the
+  // same name answers as in `flipper session`.
+  const auto as_ana = cookie(login(http, json{{"name", "ana"}, {"password", "ana's password"}}));
   testsupport::ChildProcess cli({std::string(FLIPPER_BINARY_DIR) + "/bin/flipper", "session",
                                  "--set", "lexicon.path=" + dir + "/cli.sqlite", "--set",
                                  "lexicon.preload="});
   std::string session;
   for (const auto& [request, status] : kScript) {
     INFO(request);
-    const Reply r = post(http, session, request);
+    const Reply r = post(http, session, request, as_ana);
     session = r.session;
     REQUIRE(cli.write_line(request));
     const json expected = json::parse(cli.read_line());
@@ -61,7 +65,7 @@ TEST_CASE("POST /api/v1/request answers exactly what flipper session answers") {
     CHECK(without_ms(r.body) == without_ms(expected));
   }
   // The define was acknowledged: its rules are in the server's store (ids as `flipper session`).
-  const Reply rules = post(http, session, R"({"op":"rules"})");
+  const Reply rules = post(http, session, R"({"op":"rules"})", as_ana);
   REQUIRE(rules.body["rules"].size() == 2);
   CHECK(rules.body["rules"][0]["author"] == "ana");
 }

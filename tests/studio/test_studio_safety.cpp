@@ -102,26 +102,33 @@ TEST_CASE("state-changing requests from another origin are refused") {
 
 TEST_CASE("a session cannot act as another session's user") {
   StudioServer server(fresh_dir("users"));
+  server.add_account("ana", "ana's password");
   auto http = server.client();
-  const std::string ana = new_session(http), eve = new_session(http);
-  REQUIRE(post(http, ana, R"({"op":"user","name":"ana"})").body["ok"] == true);
-  const Reply defined = post(
-      http, ana, R"({"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]})");
+  const auto as_ana = cookie(login(http, json{{"name", "ana"}, {"password", "ana's password"}}));
+  const std::string ana = new_session(http, as_ana), eve = new_session(http);
+  CHECK(post(http, ana, R"({"op":"state"})", as_ana).user == "ana");
+  const Reply defined =
+      post(http, ana,
+           R"({"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]})", as_ana);
   REQUIRE(defined.body["ok"] == true);
   const std::string rule = defined.body["rules"][0]["id"];
-  // eve cannot become ana, nor a guest name the server gave another session.
+  // eve (a guest) cannot become ana, nor another guest, nor any name of her choosing.
   Reply r = post(http, eve, R"({"op":"user","name":"ana"})");
   CHECK(r.body["ok"] == false);
   CHECK(r.body["error"]["code"] == "forbidden");
-  CHECK(r.user == "guest-2");
-  CHECK(post(http, eve, R"({"op":"user","name":"guest-1"})").body["error"]["code"] == "forbidden");
+  CHECK(r.user == "guest-1");
   CHECK(post(http, eve, R"({"op":"user","name":"guest-9"})").body["error"]["code"] == "forbidden");
+  CHECK(post(http, eve, R"({"op":"user","name":"zed"})").body["error"]["code"] == "forbidden");
   // ... so she cannot delete ana's rule.
   r = post_json(http, eve, json{{"op", "delete_rule"}, {"rule", rule}});
   CHECK(r.body["error"]["code"] == "forbidden");
-  // ana may take her own name again and delete her rule.
-  CHECK(post(http, ana, R"({"op":"user","name":"ana"})").body["ok"] == true);
-  CHECK(post_json(http, ana, json{{"op", "delete_rule"}, {"rule", rule}}).body["ok"] == true);
+  // ana's session token alone is not enough: it needs ana's login.
+  r = post_json(http, ana, json{{"op", "delete_rule"}, {"rule", rule}});
+  CHECK(r.status == 401);
+  CHECK(r.body["error"]["code"] == "login_required");
+  // ana deletes her rule.
+  CHECK(post(http, ana, json{{"op", "delete_rule"}, {"rule", rule}}.dump(), as_ana).body["ok"] ==
+        true);
 }
 
 TEST_CASE("sessions are bounded by serve.max_sessions") {
@@ -136,13 +143,16 @@ TEST_CASE("sessions are bounded by serve.max_sessions") {
 TEST_CASE("a killed server loses no acknowledged definition") {
   const std::string dir = fresh_dir("kill");
   std::vector<std::string> acknowledged;
+  std::string as_ana;  // the login survives the restarts (docs/accounts.md)
   for (int round = 0; round < 5; ++round) {
     StudioServer server(dir);
+    if (round == 0) server.add_account("ana", "ana's password");
     auto http = server.client();
-    const std::string s = new_session(http);
-    REQUIRE(post(http, s, R"({"op":"user","name":"ana"})").body["ok"] == true);
+    if (round == 0) as_ana = login(http, json{{"name", "ana"}, {"password", "ana's password"}});
+    const std::string s = new_session(http, cookie(as_ana));
+    REQUIRE(post(http, s, R"({"op":"state"})", cookie(as_ana)).user == "ana");
     // Every definition defined so far is there after the restart.
-    const Reply rules = post(http, s, R"({"op":"rules"})");
+    const Reply rules = post(http, s, R"({"op":"rules"})", cookie(as_ana));
     std::vector<std::string> heads;
     for (const auto& r : rules.body["rules"]) heads.push_back(r["head"]);
     for (const auto& h : acknowledged) {
@@ -152,8 +162,9 @@ TEST_CASE("a killed server loses no acknowledged definition") {
     // A few more, each acknowledged before the next; then SIGKILL right after the last answer.
     for (int i = 0; i < 4; ++i) {
       const std::string head = "hop " + std::to_string(round * 4 + i) + " times";
-      const Reply d = post_json(
-          http, s, json{{"op", "define"}, {"head", head}, {"body", {"move up; move down"}}});
+      const Reply d = post(
+          http, s, json{{"op", "define"}, {"head", head}, {"body", {"move up; move down"}}}.dump(),
+          cookie(as_ana));
       if (d.status == 200 && d.body["ok"] == true) acknowledged.push_back(head);
     }
     server.kill();

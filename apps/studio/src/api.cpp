@@ -1,5 +1,7 @@
 #include "api.hpp"
 
+#include <malloc.h>
+
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -8,6 +10,7 @@
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "recorder.hpp"
+#include "studio_ops.hpp"
 #include "study.hpp"
 
 namespace flipper::studio {
@@ -16,25 +19,14 @@ using kernel::Json;
 
 namespace {
 
+constexpr const char* kCookie = "flipper_login";
+constexpr double kTrimAfterMs = 50;  // requests this long may have grown the heap a lot
+
 // Errors about the request's shape (the body is not a protocol request): HTTP 400. Every other
 // answer, ok or not, is the session's answer: HTTP 200.
 bool is_request_error(const std::string& code) {
   return code == "bad_json" || code == "unknown_op" || code == "missing_field" ||
          code == "bad_request";
-}
-
-int status_of(const std::string& answer) {
-  if (answer.rfind("{\"ok\":false", 0) != 0) return 200;
-  const Json a = Json::parse(answer, nullptr, false);
-  if (a.is_discarded()) return 200;
-  return is_request_error(a["error"].value("code", std::string())) ? 400 : 200;
-}
-
-bool inside(const fs::path& path, const fs::path& root) {
-  auto p = path.begin();
-  for (auto r = root.begin(); r != root.end(); ++r, ++p)
-    if (p == path.end() || *p != *r) return false;
-  return true;
 }
 
 // Every token of the core grammar plus its word classes: the vocabulary for "did you mean".
@@ -62,172 +54,361 @@ Json world_files(const std::string& root) {
   return out;
 }
 
+HttpReply json_reply(int status, const Json& body) {
+  HttpReply r;
+  r.status = status;
+  r.body = body.dump(-1, ' ', false, Json::error_handler_t::replace);
+  r.set_header("Cache-Control", "no-store");
+  return r;
+}
+
 }  // namespace
 
-std::string error_body(const std::string& code, const std::string& message, const Json* request) {
-  Json a;
-  a["ok"] = false;
-  a["op"] = nullptr;
-  if (request != nullptr && request->is_object()) {
-    if (auto it = request->find("op"); it != request->end()) a["op"] = *it;
-    if (auto it = request->find("id"); it != request->end()) a["id"] = *it;
+std::string login_cookie(const std::string& header) {
+  // "a=1; flipper_login=TOKEN; b=2"
+  std::size_t at = 0;
+  while (at < header.size()) {
+    while (at < header.size() && (header[at] == ' ' || header[at] == ';')) ++at;
+    const auto end = header.find(';', at);
+    const std::string pair = header.substr(at, end == std::string::npos ? end : end - at);
+    const auto eq = pair.find('=');
+    if (eq != std::string::npos && pair.substr(0, eq) == kCookie) return pair.substr(eq + 1);
+    if (end == std::string::npos) break;
+    at = end + 1;
   }
-  a["error"] = Json{{"code", code}, {"message", message}};
-  return a.dump(-1, ' ', false, Json::error_handler_t::replace);
+  return {};
 }
 
-bool same_origin(const HttpRequest& r) {
-  // Fetch metadata first: a browser marks cross-site requests itself.
-  if (!r.sec_fetch_site.empty() && r.sec_fetch_site != "same-origin" && r.sec_fetch_site != "none")
-    return false;
-  if (r.origin.empty()) return true;  // not a browser (curl, programs, the benchmark)
-  return r.origin == "http://" + r.host;
+std::string header_safe(const std::string& name) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string out;
+  for (char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (std::isalnum(u) || c == '.' || c == '_' || c == '-') {
+      out.push_back(c);
+    } else {
+      out.push_back('%');
+      out.push_back(kHex[u >> 4]);
+      out.push_back(kHex[u & 15]);
+    }
+  }
+  return out;
 }
 
-Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, ServeOptions options)
+Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, ServeOptions options,
+         AccountStore& accounts, Scheduler& scheduler, const HostPolicy& hosts)
     : options_(std::move(options)),
-      registry_(RegistryLimits{options_.max_sessions, std::chrono::seconds(options_.session_idle_s),
-                               options_.rate_per_second, options_.rate_burst}) {
+      accounts_(accounts),
+      scheduler_(scheduler),
+      hosts_(hosts),
+      registry_(RegistryLimits{
+          options_.max_sessions, std::chrono::seconds(options_.session_idle_s),
+          options_.rate_per_second, options_.rate_burst, options_.sessions_per_address,
+          static_cast<double>(options_.new_sessions_per_minute), options_.memory_budget_mb << 20,
+          64 * 1024, std::chrono::seconds(options_.evict_after_s)}) {
   for (const auto& [group, config] : kernels) {
-    Kernel k;
-    k.runtime = kernel::make_runtime(config);
-    k.factory = std::make_unique<kernel::SessionHost>(kernel::open_host(k.runtime));
+    auto k = std::make_unique<Kernel>();
+    k->runtime = kernel::make_runtime(config);
+    k->host = std::make_unique<kernel::SessionHost>(kernel::open_host(k->runtime));
     std::error_code ec;
-    k.world_root =
+    k->world_root =
         fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();
+    k->max_world_bytes = world_bytes(static_cast<std::size_t>(config.get_int("world.max_cells")));
+    k->vocabulary = vocabulary(*k->runtime);
+    SchedulerOptions so;
+    so.workers = 1;
+    so.cpu_ms_per_s = options_.cpu_ms_per_s;
+    so.cpu_burst_ms = options_.cpu_burst_ms;
+    k->scheduler = std::make_unique<Scheduler>(so);
     kernels_.emplace(group, std::move(k));
   }
 }
 
-Api::~Api() = default;
+Api::~Api() {
+  for (auto& [group, k] : kernels_) k->scheduler.reset();  // their workers use the sessions
+  bury_evicted();
+}
 
 Kernel& Api::kernel_for(const std::string& group) {
   auto it = kernels_.find(group);
-  return it == kernels_.end() ? kernels_.begin()->second : it->second;
+  return it == kernels_.end() ? *kernels_.begin()->second : *it->second;
 }
 
-// The request's session: found by token, or created when the request names none. Sets the
-// reply's error (and returns null) for unknown tokens and a full server.
-SessionEntry* Api::session_for(const HttpRequest& r, HttpReply& reply) {
-  const auto now = Clock::now();
-  if (!r.session.empty()) {
-    SessionEntry* e = registry_.find(r.session);
-    if (e == nullptr) {
-      reply.status = 404;
-      reply.body = error_body("unknown_session",
-                              "no session has this token (it expired or the server restarted); "
-                              "send the request without 'session' to start a new one");
-    }
-    return e;
+void Api::bury_evicted() {
+  for (auto& e : registry_.take_evicted()) {
+    if (e->kernel == nullptr || !e->session) continue;
+    std::lock_guard lock(e->kernel->mutex);
+    e->session.reset();
   }
-  std::string group = r.group;
-  if (study_) group = study_->assign_group(group);
-  Kernel& k = kernel_for(group);
-  SessionEntry* e = registry_.add(k.factory->open(), now);
-  if (e == nullptr) {
-    reply.status = 503;
-    reply.body =
-        error_body("too_many_sessions", "the server has " + std::to_string(options_.max_sessions) +
-                                            " sessions (serve.max_sessions); try later");
+}
+
+void Api::request(const HttpRequest& r, Respond respond) {
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin",
+                               "state-changing requests must come from this server's own page "
+                               "(Origin '" +
+                                   r.origin.substr(0, 200) + "')"));
+  const std::string token = r.param("session");
+  // One request at a time per session. A request that opens a session is a key of its own (the
+  // registry's per-address limits bound how many an address may open).
+  const std::string key = token.empty() ? "new:" + std::to_string(++new_requests_) : token;
+  auto job = [this, r, respond](int) { respond(serve(r)); };
+  // The session's kernel decides; a new session goes to the kernel of its group.
+  std::shared_ptr<SessionEntry> entry = token.empty() ? nullptr : registry_.find(token);
+  Kernel& k = entry ? *entry->kernel : kernel_for(r.param("group"));
+  if (!k.scheduler->submit(key, std::move(job)))
+    respond(error_reply(429, "session_busy",
+                        "this session already has requests waiting; send the next one after "
+                        "the answer"));
+}
+
+void Api::run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job,
+                              Respond respond) {
+  Kernel& k = kernel_for(std::string());
+  auto work = [job = std::move(job), respond](int) { respond(job()); };
+  if (!k.scheduler->submit(key, std::move(work)))
+    respond(error_reply(429, "session_busy",
+                        "this session already has requests waiting; send the next one after "
+                        "the answer"));
+}
+
+HttpReply Api::serve(const HttpRequest& r) {
+  bury_evicted();
+  const auto now = Clock::now();
+  const std::string token = r.param("session");
+  const std::optional<Login> login = accounts_.resume(login_cookie(r.cookie));
+  std::shared_ptr<SessionEntry> entry;
+  HttpReply reply;
+  if (!token.empty()) {
+    entry = registry_.find(token);
+    if (!entry)
+      return error_reply(404, "unknown_session",
+                         "no session has this token (it expired or the server restarted); send "
+                         "the request without 'session' to start a new one");
+    // An account's session is usable only with that account's login.
+    if (!entry->account.empty() && (!login || login->name != entry->account))
+      return error_reply(401, "login_required",
+                         "this session belongs to account '" + entry->account +
+                             "': log in as it (the login ended or was revoked)");
+  } else {
+    entry = open_session(r, login, reply);
+    if (!entry) return reply;
+  }
+  if (!registry_.admit(*entry, now))
+    return error_reply(429, "rate_limited",
+                       "too many requests in this session (serve.rate_per_second)");
+  if (!registry_.set_busy(*entry, true))
+    return error_reply(429, "session_busy", "this session is answering another request");
+  HttpReply out;
+  try {
+    out = run(*entry, r);
+  } catch (...) {
+    registry_.set_busy(*entry, false);
+    throw;
+  }
+  registry_.set_busy(*entry, false);
+  return out;
+}
+
+std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
+                                                const std::optional<Login>& login,
+                                                HttpReply& reply) {
+  if (!login && !options_.guests) {
+    reply = error_reply(401, "login_required",
+                        "this server has no guests (serve.guests: false): log in first");
     return nullptr;
   }
-  e->group = group;
-  if (study_) {
-    e->participant = study_->next_participant();
-    if (recorder_) recorder_->session_started(*e);
+  if (auto refused = registry_.admit_new(r.peer, Clock::now())) {
+    reply = error_reply(refused->status, refused->code, refused->message);
+    return nullptr;
   }
-  return e;
+  auto entry = std::make_shared<SessionEntry>();
+  entry->address = r.peer;
+  if (login) {
+    entry->user = login->name;
+    entry->account = login->name;
+    entry->role = login->role;
+    entry->login = login->token;
+  } else {
+    entry->user = accounts_.next_guest();
+  }
+  std::string group = r.param("group");
+  if (study_) {
+    std::lock_guard lock(study_mutex_);
+    group = study_->assign_group(group);
+    entry->participant = study_->next_participant();
+  }
+  entry->group = group;
+  Kernel& k = kernel_for(group);
+  entry->kernel = &k;
+  {
+    std::lock_guard lock(k.mutex);
+    entry->session = k.host->open();
+    entry->session->set_user(entry->user);
+    StudioOpsContext ctx;
+    ctx.world_root = k.world_root;
+    ctx.role = entry->role;
+    ctx.naturalizer = k.host->naturalizer;
+    ctx.max_world_bytes = k.max_world_bytes;
+    ctx.budget_bytes = registry_.limits().memory_budget_bytes;
+    SessionEntry* raw = entry.get();
+    const std::size_t base = registry_.limits().session_base_bytes;
+    ctx.reserve = [this, raw](std::size_t bytes) {
+      return registry_.reserve(*raw, bytes, Clock::now());
+    };
+    ctx.charge = [this, raw, base](std::size_t bytes) { registry_.charge(*raw, base + bytes); };
+    entry->session->install(std::make_shared<StudioOps>(std::move(ctx)));
+  }
+  registry_.add(entry, Clock::now());
+  if (study_ && recorder_) {
+    std::lock_guard lock(study_mutex_);
+    recorder_->session_started(*entry);
+  }
+  return entry;
 }
 
-HttpReply Api::request(const HttpRequest& r) {
+HttpReply Api::run(SessionEntry& entry, const HttpRequest& r) {
   HttpReply reply;
-  reply.headers.emplace_back("Cache-Control", "no-store");
-  if (!same_origin(r)) {
-    reply.status = 403;
-    reply.body = error_body("cross_origin",
-                            "state-changing requests must come from this "
-                            "server's own page (Origin '" +
-                                r.origin + "')");
-    return reply;
+  reply.set_header("Cache-Control", "no-store");
+  reply.set_header("Flipper-Session", entry.token);
+  reply.set_header("Flipper-User", header_safe(entry.user));
+  Kernel& k = *entry.kernel;
+  kernel::Session& session = *entry.session;
+  auto* ops = session.extension<StudioOps>();
+  std::string answer;
+  double ms = 0;
+  {
+    std::lock_guard lock(k.mutex);
+    k.host->activate(session);
+    ops->reset();
+    const auto start = Clock::now();
+    answer = session.handle_line(r.body);
+    ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   }
-  const Json parsed = Json::parse(r.body, nullptr, false);
-  std::lock_guard lock(mutex_);
-  SessionEntry* entry = session_for(r, reply);
-  if (entry == nullptr) return reply;
-  reply.headers.emplace_back("Flipper-Session", entry->token);
-  reply.headers.emplace_back("Flipper-User", entry->session->user());
-  if (!registry_.admit(*entry, Clock::now())) {
-    reply.status = 429;
-    reply.body = error_body("rate_limited",
-                            "too many requests in this session (serve.rate_per_second)", &parsed);
-    return reply;
-  }
-  kernel::Session& session = *entry->session;
-  Kernel& k = kernel_for(entry->group);
-  std::string body = r.body;
-  if (parsed.is_object()) {
-    const std::string op =
-        parsed.value("op", Json()).is_string() ? parsed["op"].get<std::string>() : std::string();
-    // A session acts as one of its own users only.
-    if (op == "user" && parsed.contains("name") && parsed["name"].is_string() &&
-        !parsed["name"].get<std::string>().empty() &&
-        !registry_.claim_user(parsed["name"].get<std::string>(), entry->token)) {
-      reply.body = error_body(
-          "forbidden",
-          "user '" + parsed["name"].get<std::string>() + "' belongs to another session", &parsed);
-      return reply;
-    }
-    // World files: only the config's world directory, resolved there (never the server's cwd).
-    if (op == "world" && parsed.contains("file") && parsed["file"].is_string() &&
-        (!parsed.contains("world") || parsed["world"].is_null())) {
-      std::error_code ec;
-      const fs::path file =
-          fs::weakly_canonical(fs::path(k.world_root) / parsed["file"].get<std::string>(), ec);
-      if (ec || !inside(file, fs::path(k.world_root))) {
-        reply.body = error_body("forbidden",
-                                "over HTTP a world file must lie in " + k.world_root +
-                                    " (or send the world object in 'world')",
-                                &parsed);
-        return reply;
-      }
-      Json rewritten = parsed;
-      rewritten["file"] = file.string();
-      body = rewritten.dump();
-    }
-  }
-  k.factory->activate(session);
-  const auto start = Clock::now();
-  std::string answer = session.handle_line(body);
-  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  // An expensive request (a long query builds large charts and traces) leaves the heap grown:
+  // give the freed memory back to the system (docs/studio.md §4).
+  if (ms >= kTrimAfterMs) malloc_trim(0);
   if (answer.empty()) {
     reply.status = 400;
     reply.body = error_body("bad_json", "the body is empty: send one request object");
     return reply;
   }
-  reply.status = status_of(answer);
-  reply.headers.back().second = session.user();  // after a `user` op: the new name
-  if (recorder_ && parsed.is_object()) recorder_->record(*entry, parsed, answer, ms);
+  if (answer.rfind("{\"ok\":false", 0) == 0) {
+    // An op's refusal names its code; a request refused before any op ran (bad JSON, unknown op,
+    // a line too long) is read back from the (short) error answer.
+    std::string code = ops->error_code();
+    if (!ops->op_ran()) {
+      const Json a = Json::parse(answer, nullptr, false);
+      if (a.is_object() && a.contains("error") && a["error"].is_object())
+        code = a["error"].value("code", std::string());
+    }
+    reply.status = is_request_error(code) ? 400 : 200;
+  }
+  if (recorder_) {
+    // Study mode records the request as parsed (the study helper's recorder reads fields).
+    const Json parsed = Json::parse(r.body, nullptr, false);
+    std::lock_guard lock(study_mutex_);
+    if (parsed.is_object()) recorder_->record(entry, parsed, answer, ms);
+  }
   reply.body = std::move(answer);
   return reply;
 }
 
-HttpReply Api::info(const HttpRequest& r) {
-  HttpReply reply;
-  reply.headers.emplace_back("Cache-Control", "no-store");
-  std::lock_guard lock(mutex_);
-  SessionEntry* entry = r.session.empty() ? nullptr : registry_.find(r.session);
-  Kernel& k = kernel_for(entry ? entry->group : std::string());
-  const kernel::Config& c = k.runtime->config;
-  Json out{{"ok", true},
-           {"sharing", c.get_string("lexicon.sharing")},
-           {"k", c.get_int("session.k")},
-           {"max_chars", c.get_int("input.max_chars")},
-           {"vocabulary", vocabulary(*k.runtime)},
-           {"worlds", world_files(k.world_root)},
-           {"study", nullptr}};
-  if (study_) out["study"] = study_->page_json(entry);
-  reply.body = out.dump();
+void Api::info(const HttpRequest& r, Respond respond) {
+  const std::string token = r.param("session");
+  auto job = [this, r, respond](int) {
+    const std::optional<Login> login = accounts_.resume(login_cookie(r.cookie));
+    const std::string session = r.param("session");
+    std::shared_ptr<SessionEntry> entry = session.empty() ? nullptr : registry_.find(session);
+    Kernel& k = entry ? *entry->kernel : kernel_for(std::string());
+    const kernel::Config& c = k.runtime->config;
+    Json account = nullptr;
+    if (login) account = Json{{"name", login->name}, {"role", to_string(login->role)}};
+    Json out{{"ok", true},
+             {"sharing", c.get_string("lexicon.sharing")},
+             {"k", c.get_int("session.k")},
+             {"max_chars", c.get_int("input.max_chars")},
+             {"vocabulary", k.vocabulary},
+             {"worlds", world_files(k.world_root)},
+             {"account", account},
+             {"guests", options_.guests},
+             {"study", Json()}};
+    if (study_) {
+      std::lock_guard lock(study_mutex_);
+      out["study"] = study_->page_json(entry.get());
+    }
+    respond(json_reply(200, out));
+  };
+  if (!scheduler_.submit(token.empty() ? "info:" + r.peer : token, std::move(job)))
+    respond(error_reply(429, "session_busy", "too many requests waiting"));
+}
+
+bool Api::login_allowed(const std::string& address) {
+  // Ten attempts per address per minute (each costs an Argon2id check: ~64 MiB, tens of ms).
+  constexpr double kBurst = 10, kPerSecond = 10.0 / 60.0;
+  std::lock_guard lock(login_mutex_);
+  const auto now = Clock::now();
+  auto [it, fresh] = login_buckets_.try_emplace(address, kBurst, now);
+  auto& [tokens, refilled] = it->second;
+  tokens =
+      std::min(kBurst, tokens + std::chrono::duration<double>(now - refilled).count() * kPerSecond);
+  refilled = now;
+  if (tokens < 1.0) return false;
+  tokens -= 1.0;
+  return true;
+}
+
+void Api::login(const HttpRequest& r, Respond respond) {
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "logins must come from this server's page"));
+  if (!login_allowed(r.peer))
+    return respond(error_reply(429, "login_rate_limited",
+                               "too many login attempts from this address; wait a minute"));
+  auto job = [this, r, respond](int) { respond(login_reply(r)); };
+  if (!scheduler_.submit("login:" + r.peer, std::move(job)))
+    respond(error_reply(429, "login_rate_limited", "too many login attempts waiting"));
+}
+
+HttpReply Api::login_reply(const HttpRequest& r) {
+  const Json body = Json::parse(r.body, nullptr, false);
+  if (!body.is_object())
+    return error_reply(400, "bad_json", "send {\"name\", \"password\"} or {\"code\"}");
+  const auto text = [&](const char* key) {
+    return body.contains(key) && body[key].is_string() ? body[key].get<std::string>()
+                                                       : std::string();
+  };
+  const auto valid_for = std::chrono::hours(24) * options_.login_days;
+  std::optional<Login> login;
+  if (!text("code").empty())
+    login = accounts_.redeem(text("code"), valid_for);
+  else if (!text("name").empty())
+    login = accounts_.login(text("name"), text("password"), valid_for);
+  else
+    return error_reply(400, "missing_field", "send {\"name\", \"password\"} or {\"code\"}");
+  if (!login)
+    return error_reply(401, "bad_login",
+                       "wrong name or password, or a code that is used, expired or unknown");
+  HttpReply reply =
+      json_reply(200, Json{{"ok", true}, {"user", login->name}, {"role", to_string(login->role)}});
+  reply.set_header("Set-Cookie", std::string(kCookie) + "=" + login->token +
+                                     "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" +
+                                     std::to_string(std::chrono::seconds(valid_for).count()));
   return reply;
+}
+
+void Api::logout(const HttpRequest& r, Respond respond) {
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "logouts must come from this server's page"));
+  auto job = [this, r, respond](int) {
+    const std::string token = login_cookie(r.cookie);
+    if (!token.empty()) accounts_.logout(token);
+    HttpReply reply = json_reply(200, Json{{"ok", true}});
+    reply.set_header("Set-Cookie",
+                     std::string(kCookie) + "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+    respond(std::move(reply));
+  };
+  if (!scheduler_.submit("login:" + r.peer, std::move(job)))
+    respond(error_reply(429, "session_busy", "too many requests waiting"));
 }
 
 }  // namespace flipper::studio

@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include "flipper/sdk/errors.hpp"
+#include "flipper/studio/accounts.hpp"
 #include "flipper/studio/server.hpp"
 
 namespace flipper::studio {
@@ -21,6 +22,21 @@ ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   o.rate_burst = static_cast<double>(c.get(keys::kServeRateBurst));
   o.max_sessions = static_cast<std::size_t>(c.get(keys::kServeMaxSessions));
   o.session_idle_s = static_cast<int>(c.get(keys::kServeSessionIdleS));
+  o.allowed_hosts = c.get_string_list("serve.allowed_hosts");
+  o.accounts = accounts_path(c);
+  o.guests = c.get(keys::kServeGuests);
+  o.login_days = static_cast<int>(c.get(keys::kServeLoginDays));
+  o.request_timeout_ms = static_cast<int>(c.get(keys::kServeRequestTimeoutMs));
+  o.idle_timeout_ms = static_cast<int>(c.get(keys::kServeIdleTimeoutMs));
+  o.max_connections = static_cast<std::size_t>(c.get(keys::kServeMaxConnections));
+  o.max_connections_per_address =
+      static_cast<std::size_t>(c.get(keys::kServeMaxConnectionsPerAddress));
+  o.sessions_per_address = static_cast<std::size_t>(c.get(keys::kServeSessionsPerAddress));
+  o.new_sessions_per_minute = static_cast<int>(c.get(keys::kServeNewSessionsPerMinute));
+  o.memory_budget_mb = static_cast<std::size_t>(c.get(keys::kServeMemoryBudgetMb));
+  o.evict_after_s = static_cast<int>(c.get(keys::kServeEvictAfterS));
+  o.cpu_ms_per_s = static_cast<int>(c.get(keys::kServeCpuMsPerS));
+  o.cpu_burst_ms = static_cast<int>(c.get(keys::kServeCpuBurstMs));
   if (!c.get_string("serve.web_dir").empty()) o.web_dir = c.get_path("serve.web_dir");
   if (!c.get_string("serve.study").empty()) o.study = c.get_path("serve.study");
   o.sempre = c.get(keys::kServeSempre);

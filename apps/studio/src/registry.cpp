@@ -16,44 +16,95 @@ std::string new_token() {
   return out;
 }
 
-SessionEntry* SessionRegistry::find(const std::string& token) {
+std::shared_ptr<SessionEntry> SessionRegistry::find(const std::string& token) {
+  std::lock_guard lock(mutex_);
   auto it = sessions_.find(token);
-  return it == sessions_.end() ? nullptr : &it->second;
+  return it == sessions_.end() ? nullptr : it->second;
 }
 
-void SessionRegistry::evict_idle(Clock::time_point now) {
-  for (auto it = sessions_.begin(); it != sessions_.end();) {
-    if (now - it->second.last_used < limits_.idle) {
-      ++it;
-      continue;
-    }
-    // The evicted session's user names become free again.
-    for (auto o = owners_.begin(); o != owners_.end();)
-      o = o->second == it->first ? owners_.erase(o) : std::next(o);
-    it = sessions_.erase(it);
+void SessionRegistry::erase_locked(
+    std::map<std::string, std::shared_ptr<SessionEntry>>::iterator it) {
+  SessionEntry& e = *it->second;
+  used_bytes_ -= e.charged_bytes;
+  e.charged_bytes = 0;
+  if (auto a = per_address_.find(e.address); a != per_address_.end() && --a->second == 0)
+    per_address_.erase(a);
+  evicted_.push_back(std::move(it->second));
+  sessions_.erase(it);
+}
+
+template <class Enough>
+bool SessionRegistry::evict_until(Clock::time_point now, std::chrono::seconds min_idle,
+                                  Enough enough) {
+  if (enough()) return true;
+  std::vector<std::pair<std::pair<bool, Clock::time_point>, std::string>> candidates;
+  for (const auto& [token, e] : sessions_)
+    if (!e->busy && now - e->last_used >= min_idle)
+      candidates.push_back({{!e->account.empty(), e->last_used}, token});  // guests first
+  std::sort(candidates.begin(), candidates.end());
+  for (const auto& c : candidates) {
+    erase_locked(sessions_.find(c.second));
+    if (enough()) return true;
   }
+  return false;
 }
 
-SessionEntry* SessionRegistry::add(std::unique_ptr<kernel::Session> session,
-                                   Clock::time_point now) {
-  if (sessions_.size() >= limits_.max_sessions) evict_idle(now);
-  if (sessions_.size() >= limits_.max_sessions) return nullptr;
+std::optional<SessionRegistry::Refusal> SessionRegistry::admit_new(const std::string& address,
+                                                                   Clock::time_point now) {
+  std::lock_guard lock(mutex_);
+  Bucket& b = new_session_buckets_[address];
+  const double per_s = limits_.new_sessions_per_minute / 60.0;
+  if (b.refilled == Clock::time_point()) b.tokens = limits_.new_sessions_per_minute;
+  b.tokens = std::min(limits_.new_sessions_per_minute,
+                      b.tokens + std::chrono::duration<double>(now - b.refilled).count() * per_s);
+  b.refilled = now;
+  if (b.tokens < 1.0)
+    return Refusal{429, "too_many_sessions",
+                   "this address opens new sessions too fast "
+                   "(serve.new_sessions_per_minute = " +
+                       std::to_string(static_cast<long>(limits_.new_sessions_per_minute)) +
+                       "); keep using the session you have"};
+  if (auto a = per_address_.find(address);
+      a != per_address_.end() && a->second >= limits_.sessions_per_address)
+    return Refusal{429, "too_many_sessions",
+                   "this address holds " + std::to_string(a->second) +
+                       " sessions (serve.sessions_per_address); keep using the ones you have"};
+  const bool room = evict_until(now, limits_.idle, [&] {
+    return sessions_.size() < limits_.max_sessions &&
+           used_bytes_ + limits_.session_base_bytes <= limits_.memory_budget_bytes;
+  });
+  if (!room && sessions_.size() >= limits_.max_sessions)
+    return Refusal{503, "too_many_sessions",
+                   "the server has " + std::to_string(sessions_.size()) +
+                       " sessions (serve.max_sessions); try later"};
+  if (!room)
+    return Refusal{503, "server_busy",
+                   "the server's memory for sessions is in use (serve.memory_budget_mb = " +
+                       std::to_string(limits_.memory_budget_bytes >> 20) + " MiB); try later"};
+  b.tokens -= 1.0;
+  return std::nullopt;
+}
+
+std::shared_ptr<SessionEntry> SessionRegistry::add(std::shared_ptr<SessionEntry> entry,
+                                                   Clock::time_point now) {
+  std::lock_guard lock(mutex_);
   std::string token = new_token();
   while (sessions_.count(token)) token = new_token();
-  const std::string guest = "guest-" + std::to_string(++guests_);
-  session->set_user(guest);
-  owners_[guest] = token;
-  SessionEntry& e = sessions_[token];
-  e.token = token;
-  e.session = std::move(session);
-  e.last_used = now;
-  e.bucket = limits_.rate_burst;
-  e.refilled = now;
-  return &e;
+  entry->token = token;
+  entry->last_used = now;
+  entry->bucket = limits_.rate_burst;
+  entry->refilled = now;
+  entry->charged_bytes = limits_.session_base_bytes;
+  used_bytes_ += entry->charged_bytes;
+  ++per_address_[entry->address];
+  sessions_[token] = entry;
+  return entry;
 }
 
 bool SessionRegistry::admit(SessionEntry& e, Clock::time_point now) {
+  std::lock_guard lock(mutex_);
   const double elapsed = std::chrono::duration<double>(now - e.refilled).count();
+  // Idle time refills the bucket up to the burst, never beyond.
   e.bucket = std::min(limits_.rate_burst, e.bucket + elapsed * limits_.rate_per_second);
   e.refilled = now;
   e.last_used = now;
@@ -62,16 +113,44 @@ bool SessionRegistry::admit(SessionEntry& e, Clock::time_point now) {
   return true;
 }
 
-bool SessionRegistry::claim_user(const std::string& name, const std::string& token) {
-  // Names under "sempre:" are /sempre's sessionIds (docs/sempre.md): never an /api/v1 user.
-  if (name.rfind("sempre:", 0) == 0) return false;
-  auto [it, inserted] = owners_.emplace(name, token);
-  // "guest-N" names are only ever given by add(); an unclaimed one is not up for grabs.
-  if (inserted && name.rfind("guest-", 0) == 0) {
-    owners_.erase(it);
-    return false;
-  }
-  return it->second == token;
+bool SessionRegistry::set_busy(SessionEntry& e, bool busy) {
+  std::lock_guard lock(mutex_);
+  if (busy && e.busy) return false;
+  e.busy = busy;
+  e.last_used = Clock::now();
+  return true;
+}
+
+bool SessionRegistry::reserve(SessionEntry& e, std::size_t bytes, Clock::time_point now) {
+  std::lock_guard lock(mutex_);
+  const bool ok = evict_until(now, limits_.evict_after,
+                              [&] { return used_bytes_ + bytes <= limits_.memory_budget_bytes; });
+  if (!ok) return false;
+  used_bytes_ += bytes;
+  e.charged_bytes += bytes;
+  return true;
+}
+
+void SessionRegistry::charge(SessionEntry& e, std::size_t bytes) {
+  std::lock_guard lock(mutex_);
+  if (!sessions_.count(e.token)) return;  // evicted meanwhile: nothing is charged any more
+  used_bytes_ = used_bytes_ - e.charged_bytes + bytes;
+  e.charged_bytes = bytes;
+}
+
+std::size_t SessionRegistry::used_bytes() const {
+  std::lock_guard lock(mutex_);
+  return used_bytes_;
+}
+
+std::size_t SessionRegistry::size() const {
+  std::lock_guard lock(mutex_);
+  return sessions_.size();
+}
+
+std::vector<std::shared_ptr<SessionEntry>> SessionRegistry::take_evicted() {
+  std::lock_guard lock(mutex_);
+  return std::exchange(evicted_, {});
 }
 
 }  // namespace flipper::studio

@@ -102,7 +102,7 @@ SempreSession* SempreEndpoint::session_for(Kernel& kernel, const std::string& id
       std::erase_if(sessions_, [&](const auto& e) { return now - e.second.last_used >= idle_; });
     if (sessions_.size() >= max_sessions_) return nullptr;
     SempreSession s;
-    s.session = kernel.factory->open();
+    s.session = kernel.host->open();
     s.session->set_user(sempre_user(id));
     it = sessions_.emplace(id, std::move(s)).first;
   }
@@ -150,7 +150,7 @@ HttpReply SempreEndpoint::handle(const SempreRequest& request) {
                      "the server has " + std::to_string(max_sessions_) +
                          " /sempre sessions in use (serve.max_sessions); try later",
                      count);
-    kernel.factory->activate(*s->session);
+    kernel.host->activate(*s->session);
     HttpReply reply;
     cors(reply);
     const auto start = std::chrono::steady_clock::now();

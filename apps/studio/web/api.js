@@ -1,6 +1,8 @@
 // The session protocol over HTTP (README "Flipper Studio"): one request object per POST, the
 // session named by the token the server issued. The token lives in sessionStorage, so a reload
-// keeps the session and another tab is another session.
+// keeps the session and another tab is another session. Who the session's user is comes from
+// the login cookie (HttpOnly: this code never sees it; docs/accounts.md), or the server names a
+// guest.
 const KEY = 'flipper.session';
 
 export class Api {
@@ -41,12 +43,37 @@ export class Api {
     } catch {
       answer = { ok: false, op: req.op, error: { code: 'http_error', message: `HTTP ${res.status}` } };
     }
-    if (res.status === 404 && answer.error?.code === 'unknown_session' && !retried) {
+    // An expired session, or one whose login ended: start a new one, once.
+    const gone = answer.error?.code === 'unknown_session' || answer.error?.code === 'login_required';
+    if ((res.status === 404 || res.status === 401) && gone && this.token && !retried) {
       this.token = '';
       sessionStorage.removeItem(KEY);
       return this.request(req, true);
     }
     return answer;
+  }
+
+  // POST /api/v1/login with {name, password} or {code}: the server sets an HttpOnly cookie. The
+  // protocol session belonged to the previous identity: forget it.
+  async login(credentials) {
+    const res = await fetch('/api/v1/login', {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify(credentials),
+    });
+    const answer = await res.json().catch(() => ({ ok: false, error: { code: 'http_error', message: `HTTP ${res.status}` } }));
+    if (answer.ok) this.forget();
+    return answer;
+  }
+
+  async logout() {
+    await fetch('/api/v1/logout', { method: 'POST' });
+    this.forget();
+  }
+
+  forget() {
+    this.token = '';
+    sessionStorage.removeItem(KEY);
   }
 
   async info() {

@@ -387,16 +387,30 @@ async function deleteRule(id) {
 
 // ---- user, worlds, study -----------------------------------------------------------------------
 
+// Over HTTP a session acts as the account logged in (or its guest name); `user` with another
+// name is refused (docs/accounts.md).
 async function setUser(name) {
   const answer = await api.request({ op: 'user', name });
+  if (!answer.ok) toast(`${answer.error.code}: ${answer.error.message}`);
+  return answer;
+}
+
+function showLogin(show) {
+  $('login-form').hidden = !show;
+  $('login-guest').hidden = !state.info?.guests || !!state.info?.account;
+  if (show) $('login-name').focus();
+}
+
+// Logs in (password or code); the page starts again as that account.
+async function logIn(credentials) {
+  const answer = await api.login(credentials);
   if (!answer.ok) {
-    toast(`${answer.error.code}: ${answer.error.message}`);
-    $('user-name').value = state.user;
+    showError($('login-error'), answer.error);
     return answer;
   }
-  state.user = answer.name;
-  sessionStorage.setItem('flipper.user', answer.name);
-  refreshRules();
+  const url = new URL(location.href);
+  url.searchParams.delete('code');
+  location.replace(url.toString());
   return answer;
 }
 
@@ -497,7 +511,17 @@ function wire() {
   $('rules-search').onfocus = refreshRules;
   // Others' phrases appear without a reload (shared mode); cheap: one `rules` request.
   setInterval(() => document.visibilityState === 'visible' && state.ready && refreshRules(), 10000);
-  $('user-name').onchange = (e) => e.target.value.trim() && setUser(e.target.value.trim());
+  $('login-open').onclick = () => showLogin(true);
+  $('login-guest').onclick = () => showLogin(false);
+  $('logout').onclick = async () => {
+    await api.logout();
+    location.reload();
+  };
+  $('login-form').onsubmit = (e) => {
+    e.preventDefault();
+    logIn({ name: $('login-name').value.trim(), password: $('login-password').value });
+  };
+  $('login-code-submit').onclick = () => logIn({ code: $('login-code').value.trim() });
   $('help-toggle').onclick = () => toggleHelp();
   $('world-select').onchange = (e) => loadWorldFile(e.target.value);
   $('study-start').onclick = () => startTask(0);
@@ -529,6 +553,18 @@ function wire() {
 async function main() {
   wire();
   renderHelp();
+  // Who we are first: a code in the link logs in; a server without guests asks for a login.
+  state.info = await api.info();
+  const code = new URLSearchParams(location.search).get('code');
+  if (code && !state.info.account) {
+    await logIn({ code });
+    return;
+  }
+  if (!state.info.account && !state.info.guests) {
+    showLogin(true);
+    document.body.dataset.ready = 'login';
+    return;
+  }
   // The first request makes (or resumes) the session; its answer is the current world.
   const st = await api.request({ op: 'state' });
   state.info = await api.info();
@@ -549,11 +585,11 @@ async function main() {
   setWorld(st.world);
   state.startWorld = st.world;
   select.value = '';
-  // The session's user: the server names each new session's guest user (Flipper-User header).
+  // The session's user: the account logged in, or the guest name the server gave it.
   state.user = api.user;
-  const saved = sessionStorage.getItem('flipper.user');
-  if (saved && saved !== state.user) await setUser(saved);
-  $('user-name').value = state.user;
+  $('who').textContent = state.user;
+  $('login-open').hidden = !!state.info.account;
+  $('logout').hidden = !state.info.account;
   if (who.ok) {
     state.rules = who.rules;
     renderRules();
@@ -569,5 +605,5 @@ async function main() {
 }
 
 // Exposed for the browser tests and the curious.
-window.flipperStudio = { state, api, map, runQuery, selectCandidate, accept, setUser, deleteRule };
+window.flipperStudio = { state, api, map, runQuery, selectCandidate, accept, setUser, deleteRule, logIn };
 main();

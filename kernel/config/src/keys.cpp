@@ -126,6 +126,22 @@ ParamSchema build() {
   s.add_path("serve.web_dir", std::string(), "the page's files (empty: the installed ones)");
   s.add_path("serve.study", std::string(), "a study description (empty: no study)");
   add(s, keys::kServeSempre);
+  s.add_string_list("serve.allowed_hosts", {},
+                    "more Host names the server answers to ('name' or 'name:port')");
+  s.add_path("serve.accounts", std::string(),
+             "the accounts store (empty: accounts.sqlite beside lexicon.path)");
+  add(s, keys::kServeGuests);
+  add(s, keys::kServeLoginDays);
+  add(s, keys::kServeRequestTimeoutMs);
+  add(s, keys::kServeIdleTimeoutMs);
+  add(s, keys::kServeMaxConnections);
+  add(s, keys::kServeMaxConnectionsPerAddress);
+  add(s, keys::kServeSessionsPerAddress);
+  add(s, keys::kServeNewSessionsPerMinute);
+  add(s, keys::kServeMemoryBudgetMb);
+  add(s, keys::kServeEvictAfterS);
+  add(s, keys::kServeCpuMsPerS);
+  add(s, keys::kServeCpuBurstMs);
   return s;
 }
 

@@ -1,7 +1,7 @@
 // Shared by the browser tests: start `flipper serve` on a free loopback port with a throwaway
 // lexicon, launch Debian's chromium through playwright-core with a fresh profile, save
 // screenshots as test artefacts, and small assertion helpers that say what differed.
-import { spawn } from 'node:child_process';
+import { spawn, spawnSync } from 'node:child_process';
 import { mkdtempSync, mkdirSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -68,6 +68,23 @@ export async function startServer(flipper, sets = [], { dir, cwd, config } = {})
     await done;
   };
   return { url, stop, dir, proc, output: () => output };
+}
+
+// `flipper accounts add NAME` on a server's store (the password on standard input).
+export function addAccount(flipper, server, name, password, role = 'user') {
+  const r = spawnSync(flipper, ['accounts', 'add', name, '--role', role, '--set',
+    `lexicon.path=${join(server.dir, 'lexicon.sqlite')}`], { input: `${password}\n`, encoding: 'utf8' });
+  if (r.status !== 0) throw new Error(`flipper accounts add ${name}: ${r.stdout}${r.stderr}`);
+}
+
+// Logs a ready page in through the login form; resolves when the page is ready as `name`.
+export async function logIn(page, name, password) {
+  await page.click('[data-testid=login-open]');
+  await page.fill('[data-testid=login-name]', name);
+  await page.fill('[data-testid=login-password]', password);
+  await Promise.all([page.waitForNavigation(), page.click('[data-testid=login-submit]')]);
+  await page.waitForFunction((n) => document.body.dataset.ready === 'true'
+    && window.flipperStudio.state.user === n, name, { timeout: 15000 });
 }
 
 export const CHROMIUM_FLAGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic',

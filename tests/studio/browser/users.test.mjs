@@ -1,18 +1,24 @@
-// Two users at once on one server, each in their own tab (their own session): in shared mode
-// bob sees and uses ana's phrase but cannot delete it, and cannot become ana; in private mode he
-// sees nothing of hers.
+// Two users at once on one server, each in their own browser (their own login cookie): ana and
+// bob log in with their accounts through the page's login form (docs/accounts.md). In shared
+// mode bob sees and uses ana's phrase but cannot delete it, and cannot become ana; in private
+// mode he sees nothing of hers.
 import {
   args, check, equal, run, startServer, launchBrowser, openPage, shot, query, waitAnimation, robot, accept,
+  addAccount, logIn,
 } from './harness.mjs';
 
 const opt = args();
 
-async function becomes(page, name) {
-  await page.fill('[data-testid=user-name]', name);
-  const answer = page.waitForResponse((r) => r.request().postData()?.includes('"op":"user"'));
-  await page.press('[data-testid=user-name]', 'Enter');
-  await page.locator('[data-testid=user-name]').blur();
-  return (await answer).json();
+// Two browsers (separate cookies), ana logged in in one and bob in the other.
+async function anaAndBob(server) {
+  addAccount(opt.flipper, server, 'ana', 'ana password');
+  addAccount(opt.flipper, server, 'bob', 'bob password');
+  const browsers = [await launchBrowser(), await launchBrowser()];
+  const ana = await openPage(browsers[0].context, server.url);
+  const bob = await openPage(browsers[1].context, server.url);
+  await logIn(ana, 'ana', 'ana password');
+  await logIn(bob, 'bob', 'bob password');
+  return { ana, bob, close: async () => { for (const b of browsers) await b.close(); } };
 }
 
 async function teach(page, head, lines) {
@@ -40,15 +46,15 @@ async function ruleRows(page) {
 run(async () => {
   // ---- shared mode -------------------------------------------------------------------------------
   let server = await startServer(opt.flipper, ['lexicon.sharing=shared']);
-  let browser = await launchBrowser();
+  let browser = null;
   try {
-    const ana = await openPage(browser.context, server.url);
-    const bob = await openPage(browser.context, server.url);
-    equal((await becomes(ana, 'ana')).ok, true, 'ana names herself');
-    equal((await becomes(bob, 'bob')).ok, true, 'bob names himself');
-    const bobAsAna = await becomes(bob, 'ana');
-    equal(bobAsAna.error?.code, 'forbidden', 'bob cannot become ana (another session\'s user)');
-    equal(await bob.inputValue('[data-testid=user-name]'), 'bob', 'bob stays bob');
+    browser = await anaAndBob(server);
+    const { ana, bob } = browser;
+    equal(await ana.textContent('[data-testid=who]'), 'ana', 'ana is logged in');
+    equal(await bob.textContent('[data-testid=who]'), 'bob', 'bob is logged in');
+    const bobAsAna = await bob.evaluate(() => window.flipperStudio.setUser('ana'));
+    equal(bobAsAna.error?.code, 'forbidden', 'bob cannot become ana');
+    equal(await bob.evaluate(() => window.flipperStudio.state.user), 'bob', 'bob stays bob');
 
     const defined = await teach(ana, 'pick 3 items', ['repeat 3 times pick item']);
     equal(defined.ok, true, 'ana teaches "pick 3 items" through the define panel');
@@ -87,18 +93,16 @@ run(async () => {
     equal((await del.then((r) => r.json())).ok, true, 'ana deletes her rule from the sidebar');
     equal(ana.jsErrors.concat(bob.jsErrors), [], 'no JavaScript errors on either page');
   } finally {
-    await browser.close();
+    await browser?.close();
     await server.stop();
   }
 
   // ---- private mode ------------------------------------------------------------------------------
   server = await startServer(opt.flipper, ['lexicon.sharing=private']);
-  browser = await launchBrowser();
+  browser = null;
   try {
-    const ana = await openPage(browser.context, server.url);
-    const bob = await openPage(browser.context, server.url);
-    await becomes(ana, 'ana');
-    await becomes(bob, 'bob');
+    browser = await anaAndBob(server);
+    const { ana, bob } = browser;
     equal((await teach(ana, 'pick 3 items', ['repeat 3 times pick item'])).ok, true, 'ana teaches in private mode');
     equal((await query(ana, 'drop 2 items')).status, 'induced', 'ana uses her own phrase');
     const a = await query(bob, 'drop 2 items');
@@ -107,8 +111,12 @@ run(async () => {
     const rules = await bob.evaluate(() => window.flipperStudio.api.request({ op: 'rules' }));
     equal(rules.rules.length, 0, 'in private mode bob sees none of ana\'s rules');
     await shot(bob, opt.artifacts, 'users-3-private-bob');
+    // ana logs out: the page is a guest's again.
+    await Promise.all([ana.waitForNavigation(), ana.click('[data-testid=logout]')]);
+    await ana.waitForFunction(() => document.body.dataset.ready === 'true');
+    check((await ana.textContent('[data-testid=who]')).startsWith('guest-'), 'after logging out ana is a guest');
   } finally {
-    await browser.close();
+    await browser?.close();
     await server.stop();
   }
 });

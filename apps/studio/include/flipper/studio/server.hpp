@@ -2,13 +2,15 @@
 /// @file server.hpp
 /// `flipper serve`: one process, one kernel, many users. The session protocol over HTTP
 /// (`POST /api/v1/request?session=TOKEN` takes one request object and answers exactly what
-/// `flipper session` answers), the page's static files, and study mode. README "Flipper Studio"
-/// documents the HTTP mapping.
+/// `flipper session` answers), logins (docs/accounts.md), the page's static files, and study
+/// mode. README "Flipper Studio" documents the HTTP mapping, docs/studio.md the transport,
+/// limits and fairness.
 
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "flipper/kernel/config.hpp"
 
@@ -17,8 +19,8 @@ namespace flipper::studio {
 /// serve.* config keys; defaults from their declaration (flipper/kernel/keys.hpp).
 struct ServeOptions {
   std::string host{kernel::keys::kServeHost.def};
-  int port = static_cast<int>(kernel::keys::kServePort.def);  ///< 0: any free port
-  int threads = static_cast<int>(kernel::keys::kServeThreads.def);
+  int port = static_cast<int>(kernel::keys::kServePort.def);        ///< 0: any free port
+  int threads = static_cast<int>(kernel::keys::kServeThreads.def);  ///< request workers
   std::size_t max_request_bytes = static_cast<std::size_t>(kernel::keys::kServeMaxRequestBytes.def);
   /// per session (token bucket)
   double rate_per_second = static_cast<double>(kernel::keys::kServeRatePerSecond.def);
@@ -28,6 +30,26 @@ struct ServeOptions {
   std::string web_dir;  ///< empty: found next to the binary or in the source tree
   std::string study;    ///< a study description file (empty: no study mode)
   bool sempre = kernel::keys::kServeSempre.def;  ///< also answer GET /sempre (docs/sempre.md)
+  // Names and accounts (docs/accounts.md, docs/studio.md §3).
+  std::vector<std::string> allowed_hosts;
+  std::string accounts;  ///< the accounts store (accounts_path())
+  bool guests = kernel::keys::kServeGuests.def;
+  int login_days = static_cast<int>(kernel::keys::kServeLoginDays.def);
+  // Transport (docs/studio.md §2).
+  int request_timeout_ms = static_cast<int>(kernel::keys::kServeRequestTimeoutMs.def);
+  int idle_timeout_ms = static_cast<int>(kernel::keys::kServeIdleTimeoutMs.def);
+  std::size_t max_connections = static_cast<std::size_t>(kernel::keys::kServeMaxConnections.def);
+  std::size_t max_connections_per_address =
+      static_cast<std::size_t>(kernel::keys::kServeMaxConnectionsPerAddress.def);
+  // Sessions and memory (docs/studio.md §4).
+  std::size_t sessions_per_address =
+      static_cast<std::size_t>(kernel::keys::kServeSessionsPerAddress.def);
+  int new_sessions_per_minute = static_cast<int>(kernel::keys::kServeNewSessionsPerMinute.def);
+  std::size_t memory_budget_mb = static_cast<std::size_t>(kernel::keys::kServeMemoryBudgetMb.def);
+  int evict_after_s = static_cast<int>(kernel::keys::kServeEvictAfterS.def);
+  // Fairness (docs/studio.md §5).
+  int cpu_ms_per_s = static_cast<int>(kernel::keys::kServeCpuMsPerS.def);
+  int cpu_burst_ms = static_cast<int>(kernel::keys::kServeCpuBurstMs.def);
   static ServeOptions from_config(const kernel::Config& config);
 };
 

@@ -80,7 +80,7 @@ inline constexpr Int kPerturbedChecks{"induction.perturbed_checks", 0, 0, 1000,
 
 inline constexpr Text kServeHost{"serve.host", "127.0.0.1", "address to listen on"};
 inline constexpr Int kServePort{"serve.port", 8410, 0, 65535, "port (0: any free port, printed)"};
-inline constexpr Int kServeThreads{"serve.threads", 128, 1, 4096, "worker threads"};
+inline constexpr Int kServeThreads{"serve.threads", 4, 1, 256, "worker threads running requests"};
 inline constexpr Int kServeMaxRequestBytes{"serve.max_request_bytes", 65536, 256, 67108864,
                                            "larger bodies: 413"};
 inline constexpr Int kServeRatePerSecond{"serve.rate_per_second", 100, 1, 1000000,
@@ -92,5 +92,29 @@ inline constexpr Int kServeSessionIdleS{"serve.session_idle_s", 3600, 1, 3153600
 inline constexpr Bool kServeSempre{"serve.sempre", false,
                                    "also answer the 2018 server's API at GET /sempre, to any web "
                                    "page (docs/sempre.md)"};
+inline constexpr Bool kServeGuests{"serve.guests", true,
+                                   "guests may use the server without an account"};
+inline constexpr Int kServeLoginDays{"serve.login_days", 30, 1, 3650,
+                                     "days a login (its cookie) lasts"};
+inline constexpr Int kServeRequestTimeoutMs{"serve.request_timeout_ms", 10000, 100, 600000,
+                                            "reading one request, headers and body"};
+inline constexpr Int kServeIdleTimeoutMs{"serve.idle_timeout_ms", 5000, 100, 600000,
+                                         "an idle keep-alive connection"};
+inline constexpr Int kServeMaxConnections{"serve.max_connections", 1024, 1, 1000000,
+                                          "open connections"};
+inline constexpr Int kServeMaxConnectionsPerAddress{"serve.max_connections_per_address", 64, 1,
+                                                    1000000, "open connections per client address"};
+inline constexpr Int kServeSessionsPerAddress{"serve.sessions_per_address", 32, 1, 1000000,
+                                              "open sessions per client address"};
+inline constexpr Int kServeNewSessionsPerMinute{"serve.new_sessions_per_minute", 60, 1, 1000000,
+                                                "new sessions per client address per minute"};
+inline constexpr Int kServeMemoryBudgetMb{"serve.memory_budget_mb", 1024, 1, 1048576,
+                                          "memory for all sessions' state (worlds)"};
+inline constexpr Int kServeEvictAfterS{"serve.evict_after_s", 120, 0, 31536000,
+                                       "idle seconds before the memory budget may evict"};
+inline constexpr Int kServeCpuMsPerS{"serve.cpu_ms_per_s", 500, 1, 1000000,
+                                     "CPU time per session per second"};
+inline constexpr Int kServeCpuBurstMs{"serve.cpu_burst_ms", 5000, 1, 100000000,
+                                      "CPU time a session may bank"};
 
 }  // namespace flipper::kernel::keys

@@ -1,0 +1,66 @@
+#pragma once
+// The studio's HTTP/1.1 server on Boost.Beast/Asio (docs/studio.md §2): one I/O thread serves
+// every connection asynchronously, so an idle or slow client holds a socket, never a thread.
+// Reading a request (headers and body) has one total deadline; an idle keep-alive connection is
+// closed after its own limit; connections are capped per client address and in total; framing is
+// strict (conflicting or invalid Content-Length: 400, a Transfer-Encoding other than chunked:
+// 501), and pipelined requests are answered one after another, in order. Routes answer through
+// a callback, so the work behind one can run on another thread (scheduler.hpp).
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "http_types.hpp"
+
+namespace flipper::studio {
+
+struct TransportOptions {
+  int request_timeout_ms = 10000;  ///< from a request's first byte to its last (headers + body)
+  int idle_timeout_ms = 5000;      ///< a keep-alive connection waiting for its next request
+  int write_timeout_ms = 10000;    ///< writing one answer
+  std::size_t max_connections = 1024;
+  std::size_t max_connections_per_address = 64;
+  std::size_t max_request_bytes = 65536;  ///< the body
+  std::size_t max_header_bytes = 16384;   ///< request line and headers
+};
+
+/// Method + path -> route; other paths of a method go to its fallback (the page's files).
+class Router {
+ public:
+  void add(const std::string& method, const std::string& path, Route route);
+  void fallback(const std::string& method, Route route);
+  /// Runs before any route; a reply it returns is sent instead (host checks).
+  void guard(std::function<bool(const HttpRequest&, HttpReply&)> refuse) {
+    guard_ = std::move(refuse);
+  }
+  void dispatch(const HttpRequest& request, Respond respond) const;
+
+ private:
+  std::map<std::pair<std::string, std::string>, Route> routes_;
+  std::map<std::string, Route> fallbacks_;
+  std::function<bool(const HttpRequest&, HttpReply&)> guard_;
+};
+
+class HttpTransport {
+ public:
+  HttpTransport(TransportOptions options, const Router& router);
+  ~HttpTransport();
+  HttpTransport(const HttpTransport&) = delete;
+  HttpTransport& operator=(const HttpTransport&) = delete;
+
+  /// Listens on host:port (0: any free port); returns the port. Throws sdk::Error(serve_failed).
+  int bind(const std::string& host, int port);
+  /// Serves until stop() (blocking).
+  void run();
+  /// Safe from any thread.
+  void stop();
+
+  struct Impl;  ///< (the connections use it)
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace flipper::studio

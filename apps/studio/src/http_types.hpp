@@ -1,0 +1,57 @@
+#pragma once
+// The HTTP request and reply as the studio's routes see them, independent of the HTTP library
+// (http_transport.cpp fills and sends them). docs/studio.md §2 (transport).
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace flipper::studio {
+
+struct HttpRequest {
+  std::string method;                        ///< "GET", "POST", ...
+  std::string path;                          ///< the target without the query ("/api/v1/request")
+  std::map<std::string, std::string> query;  ///< decoded query parameters (first value wins)
+  std::string raw_query;                     ///< the query as sent (after '?'), not decoded
+  std::string host;                          ///< the Host header
+  std::string origin;                        ///< the Origin header
+  std::string sec_fetch_site;                ///< the Sec-Fetch-Site header
+  std::string cookie;                        ///< the Cookie header
+  std::string body;
+  std::string peer;  ///< the client's address (no port)
+
+  /// A query parameter, or "" when absent.
+  std::string param(const std::string& name) const {
+    auto it = query.find(name);
+    return it == query.end() ? std::string() : it->second;
+  }
+};
+
+struct HttpReply {
+  int status = 200;
+  std::string body;
+  std::string content_type = "application/json";
+  std::vector<std::pair<std::string, std::string>> headers;
+  void set_header(std::string name, std::string value) {
+    for (auto& [k, v] : headers)
+      if (k == name) {
+        v = std::move(value);
+        return;
+      }
+    headers.emplace_back(std::move(name), std::move(value));
+  }
+};
+
+/// A route's answer arrives through this callback, from any thread, exactly once.
+using Respond = std::function<void(HttpReply)>;
+/// A route: answers `request` now or later (a worker thread) through `respond`.
+using Route = std::function<void(const HttpRequest& request, Respond respond)>;
+
+/// {"ok":false,"op":null,"error":{"code","message"}}: the protocol's error object for refusals
+/// made before a request reaches a session.
+std::string error_body(const std::string& code, const std::string& message);
+/// A reply with that body.
+HttpReply error_reply(int status, const std::string& code, const std::string& message);
+
+}  // namespace flipper::studio

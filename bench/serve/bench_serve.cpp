@@ -1,0 +1,228 @@
+// The attack figures of `flipper serve` on loopback (docs/studio.md), each next to its target:
+//   trickle   300 connections from 127.0.0.2 send one header line a second; a normal client from
+//             127.0.0.1 sends 50 requests meanwhile: its slowest round trip (target <= 1000 ms)
+//   fairness  16 clients loop a ~0.4 s query; another user's `move left` round trip, p50/p99
+//             (target p99 <= 50 ms)
+//   memory    resident memory before / after 20 expensive queries (target: back near the
+//             baseline), and 40 sessions each loading a maximal world against a 1024 MiB budget
+//             (target: refused before the budget; peak RSS)
+// Usage: bench_serve --flipper BIN [--part trickle|fairness|memory|all]
+#include <httplib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "child_process.hpp"
+#include "raw_socket.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+using flipper::studiotest::RawSocket;
+
+// ~0.4 s of CPU on the study map (measured with flipper run).
+const char* kHeavy =
+    "repeat 6 times { foreach point in world { foreach point in world { visit point } } }";
+
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1,
+                    static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5))];
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
+long rss_kib(int pid, const char* field = "VmRSS:") {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(field, 0) == 0) return std::stol(line.substr(std::string(field).size()));
+  return -1;
+}
+
+struct Server {
+  std::unique_ptr<flipper::testsupport::ChildProcess> child;
+  int port = 0;
+  std::string dir;
+  Server(const std::string& flipper, const std::vector<std::string>& sets) {
+    char tmpl[] = "/tmp/flipper-bench-serve-XXXXXX";
+    dir = ::mkdtemp(tmpl);
+    std::vector<std::string> args{flipper, "serve",
+                                  "--set", "serve.port=0",
+                                  "--set", "lexicon.path=" + dir + "/lexicon.sqlite",
+                                  "--set", "lexicon.preload="};
+    for (const auto& s : sets) {
+      args.push_back("--set");
+      args.push_back(s);
+    }
+    child = std::make_unique<flipper::testsupport::ChildProcess>(args);
+    const std::string line = child->read_line(30s);
+    port = std::stoi(line.substr(line.find("127.0.0.1:") + 10));
+  }
+  ~Server() {
+    child->kill_now();
+    std::filesystem::remove_all(dir);
+  }
+  httplib::Client client() const {
+    httplib::Client c("127.0.0.1", port);
+    c.set_tcp_nodelay(true);
+    c.set_read_timeout(60);
+    c.set_keep_alive(true);
+    return c;
+  }
+};
+
+std::string session_of(httplib::Client& c) {
+  auto r = c.Post("/api/v1/request", R"({"op":"state"})", "application/json");
+  return r ? r->get_header_value("Flipper-Session") : "";
+}
+
+double query_ms(httplib::Client& c, const std::string& session, const std::string& text, bool* ok) {
+  const auto t0 = Clock::now();
+  auto r = c.Post(("/api/v1/request?session=" + session).c_str(),
+                  nlohmann::json{{"op", "query"}, {"text", text}}.dump(), "application/json");
+  if (ok) *ok = r && r->status == 200 && r->body.rfind("{\"ok\":true", 0) == 0;
+  if (ok && !*ok && std::getenv("BENCH_SERVE_DEBUG"))
+    std::cerr << (r ? std::to_string(r->status) + " " + r->body.substr(0, 200) : "no answer")
+              << "\n";
+  return ms_since(t0);
+}
+
+void trickle(const std::string& flipper) {
+  Server s(flipper, {"serve.max_connections_per_address=1000", "serve.max_connections=2000"});
+  std::vector<RawSocket> slow;
+  for (int i = 0; i < 300; ++i) {
+    slow.emplace_back(s.port, "127.0.0.2");
+    slow.back().send("POST /api/v1/request HTTP/1.1\r\n");
+  }
+  std::atomic<bool> done{false};
+  std::thread feeder([&] {
+    while (!done) {
+      for (auto& c : slow) c.send("X-Slow: 1\r\n");
+      std::this_thread::sleep_for(1s);
+    }
+  });
+  auto c = s.client();
+  const std::string session = session_of(c);
+  std::vector<double> ms;
+  int errors = 0;
+  for (int i = 0; i < 50; ++i) {
+    bool ok = false;
+    ms.push_back(query_ms(c, session, "move left", &ok));
+    errors += !ok;
+  }
+  done = true;
+  feeder.join();
+  std::printf(
+      "trickle   300 slow connections + a normal client (50 queries): max %.1f ms, p50 %.2f "
+      "ms, %d errors (target max <= 1000 ms, 0 errors)   [load %s]\n",
+      *std::max_element(ms.begin(), ms.end()), percentile(ms, 0.5), errors, load_average().c_str());
+}
+
+void fairness(const std::string& flipper) {
+  Server s(flipper, {"serve.sessions_per_address=100", "serve.rate_per_second=1000"});
+  std::atomic<bool> done{false};
+  std::atomic<long> heavy_done{0}, heavy_failed{0};
+  std::vector<std::thread> heavy;
+  for (int i = 0; i < 16; ++i)
+    heavy.emplace_back([&] {
+      auto c = s.client();
+      const std::string session = session_of(c);
+      while (!done) {
+        bool ok = false;
+        query_ms(c, session, kHeavy, &ok);
+        ++(ok ? heavy_done : heavy_failed);
+      }
+    });
+  std::this_thread::sleep_for(2s);  // the heavy clients are looping
+  auto c = s.client();
+  const std::string session = session_of(c);
+  std::vector<double> ms;
+  for (int i = 0; i < 100; ++i) {
+    ms.push_back(query_ms(c, session, "move left", nullptr));
+    std::this_thread::sleep_for(20ms);
+  }
+  done = true;
+  for (auto& t : heavy) t.join();
+  std::printf(
+      "fairness  16 clients loop a ~0.4 s query; another user's `move left` (100): p50 %.1f "
+      "ms, p99 %.1f ms (target p99 <= 50 ms); %ld heavy queries answered, %ld refused   [load "
+      "%s]\n",
+      percentile(ms, 0.5), percentile(ms, 0.99), heavy_done.load(), heavy_failed.load(),
+      load_average().c_str());
+}
+
+void memory(const std::string& flipper) {
+  {
+    Server s(flipper, {});
+    auto c = s.client();
+    const std::string session = session_of(c);
+    const long before = rss_kib(s.child->pid());
+    for (int i = 0; i < 20; ++i) query_ms(c, session, kHeavy, nullptr);
+    std::printf(
+        "memory    RSS before / after 20 expensive queries: %.1f / %.1f MiB (peak %.1f MiB; "
+        "target: back near the baseline)   [load %s]\n",
+        static_cast<double>(before) / 1024, static_cast<double>(rss_kib(s.child->pid())) / 1024,
+        static_cast<double>(rss_kib(s.child->pid(), "VmHWM:")) / 1024, load_average().c_str());
+  }
+  Server s(flipper, {"serve.memory_budget_mb=1024", "serve.sessions_per_address=100",
+                     "serve.new_sessions_per_minute=1000"});
+  auto c = s.client();
+  const std::string world =
+      R"({"op":"world","world":{"walls":[],"robot":{"x":0,"y":0,"holding":[]},"items":[],"bounds":{"min":[0,0],"max":[2047,2047]}}})";
+  int loaded = 0, busy = 0;
+  for (int i = 0; i < 40; ++i) {
+    const std::string session = session_of(c);
+    auto r = c.Post(("/api/v1/request?session=" + session).c_str(), world, "application/json");
+    if (r && r->body.rfind("{\"ok\":true", 0) == 0) ++loaded;
+    if (r && r->body.find("server_busy") != std::string::npos) ++busy;
+  }
+  std::printf(
+      "memory    40 sessions load a maximal world (2048^2) under serve.memory_budget_mb=1024: "
+      "%d loaded, %d refused server_busy; RSS %.0f MiB, peak %.0f MiB (target: peak below "
+      "the budget + baseline)   [load %s]\n",
+      loaded, busy, static_cast<double>(rss_kib(s.child->pid())) / 1024,
+      static_cast<double>(rss_kib(s.child->pid(), "VmHWM:")) / 1024, load_average().c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string flipper, part = "all";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string k = argv[i];
+    if (k == "--flipper")
+      flipper = argv[i + 1];
+    else if (k == "--part")
+      part = argv[i + 1];
+  }
+  if (flipper.empty()) {
+    std::cerr << "usage: bench_serve --flipper BIN [--part trickle|fairness|memory|all]\n";
+    return 2;
+  }
+  if (part == "trickle" || part == "all") trickle(flipper);
+  if (part == "memory" || part == "all") memory(flipper);
+  if (part == "fairness" || part == "all") fairness(flipper);
+  return 0;
+}
