@@ -125,7 +125,8 @@ TEST_CASE("an unknown command is named, with a suggestion only within a typo's d
   CHECK(runn.status == 2);
   CHECK(runn.out ==
         "flipper: [usage] unknown command 'runn' (did you mean 'run'?); the commands are "
-        "plugins, config, run, session, repl, replay, lexicon, serve, dds (see --help)\n");
+        "plugins, plugin, config, run, session, repl, replay, lexicon, serve, dds, accounts (see "
+        "--help)\n");
   const Run far = run_flipper("zzz");
   CHECK(far.status == 2);
   CHECK(contains(far.out, "unknown command 'zzz'; the commands are"));

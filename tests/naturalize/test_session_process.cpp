@@ -186,7 +186,11 @@ TEST_CASE("two perceptron processes learning on one lexicon both keep their upda
     REQUIRE(a.ask({{"op", "accept"}, {"rank", 1}})["ok"] == true);
   }
   {
-    Session a(shared, kPerceptron), b(shared, kPerceptron);  // both open before either learns
+    // Both started (an answer means the store and its weights are loaded) before either learns:
+    // a process still starting when the other commits would load that update as its own start.
+    Session a(shared, kPerceptron), b(shared, kPerceptron);
+    REQUIRE(a.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
+    REQUIRE(b.ask({{"op", "user"}, {"name", "bob"}})["ok"] == true);
     learn(a, "ana", 1);
     learn(b, "bob", 1);
   }

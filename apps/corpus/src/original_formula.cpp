@@ -1,6 +1,8 @@
 // The original's formulas -> canonical text (see original_formula.hpp).
 #include "flipper/corpus/original_formula.hpp"
 
+#include "flipper/sdk/canonical.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <optional>
@@ -320,6 +322,17 @@ bool is_original_formula(std::string_view text) {
 
 std::string original_formula_to_canonical(std::string_view formula) {
   return action(Reader(formula).read_all());
+}
+
+sdk::Program read_formula(std::string_view formula) {
+  try {
+    return sdk::read_canonical(is_original_formula(formula)
+                                   ? original_formula_to_canonical(formula)
+                                   : std::string(formula));
+  } catch (const sdk::Error& e) {
+    throw sdk::Error(e.code(),
+                     "the formula '" + std::string(formula) + "' does not read: " + e.what());
+  }
 }
 
 }  // namespace flipper::kernel::corpus

@@ -104,13 +104,13 @@ Experiment load_experiment(const std::string& path) {
   try {
     for (const auto& kv : root) {
       const auto key = kv.first.as<std::string>();
-      static const char* known[] = {"name",        "config", "corpus",   "runs",
-                                    "max_queries", "set",    "variants", "sweep"};
+      static const char* known[] = {"name",     "config", "corpus",   "runs",
+                                    "max_queries", "bodies", "set", "variants", "sweep"};
       if (std::find(std::begin(known), std::end(known), key) == std::end(known))
-        throw sdk::Error(
-            sdk::codes::kBadConfig,
-            where + "unknown key '" + key +
-                "' (keys: name, config, corpus, runs, max_queries, set, variants, sweep)");
+        throw sdk::Error(sdk::codes::kBadConfig,
+                         where + "unknown key '" + key +
+                             "' (keys: name, config, corpus, runs, max_queries, bodies, set, "
+                             "variants, sweep)");
     }
     if (root["name"]) e.name = root["name"].as<std::string>();
     if (root["config"] && !root["config"].as<std::string>().empty())
@@ -118,6 +118,13 @@ Experiment load_experiment(const std::string& path) {
     if (root["corpus"]) e.corpus = resolve_in_file(path, root["corpus"].as<std::string>());
     e.runs = string_list(root["runs"], where + "'runs'");
     if (root["max_queries"]) e.max_queries = root["max_queries"].as<int>();
+    if (root["bodies"]) {
+      const std::string bodies = root["bodies"].as<std::string>();
+      if (bodies != "accepted" && bodies != "reparsed")
+        throw sdk::Error(sdk::codes::kBadConfig,
+                         where + "'bodies' must be accepted or reparsed, got '" + bodies + "'");
+      e.reparse_bodies = bodies == "reparsed";
+    }
     e.sets = string_list(root["set"], where + "'set'");
     if (const auto v = root["variants"]) {
       if (!v.IsSequence())
@@ -154,6 +161,7 @@ nlohmann::json experiment_json(const Experiment& e) {
           {"corpus", e.corpus},
           {"runs", e.runs},
           {"max_queries", e.max_queries},
+          {"bodies", e.reparse_bodies ? "reparsed" : "accepted"},
           {"set", e.sets},
           {"variants", variants},
           {"sweep", sweep}};
@@ -168,6 +176,7 @@ Experiment experiment_from_json(const nlohmann::json& j) {
     e.corpus = j.at("corpus").get<std::string>();
     e.runs = j.at("runs").get<std::vector<std::string>>();
     e.max_queries = j.at("max_queries").get<int>();
+    e.reparse_bodies = j.value("bodies", std::string("accepted")) == "reparsed";
     e.sets = j.at("set").get<std::vector<std::string>>();
     for (const auto& v : j.at("variants"))
       e.variants.push_back(

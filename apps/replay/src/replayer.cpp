@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "flipper/corpus/accept_diff.hpp"
+#include "flipper/corpus/original_formula.hpp"
 #include "flipper/corpus/original_text.hpp"
 #include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
@@ -135,7 +136,7 @@ std::string attempt(F&& call) {
 class RunReplay {
  public:
   RunReplay(const Corpus& corpus, const Run& run, const ReplayOptions& options, ReplayResult& out)
-      : corpus_(corpus), run_(run), out_(out) {
+      : corpus_(corpus), run_(run), out_(out), reparse_bodies_(options.reparse_bodies) {
     std::vector<std::string> sets = mode_overrides(run.group);
     sets.insert(sets.end(), options.sets.begin(), options.sets.end());
     session_ = open_session(options.config_file, sets);
@@ -349,7 +350,15 @@ class RunReplay {
     call.head = head;
     for (const auto& b : body) call.body.push_back(b.utterance);
     DefineOutcome defined;
-    row.error_code = attempt([&] { defined = naturalization_->define(*session_, call); });
+    row.error_code = attempt([&] {
+      // The program the user accepted for each line, as the 2018 server induced from it
+      // (ReplayOptions::reparse_bodies); a line without one is parsed.
+      for (const auto& b : body)
+        call.programs.push_back(reparse_bodies_ || b.formula.empty() || b.formula == "()"
+                                    ? nullptr
+                                    : corpus::read_formula(b.formula));
+      defined = naturalization_->define(*session_, call);
+    });
     row.ok = row.error_code.empty();
     std::vector<OurRule> ours;
     std::vector<RuleShape> shapes;
@@ -389,6 +398,7 @@ class RunReplay {
   ReplayResult& out_;
   std::unique_ptr<Session> session_;
   NaturalizationExtension* naturalization_ = nullptr;  ///< the session's define/delete service
+  bool reparse_bodies_;
   std::string last_qid_;                               ///< the `q` the session's last query answers
   std::string world_id_;  ///< the logged world the session holds ("" after our own accept)
   std::unordered_map<std::string, sdk::WorldState> world_cache_;

@@ -56,6 +56,7 @@ void run_variant(const Corpus& corpus, const Experiment& e, const PlannedVariant
   o.sets = v.sets;
   o.runs = e.runs;
   o.max_queries = e.max_queries;
+  o.reparse_bodies = e.reparse_bodies;
   if (options.progress)
     o.progress = [&](std::size_t done, std::size_t total, const std::string& run) {
       options.progress(v.info.name, done, total, run);

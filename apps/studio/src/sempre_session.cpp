@@ -30,15 +30,7 @@ class SessionExecution : public sdk::ExecutionService {
 
 // A formula as the client sends it back: our canonical text, or the original's notation
 // (logged histories, other SEMPRE clients).
-sdk::Program read_formula(const std::string& formula) {
-  try {
-    return sdk::read_canonical(kernel::corpus::is_original_formula(formula)
-                                   ? kernel::corpus::original_formula_to_canonical(formula)
-                                   : formula);
-  } catch (const sdk::Error& e) {
-    throw sdk::Error(e.code(), "the formula '" + formula + "' does not read: " + e.what());
-  }
-}
+using kernel::corpus::read_formula;
 
 kernel::NaturalizationExtension& naturalization(kernel::Session& s) {
   auto* n = s.extension<kernel::NaturalizationExtension>();

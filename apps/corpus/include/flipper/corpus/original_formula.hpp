@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include "flipper/sdk/ast.hpp"
+
 namespace flipper::kernel::corpus {
 
 /// Whether `text` looks like one of the original's formulas (a parenthesised form) rather than
@@ -21,5 +23,9 @@ bool is_original_formula(std::string_view text);
 /// that does not read (an unknown function, a wrong number of arguments, a numeric quantity
 /// other than one or every, NaN, nesting deeper than 256 levels).
 std::string original_formula_to_canonical(std::string_view formula);
+
+/// The program a formula names: the original's notation (read as above) or canonical text.
+/// Throws sdk::Error naming the formula when it does not read.
+sdk::Program read_formula(std::string_view formula);
 
 }  // namespace flipper::kernel::corpus

@@ -7,6 +7,9 @@
 ///   corpus: ../../data/study2018/dev  # relative paths: against this file's directory
 ///   runs: [sep2018/FridayMorning]     # optional (default: every run)
 ///   max_queries: 0                    # optional, per run
+///   bodies: accepted                  # optional: a definition's body lines mean the programs
+///                                     # the user accepted for them (the logged formulas), as
+///                                     # the 2018 server induced; `reparsed`: parse the text
 ///   set: [induction.generalize=false] # optional, applied to every variant
 ///   variants:                         # optional (default: one variant "plain")
 ///     - {name: plain, set: []}
@@ -46,6 +49,7 @@ struct Experiment {
   std::string corpus;
   std::vector<std::string> runs;
   int max_queries = 0;
+  bool reparse_bodies = false;  ///< `bodies: reparsed` (docs/experiments.md §4)
   std::vector<std::string> sets;
   std::vector<ExperimentVariant> variants;
   std::vector<record::SweepAxis> sweep;

@@ -33,6 +33,10 @@ struct ReplayOptions {
   std::vector<std::string> sets;           ///< overrides applied after the run's mode keys
   std::vector<std::string> runs;           ///< sources to replay (empty: all)
   int max_queries = 0;                     ///< per run: stop before the (N+1)-th `q` (0: all)
+  /// Definitions: false, each body line means the program the user accepted for it (its logged
+  /// formula, as the 2018 server induced from it; a line without one is parsed); true, every
+  /// line is parsed from its text.
+  bool reparse_bodies = false;
   /// Progress: commands done, commands total, the current run.
   std::function<void(std::size_t, std::size_t, const std::string&)> progress;
 };
