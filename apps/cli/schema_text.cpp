@@ -85,6 +85,17 @@ std::vector<std::string> wrap_words(const std::string& text, std::size_t width) 
   std::string line;
   std::istringstream words(text);
   for (std::string w; words >> w;) {
+    // A word longer than the width (a path) is cut after a '/' where it can be, else anywhere.
+    while (w.size() > width && width > 1) {
+      if (!line.empty()) {
+        lines.push_back(line);
+        line.clear();
+      }
+      std::size_t cut = w.rfind('/', width - 1);
+      cut = cut == std::string::npos || cut == 0 ? width : cut + 1;
+      lines.push_back(w.substr(0, cut));
+      w.erase(0, cut);
+    }
     if (!line.empty() && line.size() + 1 + w.size() > width) {
       lines.push_back(line);
       line.clear();

@@ -16,7 +16,8 @@ std::string allowed_text(const sdk::ParamSpec& p);
 std::string default_text(const sdk::ParamSpec& p, const sdk::ParamSchema* schema = nullptr);
 /// The width tables wrap to: the terminal's, else $COLUMNS, else 100.
 std::size_t terminal_width();
-/// `text`'s words in lines of at most `width` characters (a longer word gets a line of its own).
+/// `text`'s words in lines of at most `width` characters (a longer word is cut, after a '/' where
+/// it can be).
 std::vector<std::string> wrap_words(const std::string& text, std::size_t width);
 /// The specs whose name is `prefix` or lies below it (all for "").
 std::vector<const sdk::ParamSpec*> specs_under(const sdk::ParamSchema& schema,

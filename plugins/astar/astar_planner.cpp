@@ -23,7 +23,9 @@ namespace param = toolkit::param;
 
 enum class Heuristic { none, manhattan };  // in the order of kHeuristic's names
 constexpr param::Choice<Heuristic, 2> kHeuristic{
-    "heuristic", Heuristic::none, {"none", "manhattan"},
+    "heuristic",
+    Heuristic::none,
+    {"none", "manhattan"},
     "none: breadth-first search, paths follow the core language's tie rule; manhattan: A* for "
     "single-cell goals, equally short paths but possibly a different one of several shortest "
     "paths"};

@@ -59,6 +59,9 @@ constexpr param::Bool kSimplify{"simplify", true,
 class OmplPlanner final : public sdk::Planner {
  public:
   explicit OmplPlanner(const sdk::Params& p) {
+    if (p.has("time_budget_ms"))  // a host that did not validate the params (the kernel does)
+      throw sdk::Error(sdk::codes::kBadConfig,
+                       std::string("ompl: time_budget_ms is retired: ") + kTimeBudgetRetired);
     settings_.algorithm = param::get(p, kPlanner);
     settings_.max_iterations = param::get(p, kMaxIterations);
     settings_.range = param::get(p, kRange);

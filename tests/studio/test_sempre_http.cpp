@@ -416,17 +416,26 @@ TEST_CASE("sessionIds are names of their own: no /api/v1 session can take or act
   REQUIRE(
       sempre_get(http, "(:def_ret \"go north\" " + json(body).dump() + ")", "ana").body["lines"] ==
       json::array());
-  const std::string session = studiotest::new_session(http);
-  // The rule's author is sempre:ana; /api/v1 cannot become that user ...
-  studiotest::Reply r = studiotest::post(http, session, R"({"op":"user","name":"sempre:ana"})");
+  // The rule's author is sempre:ana; no account can be named so (docs/accounts.md: names are
+  // letters, digits, '.', '_', '-') ...
+  CHECK(server.run_accounts("add sempre:ana", "a long enough password\n").status == 2);
+  // ... a guest session cannot become that user ...
+  const std::string guest = studiotest::new_session(http);
+  studiotest::Reply r = studiotest::post(http, guest, R"({"op":"user","name":"sempre:ana"})");
   CHECK(r.body["error"]["code"] == "forbidden");
-  // ... and its own "ana" is another user, who may not delete sempre:ana's rule.
-  REQUIRE(studiotest::post(http, session, R"({"op":"user","name":"ana"})").body["ok"] == true);
-  r = studiotest::post(http, session, R"({"op":"rules"})");
+  // ... and the account "ana" is another user, who may not delete sempre:ana's rule.
+  server.add_account("ana", "a long enough password");
+  const std::string cookie =
+      studiotest::login(http, json{{"name", "ana"}, {"password", "a long enough password"}});
+  REQUIRE_FALSE(cookie.empty());
+  const std::string session = studiotest::new_session(http, studiotest::cookie(cookie));
+  r = studiotest::post(http, session, R"({"op":"rules"})", studiotest::cookie(cookie));
   REQUIRE(r.body["rules"].size() == 1);
+  CHECK(r.user == "ana");
   CHECK(r.body["rules"][0]["author"] == "sempre:ana");
-  r = studiotest::post_json(http, session,
-                            json{{"op", "delete_rule"}, {"rule", r.body["rules"][0]["id"]}});
+  r = studiotest::post(http, session,
+                       json{{"op", "delete_rule"}, {"rule", r.body["rules"][0]["id"]}}.dump(),
+                       studiotest::cookie(cookie));
   CHECK(r.body["error"]["code"] == "forbidden");
 }
 

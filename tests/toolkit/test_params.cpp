@@ -96,12 +96,23 @@ TEST_CASE("params: get reads validated values, and defaults where a hand-made Pa
 }
 
 TEST_CASE("params: get refuses, naming the parameter, what a hand-made Params gets wrong") {
-  // An int parameter holds an int: 2^31 - 1 fits, 2^31 does not; an unsigned one no negative.
-  CHECK(param::get(sdk::Params({{"beam", std::int64_t{2147483647}}}), kBeam) == 2147483647);
-  CHECK(refusal(sdk::Params({{"beam", std::int64_t{2147483648}}}), kBeam) ==
-        "param 'beam' = 2147483648 does not fit its type");
+  // The declared range binds a host that did not validate too: [1, 100000] at N and N+1.
+  CHECK(param::get(sdk::Params({{"beam", std::int64_t{100000}}}), kBeam) == 100000);
+  CHECK(refusal(sdk::Params({{"beam", std::int64_t{100001}}}), kBeam) ==
+        "param 'beam' = 100001 is out of range [1, 100000]");
+  CHECK(param::get(sdk::Params({{"beam", std::int64_t{1}}}), kBeam) == 1);
+  CHECK(refusal(sdk::Params({{"beam", std::int64_t{0}}}), kBeam) ==
+        "param 'beam' = 0 is out of range [1, 100000]");
   CHECK(refusal(sdk::Params({{"budget", std::int64_t{-1}}}), kBudget) ==
-        "param 'budget' = -1 does not fit its type");
+        "param 'budget' = -1 is out of range [0, inf]");
+  CHECK(param::get(sdk::Params({{"rate", 1.0}}), kRate) == 1.0);
+  CHECK(refusal(sdk::Params({{"rate", 1.5}}), kRate) ==
+        "param 'rate' = 1.5 is out of range [0, 1]");
+  // Without a range an int parameter holds what its type holds: 2^31 - 1 fits, 2^31 does not.
+  constexpr param::Int<int> kWide{"wide", 0, std::nullopt, std::nullopt, "any int"};
+  CHECK(param::get(sdk::Params({{"wide", std::int64_t{2147483647}}}), kWide) == 2147483647);
+  CHECK(refusal(sdk::Params({{"wide", std::int64_t{2147483648}}}), kWide) ==
+        "param 'wide' = 2147483648 does not fit its type");
   CHECK(refusal(sdk::Params({{"shape", std::string("cube")}}), kShape) ==
         "param 'shape' = \"cube\" is not one of box, sphere");
   CHECK(refusal(sdk::Params({{"parts", std::vector<std::string>{"two", "four"}}}), kParts) ==

@@ -326,9 +326,8 @@ std::string original_formula_to_canonical(std::string_view formula) {
 
 sdk::Program read_formula(std::string_view formula) {
   try {
-    return sdk::read_canonical(is_original_formula(formula)
-                                   ? original_formula_to_canonical(formula)
-                                   : std::string(formula));
+    return sdk::read_canonical(is_original_formula(formula) ? original_formula_to_canonical(formula)
+                                                            : std::string(formula));
   } catch (const sdk::Error& e) {
     throw sdk::Error(e.code(),
                      "the formula '" + std::string(formula) + "' does not read: " + e.what());

@@ -104,8 +104,8 @@ Experiment load_experiment(const std::string& path) {
   try {
     for (const auto& kv : root) {
       const auto key = kv.first.as<std::string>();
-      static const char* known[] = {"name",     "config", "corpus",   "runs",
-                                    "max_queries", "bodies", "set", "variants", "sweep"};
+      static const char* known[] = {"name",   "config", "corpus",   "runs", "max_queries",
+                                    "bodies", "set",    "variants", "sweep"};
       if (std::find(std::begin(known), std::end(known), key) == std::end(known))
         throw sdk::Error(sdk::codes::kBadConfig,
                          where + "unknown key '" + key +

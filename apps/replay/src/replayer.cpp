@@ -399,7 +399,7 @@ class RunReplay {
   std::unique_ptr<Session> session_;
   NaturalizationExtension* naturalization_ = nullptr;  ///< the session's define/delete service
   bool reparse_bodies_;
-  std::string last_qid_;                               ///< the `q` the session's last query answers
+  std::string last_qid_;  ///< the `q` the session's last query answers
   std::string world_id_;  ///< the logged world the session holds ("" after our own accept)
   std::unordered_map<std::string, sdk::WorldState> world_cache_;
   DeletionMap deletions_;

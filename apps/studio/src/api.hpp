@@ -69,8 +69,7 @@ class Api {
   /// Queues `job` on the plain kernel's scheduler under `key` (one job at a time per key, the
   /// least CPU-hungry key first) and answers its reply; 429 `session_busy` when the key already
   /// has requests waiting.
-  void run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job,
-                           Respond respond);
+  void run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job, Respond respond);
 
   /// Study mode: every protocol exchange is handed to the recorder.
   void set_recorder(std::shared_ptr<Recorder> recorder) { recorder_ = std::move(recorder); }

@@ -41,7 +41,7 @@ struct Server::Impl {
   // Destroyed before the transport: no worker answers into a transport that is gone.
   std::unique_ptr<Api> api;
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
-  std::unique_ptr<Scheduler> scheduler;  // destroyed first: its workers use the api
+  std::unique_ptr<Scheduler> scheduler;    // destroyed first: its workers use the api
 
   void add_routes() {
     Api* a = api.get();
@@ -57,9 +57,12 @@ struct Server::Impl {
       // On the plain kernel's worker, one request at a time per sessionId, never on the I/O
       // thread (docs/sempre.md, docs/studio.md §5).
       auto answer = [a, s = sempre.get()](const HttpRequest& r, Respond done) {
-        a->run_on_plain_kernel("sempre:" + r.param("sessionId"),
-                               [s, r] { return s->handle({r.method, r.raw_query}); },
-                               std::move(done));
+        a->run_on_plain_kernel(
+            "sempre:" + r.param("sessionId"),
+            [s, r] {
+              return s->handle({r.method, r.raw_query});
+            },
+            std::move(done));
       };
       router.add("GET", "/sempre", answer);
       router.add("OPTIONS", "/sempre", answer);

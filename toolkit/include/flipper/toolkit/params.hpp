@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -160,12 +161,29 @@ sdk::ParamSchema schema(const Handles&... handles) {
   return s;
 }
 
-/// The value as `T`; an integer outside `T`'s range (possible only without a schema range that
-/// fits `T`) is Error(bad_config).
+/// The value as `T`. A value outside the handle's [min, max] or `T`'s range is Error(bad_config)
+/// naming the param: the kernel validates before it constructs a plugin, but a host that does not
+/// (a test, another program) must not get a value the schema refuses.
 template <class T>
 T get(const sdk::Params& params, const Number<T>& p) {
   const std::string name(p.name);
   if (!params.has(name)) return p.def;
+  const double x = std::is_floating_point_v<T> ? params.get_double(name)
+                                               : static_cast<double>(params.get_int(name));
+  if ((p.min && x < static_cast<double>(*p.min)) || (p.max && x > static_cast<double>(*p.max))) {
+    auto text = [](auto v) {
+      std::ostringstream out;
+      out << v;
+      return out.str();
+    };
+    auto bound = [&](const std::optional<T>& b, const char* none) {
+      return b ? text(*b) : std::string(none);
+    };
+    const std::string value =
+        std::is_floating_point_v<T> ? text(x) : std::to_string(params.get_int(name));
+    detail::refuse(p.name, "= " + value + " is out of range [" + bound(p.min, "-inf") + ", " +
+                               bound(p.max, "inf") + "]");
+  }
   if constexpr (std::is_floating_point_v<T>) {
     return static_cast<T>(params.get_double(name));
   } else {
