@@ -81,6 +81,10 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   std::shared_ptr<Study> study;
   std::vector<std::pair<std::string, kernel::Config>> kernels{{"", config}};
   if (!m.options.study.empty()) {
+    if (m.options.sempre)
+      throw sdk::Error(sdk::codes::kBadConfig,
+                       "serve.sempre cannot be combined with serve.study: /sempre sessions belong "
+                       "to no study group");
     study = Study::load(m.options.study);
     std::error_code ec;
     std::filesystem::create_directories(study->record_dir(), ec);
