@@ -11,9 +11,9 @@
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/runtime.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
-#include "flipper/kernel/runtime.hpp"
 
 namespace fs = std::filesystem;
 using namespace flipper;

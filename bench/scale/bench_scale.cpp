@@ -1,4 +1,4 @@
-// bench_scale: issue 14's table, one row per line, each next to its target (docs/protocol.md §
+// bench_scale: the scale table, one row per line, each next to its target (docs/protocol.md §
 // "Protocol versions" for the change-only form). Everything it writes goes to a fresh temporary
 // directory.
 //
@@ -706,7 +706,7 @@ int main(int argc, char** argv) {
   }
   getloadavg(load, 3);
   int met = 0, measured = 0;
-  std::printf("\n== issue 14 table (load average at the end %.2f)\n", load[0]);
+  std::printf("\n== scale table (load average at the end %.2f)\n", load[0]);
   for (const auto& r : g_rows) {
     std::printf("  %-58s %-34s target %-22s %s\n", r.what.c_str(), r.figure.c_str(),
                 r.target.c_str(),

@@ -6,12 +6,12 @@
 // - peak resident memory (VmHWM) of a `flipper session` process that answered every query.
 // Usage: bench_session [--corpus FILE] [--flipper BIN] [--runs N] [--latency-only 1]
 //                      [--slowest N]   (lists the N queries with the most CPU time, k shown)
-#include <nlohmann/json.hpp>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "flipper/kernel/session.hpp"
-#include "flipper/wiring/session_factory.hpp"
 #include "flipper/sdk/canonical.hpp"
+#include "flipper/wiring/session_factory.hpp"
 
 using flipper::kernel::Json;
 using Clock = std::chrono::steady_clock;

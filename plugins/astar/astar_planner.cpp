@@ -57,7 +57,7 @@ class AStarPlanner final : public sdk::Planner {
  protected:
   sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& req,
                           const sdk::StopCondition& stop) const override {
-    // Goals present, start in bounds, stop not yet fired: Planner::plan checked (SDK 2.0).
+    // Goals present, start in bounds, stop not yet fired: Planner::plan checked.
     sdk::PathResult r;
     // The buffers are shared by every call on this instance: calls are serialised.
     std::lock_guard<std::mutex> lock(mutex_);

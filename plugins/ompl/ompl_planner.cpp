@@ -81,7 +81,7 @@ class OmplPlanner final : public sdk::Planner {
  protected:
   sdk::PathResult do_plan(const sdk::Geometry& g, const sdk::PathRequest& request,
                           const sdk::StopCondition& stop) const override {
-    // Goals present, start in bounds, stop not yet fired: Planner::plan checked (SDK 2.0).
+    // Goals present, start in bounds, stop not yet fired: Planner::plan checked.
     sdk::PathResult r;
     const Cell start = request.start;
     if (!g.is_free(start)) {

@@ -79,7 +79,7 @@ class Rewrites : public sdk::Rewriter {
       list.add(visit_cell(final_cell, dims), "moves_to_visit");
     }
     // Rewritings 3 and 4 replace the whole body, so they apply only when every statement of the
-    // program is of their kind (issue 13: a visit that left no trace step is still a statement).
+    // program is of their kind (a visit that left no trace step is still a statement).
     if (enabled_[2] && only_movement(req.body) &&
         trace_only(run.trace, sdk::TraceStep::Act::move)) {
       std::vector<sdk::ItemInfo> here;

@@ -36,7 +36,9 @@ Area subtract(const Area& a, const Area& b) {
   std::set_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
   return out;
 }
-bool contains(const Area& a, const Cell& c) { return std::binary_search(a.begin(), a.end(), c); }
+bool contains(const Area& a, const Cell& c) {
+  return std::binary_search(a.begin(), a.end(), c);
+}
 }  // namespace areas
 
 Geometry::Geometry(int dims, Cell min, Cell max, std::vector<std::uint8_t> free_mask,

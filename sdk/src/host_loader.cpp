@@ -25,8 +25,7 @@ Library open_library(const std::string& path) {
     lib = std::make_shared<dll::shared_library>(
         path, dll::load_mode::rtld_now | dll::load_mode::rtld_local);
   } catch (const std::exception& e) {
-    throw Error(codes::kPluginLoadFailed,
-                "cannot load plugin library '" + path + "': " + e.what());
+    throw Error(codes::kPluginLoadFailed, "cannot load plugin library '" + path + "': " + e.what());
   }
   Library out;
   out.path = path;
@@ -36,8 +35,7 @@ Library open_library(const std::string& path) {
   return out;
 }
 
-const FlipperPluginDescriptor& checked_descriptor(const Library& library,
-                                                  const std::string& name) {
+const FlipperPluginDescriptor& checked_descriptor(const Library& library, const std::string& name) {
   const std::string& path = library.path;
   const std::string who = "plugin '" + name + "' (" + path + ")";
   if (library.entry == nullptr)
@@ -55,10 +53,10 @@ const FlipperPluginDescriptor& checked_descriptor(const Library& library,
     throw Error(codes::kPluginLoadFailed, who + ": the entry function threw");
   }
   if (theirs.abi != mine.abi)
-    throw Error(codes::kPluginAbiMismatch,
-                "Wrong API version on plugin '" + name + "' (" + path + "). Got version " +
-                    std::to_string(theirs.abi) + ", supported version is " +
-                    std::to_string(mine.abi) + ".");
+    throw Error(codes::kPluginAbiMismatch, "Wrong API version on plugin '" + name + "' (" + path +
+                                               "). Got version " + std::to_string(theirs.abi) +
+                                               ", supported version is " +
+                                               std::to_string(mine.abi) + ".");
   if (theirs.descriptor_size != mine.descriptor_size ||
       theirs.descriptor_align != mine.descriptor_align)
     throw Error(codes::kPluginAbiMismatch,

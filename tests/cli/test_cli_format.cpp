@@ -13,8 +13,8 @@ TEST_CASE("errors have one format and the documented exit status", "[cli][format
   const Run version = run_flipper("--version");
   CHECK(version.status == 0);
   CHECK(version.out == "flipper 0.1.0 (plugin SDK " + std::to_string(FLIPPER_SDK_VERSION_MAJOR) +
-                          "." + std::to_string(FLIPPER_SDK_VERSION_MINOR) + "." +
-                          std::to_string(FLIPPER_SDK_VERSION_PATCH) + ")\n");
+                           "." + std::to_string(FLIPPER_SDK_VERSION_MINOR) + "." +
+                           std::to_string(FLIPPER_SDK_VERSION_PATCH) + ")\n");
 
   const Run unknown = run_flipper("bogus");
   CHECK(unknown.status == 2);
@@ -32,15 +32,18 @@ TEST_CASE("errors have one format and the documented exit status", "[cli][format
                  "'session.kk' (did you mean 'session.k'?)"));
   const Run no_store = run_flipper("lexicon list --set lexicon.path=/nonexistent/x.sqlite");
   CHECK(no_store.status == 2);
-  CHECK(contains(no_store.out, "flipper lexicon list: [bad_config] no lexicon store at "
-                               "'/nonexistent/x.sqlite'"));
+  CHECK(contains(no_store.out,
+                 "flipper lexicon list: [bad_config] no lexicon store at "
+                 "'/nonexistent/x.sqlite'"));
   const Run no_plugin = run_flipper("plugins astarr");
   CHECK(no_plugin.status == 2);
-  CHECK(contains(no_plugin.out, "flipper plugins: [plugin_not_found] no plugin named 'astarr' "
-                                "(did you mean 'astar'?)"));
+  CHECK(contains(no_plugin.out,
+                 "flipper plugins: [plugin_not_found] no plugin named 'astarr' "
+                 "(did you mean 'astar'?)"));
 }
 
-TEST_CASE("json output (--json) of plugins, config check, lexicon list and replay", "[cli][format]") {
+TEST_CASE("json output (--json) of plugins, config check, lexicon list and replay",
+          "[cli][format]") {
   const Run plugins = run_flipper("plugins --json", false);
   REQUIRE(plugins.status == 0);
   const json p = json::parse(plugins.out);
@@ -64,7 +67,8 @@ TEST_CASE("json output (--json) of plugins, config check, lexicon list and repla
 {"op":"define","head":"pick 3 items","body":["repeat 3 times pick item"]}
 )");
   REQUIRE(run_flipper("session --set lexicon.path=" + store + " " + script).status == 0);
-  const json l = json::parse(run_flipper("lexicon list --json --set lexicon.path=" + store, false).out);
+  const json l =
+      json::parse(run_flipper("lexicon list --json --set lexicon.path=" + store, false).out);
   REQUIRE(l["rules"].size() == 2);  // pick 3 items, and its $ItemAct generalisation
   CHECK(l["rules"][0]["id"] == "r1");
   CHECK(l["rules"][0]["author"] == "ana");
@@ -72,7 +76,8 @@ TEST_CASE("json output (--json) of plugins, config check, lexicon list and repla
   const std::string out = scratch_dir("json-replay");
   const Run replay = run_flipper("replay --json --corpus " + std::string(FLIPPER_STUDY_DIR) +
                                      "/dev --runs sep2018/TuesdayAfternoon --max-queries 3 "
-                                     "--out " + out,
+                                     "--out " +
+                                     out,
                                  false);
   INFO(replay.out);
   REQUIRE(replay.status == 0);

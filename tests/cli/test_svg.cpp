@@ -32,8 +32,9 @@ TEST_CASE("run --svg draws walls, items, the robot and the path", "[cli][svg]") 
   CHECK(count(svg, "fill=\"#555\" stroke=") == static_cast<int>(world["walls"].size()) + 1);
   // The path: the robot's cell [2,4] and the five cells right to [7,4] (28 px cells, x from -1
   // at 36 px, y from 9 at 44 px: cell (x,y) centre = (36+28(x+1)+14, 44+28(9-y)+14)).
-  CHECK(contains(svg, "points=\"134.0,198.0 162.0,198.0 190.0,198.0 218.0,198.0 246.0,198.0 "
-                      "274.0,198.0 \""));
+  CHECK(contains(svg,
+                 "points=\"134.0,198.0 162.0,198.0 190.0,198.0 218.0,198.0 246.0,198.0 "
+                 "274.0,198.0 \""));
   CHECK(count(svg, ">P</text>") == 1);
   CHECK(contains(svg, "5 moves, 1 picks, 0 drops"));
 }

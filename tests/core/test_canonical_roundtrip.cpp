@@ -229,8 +229,8 @@ TEST_CASE("templates read holes with their sorts", "[canonical]") {
 }
 
 TEST_CASE("templates with a verb hole read and render", "[canonical]") {
-  const Program t = read_template("{repeat $2 times {$1 item }}", Sort::Action,
-                                  {Sort::ItemAct, Sort::Number});
+  const Program t =
+      read_template("{repeat $2 times {$1 item }}", Sort::Action, {Sort::ItemAct, Sort::Number});
   CHECK(render(t) == "{repeat $2 times {$1 item }}");
   const Program p = substitute(t, {make_word(Kind::ItemAct, "drop"), make_num(2)});
   CHECK(render(p) == "{repeat 2 times {drop item }}");

@@ -1,7 +1,7 @@
-// Differential test (a): every probe candidate of the original (data/study2018/original-probes.jsonl) is run
-// on its world with the probe's robot and held items; our trace is compared with the original's
-// path, normalised as core-language §5 says. Differences are classified by the spec [decision]
-// that explains them; none may stay unexplained.
+// Differential test (a): every probe candidate of the original
+// (data/study2018/original-probes.jsonl) is run on its world with the probe's robot and held items;
+// our trace is compared with the original's path, normalised as core-language §5 says. Differences
+// are classified by the spec [decision] that explains them; none may stay unexplained.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cstdlib>

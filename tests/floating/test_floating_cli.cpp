@@ -68,8 +68,9 @@ TEST_CASE("session: floating readings, definitions, perceptron state across sess
   CHECK(a[0]["candidates"][0]["rules"].empty());
   // `move up twice` floats to `move up`, yet it is not core: the definition is accepted.
   CHECK_FALSE(a[2]["rules"].empty());
-  // The rule is `$Action twice` (issue 13: a statement hole is never $ROOT), which scores below
-  // the floating `{move up}` reading: the rule's reading is offered, not necessarily first.
+  // The rule is `$Action twice` (a statement hole is never $ROOT, docs/naturalization.md), which
+  // scores below the floating `{move up}` reading: the rule's reading is offered, not necessarily
+  // first.
   bool rule_reading = false;
   for (const auto& c : a[3]["candidates"])
     rule_reading = rule_reading || (c["formula"] == "{{move up};{move up}}" && !c["rules"].empty());

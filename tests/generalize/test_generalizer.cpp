@@ -124,7 +124,8 @@ TEST_CASE("generalize: visit red triangle := move right at [9,8]", "[generalize]
   const auto r = g.generalize(sdk::tokenize("visit red triangle"), P("{move right}"),
                               env.at({9, 8}), packs({red, triangle}));
   // The body and the seven candidates of §6 are equivalent, but the two with `green` narrow the
-  // meaning with a colour neither the head nor the body mentions: discarded (issue 13).
+  // meaning with a colour neither the head nor the body mentions: discarded
+  // (docs/naturalization.md).
   REQUIRE(r.candidates.size() == 8);
   for (const auto& c : r.candidates) {
     const std::string text = sdk::render(c.program);

@@ -60,7 +60,8 @@ TEST_CASE("unknown plugin params are refused before construction", "[loader]") {
                 {"planner.params.mdoe", "did you mean 'planner.params.mode'"});
 }
 
-TEST_CASE("search path: plugin_paths, then FLIPPER_PLUGIN_PATH, then beside the executable", "[loader]") {
+TEST_CASE("search path: plugin_paths, then FLIPPER_PLUGIN_PATH, then beside the executable",
+          "[loader]") {
   ::setenv("FLIPPER_PLUGIN_PATH", "/env/one::/env/two", 1);
   const auto path = PluginLoader::search_path_for(kerneltest::test_config());
   ::unsetenv("FLIPPER_PLUGIN_PATH");

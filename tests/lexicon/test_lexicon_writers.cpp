@@ -1,6 +1,6 @@
-// Many writers on one store (issue 11): ids assigned by SQLite inside the defining transaction,
-// busy handling with a bounded wait, authorship checked in the delete's transaction, incremental
-// change pick-up, and a distinct code per store fault (busy, full, read-only, corrupt).
+// Many writers on one store (docs/naturalization.md §5): ids assigned by SQLite inside the defining
+// transaction, busy handling with a bounded wait, authorship checked in the delete's transaction,
+// incremental change pick-up, and a distinct code per store fault (busy, full, read-only, corrupt).
 #include <sqlite3.h>
 #include <sys/wait.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
 #pragma once
-// The bad-input table (issue 11): every class of hostile input, the stable code it gets and an
+// The bad-input table: every class of hostile input, the stable code it gets and an
 // excerpt of the message. The tests in test_bad_input.cpp drive build/bin/flipper with each row;
 // the README's "Bad input" table is rendered from these rows (test_readme_table.cpp compares it).
 #include <functional>

@@ -1,4 +1,4 @@
-// Hostile input against the running binary (issue 11): every row of bad_input_cases.cpp, sent to
+// Hostile input against the running binary: every row of bad_input_cases.cpp, sent to
 // one `flipper session` (which must answer each with its code and keep going) or run as a command
 // (which must exit with its status and code, never die of a signal).
 #include <sys/stat.h>

@@ -1,6 +1,6 @@
-// The crowd (issue 11): 100 `flipper session` processes on one lexicon file, each defining,
-// querying, accepting and deleting at once (tests/support/crowd.hpp). Runs alone (RUN_SERIAL): its
-// load would disturb the kill tests' liveness floors running beside it.
+// The crowd (docs/naturalization.md §5): 100 `flipper session` processes on one lexicon file, each
+// defining, querying, accepting and deleting at once (tests/support/crowd.hpp). Runs alone
+// (RUN_SERIAL): its load would disturb the kill tests' liveness floors running beside it.
 #include <sqlite3.h>
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Regression tests of issue 13's naturalization defects, each stated on the study map
+// Regression tests of naturalization defects (docs/naturalization.md), each stated on the study map
 // (configs/worlds/study2018.json, the default world; the robot starts at [2,4]) through the
 // session protocol with the default config (rewrites + wordnet generalization on).
 #include <catch2/catch.hpp>
@@ -53,7 +53,7 @@ std::vector<int> robot_at(const Json& world) {
 
 }  // namespace
 
-TEST_CASE("issue 13.1: a statement hole is $Action, never $ROOT", "[naturalize][issue13]") {
+TEST_CASE("a statement hole is $Action, never $ROOT", "[naturalize][defects]") {
   auto s = open(":memory:");
   user(*s, "ana");
   const Json d = define(*s, "move up thrice", {"repeat 3 times move up"});
@@ -70,8 +70,8 @@ TEST_CASE("issue 13.1: a statement hole is $Action, never $ROOT", "[naturalize][
   CHECK_FALSE(contains(f, canonical("{repeat 3 times {{move left};{move right}}}")));
 }
 
-TEST_CASE("issue 13.1: a stored $ROOT rule is not served, the warning says how to re-induce",
-          "[naturalize][issue13]") {
+TEST_CASE("a stored $ROOT rule is not served, the warning says how to re-induce",
+          "[naturalize][defects]") {
   const std::string path = scratch_path("root-rule") + ".sqlite";
   {
     kernel::LexiconStore store(path);
@@ -105,8 +105,7 @@ TEST_CASE("issue 13.1: a stored $ROOT rule is not served, the warning says how t
   CHECK(status(*s, "move left ; move right thrice") == "unparsable");
 }
 
-TEST_CASE("issue 13.2: generalization never drops a statement of the body",
-          "[naturalize][issue13]") {
+TEST_CASE("generalization never drops a statement of the body", "[naturalize][defects]") {
   auto s = open(":memory:");
   user(*s, "ana");
   act(*s, "visit [7,4]");  // the green square lies here: the visit leaves no trace step
@@ -127,9 +126,9 @@ TEST_CASE("issue 13.2: generalization never drops a statement of the body",
 }
 
 TEST_CASE(
-    "issue 13.3: a rewriting does not narrow the meaning with a colour the definition "
+    "a rewriting does not narrow the meaning with a colour the definition "
     "never mentions",
-    "[naturalize][issue13]") {
+    "[naturalize][defects]") {
   auto s = open(":memory:");
   user(*s, "ana");
   // Hold only blue items: the blue circles of [3,8] and [7,4].
@@ -148,8 +147,7 @@ TEST_CASE(
   CHECK(held(top["world"]).size() == 5);
 }
 
-TEST_CASE("issue 13.4: best packing generalizes matched phrases together",
-          "[naturalize][issue13]") {
+TEST_CASE("best packing generalizes matched phrases together", "[naturalize][defects]") {
   auto s = open(":memory:");
   user(*s, "ana");
   REQUIRE(define(*s, "grab blue square", {"pick item is blue and is square"})["ok"] == true);

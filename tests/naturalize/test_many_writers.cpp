@@ -1,8 +1,9 @@
-// Naturalization over a store other writers share (issue 11): heads with '$' tokens refused, bad
-// stored rules quarantined instead of locking everyone out, hidden rules answer not_found, and an
-// accept whose lexicon transaction fails applies nothing (a retry applies it once).
-#include <nlohmann/json.hpp>
+// Naturalization over a store other writers share (docs/naturalization.md §5): heads with '$'
+// tokens refused, bad stored rules quarantined instead of locking everyone out, hidden rules answer
+// not_found, and an accept whose lexicon transaction fails applies nothing (a retry applies it
+// once).
 #include <sqlite3.h>
+#include <nlohmann/json.hpp>
 
 #include <catch2/catch.hpp>
 

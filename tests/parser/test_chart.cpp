@@ -165,7 +165,7 @@ TEST_CASE("ranking changes after accepts in the chosen direction") {
         second->kids[0]->kids[0]->kids[0]->kind);
 }
 
-// Issue 11: a define head of 65,535 tokens wrapped the chart's int index (out-of-bounds write).
+// Regression: a define head of 65,535 tokens wrapped the chart's int index (out-of-bounds write).
 // The kernel refuses long inputs first (input.max_tokens); the parser keeps its own bound, for
 // callers that are not the kernel.
 TEST_CASE("more tokens than max_tokens (default 4096) are input_too_long") {

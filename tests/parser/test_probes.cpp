@@ -1,6 +1,6 @@
 // Differential test against the original system's answers to the 277 probes
-// (data/study2018/original-probes.jsonl): for every probe our candidate set must equal the original's
-// de-duplicated set after normalising its printing, except where a [decision] differs.
+// (data/study2018/original-probes.jsonl): for every probe our candidate set must equal the
+// original's de-duplicated set after normalising its printing, except where a [decision] differs.
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <iostream>

@@ -66,8 +66,8 @@ TEST_CASE("every example of the language guide does what the guide says", "[read
   std::stringstream text;
   text << md.rdbuf();
   std::size_t rows = 0;
-  for (std::string line; std::getline(text, line);) rows += line.rfind("| ", 0) == 0 &&
-                                                            line.find(" | `") != std::string::npos;
+  for (std::string line; std::getline(text, line);)
+    rows += line.rfind("| ", 0) == 0 && line.find(" | `") != std::string::npos;
   REQUIRE(rows >= 30);
   REQUIRE(examples.size() == rows);
   for (const auto& e : examples) {

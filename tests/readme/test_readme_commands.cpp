@@ -36,33 +36,38 @@ const std::map<std::string, Expected> kExpected = {
     {R"(printf "visit room3 or room5 containing item is red\n2\n" | build/bin/flipper repl)",
      {0, {"2 of 2 shown. Choose 1..2, or r", "Done: 5 steps.", "Robot at [7,4]"}}},
     {R"(printf "zig zag\n:define\nmove up\nmove right\n\nzig zag\n1\n" | build/bin/flipper repl)",
-     {0, {"I did not understand that.", "Learned 1 rule:",
-          "$Action -> zig zag  =>  {{move up};{move right}}", "[1] {{move up};{move right}}",
-          "Done: 2 steps.", "Robot at [3,5]"}}},
+     {0,
+      {"I did not understand that.",
+       "Learned 1 rule:", "$Action -> zig zag  =>  {{move up};{move right}}",
+       "[1] {{move up};{move right}}", "Done: 2 steps.", "Robot at [3,5]"}}},
     {R"(build/bin/flipper run --set planner.plugin=ompl "visit room1")",
      {0, {"interpretation: {visit room1}", "realizable: yes", "robot: [9,"}}},
     {R"(build/bin/flipper replay --experiment configs/experiments/dev-replay.yaml --out out/first-replay)",
-     {0, {"plain: status agreement ", "/3950, accepts matched ", "/807",
-          "run: out/first-replay/dev-replay-", "report: out/first-replay/dev-replay-"}}},
+     {0,
+      {"plain: status agreement ", "/3950, accepts matched ", "/807",
+       "run: out/first-replay/dev-replay-", "report: out/first-replay/dev-replay-"}}},
 
     // Using it
     {R"(build/bin/flipper run "visit world containing item is red; pick item is red")",
      // The nearest red item from [2,4] is the red circle 5 cells right at [7,4] (the red
      // triangle at [4,0] is 6+ away around the wall at [2,2]).
-     {0, {"interpretation: {{visit {world containing item {is red}}};{pick item {is red}}}",
-          "trace (6 steps):", "  pick [7,4] red circle", "realizable: yes",
-          "robot: [7,4], holding 1: red circle"}}},
+     {0,
+      {"interpretation: {{visit {world containing item {is red}}};{pick item {is red}}}",
+       "trace (6 steps):", "  pick [7,4] red circle", "realizable: yes",
+       "robot: [7,4], holding 1: red circle"}}},
     {R"(build/bin/flipper run --json --world configs/worlds/study2018.json "{move up}")",
      {0, {R"("ok":true)", R"("formula":"{move up}")", R"("trace":[{"act":"move","to":[2,5]}])"}}},
     // The 3-D world: the yellow circle lies on the top floor (z=2), reached through the one
     // passage in the ceiling at [8,1,1] (configs/worlds/two-floors.json).
     {R"(build/bin/flipper run --config configs/octomap-ompl.yaml "visit world containing item is yellow; pick item is yellow")",
-     {0, {"  move [8,1,1]\n", "  pick [8,6,2] yellow circle", "realizable: yes",
-          "robot: [8,6,2], holding 1: yellow circle"}}},
+     {0,
+      {"  move [8,1,1]\n", "  pick [8,6,2] yellow circle", "realizable: yes",
+       "robot: [8,6,2], holding 1: yellow circle"}}},
     {R"(build/bin/flipper session examples/session.jsonl)",
      // r2: "zig zag" of the ten-minute walkthrough above is r1 in the same (HOME) store.
-     {0, {R"({"ok":true,"op":"define","rules":[{"id":"r2")",
-          R"({"ok":true,"op":"query","status":"induced")", R"({"ok":true,"op":"accept")"}}},
+     {0,
+      {R"({"ok":true,"op":"define","rules":[{"id":"r2")",
+       R"({"ok":true,"op":"query","status":"induced")", R"({"ok":true,"op":"accept")"}}},
     {R"(build/bin/flipper repl < /dev/null)", {0, {"Legend:", "Robot at [2,4]", "bye"}}},
     {R"(build/bin/flipper replay --experiment configs/experiments/dev-replay.yaml --max-queries 5 --out out/replay-dev)",
      {0, {"plain: status agreement ", "report: out/replay-dev/dev-replay-"}}},
@@ -70,8 +75,9 @@ const std::map<std::string, Expected> kExpected = {
     {R"(build/bin/flipper plugins --params)", {0, {"astar (planner", "heuristic"}}},
     {R"(build/bin/flipper plugins astar)", {0, {"astar (planner", "max_expansions"}}},
     {R"(build/bin/flipper lexicon list --author ana)",
-     {0, {"r2  ana ", "$Action -> pick $Number items => {repeat $1 times {pick item }}",
-          "home/.local/share/flipper/lexicon.sqlite"}}},
+     {0,
+      {"r2  ana ", "$Action -> pick $Number items => {repeat $1 times {pick item }}",
+       "home/.local/share/flipper/lexicon.sqlite"}}},
     {R"(build/bin/flipper lexicon export lexicon.jsonl)",
      {0, {"exported 2 definitions and 3 rules", "to lexicon.jsonl"}}},
     {R"(build/bin/flipper lexicon import lexicon.jsonl --set lexicon.path=other.sqlite)",
@@ -147,9 +153,10 @@ TEST_CASE("every command of the README's marked blocks runs and prints what it s
     INFO("README command: " << cmd);
     const auto it = kExpected.find(cmd);
     if (it == kExpected.end())
-      FAIL("README command in a <!-- readme-test --> block has no expected output in "
-           "tests/readme/test_readme_commands.cpp: "
-           << cmd);
+      FAIL(
+          "README command in a <!-- readme-test --> block has no expected output in "
+          "tests/readme/test_readme_commands.cpp: "
+          << cmd);
     REQUIRE(cmd.find('\'') == std::string::npos);
     const Result r = run_in(dir, cmd);
     INFO("output:\n" << r.out);
@@ -164,8 +171,7 @@ TEST_CASE("every command of the README's marked blocks runs and prints what it s
   CHECK_FALSE(fs::exists(src / "configs" / "other.sqlite"));
   // No stale expectations: each entry is a README command.
   for (const auto& [cmd, expected] : kExpected) {
-    INFO("expected output listed for a command the README's marked blocks no longer have: "
-         << cmd);
+    INFO("expected output listed for a command the README's marked blocks no longer have: " << cmd);
     CHECK(std::find(commands.begin(), commands.end(), cmd) != commands.end());
   }
 }

@@ -62,7 +62,8 @@ TEST_CASE("a candidate is described by steps, picks, drops and warnings", "[repl
     "world":{},"warnings":["Could not complete the action: {pick item}"]})");
   const std::string d = describe_candidate(c, 2);
   CHECK_THAT(d, Catch::StartsWith("  [2] {visit room1}   (p=0.75)"));
-  CHECK_THAT(d, Catch::Contains("2 steps to [4,4]; picks: red circle at [4,4]; drops: red circle at [4,4]"));
+  CHECK_THAT(d, Catch::Contains(
+                    "2 steps to [4,4]; picks: red circle at [4,4]; drops: red circle at [4,4]"));
   CHECK_THAT(d, Catch::Contains("NOT fully realizable"));
   CHECK_THAT(d, Catch::Contains("r7"));
   CHECK_THAT(d, Catch::Contains("ana"));
@@ -73,7 +74,8 @@ TEST_CASE("a candidate is described by steps, picks, drops and warnings", "[repl
 
 TEST_CASE("a trace is drawn as path, end, picks and drops, and the x axis labels every 5th column",
           "[repl][view]") {
-  Json world = Json::parse(R"({"walls":[],"items":[{"id":0,"x":3,"y":0,"color":"red","shape":"circle"}],
+  Json world =
+      Json::parse(R"({"walls":[],"items":[{"id":0,"x":3,"y":0,"color":"red","shape":"circle"}],
     "robot":{"x":0,"y":0,"holding":[]},"rooms":{},"bounds":{"min":[-1,0],"max":[12,1]}})");
   Json trace = Json::parse(R"([{"act":"move","to":[1,0]},{"act":"move","to":[2,0]},
     {"act":"move","to":[2,1]},{"act":"pick","at":[2,1],"item":{"id":9,"color":"red","shape":"square"}},
@@ -94,13 +96,15 @@ TEST_CASE("3-D: the floor is labelled, z kept, other floors' items listed", "[re
     "robot":{"x":0,"y":0,"z":0,"holding":[]},"rooms":{"up":[[1,0,1]]},
     "bounds":{"min":[0,0,0],"max":[1,0,1]}})");
   const std::string ground = render_map(world);
-  CHECK_THAT(ground, Catch::StartsWith("Floor z=0 (floors 0..1; :floor N shows another)\n 0 R ##\n"));
+  CHECK_THAT(ground,
+             Catch::StartsWith("Floor z=0 (floors 0..1; :floor N shows another)\n 0 R ##\n"));
   CHECK_THAT(ground, Catch::Contains("floor z=1: red circle at [0,0,1]"));
   CHECK_THAT(ground, Catch::Contains("Robot at [0,0,0]"));
   CHECK_THAT(ground, Catch::Contains("up (x 1..1, y 0..0, z 1)"));
   flipper::kernel::repl::MapOptions o;
   o.floor = 1;
-  CHECK_THAT(render_map(world, o), Catch::StartsWith("Floor z=1 (floors 0..1; :floor N shows another)\n 0 rc. \n"));
+  CHECK_THAT(render_map(world, o),
+             Catch::StartsWith("Floor z=1 (floors 0..1; :floor N shows another)\n 0 rc. \n"));
 }
 
 TEST_CASE("repeated warnings collapse and unknown words get a hint", "[repl][view]") {

@@ -181,7 +181,7 @@ AcceptClass classify_study(const std::string& program, sdk::Cell start_cell, sdk
 }  // namespace
 
 TEST_CASE("tie classes are proofs: the alternative choice, re-executed, gives the logged world",
-          "[issue13]") {
+          "[defects]") {
   // [7,4] holds a red circle, a blue circle, a green square and a green circle (in that order):
   // we pick the green square; a log with the green circle is the other item choice.
   CHECK(classify_study("{pick item {is green}}", {7, 4, 0}, {7, 4, 0}, {"green circle"}) ==

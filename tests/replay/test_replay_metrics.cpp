@@ -132,7 +132,7 @@ TEST_CASE("dev split deletions map to the definitions that lost rules") {
                                            "r-" + run + "#961-b", "r-" + run + "#1313-b"});
 }
 
-TEST_CASE("rule oracle: identical, subset, overlap, missing", "[replay][issue13]") {
+TEST_CASE("rule oracle: identical, subset, overlap, missing", "[replay][defects]") {
   using flipper::kernel::replay::compare_rules;
   using flipper::kernel::replay::LoggedRule;
   using flipper::kernel::replay::RuleShape;

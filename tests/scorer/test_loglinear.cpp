@@ -130,7 +130,7 @@ std::pair<double, double> weight_of(const sdk::Scorer& scorer, const std::string
 }  // namespace
 
 TEST_CASE("the AdaGrad + L1 update is pinned to hand-computed values (naturalization §3)",
-          "[scorer][issue13]") {
+          "[scorer][defects]") {
   auto scorer = testsupport::load_plugin<sdk::Scorer>("loglinear");
   const std::vector<std::string> tokens;
   const sdk::ScoreContext ctx{&tokens, "ana"};

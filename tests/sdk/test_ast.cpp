@@ -26,7 +26,8 @@ TEST_CASE("make rejects wrong operand sorts", "[ast]") {
 }
 
 TEST_CASE("substitute fills holes and checks sorts", "[ast]") {
-  auto tmpl = make(Kind::Repeat, {make_hole(0, Sort::Number), make(Kind::Pick, {make_hole(1, Sort::CountedItem)})});
+  auto tmpl = make(Kind::Repeat, {make_hole(0, Sort::Number),
+                                  make(Kind::Pick, {make_hole(1, Sort::CountedItem)})});
   auto p = substitute(tmpl, {make_num(3), make(Kind::Item)});
   REQUIRE(!has_holes(p));
   REQUIRE(p->kids[0]->number == 3);
@@ -48,7 +49,9 @@ TEST_CASE("loop variables must be bound by an enclosing loop body", "[ast]") {
   // The loop's own domain is outside the loop.
   auto bad = make(Kind::ForeachPoint, {make(Kind::PointList, {make(Kind::PointVar)}), visit_point});
   REQUIRE(!loop_variables_bound(bad));
-  auto nested = make(Kind::ForeachPoint, {dom, make(Kind::ForeachPoint, {make(Kind::PointList, {make(Kind::PointVar)}), visit_point})});
+  auto nested = make(Kind::ForeachPoint,
+                     {dom, make(Kind::ForeachPoint,
+                                {make(Kind::PointList, {make(Kind::PointVar)}), visit_point})});
   REQUIRE(loop_variables_bound(nested));
   REQUIRE(!loop_variables_bound(make(Kind::VisitArea, {make(Kind::AreaVar)})));
 }
@@ -59,9 +62,9 @@ TEST_CASE("an item action with a known verb is pick or drop", "[ast]") {
   REQUIRE(equal(pick, make(Kind::Pick, {make(Kind::Item)})));
   REQUIRE_THROWS_AS(make_word(Kind::ItemAct, "throw"), Error);
   // With a hole for the verb it stays an ItemAction (a rule template) until filled.
-  auto tmpl = make(Kind::Repeat,
-                   {make_hole(1, Sort::Number),
-                    make(Kind::ItemAction, {make_hole(0, Sort::ItemAct), make(Kind::Item)})});
+  auto tmpl =
+      make(Kind::Repeat, {make_hole(1, Sort::Number),
+                          make(Kind::ItemAction, {make_hole(0, Sort::ItemAct), make(Kind::Item)})});
   REQUIRE(tmpl->kids[1]->kind == Kind::ItemAction);
   auto drop2 = substitute(tmpl, {make_word(Kind::ItemAct, "drop"), make_num(2)});
   REQUIRE(drop2->kids[1]->kind == Kind::Drop);

@@ -30,5 +30,6 @@ TEST_CASE("geometry indexes cells and lists free ones sorted", "[geometry]") {
   REQUIRE(!g.direction("north"));
   REQUIRE(g.free_cells().size() == 6);
   REQUIRE(std::is_sorted(g.free_cells().begin(), g.free_cells().end()));
-  REQUIRE_THROWS_AS(Geometry(2, {0, 0, 0}, {1, 1, 0}, std::vector<std::uint8_t>(3, 1), {}, {}), Error);
+  REQUIRE_THROWS_AS(Geometry(2, {0, 0, 0}, {1, 1, 0}, std::vector<std::uint8_t>(3, 1), {}, {}),
+                    Error);
 }

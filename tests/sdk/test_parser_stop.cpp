@@ -1,4 +1,4 @@
-// Parser::parse (SDK 1.1) honours ParseRequest::stop even for a plugin that never polls it.
+// Parser::parse honours ParseRequest::stop even for a plugin that never polls it.
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <thread>

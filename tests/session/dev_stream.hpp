@@ -1,7 +1,8 @@
 #pragma once
-// The dev corpus (FLIPPER_STUDY_DIR/dev, i.e. data/study2018/dev) as protocol request lines, session by session (as
-// bench/scale replays it): user, then world + query per logged query, accept rank 0, define, and a
-// state at the end of each. Shared by the protocol-2 oracle and the byte-identity golden test.
+// The dev corpus (FLIPPER_STUDY_DIR/dev, i.e. data/study2018/dev) as protocol request lines,
+// session by session (as bench/scale replays it): user, then world + query per logged query, accept
+// rank 0, define, and a state at the end of each. Shared by the protocol-2 oracle and the
+// byte-identity golden test.
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>

@@ -3,11 +3,11 @@
 // protocol 2, must answer with exactly the bytes the session wrote when the fixture was recorded.
 // The fixture (golden/dev_answers.txt) holds one FNV-1a 64 hash per answer line, `"ms"` (the only
 // timing field) masked to 0. It was recorded with main's binary before the answer writer was
-// rewritten (issue 12 item 4: typed query service, streaming writer instead of placeholder
-// splicing), by running this test with FLIPPER_WRITE_GOLDEN=<path>; re-record only for an
-// intended protocol change, or an intended change of what the stream's definitions induce (last:
-// the best-packing tie rule of docs/naturalization.md §4.6, which changed the best rules of 7 of
-// its definitions, the readings of 496 later queries and the rule ids in 418 more answers).
+// rewritten (typed query service, streaming writer instead of placeholder splicing), by running
+// this test with FLIPPER_WRITE_GOLDEN=<path>; re-record only for an intended protocol change, or an
+// intended change of what the stream's definitions induce (last: the best-packing tie rule of
+// docs/naturalization.md §4.6, which changed the best rules of 7 of its definitions, the readings
+// of 496 later queries and the rule ids in 418 more answers).
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstdlib>

@@ -1,5 +1,5 @@
-// The crowd through the server (issue 11's crowd test over HTTP): many concurrent clients, each
-// its own session and user, define, query, accept and delete on one `flipper serve`; then the
+// The crowd through the server (the naturalization crowd test over HTTP): many concurrent clients,
+// each its own session and user, define, query, accept and delete on one `flipper serve`; then the
 // server is killed. Every acknowledged rule that was not deleted is in the store, every
 // acknowledged deletion stays deleted, and SQLite's integrity check passes.
 #include <atomic>

@@ -175,7 +175,7 @@ TEST_CASE("swap: the same programs have the same effects on all four pairs", "[s
 }
 
 TEST_CASE("swap: visiting one of several goals goes to the nearest by path on all four pairs",
-          "[swap][issue13]") {
+          "[swap][defects]") {
   for (const Pair& p : kPairs) {
     DYNAMIC_SECTION(p.world << " x " << p.planner) {
       const sdk::WorldState s = start_world(p.world);
@@ -242,7 +242,7 @@ TEST_CASE("swap: 3-D moves use the plan-view words and ascend/descend", "[swap]"
 }
 
 TEST_CASE("swap: astar and ompl agree exactly on the edge cases the SDK decides", "[swap]") {
-  // SDK 2.0: Planner::plan/tour settle an empty goal set, a start outside the bounds, a stop
+  // Planner::plan/tour settle an empty goal set, a start outside the bounds, a stop
   // that already fired and an empty tour before either plugin runs.
   const sdk::WorldState s = start_world("grid2d");
   const sdk::Geometry& g = *s.geometry;

@@ -100,7 +100,8 @@ std::string render_map(const Json& world, const MapOptions& options) {
     }
   if (world.contains("boxes"))  // 3-D worlds: walls as boxes of cells
     for (const auto& b : world["boxes"]) {
-      const Pt lo = point_of(b.value("min", Json::array())), hi = point_of(b.value("max", Json::array()));
+      const Pt lo = point_of(b.value("min", Json::array())),
+               hi = point_of(b.value("max", Json::array()));
       if (floor < lo.z || floor > hi.z) continue;
       for (int x = lo.x; x <= hi.x; ++x)
         for (int y = lo.y; y <= hi.y; ++y) walls.insert({x, y});
@@ -198,7 +199,8 @@ std::string render_map(const Json& world, const MapOptions& options) {
   }
   for (const auto& [z, list] : other_floors) {
     std::vector<std::string> parts;
-    for (const Json* it : list) parts.push_back(item_name(*it) + " at " + pt_text(point_of(*it), true));
+    for (const Json* it : list)
+      parts.push_back(item_name(*it) + " at " + pt_text(point_of(*it), true));
     out << wrapped("  floor z=" + std::to_string(z) + ":", parts);
   }
   out << "Robot at " << pt_text(robot, three_d) << ", holding: ";
@@ -215,9 +217,10 @@ std::string render_map(const Json& world, const MapOptions& options) {
         x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y),
         y1 = std::max(y1, p.y), z0 = std::min(z0, p.z), z1 = std::max(z1, p.z);
       }
-      std::string room = name + " (x " + std::to_string(x0) + ".." + std::to_string(x1) +
-                         ", y " + std::to_string(y0) + ".." + std::to_string(y1);
-      if (three_d) room += ", z " + std::to_string(z0) + (z1 != z0 ? ".." + std::to_string(z1) : "");
+      std::string room = name + " (x " + std::to_string(x0) + ".." + std::to_string(x1) + ", y " +
+                         std::to_string(y0) + ".." + std::to_string(y1);
+      if (three_d)
+        room += ", z " + std::to_string(z0) + (z1 != z0 ? ".." + std::to_string(z1) : "");
       parts.push_back(room + ")");
     }
     out << wrapped("Rooms (areas you can name, e.g. `visit room1`):", parts);

@@ -34,15 +34,13 @@ Writer::Writer(double width, double height, int font_size)
 void Writer::rect(double x, double y, double w, double h, const std::string& fill,
                   const std::string& stroke) {
   body_ << "<rect x=\"" << num(x) << "\" y=\"" << num(y) << "\" width=\"" << num(w)
-        << "\" height=\"" << num(h) << "\" fill=\"" << fill << "\" stroke=\"" << stroke
-        << "\"/>\n";
+        << "\" height=\"" << num(h) << "\" fill=\"" << fill << "\" stroke=\"" << stroke << "\"/>\n";
 }
 
 void Writer::line(double x1, double y1, double x2, double y2, const std::string& stroke,
                   double width) {
-  body_ << "<line x1=\"" << num(x1) << "\" y1=\"" << num(y1) << "\" x2=\"" << num(x2)
-        << "\" y2=\"" << num(y2) << "\" stroke=\"" << stroke << "\" stroke-width=\"" << num(width)
-        << "\"/>\n";
+  body_ << "<line x1=\"" << num(x1) << "\" y1=\"" << num(y1) << "\" x2=\"" << num(x2) << "\" y2=\""
+        << num(y2) << "\" stroke=\"" << stroke << "\" stroke-width=\"" << num(width) << "\"/>\n";
 }
 
 void Writer::circle(double cx, double cy, double r, const std::string& fill,
@@ -59,8 +57,8 @@ void Writer::polyline(const std::vector<std::pair<double, double>>& points,
   body_ << "\"/>\n";
 }
 
-void Writer::text(double x, double y, const std::string& text, const std::string& anchor,
-                  int size, const std::string& fill) {
+void Writer::text(double x, double y, const std::string& text, const std::string& anchor, int size,
+                  const std::string& fill) {
   body_ << "<text x=\"" << num(x) << "\" y=\"" << num(y) << "\" text-anchor=\"" << anchor << '"';
   if (size > 0) body_ << " font-size=\"" << size << '"';
   if (fill != "black") body_ << " fill=\"" << fill << '"';

@@ -357,7 +357,7 @@ Config build(YAML::Node root, std::string source, std::string base_dir,
              std::map<std::string, ConfigOrigin> origins = {}) {
   for (const auto& a : overrides) apply_assignment(root, a, cli_keys);
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
-  yaml_bounds::check_expanded_size(root, source);  // --set values may hold aliases too
+  yaml_bounds::check_expanded_size(root, source);        // --set values may hold aliases too
   for (auto it = origins.begin(); it != origins.end();)  // keys an override removed
     it = lookup(root, split_key(it->first)) ? std::next(it) : origins.erase(it);
   auto impl = std::make_shared<Config::Impl>();

@@ -43,7 +43,7 @@ void collect_property_words(const sdk::Program& p, std::set<std::string>& out) {
 /// The colour, shape and room words of `candidate` that neither the head nor the body mentions:
 /// a candidate using one narrows the meaning to what the definition's world happened to hold
 /// (`drop the lot` := `drop every item` while holding only blue items must not become
-/// `drop every item {is blue}`, issue 13). World-equivalence cannot see this: in that world the
+/// `drop every item {is blue}`). World-equivalence cannot see this: in that world the
 /// two agree.
 std::string unmentioned_words(const sdk::Program& candidate, const std::set<std::string>& known) {
   std::set<std::string> words;

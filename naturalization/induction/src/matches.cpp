@@ -67,7 +67,7 @@ void collect_subtrees(const sdk::Program& p, ProgramSet& out) {
 
 /// The derivation's normalised category when it fits its program, else empty. Every category of
 /// statements ($ROOT, $Actions, $Action) is $Action: an induced rule's statement hole must not be
-/// the grammar's root, which would swallow a whole `a ; b` sequence (issue 13).
+/// the grammar's root, which would swallow a whole `a ; b` sequence (docs/naturalization.md).
 std::string matching_category(const sdk::Derivation& d) {
   std::string cat = sdk::normalize_category(d.category());
   if (!category_fits(cat, d.sem->sort)) return {};

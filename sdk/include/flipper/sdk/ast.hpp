@@ -1,9 +1,9 @@
 #pragma once
 /// @file ast.hpp
 /// The program representation every component exchanges: an immutable tree of the core
-/// language (docs/core-language.md §3). Nodes are shared (`Program` is a shared_ptr to const), carry
-/// their sort and a structural hash, and compare structurally — two derivations that yield the
-/// same program compare equal. Templates of grammar rules are programs with `Hole` nodes.
+/// language (docs/core-language.md §3). Nodes are shared (`Program` is a shared_ptr to const),
+/// carry their sort and a structural hash, and compare structurally — two derivations that yield
+/// the same program compare equal. Templates of grammar rules are programs with `Hole` nodes.
 ///
 /// Conventions:
 /// - Sequences are n-ary and flat: `seq(seq(a,b),c)` == `seq(a,b,c)`; braces are grouping only

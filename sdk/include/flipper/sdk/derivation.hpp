@@ -33,8 +33,8 @@ struct Derivation {
 struct Candidate {
   Program program;
   std::vector<DerivationPtr> derivations;
-  double score = 0;        ///< best derivation's score
-  bool core_only = true;   ///< some derivation of it uses only core rules
+  double score = 0;       ///< best derivation's score
+  bool core_only = true;  ///< some derivation of it uses only core rules
   std::int64_t newest_rule = 0;
 };
 

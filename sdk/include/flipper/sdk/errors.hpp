@@ -29,7 +29,7 @@ inline constexpr const char* kExecution = "execution_error";
 inline constexpr const char* kBudgetExceeded = "budget_exceeded";
 inline constexpr const char* kInputTooLong = "input_too_long";
 inline constexpr const char* kInternal = "internal";
-// Limits on hostile input (SDK 1.1; README "Bad input"):
+// Limits on hostile input (README "Bad input"):
 inline constexpr const char* kTooDeep = "too_deep";               ///< JSON nested too deep
 inline constexpr const char* kWorldTooLarge = "world_too_large";  ///< more cells than allowed
 inline constexpr const char* kFileTooLarge = "file_too_large";

@@ -27,13 +27,13 @@ struct TraceStep {
 
 /// The outcome of one execution.
 struct Outcome {
-  WorldState world;                   ///< the final world (the start world if `error`)
+  WorldState world;  ///< the final world (the start world if `error`)
   std::vector<TraceStep> trace;
   std::vector<std::string> warnings;  ///< one per failed primitive (+ rolled-back strict blocks)
   bool realizable = true;             ///< every primitive executed for real succeeded
   std::optional<std::string> error;   ///< execution error (unknown room, budget exceeded...)
   std::optional<std::string> error_code;  ///< e.g. "budget_exceeded", "execution_error"
-  std::uint64_t actions = 0;          ///< primitive actions executed (trials included)
+  std::uint64_t actions = 0;              ///< primitive actions executed (trials included)
 };
 
 /// Runs programs with the kernel's executor and the session's planner. Thread-compatible.

@@ -73,7 +73,7 @@ struct Rule {
   std::vector<std::string> body;
   std::int64_t created = 0;  ///< creation sequence number (orders candidates on score ties)
   // How often the rule was used is not here: the kernel owns the counters and hands them to
-  // scorers in ScoreContext::usage (SDK 2.0; a rule is immutable once shared).
+  // scorers in ScoreContext::usage (a rule is immutable once shared).
   /// Number of RHS categories (= holes).
   std::size_t arity() const;
 };

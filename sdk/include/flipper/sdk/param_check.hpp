@@ -34,7 +34,7 @@ FLIPPER_SDK_API std::string did_you_mean(const std::string& word,
 /// "bool", "int", "double", "string", "string list", "path", "path list", "double list", "map".
 FLIPPER_SDK_API const char* to_string(ParamType type);
 
-/// The type as messages say it: "an integer", "a list of strings", ... (SDK 2.1).
+/// The type as messages say it: "an integer", "a list of strings", ...
 FLIPPER_SDK_API const char* type_phrase(ParamType type);
 
 }  // namespace v1

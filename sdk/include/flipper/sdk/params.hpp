@@ -19,8 +19,8 @@
 namespace flipper::sdk {
 inline namespace v1 {
 
-/// SDK 2.1 appended PathList, DoubleList and Map (a 2.0 plugin never declares them, so the values
-/// it knows keep their numbers).
+/// Values are only ever appended (PathList, DoubleList and Map came later): an older plugin never
+/// declares the new ones, so the values it knows keep their numbers (docs/sdk-migration.md).
 enum class ParamType { Bool, Int, Double, String, StringList, Path, PathList, DoubleList, Map };
 
 /// A parameter value. `Path` values are stored as strings already resolved against the config
@@ -70,8 +70,8 @@ struct FLIPPER_SDK_API ParamSchema {
                                std::string description);
   const ParamSpec* find(const std::string& name) const;
 
-  // SDK 2.1 (new exported functions and a trailing member: a 2.0 plugin's describe() assigns
-  // `params` only and loads unchanged).
+  // Added after `params` (new exported functions and a trailing member: an older plugin's
+  // describe() assigns `params` only and loads unchanged; docs/sdk-migration.md).
   /// Any spec, e.g. a required string without a default.
   ParamSchema& add(ParamSpec spec);
   ParamSchema& add_path_list(std::string name, std::vector<std::string> def,
@@ -87,7 +87,7 @@ struct FLIPPER_SDK_API ParamSchema {
 
   std::vector<ParamSection> sections;
 
-  // SDK 2.2 (defined here: no new exported symbol, no layout change).
+  // Defined here: no new exported symbol, no layout change (docs/sdk-migration.md).
   /// A key that no longer exists: a config that still gives it is refused (bad_config) with
   /// "config key '<key>' is retired: <hint>" rather than as an unknown key, so that the hint can
   /// say what replaced it. It has no default, never reaches the plugin, and no "did you mean"
@@ -101,7 +101,7 @@ struct FLIPPER_SDK_API ParamSchema {
   }
 };
 
-/// Whether `spec` was declared with ParamSchema::add_retired() (SDK 2.2).
+/// Whether `spec` was declared with ParamSchema::add_retired().
 inline bool is_retired(const ParamSpec& spec) {
   return spec.type == ParamType::String && !spec.required && !spec.default_value &&
          spec.description.rfind("retired: ", 0) == 0;
@@ -120,7 +120,7 @@ class FLIPPER_SDK_API Params {
   double get_double(const std::string& name) const;              ///< an Int value converts
   const std::string& get_string(const std::string& name) const;  ///< String or Path
   const std::vector<std::string>& get_string_list(const std::string& name) const;
-  /// A DoubleList (SDK 2.1).
+  /// A DoubleList.
   std::vector<double> get_double_list(const std::string& name) const;
   const std::map<std::string, ParamValue>& values() const { return values_; }
   void set(const std::string& name, ParamValue v) { values_[name] = std::move(v); }

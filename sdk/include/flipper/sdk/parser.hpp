@@ -27,7 +27,7 @@ struct ParseRequest {
   int beam = 0;             ///< derivations kept per (category, span); 0 = plugin default
   bool want_chart = false;  ///< also return every derivation of every proper sub-span
   bool whole_span = true;   ///< false: no root candidates needed (head charts)
-  /// When to give up (SDK 1.1): the caller's deadline, cancel flag and derivation budget. The
+  /// When to give up: the caller's deadline, cancel flag and derivation budget. The
   /// wrapper Parser::parse does not call the plugin when it has already fired and marks the
   /// result `stopped` when it fired during the parse; a plugin polls `should_stop(derivations)`
   /// in its inner loops (every few thousand steps at most) and returns what it has.

@@ -33,7 +33,7 @@ struct StopCondition {
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
     return std::chrono::steady_clock::now() >= deadline;
   }
-  /// The deadline passed or the cancel flag is set (the budget is not consulted; SDK 1.1).
+  /// The deadline passed or the cancel flag is set (the budget is not consulted).
   bool expired() const {
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
     return deadline != std::chrono::steady_clock::time_point::max() &&
@@ -101,7 +101,7 @@ class FLIPPER_SDK_API Planner : public Plugin {
   /// neighbours in geometry.neighbour_offsets() order (first discovery wins). A budget that can
   /// change the answer counts work, never wall time (docs/planners.md §2): `stop.deadline`
   /// only stops runaways. Never throws for "no path": returns a status.
-  /// The edge cases are decided here, the same for every planner (SDK 2.0), before do_plan
+  /// The edge cases are decided here, the same for every planner, before do_plan
   /// runs: no goals -> invalid "the goal set is empty"; a start outside the bounds -> invalid;
   /// a stop condition that already fired (deadline, cancel) -> stopped "stopped before
   /// planning".
@@ -109,7 +109,7 @@ class FLIPPER_SDK_API Planner : public Plugin {
                   const StopCondition& stop) const;
   /// Order in which to visit `points` starting at `start` (core-language §8 tour T for the
   /// reference planner). Unreachable points come last, in (x, y, z) order.
-  /// Decided here for every planner (SDK 2.0): no points -> found, empty order; a stop that
+  /// Decided here for every planner: no points -> found, empty order; a stop that
   /// already fired -> stopped, every point in (x, y, z) order (ties by index).
   TourResult tour(const Geometry& geometry, Cell start, const std::vector<Cell>& points,
                   const StopCondition& stop) const;

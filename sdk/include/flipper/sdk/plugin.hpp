@@ -77,9 +77,9 @@ struct FlipperPluginDescriptor {
   std::uint32_t abi;
   std::uint32_t sdk_major;
   std::uint32_t sdk_minor;
-  std::uint32_t kind;  ///< a flipper::sdk::PluginKind value
-  const char* name;        ///< stable id used in configs, e.g. "astar"
-  const char* version;     ///< the plugin's own semantic version
+  std::uint32_t kind;   ///< a flipper::sdk::PluginKind value
+  const char* name;     ///< stable id used in configs, e.g. "astar"
+  const char* version;  ///< the plugin's own semantic version
   const char* description;
   const char* fingerprint;  ///< FLIPPER_BUILD_FINGERPRINT of the plugin's build
   void (*describe)(flipper::sdk::ParamSchema& out);
@@ -102,13 +102,17 @@ typedef const FlipperPluginDescriptor* (*FlipperPluginEntryFn)(const FlipperHand
 /// `kind` is one of: world, planner, parser, scorer, rewriter, similarity. Pass
 /// FLIPPER_PLUGIN_VERSION as `version`: flipper_add_plugin(... VERSION v) defines it, so the
 /// descriptor and the sidecar state one version.
-#define FLIPPER_PLUGIN(Class, kind, name, version, description)                                 \
+#define FLIPPER_PLUGIN(Class, kind, name, version, description)                                \
   namespace {                                                                                  \
-  void flipper_plugin_describe_(::flipper::sdk::ParamSchema& out) { out = Class::schema(); }   \
+  void flipper_plugin_describe_(::flipper::sdk::ParamSchema& out) {                            \
+    out = Class::schema();                                                                     \
+  }                                                                                            \
   ::flipper::sdk::Plugin* flipper_plugin_create_(const ::flipper::sdk::Params& params) {       \
     return new Class(params);                                                                  \
   }                                                                                            \
-  void flipper_plugin_destroy_(::flipper::sdk::Plugin* plugin) { delete plugin; }              \
+  void flipper_plugin_destroy_(::flipper::sdk::Plugin* plugin) {                               \
+    delete plugin;                                                                             \
+  }                                                                                            \
   const FlipperPluginDescriptor flipper_plugin_descriptor_ = {                                 \
       FLIPPER_PLUGIN_ABI,                                                                      \
       FLIPPER_SDK_VERSION_MAJOR,                                                               \
@@ -125,7 +129,7 @@ typedef const FlipperPluginDescriptor* (*FlipperPluginEntryFn)(const FlipperHand
   }                                                                                            \
   static_assert(::flipper::sdk::KindOf<typename Class::Interface>::value ==                    \
                     ::flipper::sdk::PluginKind::kind,                                          \
-                "FLIPPER_PLUGIN: the class does not implement the interface of this kind");     \
+                "FLIPPER_PLUGIN: the class does not implement the interface of this kind");    \
   extern "C" FLIPPER_PLUGIN_EXPORT const FlipperPluginDescriptor* flipper_plugin_entry(        \
       const FlipperHandshake* kernel, FlipperHandshake* plugin) {                              \
     const FlipperHandshake mine{FLIPPER_PLUGIN_ABI,                                            \

@@ -16,15 +16,16 @@ namespace flipper::sdk {
 inline namespace v1 {
 
 struct RewriteRequest {
-  Program body;                        ///< the user's body (one program; lines form a sequence)
-  WorldState before;                   ///< the world before the first body line
+  Program body;                            ///< the user's body (one program; lines form a sequence)
+  WorldState before;                       ///< the world before the first body line
   const ExecutionService* exec = nullptr;  ///< to learn what the body does
   std::vector<std::string> head_tokens;
 };
 
 struct RewriteCandidate {
   Program program;
-  std::string rewriting;  ///< "loop", "moves_to_visit", "visit_by_predicate", "pick_by_predicate"...
+  std::string
+      rewriting;  ///< "loop", "moves_to_visit", "visit_by_predicate", "pick_by_predicate"...
 };
 
 class FLIPPER_SDK_API Rewriter : public Plugin {

@@ -29,7 +29,7 @@ struct RuleUses {
   friend bool operator==(const RuleUses&, const RuleUses&) = default;
 };
 
-/// The kernel's use counters, read-only to plugins (SDK 2.0). Thread-safe.
+/// The kernel's use counters, read-only to plugins. Thread-safe.
 class FLIPPER_SDK_API UsageCounters {
  public:
   virtual ~UsageCounters();
@@ -79,7 +79,7 @@ class FLIPPER_SDK_API Scorer : public Plugin {
   virtual void do_load_state(std::string_view state) = 0;
 };
 
-/// One weight's change, additive (SDK 1.2): applying a change to any state adds `weight` to the
+/// One weight's change, additive: applying a change to any state adds `weight` to the
 /// weight and `aux` to its per-weight learning statistic (e.g. AdaGrad's sum of squared
 /// gradients; 0 when the model has none). `model` is the scorer's own partition ("" for one global
 /// model, the user for a scorer with per-user weights), `feature` the weight's stable name.
@@ -90,7 +90,7 @@ struct WeightChange {
   double aux = 0;
 };
 
-/// Optional extension of a Scorer (SDK 1.2), found with dynamic_cast: a scorer that reports what
+/// Optional extension of a Scorer, found with dynamic_cast: a scorer that reports what
 /// each learn() changed lets the kernel persist only the changed weights, as deltas that add up
 /// when several processes learn on one lexicon (docs/naturalization.md §5), instead of the whole
 /// state with save_state() (last writer wins). A scorer without it keeps working as before.

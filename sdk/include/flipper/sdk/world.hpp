@@ -113,9 +113,9 @@ struct FLIPPER_SDK_API WorldState {
   std::shared_ptr<const Geometry> geometry;
   std::shared_ptr<const RoomMap> rooms;
   Cell robot;
-  std::vector<LyingItem> items;  ///< lying items in world order (a dropped item goes last)
-  std::vector<ItemInfo> held;    ///< held items in the order they were picked
-  std::int64_t next_item_id = 0; ///< next id to assign to a new item
+  std::vector<LyingItem> items;   ///< lying items in world order (a dropped item goes last)
+  std::vector<ItemInfo> held;     ///< held items in the order they were picked
+  std::int64_t next_item_id = 0;  ///< next id to assign to a new item
 
   /// Same robot cell, lying items (with positions and order), held items, rooms and geometry.
   bool same_state(const WorldState& other) const;

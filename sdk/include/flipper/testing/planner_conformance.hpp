@@ -195,7 +195,7 @@ inline std::shared_ptr<const sdk::Geometry> split_map() {
       std::vector<std::pair<std::string, sdk::Cell>>{});
 }
 
-/// The edge cases Planner::plan/tour decide for every planner (SDK 2.0): exact statuses,
+/// The edge cases Planner::plan/tour decide for every planner: exact statuses,
 /// messages and orders, whatever the plugin.
 inline void check_planner_edge_cases(const sdk::Planner& planner) {
   const auto g = split_map();

@@ -27,9 +27,9 @@ std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime);
 /// One runtime and one lexicon (naturalizer) that several sessions share: the front ends that
 /// serve many callers (`flipper serve`, the DDS node, the repl and session with DDS services) and
 /// services that change the lexicon from outside a session (replication). Each session has its own
-/// world, user and pending query; the lexicon store, the parser's grammar and the scorer are shared,
-/// so the sharing mode applies across sessions exactly as between users of one session.
-/// Not thread-safe: the owner serialises every call into the host and its sessions.
+/// world, user and pending query; the lexicon store, the parser's grammar and the scorer are
+/// shared, so the sharing mode applies across sessions exactly as between users of one session. Not
+/// thread-safe: the owner serialises every call into the host and its sessions.
 struct SessionHost {
   std::shared_ptr<Runtime> runtime;
   std::shared_ptr<Naturalizer> naturalizer;

@@ -7,8 +7,8 @@
 /// the plugin the same way in every error (plugin_ref.hpp).
 
 #include <memory>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/plugin_ref.hpp"
