@@ -1,6 +1,7 @@
 #include "flipper/sdk/geometry.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <iterator>
 
 #include "flipper/sdk/errors.hpp"
@@ -55,16 +56,24 @@ Geometry::Geometry(int dims, Cell min, Cell max, std::vector<std::uint8_t> free_
   if (dims != 2 && dims != 3) throw Error(codes::kBadWorld, "geometry: dims must be 2 or 3");
   if (max.x < min.x || max.y < min.y || max.z < min.z)
     throw Error(codes::kBadWorld, "geometry: empty bounds");
-  sx_ = static_cast<std::size_t>(max.x - min.x + 1);
-  sy_ = static_cast<std::size_t>(max.y - min.y + 1);
-  sz_ = static_cast<std::size_t>(max.z - min.z + 1);
-  if (free_.size() != sx_ * sy_ * sz_)
+  // Extents in 64 bits: max - min + 1 overflows int for bounds that span most of its range.
+  const auto extent = [](int lo, int hi) {
+    return static_cast<std::size_t>(static_cast<std::int64_t>(hi) - lo + 1);
+  };
+  sx_ = extent(min.x, max.x);
+  sy_ = extent(min.y, max.y);
+  sz_ = extent(min.z, max.z);
+  std::size_t cells = 0;
+  if (__builtin_mul_overflow(sx_, sy_, &cells) || __builtin_mul_overflow(cells, sz_, &cells) ||
+      free_.size() != cells)
     throw Error(codes::kBadWorld, "geometry: free mask size does not match the bounds");
   // Cells in (x, y, z) order: iterate x outermost so the result is sorted without a sort.
-  for (std::int32_t x = min.x; x <= max.x; ++x)
-    for (std::int32_t y = min.y; y <= max.y; ++y)
-      for (std::int32_t z = min.z; z <= max.z; ++z) {
-        Cell c{x, y, z};
+  // 64-bit counters: `x <= max.x; ++x` never ends (and overflows) when max.x is INT_MAX.
+  for (std::int64_t x = min.x; x <= max.x; ++x)
+    for (std::int64_t y = min.y; y <= max.y; ++y)
+      for (std::int64_t z = min.z; z <= max.z; ++z) {
+        const Cell c{static_cast<std::int32_t>(x), static_cast<std::int32_t>(y),
+                     static_cast<std::int32_t>(z)};
         if (free_[index(c)]) free_cells_.push_back(c);
       }
 }

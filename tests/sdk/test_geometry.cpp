@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <limits>
 
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/world.hpp"
@@ -32,4 +33,19 @@ TEST_CASE("geometry indexes cells and lists free ones sorted", "[geometry]") {
   REQUIRE(std::is_sorted(g.free_cells().begin(), g.free_cells().end()));
   REQUIRE_THROWS_AS(Geometry(2, {0, 0, 0}, {1, 1, 0}, std::vector<std::uint8_t>(3, 1), {}, {}),
                     Error);
+}
+
+TEST_CASE("geometry refuses bounds whose cell count does not fit, instead of wrapping to zero",
+          "[geometry]") {
+  constexpr int lo = std::numeric_limits<int>::min();
+  constexpr int hi = std::numeric_limits<int>::max();
+  // 2^32 x 2^32 cells: the product wraps to 0 in 64 bits, which an empty mask would "match".
+  REQUIRE_THROWS_AS(Geometry(2, {lo, lo, 0}, {hi, hi, 0}, {}, {}, {}), Error);
+  // One row spanning the whole int range: 2^32 cells, which no mask here has (int arithmetic
+  // would wrap the extent itself to 0).
+  REQUIRE_THROWS_AS(Geometry(2, {lo, 0, 0}, {hi, 0, 0}, {}, {}, {}), Error);
+  // The boundary that fits: a 1 x 1 box at the extremes is one cell.
+  const Geometry corner(2, {hi, lo, 0}, {hi, lo, 0}, std::vector<std::uint8_t>(1, 1), {}, {});
+  REQUIRE(corner.cell_count() == 1);
+  REQUIRE(corner.is_free({hi, lo, 0}));
 }
