@@ -9,7 +9,7 @@
 // not `head_is_core`.
 #include "flipper/toolkit/chart_parser.hpp"
 
-namespace flipper::floating {
+namespace flipper::plugins::floating {
 
 struct SkipOptions {
   int floating_beam = 10;  ///< floating derivations per (category, span)
@@ -37,4 +37,4 @@ bool skippable(const std::string& token);
 sdk::ParseResult parse_floating(const toolkit::RuleIndex& index, const sdk::ParseRequest& request,
                                 int beam, bool rule_index, const SkipOptions& options);
 
-}  // namespace flipper::floating
+}  // namespace flipper::plugins::floating

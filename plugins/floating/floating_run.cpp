@@ -14,7 +14,7 @@
 #include "flipper/toolkit/chart_run.hpp"
 #include "floating_parser.hpp"
 
-namespace flipper::floating {
+namespace flipper::plugins::floating {
 
 namespace {
 
@@ -226,4 +226,4 @@ sdk::ParseResult parse_floating(const toolkit::RuleIndex& index, const sdk::Pars
   return FloatingRun(index, request, beam, rule_index, options).run();
 }
 
-}  // namespace flipper::floating
+}  // namespace flipper::plugins::floating

@@ -4,7 +4,7 @@
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::octomap3d {
+namespace flipper::plugins::octomap3d {
 namespace {
 
 using nlohmann::json;
@@ -69,4 +69,4 @@ std::vector<wf::RawField> obstacle_fields(const Obstacles& obstacles) {
   return fields;
 }
 
-}  // namespace flipper::octomap3d
+}  // namespace flipper::plugins::octomap3d

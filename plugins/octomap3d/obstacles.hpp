@@ -8,7 +8,7 @@
 
 #include "flipper/sdk/world_format.hpp"
 
-namespace flipper::octomap3d {
+namespace flipper::plugins::octomap3d {
 
 namespace wf = flipper::sdk::world_format;
 
@@ -31,4 +31,4 @@ Obstacles take_obstacles(wf::WorldDocument& doc);
 /// The fields `write_world` puts first: "octomap", "boxes", "walls" (those that are present).
 std::vector<wf::RawField> obstacle_fields(const Obstacles& obstacles);
 
-}  // namespace flipper::octomap3d
+}  // namespace flipper::plugins::octomap3d

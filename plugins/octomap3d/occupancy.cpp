@@ -12,7 +12,7 @@
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::octomap3d {
+namespace flipper::plugins::octomap3d {
 namespace {
 
 // Marks every voxel of `tree` whose centre lies in the metric box [lo, hi) as occupied (at the
@@ -171,4 +171,4 @@ std::vector<std::uint8_t> FclSpace::free_mask() const {
   return mask;
 }
 
-}  // namespace flipper::octomap3d
+}  // namespace flipper::plugins::octomap3d

@@ -14,7 +14,7 @@
 #include "flipper/sdk/world.hpp"
 #include "obstacles.hpp"
 
-namespace flipper::octomap3d {
+namespace flipper::plugins::octomap3d {
 
 struct Body {
   enum class Shape { box, sphere } shape = Shape::box;
@@ -64,4 +64,4 @@ class FclSpace final : public sdk::ContinuousSpace {
   Obstacles obstacles_;
 };
 
-}  // namespace flipper::octomap3d
+}  // namespace flipper::plugins::octomap3d

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
 using sdk::Cell;
 
@@ -93,4 +93,4 @@ bool CellSearch::connect(Cell from, Cell to, int margin, std::vector<Cell>& out)
   return false;
 }
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -8,7 +8,7 @@
 
 #include "flipper/sdk/world.hpp"
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
 class CellSearch {
  public:
@@ -43,4 +43,4 @@ class CellSearch {
 /// Euclidean distance between cell centres.
 double distance(sdk::Cell a, sdk::Cell b);
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

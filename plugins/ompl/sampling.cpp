@@ -20,9 +20,9 @@
 
 #include "serial_prm.hpp"
 
-namespace flipper::omplplanner {
-namespace ob = ompl::base;
-namespace og = ompl::geometric;
+namespace flipper::plugins::ompl {
+namespace ob = ::ompl::base;
+namespace og = ::ompl::geometric;
 using sdk::Cell;
 
 namespace {
@@ -172,7 +172,7 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
   const sdk::Geometry& g = search.geometry();
   const int dims = g.dims();
   const std::lock_guard<std::mutex> lock(seed_mutex());
-  ompl::RNG::setSeed(request_seed(settings.seed, search.start(), goal));
+  ::ompl::RNG::setSeed(request_seed(settings.seed, search.start(), goal));
 
   auto space = std::make_shared<ob::RealVectorStateSpace>(static_cast<unsigned>(dims));
   ob::RealVectorBounds bounds(static_cast<unsigned>(dims));
@@ -261,4 +261,4 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
   return out;
 }
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -12,7 +12,7 @@
 #include "flipper/sdk/planner.hpp"
 #include "snap.hpp"
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
 enum class Algorithm { rrtconnect, rrt, prm, rrtstar };
 
@@ -47,4 +47,4 @@ SamplingOutcome sample_path(const CellSearch& search, sdk::Cell goal,
 /// "rrtconnect", ...; false if unknown.
 const char* algorithm_name(Algorithm a);
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -5,8 +5,8 @@
 #include <ompl/base/goals/GoalSampleableRegion.h>
 #include <ompl/base/terminationconditions/IterationTerminationCondition.h>
 
-namespace flipper::omplplanner {
-namespace ob = ompl::base;
+namespace flipper::plugins::ompl {
+namespace ob = ::ompl::base;
 
 namespace {
 // Termination-condition checks per slice: growing gets twice the share of expanding, as in
@@ -16,7 +16,7 @@ constexpr unsigned kExpandSlice = 32;
 constexpr std::size_t kBounceSteps = 5;  // OMPL's PRM: MAX_RANDOM_BOUNCE_STEPS
 }  // namespace
 
-SerialPrm::SerialPrm(const ob::SpaceInformationPtr& si) : ompl::geometric::PRM(si) {
+SerialPrm::SerialPrm(const ob::SpaceInformationPtr& si) : ::ompl::geometric::PRM(si) {
   setName("PRM (serial, counted)");
 }
 
@@ -57,4 +57,4 @@ ob::PlannerStatus SerialPrm::solve(const ob::PlannerTerminationCondition& ptc) {
   return ob::PlannerStatus::EXACT_SOLUTION;
 }
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -7,13 +7,13 @@
 // condition (counted too) fires. Roadmap, connection strategy and solution search are OMPL's.
 #include <ompl/geometric/planners/prm/PRM.h>
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
-class SerialPrm final : public ompl::geometric::PRM {
+class SerialPrm final : public ::ompl::geometric::PRM {
  public:
-  explicit SerialPrm(const ompl::base::SpaceInformationPtr& si);
+  explicit SerialPrm(const ::ompl::base::SpaceInformationPtr& si);
 
-  ompl::base::PlannerStatus solve(const ompl::base::PlannerTerminationCondition& ptc) override;
+  ::ompl::base::PlannerStatus solve(const ::ompl::base::PlannerTerminationCondition& ptc) override;
 };
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <unordered_map>
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
 using sdk::Cell;
 
@@ -75,4 +75,4 @@ bool snap_path(const std::vector<Waypoint>& waypoints, Cell goal, CellSearch& se
   return true;
 }
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -5,7 +5,7 @@
 
 #include "cell_search.hpp"
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
 using Waypoint = std::array<double, 3>;
 
@@ -19,4 +19,4 @@ using Waypoint = std::array<double, 3>;
 bool snap_path(const std::vector<Waypoint>& waypoints, sdk::Cell goal, CellSearch& search,
                std::vector<sdk::Cell>& path);
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -5,7 +5,7 @@
 
 #include "cell_search.hpp"
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
 using sdk::Cell;
 
@@ -87,4 +87,4 @@ sdk::TourResult straight_line_tour(const sdk::Geometry& geometry, Cell start,
   return result;
 }
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -7,10 +7,10 @@
 
 #include "flipper/sdk/planner.hpp"
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
 sdk::TourResult straight_line_tour(const sdk::Geometry& geometry, sdk::Cell start,
                                    const std::vector<sdk::Cell>& points,
                                    const sdk::StopCondition& stop);
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl

@@ -99,6 +99,7 @@ ParamSchema& ParamSchema::add_path_list(std::string name, std::vector<std::strin
 ParamSchema& ParamSchema::add_double_list(std::string name, const std::vector<double>& def,
                                           std::string description) {
   std::vector<std::string> texts;
+  texts.reserve(def.size());
   for (double d : def) texts.push_back(to_string(ParamValue{d}));
   params.push_back({std::move(name),
                     ParamType::DoubleList,

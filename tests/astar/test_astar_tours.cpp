@@ -167,7 +167,7 @@ TEST_CASE("small tours are close to the best open path", "[astar][tour]") {
 TEST_CASE("remembered distances change no tour, and a changed map forgets them",
           "[astar][tour][cache]") {
   // The oracle: a planner under an expansion budget too large to bind, which never uses the
-  // distance cache (astar_planner.cpp), against one planner that serves every request in turn.
+  // distance cache (astar_plugin.cpp), against one planner that serves every request in turn.
   auto uncached =
       testsupport::astar(sdk::Params({{"max_expansions", std::int64_t{1000000000000}}}));
   auto warm = testsupport::astar();

@@ -569,7 +569,7 @@ Config Config::load(const std::optional<std::string>& file,
   std::error_code ec;
   std::vector<std::string> chain{fs::weakly_canonical(abs, ec).string()};
   Layered layers = load_layers(*file, *file, chain);
-  return build(std::move(layers.root), *file, abs.parent_path().string(), overrides, {},
+  return build(layers.root, *file, abs.parent_path().string(), overrides, {},
                std::move(layers.origins));
 }
 

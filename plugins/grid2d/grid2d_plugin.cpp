@@ -9,7 +9,7 @@
 #include "flipper/sdk/world.hpp"
 #include "flipper/sdk/world_format.hpp"
 
-namespace flipper::plugins {
+namespace flipper::plugins::grid2d {
 namespace {
 
 namespace sdk = flipper::sdk;
@@ -71,7 +71,7 @@ class Grid2dWorld final : public sdk::World {
 };
 
 }  // namespace
-}  // namespace flipper::plugins
+}  // namespace flipper::plugins::grid2d
 
-FLIPPER_PLUGIN(flipper::plugins::Grid2dWorld, world, "grid2d", FLIPPER_PLUGIN_VERSION,
+FLIPPER_PLUGIN(flipper::plugins::grid2d::Grid2dWorld, world, "grid2d", FLIPPER_PLUGIN_VERSION,
                "2-D grid world: walls on integer cells, 4-neighbourhood (right, left, up, down)")

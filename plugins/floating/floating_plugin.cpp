@@ -2,7 +2,7 @@
 
 #include "flipper/sdk/plugin.hpp"
 
-namespace flipper::floating {
+namespace flipper::plugins::floating {
 
 namespace {
 
@@ -41,7 +41,8 @@ bool skippable(const std::string& token) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c >= 0x80;
 }
 
-}  // namespace flipper::floating
+}  // namespace flipper::plugins::floating
 
-FLIPPER_PLUGIN(flipper::floating::FloatingParser, parser, "floating", FLIPPER_PLUGIN_VERSION,
+FLIPPER_PLUGIN(flipper::plugins::floating::FloatingParser, parser, "floating",
+               FLIPPER_PLUGIN_VERSION,
                "Skip-tolerant chart parser (SEMPRE FloatingParser style): skipped words cost")

@@ -7,7 +7,7 @@
 #include "flipper/toolkit/linear_scorer.hpp"
 #include "flipper/toolkit/params.hpp"
 
-namespace flipper::loglinear {
+namespace flipper::plugins::loglinear {
 
 namespace {
 
@@ -72,7 +72,7 @@ class LogLinear : public toolkit::LinearScorer {
   const double l1_;
 };
 
-}  // namespace flipper::loglinear
+}  // namespace flipper::plugins::loglinear
 
-FLIPPER_PLUGIN(flipper::loglinear::LogLinear, scorer, "loglinear", FLIPPER_PLUGIN_VERSION,
+FLIPPER_PLUGIN(flipper::plugins::loglinear::LogLinear, scorer, "loglinear", FLIPPER_PLUGIN_VERSION,
                "Log-linear ranking model with AdaGrad + L1 learning on accept")

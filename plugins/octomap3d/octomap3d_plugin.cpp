@@ -17,7 +17,7 @@
 #include "obstacles.hpp"
 #include "occupancy.hpp"
 
-namespace flipper::octomap3d {
+namespace flipper::plugins::octomap3d {
 
 namespace {
 
@@ -124,8 +124,8 @@ class OctomapWorld final : public sdk::World {
   const Body body_;
 };
 
-}  // namespace flipper::octomap3d
+}  // namespace flipper::plugins::octomap3d
 
 FLIPPER_PLUGIN(
-    flipper::octomap3d::OctomapWorld, world, "octomap3d", FLIPPER_PLUGIN_VERSION,
+    flipper::plugins::octomap3d::OctomapWorld, world, "octomap3d", FLIPPER_PLUGIN_VERSION,
     "3-D world: OctoMap octree obstacles (.bt or boxes), FCL body collision, 6-neighbourhood")

@@ -26,7 +26,7 @@
 #include "snap.hpp"
 #include "tour.hpp"
 
-namespace flipper::omplplanner {
+namespace flipper::plugins::ompl {
 
 using sdk::Cell;
 using sdk::PlanStatus;
@@ -68,7 +68,7 @@ class OmplPlanner final : public sdk::Planner {
     settings_.seed = param::get(p, kSeed);
     settings_.iterations = param::get(p, kIterations);
     settings_.simplify = param::get(p, kSimplify);
-    ompl::msg::setLogLevel(ompl::msg::LOG_NONE);  // failures come back as statuses instead
+    ::ompl::msg::setLogLevel(::ompl::msg::LOG_NONE);  // failures come back as statuses instead
   }
 
   static sdk::ParamSchema schema() {
@@ -152,7 +152,7 @@ class OmplPlanner final : public sdk::Planner {
   SamplingSettings settings_;
 };
 
-}  // namespace flipper::omplplanner
+}  // namespace flipper::plugins::ompl
 
-FLIPPER_PLUGIN(flipper::omplplanner::OmplPlanner, planner, "ompl", FLIPPER_PLUGIN_VERSION,
+FLIPPER_PLUGIN(flipper::plugins::ompl::OmplPlanner, planner, "ompl", FLIPPER_PLUGIN_VERSION,
                "OMPL sampling planner (RRT-Connect, RRT, PRM, RRT*) with paths snapped to cells")

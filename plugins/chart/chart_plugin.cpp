@@ -3,14 +3,14 @@
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/toolkit/chart_parser.hpp"
 
-namespace flipper::chart {
+namespace flipper::plugins::chart {
 
 class Chart : public toolkit::ChartParser {
  public:
   explicit Chart(const sdk::Params& params) : ChartParser(toolkit::ChartOptions::from(params)) {}
 };
 
-}  // namespace flipper::chart
+}  // namespace flipper::plugins::chart
 
-FLIPPER_PLUGIN(flipper::chart::Chart, parser, "chart", FLIPPER_PLUGIN_VERSION,
+FLIPPER_PLUGIN(flipper::plugins::chart::Chart, parser, "chart", FLIPPER_PLUGIN_VERSION,
                "Exhaustive CKY-style chart parser over core and induced rules")

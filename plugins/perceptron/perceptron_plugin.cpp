@@ -14,7 +14,7 @@
 #include "flipper/toolkit/linear_scorer.hpp"
 #include "flipper/toolkit/params.hpp"
 
-namespace flipper::perceptron {
+namespace flipper::plugins::perceptron {
 
 namespace {
 
@@ -82,7 +82,7 @@ class Perceptron : public toolkit::LinearScorer {
   const double rate_;
 };
 
-}  // namespace flipper::perceptron
+}  // namespace flipper::plugins::perceptron
 
-FLIPPER_PLUGIN(flipper::perceptron::Perceptron, scorer, "perceptron", FLIPPER_PLUGIN_VERSION,
-               "Averaged structured perceptron over the loglinear features")
+FLIPPER_PLUGIN(flipper::plugins::perceptron::Perceptron, scorer, "perceptron",
+               FLIPPER_PLUGIN_VERSION, "Averaged structured perceptron over the loglinear features")
