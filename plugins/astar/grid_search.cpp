@@ -24,9 +24,9 @@ bool GridSearch::prepare(const sdk::Geometry& g) {
   const auto sx = static_cast<std::int64_t>(g.size_x());
   const auto sy = static_cast<std::int64_t>(g.size_y());
   const auto sz = static_cast<std::int64_t>(g.size_z());
-  px_ = sx + 2 * pad_.x;
-  py_ = sy + 2 * pad_.y;
-  pz_ = sz + 2 * pad_.z;
+  px_ = sx + 2 * static_cast<std::int64_t>(pad_.x);
+  py_ = sy + 2 * static_cast<std::int64_t>(pad_.y);
+  pz_ = sz + 2 * static_cast<std::int64_t>(pad_.z);
   const std::int64_t total = px_ * py_ * pz_;
   if (total >= std::numeric_limits<std::uint32_t>::max()) return false;
   const auto n = static_cast<std::size_t>(total);

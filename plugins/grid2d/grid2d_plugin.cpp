@@ -1,6 +1,7 @@
 // grid2d: the world plugin for the 2-D grid worlds of the user studies (walls on integer cells).
 // It reads and writes the protocol's world object through the SDK's world_format helpers; this
 // file only adds what is specific to a grid: walls, the free mask and the 4-neighbourhood.
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,8 +36,8 @@ class Grid2dWorld final : public sdk::World {
                        "octomap: grid2d worlds list their walls; use a 3-D world plugin");
     const wf::Bounds box = wf::effective_bounds(doc);
     // Cells counted in 64 bits: refuse boxes too large to allocate rather than crash.
-    const auto sx = static_cast<std::uint64_t>(box.max.x - box.min.x + 1);
-    const auto sy = static_cast<std::uint64_t>(box.max.y - box.min.y + 1);
+    const auto sx = static_cast<std::uint64_t>(std::int64_t{box.max.x} - box.min.x + 1);
+    const auto sy = static_cast<std::uint64_t>(std::int64_t{box.max.y} - box.min.y + 1);
     constexpr std::uint64_t kMaxCells = std::uint64_t{1} << 28;
     if (sx * sy > kMaxCells)
       throw sdk::Error(sdk::codes::kBadWorld,

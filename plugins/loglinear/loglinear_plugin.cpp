@@ -2,6 +2,7 @@
 // the accepted program (docs/naturalization.md §3), on the toolkit's linear model (features,
 // per-user weights, incremental persistence: flipper/toolkit/linear_scorer.hpp).
 #include <cmath>
+#include <limits>
 
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/toolkit/linear_scorer.hpp"
@@ -36,7 +37,7 @@ class LogLinear : public toolkit::LinearScorer {
   // sum of squared gradients.
   void update(const std::vector<sdk::Candidate>& candidates, std::size_t accepted,
               const sdk::ScoreContext& ctx) override {
-    double max_score = -INFINITY;
+    double max_score = -std::numeric_limits<double>::infinity();
     for (const auto& c : candidates)
       for (const auto& d : c.derivations) max_score = std::max(max_score, d->score);
     if (!std::isfinite(max_score)) return;

@@ -102,7 +102,7 @@ sdk::ParamSchema LoadedPlugin::schema() const {
   return schema;
 }
 
-PluginLoader::PluginLoader(std::vector<std::string> search_path) {
+PluginLoader::PluginLoader(const std::vector<std::string>& search_path) {
   std::map<std::string, std::string> first_by_name;  // name -> library of the winning entry
   for (const auto& raw : search_path) {
     std::error_code ec;

@@ -136,7 +136,7 @@ std::vector<std::string> direction_words(const Config& config, const std::string
                 "world plugin '" + world_name + "' loaded a world without geometry");
   std::vector<std::string> known;
   for (const auto& [word, offset] : world.geometry->directions()) known.push_back(word);
-  const std::vector<std::string> chosen = config.get_string_list("grammar.directions");
+  std::vector<std::string> chosen = config.get_string_list("grammar.directions");
   if (chosen.empty()) return known;
   for (const auto& word : chosen)
     if (std::find(known.begin(), known.end(), word) == known.end()) {

@@ -53,7 +53,7 @@ bool is_blank(std::string_view s) {
 
 }  // namespace
 
-Session::Session(std::shared_ptr<Runtime> runtime)
+Session::Session(const std::shared_ptr<Runtime>& runtime)
     : Session(runtime, SessionOptions::from_config(runtime->config)) {}
 
 Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)

@@ -21,7 +21,7 @@ bool refused_write(const std::string& path) {
 }  // namespace
 
 const char* degraded_reason(const std::string& path, const sdk::Error& error) {
-  const std::string code = error.code();
+  const std::string& code = error.code();
   if (code == lexicon_codes::kReadOnly) return lexicon_codes::kReadOnly;
   if (code == lexicon_codes::kFull) return lexicon_codes::kFull;
   if (code != lexicon_codes::kBadLexicon) return nullptr;  // corrupt, busy: not a degradation

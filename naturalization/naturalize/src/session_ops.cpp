@@ -173,7 +173,7 @@ void op_rules(Naturalizer& nat, Session& s, const Json& req, JsonWriter& a) {
 
 }  // namespace
 
-void install_naturalization(Session& session, std::shared_ptr<Naturalizer> nat) {
+void install_naturalization(Session& session, const std::shared_ptr<Naturalizer>& nat) {
   session.set_op("define",
                  [nat](Session& s, const Json& r, JsonWriter& a) { op_define(*nat, s, r, a); });
   session.set_op("rules",

@@ -52,7 +52,7 @@ struct LoadedPlugin {
 class PluginLoader {
  public:
   /// Indexes the directories (missing ones are skipped) in order.
-  explicit PluginLoader(std::vector<std::string> search_path);
+  explicit PluginLoader(const std::vector<std::string>& search_path);
 
   /// The search path for a config: `plugin_paths`, then $FLIPPER_PLUGIN_PATH (colon-separated),
   /// then `<exe>/../lib/flipper/plugins` (the install layout; the build tree mirrors it).

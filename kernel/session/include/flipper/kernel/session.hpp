@@ -93,7 +93,7 @@ class Session {
   using Hook = std::function<void(Session&)>;
 
   /// Options from the runtime's config.
-  explicit Session(std::shared_ptr<Runtime> runtime);
+  explicit Session(const std::shared_ptr<Runtime>& runtime);
   Session(std::shared_ptr<Runtime> runtime, SessionOptions options);
   ~Session();
   Session(const Session&) = delete;

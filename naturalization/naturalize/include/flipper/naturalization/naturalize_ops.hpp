@@ -15,7 +15,7 @@
 namespace flipper::kernel {
 
 /// Installs the ops and hooks over an existing naturalizer (kept alive by the session).
-void install_naturalization(Session& session, std::shared_ptr<Naturalizer> naturalizer);
+void install_naturalization(Session& session, const std::shared_ptr<Naturalizer>& naturalizer);
 /// Builds the naturalizer from the session runtime's config (lexicon.*, induction.*) and
 /// installs it. Returns it for front ends that want direct access.
 std::shared_ptr<Naturalizer> install_naturalization(Session& session,
