@@ -153,8 +153,11 @@ class VariantSection {
          {std::pair<const char*, const char*>{"ours",
                                               "ours (`ms`: in-process parse + plan; timing)"},
           {"original", "original (`walltime_s`: logged server wall time)"}}) {
+      // A structured binding is not captured by reference in clang 14 (C++20 allows it, clang 16
+      // implements it): pass the source as a plain variable.
+      const char* const from = source;
       auto ms = [&](const char* metric) {
-        return duration_text(t_.find(v_.name, source, "all", metric).value_or(0));
+        return duration_text(t_.find(v_.name, from, "all", metric).value_or(0));
       };
       o_ << "| " << label << " | " << v(source, "all", "latency_n", false) << " | "
          << ms("latency_p50") << " | " << ms("latency_p90") << " | " << ms("latency_p99") << " | "
