@@ -121,9 +121,8 @@ void add_planners(CLI::App& bench) {
 }  // namespace
 
 void add_bench_command(CLI::App& app) {
+  // --config and --set belong to the benchmark (`bench planners --set ...`), as on replay's.
   auto* cmd = app.add_subcommand("bench", "Benchmarks with run records (planners)");
-  static CommonOptions opts;  // --config/--set here too, as on every subcommand
-  add_common_options(*cmd, opts);
   cmd->require_subcommand(1);
   add_planners(*cmd);
 }
