@@ -34,14 +34,6 @@ std::optional<std::size_t> shortest_steps(const sdk::Geometry& g, sdk::Cell star
 
 namespace {
 
-// SplitMix64 (Steele, Lea, Flood 2014): the same stream on every platform and standard library.
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 sdk::Cell read_cell(const YAML::Node& node, int dims, const std::string& where) {
   if (!node || !node.IsSequence() || static_cast<int>(node.size()) != dims)
     throw sdk::Error(sdk::codes::kBadConfig,
@@ -54,6 +46,13 @@ sdk::Cell read_cell(const YAML::Node& node, int dims, const std::string& where) 
 }
 
 }  // namespace
+
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
 
 std::vector<Task> random_tasks(const sdk::Geometry& g, int count, std::uint64_t seed) {
   std::vector<Task> tasks;

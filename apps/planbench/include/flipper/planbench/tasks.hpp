@@ -25,6 +25,10 @@ struct Task {
 /// geometry's neighbourhood), or none when `goal` cannot be reached.
 std::optional<std::size_t> shortest_steps(const sdk::Geometry& g, sdk::Cell start, sdk::Cell goal);
 
+/// The next value of a SplitMix64 stream (Steele, Lea and Flood 2014; `state` advances): the
+/// same numbers on every platform and standard library.
+std::uint64_t splitmix64(std::uint64_t& state);
+
 /// `count` tasks of distinct free start and goal cells that the oracle connects, drawn from the
 /// SplitMix64 stream of `seed` (cell = next() mod the number of free cells). Gives up after
 /// 1000 × count draws (a world whose free cells are mostly cut off): fewer tasks then.
