@@ -143,6 +143,11 @@ so = bfs_plugins[0]["file"]
 if bfs_plugins[0]["sha256"] != hashlib.sha256(open(so, "rb").read()).hexdigest():
     fail("bfs_example's checksum in the manifest differs from the file's")
 if m["kind"] != "planner-benchmark" or m["jobs"] != 1: fail("manifest kind/jobs")
+# Each ompl cell ran with its own seed; the unseeded planners with none.
+seeds = [(c["planner"], c["seed"], [p["params"].get("seed") for p in c["plugins"] if p["section"] == "planner"][0])
+         for c in m["cells"]]
+if seeds != [("bfs_example", "", None), ("astar", "", None), ("rrtconnect", "1", "1"), ("rrtconnect", "2", "2")]:
+    fail("cells and their planner seeds: %s" % seeds)
 
 # The figures: success 100 % everywhere (cut_off counts as solved by no_path).
 figs = {(r["variant"], r["metric"]): float(r["value"]) for r in csv.DictReader(open(os.path.join(run1, "figures.csv")))}
