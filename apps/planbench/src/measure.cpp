@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "flipper/record/csv.hpp"
+#include "stats.hpp"
 
 namespace flipper::planbench {
 namespace {
@@ -18,12 +19,6 @@ double thread_cpu_us() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) * 1e6 + static_cast<double>(t.tv_nsec) / 1e3;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
 // A field of /proc/self/status in KiB ("VmHWM"), or none.
@@ -161,8 +156,8 @@ std::vector<RunRow> measure_cell(const CellSpec& cell, const sdk::Geometry& g,
       else if (r.status != first.status || r.path != first.path)
         varies = true;
     }
-    row.cpu_us = median(cpu);
-    row.wall_us = median(wall);
+    row.cpu_us = stats::median(cpu);
+    row.wall_us = stats::median(wall);
     row.expansions = first.expansions;
     row.status = sdk::to_string(first.status);
     if (first.status == sdk::PlanStatus::found) {

@@ -6,8 +6,15 @@
 #include <cstdio>
 #include <map>
 
+#include "stats.hpp"
+
 namespace flipper::planbench {
 namespace {
+
+using stats::max_of;
+using stats::mean;
+using stats::median;
+using stats::sd;
 
 struct Run {
   std::string seed;
@@ -59,32 +66,6 @@ std::vector<Group> groups_of(const record::CsvTable& t) {
     g->runs.push_back(run);
   }
   return groups;
-}
-
-double mean(const std::vector<double>& v) {
-  if (v.empty()) return 0;
-  double s = 0;
-  for (double x : v) s += x;
-  return s / static_cast<double>(v.size());
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
-}
-
-double sd(const std::vector<double>& v) {
-  if (v.size() < 2) return 0;
-  const double m = mean(v);
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / static_cast<double>(v.size() - 1));
-}
-
-double max_of(const std::vector<double>& v) {
-  return v.empty() ? 0 : *std::max_element(v.begin(), v.end());
 }
 
 // What the figures and tables say about some runs (a cell, or a group over its seeds).
