@@ -49,10 +49,12 @@ class StubPlanner : public sdk::Planner {
  public:
   std::vector<sdk::PathResult> answers;  ///< one per call, the last repeated
   mutable std::size_t calls = 0;
+  bool throws = false;  ///< plan throws std::runtime_error
 
  protected:
   sdk::PathResult do_plan(const sdk::Geometry&, const sdk::PathRequest&,
                           const sdk::StopCondition&) const override {
+    if (throws) throw std::runtime_error("out of luck");
     const auto& a = answers[std::min(calls, answers.size() - 1)];
     ++calls;
     return a;
@@ -247,4 +249,15 @@ TEST_CASE("a cell's rows: success against the oracle, invalid paths, varying ans
   CHECK(rows[0].status == "no_path");
   CHECK(rows[0].success);
   CHECK(row_fields(rows[0])[10].empty());  // shortest
+
+  // A plan that throws is a row with the error's code, and the next task still runs.
+  stub->throws = true;
+  cell.repetitions = 3;
+  rows = measure_cell(cell, *kRing, ref, {tasks[0], cut[0]});
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[0].status == "plugin_error");
+  CHECK(rows[1].status == "plugin_error");
+  CHECK_FALSE(rows[0].success);
+  CHECK_FALSE(rows[1].success);
+  CHECK_FALSE(rows[0].length);
 }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "flipper/record/csv.hpp"
+#include "flipper/sdk/errors.hpp"
 #include "stats.hpp"
 
 namespace flipper::planbench {
@@ -134,15 +135,21 @@ std::vector<RunRow> measure_cell(const CellSpec& cell, const sdk::Geometry& g,
     std::vector<double> cpu, wall;
     sdk::PathResult first;
     bool varies = false;
-    for (int rep = 0; rep < cell.repetitions; ++rep) {
+    std::string error;  // the code of an error the plan call threw (a plugin's exception)
+    for (int rep = 0; rep < cell.repetitions && error.empty(); ++rep) {
       const bool probe = rep == 0 && reset_peak_rss();
       const auto rss_before = probe ? status_kib("VmRSS") : std::nullopt;
       const auto stop = sdk::StopCondition::within(std::chrono::milliseconds(cell.deadline_ms));
       const auto wall0 = std::chrono::steady_clock::now();
       const double cpu0 = thread_cpu_us();
-      sdk::PathResult r = planner.call("plan", [&](const sdk::Planner& p) {
-        return p.plan(g, sdk::PathRequest{task.start, &goal, nullptr}, stop);
-      });
+      sdk::PathResult r;
+      try {
+        r = planner.call("plan", [&](const sdk::Planner& p) {
+          return p.plan(g, sdk::PathRequest{task.start, &goal, nullptr}, stop);
+        });
+      } catch (const sdk::Error& e) {
+        error = e.code();
+      }
       cpu.push_back(thread_cpu_us() - cpu0);
       wall.push_back(
           std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - wall0)
@@ -159,8 +166,8 @@ std::vector<RunRow> measure_cell(const CellSpec& cell, const sdk::Geometry& g,
     row.cpu_us = stats::median(cpu);
     row.wall_us = stats::median(wall);
     row.expansions = first.expansions;
-    row.status = sdk::to_string(first.status);
-    if (first.status == sdk::PlanStatus::found) {
+    row.status = error.empty() ? sdk::to_string(first.status) : error;
+    if (error.empty() && first.status == sdk::PlanStatus::found) {
       row.length = first.path.size();
       row.turns = count_turns(task.start, first.path);
       if (!valid_path(g, task.start, task.goal, first.path)) row.status = "invalid_path";

@@ -25,7 +25,8 @@ struct RunRow {
   std::string world, planner, plugin, seed, task, start, goal;
   /// found | no_path | stopped | invalid (the planner's), or `invalid_path` (found, but not a
   /// path of free neighbouring cells from the start to the goal) or `varies` (repetitions gave
-  /// different answers).
+  /// different answers), or the error code of a plan call that threw (`plugin_error`: the run
+  /// goes on with the next task).
   std::string status;
   bool success = false;  ///< a valid path to a reachable goal, or no_path for an unreachable one
   std::optional<std::size_t> length, shortest;           ///< steps
