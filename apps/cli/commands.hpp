@@ -7,17 +7,17 @@
 #include <vector>
 
 namespace flipper::cli {
-void add_plugins_command(CLI::App& app);   // plugins.cpp
-void add_plugin_command(CLI::App& app);    // plugin_new.cpp (plugin new: scaffold a plugin)
-void add_config_command(CLI::App& app);    // config.cpp   (config check)
-void add_run_command(CLI::App& app);       // run.cpp
-void add_session_command(CLI::App& app);   // session.cpp
-void add_repl_command(CLI::App& app);      // repl.cpp
-void add_replay_command(CLI::App& app);    // replay.cpp
-void add_bench_command(CLI::App& app);     // bench.cpp    (bench planners: the planner benchmark)
-void add_lexicon_command(CLI::App& app);   // lexicon.cpp  (lexicon list|export|import)
-void add_serve_command(CLI::App& app);     // frontend_commands.cpp (apps/studio: HTTP, web page)
-void add_dds_command(CLI::App& app);       // frontend_commands.cpp (DDS node, dds security)
+void add_plugins_command(CLI::App& app);  // plugins.cpp
+void add_plugin_command(CLI::App& app);   // plugin_new.cpp (plugin new: scaffold a plugin)
+void add_config_command(CLI::App& app);   // config.cpp   (config check)
+void add_run_command(CLI::App& app);      // run.cpp
+void add_session_command(CLI::App& app);  // session.cpp
+void add_repl_command(CLI::App& app);     // repl.cpp
+void add_replay_command(CLI::App& app);   // replay.cpp
+void add_bench_command(CLI::App& app);    // bench.cpp    (bench planners)
+void add_lexicon_command(CLI::App& app);  // lexicon.cpp  (lexicon list|export|import)
+void add_serve_command(CLI::App& app);    // frontend_commands.cpp (apps/studio: HTTP, web page)
+void add_dds_command(CLI::App& app);      // frontend_commands.cpp (DDS node, dds security)
 void add_accounts_command(CLI::App& app);  // frontend_commands.cpp (the studio's accounts)
 
 struct CommonOptions;
@@ -38,10 +38,10 @@ int run_dds_security(const std::string& action, const DdsSecurityArgs& args);
 struct AccountsArgs {
   std::string action;  ///< add, passwd, list, remove, invite, revoke
   std::string name;
-  std::string role;   ///< "" : add makes a user, invite a participant
-  int days = 7;       ///< invite: how long the code lasts
-  std::string url;    ///< invite: the server's address, for the printed link
-  bool json = false;  ///< list
+  std::string role;     ///< "" : add makes a user, invite a participant
+  int days = 7;         ///< invite: how long the code lasts
+  std::string url;      ///< invite: the server's address, for the printed link
+  bool json = false;    ///< list
 };
 int run_accounts(const CommonOptions& opts, const AccountsArgs& args);
 }  // namespace flipper::cli
