@@ -1,5 +1,7 @@
 // The planner benchmark's parts (docs/planners.md §5): the breadth-first oracle, turns, path
 // checks, random tasks, task files, experiment files and one cell's rows with stub planners.
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -38,7 +40,8 @@ std::shared_ptr<const sdk::Geometry> grid(const std::vector<std::string>& rows) 
 const auto kRing = grid({"...", ".#.", ".#."});
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "flipper-test-planbench";
+  static const fs::path dir =
+      fs::temp_directory_path() / ("flipper-test-planbench-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / name) << text;
   return (dir / name).string();
