@@ -39,9 +39,19 @@ std::shared_ptr<const sdk::Geometry> grid(const std::vector<std::string>& rows) 
 // y=0  . # .   and a pocket: none here (see `walled`)
 const auto kRing = grid({"...", ".#.", ".#."});
 
-std::string write_temp(const std::string& name, const std::string& text) {
-  static const fs::path dir =
+// The test's files, in a folder of this process removed at exit.
+struct TempDir {
+  fs::path path =
       fs::temp_directory_path() / ("flipper-test-planbench-" + std::to_string(::getpid()));
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  static const TempDir temp;
+  const fs::path& dir = temp.path;
   fs::create_directories(dir);
   std::ofstream(dir / name) << text;
   return (dir / name).string();
