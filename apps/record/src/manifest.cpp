@@ -90,11 +90,13 @@ json config_json(const kernel::Config& config) {
           {"files", files}};
 }
 
-json plugins_json(const kernel::Config& config) {
+json plugins_json(const kernel::Config& config, const std::vector<std::string>& sections) {
   const kernel::PluginLoader loader(kernel::PluginLoader::search_path_for(config));
   json out = json::array();
   for (const auto& section : kernel::Config::plugin_sections()) {
     if (!config.has_section(section)) continue;
+    if (!sections.empty() && std::find(sections.begin(), sections.end(), section) == sections.end())
+      continue;
     sdk::PluginKind kind{};
     sdk::parse_kind(section.c_str(), kind);
     const kernel::LoadedPlugin plugin = loader.open(config.plugin_name(section), kind);

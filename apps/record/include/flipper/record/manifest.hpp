@@ -32,8 +32,10 @@ nlohmann::json folder_json(const std::string& dir);
 nlohmann::json config_json(const kernel::Config& config);
 /// The plugins a config selects, in section order: [{"section", "name", "version", "file",
 /// "sha256", "params": {name: value as text, defaults included}}]. Opens each plugin library
-/// (checks as the kernel does); throws sdk::Error as loading would.
-nlohmann::json plugins_json(const kernel::Config& config);
+/// (checks as the kernel does); throws sdk::Error as loading would. `sections` limits it to
+/// those sections (a planner benchmark records only its world and planner).
+nlohmann::json plugins_json(const kernel::Config& config,
+                            const std::vector<std::string>& sections = {});
 
 /// Writes `run_dir`/manifest.json (indented; through a temporary file renamed over it, so a
 /// reader never sees half a manifest). Throws sdk::Error(write_failed).

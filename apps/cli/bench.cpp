@@ -1,0 +1,130 @@
+// flipper bench planners --experiment FILE --out PARENT [--config F] [--set k=v]... [--jobs N]
+//                        [--print results|timing] [--no-plots]
+// flipper bench planners plot RUN
+// The planner benchmark (docs/planners.md §5): tasks × worlds × planners × seeds, any planner
+// plugin by name (in-tree, or out-of-tree through plugin_paths), one row per plan in runs.csv of
+// a new run folder under --out, with manifest, summary tables (report.md) and plots.
+#include <iostream>
+
+#include "commands.hpp"
+#include "common.hpp"
+#include "flipper/planbench/bench.hpp"
+#include "flipper/planbench/experiment.hpp"
+#include "flipper/planbench/summary.hpp"
+#include "flipper/record/processes.hpp"
+#include "flipper/record/run_folder.hpp"
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::cli {
+namespace {
+
+struct PlannerBenchArgs {
+  std::string experiment, out, print;
+  int jobs = 0;  ///< 0: the cores available
+  bool no_plots = false;
+};
+
+int guarded(const char* name, const std::function<int()>& f) {
+  try {
+    return f();
+  } catch (const sdk::Error& e) {
+    return report_error(name, e.code(), e.what(), status_for(e.code()));
+  }
+}
+
+// The --print tables (what a README block generates): results, timing, comma-separated.
+std::string print_tables(const std::string& names, const std::string& run_dir) {
+  std::string out;
+  std::size_t from = 0;
+  while (from <= names.size()) {
+    const std::size_t comma = std::min(names.find(',', from), names.size());
+    const std::string name = names.substr(from, comma - from);
+    from = comma + 1;
+    if (name.empty()) continue;
+    if (name != "results" && name != "timing")
+      throw sdk::Error(sdk::codes::kBadRequest,
+                       "--print '" + name + "': no such table (results, timing)");
+    if (run_dir.empty()) continue;  // checking the names only
+    const auto runs = record::read_csv(run_dir + "/runs.csv");
+    out += name == "results" ? planbench::results_table(runs) : planbench::timing_table(runs);
+  }
+  return out;
+}
+
+int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args) {
+  if (args.experiment.empty())
+    return report_error("bench planners", "usage",
+                        "--experiment FILE is required (e.g. configs/experiments/planners.yaml)",
+                        kExitUsage);
+  if (args.out.empty())
+    return report_error("bench planners", "usage",
+                        "--out PARENT is required: the run goes into a new folder under it",
+                        kExitUsage);
+  if (args.jobs < 0)
+    return report_error("bench planners", "usage", "--jobs must be at least 1", kExitUsage);
+  print_tables(args.print, "");
+  const auto experiment = planbench::load_bench_experiment(args.experiment);
+  planbench::BenchOptions options;
+  options.config = common.config_file;
+  options.overrides = common.overrides;
+  options.out = args.out;
+  options.jobs = args.jobs > 0 ? args.jobs : record::available_cores();
+  options.plots = !args.no_plots;
+  const auto result = planbench::run_bench(experiment, options);
+  std::ostream& summary = args.print.empty() ? std::cout : std::cerr;
+  summary << "planner benchmark: " << result.cells << " cells, " << result.runs
+          << " plans\nrun: " << result.run_dir << "\nreport: " << result.run_dir << "/report.md\n";
+  if (result.plots.status == record::PlotOutcome::Status::drawn)
+    std::cerr << result.plots.message;
+  else if (options.plots)
+    std::cerr << "flipper bench planners: note: " << result.plots.message << "\n";
+  if (!args.print.empty()) std::cout << print_tables(args.print, result.run_dir);
+  return kExitOk;
+}
+
+void add_planners(CLI::App& bench) {
+  auto* cmd = bench.add_subcommand(
+      "planners",
+      "Benchmark planner plugins: tasks x worlds x planners x seeds into a new run folder");
+  static CommonOptions opts;
+  static PlannerBenchArgs args;
+  add_common_options(*cmd, opts);
+  cmd->add_option("--experiment", args.experiment,
+                  "Benchmark experiment file (configs/experiments/planners.yaml)");
+  cmd->add_option("--out", args.out,
+                  "Parent folder: the run goes into a new folder under it (never overwritten)");
+  cmd->add_option("--jobs", args.jobs,
+                  "Cells (world x planner x seed) in parallel processes (default: the cores)");
+  cmd->add_option("--print", args.print,
+                  "Print only these tables to standard output: results (deterministic), timing");
+  cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
+  cmd->require_subcommand(0, 1);
+  auto* plot = cmd->add_subcommand("plot", "Draw (again) a benchmark run's plots from runs.csv");
+  static std::string run;
+  plot->add_option("run", run, "The run folder")->required();
+  on_run(*plot, [] {
+    return guarded("bench planners plot", [] {
+      if (!record::is_run_folder(run))
+        throw sdk::Error(sdk::codes::kBadRequest, "'" + run + "' is not a run folder");
+      const auto plots = record::draw_plots("planner_bench_plots.py", run);
+      std::cerr << plots.message
+                << (plots.message.empty() || plots.message.back() == '\n' ? "" : "\n");
+      return plots.status == record::PlotOutcome::Status::drawn ? kExitOk : kExitFailed;
+    });
+  });
+  on_run(*cmd, [cmd] {
+    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot
+    return guarded("bench planners", [] { return run_planner_bench(opts, args); });
+  });
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app) {
+  // --config and --set belong to the benchmark (`bench planners --set ...`), as on replay's.
+  auto* cmd = app.add_subcommand("bench", "Benchmarks with run records (planners)");
+  cmd->require_subcommand(1);
+  add_planners(*cmd);
+}
+
+}  // namespace flipper::cli

@@ -1,0 +1,33 @@
+#pragma once
+/// @file bench.hpp
+/// Running a planner benchmark into a run folder (docs/planners.md §5): every plugin is loaded
+/// and checked first (a missing plugin, a plugin of another kind, a bad param or world fail
+/// before anything runs, as sdk::Error), the tasks are drawn, then each cell (world × planner ×
+/// seed) runs in its own process, at most `jobs` at once (apps/record processes.hpp); the rows
+/// are joined in cell order, so runs.csv does not depend on `jobs` but for measured columns.
+
+#include <string>
+#include <vector>
+
+#include "flipper/planbench/experiment.hpp"
+#include "flipper/record/plots.hpp"
+
+namespace flipper::planbench {
+
+struct BenchOptions {
+  std::string config;                  ///< --config ("" : the experiment's, or the default)
+  std::vector<std::string> overrides;  ///< --set, applied to every cell after the experiment's
+  std::string out;                     ///< parent of the run folder
+  int jobs = 1;
+  bool plots = true;
+};
+
+struct BenchResult {
+  std::string run_dir;
+  record::PlotOutcome plots;
+  std::size_t cells = 0, runs = 0;
+};
+
+BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options);
+
+}  // namespace flipper::planbench

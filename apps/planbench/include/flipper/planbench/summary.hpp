@@ -1,0 +1,29 @@
+#pragma once
+/// @file summary.hpp
+/// What a benchmark run's runs.csv says (docs/planners.md §5): per world × planner, over its
+/// tasks and seeds. `results_table` has the deterministic columns only (the README's table),
+/// `timing_table` the measured ones; `bench_figures` the per-cell figures of figures.csv.
+
+#include <string>
+#include <vector>
+
+#include "flipper/record/csv.hpp"
+#include "flipper/record/figures.hpp"
+
+namespace flipper::planbench {
+
+/// success, length / shortest (mean, worst), turns, expansions, per world × planner.
+std::string results_table(const record::CsvTable& runs);
+/// plan CPU time (median, spread of the seeds' medians), wall time, peak memory.
+std::string timing_table(const record::CsvTable& runs);
+
+/// One variant per cell (`world=W,planner=P[,seed=S]`, its condition without the seed) and
+/// its figures: tasks, solved, success (%), length_ratio_mean, length_ratio_max, turns_mean,
+/// expansions_median; measured: cpu_us_median, cpu_us_max, peak_rss_kib_max.
+struct BenchFigures {
+  std::vector<record::Figure> figures;
+  std::vector<record::VariantInfo> variants;
+};
+BenchFigures bench_figures(const record::CsvTable& runs);
+
+}  // namespace flipper::planbench
