@@ -40,7 +40,7 @@ void Scheduler::refill(Key& k, Clock::time_point now) const {
   k.refilled = now;
 }
 
-bool Scheduler::submit(const std::string& key, Job job) {
+bool Scheduler::submit(const std::string& key, Job job, int worker) {
   {
     std::lock_guard lock(mutex_);
     const auto now = Clock::now();
@@ -51,10 +51,11 @@ bool Scheduler::submit(const std::string& key, Job job) {
       k.refilled = now;
     }
     if (k.jobs.size() >= options_.max_queued_per_key) return false;
+    k.worker = worker;
     if (k.jobs.empty()) k.arrival = ++arrivals_;
     k.jobs.push_back(std::move(job));
   }
-  cv_.notify_one();
+  cv_.notify_all();  // the one worker that may take it (pinned, reserve) must hear it
   return true;
 }
 
@@ -66,9 +67,11 @@ double Scheduler::allowance_ms(const std::string& key) {
   return it->second.allowance_ms;
 }
 
-std::map<std::string, Scheduler::Key>::iterator Scheduler::pick(Clock::time_point now,
+std::map<std::string, Scheduler::Key>::iterator Scheduler::pick(int worker, Clock::time_point now,
                                                                 Clock::time_point& wake) {
   auto best = keys_.end();
+  const int workers = static_cast<int>(workers_.size());
+  const bool heavy_allowed = running_heavy_ < std::max(1, workers - options_.reserve);
   wake = Clock::time_point::max();
   for (auto it = keys_.begin(); it != keys_.end();) {
     Key& k = it->second;
@@ -81,6 +84,10 @@ std::map<std::string, Scheduler::Key>::iterator Scheduler::pick(Clock::time_poin
       // Idle and paid up: nothing to remember (a fresh key starts the same).
       it = k.allowance_ms >= options_.cpu_burst_ms && k.recent_ms < 0.01 ? keys_.erase(it)
                                                                          : std::next(it);
+      continue;
+    }
+    if ((k.worker >= 0 && k.worker != worker) || (heavy(k) && !heavy_allowed)) {
+      ++it;  // another worker's, or waits for a heavy slot (a finishing job wakes everyone)
       continue;
     }
     if (k.allowance_ms <= 0) {
@@ -102,7 +109,7 @@ void Scheduler::work(int index) {
   for (;;) {
     if (stopping_) return;
     Clock::time_point wake;
-    auto it = pick(Clock::now(), wake);
+    auto it = pick(index, Clock::now(), wake);
     if (it == keys_.end()) {
       if (wake == Clock::time_point::max())
         cv_.wait(lock);
@@ -114,6 +121,8 @@ void Scheduler::work(int index) {
     Job job = std::move(it->second.jobs.front());
     it->second.jobs.pop_front();
     it->second.running = true;
+    const bool was_heavy = heavy(it->second);
+    running_heavy_ += was_heavy;
     lock.unlock();
     const double cpu0 = thread_cpu_ms();
     job(index);
@@ -124,11 +133,11 @@ void Scheduler::work(int index) {
     refill(k, Clock::now());
     k.allowance_ms -= used;
     k.recent_ms += used;
+    k.cost_ms = (k.cost_ms + used) / 2;
     k.running = false;
-    if (!k.jobs.empty()) {
-      k.arrival = ++arrivals_;
-      cv_.notify_one();
-    }
+    running_heavy_ -= was_heavy;
+    if (!k.jobs.empty()) k.arrival = ++arrivals_;
+    cv_.notify_all();  // a heavy slot or a pinned key's worker may be free now
   }
 }
 

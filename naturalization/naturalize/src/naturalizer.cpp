@@ -270,7 +270,8 @@ Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions opt
 Naturalizer::~Naturalizer() = default;
 
 void Naturalizer::restore() {
-  store_->changed_elsewhere();  // the baseline for refresh(), taken before reading
+  store_->changed_elsewhere();             // the baseline for refresh(), taken before reading
+  learned_mark_ = store_->learned_mark();  // likewise: what is learned later is read again
   if (!restore_from_snapshot()) restore_from_rows();
   // Counters last: they change on every accept without moving the mark, so no snapshot has them.
   for (const auto& u : store_->nonzero_uses())
@@ -332,13 +333,14 @@ sdk::IncrementalScorer* incremental(sdk::Scorer& scorer) {
 }
 }  // namespace
 
-// A whole saved state (older builds, non-incremental scorers), then the additive weights.
+// A whole saved state (older builds, non-incremental scorers) or the initial one, then the
+// additive weights: the scorer then holds exactly what any kernel reading the store would hold
+// (docs/naturalization.md §5 "Learned state").
 void Naturalizer::load_weights(const std::string& key) {
   auto& scorer = *runtime_->scorer.borrow();
   auto state = store_->load_weights(key);
-  if (state || options_.per_user_weights)
-    runtime_->scorer.call("load_state",
-                          [&](sdk::Scorer& s) { s.load_state(state ? *state : initial_weights_); });
+  runtime_->scorer.call("load_state",
+                        [&](sdk::Scorer& s) { s.load_state(state ? *state : initial_weights_); });
   if (auto* inc = incremental(scorer)) {
     std::vector<sdk::WeightChange> changes;
     for (auto& c : store_->weight_changes(key))
@@ -354,7 +356,24 @@ void Naturalizer::close_store() {
 
 void Naturalizer::refresh() {
   // data_version is read before the changes, so a commit racing with this read shows next time.
-  if (store_->changed_elsewhere()) apply(store_->changes_since(mark_));
+  if (!store_->changed_elsewhere()) return;
+  apply(store_->changes_since(mark_));
+  apply(store_->learned_since(learned_mark_));
+}
+
+void Naturalizer::apply(const LearnedChanges& learned) {
+  for (const auto& u : learned.uses)
+    if (by_id_.count(u.rule)) runtime_->usage->set(u.rule, {u.by_author, u.by_others});
+  const std::string held = held_weights_key();
+  if (!held.empty() && std::find(learned.weight_keys.begin(), learned.weight_keys.end(), held) !=
+                           learned.weight_keys.end())
+    load_weights(held);
+  learned_mark_ = learned.mark;
+}
+
+std::string Naturalizer::held_weights_key() const {
+  if (!options_.per_user_weights) return weights_key({});
+  return weights_user_.empty() ? std::string() : weights_key(weights_user_);
 }
 
 bool Naturalizer::add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr>& own) {
@@ -585,6 +604,9 @@ void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::Rule
   // The stored totals include other processes' uses.
   for (std::size_t i = 0; i < rules.size(); ++i)
     runtime_->usage->set(rules[i]->id, {totals[i].by_author, totals[i].by_others});
+  // The scorer learned in memory; the stored sums are the truth every other kernel reads, and
+  // floating-point sums taken in another order may differ in the last bit: hold the stored ones.
+  if (weights_key(user) == held_weights_key()) load_weights(weights_key(user));
 }
 
 }  // namespace flipper::kernel
