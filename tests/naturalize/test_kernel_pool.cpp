@@ -65,14 +65,15 @@ Json accept(int rank) {
 }
 
 // Two users teach, accept (so weights and use counters change) and ask on alternating kernels;
-// session 0 asks on kernel 0 and accepts on kernel 1 (its pending answer moves with it).
+// session 0 asks on kernel 0 and accepts on kernel 1 (its pending answer moves with it), once
+// with a rule kernel 1 has not seen yet.
 std::vector<Step> script(const std::string& ambiguous) {
   return {
       {0, 0, {{"op", "user"}, {"name", "ana"}}},
       {1, 1, {{"op", "user"}, {"name", "bob"}}},
       {0, 0, {{"op", "define"}, {"head", "zig left"}, {"body", {"move left", "move left"}}}},
       {0, 0, query("zig left")},
-      {0, 0, accept(0)},
+      {1, 0, accept(0)},  // kernel 1 has not seen the rule yet
       {1, 1, query("zig left")},
       {1, 1, accept(0)},
       {0, 0, query(ambiguous)},
