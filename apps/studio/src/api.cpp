@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "recorder.hpp"
 #include "studio_ops.hpp"
@@ -65,25 +66,26 @@ int pool_size(const ServeOptions& options, const kernel::Config& config) {
 
 // What the kernels leave of the memory budget for sessions; bad_config when they would take
 // more than half of it.
-std::size_t session_budget(const ServeOptions& options, std::size_t kernels) {
+std::size_t session_budget(const ServeOptions& options, std::size_t kernels,
+                           std::size_t kernels_bytes) {
   const std::size_t budget = options.memory_budget_mb << 20;
-  if (kernels * kKernelBytes * 2 > budget)
+  if (kernels_bytes * 2 > budget)
     throw sdk::Error(sdk::codes::kBadConfig,
                      std::to_string(kernels) + " kernels take " +
-                         std::to_string(kernels * (kKernelBytes >> 20)) +
+                         std::to_string((kernels_bytes + (1 << 20) - 1) >> 20) +
                          " MiB, more than half of serve.memory_budget_mb (" +
                          std::to_string(options.memory_budget_mb) +
                          " MiB): lower serve.kernels or raise the budget");
-  return budget - kernels * kKernelBytes;
+  return budget - kernels_bytes;
 }
 
-std::size_t total_kernels(const ServeOptions& options,
-                          const std::vector<std::pair<std::string, kernel::Config>>& kernels) {
-  std::size_t n = 0;
-  for (const auto& [group, config] : kernels)
-    n += static_cast<std::size_t>(pool_size(options, config));
-  return n;
+}  // namespace
+
+std::size_t kernel_bytes(std::size_t rules) {
+  return (std::size_t{4} << 20) + rules * 1024;
 }
+
+namespace {
 
 HttpReply json_reply(int status, const Json& body) {
   HttpReply r;
@@ -132,12 +134,12 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
       accounts_(accounts),
       scheduler_(scheduler),
       hosts_(hosts),
-      registry_(RegistryLimits{options_.max_sessions, std::chrono::seconds(options_.session_idle_s),
-                               options_.rate_per_second, options_.rate_burst,
-                               options_.sessions_per_address,
-                               static_cast<double>(options_.new_sessions_per_minute),
-                               session_budget(options_, total_kernels(options_, kernels)),
-                               64 * 1024, std::chrono::seconds(options_.evict_after_s)}) {
+      registry_(RegistryLimits{
+          options_.max_sessions, std::chrono::seconds(options_.session_idle_s),
+          options_.rate_per_second, options_.rate_burst, options_.sessions_per_address,
+          static_cast<double>(options_.new_sessions_per_minute), options_.memory_budget_mb << 20,
+          64 * 1024, std::chrono::seconds(options_.evict_after_s)}) {
+  std::size_t count = 0, bytes = 0;
   for (const auto& [group, config] : kernels) {
     KernelPool& pool = pools_[group];
     const int n = pool_size(options_, config);
@@ -150,6 +152,8 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
           fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();
       k->max_world_bytes = world_bytes(static_cast<std::size_t>(config.get_int("world.max_cells")));
       k->vocabulary = vocabulary(*k->runtime);
+      bytes += kernel_bytes(k->host->naturalizer->induced_rules().size());
+      ++count;
       pool.kernels.push_back(std::move(k));
     }
     SchedulerOptions so;
@@ -159,6 +163,7 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
     so.cpu_burst_ms = options_.cpu_burst_ms;
     pool.scheduler = std::make_unique<Scheduler>(so);
   }
+  registry_.set_memory_budget(session_budget(options_, count, bytes));
 }
 
 Api::~Api() {
@@ -307,7 +312,7 @@ void Api::install_studio_ops(SessionEntry& entry, Kernel& k) {
   ctx.role = entry.role;
   ctx.naturalizer = k.host->naturalizer;
   ctx.max_world_bytes = k.max_world_bytes;
-  ctx.budget_bytes = registry_.limits().memory_budget_bytes;
+  ctx.budget_bytes = options_.memory_budget_mb << 20;
   SessionEntry* raw = &entry;
   const std::size_t base = registry_.limits().session_base_bytes;
   ctx.reserve = [this, raw](std::size_t bytes) {
