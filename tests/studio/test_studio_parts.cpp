@@ -130,7 +130,7 @@ struct Gate {
   }
 };
 
-TEST_CASE("heavy sessions cannot take the reserved worker, a cheap one can") {
+TEST_CASE("heavy sessions leave the reserved worker to cheap ones") {
   SchedulerOptions o;
   o.workers = 2;
   o.reserve = 1;

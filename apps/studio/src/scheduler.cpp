@@ -19,7 +19,8 @@ double thread_cpu_ms() {
   return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
 }
 
-Scheduler::Scheduler(SchedulerOptions options) : options_(options) {
+Scheduler::Scheduler(SchedulerOptions options)
+    : options_(options), worker_busy_(static_cast<std::size_t>(std::max(1, options.workers))) {
   for (int i = 0; i < std::max(1, options_.workers); ++i)
     workers_.emplace_back([this, i] { work(i); });
 }
@@ -86,8 +87,12 @@ std::map<std::string, Scheduler::Key>::iterator Scheduler::pick(int worker, Cloc
                                                                          : std::next(it);
       continue;
     }
-    if ((k.worker >= 0 && k.worker != worker) || (heavy(k) && !heavy_allowed)) {
-      ++it;  // another worker's, or waits for a heavy slot (a finishing job wakes everyone)
+    const bool its_worker_free = k.last_worker >= 0 && k.last_worker != worker &&
+                                 !worker_busy_[static_cast<std::size_t>(k.last_worker)];
+    if ((k.worker >= 0 && k.worker != worker) || (heavy(k) && !heavy_allowed) || its_worker_free) {
+      // Another worker's (pinned, or free and warm for it), or it waits for a heavy slot: a
+      // finishing job wakes everyone.
+      ++it;
       continue;
     }
     if (k.allowance_ms <= 0) {
@@ -121,6 +126,8 @@ void Scheduler::work(int index) {
     Job job = std::move(it->second.jobs.front());
     it->second.jobs.pop_front();
     it->second.running = true;
+    it->second.last_worker = index;
+    worker_busy_[static_cast<std::size_t>(index)] = true;
     const bool was_heavy = heavy(it->second);
     running_heavy_ += was_heavy;
     lock.unlock();
@@ -136,6 +143,7 @@ void Scheduler::work(int index) {
     k.cost_ms = (k.cost_ms + used) / 2;
     k.running = false;
     running_heavy_ -= was_heavy;
+    worker_busy_[static_cast<std::size_t>(index)] = false;
     if (!k.jobs.empty()) k.arrival = ++arrivals_;
     cv_.notify_all();  // a heavy slot or a pinned key's worker may be free now
   }

@@ -9,7 +9,9 @@
 // waits for a lock or the disk costs nothing.
 // Heavy keys (whose requests lately cost serve's heavy threshold of CPU each) may hold at most
 // `workers - reserve` workers at once: the reserve stays free for cheap requests, so they never
-// wait for an expensive one to finish. A key may be pinned to one worker (its state lives there).
+// wait for an expensive one to finish. A key may be pinned to one worker (its state lives there);
+// otherwise it prefers the worker that ran it last when that one is free (its kernel's caches are
+// warm and the session need not move).
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -59,6 +61,7 @@ class Scheduler {
     std::uint64_t arrival = 0;  ///< of its oldest waiting job: ties go to the older
     double cost_ms = 0;         ///< CPU per request, averaged (weight 1/2 to the last)
     int worker = -1;            ///< pinned to this worker (-1: any)
+    int last_worker = -1;       ///< ran its last job
   };
   bool heavy(const Key& k) const { return k.cost_ms >= options_.heavy_ms; }
   void work(int index);
@@ -74,6 +77,7 @@ class Scheduler {
   std::map<std::string, Key> keys_;
   std::uint64_t arrivals_ = 0;
   int running_heavy_ = 0;
+  std::vector<bool> worker_busy_;
   bool stopping_ = false;
   std::vector<std::thread> workers_;
 };
