@@ -131,6 +131,8 @@ void Scheduler::work(int index) {
     const bool was_heavy = heavy(it->second);
     running_heavy_ += was_heavy;
     lock.unlock();
+    // Keys that waited for this worker (it ran them last) may now go to another free one.
+    cv_.notify_all();
     const double cpu0 = thread_cpu_ms();
     job(index);
     job = nullptr;  // its captures (a connection) are released outside the lock
