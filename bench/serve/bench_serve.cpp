@@ -6,7 +6,8 @@
 //   memory    resident memory before / after 20 expensive queries (target: back near the
 //             baseline), and 40 sessions each loading a maximal world against a 1024 MiB budget
 //             (target: refused before the budget; peak RSS)
-// Usage: bench_serve --flipper BIN [--part trickle|fairness|memory|all]
+// Usage: bench_serve --flipper BIN [--part trickle|fairness|memory|all]; BENCH_SERVE_SET=k=v adds
+// one --set value to every server (e.g. serve.kernels=2).
 #include <httplib.h>
 #include <unistd.h>
 
@@ -75,6 +76,11 @@ struct Server {
     for (const auto& s : sets) {
       args.push_back("--set");
       args.push_back(s);
+    }
+    // More --set values for every server, e.g. BENCH_SERVE_SET=serve.kernels=2 (one value).
+    if (const char* extra = std::getenv("BENCH_SERVE_SET")) {
+      args.push_back("--set");
+      args.push_back(extra);
     }
     child = std::make_unique<flipper::testsupport::ChildProcess>(args);
     const std::string line = child->read_line(30s);

@@ -64,6 +64,14 @@ int pool_size(const ServeOptions& options, const kernel::Config& config) {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) + 1;
 }
 
+// Heavy sessions may hold this many kernels at once: one core's worth less than the machine has,
+// so a cheap request finds a free kernel and a free core (with every core busy with heavy
+// queries, `move left` waited for the CPU: p99 up to 250 ms, against 5 ms; docs/studio.md §5).
+int heavy_kernels(int kernels) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return kernels > 1 ? std::max(1, std::min(kernels - 1, cores - 1)) : 1;
+}
+
 // What the kernels leave of the memory budget for sessions; bad_config when they would take
 // more than half of it.
 std::size_t session_budget(const ServeOptions& options, std::size_t kernels,
@@ -158,7 +166,7 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
     }
     SchedulerOptions so;
     so.workers = n;
-    so.reserve = n > 1 ? 1 : 0;
+    so.reserve = n - heavy_kernels(n);
     so.cpu_ms_per_s = options_.cpu_ms_per_s;
     so.cpu_burst_ms = options_.cpu_burst_ms;
     pool.scheduler = std::make_unique<Scheduler>(so);
