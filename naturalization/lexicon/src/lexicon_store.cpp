@@ -675,7 +675,18 @@ std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& d
 
 namespace {
 void add_weight_changes(sqlite::Db& db, const std::string& key,
-                        const std::vector<StoredWeightChange>& changes) {
+                        const std::vector<StoredWeightChange>& changes,
+                        LexiconStore::WeightSums* sums = nullptr) {
+  std::unique_ptr<sqlite::Stmt> sum;
+  if (sums)
+    sum = std::make_unique<sqlite::Stmt>(
+        db, "SELECT weight, aux FROM scorer_weights WHERE key = ? AND model = ? AND feature = ?");
+  const auto read = [&](const StoredWeightChange& c, std::vector<StoredWeightChange>& into) {
+    sum->bind(1, key).bind(2, c.model).bind(3, c.feature);
+    const bool found = sum->step();
+    into.push_back({c.model, c.feature, found ? sum->real(0) : 0.0, found ? sum->real(1) : 0.0});
+    sum->reset();
+  };
   const std::int64_t seq = next_learned(db);
   sqlite::Stmt add(db,
                    "INSERT INTO scorer_weights(key, model, feature, weight, aux, seq) "
@@ -683,21 +694,24 @@ void add_weight_changes(sqlite::Db& db, const std::string& key,
                    "weight = weight + excluded.weight, aux = aux + excluded.aux, "
                    "seq = excluded.seq");
   for (const auto& c : changes) {
+    if (sums) read(c, sums->before);
     add.bind(1, key).bind(2, c.model).bind(3, c.feature).bind_real(4, c.weight).bind_real(5, c.aux);
     add.bind(6, seq);
     add.run();
     add.reset();
+    if (sums) read(c, sums->after);
   }
 }
 }  // namespace
 
 std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& deltas,
                                                   const std::string& weights_key,
-                                                  const std::vector<StoredWeightChange>& changes) {
+                                                  const std::vector<StoredWeightChange>& changes,
+                                                  WeightSums* sums) {
   auto& db = *impl_->db;
   sqlite::Transaction tx(db);
   std::vector<RuleUses> totals = add_uses(db, deltas, next_learned(db));
-  add_weight_changes(db, weights_key, changes);
+  add_weight_changes(db, weights_key, changes, sums);
   tx.commit();
   return totals;
 }

@@ -339,6 +339,7 @@ sdk::IncrementalScorer* incremental(sdk::Scorer& scorer) {
 void Naturalizer::load_weights(const std::string& key) {
   auto& scorer = *runtime_->scorer.borrow();
   auto state = store_->load_weights(key);
+  held_from_state_ = state.has_value();
   runtime_->scorer.call("load_state",
                         [&](sdk::Scorer& s) { s.load_state(state ? *state : initial_weights_); });
   if (auto* inc = incremental(scorer)) {
@@ -593,20 +594,47 @@ void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::Rule
   // whole state replaces the stored one (last writer wins). Either way in the accept's
   // transaction, with the counters.
   std::vector<RuleUses> totals;
-  if (auto* inc = incremental(*runtime_->scorer.borrow())) {
+  LexiconStore::WeightSums sums;
+  auto* inc = incremental(*runtime_->scorer.borrow());
+  if (inc) {
     std::vector<StoredWeightChange> changes;
     for (auto& c : inc->pending_changes())
       changes.push_back({std::move(c.model), std::move(c.feature), c.weight, c.aux});
-    totals = store_->record_accept(deltas, weights_key(user), changes);
+    totals = store_->record_accept(deltas, weights_key(user), changes, &sums);
   } else {
     totals = store_->record_accept(deltas, weights_key(user), save_weights());
   }
   // The stored totals include other processes' uses.
   for (std::size_t i = 0; i < rules.size(); ++i)
     runtime_->usage->set(rules[i]->id, {totals[i].by_author, totals[i].by_others});
-  // The scorer learned in memory; the stored sums are the truth every other kernel reads, and
-  // floating-point sums taken in another order may differ in the last bit: hold the stored ones.
-  if (weights_key(user) == held_weights_key()) load_weights(weights_key(user));
+  hold_stored_weights(user, inc, sums);
+}
+
+// The scorer learned in memory; the stored sums are the truth every other kernel reads, and
+// floating-point sums taken in another order may differ in the last bit: hold the stored ones
+// (docs/naturalization.md §5 "Learned state").
+void Naturalizer::hold_stored_weights(const std::string& user, sdk::IncrementalScorer* inc,
+                                      const LexiconStore::WeightSums& sums) {
+  if (weights_key(user) != held_weights_key()) return;
+  if (store_->changed_elsewhere() || !inc || held_from_state_) {
+    // Someone else committed since this kernel last looked (its weights may lag the stored sums
+    // by more than this accept), or the base is a saved state: catch up whole.
+    apply(store_->changes_since(mark_));
+    apply(store_->learned_since(learned_mark_));
+    load_weights(weights_key(user));
+    return;
+  }
+  // The changed weights held exactly the sums before (0 + sum, as any kernel loads them): undo
+  // the learning, take each back to 0 (x + -x is exactly 0) and add the new sum, so they are
+  // exactly 0 + sum after, in O(changed weights).
+  std::vector<sdk::WeightChange> zero, after;
+  for (const auto& c : sums.before) zero.push_back({c.model, c.feature, -c.weight, -c.aux});
+  for (const auto& c : sums.after) after.push_back({c.model, c.feature, c.weight, c.aux});
+  runtime_->scorer.call("apply_changes", [&](sdk::Scorer&) {
+    inc->discard_changes();
+    inc->apply_changes(zero);
+    inc->apply_changes(after);
+  });
 }
 
 }  // namespace flipper::kernel

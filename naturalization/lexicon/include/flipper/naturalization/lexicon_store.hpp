@@ -247,9 +247,15 @@ class LexiconStore {
                                       const std::string& weights_state);
   /// The same for an incremental scorer: adds `changes` to the stored weights under
   /// `weights_key` (sums, so two processes learning at once both count), in the same transaction.
+  /// `sums` (when given) gets each changed weight's stored sum before and after, in the order of
+  /// `changes`.
+  struct WeightSums {
+    std::vector<StoredWeightChange> before, after;
+  };
   std::vector<RuleUses> record_accept(const std::vector<RuleUses>& deltas,
                                       const std::string& weights_key,
-                                      const std::vector<StoredWeightChange>& changes);
+                                      const std::vector<StoredWeightChange>& changes,
+                                      WeightSums* sums = nullptr);
   /// Every stored weight under `key` (the sums of all changes recorded).
   std::vector<StoredWeightChange> weight_changes(const std::string& key) const;
   void save_weights(const std::string& key, const std::string& state);

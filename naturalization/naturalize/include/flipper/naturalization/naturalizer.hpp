@@ -197,6 +197,9 @@ class Naturalizer {
   void apply(const LearnedChanges& learned);
   /// The weights key the scorer holds ("" before a per_user session chose its user).
   std::string held_weights_key() const;
+  /// After an accept's commit: the scorer holds exactly the stored weights of its key again.
+  void hold_stored_weights(const std::string& user, sdk::IncrementalScorer* inc,
+                           const LexiconStore::WeightSums& sums);
   void add_live(sdk::RulePtr rule);
   void remove_live(const std::string& id);
   bool exists_for(const sdk::Rule& rule, const std::string& author) const;
@@ -218,6 +221,7 @@ class Naturalizer {
   std::vector<std::uint64_t> shapes_;
   ChangeMark mark_;                ///< how far this process has read the store's history
   std::int64_t learned_mark_ = 0;  ///< how far it has read what accepts taught
+  bool held_from_state_ = false;   ///< the held weights start from a stored whole state
   std::string initial_weights_;    ///< scorer state before any learning (per_user default)
   std::string weights_user_;       ///< whose weights the scorer holds (per_user)
   PreloadReport preload_report_;
