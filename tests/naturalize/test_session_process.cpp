@@ -101,12 +101,19 @@ Weights stored_weights(const std::string& store) {
   return w;
 }
 
-// One user's learning step: a query with two readings, the given one accepted.
-void learn(Session& s, const std::string& name, int rank) {
+// One user's learning step, in two halves: a query with two readings, then the given one
+// accepted.
+void ask_two_readings(Session& s, const std::string& name) {
   REQUIRE(s.ask({{"op", "user"}, {"name", name}})["ok"] == true);
   const Json q = s.ask({{"op", "query"}, {"text", "pick item not is red and is green"}});
   REQUIRE(q["candidates"].size() >= 2);
+}
+void accept(Session& s, int rank) {
   REQUIRE(s.ask({{"op", "accept"}, {"rank", rank}})["ok"] == true);
+}
+void learn(Session& s, const std::string& name, int rank) {
+  ask_two_readings(s, name);
+  accept(s, rank);
 }
 
 }  // namespace
@@ -127,15 +134,16 @@ TEST_CASE("two processes learning on one lexicon both keep their weight updates"
   const Weights ana = stored_weights(only_ana), bob = stored_weights(only_bob);
   REQUIRE_FALSE(ana.empty());
   REQUIRE_FALSE(bob.empty());
-  // Both processes open the shared store before either learns: neither sees the other's weights,
-  // so the store must hold the sum of the two updates (last-writer-wins would keep one).
+  // Both processes ask before either accepts: neither learns against the other's update (a
+  // process picks up others' weights before it parses: docs/naturalization.md §5 "Learned
+  // state"), so the store must hold the sum of the two updates (last-writer-wins would keep one).
   const std::string shared = scratch_path("w-both") + ".sqlite";
   {
     Session a(shared), b(shared);
-    REQUIRE(a.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
-    REQUIRE(b.ask({{"op", "user"}, {"name", "bob"}})["ok"] == true);
-    learn(a, "ana", 1);
-    learn(b, "bob", 0);
+    ask_two_readings(a, "ana");
+    ask_two_readings(b, "bob");
+    accept(a, 1);
+    accept(b, 0);
   }
   Weights expected = ana;
   for (const auto& [k, v] : bob) {
@@ -188,11 +196,12 @@ TEST_CASE("two perceptron processes learning on one lexicon both keep their upda
   {
     // Both started (an answer means the store and its weights are loaded) before either learns:
     // a process still starting when the other commits would load that update as its own start.
+    // Both ask before either accepts (above): each learns from the same empty model.
     Session a(shared, kPerceptron), b(shared, kPerceptron);
-    REQUIRE(a.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
-    REQUIRE(b.ask({{"op", "user"}, {"name", "bob"}})["ok"] == true);
-    learn(a, "ana", 1);
-    learn(b, "bob", 1);
+    ask_two_readings(a, "ana");
+    ask_two_readings(b, "bob");
+    accept(a, 1);
+    accept(b, 1);
   }
   // Ana's update alone: Δ = φ(accepted) − φ(predicted) on w and u (c = 1), one accept counted.
   const Weights ana = stored_weights(only_ana);
@@ -410,4 +419,29 @@ TEST_CASE("processes that create one new store at the same moment all start",
       if (s->ask({{"op", "user"}, {"name", "ana"}})["ok"] != true) ++failed;
   }
   CHECK(failed == 0);
+}
+
+TEST_CASE("a running process ranks with the weights and counters another process committed",
+          "[naturalize][process][weights]") {
+  // b is running before a learns; its next query must rank exactly as a process started after
+  // (docs/naturalization.md §5 "Learned state"): scores bit for bit, use counts alike.
+  const std::string store = scratch_path("w-running") + ".sqlite";
+  Session a(store), b(store);
+  REQUIRE(a.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
+  REQUIRE(b.ask({{"op", "user"}, {"name", "bob"}})["ok"] == true);
+  REQUIRE(
+      a.ask({{"op", "define"}, {"head", "zig left"}, {"body", {"move left", "move left"}}})["ok"] ==
+      true);
+  learn(a, "ana", 1);
+  REQUIRE(a.ask({{"op", "query"}, {"text", "zig left"}})["ok"] == true);
+  accept(a, 0);
+  Session c(store);
+  REQUIRE(c.ask({{"op", "user"}, {"name", "bob"}})["ok"] == true);
+  for (const Json& request : {Json{{"op", "query"}, {"text", "pick item not is red and is green"}},
+                              Json{{"op", "rules"}}}) {
+    Json running = b.ask(request), fresh = c.ask(request);
+    running.erase("ms");
+    fresh.erase("ms");
+    CHECK(running.dump() == fresh.dump());
+  }
 }

@@ -312,9 +312,10 @@ long rss_kib(int pid) {
 }
 
 TEST_CASE("maximal worlds are refused before the memory budget is crossed") {
-  // world.max_cells = 2048^2 (the default 4194304): a maximal world is charged 80 MiB.
-  StudioServer server(fresh_dir("memory"),
-                      {"serve.memory_budget_mb=200", "serve.evict_after_s=3600"});
+  // world.max_cells = 2048^2 (the default 4194304): a maximal world is charged 80 MiB; one
+  // kernel over an empty store takes 4 MiB of the budget (docs/studio.md §5).
+  StudioServer server(fresh_dir("memory"), {"serve.memory_budget_mb=204", "serve.kernels=1",
+                                            "serve.evict_after_s=3600"});
   auto http = server.client();
   const long before = rss_kib(server.pid());
   std::vector<std::string> sessions;
@@ -326,7 +327,7 @@ TEST_CASE("maximal worlds are refused before the memory budget is crossed") {
     if (r.body["ok"] == true) ++loaded;
     if (r.body["ok"] == false && r.body["error"]["code"] == "server_busy") {
       ++busy;
-      CHECK(r.text.find("serve.memory_budget_mb = 200 MiB") != std::string::npos);
+      CHECK(r.text.find("serve.memory_budget_mb") != std::string::npos);
     }
   }
   // Two fit (2 x 80 MiB reserved + the sessions' 64 KiB each); each further one would cross.
@@ -335,9 +336,43 @@ TEST_CASE("maximal worlds are refused before the memory budget is crossed") {
   CHECK(rss_kib(server.pid()) - before < 200 * 1024);
 }
 
+TEST_CASE("every kernel of the pool is charged to the memory budget") {
+  // 3 kernels x 4 MiB (empty store) leave 173 - 12 = 161 MiB: two maximal worlds (2 x 80 MiB,
+  // plus 64 KiB for each session) fit; with one MiB less of budget (160 MiB) only one does.
+  for (const auto& [budget, fit] : {std::pair{173, 2}, std::pair{172, 1}}) {
+    StudioServer server(fresh_dir("memory-kernels"),
+                        {"serve.memory_budget_mb=" + std::to_string(budget), "serve.kernels=3",
+                         "serve.evict_after_s=3600"});
+    auto http = server.client();
+    int loaded = 0;
+    for (int i = 0; i < 3; ++i)
+      loaded += post(http, new_session(http), square_world(2048)).body["ok"] == true;
+    CHECK(loaded == fit);
+  }
+}
+
+TEST_CASE("a pool whose kernels would take more than half the budget is a bad config") {
+  // 4 x 4 MiB (empty store) = 16 MiB: half of 32 MiB is allowed, half of 31 MiB is not.
+  StudioServer fits(fresh_dir("kernels-budget"), {"serve.kernels=4", "serve.memory_budget_mb=32"});
+  CHECK(fits.port() > 0);
+  const std::string cmd = "timeout 20 " + std::string(FLIPPER_BINARY_DIR) +
+                          "/bin/flipper serve --set serve.port=0 --set serve.kernels=4 "
+                          "--set serve.memory_budget_mb=31 --set lexicon.path=" +
+                          fresh_dir("kernels-budget") + "/lexicon.sqlite 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, p) != nullptr) out += buf;
+  const int raw = ::pclose(p);
+  CHECK(WEXITSTATUS(raw) == 2);
+  CHECK(out.find("[bad_config]") != std::string::npos);
+  CHECK(out.find("serve.kernels") != std::string::npos);
+}
+
 TEST_CASE("the memory budget evicts idle guests first") {
   StudioServer server(fresh_dir("memory-evict"),
-                      {"serve.memory_budget_mb=200", "serve.evict_after_s=0"});
+                      {"serve.memory_budget_mb=204", "serve.kernels=1", "serve.evict_after_s=0"});
   auto http = server.client();
   const std::string a = new_session(http), b = new_session(http), c = new_session(http);
   REQUIRE(post(http, a, square_world(2048)).body["ok"] == true);

@@ -1,5 +1,7 @@
 // The studio's parts on their own, with exact expectations: the rate limit's burst cap, the
 // scheduler's order, the Host and Origin checks, world paths, names in headers.
+#include <algorithm>
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <condition_variable>
 #include <mutex>
@@ -96,6 +98,102 @@ TEST_CASE("a free worker takes the session that used the least CPU time") {
   CHECK(order == std::vector<std::string>{"heavy-1", "light-1", "heavy-2"});
   CHECK(scheduler.allowance_ms("heavy") < 1000 - 29);
   CHECK(scheduler.allowance_ms("light") > 999);
+}
+
+// A gate the test opens; jobs wait at it and say they arrived.
+struct Gate {
+  std::mutex m;
+  std::condition_variable cv;
+  bool open = false;
+  std::vector<std::string> log;
+  void note(const std::string& what) {
+    std::lock_guard lock(m);
+    log.push_back(what);
+    cv.notify_all();
+  }
+  void wait_open() {
+    std::unique_lock lock(m);
+    cv.wait(lock, [&] { return open; });
+  }
+  void release() {
+    std::lock_guard lock(m);
+    open = true;
+    cv.notify_all();
+  }
+  bool wait_for(std::size_t n) {
+    std::unique_lock lock(m);
+    return cv.wait_for(lock, std::chrono::seconds(20), [&] { return log.size() >= n; });
+  }
+  bool saw(const std::string& what) {
+    std::lock_guard lock(m);
+    return std::find(log.begin(), log.end(), what) != log.end();
+  }
+};
+
+TEST_CASE("heavy sessions leave the reserved worker to cheap ones") {
+  SchedulerOptions o;
+  o.workers = 2;
+  o.reserve = 1;
+  o.heavy_ms = 5;
+  Scheduler scheduler(o);
+  Gate g;
+  // h1 and h2 become heavy: one job each burning 12 ms of CPU (cost averages to >= 6 ms).
+  for (const char* key : {"h1", "h2"})
+    scheduler.submit(key, [&, key](int) {
+      const double until = thread_cpu_ms() + 12;
+      while (thread_cpu_ms() < until) {
+      }
+      g.note(std::string(key) + "-burnt");
+    });
+  REQUIRE(g.wait_for(2));
+  // h1 holds the one heavy slot; h2 must wait for it although a worker is free, the light
+  // session must not.
+  scheduler.submit("h1", [&](int) {
+    g.note("h1-running");
+    g.wait_open();
+  });
+  REQUIRE(g.wait_for(3));
+  scheduler.submit("h2", [&](int) { g.note("h2-ran"); });
+  scheduler.submit("light", [&](int) { g.note(g.saw("h2-ran") ? "light-after-h2" : "light"); });
+  REQUIRE(g.wait_for(4));
+  CHECK(g.saw("light"));
+  CHECK_FALSE(g.saw("h2-ran"));
+  g.release();
+  REQUIRE(g.wait_for(5));
+  CHECK(g.saw("h2-ran"));
+}
+
+TEST_CASE("a pinned session runs on its worker only") {
+  SchedulerOptions o;
+  o.workers = 2;
+  Scheduler scheduler(o);
+  Gate g;
+  std::atomic<int> pinned_ran_on{-1};
+  // The pinned key's first job holds worker 0; its second job waits for worker 0 although
+  // worker 1 is free and runs a job of another key meanwhile.
+  scheduler.submit(
+      "pinned",
+      [&](int worker) {
+        g.note("first-on-" + std::to_string(worker));
+        g.wait_open();
+      },
+      0);
+  REQUIRE(g.wait_for(1));
+  CHECK(g.saw("first-on-0"));
+  scheduler.submit(
+      "pinned",
+      [&](int worker) {
+        pinned_ran_on = worker;
+        g.note("second");
+      },
+      0);
+  scheduler.submit("other", [&](int worker) { g.note("other-on-" + std::to_string(worker)); });
+  REQUIRE(g.wait_for(2));
+  CHECK(g.saw("other-on-1"));
+  CHECK_FALSE(g.saw("second"));
+  g.release();
+  REQUIRE(g.wait_for(3));
+  CHECK(pinned_ran_on == 0);
 }
 
 TEST_CASE("a spent CPU allowance holds a session's next request back") {

@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <thread>
 
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "recorder.hpp"
 #include "studio_ops.hpp"
@@ -53,6 +55,45 @@ Json world_files(const std::string& root) {
   for (const auto& n : names) out.push_back(n);
   return out;
 }
+
+// serve.kernels: 0 means the cores plus one kernel the heavy sessions cannot take. A store in
+// memory is private to its connection: one kernel then.
+int pool_size(const ServeOptions& options, const kernel::Config& config) {
+  if (config.get_string("lexicon.path") == ":memory:") return 1;
+  if (options.kernels > 0) return options.kernels;
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) + 1;
+}
+
+// Heavy sessions may hold this many kernels at once: one core's worth less than the machine has,
+// so a cheap request finds a free kernel and a free core (with every core busy with heavy
+// queries, `move left` waited for the CPU: p99 up to 250 ms, against 5 ms; docs/studio.md §5).
+int heavy_kernels(int kernels) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return kernels > 1 ? std::max(1, std::min(kernels - 1, cores - 1)) : 1;
+}
+
+// What the kernels leave of the memory budget for sessions; bad_config when they would take
+// more than half of it.
+std::size_t session_budget(const ServeOptions& options, std::size_t kernels,
+                           std::size_t kernels_bytes) {
+  const std::size_t budget = options.memory_budget_mb << 20;
+  if (kernels_bytes * 2 > budget)
+    throw sdk::Error(sdk::codes::kBadConfig,
+                     std::to_string(kernels) + " kernels take " +
+                         std::to_string((kernels_bytes + (1 << 20) - 1) >> 20) +
+                         " MiB, more than half of serve.memory_budget_mb (" +
+                         std::to_string(options.memory_budget_mb) +
+                         " MiB): lower serve.kernels or raise the budget");
+  return budget - kernels_bytes;
+}
+
+}  // namespace
+
+std::size_t kernel_bytes(std::size_t rules) {
+  return (std::size_t{4} << 20) + rules * 1024;
+}
+
+namespace {
 
 HttpReply json_reply(int status, const Json& body) {
   HttpReply r;
@@ -106,40 +147,54 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
           options_.rate_per_second, options_.rate_burst, options_.sessions_per_address,
           static_cast<double>(options_.new_sessions_per_minute), options_.memory_budget_mb << 20,
           64 * 1024, std::chrono::seconds(options_.evict_after_s)}) {
+  std::size_t count = 0, bytes = 0;
   for (const auto& [group, config] : kernels) {
-    auto k = std::make_unique<Kernel>();
-    k->runtime = kernel::make_runtime(config);
-    k->host = std::make_unique<kernel::SessionHost>(kernel::open_host(k->runtime));
-    std::error_code ec;
-    k->world_root =
-        fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();
-    k->max_world_bytes = world_bytes(static_cast<std::size_t>(config.get_int("world.max_cells")));
-    k->vocabulary = vocabulary(*k->runtime);
+    KernelPool& pool = pools_[group];
+    const int n = pool_size(options_, config);
+    for (int i = 0; i < n; ++i) {
+      auto k = std::make_unique<Kernel>();
+      k->runtime = kernel::make_runtime(config);
+      k->host = std::make_unique<kernel::SessionHost>(kernel::open_host(k->runtime));
+      std::error_code ec;
+      k->world_root =
+          fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();
+      k->max_world_bytes = world_bytes(static_cast<std::size_t>(config.get_int("world.max_cells")));
+      k->vocabulary = vocabulary(*k->runtime);
+      bytes += kernel_bytes(k->host->naturalizer->induced_rules().size());
+      ++count;
+      pool.kernels.push_back(std::move(k));
+    }
     SchedulerOptions so;
-    so.workers = 1;
+    so.workers = n;
+    so.reserve = n - heavy_kernels(n);
     so.cpu_ms_per_s = options_.cpu_ms_per_s;
     so.cpu_burst_ms = options_.cpu_burst_ms;
-    k->scheduler = std::make_unique<Scheduler>(so);
-    kernels_.emplace(group, std::move(k));
+    pool.scheduler = std::make_unique<Scheduler>(so);
   }
+  registry_.set_memory_budget(session_budget(options_, count, bytes));
 }
 
 Api::~Api() {
-  for (auto& [group, k] : kernels_) k->scheduler.reset();  // their workers use the sessions
+  for (auto& [group, pool] : pools_) pool.scheduler.reset();  // their workers use the sessions
   bury_evicted();
+  for (auto& e : graves_) e->session.reset();  // no worker runs any more
 }
 
-Kernel& Api::kernel_for(const std::string& group) {
-  auto it = kernels_.find(group);
-  return it == kernels_.end() ? *kernels_.begin()->second : *it->second;
+KernelPool& Api::pool_for(const std::string& group) {
+  auto it = pools_.find(group);
+  return it == pools_.end() ? pools_.begin()->second : it->second;
 }
 
 void Api::bury_evicted() {
-  for (auto& e : registry_.take_evicted()) {
-    if (e->kernel == nullptr || !e->session) continue;
-    std::lock_guard lock(e->kernel->mutex);
+  std::lock_guard graves(graves_mutex_);
+  for (auto& e : registry_.take_evicted()) graves_.push_back(std::move(e));
+  std::erase_if(graves_, [](const std::shared_ptr<SessionEntry>& e) {
+    if (e->kernel == nullptr || !e->session) return true;
+    std::unique_lock lock(e->kernel->mutex, std::try_to_lock);
+    if (!lock.owns_lock()) return false;  // its kernel is answering: a later call buries it
     e->session.reset();
-  }
+    return true;
+  });
 }
 
 void Api::request(const HttpRequest& r, Respond respond) {
@@ -152,11 +207,13 @@ void Api::request(const HttpRequest& r, Respond respond) {
   // One request at a time per session. A request that opens a session is a key of its own (the
   // registry's per-address limits bound how many an address may open).
   const std::string key = token.empty() ? "new:" + std::to_string(++new_requests_) : token;
-  auto job = [this, r, respond](int) { respond(serve(r)); };
-  // The session's kernel decides; a new session goes to the kernel of its group.
+  // The session's group decides the pool; a new session goes to the pool of its group.
   std::shared_ptr<SessionEntry> entry = token.empty() ? nullptr : registry_.find(token);
-  Kernel& k = entry ? *entry->kernel : kernel_for(r.param("group"));
-  if (!k.scheduler->submit(key, std::move(job)))
+  KernelPool& pool = pool_for(entry ? entry->group : r.param("group"));
+  auto job = [this, r, respond, &pool](int worker) {
+    respond(serve(r, *pool.kernels[static_cast<std::size_t>(worker)]));
+  };
+  if (!pool.scheduler->submit(key, std::move(job)))
     respond(error_reply(429, "session_busy",
                         "this session already has requests waiting; send the next one after "
                         "the answer"));
@@ -164,15 +221,15 @@ void Api::request(const HttpRequest& r, Respond respond) {
 
 void Api::run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job,
                               Respond respond) {
-  Kernel& k = kernel_for(std::string());
+  // Pinned to the first kernel: /sempre keeps its sessions there (docs/sempre.md).
   auto work = [job = std::move(job), respond](int) { respond(job()); };
-  if (!k.scheduler->submit(key, std::move(work)))
+  if (!pool_for(std::string()).scheduler->submit(key, std::move(work), 0))
     respond(error_reply(429, "session_busy",
                         "this session already has requests waiting; send the next one after "
                         "the answer"));
 }
 
-HttpReply Api::serve(const HttpRequest& r) {
+HttpReply Api::serve(const HttpRequest& r, Kernel& k) {
   bury_evicted();
   const auto now = Clock::now();
   const std::string token = r.param("session");
@@ -191,7 +248,7 @@ HttpReply Api::serve(const HttpRequest& r) {
                          "this session belongs to account '" + entry->account +
                              "': log in as it (the login ended or was revoked)");
   } else {
-    entry = open_session(r, login, reply);
+    entry = open_session(r, login, k, reply);
     if (!entry) return reply;
   }
   if (!registry_.admit(*entry, now))
@@ -201,7 +258,7 @@ HttpReply Api::serve(const HttpRequest& r) {
     return error_reply(429, "session_busy", "this session is answering another request");
   HttpReply out;
   try {
-    out = run(*entry, r);
+    out = run(*entry, k, r);
   } catch (...) {
     registry_.set_busy(*entry, false);
     throw;
@@ -211,7 +268,7 @@ HttpReply Api::serve(const HttpRequest& r) {
 }
 
 std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
-                                                const std::optional<Login>& login,
+                                                const std::optional<Login>& login, Kernel& k,
                                                 HttpReply& reply) {
   if (!login && !options_.guests) {
     reply = error_reply(401, "login_required",
@@ -239,25 +296,15 @@ std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
     entry->participant = study_->next_participant();
   }
   entry->group = group;
-  Kernel& k = kernel_for(group);
-  entry->kernel = &k;
+  // A study may assign another group than the request named: the session opens on that pool's
+  // first kernel and moves to a free one of its pool from its next request on.
+  Kernel& at = in_pool(group, k) ? k : *pool_for(group).kernels.front();
+  entry->kernel = &at;
   {
-    std::lock_guard lock(k.mutex);
-    entry->session = k.host->open();
+    std::lock_guard lock(at.mutex);
+    entry->session = at.host->open();
     entry->session->set_user(entry->user);
-    StudioOpsContext ctx;
-    ctx.world_root = k.world_root;
-    ctx.role = entry->role;
-    ctx.naturalizer = k.host->naturalizer;
-    ctx.max_world_bytes = k.max_world_bytes;
-    ctx.budget_bytes = registry_.limits().memory_budget_bytes;
-    SessionEntry* raw = entry.get();
-    const std::size_t base = registry_.limits().session_base_bytes;
-    ctx.reserve = [this, raw](std::size_t bytes) {
-      return registry_.reserve(*raw, bytes, Clock::now());
-    };
-    ctx.charge = [this, raw, base](std::size_t bytes) { registry_.charge(*raw, base + bytes); };
-    entry->session->install(std::make_shared<StudioOps>(std::move(ctx)));
+    install_studio_ops(*entry, at);
   }
   registry_.add(entry, Clock::now());
   if (study_ && recorder_) {
@@ -267,18 +314,53 @@ std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
   return entry;
 }
 
-HttpReply Api::run(SessionEntry& entry, const HttpRequest& r) {
+void Api::install_studio_ops(SessionEntry& entry, Kernel& k) {
+  StudioOpsContext ctx;
+  ctx.world_root = k.world_root;
+  ctx.role = entry.role;
+  ctx.naturalizer = k.host->naturalizer;
+  ctx.max_world_bytes = k.max_world_bytes;
+  ctx.budget_bytes = options_.memory_budget_mb << 20;
+  SessionEntry* raw = &entry;
+  const std::size_t base = registry_.limits().session_base_bytes;
+  ctx.reserve = [this, raw](std::size_t bytes) {
+    return registry_.reserve(*raw, bytes, Clock::now());
+  };
+  ctx.charge = [this, raw, base](std::size_t bytes) { registry_.charge(*raw, base + bytes); };
+  entry.session->install(std::make_shared<StudioOps>(std::move(ctx)));
+}
+
+void Api::install_ops(SessionEntry& entry, Kernel& k) {
+  entry.session->rebind(k.runtime);
+  for (const auto& extension : k.host->extensions) entry.session->install(extension);
+  install_studio_ops(entry, k);
+  entry.kernel = &k;
+}
+
+bool Api::in_pool(const std::string& group, const Kernel& k) {
+  const auto& kernels = pool_for(group).kernels;
+  return std::any_of(kernels.begin(), kernels.end(),
+                     [&](const std::unique_ptr<Kernel>& p) { return p.get() == &k; });
+}
+
+HttpReply Api::run(SessionEntry& entry, Kernel& free, const HttpRequest& r) {
+  // A study's new session may run on a kernel of the pool the request named, not of the group
+  // it was assigned: it stays on its own kernel then.
+  Kernel& k = in_pool(entry.group, free) ? free : *entry.kernel;
   HttpReply reply;
   reply.set_header("Cache-Control", "no-store");
   reply.set_header("Flipper-Session", entry.token);
   reply.set_header("Flipper-User", header_safe(entry.user));
-  Kernel& k = *entry.kernel;
   kernel::Session& session = *entry.session;
-  auto* ops = session.extension<StudioOps>();
   std::string answer;
   double ms = 0;
+  StudioOps* ops = nullptr;
   {
     std::lock_guard lock(k.mutex);
+    // The session moves to the kernel that is free (same config and store: it answers alike,
+    // docs/studio.md §5).
+    if (entry.kernel != &k) install_ops(entry, k);
+    ops = session.extension<StudioOps>();
     k.host->activate(session);
     ops->reset();
     const auto start = Clock::now();
@@ -320,7 +402,7 @@ void Api::info(const HttpRequest& r, Respond respond) {
     const std::optional<Login> login = accounts_.resume(login_cookie(r.cookie));
     const std::string session = r.param("session");
     std::shared_ptr<SessionEntry> entry = session.empty() ? nullptr : registry_.find(session);
-    Kernel& k = entry ? *entry->kernel : kernel_for(std::string());
+    Kernel& k = *pool_for(entry ? entry->group : std::string()).kernels.front();
     const kernel::Config& c = k.runtime->config;
     Json account = nullptr;
     if (login) account = Json{{"name", login->name}, {"role", to_string(login->role)}};

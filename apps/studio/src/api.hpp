@@ -1,9 +1,10 @@
 #pragma once
 // The HTTP mapping of the session protocol and of logins (README "Flipper Studio",
 // docs/accounts.md, docs/studio.md), independent of the HTTP library: the routes take an
-// HttpRequest and answer through a callback. Protocol requests run on the scheduler's workers,
-// one at a time per session; each kernel (one per lexicon mode) is used by one request at a time
-// (its parser, scorer, planner caches and naturalizer are not thread-safe).
+// HttpRequest and answer through a callback. Protocol requests run on a kernel pool's workers,
+// one at a time per session; each kernel is used by one request at a time (its parser, scorer,
+// planner caches and naturalizer are not thread-safe), and a session moves to whichever kernel
+// of its pool is free (docs/studio.md §5).
 #include <atomic>
 #include <functional>
 #include <map>
@@ -27,7 +28,7 @@ namespace flipper::studio {
 class Study;
 class Recorder;
 
-/// One kernel per lexicon mode: a plain server has one ("" group), a study one per group.
+/// One runtime and lexicon connection; the kernels of one pool share a config and a store.
 struct Kernel {
   std::shared_ptr<kernel::Runtime> runtime;
   std::unique_ptr<kernel::SessionHost> host;
@@ -35,10 +36,21 @@ struct Kernel {
   std::size_t max_world_bytes = 0;
   kernel::Json vocabulary;  ///< for "did you mean" (computed once)
   std::mutex mutex;         ///< one request at a time
-  /// Its own worker: the fair choice is made when the kernel is free, not before a worker then
-  /// waits for it (docs/studio.md §5).
+};
+
+/// The kernels of one lexicon mode (a plain server has one pool, "" group; a study one per
+/// group) and their scheduler: worker i runs on kernel i, so the fair choice is made when a
+/// kernel is free, not before a worker then waits for it (docs/studio.md §5).
+struct KernelPool {
+  std::vector<std::unique_ptr<Kernel>> kernels;
   std::unique_ptr<Scheduler> scheduler;
 };
+
+/// What a kernel is charged of serve.memory_budget_mb (docs/studio.md §5): measured, one more
+/// kernel over an empty store adds ~0.7 MiB of resident memory and each stored rule ~1 KiB
+/// (the 100k-rule store: 104 MiB against 11.5 MiB without rules); 4 MiB covers the runtime with
+/// its caches' slack.
+std::size_t kernel_bytes(std::size_t rules);
 
 class Api {
  public:
@@ -62,11 +74,11 @@ class Api {
   /// that kernel.
   template <class F>
   decltype(auto) with_kernel(F&& f) {
-    Kernel& k = kernel_for(std::string());
+    Kernel& k = *pool_for(std::string()).kernels.front();
     std::lock_guard lock(k.mutex);
     return f(k);
   }
-  /// Queues `job` on the plain kernel's scheduler under `key` (one job at a time per key, the
+  /// Queues `job` on the plain pool's first kernel under `key` (one job at a time per key, the
   /// least CPU-hungry key first) and answers its reply; 429 `session_busy` when the key already
   /// has requests waiting.
   void run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job, Respond respond);
@@ -78,14 +90,22 @@ class Api {
   SessionRegistry& registry() { return registry_; }
 
  private:
-  Kernel& kernel_for(const std::string& group);
-  /// The job of one protocol request, on a worker.
-  HttpReply serve(const HttpRequest& request);
+  KernelPool& pool_for(const std::string& group);
+  /// The job of one protocol request, on the worker of kernel `k`.
+  HttpReply serve(const HttpRequest& request, Kernel& k);
   std::shared_ptr<SessionEntry> open_session(const HttpRequest& request,
-                                             const std::optional<Login>& login, HttpReply& reply);
-  HttpReply run(SessionEntry& entry, const HttpRequest& request);
+                                             const std::optional<Login>& login, Kernel& k,
+                                             HttpReply& reply);
+  /// The studio's ops on the entry's session, over kernel `k`.
+  void install_studio_ops(SessionEntry& entry, Kernel& k);
+  /// Moves the entry's session onto kernel `k` (under its lock): `k`'s extensions, then the
+  /// studio's ops, as when it was opened.
+  void install_ops(SessionEntry& entry, Kernel& k);
+  HttpReply run(SessionEntry& entry, Kernel& free, const HttpRequest& request);
+  bool in_pool(const std::string& group, const Kernel& k);
   HttpReply login_reply(const HttpRequest& request);
-  /// Destroys evicted sessions under their kernel's lock.
+  /// Destroys evicted sessions under their kernel's lock; a session whose kernel is busy waits
+  /// for a later call (never for the kernel).
   void bury_evicted();
   bool login_allowed(const std::string& address);
 
@@ -93,7 +113,9 @@ class Api {
   AccountStore& accounts_;
   Scheduler& scheduler_;
   const HostPolicy& hosts_;
-  std::map<std::string, std::unique_ptr<Kernel>> kernels_;
+  std::map<std::string, KernelPool> pools_;
+  std::mutex graves_mutex_;
+  std::vector<std::shared_ptr<SessionEntry>> graves_;  ///< evicted, their kernel was busy
   SessionRegistry registry_;
   std::shared_ptr<Recorder> recorder_;
   std::shared_ptr<Study> study_;

@@ -37,6 +37,7 @@ ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   o.evict_after_s = static_cast<int>(c.get(keys::kServeEvictAfterS));
   o.cpu_ms_per_s = static_cast<int>(c.get(keys::kServeCpuMsPerS));
   o.cpu_burst_ms = static_cast<int>(c.get(keys::kServeCpuBurstMs));
+  o.kernels = static_cast<int>(c.get(keys::kServeKernels));
   if (!c.get_string("serve.web_dir").empty()) o.web_dir = c.get_path("serve.web_dir");
   if (!c.get_string("serve.study").empty()) o.study = c.get_path("serve.study");
   o.sempre = c.get(keys::kServeSempre);

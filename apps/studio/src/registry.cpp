@@ -79,8 +79,9 @@ std::optional<SessionRegistry::Refusal> SessionRegistry::admit_new(const std::st
                        " sessions (serve.max_sessions); try later"};
   if (!room)
     return Refusal{503, "server_busy",
-                   "the server's memory for sessions is in use (serve.memory_budget_mb = " +
-                       std::to_string(limits_.memory_budget_bytes >> 20) + " MiB); try later"};
+                   "the server's memory for sessions is in use (" +
+                       std::to_string(limits_.memory_budget_bytes >> 20) +
+                       " MiB: serve.memory_budget_mb less the kernels'); try later"};
   b.tokens -= 1.0;
   return std::nullopt;
 }

@@ -86,6 +86,11 @@ class SessionRegistry {
   std::vector<std::shared_ptr<SessionEntry>> take_evicted();
 
   const RegistryLimits& limits() const { return limits_; }
+  /// Sets the memory for session state (the budget less the kernels', known once they loaded).
+  void set_memory_budget(std::size_t bytes) {
+    std::lock_guard lock(mutex_);
+    limits_.memory_budget_bytes = bytes;
+  }
 
  private:
   void erase_locked(std::map<std::string, std::shared_ptr<SessionEntry>>::iterator it);

@@ -142,6 +142,7 @@ ParamSchema build() {
   add(s, keys::kServeEvictAfterS);
   add(s, keys::kServeCpuMsPerS);
   add(s, keys::kServeCpuBurstMs);
+  add(s, keys::kServeKernels);
   return s;
 }
 

@@ -103,6 +103,19 @@ std::vector<std::string> Session::op_names() const {
   return names;
 }
 
+void Session::rebind(std::shared_ptr<Runtime> runtime) {
+  runtime_ = std::move(runtime);
+  executor_ = Executor(runtime_->planner, options_.limits);
+  ops_.clear();
+  extensions_.clear();
+  query_hooks_.clear();
+  user_hooks_.clear();
+  visibility_ = nullptr;
+  on_accept_ = nullptr;
+  plan_observers_.clear();
+  install_default_ops();
+}
+
 void Session::install(std::shared_ptr<SessionExtension> extension) {
   extension->install(*this);
   extensions_.push_back(std::move(extension));

@@ -19,10 +19,10 @@ using nlohmann::json;
 
 namespace {
 
-// Version 3 (kSchemaVersion). `created` is assigned inside the defining transaction (max + 1);
-// `deleted_seq` orders deletions so other processes can pick them up incrementally;
-// `scorer_weights` holds an incremental scorer's weights as sums of every process's changes
-// (added in place, so concurrent learners never overwrite each other).
+// Version 3, then kUpgradeFrom3 (kSchemaVersion 4). `created` is assigned inside the defining
+// transaction (max + 1); `deleted_seq` orders deletions so other processes can pick them up
+// incrementally; `scorer_weights` holds an incremental scorer's weights as sums of every
+// process's changes (added in place, so concurrent learners never overwrite each other).
 constexpr const char* kSchema = R"sql(
 CREATE TABLE flipper_schema(version INTEGER NOT NULL);
 CREATE TABLE definitions(
@@ -49,6 +49,18 @@ CREATE TABLE scorer_weights(
   key TEXT NOT NULL, model TEXT NOT NULL, feature TEXT NOT NULL, weight REAL NOT NULL,
   aux REAL NOT NULL, PRIMARY KEY(key, model, feature)) WITHOUT ROWID;
 UPDATE flipper_schema SET version = 3;
+)sql";
+
+// Version 3 -> 4: `seq` orders what accepts teach (counters, weights, whole scorer states), so
+// other processes and kernels pick it up incrementally (learned_since, docs/naturalization.md §5).
+constexpr const char* kUpgradeFrom3 = R"sql(
+ALTER TABLE rule_uses ADD COLUMN seq INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE scorer_weights ADD COLUMN seq INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE scorer_state ADD COLUMN seq INTEGER NOT NULL DEFAULT 0;
+CREATE INDEX rule_uses_seq ON rule_uses(seq);
+CREATE INDEX scorer_weights_seq ON scorer_weights(seq);
+CREATE INDEX scorer_state_seq ON scorer_state(seq);
+UPDATE flipper_schema SET version = 4;
 )sql";
 
 // Version 1 -> 2, in place: existing deletions get a sequence in `created` order.
@@ -180,6 +192,7 @@ void create_or_upgrade(sqlite::Db& db) {
   if (version == 0) db.exec(kSchema);
   if (version == 1) db.exec(kUpgradeFrom1);
   if (version == 1 || version == 2) db.exec(kUpgradeFrom2);
+  if (version <= 3) db.exec(kUpgradeFrom3);
   tx.commit();
 }
 
@@ -217,9 +230,10 @@ void use_wal(sqlite::Db& db) {
 namespace {
 
 /// A store opened for reading only must need no change: it holds a lexicon of this build's
-/// schema (version 2 only lacks the weight table, which weight_changes() treats as empty).
+/// schema (version 2 only lacks the weight table, which weight_changes() treats as empty;
+/// versions 2 and 3 lack the learning sequence, so learned_since() sees nothing new).
 void check_readable_version(sqlite::Db& db, std::int64_t version) {
-  if (version != LexiconStore::kSchemaVersion && version != 2)
+  if (version != LexiconStore::kSchemaVersion && version != 2 && version != 3)
     throw sdk::Error(lexicon_codes::kReadOnly,
                      "lexicon store '" + db.path() + "' is read-only and " +
                          (version == 0 ? std::string("holds no lexicon yet")
@@ -559,27 +573,84 @@ bool LexiconStore::changed_elsewhere() {
 }
 
 namespace {
+// The learning sequence of a write transaction: one more than any stored (indexed maxima).
+std::int64_t next_learned(sqlite::Db& db) {
+  sqlite::Stmt s(db,
+                 "SELECT max((SELECT coalesce(max(seq), 0) FROM rule_uses), "
+                 "(SELECT coalesce(max(seq), 0) FROM scorer_weights), "
+                 "(SELECT coalesce(max(seq), 0) FROM scorer_state)) + 1");
+  s.step();
+  return s.int64(0);
+}
+
+}  // namespace
+
+namespace {
+bool has_learned_seq(sqlite::Db& db) {
+  sqlite::Stmt has(db, "SELECT 1 FROM pragma_table_info('rule_uses') WHERE name = 'seq'");
+  return has.step();  // not in a read-only store of version 2 or 3
+}
+}  // namespace
+
+std::int64_t LexiconStore::learned_mark() const {
+  auto& db = *impl_->db;
+  if (!has_learned_seq(db)) return 0;
+  return next_learned(db) - 1;
+}
+
+LearnedChanges LexiconStore::learned_since(std::int64_t since) const {
+  auto& db = *impl_->db;
+  LearnedChanges out;
+  out.mark = since;
+  if (!has_learned_seq(db)) return out;
+  sqlite::ReadTransaction snapshot(db);
+  {
+    sqlite::Stmt s(db, "SELECT rule, by_author, by_others, seq FROM rule_uses WHERE seq > ?");
+    s.bind(1, since);
+    while (s.step()) {
+      out.uses.push_back({s.text(0), static_cast<std::uint64_t>(s.int64(1)),
+                          static_cast<std::uint64_t>(s.int64(2))});
+      out.mark = std::max(out.mark, s.int64(3));
+    }
+  }
+  for (const char* sql : {"SELECT key, max(seq) FROM scorer_weights WHERE seq > ? GROUP BY key",
+                          "SELECT key, seq FROM scorer_state WHERE seq > ?"}) {
+    sqlite::Stmt s(db, sql);
+    s.bind(1, since);
+    while (s.step()) {
+      if (std::find(out.weight_keys.begin(), out.weight_keys.end(), s.text(0)) ==
+          out.weight_keys.end())
+        out.weight_keys.push_back(s.text(0));
+      out.mark = std::max(out.mark, s.int64(1));
+    }
+  }
+  return out;
+}
+
+namespace {
 void upsert_weights(sqlite::Db& db, const std::string& key, const std::string& state) {
   sqlite::Stmt s(db,
-                 "INSERT INTO scorer_state(key, state) VALUES (?, ?) "
-                 "ON CONFLICT(key) DO UPDATE SET state = excluded.state");
-  s.bind(1, key).bind(2, state).run();
+                 "INSERT INTO scorer_state(key, state, seq) VALUES (?, ?, ?) "
+                 "ON CONFLICT(key) DO UPDATE SET state = excluded.state, seq = excluded.seq");
+  s.bind(1, key).bind(2, state).bind(3, next_learned(db)).run();
 }
 }  // namespace
 
 namespace {
 // Adds `deltas` to the rules' counters; returns the totals after (other processes' included).
-std::vector<RuleUses> add_uses(sqlite::Db& db, const std::vector<RuleUses>& deltas) {
+std::vector<RuleUses> add_uses(sqlite::Db& db, const std::vector<RuleUses>& deltas,
+                               std::int64_t seq) {
   sqlite::Stmt add(db,
-                   "INSERT INTO rule_uses(rule, by_author, by_others) VALUES (?,?,?) "
+                   "INSERT INTO rule_uses(rule, by_author, by_others, seq) VALUES (?,?,?,?) "
                    "ON CONFLICT(rule) DO UPDATE SET by_author = by_author + excluded.by_author, "
-                   "by_others = by_others + excluded.by_others");
+                   "by_others = by_others + excluded.by_others, seq = excluded.seq");
   sqlite::Stmt total(db, "SELECT by_author, by_others FROM rule_uses WHERE rule = ?");
   std::vector<RuleUses> totals;
   for (const auto& u : deltas) {
     add.bind(1, u.rule)
         .bind(2, static_cast<std::int64_t>(u.by_author))
         .bind(3, static_cast<std::int64_t>(u.by_others))
+        .bind(4, seq)
         .run();
     total.bind(1, u.rule);
     total.step();
@@ -596,7 +667,7 @@ std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& d
                                                   const std::string& weights_state) {
   auto& db = *impl_->db;
   sqlite::Transaction tx(db);
-  std::vector<RuleUses> totals = add_uses(db, deltas);
+  std::vector<RuleUses> totals = add_uses(db, deltas, next_learned(db));
   if (!weights_key.empty()) upsert_weights(db, weights_key, weights_state);
   tx.commit();
   return totals;
@@ -604,26 +675,43 @@ std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& d
 
 namespace {
 void add_weight_changes(sqlite::Db& db, const std::string& key,
-                        const std::vector<StoredWeightChange>& changes) {
+                        const std::vector<StoredWeightChange>& changes,
+                        LexiconStore::WeightSums* sums = nullptr) {
+  std::unique_ptr<sqlite::Stmt> sum;
+  if (sums)
+    sum = std::make_unique<sqlite::Stmt>(
+        db, "SELECT weight, aux FROM scorer_weights WHERE key = ? AND model = ? AND feature = ?");
+  const auto read = [&](const StoredWeightChange& c, std::vector<StoredWeightChange>& into) {
+    sum->bind(1, key).bind(2, c.model).bind(3, c.feature);
+    const bool found = sum->step();
+    into.push_back({c.model, c.feature, found ? sum->real(0) : 0.0, found ? sum->real(1) : 0.0});
+    sum->reset();
+  };
+  const std::int64_t seq = next_learned(db);
   sqlite::Stmt add(db,
-                   "INSERT INTO scorer_weights(key, model, feature, weight, aux) "
-                   "VALUES (?,?,?,?,?) ON CONFLICT(key, model, feature) DO UPDATE SET "
-                   "weight = weight + excluded.weight, aux = aux + excluded.aux");
+                   "INSERT INTO scorer_weights(key, model, feature, weight, aux, seq) "
+                   "VALUES (?,?,?,?,?,?) ON CONFLICT(key, model, feature) DO UPDATE SET "
+                   "weight = weight + excluded.weight, aux = aux + excluded.aux, "
+                   "seq = excluded.seq");
   for (const auto& c : changes) {
+    if (sums) read(c, sums->before);
     add.bind(1, key).bind(2, c.model).bind(3, c.feature).bind_real(4, c.weight).bind_real(5, c.aux);
+    add.bind(6, seq);
     add.run();
     add.reset();
+    if (sums) read(c, sums->after);
   }
 }
 }  // namespace
 
 std::vector<RuleUses> LexiconStore::record_accept(const std::vector<RuleUses>& deltas,
                                                   const std::string& weights_key,
-                                                  const std::vector<StoredWeightChange>& changes) {
+                                                  const std::vector<StoredWeightChange>& changes,
+                                                  WeightSums* sums) {
   auto& db = *impl_->db;
   sqlite::Transaction tx(db);
-  std::vector<RuleUses> totals = add_uses(db, deltas);
-  add_weight_changes(db, weights_key, changes);
+  std::vector<RuleUses> totals = add_uses(db, deltas, next_learned(db));
+  add_weight_changes(db, weights_key, changes, sums);
   tx.commit();
   return totals;
 }

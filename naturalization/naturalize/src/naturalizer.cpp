@@ -270,7 +270,8 @@ Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions opt
 Naturalizer::~Naturalizer() = default;
 
 void Naturalizer::restore() {
-  store_->changed_elsewhere();  // the baseline for refresh(), taken before reading
+  store_->changed_elsewhere();             // the baseline for refresh(), taken before reading
+  learned_mark_ = store_->learned_mark();  // likewise: what is learned later is read again
   if (!restore_from_snapshot()) restore_from_rows();
   // Counters last: they change on every accept without moving the mark, so no snapshot has them.
   for (const auto& u : store_->nonzero_uses())
@@ -332,13 +333,15 @@ sdk::IncrementalScorer* incremental(sdk::Scorer& scorer) {
 }
 }  // namespace
 
-// A whole saved state (older builds, non-incremental scorers), then the additive weights.
+// A whole saved state (older builds, non-incremental scorers) or the initial one, then the
+// additive weights: the scorer then holds exactly what any kernel reading the store would hold
+// (docs/naturalization.md §5 "Learned state").
 void Naturalizer::load_weights(const std::string& key) {
   auto& scorer = *runtime_->scorer.borrow();
   auto state = store_->load_weights(key);
-  if (state || options_.per_user_weights)
-    runtime_->scorer.call("load_state",
-                          [&](sdk::Scorer& s) { s.load_state(state ? *state : initial_weights_); });
+  held_from_state_ = state.has_value();
+  runtime_->scorer.call("load_state",
+                        [&](sdk::Scorer& s) { s.load_state(state ? *state : initial_weights_); });
   if (auto* inc = incremental(scorer)) {
     std::vector<sdk::WeightChange> changes;
     for (auto& c : store_->weight_changes(key))
@@ -354,7 +357,24 @@ void Naturalizer::close_store() {
 
 void Naturalizer::refresh() {
   // data_version is read before the changes, so a commit racing with this read shows next time.
-  if (store_->changed_elsewhere()) apply(store_->changes_since(mark_));
+  if (!store_->changed_elsewhere()) return;
+  apply(store_->changes_since(mark_));
+  apply(store_->learned_since(learned_mark_));
+}
+
+void Naturalizer::apply(const LearnedChanges& learned) {
+  for (const auto& u : learned.uses)
+    if (by_id_.count(u.rule)) runtime_->usage->set(u.rule, {u.by_author, u.by_others});
+  const std::string held = held_weights_key();
+  if (!held.empty() && std::find(learned.weight_keys.begin(), learned.weight_keys.end(), held) !=
+                           learned.weight_keys.end())
+    load_weights(held);
+  learned_mark_ = learned.mark;
+}
+
+std::string Naturalizer::held_weights_key() const {
+  if (!options_.per_user_weights) return weights_key({});
+  return weights_user_.empty() ? std::string() : weights_key(weights_user_);
 }
 
 bool Naturalizer::add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr>& own) {
@@ -574,17 +594,47 @@ void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::Rule
   // whole state replaces the stored one (last writer wins). Either way in the accept's
   // transaction, with the counters.
   std::vector<RuleUses> totals;
-  if (auto* inc = incremental(*runtime_->scorer.borrow())) {
+  LexiconStore::WeightSums sums;
+  auto* inc = incremental(*runtime_->scorer.borrow());
+  if (inc) {
     std::vector<StoredWeightChange> changes;
     for (auto& c : inc->pending_changes())
       changes.push_back({std::move(c.model), std::move(c.feature), c.weight, c.aux});
-    totals = store_->record_accept(deltas, weights_key(user), changes);
+    totals = store_->record_accept(deltas, weights_key(user), changes, &sums);
   } else {
     totals = store_->record_accept(deltas, weights_key(user), save_weights());
   }
   // The stored totals include other processes' uses.
   for (std::size_t i = 0; i < rules.size(); ++i)
     runtime_->usage->set(rules[i]->id, {totals[i].by_author, totals[i].by_others});
+  hold_stored_weights(user, inc, sums);
+}
+
+// The scorer learned in memory; the stored sums are the truth every other kernel reads, and
+// floating-point sums taken in another order may differ in the last bit: hold the stored ones
+// (docs/naturalization.md §5 "Learned state").
+void Naturalizer::hold_stored_weights(const std::string& user, sdk::IncrementalScorer* inc,
+                                      const LexiconStore::WeightSums& sums) {
+  if (weights_key(user) != held_weights_key()) return;
+  if (store_->changed_elsewhere() || !inc || held_from_state_) {
+    // Someone else committed since this kernel last looked (its weights may lag the stored sums
+    // by more than this accept), or the base is a saved state: catch up whole.
+    apply(store_->changes_since(mark_));
+    apply(store_->learned_since(learned_mark_));
+    load_weights(weights_key(user));
+    return;
+  }
+  // The changed weights held exactly the sums before (0 + sum, as any kernel loads them): undo
+  // the learning, take each back to 0 (x + -x is exactly 0) and add the new sum, so they are
+  // exactly 0 + sum after, in O(changed weights).
+  std::vector<sdk::WeightChange> zero, after;
+  for (const auto& c : sums.before) zero.push_back({c.model, c.feature, -c.weight, -c.aux});
+  for (const auto& c : sums.after) after.push_back({c.model, c.feature, c.weight, c.aux});
+  runtime_->scorer.call("apply_changes", [&](sdk::Scorer&) {
+    inc->discard_changes();
+    inc->apply_changes(zero);
+    inc->apply_changes(after);
+  });
 }
 
 }  // namespace flipper::kernel

@@ -210,6 +210,9 @@ void NaturalizationExtension::install(Session& session) {
 
 void NaturalizationExtension::activate(const Session& session) {
   if (naturalizer_->options().per_user_weights) naturalizer_->select_user(session.user());
+  // A session may have asked on another kernel (a server's pool, docs/studio.md §5): an accept
+  // must count and learn against everything committed so far, like a parse.
+  naturalizer_->refresh();
 }
 
 }  // namespace flipper::kernel

@@ -50,6 +50,9 @@ struct ServeOptions {
   // Fairness (docs/studio.md §5).
   int cpu_ms_per_s = static_cast<int>(kernel::keys::kServeCpuMsPerS.def);
   int cpu_burst_ms = static_cast<int>(kernel::keys::kServeCpuBurstMs.def);
+  /// Kernels per lexicon mode answering at once (serve.kernels; 0: the cores + 1), each
+  /// charged to the memory budget (docs/studio.md §5).
+  int kernels = static_cast<int>(kernel::keys::kServeKernels.def);
   static ServeOptions from_config(const kernel::Config& config);
 };
 

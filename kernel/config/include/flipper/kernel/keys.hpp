@@ -116,5 +116,7 @@ inline constexpr Int kServeCpuMsPerS{"serve.cpu_ms_per_s", 500, 1, 1000000,
                                      "CPU time per session per second"};
 inline constexpr Int kServeCpuBurstMs{"serve.cpu_burst_ms", 5000, 1, 100000000,
                                       "CPU time a session may bank"};
+inline constexpr Int kServeKernels{"serve.kernels", 0, 0, 64,
+                                   "kernels answering at once (0: the cores + 1)"};
 
 }  // namespace flipper::kernel::keys

@@ -154,6 +154,12 @@ class Session {
 
   // ---- extension points (session_extension.hpp) ----
 
+  /// Moves the session onto another runtime of the same config (another kernel over the same
+  /// lexicon store, as a server's kernel pool has: docs/studio.md §5). What the client sees stays:
+  /// the world, user, last query, protocol and the world versions sent. The op table goes back
+  /// to the defaults and the extensions, hooks and plan observers are dropped: the caller
+  /// installs the new runtime's extensions again, in the order it first did.
+  void rebind(std::shared_ptr<Runtime> runtime);
   /// Installs an extension's ops and hooks and keeps it (find it again with extension<T>()).
   void install(std::shared_ptr<SessionExtension> extension);
   /// The installed extension of type T, or null.

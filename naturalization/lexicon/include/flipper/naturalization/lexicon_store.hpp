@@ -157,6 +157,14 @@ struct RuleUses {
   std::uint64_t by_others = 0;
 };
 
+/// What accepts committed after a learning mark (any process; docs/naturalization.md §5): the
+/// use counters that changed, as their totals, and the weight keys whose weights changed.
+struct LearnedChanges {
+  std::vector<RuleUses> uses;
+  std::vector<std::string> weight_keys;
+  std::int64_t mark = 0;  ///< the newest learning sequence read (the argument when none)
+};
+
 class LexiconStore {
  public:
   /// Opens (or creates, with parent directories) the store at `path`; ":memory:" is a private
@@ -172,7 +180,7 @@ class LexiconStore {
   const std::string& path() const;
   /// 2: rules.deleted_seq (deletions in commit order, for changes_since). Version 1 files are
   /// upgraded in place on open.
-  static constexpr int kSchemaVersion = 3;
+  static constexpr int kSchemaVersion = 4;
   bool read_only() const;
   /// The code every write is refused with when the store opened degraded (lexicon_read_only,
   /// lexicon_full); null when it opened for writing.
@@ -224,6 +232,12 @@ class LexiconStore {
   /// True when another connection committed since the previous call (PRAGMA data_version; a
   /// cheap check before changes_since). The first call is true.
   bool changed_elsewhere();
+  /// Counters and weight keys changed after learning mark `since` (0: everything ever learned),
+  /// read in one snapshot. Marks only grow; a store without the sequence (read-only, schema 2 or
+  /// 3) has nothing new.
+  LearnedChanges learned_since(std::int64_t since) const;
+  /// The newest learning sequence stored (0 when none, or without the sequence).
+  std::int64_t learned_mark() const;
 
   /// Persists an accept in one transaction: adds `deltas` to the used rules' counters and, when
   /// `weights_key` is set, stores the scorer state (last writer wins). Returns the counters'
@@ -233,9 +247,15 @@ class LexiconStore {
                                       const std::string& weights_state);
   /// The same for an incremental scorer: adds `changes` to the stored weights under
   /// `weights_key` (sums, so two processes learning at once both count), in the same transaction.
+  /// `sums` (when given) gets each changed weight's stored sum before and after, in the order of
+  /// `changes`.
+  struct WeightSums {
+    std::vector<StoredWeightChange> before, after;
+  };
   std::vector<RuleUses> record_accept(const std::vector<RuleUses>& deltas,
                                       const std::string& weights_key,
-                                      const std::vector<StoredWeightChange>& changes);
+                                      const std::vector<StoredWeightChange>& changes,
+                                      WeightSums* sums = nullptr);
   /// Every stored weight under `key` (the sums of all changes recorded).
   std::vector<StoredWeightChange> weight_changes(const std::string& key) const;
   void save_weights(const std::string& key, const std::string& state);

@@ -41,7 +41,8 @@ void delete_rule(Naturalizer& nat, Session& session, const std::string& id);
 
 /// Naturalization as a session extension over one naturalizer that several sessions share:
 /// install() wires the ops and hooks above; activate() selects the caller's weights
-/// (lexicon.weights: per_user) before one of the sessions handles a request. Front ends find it
+/// (lexicon.weights: per_user) and picks up what other kernels committed (refresh) before one of
+/// the sessions handles a request. Front ends find it
 /// with `session.extension<NaturalizationExtension>()` and call the typed service through it.
 class NaturalizationExtension final : public SessionExtension {
  public:

@@ -142,8 +142,10 @@ class Naturalizer {
   /// Throws sdk::Error: empty_head, head_reserved_token, head_is_core, body_unparsable,
   /// bad_request, and the store's codes (lexicon_busy, lexicon_full, ...: nothing changed then).
   DefineOutcome define(const DefineRequest& request);
-  /// Picks up what other processes committed since the last look (new rules, deletions); a
-  /// cheap check (PRAGMA data_version) when nothing changed.
+  /// Picks up what other processes (or other kernels over the same store) committed since the
+  /// last look: new rules, deletions, use counters and the weights of the scorer's current key
+  /// (reloaded whole, so every kernel ranks bit for bit alike; docs/naturalization.md §5
+  /// "Learned state"); a cheap check (PRAGMA data_version) when nothing changed.
   void refresh();
   /// Closes the lexicon store now (its last connection checkpoints and removes the WAL), for a
   /// process about to exit without destroying the naturalizer: every write is already committed
@@ -191,6 +193,13 @@ class Naturalizer {
   /// Applies changes read from the store; `own` holds this process's just-committed rules (used
   /// as they are instead of being read back).
   void apply(const LexiconChanges& changes, const std::vector<sdk::RulePtr>& own = {});
+  /// Applies counters and weights learned elsewhere.
+  void apply(const LearnedChanges& learned);
+  /// The weights key the scorer holds ("" before a per_user session chose its user).
+  std::string held_weights_key() const;
+  /// After an accept's commit: the scorer holds exactly the stored weights of its key again.
+  void hold_stored_weights(const std::string& user, sdk::IncrementalScorer* inc,
+                           const LexiconStore::WeightSums& sums);
   void add_live(sdk::RulePtr rule);
   void remove_live(const std::string& id);
   bool exists_for(const sdk::Rule& rule, const std::string& author) const;
@@ -210,9 +219,11 @@ class Naturalizer {
   /// new rule with. Computed while the rule is hot (a hash map built at start-up cost ~10% of a
   /// 100k start; one built lazily cost the first define ~0.1 s, the rules out of the cache).
   std::vector<std::uint64_t> shapes_;
-  ChangeMark mark_;              ///< how far this process has read the store's history
-  std::string initial_weights_;  ///< scorer state before any learning (per_user default)
-  std::string weights_user_;     ///< whose weights the scorer holds (per_user)
+  ChangeMark mark_;                ///< how far this process has read the store's history
+  std::int64_t learned_mark_ = 0;  ///< how far it has read what accepts taught
+  bool held_from_state_ = false;   ///< the held weights start from a stored whole state
+  std::string initial_weights_;    ///< scorer state before any learning (per_user default)
+  std::string weights_user_;       ///< whose weights the scorer holds (per_user)
   PreloadReport preload_report_;
   StartupReport startup_;
   std::vector<QuarantinedRule> quarantined_;
