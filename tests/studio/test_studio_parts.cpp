@@ -7,6 +7,8 @@
 #include <mutex>
 
 #include "api.hpp"
+#include "flipper/kernel/config.hpp"
+#include "flipper/studio/accounts.hpp"
 #include "host_policy.hpp"
 #include "registry.hpp"
 #include "scheduler.hpp"
@@ -284,6 +286,16 @@ TEST_CASE("account names: printable, bounded, never a guest's") {
   CHECK(name_problem("guest-1"));
   CHECK(name_problem("anonymous"));
   CHECK(name_problem("ä"));
+}
+
+TEST_CASE("an in-memory lexicon keeps its accounts in memory, never in the working folder",
+          "[studio][accounts]") {
+  CHECK(accounts_path(kernel::Config::load(std::nullopt, {"lexicon.path=:memory:"})) == ":memory:");
+  CHECK(accounts_path(kernel::Config::load(std::nullopt, {"lexicon.path=/x/y/lexicon.sqlite"})) ==
+        "/x/y/accounts.sqlite");
+  CHECK(accounts_path(kernel::Config::load(
+            std::nullopt, {"lexicon.path=:memory:", "serve.accounts=/z/a.sqlite"})) ==
+        "/z/a.sqlite");
 }
 
 }  // namespace

@@ -155,9 +155,10 @@ std::optional<std::string> name_problem(std::string_view name) {
 
 std::string accounts_path(const kernel::Config& config) {
   if (!config.get_string("serve.accounts").empty()) return config.get_path("serve.accounts");
-  const std::string lexicon = config.get_path("lexicon.path");
-  if (lexicon.empty() || lexicon == ":memory:") return ":memory:";
-  return (fs::path(lexicon).parent_path() / "accounts.sqlite").string();
+  // The raw value decides "in memory": get_path would make ":memory:" a file in some folder.
+  const std::string given = config.get_string("lexicon.path");
+  if (given.empty() || given == ":memory:") return ":memory:";
+  return (fs::path(config.get_path("lexicon.path")).parent_path() / "accounts.sqlite").string();
 }
 
 struct AccountStore::Impl {
