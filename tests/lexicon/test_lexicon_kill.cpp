@@ -10,6 +10,7 @@
 
 #include "child_process.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
+#include "sanitizer_build.hpp"
 #include "sqlite_integrity.hpp"
 
 namespace fs = std::filesystem;
@@ -18,18 +19,7 @@ namespace {
 
 // Sanitizer builds (build-fuzz/) start and write several times slower: kill later, so that the
 // kills still land while the writer is committing.
-#if defined(__SANITIZE_ADDRESS__)
-#define FLIPPER_KILL_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define FLIPPER_KILL_TEST_ASAN 1
-#endif
-#endif
-#ifdef FLIPPER_KILL_TEST_ASAN
-constexpr int kSlowdown = 6;
-#else
-constexpr int kSlowdown = 1;
-#endif
+constexpr int kSlowdown = flipper::testsupport::kAddressSanitizer ? 6 : 1;
 
 /// Runs the driver until killed after `ms`; returns the indices it acknowledged.
 std::vector<long> run_and_kill(const std::string& store, long start, int ms) {

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "raw_socket.hpp"
+#include "sanitizer_build.hpp"
 #include "studio_server.hpp"
 
 namespace flipper::studiotest {
@@ -333,7 +334,9 @@ TEST_CASE("maximal worlds are refused before the memory budget is crossed") {
   // Two fit (2 x 80 MiB reserved + the sessions' 64 KiB each); each further one would cross.
   CHECK(loaded == 2);
   CHECK(busy == 4);
-  CHECK(rss_kib(server.pid()) - before < 200 * 1024);
+  // Resident memory stays under the budget; ASan's shadow memory and redzones add ~10 %, so the
+  // instrumented run checks the refusals above and the Release run this bound.
+  if (!testsupport::kAddressSanitizer) CHECK(rss_kib(server.pid()) - before < 200 * 1024);
 }
 
 TEST_CASE("every kernel of the pool is charged to the memory budget") {
