@@ -71,13 +71,13 @@ std::vector<int> euler_circuit(int n, const std::vector<std::pair<int, int>>& ed
     const int v = stack.back();
     auto& a = adj[v];
     while (next[v] < a.size() && used[a[next[v]].second]) ++next[v];
-    if (next[v] == a.size()) {
-      circuit.push_back(v);
-      stack.pop_back();
-    } else {
+    if (next[v] < a.size()) {  // an unused edge: walk it
       used[a[next[v]].second] = 1;
       stack.push_back(a[next[v]].first);
+      continue;
     }
+    circuit.push_back(v);  // a dead end: it closes the circuit
+    stack.pop_back();
   }
   std::reverse(circuit.begin(), circuit.end());
   return circuit;
