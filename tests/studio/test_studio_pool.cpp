@@ -14,7 +14,8 @@ const char* kExpensive =
     "repeat 40 times { foreach point in world { foreach point in world { visit point } } }";
 
 TEST_CASE("a cheap request is answered while another session's expensive one runs") {
-  StudioServer server(fresh_dir("pool-cheap"), {"serve.kernels=2", "session.deadline_ms=120000"});
+  StudioServer server(fresh_dir("pool-cheap"), {"serve.kernels=2", "session.deadline_ms=120000",
+                                                "execution.deadline_ms=120000"});
   auto heavy_http = server.client();
   heavy_http.set_read_timeout(120);
   const std::string heavy = new_session(heavy_http);
