@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "flipper/kernel/yaml_file.hpp"
 #include "flipper/replay/experiment.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -79,13 +80,7 @@ TaskSource task_source(const std::string& file, const YAML::Node& node, const st
 BenchExperiment load_bench_experiment(const std::string& path) {
   BenchExperiment e;
   e.file = std::filesystem::absolute(path).lexically_normal().string();
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& ex) {
-    throw sdk::Error(sdk::codes::kBadConfig,
-                     "cannot read experiment file '" + path + "': " + ex.what());
-  }
+  const YAML::Node root = kernel::load_bounded_yaml_file(path, "experiment file");
   const std::string where = "experiment file '" + path + "': ";
   try {
     only_keys(root,

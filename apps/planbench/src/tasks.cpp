@@ -6,6 +6,7 @@
 #include <deque>
 #include <limits>
 
+#include "flipper/kernel/yaml_file.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::planbench {
@@ -72,12 +73,7 @@ std::vector<Task> random_tasks(const sdk::Geometry& g, int count, std::uint64_t 
 
 std::vector<Task> read_task_file(const std::string& path, const sdk::Geometry& g) {
   const std::string where = "task file '" + path + "': ";
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& ex) {
-    throw sdk::Error(sdk::codes::kBadConfig, "cannot read task file '" + path + "': " + ex.what());
-  }
+  const YAML::Node root = kernel::load_bounded_yaml_file(path, "task file");
   std::vector<Task> tasks;
   try {
     const YAML::Node list = root["tasks"];

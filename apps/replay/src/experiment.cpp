@@ -7,6 +7,7 @@
 #include <cctype>
 #include <filesystem>
 
+#include "flipper/kernel/yaml_file.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::kernel::replay {
@@ -93,13 +94,7 @@ std::vector<record::SweepAxis> sweep_axes(const YAML::Node& sweep, const std::st
 Experiment load_experiment(const std::string& path) {
   Experiment e;
   e.file = fs::absolute(path).lexically_normal().string();
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& ex) {
-    throw sdk::Error(sdk::codes::kBadConfig,
-                     "cannot read experiment file '" + path + "': " + ex.what());
-  }
+  const YAML::Node root = kernel::load_bounded_yaml_file(path, "experiment file");
   const std::string where = "experiment file '" + path + "': ";
   try {
     for (const auto& kv : root) {

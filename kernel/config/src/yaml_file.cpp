@@ -1,0 +1,25 @@
+#include "flipper/kernel/yaml_file.hpp"
+
+#include "flipper/kernel/limits.hpp"
+#include "flipper/sdk/errors.hpp"
+#include "yaml_bounds.hpp"
+
+namespace flipper::kernel {
+
+YAML::Node load_bounded_yaml_file(const std::string& path, const std::string& what) {
+  const std::string failed = "cannot read " + what + " '" + path + "': ";
+  try {
+    const std::string text =
+        read_regular_file(path, yaml_bounds::kMaxConfigBytes, what, sdk::codes::kBadConfig);
+    YAML::Node root = YAML::Load(text);
+    // Before anything walks the tree: an alias bomb loads at once and expands when walked.
+    yaml_bounds::check_expanded_size(root, what + " '" + path + "'");
+    return root;
+  } catch (const YAML::Exception& e) {
+    throw sdk::Error(sdk::codes::kBadConfig, failed + e.what());
+  } catch (const sdk::Error& e) {
+    throw sdk::Error(sdk::codes::kBadConfig, failed + e.what());
+  }
+}
+
+}  // namespace flipper::kernel
