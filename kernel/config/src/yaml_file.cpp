@@ -17,8 +17,8 @@ YAML::Node load_bounded_yaml_file(const std::string& path, const std::string& wh
     return root;
   } catch (const YAML::Exception& e) {
     throw sdk::Error(sdk::codes::kBadConfig, failed + e.what());
-  } catch (const sdk::Error& e) {
-    throw sdk::Error(sdk::codes::kBadConfig, failed + e.what());
+  } catch (const sdk::Error& e) {  // its message names the file already
+    throw sdk::Error(sdk::codes::kBadConfig, e.what());
   }
 }
 

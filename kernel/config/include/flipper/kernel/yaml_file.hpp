@@ -10,7 +10,7 @@
 namespace flipper::kernel {
 
 /// The document of `path`; `what` names it in messages ("experiment file"). Every failure is
-/// bad_config "cannot read <what> '<path>': <reason>".
+/// bad_config, its message naming `what` and `path`.
 YAML::Node load_bounded_yaml_file(const std::string& path, const std::string& what);
 
 }  // namespace flipper::kernel
