@@ -211,5 +211,18 @@ sed "s|$data/maze-tasks.yaml|$tmp/wall-task.yaml|" "$tmp/bench.yaml" >"$tmp/badt
 refused bad_config "is not a free cell" --experiment "$tmp/badtask.yaml"
 refused usage "--experiment" --jobs 2
 refused bad_config "cannot read experiment" --experiment "$tmp/absent.yaml"
+# Experiment and task files get a config's bounds: no device or FIFO, no alias bomb (100,000
+# nodes once expanded; this one expands to a million in a few hundred bytes).
+refused bad_config "is not a regular file" --experiment /dev/zero
+printf 'a: &a [x,x,x,x,x,x,x,x,x,x]\n' >"$tmp/bomb.yaml"
+prev=a
+for n in b c d e f; do
+  printf '%s: &%s [*%s,*%s,*%s,*%s,*%s,*%s,*%s,*%s,*%s,*%s]\n' $n $n $prev $prev $prev $prev \
+    $prev $prev $prev $prev $prev $prev >>"$tmp/bomb.yaml"
+  prev=$n
+done
+refused bad_config "more than 100000 YAML nodes" --experiment "$tmp/bomb.yaml"
+sed "s|$data/maze-tasks.yaml|$tmp/bomb.yaml|" "$tmp/bench.yaml" >"$tmp/bombtasks.yaml"
+refused bad_config "more than 100000 YAML nodes" --experiment "$tmp/bombtasks.yaml"
 "$flipper" bench planners --help | grep -q "^Usage: .*bench planners" || fail "--help"
 echo "planner benchmark OK"
