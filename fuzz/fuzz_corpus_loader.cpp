@@ -12,7 +12,7 @@
 #include "support/fuzz_support.hpp"
 
 namespace fz = flipper::fuzz;
-namespace replay = flipper::kernel::replay;
+namespace replay = flipper::replay;
 namespace sdk = flipper::sdk;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

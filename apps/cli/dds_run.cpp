@@ -21,7 +21,7 @@ extern "C" void on_signal(int) {
 }  // namespace
 
 int run_dds_node(const CommonOptions& opts) {
-  kernel::SessionHost host = kernel::open_host(config_file(opts), opts.overrides);
+  wiring::SessionHost host = wiring::open_host(config_file(opts), opts.overrides);
   const DdsServices services = DdsServices::start(host, /*force_participant=*/true);
   dds::RequestNode node(
       services.participant, [&] { return services.open(host); }, std::cerr,

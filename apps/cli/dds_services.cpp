@@ -12,7 +12,7 @@
 
 namespace flipper::cli {
 
-DdsServices DdsServices::start(kernel::SessionHost& host, bool force_participant) {
+DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant) {
   const kernel::Config& config = host.runtime->config;
   const bool plans = config.get_string("publish.plans") == "dds";
   const bool replicate = config.get_string("lexicon.replication") == "dds";
@@ -47,7 +47,7 @@ DdsServices DdsServices::start(kernel::SessionHost& host, bool force_participant
   return s;
 }
 
-std::unique_ptr<kernel::Session> DdsServices::open(const kernel::SessionHost& host) const {
+std::unique_ptr<kernel::Session> DdsServices::open(const wiring::SessionHost& host) const {
   auto session = host.open();
   if (plans) session->add_plan_observer(plans);
   if (replicator) replicator->attach(*session);

@@ -30,9 +30,9 @@ struct DdsServices {
   std::shared_ptr<dds::LexiconReplicator> replicator;
 
   /// Starts what `host`'s config asks for (`force_participant`: the dds node always needs one).
-  static DdsServices start(kernel::SessionHost& host, bool force_participant = false);
+  static DdsServices start(wiring::SessionHost& host, bool force_participant = false);
   /// A session of `host` with the services attached (plan observer, replication guards).
-  std::unique_ptr<kernel::Session> open(const kernel::SessionHost& host) const;
+  std::unique_ptr<kernel::Session> open(const wiring::SessionHost& host) const;
   ~DdsServices();
 };
 

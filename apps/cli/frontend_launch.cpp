@@ -68,12 +68,12 @@ int run_accounts(const CommonOptions& /*opts*/, const AccountsArgs& /*args*/) {
   exec_frontends();
 }
 
-DdsServices DdsServices::start(kernel::SessionHost& host, bool force_participant) {
+DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant) {
   if (force_participant || wants_dds_services(host.runtime->config)) exec_frontends();
   return {};
 }
 
-std::unique_ptr<kernel::Session> DdsServices::open(const kernel::SessionHost& host) const {
+std::unique_ptr<kernel::Session> DdsServices::open(const wiring::SessionHost& host) const {
   return host.open();
 }
 

@@ -47,16 +47,16 @@ int error(const std::string& what, const std::string& code, const std::string& m
 }
 
 std::string store_path(const kernel::Config& config) {
-  return kernel::NaturalizeOptions::from_config(config).store_path;
+  return naturalization::NaturalizeOptions::from_config(config).store_path;
 }
 
 /// Opens an existing store (reading never creates one).
-std::unique_ptr<kernel::LexiconStore> open_existing(const std::string& path) {
+std::unique_ptr<naturalization::LexiconStore> open_existing(const std::string& path) {
   std::error_code ec;
   if (path != ":memory:" && !std::filesystem::exists(path, ec))
     throw sdk::Error(sdk::codes::kBadConfig,
                      "no lexicon store at '" + path + "' (lexicon.path; --set lexicon.path=FILE)");
-  return std::make_unique<kernel::LexiconStore>(path);
+  return std::make_unique<naturalization::LexiconStore>(path);
 }
 
 std::string join(const std::vector<std::string>& v) {
@@ -67,16 +67,16 @@ std::string join(const std::vector<std::string>& v) {
 
 int list_rules(const LexiconArgs& a) {
   const auto store = open_existing(store_path(load_config(a.common)));
-  std::vector<kernel::StoredRule> rules;
-  std::vector<std::pair<kernel::StoredRule, std::string>> quarantined;
+  std::vector<naturalization::StoredRule> rules;
+  std::vector<std::pair<naturalization::StoredRule, std::string>> quarantined;
   for (auto& r : store->rules()) {
     if (!a.author.empty() && r.author != a.author) continue;
-    if (auto why = kernel::quarantine_reason(r))
+    if (auto why = naturalization::quarantine_reason(r))
       quarantined.emplace_back(std::move(r), *why);
     else
       rules.push_back(std::move(r));
   }
-  std::vector<kernel::PreloadFailure> preload_failures;
+  std::vector<naturalization::PreloadFailure> preload_failures;
   for (auto& f : store->preload_failures())
     if (a.author.empty() || f.author == a.author) preload_failures.push_back(std::move(f));
   std::size_t w_id = 2, w_author = 6, w_how = 3, w_uses = 4;
@@ -151,7 +151,7 @@ int export_store(const LexiconArgs& a) {
   const auto store = open_existing(store_path(load_config(a.common)));
   // A full device must be an error, not a silently short export (code write_failed).
   if (a.file == "-") {
-    store->export_jsonl(std::cout, kernel::quarantine_reason);
+    store->export_jsonl(std::cout, naturalization::quarantine_reason);
     std::cout.flush();
     if (!std::cout || std::fflush(stdout) != 0)
       return error("export", sdk::codes::kWriteFailed,
@@ -163,7 +163,7 @@ int export_store(const LexiconArgs& a) {
   if (!out)
     return error("export", sdk::codes::kWriteFailed,
                  "cannot write '" + a.file + "': " + std::strerror(errno), kExitFailed);
-  store->export_jsonl(out, kernel::quarantine_reason);
+  store->export_jsonl(out, naturalization::quarantine_reason);
   out.flush();
   if (out) out.close();
   if (!out)
@@ -191,7 +191,7 @@ std::string read_input(const std::string& file) {
 /// Verbatim restore: only into an empty store, so nothing stored can be replaced.
 int restore_store(const LexiconArgs& a, const std::string& path, const std::string& text) {
   // Checked in memory first: the export's shape (import_jsonl) and every rule's template.
-  kernel::LexiconStore scratch(":memory:");
+  naturalization::LexiconStore scratch(":memory:");
   std::istringstream check(text);
   scratch.import_jsonl(check);
   std::set<std::string> quarantined;  // flagged by the export: copied, and stay quarantined
@@ -206,12 +206,12 @@ int restore_store(const LexiconArgs& a, const std::string& path, const std::stri
   for (const auto& r : scratch.rules(true)) {
     if (quarantined.count(r.id)) continue;
     try {
-      (void)kernel::rule_from_stored(r);
+      (void)naturalization::rule_from_stored(r);
     } catch (const sdk::Error& e) {
       throw sdk::Error(sdk::codes::kBadRequest, a.file + ": rule " + r.id + ": " + e.what());
     }
   }
-  kernel::LexiconStore store(path);
+  naturalization::LexiconStore store(path);
   std::ostringstream existing;
   store.export_jsonl(existing);
   if (!existing.str().empty())
@@ -230,7 +230,7 @@ int restore_store(const LexiconArgs& a, const std::string& path, const std::stri
 /// generalization); rule and weight(s) lines are not copied.
 int import_definitions(const LexiconArgs& a, const kernel::Config& config,
                        const std::string& text) {
-  std::vector<kernel::DefineRequest> defs;
+  std::vector<naturalization::DefineRequest> defs;
   std::size_t not_copied = 0, line_no = 0;
   std::istringstream in(text);
   for (std::string line; std::getline(in, line);) {
@@ -244,7 +244,7 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
         continue;
       }
       if (type != "definition") throw std::runtime_error("unknown type '" + type + "'");
-      kernel::DefineRequest d;
+      naturalization::DefineRequest d;
       d.head = j.at("head").get<std::string>();
       d.body = j.at("body").get<std::vector<std::string>>();
       d.user = j.value("author", std::string("import"));
@@ -256,10 +256,11 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
               ": expected a lexicon export or {\"head\",\"body\":[...],\"author\"}: " + e.what());
     }
   }
-  kernel::NaturalizeOptions options = kernel::NaturalizeOptions::from_config(config);
+  naturalization::NaturalizeOptions options =
+      naturalization::NaturalizeOptions::from_config(config);
   options.preload.clear();  // import exactly the file
-  kernel::Naturalizer naturalizer(std::shared_ptr<kernel::Runtime>(kernel::make_runtime(config)),
-                                  options);
+  naturalization::Naturalizer naturalizer(
+      std::shared_ptr<kernel::Runtime>(kernel::make_runtime(config)), options);
   std::set<std::tuple<std::string, std::vector<std::string>, std::string>> stored;
   for (const auto& d : naturalizer.store().definitions()) stored.emplace(d.head, d.body, d.author);
   std::size_t added = 0, skipped = 0, rules = 0;
@@ -273,7 +274,7 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
       rules += naturalizer.define(d).rules.size();
       ++added;
     } catch (const sdk::Error& e) {
-      if (kernel::lexicon_codes::is_store_fault(e.code())) throw;
+      if (naturalization::lexicon_codes::is_store_fault(e.code())) throw;
       failures.push_back("'" + d.head + "' (" + d.user + "): " + e.code() + ": " + e.what());
     }
   }
@@ -302,10 +303,11 @@ int delete_rule(const LexiconArgs& a) {
   const kernel::Config config = load_config(a.common);
   const std::string path = store_path(config);
   (void)open_existing(path);  // deleting never creates a store
-  kernel::NaturalizeOptions options = kernel::NaturalizeOptions::from_config(config);
+  naturalization::NaturalizeOptions options =
+      naturalization::NaturalizeOptions::from_config(config);
   options.preload.clear();
-  kernel::Naturalizer naturalizer(std::shared_ptr<kernel::Runtime>(kernel::make_runtime(config)),
-                                  options);
+  naturalization::Naturalizer naturalizer(
+      std::shared_ptr<kernel::Runtime>(kernel::make_runtime(config)), options);
   naturalizer.delete_rule(a.user, a.rule_id);
   std::cout << "deleted rule " << a.rule_id << " of " << a.user << " from "
             << naturalizer.store().path() << "\n";

@@ -15,14 +15,14 @@ void add_repl_command(CLI::App& app) {
   static CommonOptions opts;
   add_common_options(*cmd, opts);
   on_run(*cmd, [] {
-    kernel::SessionHost host = kernel::open_host(config_file(opts), opts.overrides);
+    wiring::SessionHost host = wiring::open_host(config_file(opts), opts.overrides);
     const DdsServices dds = DdsServices::start(host);  // publish.plans, lexicon.replication
     auto session = dds.open(host);
     // Readline only on a terminal; piped input is read line by line without prompts.
     bool terminal = isatty(STDIN_FILENO) != 0;
-    auto reader = kernel::repl::make_line_reader(
-        std::cin, terminal, terminal ? kernel::repl::default_history_file() : std::string());
-    return kernel::repl::run(*session, *reader, std::cout);
+    auto reader = repl::make_line_reader(std::cin, terminal,
+                                         terminal ? repl::default_history_file() : std::string());
+    return repl::run(*session, *reader, std::cout);
   });
 }
 }  // namespace flipper::cli

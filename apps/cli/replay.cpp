@@ -28,7 +28,7 @@
 namespace flipper::cli {
 namespace {
 
-using kernel::replay::RunSummary;
+using replay::RunSummary;
 
 struct ReplayArgs {
   std::string corpus, out, experiment, runs, shard, print;
@@ -87,11 +87,11 @@ void say_plots(const record::PlotOutcome& plots) {
 
 std::string one_table(const std::string& name, const RunSummary& s) {
   const record::FigureTable t(s.figures);
-  if (name == "headline") return kernel::replay::headline_text(t, s.variants);
-  if (name == "oracles") return kernel::replay::oracles_text(t, s.variants);
-  if (name == "variants") return kernel::replay::variants_table(t, s.variants);
-  if (name == "planner") return kernel::replay::planner_table(t, s.variants);
-  if (name == "seeds") return kernel::replay::seeds_table(s.figures, s.variants);
+  if (name == "headline") return replay::headline_text(t, s.variants);
+  if (name == "oracles") return replay::oracles_text(t, s.variants);
+  if (name == "variants") return replay::variants_table(t, s.variants);
+  if (name == "planner") return replay::planner_table(t, s.variants);
+  if (name == "seeds") return replay::seeds_table(s.figures, s.variants);
   throw sdk::Error(
       sdk::codes::kBadRequest,
       "--print '" + name + "': no such table (headline, variants, oracles, planner, seeds)");
@@ -106,7 +106,7 @@ std::string table_text(const std::string& names, const RunSummary& s) {
 }
 
 int run_replay(const CommonOptions& common, const ReplayArgs& args) {
-  using namespace kernel::replay;
+  using namespace replay;
   if (args.out.empty())
     return report_error("replay", "usage",
                         "--out PARENT is required: the run goes into a new folder under it "
@@ -205,7 +205,7 @@ void add_check(CLI::App& replay) {
   cmd->add_option("--out", args.out, "Keep the re-run under this folder (default: removed)");
   on_run(*cmd, [] {
     return guarded("replay check", [] {
-      const auto r = kernel::replay::check_run(args.run, jobs_or_cores(args.jobs), args.out);
+      const auto r = replay::check_run(args.run, jobs_or_cores(args.jobs), args.out);
       std::cout << r.text;
       return r.differs() ? kExitFailed : kExitOk;
     });
@@ -222,7 +222,7 @@ void add_merge(CLI::App& replay) {
   on_run(*cmd, [] {
     return guarded("replay merge", [] {
       std::vector<std::string> warnings;
-      const auto s = kernel::replay::merge_runs(args.runs, args.out, !args.no_plots, warnings);
+      const auto s = replay::merge_runs(args.runs, args.out, !args.no_plots, warnings);
       for (const auto& w : warnings) std::cerr << "flipper replay merge: warning: " << w << "\n";
       std::cout << "merged " << args.runs.size() << " shards, " << s.variants.size()
                 << " variants\nrun: " << s.run_dir << "\nreport: " << s.run_dir << "/report.md\n";

@@ -53,7 +53,7 @@ Reading interpret(kernel::Session& session, const std::string& text) {
   request.k = 1;
   const kernel::QueryResult result = session.query(request);  // the session's checks and codes
   if (result.query->shown.empty()) {
-    const std::string note = kernel::repl::unknown_words_note(session, text);
+    const std::string note = repl::unknown_words_note(session, text);
     throw sdk::Error(sdk::codes::kBadProgram,
                      "cannot understand '" + text +
                          "': it is neither canonical text nor core language, nor a phrase of the "
@@ -79,7 +79,7 @@ void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
       std::cout << " " << s.item.color << " " << s.item.shape << " (id " << s.item.id << ")";
     std::cout << "\n";
   }
-  for (const auto& w : kernel::repl::collapse_warnings(kernel::protocol::strings_json(o.warnings)))
+  for (const auto& w : repl::collapse_warnings(kernel::protocol::strings_json(o.warnings)))
     std::cout << "warning: " << w << "\n";
   std::cout << "realizable: " << (o.realizable ? "yes" : "no") << "\n";
   const sdk::WorldState& w = o.world;
@@ -99,7 +99,7 @@ int run(const RunOptions& opts) {
   };
   std::unique_ptr<kernel::Session> session;
   try {
-    session = kernel::open_session(config_file(opts.common), opts.common.overrides);
+    session = wiring::open_session(config_file(opts.common), opts.common.overrides);
   } catch (const sdk::Error& e) {
     return fail(e.code(), e.what(), kExitUsage);
   }
@@ -132,7 +132,7 @@ int run(const RunOptions& opts) {
     const kernel::Json before = session->world_json(world);
     const kernel::Json trace = kernel::protocol::trace_json(o.trace, dims);
     std::ofstream f(opts.svg_file);
-    f << kernel::svg::world_picture(before, &trace, sdk::render(program));
+    f << svg::world_picture(before, &trace, sdk::render(program));
     f.flush();
     if (!f) return fail("io", "cannot write '" + opts.svg_file + "'", kExitFailed);
   }

@@ -31,12 +31,12 @@ constexpr bool kSanitized = false;
 /// but the runtime and its rules are not freed one by one (at 10k rules their teardown is ~10%
 /// of a short session's CPU; docs/naturalization.md §5 "Start-up at scale"). They stay reachable
 /// from a static, so leak checkers see no leak; sanitizer builds still tear everything down.
-void keep_until_exit(kernel::SessionHost host) {
+void keep_until_exit(wiring::SessionHost host) {
   if (host.naturalizer) host.naturalizer->close_store();
   if constexpr (kSanitized) return;  // destroyed here, checked by the sanitizer
   // volatile: the store below is not optimised away (the pointer is never read).
-  [[maybe_unused]] static kernel::SessionHost* volatile kept = nullptr;
-  kept = new kernel::SessionHost(std::move(host));
+  [[maybe_unused]] static wiring::SessionHost* volatile kept = nullptr;
+  kept = new wiring::SessionHost(std::move(host));
 }
 
 int run_session(const CommonOptions& opts, const std::string& script) {
@@ -50,7 +50,7 @@ int run_session(const CommonOptions& opts, const std::string& script) {
     }
     in = &file;
   }
-  kernel::SessionHost host = kernel::open_host(config_file(opts), opts.overrides);
+  wiring::SessionHost host = wiring::open_host(config_file(opts), opts.overrides);
   {
     const DdsServices dds = DdsServices::start(host);  // publish.plans, lexicon.replication
     auto session = dds.open(host);

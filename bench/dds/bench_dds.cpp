@@ -34,8 +34,8 @@ double pct(std::vector<double> v, double p) {
   return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
 }
 
-kernel::SessionHost host(const std::filesystem::path& store, const std::string& site) {
-  return kernel::open_host(std::nullopt, {"lexicon.path=" + store.string(), "rewriter=null",
+wiring::SessionHost host(const std::filesystem::path& store, const std::string& site) {
+  return wiring::open_host(std::nullopt, {"lexicon.path=" + store.string(), "rewriter=null",
                                           "lexicon.replication=dds", "lexicon.site=" + site});
 }
 
@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
 
   // (1) Replication latency.
   {
-    kernel::SessionHost ha = host(dir / "a.sqlite", "a"), hb = host(dir / "b.sqlite", "b");
+    wiring::SessionHost ha = host(dir / "a.sqlite", "a"), hb = host(dir / "b.sqlite", "b");
     auto pa = participant(domain, quiet), pb = participant(domain, quiet);
     auto ra = dds::LexiconReplicator::start(pa, ha, quiet);
     auto rb = dds::LexiconReplicator::start(pb, hb, quiet);
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
 
   // (2) Plan publication overhead per accept.
   {
-    kernel::SessionHost h = kernel::open_host(std::nullopt, {"lexicon.path=:memory:"});
+    wiring::SessionHost h = wiring::open_host(std::nullopt, {"lexicon.path=:memory:"});
     auto p = participant(domain, quiet);
     auto publisher =
         std::make_shared<dds::PlanPublisher>(p, dds::PlanFrame::from_config(h.runtime->config, 2));

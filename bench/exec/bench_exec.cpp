@@ -55,7 +55,7 @@ int main() {
     for (const auto& c : ans->second["candidates"]) {
       if (c["formula"] != q["formula"]) continue;
       try {
-        const std::string text = kernel::corpus::normalize_original_pretty(c["pretty"]);
+        const std::string text = corpus::normalize_original_pretty(c["pretty"]);
         const std::string wid = q["world_id"];
         if (!loaded.count(wid)) loaded.emplace(wid, world->load(worlds.at(wid).dump(), "."));
         const bool loop =

@@ -48,7 +48,8 @@ sdk::Program body(const char* family, int lines) {
 void run(benchmark::State& state, const char* family, sdk::Cell start, int perturbed) {
   auto& f = fixture();
   const sdk::Program b = body(family, static_cast<int>(state.range(0)));
-  kernel::Generalizer g(f.env.rewriter, f.wordnet, f.env.exec, {.perturbed_checks = perturbed});
+  naturalization::Generalizer g(f.env.rewriter, f.wordnet, f.env.exec,
+                                {.perturbed_checks = perturbed});
   const auto head = sdk::tokenize("do the thing with red triangles 3 times");
   std::size_t candidates = 0;
   for (auto _ : state) {
@@ -79,7 +80,7 @@ void BM_pick_cold_wordnet(benchmark::State& state) {
   const auto head = sdk::tokenize("do the thing with red triangles 3 times");
   for (auto _ : state) {
     auto wordnet = testsupport::load_plugin<sdk::Similarity>("wordnet");
-    kernel::Generalizer g(f.env.rewriter, wordnet, f.env.exec);
+    naturalization::Generalizer g(f.env.rewriter, wordnet, f.env.exec);
     benchmark::DoNotOptimize(g.generalize(head, b, f.env.at({7, 4}), packing).winner);
   }
 }

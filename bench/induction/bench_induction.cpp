@@ -22,7 +22,7 @@ namespace {
 
 /// N synthetic induced rules, vocabulary overlapping real utterances, committed in batches.
 void populate(const std::string& path, int n) {
-  kernel::LexiconStore store(path);
+  naturalization::LexiconStore store(path);
   std::mt19937 rng(42);
   const std::vector<std::string> real = {"pick", "drop",  "items", "red",
                                          "to",   "visit", "all",   "go"};
@@ -32,9 +32,9 @@ void populate(const std::string& path, int n) {
       {"$Area", "{foreach point in $1 {{visit point};{pick every item }}}"}};
   std::int64_t created = store.max_created();
   for (int done = 0; done < n;) {
-    std::vector<kernel::StoredRule> batch;
+    std::vector<naturalization::StoredRule> batch;
     for (int i = 0; i < 500 && done < n; ++i, ++done) {
-      kernel::StoredRule r;
+      naturalization::StoredRule r;
       r.created = ++created;
       r.id = "r" + std::to_string(r.created);
       r.lhs = "$Action";
@@ -99,14 +99,15 @@ int main(int argc, char** argv) {
                          std::string("induction.generalize=") + (generalize ? "true" : "false")});
       std::shared_ptr<kernel::Runtime> rt = kernel::make_runtime(config);
       const auto r0 = std::chrono::steady_clock::now();
-      kernel::Naturalizer nat(rt, kernel::NaturalizeOptions::from_config(rt->config));
+      naturalization::Naturalizer nat(rt,
+                                      naturalization::NaturalizeOptions::from_config(rt->config));
       restore_ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
       kernel::Executor exec(rt->planner);
       std::vector<double> ms;
       for (int i = 0; i < 40; ++i) {
         const auto& [head, body] = defs[static_cast<std::size_t>(i) % defs.size()];
-        kernel::DefineRequest req;
+        naturalization::DefineRequest req;
         req.user = "bench";
         req.head = head + " z" + std::to_string(generalize) + "x" + std::to_string(i);
         req.body = body;
@@ -124,7 +125,7 @@ int main(int argc, char** argv) {
         auto rules = nat.store().rules();
         std::int64_t created = nat.store().max_created();
         for (int i = 0; i < 20; ++i) {
-          std::vector<kernel::StoredRule> two(rules.end() - 2, rules.end());
+          std::vector<naturalization::StoredRule> two(rules.end() - 2, rules.end());
           for (auto& r : two) r.id = "c" + std::to_string(r.created = ++created);
           const auto t0 = std::chrono::steady_clock::now();
           nat.store().add_definition({0, "commit", {"commit"}, "bench", 0}, two);
@@ -134,7 +135,8 @@ int main(int argc, char** argv) {
         }
         commit_ms = median(cms);
         std::vector<double> ims;  // induction alone (parse head and body, packings, rules)
-        kernel::Inducer inducer(rt->parser, rt->scorer, nat.options().induction, rt->usage.get());
+        naturalization::Inducer inducer(rt->parser, rt->scorer, nat.options().induction,
+                                        rt->usage.get());
         for (int i = 0; i < 40; ++i) {
           const auto& [head, body] = defs[static_cast<std::size_t>(i) % defs.size()];
           const auto t0 = std::chrono::steady_clock::now();

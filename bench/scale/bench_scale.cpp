@@ -240,7 +240,7 @@ struct OpTimes {
 };
 
 OpTimes replay_in_process(const std::vector<Request>& stream, bool v2, const std::string& store) {
-  auto session = flipper::kernel::open_session(std::nullopt, {"lexicon.path=" + store});
+  auto session = flipper::wiring::open_session(std::nullopt, {"lexicon.path=" + store});
   if (v2 && !ok(session->handle_line(kHello2))) return {};
   OpTimes t;
   bool can_accept = false;
@@ -400,7 +400,7 @@ void bench_worlds() {
     const auto utts = distinct_utterances(nq);
     for (bool v2 : {false, true}) {
       const char* form = v2 ? "change-only" : "full";
-      auto session = flipper::kernel::open_session(
+      auto session = flipper::wiring::open_session(
           std::nullopt,
           {"lexicon.path=" +
            (g_tmp / ("worlds-" + std::to_string(size) + "-" + std::to_string(v2))).string()});
@@ -412,7 +412,7 @@ void bench_worlds() {
       // A new map: each run in a fresh session (the session keeps a loaded map for a reload).
       std::vector<double> world_ms, reload_ms;
       for (int r = 0; r < std::max(3, g_runs); ++r) {
-        auto fresh = flipper::kernel::open_session(
+        auto fresh = flipper::wiring::open_session(
             std::nullopt, {"lexicon.path=" + (g_tmp / ("worlds-fresh-" + std::to_string(size) +
                                                        "-" + std::to_string(r)))
                                                  .string()});
@@ -477,7 +477,7 @@ void bench_worlds() {
 // ---- lexicon sizes -----------------------------------------------------------------------------
 // N induced rules shaped like real definitions (bench/parser's shapes), committed in batches.
 void populate(const std::string& path, int n) {
-  flipper::kernel::LexiconStore store(path);
+  flipper::naturalization::LexiconStore store(path);
   std::mt19937 rng(42);
   const std::vector<std::string> common = {"pick",  "drop", "visit", "move", "go",  "all",  "the",
                                            "items", "red",  "room1", "to",   "and", "then", "left"};
@@ -486,9 +486,9 @@ void populate(const std::string& path, int n) {
   };
   std::int64_t created = store.max_created();
   for (int done = 0; done < n;) {
-    std::vector<flipper::kernel::StoredRule> batch;
+    std::vector<flipper::naturalization::StoredRule> batch;
     for (int j = 0; j < 1000 && done < n; ++j, ++done) {
-      flipper::kernel::StoredRule r;
+      flipper::naturalization::StoredRule r;
       r.created = ++created;
       r.id = "r" + std::to_string(r.created);
       r.lhs = "$Action";
@@ -546,7 +546,7 @@ void bench_rules(const std::vector<int>& sizes) {
       }
     }
     // The parser alone, in process, over the same store.
-    auto session = flipper::kernel::open_session(std::nullopt, {"lexicon.path=" + store});
+    auto session = flipper::wiring::open_session(std::nullopt, {"lexicon.path=" + store});
     auto& rt = session->runtime();
     std::vector<double> parse_ms;
     for (const auto& u : utts) {

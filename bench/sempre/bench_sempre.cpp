@@ -30,7 +30,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
-namespace replay = flipper::kernel::replay;
+namespace replay = flipper::replay;
 
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;

@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
 
   // In-process latency: a fresh session on the default (study) world; nothing is accepted, so
   // every query runs on the study map.
-  auto session = flipper::kernel::open_session(std::nullopt,
+  auto session = flipper::wiring::open_session(std::nullopt,
                                                {"lexicon.path=/tmp/flipper-bench-session.sqlite"});
   const int k = session->options().k;
   std::vector<double> shown_ms, all_ms, original_ms, shown_cpu_ms;

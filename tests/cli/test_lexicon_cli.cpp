@@ -160,8 +160,8 @@ TEST_CASE("a stored rule that no longer loads is listed and exported as quaranti
           "[cli][lexicon]") {
   const std::string store = make_store("quarantine.sqlite");
   {
-    flipper::kernel::LexiconStore raw(store);
-    flipper::kernel::StoredRule bad;
+    flipper::naturalization::LexiconStore raw(store);
+    flipper::naturalization::StoredRule bad;
     bad.lhs = "$Action";
     bad.rhs = {"glorb", "$Bogus"};  // what a '$' head used to store
     bad.semantics = "{move left}";

@@ -10,7 +10,7 @@
 #include "flipper/sdk/errors.hpp"
 
 using namespace flipper::sdk;
-using flipper::kernel::corpus::normalize_original_pretty;
+using flipper::corpus::normalize_original_pretty;
 
 TEST_CASE("normalising the original's printing", "[canonical][probes]") {
   CHECK(normalize_original_pretty("{visit [9.0,8.0] while avoiding room3}") ==

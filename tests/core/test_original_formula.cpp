@@ -13,9 +13,9 @@
 #include "flipper/sdk/errors.hpp"
 
 using namespace flipper::sdk;
-using flipper::kernel::corpus::is_original_formula;
-using flipper::kernel::corpus::normalize_original_pretty;
-using flipper::kernel::corpus::original_formula_to_canonical;
+using flipper::corpus::is_original_formula;
+using flipper::corpus::normalize_original_pretty;
+using flipper::corpus::original_formula_to_canonical;
 
 namespace {
 

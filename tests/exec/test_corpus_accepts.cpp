@@ -22,7 +22,7 @@
 using namespace flipper;
 using namespace flipper::testsupport;
 using nlohmann::json;
-namespace corpus = flipper::kernel::corpus;
+namespace corpus = flipper::corpus;
 
 TEST_CASE("corpus accepts: world after our execution against the logged next world",
           "[exec][differential][corpus]") {
@@ -63,7 +63,7 @@ TEST_CASE("corpus accepts: world after our execution against the logged next wor
     }
     const int k = (*cand)["core_only"].get<bool>() ? 0 : 1;
     ++total[k];
-    const std::string text = kernel::corpus::normalize_original_pretty((*cand)["pretty"]);
+    const std::string text = corpus::normalize_original_pretty((*cand)["pretty"]);
     const std::string what = q["qid"].get<std::string>() + " " + text;
     const json& before = worlds.at(q["world_id"]);
     const json& after = worlds.at(q["next_world_id"]);

@@ -55,7 +55,7 @@ TEST_CASE("probe candidates: our traces against the original's paths", "[exec][d
     const sdk::WorldState start = st.world->load(doc.dump(), ".");
     for (const auto& cand : probe["candidates"]) {
       ++total;
-      const std::string text = kernel::corpus::normalize_original_pretty(cand["pretty"]);
+      const std::string text = corpus::normalize_original_pretty(cand["pretty"]);
       const std::string what = probe["id"].get<std::string>() + " " + text;
       sdk::Program prog;
       try {
@@ -97,9 +97,9 @@ TEST_CASE("probe candidates: our traces against the original's paths", "[exec][d
           note("UNEXPLAINED: only ours failed", what + " / " + *o.error);
         continue;
       }
-      using kernel::corpus::Steps;
-      const Steps a = kernel::corpus::our_steps(o.trace),
-                  b = kernel::corpus::original_steps(result["path"], start.robot);
+      using corpus::Steps;
+      const Steps a = corpus::our_steps(o.trace),
+                  b = corpus::original_steps(result["path"], start.robot);
       if (a == b) {
         note("agree", what);
         continue;

@@ -117,15 +117,15 @@ TEST_CASE("replay: floating + perceptron on the synthetic corpus") {
 
 TEST_CASE("the parser x scorer experiment writes the cross-variant section") {
   const auto e =
-      kernel::replay::load_experiment(FLIPPER_SOURCE_DIR "/configs/experiments/parser-scorer.yaml");
+      replay::load_experiment(FLIPPER_SOURCE_DIR "/configs/experiments/parser-scorer.yaml");
   REQUIRE(e.variants.size() == 4);
   auto small = e;
   small.corpus = FLIPPER_SOURCE_DIR "/tests/replay/data";
   const std::string out = scratch_dir("floating-experiment");
-  kernel::replay::RunOptions options;
+  replay::RunOptions options;
   options.out = out;
   options.plots = false;
-  const auto run = kernel::replay::run_experiment(small, options);
+  const auto run = replay::run_experiment(small, options);
   REQUIRE(run.variants.size() == 4);
   const std::string report = clitest::read_file(run.run_dir + "/report.md");
   CHECK(contains(report, "## Variants compared"));

@@ -8,8 +8,8 @@
 #include "study_env.hpp"
 
 using namespace flipper;
-using kernel::Generalizer;
-using kernel::GeneralizeResult;
+using naturalization::Generalizer;
+using naturalization::GeneralizeResult;
 using testsupport::P;
 
 namespace {
@@ -31,7 +31,8 @@ std::function<double(const sdk::Program&)> packs(std::vector<sdk::Program> match
   };
 }
 
-const kernel::GeneralizeCandidate& find(const GeneralizeResult& r, const std::string& canonical) {
+const naturalization::GeneralizeCandidate& find(const GeneralizeResult& r,
+                                                const std::string& canonical) {
   for (const auto& c : r.candidates)
     if (sdk::equal(c.program, P(canonical))) return c;
   FAIL("no candidate " << canonical);
@@ -109,11 +110,11 @@ TEST_CASE("generalize: similarity decides before generality", "[generalize]") {
   CHECK(r.candidates[r.winner_index].similarity >
         find(r, "{pick every item {is blue}}").similarity);
   // Head words drop only punctuation; candidate words drop structure words.
-  CHECK(kernel::head_words(sdk::tokenize("pick items, [is] {blue}")) ==
+  CHECK(naturalization::head_words(sdk::tokenize("pick items, [is] {blue}")) ==
         std::vector<std::string>{"pick", "items", "is", "blue"});
-  CHECK(
-      kernel::candidate_words(P("{visit {world containing item {{is red} and {is triangle}}}}")) ==
-      std::vector<std::string>{"visit", "world", "red", "triangle"});
+  CHECK(naturalization::candidate_words(
+            P("{visit {world containing item {{is red} and {is triangle}}}}")) ==
+        std::vector<std::string>{"visit", "world", "red", "triangle"});
 }
 
 TEST_CASE("generalize: visit red triangle := move right at [9,8]", "[generalize]") {
@@ -207,18 +208,18 @@ TEST_CASE("generalize: equivalence compares traces, then final worlds", "[genera
   testsupport::StudyEnv env;
   const sdk::Outcome a = env.exec.run(P("{move right}"), env.at({9, 8}));
   sdk::Outcome b = a;
-  CHECK_FALSE(kernel::generalize::difference(a, b).has_value());
+  CHECK_FALSE(naturalization::generalize::difference(a, b).has_value());
   // Same trace, different final world (an executor defect would be needed for this; the check
   // is the safety net).
   b.world.robot = {4, 4};
-  CHECK(kernel::generalize::difference(a, b) ==
+  CHECK(naturalization::generalize::difference(a, b) ==
         std::optional<std::string>("different final world: robot at [10,8] vs [4,4]"));
   b = a;
   b.world.held.push_back({99, "red", "square"});
-  CHECK(kernel::generalize::difference(a, b) ==
+  CHECK(naturalization::generalize::difference(a, b) ==
         std::optional<std::string>("different final world: held items differ (0 vs 1)"));
   b = a;
   b.error = "boom";
-  CHECK(kernel::generalize::difference(a, b) ==
+  CHECK(naturalization::generalize::difference(a, b) ==
         std::optional<std::string>("execution error: boom"));
 }

@@ -7,12 +7,12 @@
 #include "study_env.hpp"
 
 using namespace flipper;
-using kernel::Generalizer;
+using naturalization::Generalizer;
 using testsupport::P;
 
 namespace {
-const kernel::GeneralizeCandidate& find(const kernel::GeneralizeResult& r,
-                                        const std::string& text) {
+const naturalization::GeneralizeCandidate& find(const naturalization::GeneralizeResult& r,
+                                                const std::string& text) {
   for (const auto& c : r.candidates)
     if (sdk::equal(c.program, P(text))) return c;
   FAIL("no candidate " << text);
@@ -22,9 +22,9 @@ const kernel::GeneralizeCandidate& find(const kernel::GeneralizeResult& r,
 
 TEST_CASE("perturbations are deterministic and differ from the world", "[generalize][perturbed]") {
   testsupport::StudyEnv env;
-  const auto a = kernel::generalize::perturb(env.world, 12, 7);
-  const auto b = kernel::generalize::perturb(env.world, 12, 7);
-  const auto c = kernel::generalize::perturb(env.world, 12, 8);
+  const auto a = naturalization::generalize::perturb(env.world, 12, 7);
+  const auto b = naturalization::generalize::perturb(env.world, 12, 7);
+  const auto c = naturalization::generalize::perturb(env.world, 12, 8);
   REQUIRE(a.size() == 12);
   bool any_seed_difference = false;
   for (std::size_t i = 0; i < a.size(); ++i) {

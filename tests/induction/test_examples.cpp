@@ -28,15 +28,15 @@ struct Lexicon {
   explicit Lexicon(bool alignment = true) : options{alignment, 0} {
     parser->set_grammar(core_grammar());
   }
-  kernel::InductionOptions options;
+  naturalization::InductionOptions options;
 
   std::vector<sdk::RulePtr> define(const std::string& head, std::vector<std::string> body,
                                    const std::string& user = "ana") {
-    kernel::Inducer inducer(parser, scorer, options);
+    naturalization::Inducer inducer(parser, scorer, options);
     auto prepared = inducer.prepare({head, std::move(body), user, {}, {}}, nullptr);
     auto result = inducer.induce(prepared, prepared.body, false, [&](const sdk::Rule& r) {
       for (const auto& e : rules)
-        if (kernel::same_rule(*e, r)) return true;
+        if (naturalization::same_rule(*e, r)) return true;
       return false;
     });
     std::vector<sdk::RulePtr> added;
@@ -194,16 +194,16 @@ TEST_CASE("definition checks: empty head, core head, unparsable body line", "[in
 
 TEST_CASE("best_packing_score prefers bodies whose parts the head names", "[induction]") {
   Lexicon lex;
-  kernel::Inducer inducer(lex.parser, lex.scorer);
+  naturalization::Inducer inducer(lex.parser, lex.scorer);
   auto prepared = inducer.prepare({"visit red triangle", {"move right"}, "ana", {}, {}}, nullptr);
   const int n = 3;
   const auto plain = sdk::read_canonical("{visit {world containing item }}");
   const auto both =
       sdk::read_canonical("{visit {world containing item {{is red} and {is triangle}}}}");
   const auto red = sdk::read_canonical("{visit {world containing item {is red}}}");
-  const double s_plain = kernel::best_packing_score(prepared.head_chart, plain, n);
-  const double s_red = kernel::best_packing_score(prepared.head_chart, red, n);
-  const double s_both = kernel::best_packing_score(prepared.head_chart, both, n);
+  const double s_plain = naturalization::best_packing_score(prepared.head_chart, plain, n);
+  const double s_red = naturalization::best_packing_score(prepared.head_chart, red, n);
+  const double s_both = naturalization::best_packing_score(prepared.head_chart, both, n);
   CHECK(s_plain == 0);
   CHECK(s_red > s_plain);
   CHECK(s_both > s_red);

@@ -56,7 +56,7 @@ TEST_CASE("matches keep one best derivation per span, category and program", "[i
       node("$Item", 2, 3, item(), 1.0),     // `items` read as item: in the body
       node("$Action", 0, 3, pick(item())),  // whole head: never a match
   };
-  const auto m = kernel::find_matches(chart, body, 3);
+  const auto m = naturalization::find_matches(chart, body, 3);
   REQUIRE(m.size() == 2);
   CHECK(m[0].start == 1);
   CHECK(m[0].category == "$Number");
@@ -65,14 +65,14 @@ TEST_CASE("matches keep one best derivation per span, category and program", "[i
 }
 
 TEST_CASE("simple packing takes core-only one-token primitive matches", "[induction]") {
-  std::vector<kernel::Match> m = {
+  std::vector<naturalization::Match> m = {
       {0, 2, "$Item", item(), 3, true},          // two tokens: not simple
       {1, 2, "$Color", color("red"), 1, false},  // induced: not simple
       {2, 3, "$Number", num(3), 1, true},
       {3, 4, "$PropertySet", is(shape("circle")), 1, true},  // not primitive
       {4, 5, "$Shape", shape("circle"), 1, true},
   };
-  const auto p = kernel::simple_packing(m);
+  const auto p = naturalization::simple_packing(m);
   REQUIRE(p.size() == 2);
   CHECK(p[0].category == "$Number");
   CHECK(p[1].category == "$Shape");
@@ -80,30 +80,30 @@ TEST_CASE("simple packing takes core-only one-token primitive matches", "[induct
 
 TEST_CASE("best packing: non-overlapping, maximal, greatest total", "[induction]") {
   SECTION("two small spans beat one large") {
-    std::vector<kernel::Match> m = {{0, 3, "$Area", item(), 4, true},
-                                    {0, 1, "$Color", color("red"), 3, true},
-                                    {2, 3, "$Shape", shape("circle"), 3, true}};
-    const auto p = kernel::best_packing(m, 3);
+    std::vector<naturalization::Match> m = {{0, 3, "$Area", item(), 4, true},
+                                            {0, 1, "$Color", color("red"), 3, true},
+                                            {2, 3, "$Shape", shape("circle"), 3, true}};
+    const auto p = naturalization::best_packing(m, 3);
     REQUIRE(p.size() == 2);
-    CHECK(kernel::packing_score(p) == 6);
+    CHECK(naturalization::packing_score(p) == 6);
   }
   SECTION("a large span beats two small") {
-    std::vector<kernel::Match> m = {{0, 3, "$Area", item(), 7, true},
-                                    {0, 1, "$Color", color("red"), 3, true},
-                                    {2, 3, "$Shape", shape("circle"), 3, true}};
-    const auto p = kernel::best_packing(m, 3);
+    std::vector<naturalization::Match> m = {{0, 3, "$Area", item(), 7, true},
+                                            {0, 1, "$Color", color("red"), 3, true},
+                                            {2, 3, "$Shape", shape("circle"), 3, true}};
+    const auto p = naturalization::best_packing(m, 3);
     REQUIRE(p.size() == 1);
     CHECK(p[0].end == 3);
   }
   SECTION("maximal even when scores are negative") {
-    std::vector<kernel::Match> m = {{0, 1, "$Color", color("red"), -1, true},
-                                    {2, 3, "$Shape", shape("circle"), -2, true}};
-    const auto p = kernel::best_packing(m, 4);
+    std::vector<naturalization::Match> m = {{0, 1, "$Color", color("red"), -1, true},
+                                            {2, 3, "$Shape", shape("circle"), -2, true}};
+    const auto p = naturalization::best_packing(m, 4);
     REQUIRE(p.size() == 2);
-    CHECK(kernel::packing_score(p) == -3);
+    CHECK(naturalization::packing_score(p) == -3);
   }
   SECTION("no matches, empty packing") {
-    CHECK(kernel::best_packing({}, 3).empty());
+    CHECK(naturalization::best_packing({}, 3).empty());
   }
 }
 
@@ -112,18 +112,18 @@ TEST_CASE("best packing ties: parts win only when several body statements share 
   // Totals are equal (an induced phrase scores what its parts score): the whole phrase
   // [0,2) against its parts [0,1) + [1,2), then a token no match covers.
   auto matches = [](int statements) {
-    return std::vector<kernel::Match>{
+    return std::vector<naturalization::Match>{
         {0, 1, "$ItemAct", sdk::make_word(K::ItemAct, "pick"), 1.0, true, statements},
         {0, 2, "$Action", pick(item_is(is(color("green")))), 3.0, false, 1},
         {1, 2, "$Property", color("green"), 2.0, true, statements}};
   };
   SECTION("held by one statement: the whole phrase (pick green item := pick item is green)") {
-    const auto p = kernel::best_packing(matches(1), 3);
+    const auto p = naturalization::best_packing(matches(1), 3);
     REQUIRE(p.size() == 1);
     CHECK(p[0].category == "$Action");
   }
   SECTION("held by two statements: the parts (walk and grab blue square)") {
-    const auto p = kernel::best_packing(matches(2), 3);
+    const auto p = naturalization::best_packing(matches(2), 3);
     REQUIRE(p.size() == 2);
     CHECK(p[0].category == "$ItemAct");
     CHECK(p[1].category == "$Property");
@@ -131,16 +131,16 @@ TEST_CASE("best packing ties: parts win only when several body statements share 
   SECTION("one shared part is enough, and a higher total still wins first") {
     auto m = matches(1);
     m[2].statements = 2;
-    CHECK(kernel::best_packing(m, 3).size() == 2);
+    CHECK(naturalization::best_packing(m, 3).size() == 2);
     m[1].score = 3.5;
-    CHECK(kernel::best_packing(m, 3).size() == 1);
+    CHECK(naturalization::best_packing(m, 3).size() == 1);
   }
   SECTION("totals within 1e-9 are equal") {
     auto m = matches(2);
     m[1].score = 3.0 + 5e-10;
-    CHECK(kernel::best_packing(m, 3).size() == 2);
+    CHECK(naturalization::best_packing(m, 3).size() == 2);
     m[1].score = 3.0 + 5e-9;
-    CHECK(kernel::best_packing(m, 3).size() == 1);
+    CHECK(naturalization::best_packing(m, 3).size() == 1);
   }
 }
 
@@ -158,7 +158,7 @@ TEST_CASE("matches count the body statements that hold them", "[induction]") {
       node("$Shape", 4, 5, shape("square"), 1.0),
       node("$ItemAct", 2, 3, sdk::make_word(K::ItemAct, "pick"), 1.0),
   };
-  const auto m = kernel::find_matches(chart, body, 5);
+  const auto m = naturalization::find_matches(chart, body, 5);
   REQUIRE(m.size() == 4);  // ordered by (start, end)
   CHECK(m[0].category == "$ItemAct");
   CHECK(m[0].statements == 1);  // the verb of the pick (full form) only: the visit has none
@@ -169,7 +169,7 @@ TEST_CASE("matches count the body statements that hold them", "[induction]") {
   CHECK(m[3].category == "$Shape");
   CHECK(m[3].statements == 2);
   // A body that is no sequence is one statement.
-  for (const auto& x : kernel::find_matches(chart, grab, 5)) CHECK(x.statements == 1);
+  for (const auto& x : naturalization::find_matches(chart, grab, 5)) CHECK(x.statements == 1);
 }
 
 TEST_CASE("rule construction replaces every equal subtree by the match's hole", "[induction]") {
@@ -177,8 +177,8 @@ TEST_CASE("rule construction replaces every equal subtree by the match's hole", 
   const auto body =
       sdk::make_seq({pick(item_is(is(color("red")))), drop(item_is(is(color("red"))))});
   const std::vector<std::string> head = {"red", "to", "room1"};
-  const std::vector<kernel::Match> packing = {{0, 1, "$Color", color("red"), 1, true}};
-  auto built = kernel::build_rule("$Action", head, packing, body, sdk::RuleOrigin::best);
+  const std::vector<naturalization::Match> packing = {{0, 1, "$Color", color("red"), 1, true}};
+  auto built = naturalization::build_rule("$Action", head, packing, body, sdk::RuleOrigin::best);
   REQUIRE(built.rule);
   CHECK(rhs_text(*built.rule) == std::vector<std::string>{"$Color", "to", "room1"});
   CHECK(sdk::render(built.rule->sem) == "{{pick item {is $1}};{drop item {is $1}}}");
@@ -191,9 +191,9 @@ TEST_CASE("rule construction replaces every equal subtree by the match's hole", 
 TEST_CASE("equal packed spans share one hole", "[induction]") {
   const auto body = repeat(num(2), pick(item()));
   const std::vector<std::string> head = {"2", "and", "2"};
-  const std::vector<kernel::Match> packing = {{0, 1, "$Number", num(2), 1, true},
-                                              {2, 3, "$Number", num(2), 1, true}};
-  auto built = kernel::build_rule("$Action", head, packing, body, sdk::RuleOrigin::best);
+  const std::vector<naturalization::Match> packing = {{0, 1, "$Number", num(2), 1, true},
+                                                      {2, 3, "$Number", num(2), 1, true}};
+  auto built = naturalization::build_rule("$Action", head, packing, body, sdk::RuleOrigin::best);
   REQUIRE(built.rule);
   CHECK(rhs_text(*built.rule) == std::vector<std::string>{"$Number", "and", "$Number"});
   CHECK(sdk::render(built.rule->sem) == "{repeat $1 times {pick item }}");
@@ -201,17 +201,18 @@ TEST_CASE("equal packed spans share one hole", "[induction]") {
 
 TEST_CASE("rules with a single category or more than four are rejected", "[induction]") {
   const auto body = pick(item_is(is(color("red"))));
-  auto single = kernel::build_rule("$Action", {"red"}, {{0, 1, "$Color", color("red"), 1, true}},
-                                   body, sdk::RuleOrigin::best);
+  auto single = naturalization::build_rule(
+      "$Action", {"red"}, {{0, 1, "$Color", color("red"), 1, true}}, body, sdk::RuleOrigin::best);
   CHECK_FALSE(single.rule);
-  CHECK(single.rejection == kernel::RuleRejection::single_category);
-  std::vector<kernel::Match> five;
+  CHECK(single.rejection == naturalization::RuleRejection::single_category);
+  std::vector<naturalization::Match> five;
   for (int i = 0; i < 5; ++i) five.push_back({i, i + 1, "$Color", color("red"), 1, true});
-  auto many =
-      kernel::build_rule("$Action", {"a", "b", "c", "d", "e"}, five, body, sdk::RuleOrigin::best);
+  auto many = naturalization::build_rule("$Action", {"a", "b", "c", "d", "e"}, five, body,
+                                         sdk::RuleOrigin::best);
   CHECK_FALSE(many.rule);
-  CHECK(many.rejection == kernel::RuleRejection::too_many_categories);
-  auto constant = kernel::build_rule("$Action", {"do", "it"}, {}, body, sdk::RuleOrigin::simple);
+  CHECK(many.rejection == naturalization::RuleRejection::too_many_categories);
+  auto constant =
+      naturalization::build_rule("$Action", {"do", "it"}, {}, body, sdk::RuleOrigin::simple);
   REQUIRE(constant.rule);
   CHECK(sdk::render(constant.rule->sem) == sdk::render(body));
 }
@@ -219,9 +220,9 @@ TEST_CASE("rules with a single category or more than four are rejected", "[induc
 TEST_CASE("a plain item packed as $CountedItem becomes a hole only under pick/drop",
           "[induction]") {
   const auto body = drop(item());
-  auto built =
-      kernel::build_rule("$Action", {"throw", "item"}, {{1, 2, "$CountedItem", item(), 1, true}},
-                         body, sdk::RuleOrigin::alignment);
+  auto built = naturalization::build_rule("$Action", {"throw", "item"},
+                                          {{1, 2, "$CountedItem", item(), 1, true}}, body,
+                                          sdk::RuleOrigin::alignment);
   REQUIRE(built.rule);
   CHECK(sdk::render(built.rule->sem) == "{drop $1}");
   const auto every = sdk::make(K::Every, {item()});
@@ -233,7 +234,8 @@ TEST_CASE("alignment maps the differing stretch to the body node's category", "[
     const auto every = sdk::make(K::Every, {item()});
     auto counted = node("$CountedItem", 1, 3, every, 2, {node("$Item", 2, 3, item())});
     auto root = node("$Action", 0, 3, pick(every), 4, {counted});
-    const auto rules = kernel::alignment_rules({"pick", "all"}, {"pick", "every", "item"}, root);
+    const auto rules =
+        naturalization::alignment_rules({"pick", "all"}, {"pick", "every", "item"}, root);
     REQUIRE(rules.size() == 1);
     CHECK(rules[0].lhs == "$CountedItem");
     CHECK(rhs_text(rules[0]) == std::vector<std::string>{"all"});
@@ -243,7 +245,7 @@ TEST_CASE("alignment maps the differing stretch to the body node's category", "[
   SECTION("no exact node: throw item := drop item") {
     auto kid = node("$CountedItem.act", 1, 2, item(), 2, {node("$CountedItem", 1, 2, item())});
     auto root = node("$Action", 0, 2, drop(item()), 3, {kid});
-    const auto rules = kernel::alignment_rules({"throw", "item"}, {"drop", "item"}, root);
+    const auto rules = naturalization::alignment_rules({"throw", "item"}, {"drop", "item"}, root);
     REQUIRE(rules.size() == 1);
     CHECK(rules[0].lhs == "$Action");
     CHECK(rhs_text(rules[0]) == std::vector<std::string>{"throw", "$CountedItem"});
@@ -251,7 +253,8 @@ TEST_CASE("alignment maps the differing stretch to the body node's category", "[
   }
   SECTION("no anchor token, or a stretch too long: nothing") {
     auto root = node("$Action", 0, 1, drop(item()));
-    CHECK(kernel::alignment_rules({"throw"}, {"drop"}, root).empty());
-    CHECK(kernel::alignment_rules({"a", "b", "c", "d", "e", "f", "x"}, {"g", "x"}, root).empty());
+    CHECK(naturalization::alignment_rules({"throw"}, {"drop"}, root).empty());
+    CHECK(naturalization::alignment_rules({"a", "b", "c", "d", "e", "f", "x"}, {"g", "x"}, root)
+              .empty());
   }
 }

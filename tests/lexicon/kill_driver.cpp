@@ -11,11 +11,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: lexicon_kill_driver STORE START\n");
     return 2;
   }
-  flipper::kernel::LexiconStore store(argv[1]);
+  flipper::naturalization::LexiconStore store(argv[1]);
   std::int64_t created = store.max_created();
   for (long i = std::stol(argv[2]);; ++i) {
     const std::string head = "head " + std::to_string(i);
-    std::vector<flipper::kernel::StoredRule> rules(2);
+    std::vector<flipper::naturalization::StoredRule> rules(2);
     for (auto& r : rules) {
       r.created = ++created;
       r.id = "r" + std::to_string(r.created);

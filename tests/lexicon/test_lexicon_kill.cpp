@@ -62,7 +62,7 @@ TEST_CASE("SIGKILL at random moments loses no acknowledged definition", "[lexico
     }
 
     REQUIRE(flipper::testsupport::sqlite_integrity(store) == "ok");
-    flipper::kernel::LexiconStore reopened(store);  // also the store's own checks
+    flipper::naturalization::LexiconStore reopened(store);  // also the store's own checks
     std::set<std::string> heads;
     for (const auto& d : reopened.definitions()) heads.insert(d.head);
     for (long a : acknowledged) {

@@ -10,8 +10,8 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace fs = std::filesystem;
-using flipper::kernel::LexiconStore;
-using flipper::kernel::StoredRule;
+using flipper::naturalization::LexiconStore;
+using flipper::naturalization::StoredRule;
 
 namespace {
 
@@ -127,14 +127,14 @@ TEST_CASE("weight changes add up in the store and survive export and import", "[
   LexiconStore store(":memory:");
   store.add_definition({0, "h", {"b"}, "ana", 1}, {make_rule(1, "ana")});
   // Two accepts (possibly from two processes): changes to the same weight are summed.
-  store.record_accept(
-      {{"r1", 1, 0}}, "global",
-      std::vector<flipper::kernel::StoredWeightChange>{{"", "f:a", 0.5, 0.25}, {"", "f:b", -1, 1}});
+  store.record_accept({{"r1", 1, 0}}, "global",
+                      std::vector<flipper::naturalization::StoredWeightChange>{
+                          {"", "f:a", 0.5, 0.25}, {"", "f:b", -1, 1}});
   store.record_accept({{"r1", 0, 1}}, "global",
-                      std::vector<flipper::kernel::StoredWeightChange>{{"", "f:a", 0.25, 0.0625},
-                                                                       {"ana", "f:a", 2, 4}});
+                      std::vector<flipper::naturalization::StoredWeightChange>{
+                          {"", "f:a", 0.25, 0.0625}, {"ana", "f:a", 2, 4}});
   store.record_accept({}, "user:bob",
-                      std::vector<flipper::kernel::StoredWeightChange>{{"", "f:z", 3, 9}});
+                      std::vector<flipper::naturalization::StoredWeightChange>{{"", "f:z", 3, 9}});
   auto check = [](const LexiconStore& s) {
     const auto w = s.weight_changes("global");
     REQUIRE(w.size() == 3);  // ordered by model, feature

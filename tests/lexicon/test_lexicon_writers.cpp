@@ -15,10 +15,10 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace fs = std::filesystem;
-using flipper::kernel::DeleteStatus;
-using flipper::kernel::LexiconStore;
-using flipper::kernel::LexiconStoreOptions;
-using flipper::kernel::StoredRule;
+using flipper::naturalization::DeleteStatus;
+using flipper::naturalization::LexiconStore;
+using flipper::naturalization::LexiconStoreOptions;
+using flipper::naturalization::StoredRule;
 
 namespace {
 

@@ -18,7 +18,7 @@ using testsupport::scratch_path;
 inline std::unique_ptr<kernel::Session> open(const std::string& store,
                                              std::vector<std::string> extra = {}) {
   extra.push_back("lexicon.path=" + store);
-  return kernel::open_session(std::nullopt, extra);
+  return wiring::open_session(std::nullopt, extra);
 }
 
 inline kernel::Json ask(kernel::Session& s, const kernel::Json& request) {

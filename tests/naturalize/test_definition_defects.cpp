@@ -74,8 +74,8 @@ TEST_CASE("a stored $ROOT rule is not served, the warning says how to re-induce"
           "[naturalize][defects]") {
   const std::string path = scratch_path("root-rule") + ".sqlite";
   {
-    kernel::LexiconStore store(path);
-    kernel::StoredRule r;
+    naturalization::LexiconStore store(path);
+    naturalization::StoredRule r;
     r.id = "r1";
     r.lhs = "$Action";
     r.rhs = {"$ROOT", "thrice"};
@@ -91,16 +91,16 @@ TEST_CASE("a stored $ROOT rule is not served, the warning says how to re-induce"
   // store opens, the rule is not served, and the warning names it and the way out.
   std::shared_ptr<kernel::Runtime> rt =
       kernel::make_runtime(kernel::Config::load(std::nullopt, {"lexicon.path=" + path}));
-  auto options = kernel::NaturalizeOptions::from_config(rt->config);
+  auto options = naturalization::NaturalizeOptions::from_config(rt->config);
   std::vector<std::string> warnings;
   options.warn = [&](const std::string& w) { warnings.push_back(w); };
-  auto nat = std::make_shared<kernel::Naturalizer>(rt, options);
+  auto nat = std::make_shared<naturalization::Naturalizer>(rt, options);
   REQUIRE(warnings.size() == 1);
   CHECK_THAT(warnings[0], Catch::Contains("rule r1") && Catch::Contains("$ROOT") &&
                               Catch::Contains("flipper lexicon import"));
   CHECK(nat->induced_rules().empty());
   auto s = std::make_unique<kernel::Session>(rt);
-  kernel::install_naturalization(*s, nat);
+  naturalization::install_naturalization(*s, nat);
   user(*s, "ana");
   CHECK(status(*s, "move left ; move right thrice") == "unparsable");
 }

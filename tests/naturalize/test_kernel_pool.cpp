@@ -16,7 +16,7 @@ namespace {
 
 using flipper::kernel::Json;
 using flipper::kernel::Session;
-using flipper::kernel::SessionHost;
+using flipper::wiring::SessionHost;
 
 struct Step {
   int kernel;   ///< which kernel answers (ignored by the one-kernel run)
@@ -34,7 +34,7 @@ struct Kernels {
     std::vector<std::string> sets = extra;
     sets.push_back("lexicon.path=" + store);
     for (int i = 0; i < kernels; ++i)
-      hosts.push_back(flipper::kernel::open_host(std::nullopt, sets));
+      hosts.push_back(flipper::wiring::open_host(std::nullopt, sets));
     for (int i = 0; i < sessions_n; ++i) {
       sessions.push_back(hosts[0].open());
       at.push_back(0);

@@ -30,8 +30,8 @@ struct LockHolder {
   }
 };
 
-kernel::StoredRule stored_rule(std::vector<std::string> rhs, std::string semantics) {
-  kernel::StoredRule r;
+naturalization::StoredRule stored_rule(std::vector<std::string> rhs, std::string semantics) {
+  naturalization::StoredRule r;
   r.lhs = "$Action";
   r.rhs = std::move(rhs);
   r.semantics = std::move(semantics);
@@ -58,7 +58,7 @@ TEST_CASE("a head token starting with $ is refused and the store stays usable",
     }
     CHECK(s->handle({{"op", "rules"}})["rules"].empty());
   }
-  kernel::LexiconStore reopened(store);
+  naturalization::LexiconStore reopened(store);
   CHECK(reopened.definitions().empty());
   auto again = open(store);  // everyone can still open it
   user(*again, "ana");
@@ -69,7 +69,7 @@ TEST_CASE("a stored rule that no longer loads is quarantined with a warning nami
           "[naturalize][writers]") {
   const std::string store = scratch_path("quarantine") + ".sqlite";
   {
-    kernel::LexiconStore raw(store);
+    naturalization::LexiconStore raw(store);
     raw.add_definition({0, "glorb red", {"move left"}, "mallory", 1},
                        {stored_rule({"glorb", "$Bogus"}, "{move left}")});
     raw.add_definition({0, "fnord", {"move left"}, "mallory", 2},
@@ -77,12 +77,12 @@ TEST_CASE("a stored rule that no longer loads is quarantined with a warning nami
   }
   std::shared_ptr<kernel::Runtime> rt =
       kernel::make_runtime(kernel::Config::load(std::nullopt, {"lexicon.path=" + store}));
-  auto options = kernel::NaturalizeOptions::from_config(rt->config);
+  auto options = naturalization::NaturalizeOptions::from_config(rt->config);
   std::vector<std::string> warnings;
   options.warn = [&](const std::string& w) { warnings.push_back(w); };
-  auto nat = std::make_shared<kernel::Naturalizer>(rt, options);  // opens: no throw
+  auto nat = std::make_shared<naturalization::Naturalizer>(rt, options);  // opens: no throw
   auto s = std::make_unique<kernel::Session>(rt);
-  kernel::install_naturalization(*s, nat);
+  naturalization::install_naturalization(*s, nat);
   REQUIRE(warnings.size() == 2);
   CHECK_THAT(warnings[0], Catch::Contains("rule r1") && Catch::Contains("quarantined") &&
                               Catch::Contains("$Bogus") && Catch::Contains(store));
@@ -94,12 +94,12 @@ TEST_CASE("a stored rule that no longer loads is quarantined with a warning nami
   CHECK(status(*s, "fnord") == "unparsable");
   CHECK(define(*s, "go west", {"move left"})["ok"] == true);  // the store works on
   CHECK(status(*s, "go west") == "induced");
-  kernel::LexiconStore reopened(store);
+  naturalization::LexiconStore reopened(store);
   CHECK(reopened.rules().size() == 3);  // the quarantined rules stay in the file
-  CHECK(kernel::quarantine_reason(reopened.rules()[0]).has_value());
-  CHECK_FALSE(kernel::quarantine_reason(reopened.rules()[2]).has_value());
+  CHECK(naturalization::quarantine_reason(reopened.rules()[0]).has_value());
+  CHECK_FALSE(naturalization::quarantine_reason(reopened.rules()[2]).has_value());
   std::ostringstream exported;
-  reopened.export_jsonl(exported, kernel::quarantine_reason);
+  reopened.export_jsonl(exported, naturalization::quarantine_reason);
   const std::string text = exported.str();
   CHECK(std::count(text.begin(), text.end(), '\n') == 6);
   CHECK_THAT(text, Catch::Contains("\"id\":\"r1\"") &&
@@ -158,6 +158,6 @@ TEST_CASE("an accept whose lexicon transaction fails applies nothing, and a retr
   CHECK(s->runtime().scorer.borrow()->save_state() == weights);
   CHECK(uses() == 1);
   CHECK(error_code(s->handle({{"op", "accept"}, {"rank", 0}})) == "no_query");
-  kernel::LexiconStore reopened(store);
+  naturalization::LexiconStore reopened(store);
   CHECK(reopened.rules()[0].uses_by_author == 1);
 }

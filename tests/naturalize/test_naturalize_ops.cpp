@@ -91,7 +91,7 @@ TEST_CASE("only the author deletes a rule, the store keeps the history", "[natur
     CHECK(s->handle({{"op", "rules"}})["rules"].empty());
     CHECK(error_code(s->handle({{"op", "delete_rule"}, {"rule", id}})) == "not_found");
   }
-  kernel::LexiconStore reopened(store);
+  naturalization::LexiconStore reopened(store);
   CHECK(reopened.rules().empty());
   REQUIRE(reopened.rules(true).size() == 1);
   CHECK(reopened.rules(true)[0].deleted);
@@ -165,7 +165,7 @@ TEST_CASE("a preload file is replayed once through induction", "[naturalize]") {
     const Json rules = s->handle({{"op", "rules"}, {"author", "expert"}});
     CHECK(rules["rules"].size() >= 2);
   }
-  kernel::LexiconStore reopened(store);
+  naturalization::LexiconStore reopened(store);
   CHECK(reopened.definitions().size() == 2);  // the core head failed; no replay on restart
 }
 
@@ -204,7 +204,7 @@ TEST_CASE("per-user weights: each user's accepts train only their own model", "[
   user(*s, "ana");
   CHECK(s->runtime().scorer.borrow()->save_state() == ana);
   // Stored as weights under ana's key only (the scorer is incremental), each equal to ana's model.
-  kernel::LexiconStore reopened(store);
+  naturalization::LexiconStore reopened(store);
   const auto stored = reopened.weight_changes("user:ana");
   const Json model = Json::parse(ana)["models"][""];
   REQUIRE(stored.size() == model.size());
@@ -278,7 +278,7 @@ TEST_CASE("naturalization options start from the kernel schema's defaults",
     REQUIRE(spec->default_value.has_value());
     return *spec->default_value;
   };
-  const kernel::NaturalizeOptions o;
+  const naturalization::NaturalizeOptions o;
   CHECK(o.induction.alignment == std::get<bool>(def("induction.alignment")));
   CHECK(o.generalize == std::get<bool>(def("induction.generalize")));
   CHECK(o.perturbed_checks == std::get<std::int64_t>(def("induction.perturbed_checks")));

@@ -23,15 +23,15 @@ namespace {
 /// A naturalizer over `store` with snapshots from one rule on, its warnings collected.
 struct Started {
   std::shared_ptr<kernel::Runtime> rt;
-  std::shared_ptr<kernel::Naturalizer> nat;
+  std::shared_ptr<naturalization::Naturalizer> nat;
   std::vector<std::string> warnings;
   explicit Started(const std::string& store, const std::string& preload = "") {
     rt = kernel::make_runtime(kernel::Config::load(std::nullopt, {"lexicon.path=" + store}));
-    auto options = kernel::NaturalizeOptions::from_config(rt->config);
+    auto options = naturalization::NaturalizeOptions::from_config(rt->config);
     options.snapshot_min_rules = 1;
     options.preload = preload;
     options.warn = [this](const std::string& w) { warnings.push_back(w); };
-    nat = std::make_shared<kernel::Naturalizer>(rt, options);
+    nat = std::make_shared<naturalization::Naturalizer>(rt, options);
   }
   std::vector<std::string> quarantined_ids() const {
     std::vector<std::string> out;
@@ -52,9 +52,9 @@ struct Started {
   }
 };
 
-kernel::StoredRule rule(const std::string& lhs, std::vector<std::string> rhs,
-                        const std::string& semantics, const std::string& head) {
-  kernel::StoredRule r;
+naturalization::StoredRule rule(const std::string& lhs, std::vector<std::string> rhs,
+                                const std::string& semantics, const std::string& head) {
+  naturalization::StoredRule r;
   r.lhs = lhs;
   r.rhs = std::move(rhs);
   r.semantics = semantics;
@@ -79,9 +79,11 @@ const std::vector<std::pair<std::string, std::string>> kBad = {
 std::string store_with_bad_rules() {
   const std::string path = scratch_path("quarantine") + ".sqlite";
   {
-    kernel::LexiconStore s(path);
+    naturalization::LexiconStore s(path);
     const std::string rep = "{repeat 3 times {pick item}}";
-    auto add = [&](kernel::StoredRule r) { s.add_definition({0, r.head, r.body, "ana", 1}, {r}); };
+    auto add = [&](naturalization::StoredRule r) {
+      s.add_definition({0, r.head, r.body, "ana", 1}, {r});
+    };
     add(rule("$Action", {"zig", "zag"}, "{move up}", "zig zag"));                        // r1
     add(rule("$Action", {"$Number", "zigs"}, "{repeat $1 times {move up}}", "3 zigs"));  // r2
     add(rule("$Action", {"go", "west"}, "{move left}", "go west"));                      // r3
@@ -120,7 +122,7 @@ void check_quarantined(const Started& s) {
 
 std::string status_of(const Started& s, const std::string& text) {
   kernel::Session session(s.rt);
-  kernel::install_naturalization(session, s.nat);
+  naturalization::install_naturalization(session, s.nat);
   return status(session, text);
 }
 
@@ -168,12 +170,12 @@ TEST_CASE("a definition row whose body does not decode is flagged, never blocks 
           "[naturalize][quarantine]") {
   const std::string store = scratch_path("bad-definition") + ".sqlite";
   {
-    kernel::LexiconStore s(store);
+    naturalization::LexiconStore s(store);
     s.add_definition({0, "zig zag", {"move up"}, "ana", 1},
                      {rule("$Action", {"zig", "zag"}, "{move up}", "zig zag")});
   }
   sql(store, "UPDATE definitions SET body = 'oops' WHERE id = 1");
-  kernel::LexiconStore s(store);
+  naturalization::LexiconStore s(store);
   const auto defs = s.definitions();
   REQUIRE(defs.size() == 1);
   CHECK(defs[0].body.empty());
@@ -210,7 +212,7 @@ TEST_CASE("preloaded definitions that do not load are named in a warning, the li
                                               "was not loaded: head_is_core"));
     CHECK_THAT(s.warnings[1], Catch::Contains("line 4: definition 'glorb' (author 'eve') was not "
                                               "loaded: body_unparsable"));
-    kernel::LexiconStore copy(store);
+    naturalization::LexiconStore copy(store);
     const auto rows = copy.preload_failures();
     REQUIRE(rows.size() == 2);  // replaced at each start, never duplicated
     CHECK(rows[0].file == preload);
@@ -247,5 +249,5 @@ TEST_CASE("preloaded definitions that do not load are named in a warning, the li
       << "\n";
   Started fixed(store, preload);
   CHECK(fixed.warnings.empty());
-  CHECK(kernel::LexiconStore(store).preload_failures().empty());
+  CHECK(naturalization::LexiconStore(store).preload_failures().empty());
 }

@@ -25,22 +25,22 @@ namespace {
 /// A naturalizer (and a session wired to it) over `store`; snapshots from `min_rules` rules on.
 struct Started {
   std::shared_ptr<kernel::Runtime> rt;
-  std::shared_ptr<kernel::Naturalizer> nat;
+  std::shared_ptr<naturalization::Naturalizer> nat;
   std::unique_ptr<kernel::Session> session;
   std::vector<std::string> warnings;
   Started(const std::string& store, std::int64_t min_rules) {
     rt = kernel::make_runtime(kernel::Config::load(std::nullopt, {"lexicon.path=" + store}));
-    auto options = kernel::NaturalizeOptions::from_config(rt->config);
+    auto options = naturalization::NaturalizeOptions::from_config(rt->config);
     options.snapshot_min_rules = min_rules;
     options.warn = [this](const std::string& w) { warnings.push_back(w); };
-    nat = std::make_shared<kernel::Naturalizer>(rt, options);
+    nat = std::make_shared<naturalization::Naturalizer>(rt, options);
     session = std::make_unique<kernel::Session>(rt);
-    kernel::install_naturalization(*session, nat);
+    naturalization::install_naturalization(*session, nat);
   }
 };
 
 /// Everything a served rule carries, as one comparable line.
-std::vector<std::string> served(const kernel::Naturalizer& nat) {
+std::vector<std::string> served(const naturalization::Naturalizer& nat) {
   std::vector<std::string> out;
   for (const auto& r : nat.induced_rules()) {
     std::string line = r->id + "|" + std::to_string(r->created) + "|" + r->lhs + " ->";
@@ -56,20 +56,20 @@ std::vector<std::string> served(const kernel::Naturalizer& nat) {
 
 /// The live rule ids as the store's rows say (the independent oracle).
 std::vector<std::string> live_ids(const std::string& store) {
-  kernel::LexiconStore s(store);
+  naturalization::LexiconStore s(store);
   std::vector<std::string> out;
   for (const auto& r : s.rules()) out.push_back(r.id);
   return out;
 }
 
-std::vector<std::string> ids(const kernel::Naturalizer& nat) {
+std::vector<std::string> ids(const naturalization::Naturalizer& nat) {
   std::vector<std::string> out;
   for (const auto& r : nat.induced_rules()) out.push_back(r->id);
   return out;
 }
 
-kernel::StoredRule rule(const std::string& token, const std::string& author) {
-  kernel::StoredRule r;
+naturalization::StoredRule rule(const std::string& token, const std::string& author) {
+  naturalization::StoredRule r;
   r.lhs = "$Action";
   r.rhs = {token, "$Number"};
   r.semantics = "{repeat $1 times {pick item}}";
@@ -83,7 +83,7 @@ kernel::StoredRule rule(const std::string& token, const std::string& author) {
 /// A store with `n` one-rule definitions ("tok0" .. ), by ana.
 std::string store_with(int n, const std::string& stem) {
   const std::string path = scratch_path(stem) + ".sqlite";
-  kernel::LexiconStore s(path);
+  naturalization::LexiconStore s(path);
   for (int i = 0; i < n; ++i)
     s.add_definition({0, "tok" + std::to_string(i) + " 3", {"pick item"}, "ana", i},
                      {rule("tok" + std::to_string(i), "ana")});
@@ -103,24 +103,24 @@ std::vector<Json> read_jsonl(const std::string& path) {
 
 TEST_CASE("a snapshot blob reads back exactly, and a damaged one hands out nothing",
           "[naturalize][snapshot]") {
-  kernel::StoredRule a = rule("glorp", "ana");
+  naturalization::StoredRule a = rule("glorp", "ana");
   a.id = "r7";
   a.created = 7;
   a.definition = 3;
-  kernel::StoredRule b = rule("with \"quotes\" and \\ é", "bob");
+  naturalization::StoredRule b = rule("with \"quotes\" and \\ é", "bob");
   b.id = "r9";
   b.created = 9;
   b.definition = 4;
   b.body = {};
   b.how = "alignment";
   b.decode_error = "the row does not decode: column 'body' holds 'x', not a JSON list of strings";
-  kernel::RuleSnapshotWriter w;
+  naturalization::RuleSnapshotWriter w;
   w.add(a);
   w.add(b);
   const std::string blob = w.finish();
-  std::vector<kernel::StoredRule> back;
-  REQUIRE(kernel::read_rule_snapshot(
-      blob, [&](const kernel::StoredRuleView& r) { back.push_back(r.materialize()); }));
+  std::vector<naturalization::StoredRule> back;
+  REQUIRE(naturalization::read_rule_snapshot(
+      blob, [&](const naturalization::StoredRuleView& r) { back.push_back(r.materialize()); }));
   REQUIRE(back.size() == 2);
   for (std::size_t i = 0; i < 2; ++i) {
     const auto& want = i == 0 ? a : b;
@@ -138,15 +138,17 @@ TEST_CASE("a snapshot blob reads back exactly, and a damaged one hands out nothi
   }
   // Truncated, one byte too many, a count that promises more, the format before this one
   // (without decode_error): nothing at all is handed out.
-  REQUIRE(kernel::kRuleSnapshotFormat == 2);
+  REQUIRE(naturalization::kRuleSnapshotFormat == 2);
   for (const std::string& bad : {blob.substr(0, blob.size() - 1), blob + "x",
                                  blob.substr(0, 8) + std::string("\x03", 1) + blob.substr(9),
                                  std::string("FLXS\x01\0\0\0", 8) + blob.substr(8)}) {
     int handed = 0;
-    CHECK_FALSE(kernel::read_rule_snapshot(bad, [&](const kernel::StoredRuleView&) { ++handed; }));
+    CHECK_FALSE(naturalization::read_rule_snapshot(
+        bad, [&](const naturalization::StoredRuleView&) { ++handed; }));
     CHECK(handed == 0);
   }
-  CHECK(kernel::snapshot_checksum(blob) != kernel::snapshot_checksum(blob.substr(1) + "F"));
+  CHECK(naturalization::snapshot_checksum(blob) !=
+        naturalization::snapshot_checksum(blob.substr(1) + "F"));
 }
 
 TEST_CASE("the dev corpus's induced rules: the same rules and parses with and without a snapshot",
@@ -208,10 +210,10 @@ TEST_CASE("a snapshot left stale by other writers is completed from the rows aft
   }
   {
     // Another process: two new rules (bob's, ana's), one of ana's snapshotted rules deleted.
-    kernel::LexiconStore other(store);
+    naturalization::LexiconStore other(store);
     other.add_definition({0, "zork 3", {"pick item"}, "bob", 50}, {rule("zork", "bob")});
     other.add_definition({0, "quux 3", {"pick item"}, "ana", 51}, {rule("quux", "ana")});
-    REQUIRE(other.delete_rule("r5", "ana", 52, {}).status == kernel::DeleteStatus::deleted);
+    REQUIRE(other.delete_rule("r5", "ana", 52, {}).status == naturalization::DeleteStatus::deleted);
     other.record_accept({{"r7", 2, 1}}, "", std::string());
   }
   const std::vector<std::string> oracle = live_ids(store);
@@ -232,7 +234,7 @@ TEST_CASE("a snapshot left stale by other writers is completed from the rows aft
 
   // Much changed since (more than an eighth of its rules): rebuilt from the rows, mark moved on.
   {
-    kernel::LexiconStore other(store);
+    naturalization::LexiconStore other(store);
     for (int i = 0; i < 12; ++i)
       other.add_definition({0, "more" + std::to_string(i) + " 3", {"pick item"}, "bob", 60 + i},
                            {rule("more" + std::to_string(i), "bob")});
@@ -264,14 +266,15 @@ TEST_CASE("a damaged, undecodable or inconsistent snapshot is rebuilt, never ser
     CHECK(s.nat->startup().snapshot_saved);
   }
   SECTION("a blob that matches its checksum but does not decode") {
-    kernel::RuleSnapshotWriter w;
+    naturalization::RuleSnapshotWriter w;
     w.add(rule("x", "ana"));
     std::string blob = w.finish();
     blob.pop_back();
     std::ostringstream hex;
     for (unsigned char c : blob) hex << std::hex << (c >> 4) << (c & 15);
-    sql(store, "UPDATE rule_snapshot SET data = x'" + hex.str() + "', checksum = " +
-                   std::to_string(static_cast<std::int64_t>(kernel::snapshot_checksum(blob))));
+    sql(store,
+        "UPDATE rule_snapshot SET data = x'" + hex.str() + "', checksum = " +
+            std::to_string(static_cast<std::int64_t>(naturalization::snapshot_checksum(blob))));
     Started s(store, 1);
     CHECK_FALSE(s.nat->startup().from_snapshot);
     REQUIRE(s.warnings.size() == 1);
@@ -279,7 +282,7 @@ TEST_CASE("a damaged, undecodable or inconsistent snapshot is rebuilt, never ser
     CHECK(ids(*s.nat) == oracle);
   }
   SECTION("rows imported below its mark make it inconsistent") {
-    kernel::LexiconStore other(store);
+    naturalization::LexiconStore other(store);
     std::istringstream line(
         R"({"type":"rule","id":"imported","lhs":"$Action","rhs":["blarg","$Number"],)"
         R"("semantics":"{repeat $1 times {pick item}}","author":"zed","how":"simple","created":0})"

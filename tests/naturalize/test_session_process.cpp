@@ -86,7 +86,7 @@ TEST_CASE("a new flipper session process gets the rules and weights back",
   for (const auto& r : listed["rules"]) uses += r["uses_by_author"].get<int>();
   CHECK(uses == 1);
   // The loglinear scorer is incremental: its weights are stored as sums, never as a whole state.
-  flipper::kernel::LexiconStore reopened(store);
+  flipper::naturalization::LexiconStore reopened(store);
   CHECK_FALSE(reopened.load_weights("global").has_value());
 }
 
@@ -96,7 +96,7 @@ using Weights = std::map<std::pair<std::string, std::string>, std::pair<double, 
 
 Weights stored_weights(const std::string& store) {
   Weights w;
-  flipper::kernel::LexiconStore s(store);
+  flipper::naturalization::LexiconStore s(store);
   for (const auto& c : s.weight_changes("global")) w[{c.model, c.feature}] = {c.weight, c.aux};
   return w;
 }
@@ -249,7 +249,7 @@ TEST_CASE("SIGKILL of flipper session loses no answered definition",
       ++kills_mid_stream;
     }
     REQUIRE(flipper::testsupport::sqlite_integrity(store) == "ok");
-    flipper::kernel::LexiconStore reopened(store);
+    flipper::naturalization::LexiconStore reopened(store);
     std::set<std::string> heads;
     for (const auto& d : reopened.definitions()) heads.insert(d.head);
     for (const auto& h : answered) {
@@ -295,7 +295,7 @@ TEST_CASE("SIGKILL right after an answered define, with background checkpoints, 
     // Only a checkpoint writes the database file of a process that never closed it.
     if (file_size(store) > size_before) ++checkpointed_rounds;
     REQUIRE(flipper::testsupport::sqlite_integrity(store) == "ok");
-    flipper::kernel::LexiconStore reopened(store);
+    flipper::naturalization::LexiconStore reopened(store);
     std::set<std::string> heads;
     for (const auto& d : reopened.definitions()) heads.insert(d.head);
     for (const auto& h : answered) {

@@ -60,7 +60,7 @@ std::string summary(const json& a) {
 }  // namespace
 
 TEST_CASE("every example of the language guide does what the guide says", "[readme][guide]") {
-  const auto examples = flipper::kernel::repl::guide_examples();
+  const auto examples = flipper::repl::guide_examples();
   // The guide's table, counted independently of the parser under test.
   std::ifstream md(std::string(FLIPPER_SOURCE_DIR) + "/docs/language.md");
   std::stringstream text;
@@ -78,5 +78,5 @@ TEST_CASE("every example of the language guide does what the guide says", "[read
     REQUIRE(a["ok"] == true);
     CHECK(summary(a) == e.result);
   }
-  CHECK_THAT(flipper::kernel::repl::examples_text(), Catch::Contains("  visit room1\n"));
+  CHECK_THAT(flipper::repl::examples_text(), Catch::Contains("  visit room1\n"));
 }

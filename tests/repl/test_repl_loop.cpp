@@ -12,8 +12,8 @@ namespace {
 std::string run_script(flipper::kernel::Session& s, const std::string& script) {
   std::istringstream in(script);
   std::ostringstream out;
-  auto reader = flipper::kernel::repl::make_line_reader(in, false);
-  CHECK(flipper::kernel::repl::run(s, *reader, out) == 0);
+  auto reader = flipper::repl::make_line_reader(in, false);
+  CHECK(flipper::repl::run(s, *reader, out) == 0);
   return out.str();
 }
 
@@ -63,7 +63,7 @@ TEST_CASE("repl: :floor in a 2-D world says the world is flat", "[repl][loop]") 
 
 TEST_CASE("repl: define an unparsable utterance, then use it", "[repl][loop]") {
   // open_session installs every module's ops (naturalization: define, rules).
-  auto s = flipper::kernel::open_session(flipper::testsupport::test_runtime());
+  auto s = flipper::wiring::open_session(flipper::testsupport::test_runtime());
   const std::string out =
       run_script(*s, "zig zag\n:define\nmove up\nmove right\n\nzig zag\n1\n:rules\n");
   CHECK_THAT(out, Catch::Contains("I did not understand that"));

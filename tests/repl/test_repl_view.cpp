@@ -6,8 +6,8 @@
 #include "flipper/repl/repl.hpp"
 
 using flipper::kernel::Json;
-using flipper::kernel::repl::describe_candidate;
-using flipper::kernel::repl::render_map;
+using flipper::repl::describe_candidate;
+using flipper::repl::render_map;
 
 namespace {
 
@@ -80,7 +80,7 @@ TEST_CASE("a trace is drawn as path, end, picks and drops, and the x axis labels
   Json trace = Json::parse(R"([{"act":"move","to":[1,0]},{"act":"move","to":[2,0]},
     {"act":"move","to":[2,1]},{"act":"pick","at":[2,1],"item":{"id":9,"color":"red","shape":"square"}},
     {"act":"move","to":[3,1]}])");
-  flipper::kernel::repl::MapOptions o;
+  flipper::repl::MapOptions o;
   o.trace = &trace;
   auto l = lines(render_map(world, o));
   REQUIRE(l.size() >= 3);
@@ -101,15 +101,15 @@ TEST_CASE("3-D: the floor is labelled, z kept, other floors' items listed", "[re
   CHECK_THAT(ground, Catch::Contains("floor z=1: red circle at [0,0,1]"));
   CHECK_THAT(ground, Catch::Contains("Robot at [0,0,0]"));
   CHECK_THAT(ground, Catch::Contains("up (x 1..1, y 0..0, z 1)"));
-  flipper::kernel::repl::MapOptions o;
+  flipper::repl::MapOptions o;
   o.floor = 1;
   CHECK_THAT(render_map(world, o),
              Catch::StartsWith("Floor z=1 (floors 0..1; :floor N shows another)\n 0 rc. \n"));
 }
 
 TEST_CASE("repeated warnings collapse and unknown words get a hint", "[repl][view]") {
-  using flipper::kernel::repl::collapse_warnings;
-  using flipper::kernel::repl::unknown_words;
+  using flipper::repl::collapse_warnings;
+  using flipper::repl::unknown_words;
   const auto w = collapse_warnings(Json::parse(R"(["a","b","a","a"])"));
   REQUIRE(w.size() == 2);
   CHECK(w[0] == "3 \u00d7 a");

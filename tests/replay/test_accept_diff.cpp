@@ -10,7 +10,7 @@
 #include "flipper/sdk/canonical.hpp"
 
 using namespace flipper;
-using namespace flipper::kernel::corpus;
+using namespace flipper::corpus;
 using nlohmann::json;
 
 namespace {

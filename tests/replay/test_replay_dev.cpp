@@ -14,7 +14,7 @@
 #include "flipper/replay/metrics.hpp"
 #include "flipper/replay/replayer.hpp"
 
-using namespace flipper::kernel::replay;
+using namespace flipper::replay;
 
 TEST_CASE("reduced dev replay agrees with the original's statuses above the floor") {
   const Corpus corpus = load_corpus(FLIPPER_STUDY_DIR "/dev");

@@ -7,7 +7,7 @@
 #include "flipper/replay/output.hpp"
 #include "flipper/replay/rule_oracle.hpp"
 
-using namespace flipper::kernel::replay;
+using namespace flipper::replay;
 
 namespace {
 QueryRow row(std::string group, std::string user, int tokens, std::string orig, std::string ours,
@@ -133,9 +133,9 @@ TEST_CASE("dev split deletions map to the definitions that lost rules") {
 }
 
 TEST_CASE("rule oracle: identical, subset, overlap, missing", "[replay][defects]") {
-  using flipper::kernel::replay::compare_rules;
-  using flipper::kernel::replay::LoggedRule;
-  using flipper::kernel::replay::RuleShape;
+  using flipper::replay::compare_rules;
+  using flipper::replay::LoggedRule;
+  using flipper::replay::RuleShape;
   const LoggedRule simple{1, true, false, "$Action", {"pick", "any", "$Color", "item"}};
   const LoggedRule best{2, false, false, "$Action", {"$ItemActionFragment", "any", "$Property"}};
   const LoggedRule aligned{3, false, true, "$ItemActionFragment", {"grab"}};

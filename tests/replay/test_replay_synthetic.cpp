@@ -11,7 +11,7 @@
 #include "flipper/replay/metrics.hpp"
 #include "flipper/replay/replayer.hpp"
 
-using namespace flipper::kernel::replay;
+using namespace flipper::replay;
 
 namespace {
 const Corpus& corpus() {

@@ -133,7 +133,7 @@ TEST_CASE("a define whose generalization meets the execution deadline stores not
           "[session][protocol]") {
   // A run cut by a deadline must not count as a program that errs (which would change which
   // rewriting wins with the machine's load): the define is refused whole.
-  auto s = flipper::kernel::open_session(flipper::testsupport::test_runtime(
+  auto s = flipper::wiring::open_session(flipper::testsupport::test_runtime(
       {"execution.deadline_ms=1", "execution.step_budget=1000000000000",
        "execution.action_budget=1000000000000"}));
   Json d = ask(

@@ -97,7 +97,7 @@ std::string mask_ms(const std::string& answer) {
 
 // Every answer of one session over the stream, protocol 1 or 2.
 std::vector<std::string> answers(int protocol) {
-  auto session = flipper::kernel::open_session(
+  auto session = flipper::wiring::open_session(
       std::nullopt, flipper::testsupport::test_overrides({"session.deadline_ms=86400000"}));
   std::vector<std::string> lines = flipper::testsupport::dev_stream();
   if (protocol == 2) lines.insert(lines.begin(), R"({"op":"hello","protocol":2})");

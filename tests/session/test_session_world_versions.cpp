@@ -47,9 +47,9 @@ TEST_CASE("change-only answers rebuild the plugin's worlds over the whole dev co
           "[session][protocol2][corpus]") {
   const auto stream = dev_stream();
   REQUIRE(stream.size() > 8000);
-  auto full = flipper::kernel::open_session(std::nullopt, flipper::testsupport::test_overrides());
+  auto full = flipper::wiring::open_session(std::nullopt, flipper::testsupport::test_overrides());
   auto changes =
-      flipper::kernel::open_session(std::nullopt, flipper::testsupport::test_overrides());
+      flipper::wiring::open_session(std::nullopt, flipper::testsupport::test_overrides());
   REQUIRE(ask(*changes, R"({"op":"hello","protocol":2})")["protocol"] == 2);
   Client client;
   std::size_t worlds_checked = 0, geometries_sent = 0;

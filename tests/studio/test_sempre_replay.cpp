@@ -21,7 +21,7 @@ namespace {
 
 using studiotest::fresh_dir;
 using studiotest::StudioServer;
-namespace replay = kernel::replay;
+namespace replay = replay;
 
 std::map<std::string, json> records_by_qid() {
   std::ifstream in(std::string(FLIPPER_STUDY_DIR) + "/dev/queries.jsonl");
@@ -82,7 +82,7 @@ struct PathTally {
       if (!o.path.is_array()) continue;
       sdk::Program theirs;
       try {
-        theirs = sdk::read_canonical(kernel::corpus::normalize_original_pretty(o.pretty));
+        theirs = sdk::read_canonical(corpus::normalize_original_pretty(o.pretty));
       } catch (const sdk::Error&) {
         continue;
       }
@@ -187,7 +187,7 @@ TEST_CASE("definitions from history induce the same rules through /sempre and /a
         body.push_back(line["utterance"]);
       else
         body.push_back(json{{"text", line["utterance"]},
-                            {"formula", kernel::corpus::original_formula_to_canonical(f)}});
+                            {"formula", corpus::original_formula_to_canonical(f)}});
     }
     const studiotest::Reply viaApi = studiotest::post_json(
         a, session, json{{"op", "define"}, {"head", (*d)["head"]}, {"body", body}});

@@ -7,7 +7,7 @@
 
 #include "tie_proofs.hpp"
 
-namespace flipper::kernel::corpus {
+namespace flipper::corpus {
 namespace {
 
 std::string item_text(const nlohmann::json& i) {
@@ -171,4 +171,4 @@ AcceptClass classify_accept(const AcceptCase& c) {
   return AcceptClass::unexplained;
 }
 
-}  // namespace flipper::kernel::corpus
+}  // namespace flipper::corpus

@@ -11,7 +11,7 @@
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::corpus {
+namespace flipper::corpus {
 namespace {
 
 constexpr int kMaxDepth = 256;  // as the canonical reader (core-language §7)
@@ -334,4 +334,4 @@ sdk::Program read_formula(std::string_view formula) {
   }
 }
 
-}  // namespace flipper::kernel::corpus
+}  // namespace flipper::corpus

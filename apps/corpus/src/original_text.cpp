@@ -3,7 +3,7 @@
 
 #include <regex>
 
-namespace flipper::kernel::corpus {
+namespace flipper::corpus {
 
 std::string normalize_original_pretty(std::string s) {
   static const std::regex dot_zero(R"((-?\d+)\.0\b)");
@@ -33,4 +33,4 @@ std::string normalize_original_pretty(std::string s) {
   return s;
 }
 
-}  // namespace flipper::kernel::corpus
+}  // namespace flipper::corpus

@@ -15,7 +15,7 @@
 
 #include "flipper/kernel/executor.hpp"
 
-namespace flipper::kernel::corpus::detail {
+namespace flipper::corpus::detail {
 
 namespace {
 
@@ -119,7 +119,7 @@ bool reproduces(const sdk::Program& program, const sdk::WorldState& start,
                 const WorldSnapshot& want) {
   // Borrowed: the wrapper lives on this stack frame for the whole run.
   const ProofPlanner proof(planner, alt, log);
-  const Executor exec(PluginRef<const sdk::Planner>::borrowed(proof));
+  const kernel::Executor exec(kernel::PluginRef<const sdk::Planner>::borrowed(proof));
   const sdk::Outcome o =
       exec.run(program, alt.logged_items ? with_logged_items_first(start, log) : start);
   return !o.error && snapshot(o.world) == want;
@@ -148,4 +148,4 @@ std::optional<AcceptClass> prove_tie(const sdk::Program& program, const sdk::Wor
   return std::nullopt;
 }
 
-}  // namespace flipper::kernel::corpus::detail
+}  // namespace flipper::corpus::detail

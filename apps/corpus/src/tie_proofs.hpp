@@ -6,7 +6,7 @@
 
 #include "flipper/corpus/accept_diff.hpp"
 
-namespace flipper::kernel::corpus::detail {
+namespace flipper::corpus::detail {
 
 /// The class whose alternative re-execution reproduces `want`, trying in order: another item
 /// choice (item_choice), another equally near cell (nearest_cell), another loop order
@@ -14,4 +14,4 @@ namespace flipper::kernel::corpus::detail {
 std::optional<AcceptClass> prove_tie(const sdk::Program& program, const sdk::WorldState& start,
                                      const sdk::Planner& planner, const WorldSnapshot& want);
 
-}  // namespace flipper::kernel::corpus::detail
+}  // namespace flipper::corpus::detail

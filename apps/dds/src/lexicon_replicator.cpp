@@ -61,11 +61,11 @@ const std::set<std::string> kLive = {"applied"};
 }  // namespace
 
 std::string rule_description(const sdk::Rule& rule) {
-  return kernel::rule_shape(rule) + " => " + sdk::render(rule.sem);
+  return naturalization::rule_shape(rule) + " => " + sdk::render(rule.sem);
 }
 
 std::shared_ptr<LexiconReplicator> LexiconReplicator::start(
-    std::shared_ptr<Participant> participant, const kernel::SessionHost& host, std::ostream& log,
+    std::shared_ptr<Participant> participant, const wiring::SessionHost& host, std::ostream& log,
     const std::optional<Keystore>& keystore) {
   std::shared_ptr<LexiconReplicator> r(
       new LexiconReplicator(std::move(participant), host, log, keystore));
@@ -75,7 +75,7 @@ std::shared_ptr<LexiconReplicator> LexiconReplicator::start(
 }
 
 LexiconReplicator::LexiconReplicator(std::shared_ptr<Participant> participant,
-                                     const kernel::SessionHost& host, std::ostream& log,
+                                     const wiring::SessionHost& host, std::ostream& log,
                                      const std::optional<Keystore>& keystore)
     : participant_(std::move(participant)),
       host_(host),
@@ -336,7 +336,7 @@ bool LexiconReplicator::apply_define(LogRow& row) {
   }
   row.status = "applying";  // durable before the store commits: recover() finds a kill here
   log_db_->put(row);
-  kernel::DefineRequest req;
+  naturalization::DefineRequest req;
   req.user = row.event.author;
   req.head = row.event.head;
   req.body = row.event.body;
@@ -355,7 +355,7 @@ bool LexiconReplicator::apply_define(LogRow& row) {
     }
   }
   try {
-    const kernel::DefineOutcome out = host_.naturalizer->define(req);
+    const naturalization::DefineOutcome out = host_.naturalizer->define(req);
     row.definition = out.definition;
     row.local_rules.clear();
     for (const auto& r : out.rules) row.local_rules.push_back(r->id);
@@ -513,9 +513,9 @@ void LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kerne
   if (origin != nullptr && rule && origin->event.site != site_) {
     log_ << "flipper: lexicon replication: refused deleting " << id << " at site '" << site_
          << "': it comes from site '" << origin->event.site << "'" << std::endl;
-    throw sdk::Error(kernel::naturalize_codes::kForbidden, "rule " + id + " was defined at site '" +
-                                                               origin->event.site +
-                                                               "'; only that site may delete it");
+    throw sdk::Error(naturalization::naturalize_codes::kForbidden,
+                     "rule " + id + " was defined at site '" + origin->event.site +
+                         "'; only that site may delete it");
   }
   const std::string description = rule ? rule_description(*rule) : std::string();
   const LogRow* target = origin;

@@ -13,7 +13,7 @@
 namespace flipper::planbench {
 namespace {
 
-using kernel::replay::resolve_in_file;
+using replay::resolve_in_file;
 
 [[noreturn]] void bad(const std::string& where, const std::string& what) {
   throw sdk::Error(sdk::codes::kBadConfig, where + what);

@@ -10,10 +10,10 @@
 #include "flipper/repl/repl.hpp"
 #include "flipper/sdk/param_check.hpp"
 
-namespace flipper::kernel::repl {
+namespace flipper::repl {
 namespace {
 
-std::string point_text(const Json& p) {
+std::string point_text(const kernel::Json& p) {
   std::string s = "[";
   for (std::size_t i = 0; i < p.size(); ++i) s += (i ? "," : "") + std::to_string(p[i].get<int>());
   return s + "]";
@@ -27,7 +27,7 @@ bool is_number(const std::string& t) {
 
 }  // namespace
 
-std::vector<std::string> collapse_warnings(const Json& warnings) {
+std::vector<std::string> collapse_warnings(const kernel::Json& warnings) {
   std::vector<std::string> order;
   std::map<std::string, int> count;
   for (const auto& w : warnings) {
@@ -55,21 +55,21 @@ std::vector<std::string> unknown_words(const std::vector<std::string>& tokens,
   return out;
 }
 
-std::string describe_candidate(const Json& c, int number) {
+std::string describe_candidate(const kernel::Json& c, int number) {
   std::ostringstream out;
   char prob[32];
   std::snprintf(prob, sizeof prob, "%.2f", c.value("prob", 0.0));
   out << "  [" << number << "] " << c.value("formula", std::string()) << "   (p=" << prob << ")\n";
   int steps = 0;
   std::string picks, drops, end;
-  for (const auto& s : c.value("trace", Json::array())) {
+  for (const auto& s : c.value("trace", kernel::Json::array())) {
     const std::string act = s.value("act", std::string());
     if (act == "move") {
       ++steps;
       end = point_text(s["to"]);
       continue;
     }
-    const Json& item = s["item"];
+    const kernel::Json& item = s["item"];
     std::string what = item.value("color", std::string()) + " " +
                        item.value("shape", std::string()) + " at " + point_text(s["at"]);
     std::string& list = act == "pick" ? picks : drops;
@@ -82,16 +82,18 @@ std::string describe_candidate(const Json& c, int number) {
   if (!c.value("realizable", true)) out << "; NOT fully realizable";
   out << '\n';
   // Not core yet no rules: a reading that leaves words out (the floating parser).
-  if (c.value("induced", false) && c.value("rules", Json::array()).empty()) {
+  if (c.value("induced", false) && c.value("rules", kernel::Json::array()).empty()) {
     out << "      leaves words out (no definition used)\n";
   } else if (c.value("induced", false)) {
     out << "      uses definitions:";
-    for (const auto& r : c.value("rules", Json::array())) out << ' ' << r.get<std::string>();
+    for (const auto& r : c.value("rules", kernel::Json::array()))
+      out << ' ' << r.get<std::string>();
     out << " (by";
-    for (const auto& a : c.value("authors", Json::array())) out << ' ' << a.get<std::string>();
+    for (const auto& a : c.value("authors", kernel::Json::array()))
+      out << ' ' << a.get<std::string>();
     out << ")\n";
   }
-  for (const auto& w : collapse_warnings(c.value("warnings", Json::array())))
+  for (const auto& w : collapse_warnings(c.value("warnings", kernel::Json::array())))
     out << "      warning: " << w << '\n';
   if (c.contains("error"))
     out << "      ERROR (" << c["error"].value("code", std::string())
@@ -99,4 +101,4 @@ std::string describe_candidate(const Json& c, int number) {
   return out.str();
 }
 
-}  // namespace flipper::kernel::repl
+}  // namespace flipper::repl

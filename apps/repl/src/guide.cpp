@@ -4,7 +4,7 @@
 
 #include "flipper/repl/repl.hpp"
 
-namespace flipper::kernel::repl {
+namespace flipper::repl {
 namespace detail {
 extern const char* const kLanguageGuide;
 }
@@ -65,4 +65,4 @@ std::string guide_help_text() {
   return out.str();
 }
 
-}  // namespace flipper::kernel::repl
+}  // namespace flipper::repl

@@ -23,7 +23,7 @@
 
 #include "flipper/repl/repl.hpp"
 
-namespace flipper::kernel::repl {
+namespace flipper::repl {
 namespace {
 
 volatile std::sig_atomic_t g_interrupted = 0;
@@ -179,4 +179,4 @@ std::unique_ptr<LineReader> make_line_reader(std::istream& in, bool terminal,
   return std::make_unique<StreamReader>(in);
 }
 
-}  // namespace flipper::kernel::repl
+}  // namespace flipper::repl

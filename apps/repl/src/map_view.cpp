@@ -13,17 +13,17 @@
 #include "flipper/repl/repl.hpp"
 #include "flipper/svg/svg.hpp"
 
-namespace flipper::kernel::repl {
+namespace flipper::repl {
 namespace {
 
 using svg::point_of;
 using svg::Pt;
 
-std::string item_name(const Json& item) {
+std::string item_name(const kernel::Json& item) {
   return item.value("color", std::string("?")) + " " + item.value("shape", std::string("?"));
 }
 
-std::string item_code(const Json& item) {
+std::string item_code(const kernel::Json& item) {
   std::string c = item.value("color", std::string("?")), s = item.value("shape", std::string("?"));
   return std::string{c.empty() ? '?' : c[0], s.empty() ? '?' : s[0]};
 }
@@ -33,12 +33,12 @@ std::string pt_text(const Pt& p, bool three_d) {
          (three_d ? "," + std::to_string(p.z) : "") + "]";
 }
 
-bool is_3d(const Json& world) {
+bool is_3d(const kernel::Json& world) {
   if (world.contains("bounds")) {
-    const Json& lo = world["bounds"].value("min", Json::array());
+    const kernel::Json& lo = world["bounds"].value("min", kernel::Json::array());
     if (lo.is_array() && lo.size() >= 3) return true;
   }
-  const Json& r = world.contains("robot") ? world["robot"] : Json::object();
+  const kernel::Json& r = world.contains("robot") ? world["robot"] : kernel::Json::object();
   return r.is_object() && r.contains("z");
 }
 
@@ -77,14 +77,15 @@ std::string wrapped(const std::string& lead, const std::vector<std::string>& par
 
 }  // namespace
 
-std::string render_map(const Json& world, const MapOptions& options) {
-  const Json& robot_json = world.contains("robot") ? world["robot"] : Json::object();
+std::string render_map(const kernel::Json& world, const MapOptions& options) {
+  const kernel::Json& robot_json =
+      world.contains("robot") ? world["robot"] : kernel::Json::object();
   const Pt robot = point_of(robot_json);
   const bool three_d = is_3d(world);
   const int floor = options.floor.value_or(robot.z);
   std::set<std::pair<int, int>> walls;  // in the shown floor
-  std::map<std::pair<int, int>, std::vector<const Json*>> items;
-  std::map<int, std::vector<const Json*>> other_floors;
+  std::map<std::pair<int, int>, std::vector<const kernel::Json*>> items;
+  std::map<int, std::vector<const kernel::Json*>> other_floors;
   int min_x = robot.x, max_x = robot.x, min_y = robot.y, max_y = robot.y;
   int min_z = robot.z, max_z = robot.z;
   auto grow = [&](const Pt& p) {
@@ -100,8 +101,8 @@ std::string render_map(const Json& world, const MapOptions& options) {
     }
   if (world.contains("boxes"))  // 3-D worlds: walls as boxes of cells
     for (const auto& b : world["boxes"]) {
-      const Pt lo = point_of(b.value("min", Json::array())),
-               hi = point_of(b.value("max", Json::array()));
+      const Pt lo = point_of(b.value("min", kernel::Json::array())),
+               hi = point_of(b.value("max", kernel::Json::array()));
       if (floor < lo.z || floor > hi.z) continue;
       for (int x = lo.x; x <= hi.x; ++x)
         for (int y = lo.y; y <= hi.y; ++y) walls.insert({x, y});
@@ -118,8 +119,8 @@ std::string render_map(const Json& world, const MapOptions& options) {
       grow(p);
     }
   if (world.contains("bounds")) {
-    Pt lo = point_of(world["bounds"].value("min", Json::array({0, 0})));
-    Pt hi = point_of(world["bounds"].value("max", Json::array({0, 0})));
+    Pt lo = point_of(world["bounds"].value("min", kernel::Json::array({0, 0})));
+    Pt hi = point_of(world["bounds"].value("max", kernel::Json::array({0, 0})));
     min_x = lo.x, min_y = lo.y, max_x = hi.x, max_y = hi.y, min_z = lo.z, max_z = hi.z;
   }
 
@@ -129,7 +130,8 @@ std::string render_map(const Json& world, const MapOptions& options) {
   if (options.trace != nullptr)
     for (const auto& s : *options.trace) {
       const std::string act = s.value("act", std::string());
-      const Pt p = point_of(act == "move" ? s.value("to", Json()) : s.value("at", Json()));
+      const Pt p =
+          point_of(act == "move" ? s.value("to", kernel::Json()) : s.value("at", kernel::Json()));
       if (p.z != floor) {
         if (act == "move") end = {INT_MIN, INT_MIN};
         continue;
@@ -185,7 +187,7 @@ std::string render_map(const Json& world, const MapOptions& options) {
   out << wrapped("Legend:", legend);
   std::map<std::string, std::string> codes;
   for (const auto& [at, list] : items)
-    for (const Json* it : list) codes.emplace(item_code(*it), item_name(*it));
+    for (const kernel::Json* it : list) codes.emplace(item_code(*it), item_name(*it));
   if (!codes.empty()) {
     std::vector<std::string> parts;
     for (const auto& [code, name] : codes) parts.push_back(code + " " + name);
@@ -199,12 +201,12 @@ std::string render_map(const Json& world, const MapOptions& options) {
   }
   for (const auto& [z, list] : other_floors) {
     std::vector<std::string> parts;
-    for (const Json* it : list)
+    for (const kernel::Json* it : list)
       parts.push_back(item_name(*it) + " at " + pt_text(point_of(*it), true));
     out << wrapped("  floor z=" + std::to_string(z) + ":", parts);
   }
   out << "Robot at " << pt_text(robot, three_d) << ", holding: ";
-  const Json held = robot_json.value("holding", Json::array());
+  const kernel::Json held = robot_json.value("holding", kernel::Json::array());
   if (held.empty()) out << "nothing";
   for (std::size_t i = 0; i < held.size(); ++i) out << (i ? ", " : "") << item_name(held[i]);
   out << '\n';
@@ -228,4 +230,4 @@ std::string render_map(const Json& world, const MapOptions& options) {
   return out.str();
 }
 
-}  // namespace flipper::kernel::repl
+}  // namespace flipper::repl

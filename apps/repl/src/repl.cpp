@@ -15,7 +15,7 @@
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/svg/svg.hpp"
 
-namespace flipper::kernel::repl {
+namespace flipper::repl {
 namespace {
 
 // How many readings one query keeps for paging with `m` (each is planned, so not unbounded).
@@ -59,32 +59,32 @@ std::string rule_text(const sdk::Rule& r) {
 }
 
 // "  r1  zig zag -> ...  =>  {...}  (by ana, used 2x)"
-std::string describe_rule(const RuleListing& l) {
+std::string describe_rule(const naturalization::RuleListing& l) {
   return rule_text(*l.rule) + "  (by " + l.rule->author + ", used " +
          std::to_string(l.uses_by_author + l.uses_by_others) + "x)\n";
 }
 
 // A shown candidate in the protocol's candidate shape (docs/protocol.md § query), the input of
 // the candidate view.
-Json candidate_view(const LastQuery& q, const ShownCandidate& sc) {
+kernel::Json candidate_view(const kernel::LastQuery& q, const kernel::ShownCandidate& sc) {
   const sdk::Candidate& c = q.parse.candidates[sc.index];
   const int dims = q.world.geometry ? q.world.geometry->dims() : 2;
-  Json rules = Json::array(), authors = Json::array();
+  kernel::Json rules = kernel::Json::array(), authors = kernel::Json::array();
   for (const auto& r : sc.induced_rules) {
     rules.push_back(r->id);
     if (std::find(authors.begin(), authors.end(), r->author) == authors.end())
       authors.push_back(r->author);
   }
-  Json v{{"formula", sdk::render(c.program)},
-         {"prob", q.probs[sc.index]},
-         {"induced", !c.core_only},
-         {"rules", std::move(rules)},
-         {"authors", std::move(authors)},
-         {"realizable", sc.outcome.realizable && !sc.outcome.error},
-         {"trace", protocol::trace_json(sc.outcome.trace, dims)},
-         {"warnings", protocol::strings_json(sc.outcome.warnings)}};
+  kernel::Json v{{"formula", sdk::render(c.program)},
+                 {"prob", q.probs[sc.index]},
+                 {"induced", !c.core_only},
+                 {"rules", std::move(rules)},
+                 {"authors", std::move(authors)},
+                 {"realizable", sc.outcome.realizable && !sc.outcome.error},
+                 {"trace", kernel::protocol::trace_json(sc.outcome.trace, dims)},
+                 {"warnings", kernel::protocol::strings_json(sc.outcome.warnings)}};
   if (sc.error_code)
-    v["error"] = protocol::error_json(*sc.error_code, sc.outcome.error.value_or(""));
+    v["error"] = kernel::protocol::error_json(*sc.error_code, sc.outcome.error.value_or(""));
   return v;
 }
 
@@ -97,7 +97,7 @@ std::optional<int> parse_int(const std::string& s) {
 
 class Repl {
  public:
-  Repl(Session& s, LineReader& r, std::ostream& o)
+  Repl(kernel::Session& s, LineReader& r, std::ostream& o)
       : session_(s), reader_(r), out_(o), page_(std::max(1, s.options().k)) {}
 
   int run() {
@@ -122,7 +122,7 @@ class Repl {
         show_more();
       } else if (!readings_.empty() && line == "r") {
         out_ << "Rejected. Rephrase it, or teach it with :define.\n";
-        readings_ = Json::array();
+        readings_ = kernel::Json::array();
       } else {
         query(line);
       }
@@ -149,19 +149,19 @@ class Repl {
   }
 
   // The lexicon's define/rules/delete service (null in a session without naturalization).
-  NaturalizationExtension* lexicon() {
-    auto* nat = session_.extension<NaturalizationExtension>();
+  naturalization::NaturalizationExtension* lexicon() {
+    auto* nat = session_.extension<naturalization::NaturalizationExtension>();
     if (nat == nullptr) out_ << "error (unknown_op): this session has no lexicon\n";
     return nat;
   }
 
-  Json world_view(const sdk::WorldState& state) {
-    Json world;
+  kernel::Json world_view(const sdk::WorldState& state) {
+    kernel::Json world;
     call([&] { world = session_.world_json(state); });
     return world;
   }
 
-  MapOptions map_options(const Json* trace = nullptr, bool legend = true) const {
+  MapOptions map_options(const kernel::Json* trace = nullptr, bool legend = true) const {
     MapOptions o;
     o.trace = trace;
     o.legend = legend;
@@ -170,7 +170,7 @@ class Repl {
   }
 
   void show_map() {
-    const Json world = world_view(session_.world());
+    const kernel::Json world = world_view(session_.world());
     if (!world.is_null()) out_ << render_map(world, map_options());
   }
 
@@ -182,12 +182,12 @@ class Repl {
 
   void query(const std::string& text) {
     last_text_ = text;
-    trail_ = Json();
-    readings_ = Json::array();
+    trail_ = kernel::Json();
+    readings_ = kernel::Json::array();
     shown_ = 0;
     query_world_ = world_view(session_.world());  // the paths start here
-    QueryResult result;
-    const bool ok = call([&] { result = session_.query(QueryRequest{text, kKeep}); });
+    kernel::QueryResult result;
+    const bool ok = call([&] { result = session_.query(kernel::QueryRequest{text, kKeep}); });
     // The session cannot be stopped mid-query (session.deadline_ms bounds it); Ctrl-C while it
     // ran drops its answer.
     if (reader_.take_interrupt()) {
@@ -202,7 +202,7 @@ class Repl {
            << (note.empty() ? "Teach me with `:define` (then the steps, one per line).\n" : "");
       return;
     }
-    for (const ShownCandidate& sc : result.query->shown)
+    for (const kernel::ShownCandidate& sc : result.query->shown)
       readings_.push_back(candidate_view(*result.query, sc));
     total_ = result.total();
     out_ << "Readings (" << result.status << "):\n";
@@ -219,9 +219,9 @@ class Repl {
     }
     const int until = std::min(kept, shown_ + page_);
     for (int i = shown_; i < until; ++i) {
-      const Json& c = readings_[static_cast<std::size_t>(i)];
+      const kernel::Json& c = readings_[static_cast<std::size_t>(i)];
       out_ << describe_candidate(c, i + 1);
-      const Json& trace = c["trace"];
+      const kernel::Json& trace = c["trace"];
       if (!trace.empty() && query_world_.is_object() && !c.contains("error"))
         out_ << indent(render_map(query_world_, map_options(&trace, false)));
     }
@@ -251,20 +251,20 @@ class Repl {
       return true;
     }
     const sdk::WorldState before = session_.world();
-    AcceptResult accepted;
-    if (!call([&] { accepted = session_.accept(AcceptRequest{*n - 1}); })) return true;
+    kernel::AcceptResult accepted;
+    if (!call([&] { accepted = session_.accept(kernel::AcceptRequest{*n - 1}); })) return true;
     const sdk::Outcome& o = accepted.outcome;
     undo_.push_back(before);
-    trail_ = protocol::trace_json(o.trace, o.world.geometry ? o.world.geometry->dims() : 2);
+    trail_ = kernel::protocol::trace_json(o.trace, o.world.geometry ? o.world.geometry->dims() : 2);
     trail_title_ = readings_[static_cast<std::size_t>(*n - 1)].value("formula", std::string());
     trail_world_ = query_world_;
-    readings_ = Json::array();
+    readings_ = kernel::Json::array();
     std::size_t steps = 0;
     for (const auto& s : o.trace) steps += s.act == sdk::TraceStep::Act::move;
     out_ << "Done: " << steps << (steps == 1 ? " step" : " steps") << ". (:undo puts it back)\n";
-    for (const auto& w : collapse_warnings(protocol::strings_json(o.warnings)))
+    for (const auto& w : collapse_warnings(kernel::protocol::strings_json(o.warnings)))
       out_ << "warning: " << w << '\n';
-    const Json world = world_view(o.world);
+    const kernel::Json world = world_view(o.world);
     if (!world.is_null()) out_ << render_map(world, map_options(&trail_));
     return true;
   }
@@ -308,7 +308,7 @@ class Repl {
       const sdk::WorldState before = session_.world();
       if (call([&] { session_.open_world_file(arg); })) {
         undo_.push_back(before);
-        readings_ = Json::array();
+        readings_ = kernel::Json::array();
         floor_.reset();
         show_map();
       }
@@ -323,7 +323,7 @@ class Repl {
       }
       if (call([&] { session_.set_user(arg); })) out_ << "You are " << session_.user() << ".\n";
     } else if (cmd == ":rules") {
-      std::vector<RuleListing> rules;
+      std::vector<naturalization::RuleListing> rules;
       auto* nat = lexicon();
       if (nat != nullptr && call([&] { rules = nat->rules(session_, std::nullopt); })) {
         if (rules.empty()) out_ << "No rules.\n";
@@ -376,7 +376,7 @@ class Repl {
     }
     session_.set_world(undo_.back());
     undo_.pop_back();
-    readings_ = Json::array();
+    readings_ = kernel::Json::array();
     out_ << "Undone: the world is as it was before the last choice (what the ranking learned "
             "from it stays).\n";
     show_map();
@@ -400,9 +400,9 @@ class Repl {
     }
     // The head is checked first: a phrase the core language already reads is not taught.
     try {
-      const QueryResult h = session_.query(QueryRequest{head, 1});
+      const kernel::QueryResult h = session_.query(kernel::QueryRequest{head, 1});
       if (std::string_view(h.status) == "core") {
-        const LastQuery& q = *h.query;
+        const kernel::LastQuery& q = *h.query;
         out_ << "\"" << head << "\" already means "
              << sdk::render(q.parse.candidates[q.shown.at(0).index].program)
              << " in the core language; use it as it is.\n";
@@ -412,7 +412,7 @@ class Repl {
     }
     out_ << "Defining \"" << head << "\". Enter the steps, one per line; an empty line ends, "
          << "Ctrl-C (or :cancel) abandons it.\n";
-    DefineCall definition;
+    naturalization::DefineCall definition;
     definition.head = head;
     std::string line;
     bool ended = false;  // by the empty line (not by :cancel or the end of input)
@@ -421,14 +421,14 @@ class Repl {
         ended = true;
         break;
       }
-      QueryResult result;
-      const bool ok = call([&] { result = session_.query(QueryRequest{line, kKeep}); });
+      kernel::QueryResult result;
+      const bool ok = call([&] { result = session_.query(kernel::QueryRequest{line, kKeep}); });
       if (reader_.take_interrupt()) {
         out_ << "Definition cancelled; nothing was learned.\n";
         return;
       }
       if (!ok) continue;
-      const LastQuery& q = *result.query;
+      const kernel::LastQuery& q = *result.query;
       const auto& cands = q.shown;
       if (cands.empty()) {
         out_ << "  I do not understand \"" << line << "\". " << unknown_words_note(line)
@@ -461,40 +461,41 @@ class Repl {
       return;
     }
     auto* nat = lexicon();
-    DefineOutcome defined;
+    naturalization::DefineOutcome defined;
     if (nat == nullptr || !call([&] { defined = nat->define(session_, definition); })) return;
     const auto& rules = defined.rules;
     out_ << "Learned " << rules.size() << (rules.size() == 1 ? " rule" : " rules") << ":\n";
     for (const auto& r : rules) out_ << rule_text(*r) << '\n';
     if (defined.generalized)  // quoted, as the protocol's "generalized" string
-      out_ << "(generalized the body to: " << Json(sdk::render(defined.generalized)).dump()
+      out_ << "(generalized the body to: " << kernel::Json(sdk::render(defined.generalized)).dump()
            << ")\n";
     // The lexicon picks up other processes' rules before each parse (docs/naturalization.md).
     out_ << "(Stored in the lexicon: other repls and sessions on the same store can use it from "
             "their next query on.)\n";
-    readings_ = Json::array();
+    readings_ = kernel::Json::array();
   }
 
-  Session& session_;
+  kernel::Session& session_;
   LineReader& reader_;
   std::ostream& out_;
-  int page_;                       // readings per page: session.k
-  Json readings_ = Json::array();  // the last query's kept readings (empty: nothing to choose)
-  int shown_ = 0;                  // how many of them are on screen
-  std::size_t total_ = 0;          // how many the parser found
-  Json query_world_;
+  int page_;  // readings per page: session.k
+  kernel::Json readings_ =
+      kernel::Json::array();  // the last query's kept readings (empty: nothing to choose)
+  int shown_ = 0;             // how many of them are on screen
+  std::size_t total_ = 0;     // how many the parser found
+  kernel::Json query_world_;
   std::string last_text_;
   std::vector<sdk::WorldState> undo_;
-  Json trail_;        // the trace of the reading just chosen (null after the next query)
-  Json trail_world_;  // the world it started from
+  kernel::Json trail_;        // the trace of the reading just chosen (null after the next query)
+  kernel::Json trail_world_;  // the world it started from
   std::string trail_title_;
   std::optional<int> floor_;
 };
 
 }  // namespace
 
-int run(Session& session, LineReader& reader, std::ostream& out) {
+int run(kernel::Session& session, LineReader& reader, std::ostream& out) {
   return Repl(session, reader, out).run();
 }
 
-}  // namespace flipper::kernel::repl
+}  // namespace flipper::repl

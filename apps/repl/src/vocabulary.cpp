@@ -8,7 +8,7 @@
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/param_check.hpp"
 
-namespace flipper::kernel::repl {
+namespace flipper::repl {
 namespace {
 
 // Plain words people try first that the core language does not have, and what it says
@@ -39,7 +39,7 @@ const std::map<std::string, std::string>& plain_words() {
 
 }  // namespace
 
-std::vector<std::string> vocabulary(Session& session) {
+std::vector<std::string> vocabulary(kernel::Session& session) {
   std::vector<std::string> words;
   if (const auto& g = session.runtime().core_grammar) {
     for (const auto& r : g->rules)
@@ -48,7 +48,7 @@ std::vector<std::string> vocabulary(Session& session) {
     for (const auto* list : {&g->colors, &g->shapes, &g->directions})
       words.insert(words.end(), list->begin(), list->end());
   }
-  if (auto* nat = session.extension<NaturalizationExtension>()) try {
+  if (auto* nat = session.extension<naturalization::NaturalizationExtension>()) try {
       for (const auto& l : nat->rules(session, std::nullopt))
         for (const auto& symbol : l.rule->rhs)
           if (!symbol.text.empty() && symbol.text[0] != '$') words.push_back(symbol.text);
@@ -64,7 +64,7 @@ std::string plain_word_hint(const std::string& word) {
   return it == plain_words().end() ? "" : " (the core language says '" + it->second + "')";
 }
 
-std::string unknown_words_note(Session& session, const std::string& text) {
+std::string unknown_words_note(kernel::Session& session, const std::string& text) {
   const auto unknown = unknown_words(sdk::tokenize(text), vocabulary(session));
   if (unknown.empty()) return {};
   std::string note = unknown.size() == 1 ? "Unknown word: " : "Unknown words: ";
@@ -72,4 +72,4 @@ std::string unknown_words_note(Session& session, const std::string& text) {
   return note + ".";
 }
 
-}  // namespace flipper::kernel::repl
+}  // namespace flipper::repl

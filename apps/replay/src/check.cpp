@@ -14,7 +14,7 @@
 #include "flipper/record/run_folder.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -223,4 +223,4 @@ RunSummary merge_runs(const std::vector<std::string>& runs, const std::string& o
   return assemble_run(run_dir, manifest, plots);
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

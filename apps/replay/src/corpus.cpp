@@ -7,7 +7,7 @@
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace {
 
 using nlohmann::json;
@@ -189,4 +189,4 @@ Corpus load_corpus(const std::string& dir) {
   return c;
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

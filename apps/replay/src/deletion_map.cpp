@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 void DeletionMap::add_definition(const Definition& def, const std::string& user,
                                  std::vector<OurRule> ours) {
@@ -52,4 +52,4 @@ DeletionMap::Mapping DeletionMap::map(const std::string& user, int index) {
   return m;
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -10,7 +10,7 @@
 #include "flipper/kernel/yaml_file.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace fs = std::filesystem;
 
 std::string resolve_in_file(const std::string& file, const std::string& path) {
@@ -186,4 +186,4 @@ Experiment experiment_from_json(const nlohmann::json& j) {
   }
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -5,7 +5,7 @@
 
 #include <cstdio>
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace {
 
 class Rows {
@@ -160,4 +160,4 @@ std::vector<record::Figure> replay_figures(const std::string& variant, const Met
   return out;
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -6,7 +6,7 @@
 
 #include "flipper/corpus/accept_diff.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 std::string as_original_status(const std::string& ours) {
   if (ours == "core") return "Core";
@@ -214,4 +214,4 @@ Metrics compute_metrics(const ReplayResult& result) {
   return m;
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -9,7 +9,7 @@
 #include "flipper/replay/output.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace {
 
 using J = nlohmann::ordered_json;
@@ -193,4 +193,4 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
   for (OutFile* f : {&q, &p, &g, &acc, &d, &del}) f->close();
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

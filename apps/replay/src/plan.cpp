@@ -8,7 +8,7 @@
 #include "flipper/replay/experiment.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace {
 
 // "planner.params.seed" -> {"planner", "seed"}; {} for keys that are no plugin parameter.
@@ -17,7 +17,7 @@ std::pair<std::string, std::string> plugin_param(const std::string& key) {
   if (dot == std::string::npos) return {};
   const std::string section = key.substr(0, dot);
   const std::string rest = key.substr(dot + 1);
-  const auto& sections = Config::plugin_sections();
+  const auto& sections = kernel::Config::plugin_sections();
   if (std::find(sections.begin(), sections.end(), section) == sections.end()) return {};
   if (rest.rfind("params.", 0) != 0) return {};
   const std::string name = rest.substr(7, rest.find('.', 7) - 7);
@@ -27,11 +27,12 @@ std::pair<std::string, std::string> plugin_param(const std::string& key) {
 // Which parameters each plugin declares, asked once per plugin.
 class DeclaredParams {
  public:
-  bool declares(const Config& config, const std::string& section, const std::string& param) {
+  bool declares(const kernel::Config& config, const std::string& section,
+                const std::string& param) {
     const std::string plugin = config.plugin_name(section);
     auto it = cache_.find({section, plugin});
     if (it == cache_.end()) {
-      const PluginLoader loader(PluginLoader::search_path_for(config));
+      const kernel::PluginLoader loader(kernel::PluginLoader::search_path_for(config));
       sdk::PluginKind kind{};
       sdk::parse_kind(section.c_str(), kind);
       std::set<std::string> names;
@@ -71,7 +72,7 @@ std::vector<PlannedVariant> plan_variants(const Experiment& e) {
       std::vector<std::string> with_choices = p.sets;
       for (const auto& [key, value] : point)
         if (plugin_param(key).first.empty()) with_choices.push_back(key + "=" + value);
-      const Config config = Config::load(e.config, with_choices);
+      const kernel::Config config = kernel::Config::load(e.config, with_choices);
       for (const auto& [key, value] : point) {
         const auto [section, param] = plugin_param(key);
         if (!section.empty() && config.has_section(section) &&
@@ -114,4 +115,4 @@ std::vector<PlannedVariant> plan_variants(const Experiment& e) {
   return out;
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -21,7 +21,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/wiring/session_factory.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace {
 
 // Words a derivation leaves out (any parser): its span minus the tokens its rules consume.
@@ -139,8 +139,8 @@ class RunReplay {
       : corpus_(corpus), run_(run), out_(out), reparse_bodies_(options.reparse_bodies) {
     std::vector<std::string> sets = mode_overrides(run.group);
     sets.insert(sets.end(), options.sets.begin(), options.sets.end());
-    session_ = open_session(options.config_file, sets);
-    naturalization_ = session_->extension<NaturalizationExtension>();
+    session_ = wiring::open_session(options.config_file, sets);
+    naturalization_ = session_->extension<naturalization::NaturalizationExtension>();
     if (naturalization_ == nullptr)
       throw sdk::Error(sdk::codes::kInternal, "replay: the session has no naturalization");
   }
@@ -176,7 +176,7 @@ class RunReplay {
 
   // Asks the session again without recording (the accept of another user's query needs it).
   void requery(const std::string& text, std::optional<std::int64_t> k = std::nullopt) {
-    attempt([&] { session_->query(QueryRequest{text, k}); });
+    attempt([&] { session_->query(kernel::QueryRequest{text, k}); });
   }
 
   void set_world(const std::string& id) {
@@ -186,7 +186,8 @@ class RunReplay {
       auto it = corpus_.worlds.find(id);
       if (it == corpus_.worlds.end()) return;  // unknown world: keep the current one
       cached =
-          world_cache_.emplace(id, load_world_file(session_->runtime(), it->second.dump())).first;
+          world_cache_.emplace(id, kernel::load_world_file(session_->runtime(), it->second.dump()))
+              .first;
     }
     session_->set_world(cached->second);
     world_id_ = id;
@@ -206,13 +207,13 @@ class RunReplay {
     row.original_author = c.author.value_or("");
     row.original_parses = c.n_parses;
     row.original_ms = c.walltime_s * 1000.0;
-    QueryResult result;
+    kernel::QueryResult result;
     const bool ok = attempt([&] {
-                      result = session_->query(QueryRequest{c.utterance, {}});
+                      result = session_->query(kernel::QueryRequest{c.utterance, {}});
                     }).empty();
     last_qid_ = c.qid;
     if (ok) {
-      const LastQuery& q = *result.query;
+      const kernel::LastQuery& q = *result.query;
       row.ours = result.status;
       row.ms = result.ms;
       row.our_author = "none";
@@ -256,7 +257,7 @@ class RunReplay {
     row.run = c.source;
     row.group = c.group;
     row.user = c.user;
-    const LastQuery* q = session_->last_query();
+    const kernel::LastQuery* q = session_->last_query();
     const OriginalAnswer::Candidate* original = accepted_candidate(c);
     if (!q || q->parse.candidates.empty()) {
       row.note = "no candidates";
@@ -290,17 +291,17 @@ class RunReplay {
     }
     // What the classification needs, before the accept consumes the query: the shown
     // candidate's outcome is the execution the accept commits (same program, same world).
-    const LastQuery& q = *session_->last_query();
+    const kernel::LastQuery& q = *session_->last_query();
     const sdk::Outcome outcome = q.shown[static_cast<std::size_t>(row.rank)].outcome;
     const sdk::WorldState start = q.world;
     const sdk::Program program = q.parse.candidates[static_cast<std::size_t>(row.rank)].program;
 
-    AcceptResult accepted;
+    kernel::AcceptResult accepted;
     PlanTally tally;
     std::string error;
     {
       const PlanTallyScope scope(tally);
-      error = attempt([&] { accepted = session_->accept(AcceptRequest{row.rank}); });
+      error = attempt([&] { accepted = session_->accept(kernel::AcceptRequest{row.rank}); });
     }
     row.executed = error.empty();
     row.plan_calls = tally.calls;
@@ -346,10 +347,10 @@ class RunReplay {
 
   void define(const Definition& def, const std::string& head, const std::vector<BodyLine>& body,
               DefineRow& row) {
-    DefineCall call;
+    naturalization::DefineCall call;
     call.head = head;
     for (const auto& b : body) call.body.push_back(b.utterance);
-    DefineOutcome defined;
+    naturalization::DefineOutcome defined;
     row.error_code = attempt([&] {
       // The program the user accepted for each line, as the 2018 server induced from it
       // (ReplayOptions::reparse_bodies); a line without one is parsed.
@@ -396,8 +397,9 @@ class RunReplay {
   const Corpus& corpus_;
   const Run& run_;
   ReplayResult& out_;
-  std::unique_ptr<Session> session_;
-  NaturalizationExtension* naturalization_ = nullptr;  ///< the session's define/delete service
+  std::unique_ptr<kernel::Session> session_;
+  naturalization::NaturalizationExtension* naturalization_ =
+      nullptr;  ///< the session's define/delete service
   bool reparse_bodies_;
   std::string last_qid_;  ///< the `q` the session's last query answers
   std::string world_id_;  ///< the logged world the session holds ("" after our own accept)
@@ -460,4 +462,4 @@ ReplayResult replay(const Corpus& corpus, const ReplayOptions& options) {
   return out;
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

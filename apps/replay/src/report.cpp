@@ -8,7 +8,7 @@
 #include "flipper/record/out_file.hpp"
 #include "flipper/replay/output.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace {
 
 using nlohmann::json;
@@ -307,4 +307,4 @@ void write_report(const std::string& run_dir, const json& manifest,
   file.close();
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

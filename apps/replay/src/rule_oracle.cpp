@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <set>
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 namespace {
 
@@ -43,4 +43,4 @@ std::string compare_rules(const std::vector<LoggedRule>& original,
   return inside ? "subset" : "overlap";
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -14,7 +14,7 @@
 #include "flipper/replay/replayer.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -22,7 +22,7 @@ namespace {
 
 // A variant's entry in the manifest: what it is, its config and plugins, its seeds.
 json variant_json(const Experiment& e, const PlannedVariant& v) {
-  const Config config = Config::load(e.config, v.sets);
+  const kernel::Config config = kernel::Config::load(e.config, v.sets);
   json plugins = record::plugins_json(config);
   json seeds = json::object();
   for (const auto& p : plugins)
@@ -181,4 +181,4 @@ RunSummary assemble_run(const std::string& run_dir, json manifest, bool plots) {
   return summary;
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

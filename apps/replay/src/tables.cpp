@@ -7,7 +7,7 @@
 #include "flipper/record/compare.hpp"
 #include "flipper/replay/output.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 std::string one_decimal(double v) {
   char b[32];
@@ -175,4 +175,4 @@ std::string seeds_table(const std::vector<record::Figure>& figures,
   return o.str();
 }
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

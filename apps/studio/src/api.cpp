@@ -154,7 +154,7 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
     for (int i = 0; i < n; ++i) {
       auto k = std::make_unique<Kernel>();
       k->runtime = kernel::make_runtime(config);
-      k->host = std::make_unique<kernel::SessionHost>(kernel::open_host(k->runtime));
+      k->host = std::make_unique<wiring::SessionHost>(wiring::open_host(k->runtime));
       std::error_code ec;
       k->world_root =
           fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();

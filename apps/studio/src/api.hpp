@@ -31,7 +31,7 @@ class Recorder;
 /// One runtime and lexicon connection; the kernels of one pool share a config and a store.
 struct Kernel {
   std::shared_ptr<kernel::Runtime> runtime;
-  std::unique_ptr<kernel::SessionHost> host;
+  std::unique_ptr<wiring::SessionHost> host;
   std::string world_root;  ///< `world` requests may name files under this directory only
   std::size_t max_world_bytes = 0;
   kernel::Json vocabulary;  ///< for "did you mean" (computed once)

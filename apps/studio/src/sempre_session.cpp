@@ -30,10 +30,10 @@ class SessionExecution : public sdk::ExecutionService {
 
 // A formula as the client sends it back: our canonical text, or the original's notation
 // (logged histories, other SEMPRE clients).
-using kernel::corpus::read_formula;
+using corpus::read_formula;
 
-kernel::NaturalizationExtension& naturalization(kernel::Session& s) {
-  auto* n = s.extension<kernel::NaturalizationExtension>();
+naturalization::NaturalizationExtension& naturalization(kernel::Session& s) {
+  auto* n = s.extension<naturalization::NaturalizationExtension>();
   if (n == nullptr)
     throw sdk::Error(sdk::codes::kInternal, "this server's sessions have no naturalization");
   return *n;
@@ -135,7 +135,7 @@ SempreAnswer accept(SempreSession& s, const SempreCommand& c) {
 }
 
 SempreAnswer define(SempreSession& s, const SempreCommand& c) {
-  kernel::DefineCall call;
+  naturalization::DefineCall call;
   call.head = c.text;
   for (const auto& step : parse_sempre_body(c.body)) {
     call.body.push_back(step.utterance);
@@ -143,7 +143,7 @@ SempreAnswer define(SempreSession& s, const SempreCommand& c) {
     const bool none = step.formula.empty() || step.formula == "()" || step.formula == "?";
     call.programs.push_back(none ? nullptr : read_formula(step.formula));
   }
-  const kernel::DefineOutcome out = naturalization(*s.session).define(*s.session, call);
+  const naturalization::DefineOutcome out = naturalization(*s.session).define(*s.session, call);
   // The whole body as one step of the client's history.
   const std::string formula = sdk::render(out.body);
   const Json value{{"status", ""}, {"path", Json::array()}};
@@ -189,7 +189,7 @@ SempreAnswer delete_rule(SempreSession& s, const SempreCommand& c) {
       nat.delete_rule(*s.session, l.rule->id);
       return {};
     }
-  throw sdk::Error(kernel::naturalize_codes::kNotFound,
+  throw sdk::Error(naturalization::naturalize_codes::kNotFound,
                    "no rule with index " + std::to_string(c.index) + " in your dictionary");
 }
 

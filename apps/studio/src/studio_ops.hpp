@@ -20,7 +20,7 @@
 #include "flipper/kernel/session_extension.hpp"
 #include "flipper/studio/accounts.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 class Naturalizer;
 }
 
@@ -35,7 +35,7 @@ bool path_inside(const std::string& path, const std::string& root);
 struct StudioOpsContext {
   std::string world_root;
   Role role = Role::user;
-  std::shared_ptr<kernel::Naturalizer> naturalizer;
+  std::shared_ptr<naturalization::Naturalizer> naturalizer;
   std::size_t max_world_bytes = 0;  ///< the most one world may take (world.max_cells)
   std::size_t budget_bytes = 0;     ///< for messages
   /// Reserves bytes from the memory budget (false: no room); charges the session's total.

@@ -3,7 +3,7 @@
 
 #include "flipper/svg/svg.hpp"
 
-namespace flipper::kernel::svg {
+namespace flipper::svg {
 
 std::string escape(const std::string& text) {
   std::string out;
@@ -72,4 +72,4 @@ std::string Writer::str() const {
          "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n" + body_.str() + "</svg>\n";
 }
 
-}  // namespace flipper::kernel::svg
+}  // namespace flipper::svg

@@ -7,7 +7,7 @@
 
 #include "flipper/svg/svg.hpp"
 
-namespace flipper::kernel::svg {
+namespace flipper::svg {
 
 Pt point_of(const nlohmann::json& p) {
   Pt out;
@@ -183,4 +183,4 @@ std::string world_picture(const Json& world, const Json* trace, const std::strin
   return w.str();
 }
 
-}  // namespace flipper::kernel::svg
+}  // namespace flipper::svg

@@ -4,7 +4,15 @@
 
 #include "flipper/naturalization/naturalize_ops.hpp"
 
-namespace flipper::kernel {
+namespace flipper::wiring {
+
+using kernel::Config;
+using kernel::make_runtime;
+using kernel::Runtime;
+using kernel::Session;
+using naturalization::NaturalizationExtension;
+using naturalization::NaturalizeOptions;
+using naturalization::Naturalizer;
 
 std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime) {
   return open_host(std::move(runtime)).open();
@@ -42,4 +50,4 @@ SessionHost open_host(const std::optional<std::string>& config_file,
   return open_host(make_runtime(Config::load(config_file, overrides)));
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::wiring

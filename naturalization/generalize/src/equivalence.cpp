@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace flipper::kernel::generalize {
+namespace flipper::naturalization::generalize {
 
 namespace {
 
@@ -54,4 +54,4 @@ std::optional<std::string> difference(const sdk::Outcome& body, const sdk::Outco
   return std::nullopt;
 }
 
-}  // namespace flipper::kernel::generalize
+}  // namespace flipper::naturalization::generalize

@@ -6,11 +6,11 @@
 
 #include "flipper/sdk/execution.hpp"
 
-namespace flipper::kernel::generalize {
+namespace flipper::naturalization::generalize {
 
 /// Nullopt when `candidate` is equivalent to `body`; else a reason such as
 /// "different trace at step 3 (body: move to [3,4]; candidate: pick red circle at [2,4])",
 /// "different final world: robot at [3,4] vs [4,4]" or "execution error: ...".
 std::optional<std::string> difference(const sdk::Outcome& body, const sdk::Outcome& candidate);
 
-}  // namespace flipper::kernel::generalize
+}  // namespace flipper::naturalization::generalize

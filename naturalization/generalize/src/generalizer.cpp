@@ -11,7 +11,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "perturbation.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 
@@ -85,8 +85,8 @@ class WatchedExecution final : public sdk::ExecutionService {
 
 }  // namespace
 
-Generalizer::Generalizer(PluginRef<const sdk::Rewriter> rewriter,
-                         PluginRef<const sdk::Similarity> similarity,
+Generalizer::Generalizer(kernel::PluginRef<const sdk::Rewriter> rewriter,
+                         kernel::PluginRef<const sdk::Similarity> similarity,
                          const sdk::ExecutionService& exec, GeneralizeOptions options)
     : rewriter_(std::move(rewriter)),
       similarity_(std::move(similarity)),
@@ -184,4 +184,4 @@ GeneralizeResult Generalizer::generalize(
   return result;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -2,7 +2,7 @@
 
 #include <random>
 
-namespace flipper::kernel::generalize {
+namespace flipper::naturalization::generalize {
 
 namespace {
 
@@ -56,4 +56,4 @@ std::vector<sdk::WorldState> perturb(const sdk::WorldState& world, int count, st
   return out;
 }
 
-}  // namespace flipper::kernel::generalize
+}  // namespace flipper::naturalization::generalize

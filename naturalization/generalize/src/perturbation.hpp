@@ -5,7 +5,7 @@
 
 #include "flipper/sdk/world.hpp"
 
-namespace flipper::kernel::generalize {
+namespace flipper::naturalization::generalize {
 
 /// `count` perturbed copies of `world`, the same for the same seed. Perturbation k moves the
 /// robot to another free cell (even k), moves each lying item with probability 1/3 to another
@@ -14,4 +14,4 @@ namespace flipper::kernel::generalize {
 /// from `world`. Empty when the world has fewer than two free cells.
 std::vector<sdk::WorldState> perturb(const sdk::WorldState& world, int count, std::uint64_t seed);
 
-}  // namespace flipper::kernel::generalize
+}  // namespace flipper::naturalization::generalize

@@ -6,7 +6,7 @@
 #include "flipper/naturalization/generalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 
@@ -36,4 +36,4 @@ std::vector<std::string> candidate_words(const sdk::Program& program) {
   return out;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -4,7 +4,7 @@
 
 #include "flipper/naturalization/induction.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 
@@ -106,4 +106,4 @@ std::vector<sdk::Rule> alignment_rules(const std::vector<std::string>& head,
   return out;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -5,10 +5,11 @@
 
 #include <utility>
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
-Inducer::Inducer(PluginRef<const sdk::Parser> parser, PluginRef<const sdk::Scorer> scorer,
-                 InductionOptions options, const sdk::UsageCounters* usage)
+Inducer::Inducer(kernel::PluginRef<const sdk::Parser> parser,
+                 kernel::PluginRef<const sdk::Scorer> scorer, InductionOptions options,
+                 const sdk::UsageCounters* usage)
     : parser_(std::move(parser)), scorer_(std::move(scorer)), options_(options), usage_(usage) {}
 
 namespace {
@@ -136,4 +137,4 @@ InductionResult Inducer::induce(const PreparedDefinition& p, const sdk::Program&
   return out;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

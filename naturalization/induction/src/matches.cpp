@@ -6,7 +6,7 @@
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 std::string category_of_sort(sdk::Sort sort) {
   using sdk::Sort;
@@ -128,4 +128,4 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
   return out;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

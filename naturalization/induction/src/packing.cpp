@@ -5,7 +5,7 @@
 
 #include "flipper/naturalization/induction.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 // Packing totals are sums of derivation scores; sums of equal terms in another order may differ
@@ -101,4 +101,4 @@ double best_packing_score(const std::vector<sdk::DerivationPtr>& head_chart,
   return packing_score(best_packing(find_matches(head_chart, program, head_length), head_length));
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

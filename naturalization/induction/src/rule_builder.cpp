@@ -1,7 +1,7 @@
 // Rule construction from a packing (docs/naturalization.md §4.7).
 #include "flipper/naturalization/induction.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 
@@ -92,4 +92,4 @@ bool same_rule(const sdk::Rule& a, const sdk::Rule& b) {
   return a.lhs == b.lhs && a.rhs == b.rhs && sdk::equal(a.sem, b.sem);
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

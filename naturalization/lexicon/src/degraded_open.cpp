@@ -8,7 +8,7 @@
 
 #include "flipper/naturalization/lexicon_store.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace fs = std::filesystem;
 
@@ -54,4 +54,4 @@ std::unique_ptr<sqlite::Db> open_for_reading(const std::string& path, int busy_t
   }
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -7,7 +7,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "sqlite_handle.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 /// Why an existing store whose read-write open failed with `error` can still be read, as the
 /// code its writes are refused with: lexicon_read_only (the file, its folder or its file system
@@ -23,4 +23,4 @@ const char* degraded_reason(const std::string& path, const sdk::Error& error);
 std::unique_ptr<sqlite::Db> open_for_reading(const std::string& path, int busy_timeout_ms,
                                              const sdk::Error& cause);
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -13,7 +13,7 @@
 #include "sqlite_handle.hpp"
 #include "store_impl.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -868,4 +868,4 @@ std::size_t LexiconStore::import_jsonl(std::istream& in) {
   return n;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -6,7 +6,7 @@
 #include "sqlite_handle.hpp"
 #include "store_impl.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 
@@ -71,4 +71,4 @@ std::vector<PreloadFailure> LexiconStore::preload_failures() const {
   return out;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

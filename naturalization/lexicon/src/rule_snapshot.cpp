@@ -3,7 +3,7 @@
 #include <bit>
 #include <cstring>
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 
@@ -220,4 +220,4 @@ std::uint64_t snapshot_checksum(std::string_view blob) {
   return h;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -8,7 +8,7 @@
 #include "sqlite_handle.hpp"
 #include "store_impl.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 
@@ -133,4 +133,4 @@ bool LexiconStore::save_snapshot(const LiveRulesRead& read, std::int64_t rules,
   return true;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

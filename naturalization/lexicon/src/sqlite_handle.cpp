@@ -10,7 +10,7 @@
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::sqlite {
+namespace flipper::naturalization::sqlite {
 
 namespace {
 
@@ -335,4 +335,4 @@ ReadTransaction::~ReadTransaction() {
   sqlite3_exec(db_.raw(), "COMMIT", nullptr, nullptr, nullptr);
 }
 
-}  // namespace flipper::kernel::sqlite
+}  // namespace flipper::naturalization::sqlite

@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-namespace flipper::kernel::sqlite {
+namespace flipper::naturalization::sqlite {
 
 /// The lexicon error code for an SQLite result code (and the OS errno behind it).
 const char* code_for(int rc, int system_errno);
@@ -127,4 +127,4 @@ class ReadTransaction {
   Db& db_;
 };
 
-}  // namespace flipper::kernel::sqlite
+}  // namespace flipper::naturalization::sqlite

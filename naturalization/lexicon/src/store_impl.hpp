@@ -9,7 +9,7 @@
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "sqlite_handle.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 /// Adds preload failures to the store inside the caller's write transaction (creating their
 /// table when there are any).
@@ -22,4 +22,4 @@ struct LexiconStore::Impl {
   std::optional<std::int64_t> last_data_version;
 };
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

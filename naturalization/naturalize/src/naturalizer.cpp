@@ -12,7 +12,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/grammar.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace {
 
@@ -246,7 +246,7 @@ const char* to_string(Sharing s) {
   return "shared";
 }
 
-Naturalizer::Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions options)
+Naturalizer::Naturalizer(std::shared_ptr<kernel::Runtime> runtime, NaturalizeOptions options)
     : runtime_(std::move(runtime)), options_(std::move(options)) {
   if (!runtime_ || !runtime_->parser || !runtime_->scorer)
     throw sdk::Error(sdk::codes::kInternal,
@@ -637,4 +637,4 @@ void Naturalizer::hold_stored_weights(const std::string& user, sdk::IncrementalS
   });
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -4,9 +4,9 @@
 #include "flipper/kernel/keys.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
-NaturalizeOptions NaturalizeOptions::from_config(const Config& config) {
+NaturalizeOptions NaturalizeOptions::from_config(const kernel::Config& config) {
   NaturalizeOptions o;
   const std::string path = config.get_string("lexicon.path");
   o.store_path = path == ":memory:" || path.empty() ? ":memory:"
@@ -15,12 +15,12 @@ NaturalizeOptions NaturalizeOptions::from_config(const Config& config) {
   const std::string preload = config.get_string("lexicon.preload");
   o.preload = preload.empty() ? preload : config.resolve_path_of("lexicon.preload", preload);
   o.per_user_weights = config.get_string("lexicon.weights") == "per_user";  // schema: enum
-  o.store.busy_timeout_ms = static_cast<int>(config.get(keys::kBusyTimeoutMs));
-  o.snapshot_min_rules = config.get(keys::kSnapshotMinRules);
-  o.induction.alignment = config.get(keys::kAlignment);
-  o.generalize = config.get(keys::kGeneralize);
-  o.perturbed_checks = static_cast<int>(config.get(keys::kPerturbedChecks));
+  o.store.busy_timeout_ms = static_cast<int>(config.get(kernel::keys::kBusyTimeoutMs));
+  o.snapshot_min_rules = config.get(kernel::keys::kSnapshotMinRules);
+  o.induction.alignment = config.get(kernel::keys::kAlignment);
+  o.generalize = config.get(kernel::keys::kGeneralize);
+  o.perturbed_checks = static_cast<int>(config.get(kernel::keys::kPerturbedChecks));
   return o;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

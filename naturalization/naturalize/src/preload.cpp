@@ -11,12 +11,12 @@
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 void Naturalizer::preload(const std::string& path) {
-  std::istringstream in(read_regular_file(path,
-                                          InputLimits::from_config(runtime_->config).max_file_bytes,
-                                          "lexicon.preload file", sdk::codes::kBadConfig));
+  std::istringstream in(kernel::read_regular_file(
+      path, kernel::InputLimits::from_config(runtime_->config).max_file_bytes,
+      "lexicon.preload file", sdk::codes::kBadConfig));
   // A restart must not replay what the store already holds.
   std::set<std::tuple<std::string, std::vector<std::string>, std::string>> stored;
   for (const auto& d : store_->definitions()) stored.emplace(d.head, d.body, d.author);
@@ -62,4 +62,4 @@ void Naturalizer::preload(const std::string& path) {
   store_->record_preload_failures(path, preload_report_.failures);
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

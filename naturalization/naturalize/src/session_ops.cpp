@@ -7,9 +7,9 @@
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
-void write_rule(JsonWriter& w, const sdk::Rule& rule, bool close) {
+void write_rule(kernel::JsonWriter& w, const sdk::Rule& rule, bool close) {
   w.begin_object().key("id").string(rule.id).key("lhs").string(rule.lhs);
   w.key("rhs").begin_array();
   for (const auto& s : rule.rhs) w.string(s.text);
@@ -25,19 +25,20 @@ constexpr int kMaxRank = 1000000;  // a body line's reading rank
 // The session's executor bound to the request's deadline (generalization runs many programs).
 class DeadlineExecution : public sdk::ExecutionService {
  public:
-  DeadlineExecution(const Executor& exec, std::chrono::steady_clock::time_point deadline)
+  DeadlineExecution(const kernel::Executor& exec, std::chrono::steady_clock::time_point deadline)
       : exec_(exec), deadline_(deadline) {}
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override {
     return exec_.run(program, world, deadline_);
   }
 
  private:
-  const Executor& exec_;
+  const kernel::Executor& exec_;
   std::chrono::steady_clock::time_point deadline_;
 };
 
 // Head and body lines are parsed into a chart of (n + 1)^2 cells: bounded by input.max_tokens.
-void check_length(const InputLimits& limits, const std::string& text, const std::string& what) {
+void check_length(const kernel::InputLimits& limits, const std::string& text,
+                  const std::string& what) {
   const std::size_t n = sdk::tokenize(text).size();
   if (n > limits.max_tokens)
     throw sdk::Error(sdk::codes::kInputTooLong, what + " has " + std::to_string(n) +
@@ -47,9 +48,9 @@ void check_length(const InputLimits& limits, const std::string& text, const std:
 
 }  // namespace
 
-DefineOutcome define(Naturalizer& nat, Session& s, const DefineCall& call) {
+DefineOutcome define(Naturalizer& nat, kernel::Session& s, const DefineCall& call) {
   s.begin_call();
-  const InputLimits& limits = s.options().input;
+  const kernel::InputLimits& limits = s.options().input;
   check_length(limits, call.head, "the head");
   if (call.body.size() > limits.max_body_lines)
     throw sdk::Error(sdk::codes::kInputTooLong, "the body has " + std::to_string(call.body.size()) +
@@ -79,14 +80,14 @@ DefineOutcome define(Naturalizer& nat, Session& s, const DefineCall& call) {
   return nat.define(d);
 }
 
-std::vector<RuleListing> list_rules(Naturalizer& nat, Session& s,
+std::vector<RuleListing> list_rules(Naturalizer& nat, kernel::Session& s,
                                     const std::optional<std::string>& author) {
   s.begin_call();
   nat.refresh();
   return nat.rules(s.user(), author);
 }
 
-void delete_rule(Naturalizer& nat, Session& s, const std::string& id) {
+void delete_rule(Naturalizer& nat, kernel::Session& s, const std::string& id) {
   s.begin_call();
   nat.delete_rule(s.user(), id);
 }
@@ -95,9 +96,9 @@ namespace {
 
 // docs/protocol.md § define: `body` lines are utterances or {"text", "formula"} objects, the
 // formula (core-language text, as a query answers it) naming the line's reading.
-void read_body(const Json& req, DefineCall& call) {
+void read_body(const kernel::Json& req, DefineCall& call) {
   const char* what = "a list of utterances or {\"text\", \"formula\"} objects";
-  const Json& body = request::require(req, "body", what);
+  const kernel::Json& body = kernel::request::require(req, "body", what);
   if (!body.is_array())
     throw sdk::Error(sdk::codes::kBadRequest, std::string("field 'body' must be ") + what);
   for (const auto& line : body) {
@@ -122,9 +123,10 @@ void read_body(const Json& req, DefineCall& call) {
 }
 
 // docs/protocol.md § define: {"rules":[rule...],"generalized"[,"discarded"]}.
-void op_define(Naturalizer& nat, Session& s, const Json& req, JsonWriter& a) {
+void op_define(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
+               kernel::JsonWriter& a) {
   DefineCall call;
-  call.head = request::require_string(req, "head", "the utterance to define");
+  call.head = kernel::request::require_string(req, "head", "the utterance to define");
   read_body(req, call);
   if (req.contains("ranks") && !req["ranks"].is_null()) {
     if (!req["ranks"].is_array())
@@ -157,8 +159,9 @@ void op_define(Naturalizer& nat, Session& s, const Json& req, JsonWriter& a) {
 }
 
 // docs/protocol.md § rules: each rule with "head", "body", "uses", "uses_by_author/others".
-void op_rules(Naturalizer& nat, Session& s, const Json& req, JsonWriter& a) {
-  const auto author = request::optional_string(req, "author", "a user name");
+void op_rules(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
+              kernel::JsonWriter& a) {
+  const auto author = kernel::request::optional_string(req, "author", "a user name");
   a.key("rules").begin_array();
   for (const auto& l : list_rules(nat, s, author)) {
     write_rule(a, *l.rule, false);
@@ -173,46 +176,50 @@ void op_rules(Naturalizer& nat, Session& s, const Json& req, JsonWriter& a) {
 
 }  // namespace
 
-void install_naturalization(Session& session, const std::shared_ptr<Naturalizer>& nat) {
-  session.set_op("define",
-                 [nat](Session& s, const Json& r, JsonWriter& a) { op_define(*nat, s, r, a); });
-  session.set_op("rules",
-                 [nat](Session& s, const Json& r, JsonWriter& a) { op_rules(*nat, s, r, a); });
-  session.set_op("delete_rule", [nat](Session& s, const Json& r, JsonWriter& a) {
-    const std::string id = request::require_string(r, "rule", "a rule id");
-    delete_rule(*nat, s, id);
-    a.key("deleted").string(id);
+void install_naturalization(kernel::Session& session, const std::shared_ptr<Naturalizer>& nat) {
+  session.set_op("define", [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
+    op_define(*nat, s, r, a);
   });
+  session.set_op("rules", [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
+    op_rules(*nat, s, r, a);
+  });
+  session.set_op("delete_rule",
+                 [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
+                   const std::string id = kernel::request::require_string(r, "rule", "a rule id");
+                   delete_rule(*nat, s, id);
+                   a.key("deleted").string(id);
+                 });
   // Every parse sees the rules and deletions other processes committed before it.
-  session.add_query_hook([nat](Session&) { nat->refresh(); });
+  session.add_query_hook([nat](kernel::Session&) { nat->refresh(); });
   if (nat->options().sharing != Sharing::shared)
     session.set_visibility(
         [nat](const sdk::Rule& rule, const std::string& user) { return nat->visible(rule, user); });
-  session.set_on_accept(
-      [nat](Session&, const AcceptEvent& e) { nat->on_accept(e.user, e.candidate.induced_rules); });
+  session.set_on_accept([nat](kernel::Session&, const kernel::AcceptEvent& e) {
+    nat->on_accept(e.user, e.candidate.induced_rules);
+  });
   if (nat->options().per_user_weights) {
-    session.add_user_hook([nat](Session& s) { nat->select_user(s.user()); });
+    session.add_user_hook([nat](kernel::Session& s) { nat->select_user(s.user()); });
     nat->select_user(session.user());
   }
 }
 
-std::shared_ptr<Naturalizer> install_naturalization(Session& session,
-                                                    std::shared_ptr<Runtime> runtime) {
+std::shared_ptr<Naturalizer> install_naturalization(kernel::Session& session,
+                                                    std::shared_ptr<kernel::Runtime> runtime) {
   NaturalizeOptions options = NaturalizeOptions::from_config(runtime->config);
   auto nat = std::make_shared<Naturalizer>(std::move(runtime), std::move(options));
   install_naturalization(session, nat);
   return nat;
 }
 
-void NaturalizationExtension::install(Session& session) {
+void NaturalizationExtension::install(kernel::Session& session) {
   install_naturalization(session, naturalizer_);
 }
 
-void NaturalizationExtension::activate(const Session& session) {
+void NaturalizationExtension::activate(const kernel::Session& session) {
   if (naturalizer_->options().per_user_weights) naturalizer_->select_user(session.user());
   // A session may have asked on another kernel (a server's pool, docs/studio.md §5): an accept
   // must count and learn against everything committed so far, like a parse.
   naturalizer_->refresh();
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -34,7 +34,7 @@
 #include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/world.hpp"
 
-namespace flipper::kernel::corpus {
+namespace flipper::corpus {
 
 /// Robot cell, carried items and floor items as sorted multisets ("colour shape",
 /// "x,y colour shape"): item ids and list order do not take part in comparisons.
@@ -102,4 +102,4 @@ struct AcceptCase {
 
 AcceptClass classify_accept(const AcceptCase& c);
 
-}  // namespace flipper::kernel::corpus
+}  // namespace flipper::corpus

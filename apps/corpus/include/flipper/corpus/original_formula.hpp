@@ -13,7 +13,7 @@
 
 #include "flipper/sdk/ast.hpp"
 
-namespace flipper::kernel::corpus {
+namespace flipper::corpus {
 
 /// Whether `text` looks like one of the original's formulas (a parenthesised form) rather than
 /// canonical text (which starts with `{`).
@@ -28,4 +28,4 @@ std::string original_formula_to_canonical(std::string_view formula);
 /// Throws sdk::Error naming the formula when it does not read.
 sdk::Program read_formula(std::string_view formula);
 
-}  // namespace flipper::kernel::corpus
+}  // namespace flipper::corpus

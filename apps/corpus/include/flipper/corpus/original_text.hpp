@@ -10,8 +10,8 @@
 
 #include <string>
 
-namespace flipper::kernel::corpus {
+namespace flipper::corpus {
 
 std::string normalize_original_pretty(std::string text);
 
-}  // namespace flipper::kernel::corpus
+}  // namespace flipper::corpus

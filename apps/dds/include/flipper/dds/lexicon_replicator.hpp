@@ -59,7 +59,7 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   /// Recovers the log, re-publishes the history and starts the reader thread.
   /// `keystore`: DDS Security on (lexicon.site must be an identity of it).
   static std::shared_ptr<LexiconReplicator> start(std::shared_ptr<Participant> participant,
-                                                  const kernel::SessionHost& host,
+                                                  const wiring::SessionHost& host,
                                                   std::ostream& log,
                                                   const std::optional<Keystore>& keystore = {});
   ~LexiconReplicator();
@@ -77,7 +77,7 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   std::uint64_t refused() const { return refused_.load(); }
 
  private:
-  LexiconReplicator(std::shared_ptr<Participant> participant, const kernel::SessionHost& host,
+  LexiconReplicator(std::shared_ptr<Participant> participant, const wiring::SessionHost& host,
                     std::ostream& log, const std::optional<Keystore>& keystore);
   void recover();
   void loop();
@@ -102,7 +102,7 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
                  const kernel::Json& req, kernel::JsonWriter& answer);
 
   std::shared_ptr<Participant> participant_;
-  kernel::SessionHost host_;
+  wiring::SessionHost host_;
   std::ostream& log_;
   std::string site_;
   kernel::Executor executor_;

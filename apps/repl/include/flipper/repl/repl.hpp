@@ -13,27 +13,28 @@
 
 #include "flipper/kernel/session.hpp"
 
-namespace flipper::kernel::repl {
+namespace flipper::repl {
 
 /// What render_map draws besides the world.
 struct MapOptions {
-  const Json* trace = nullptr;  ///< protocol trace steps drawn as `o` path, `E` end, `P`/`D`
-  bool legend = true;           ///< legend, stacks, other floors, robot and rooms below the grid
-  std::optional<int> floor;     ///< 3-D: the z layer shown (default: the robot's)
+  const kernel::Json* trace =
+      nullptr;               ///< protocol trace steps drawn as `o` path, `E` end, `P`/`D`
+  bool legend = true;        ///< legend, stacks, other floors, robot and rooms below the grid
+  std::optional<int> floor;  ///< 3-D: the z layer shown (default: the robot's)
 };
 
 /// The world object as a text map: `##` walls, `R` robot, items as colour+shape letters (`rc` a
 /// red circle), `n*` for n items on one cell, y growing upward (top row = max y), axes, and a
 /// legend listing items, held items and rooms. 3-D worlds show one floor (labelled with its z),
 /// keep z in coordinates and list the items of the other floors.
-std::string render_map(const Json& world, const MapOptions& options = {});
+std::string render_map(const kernel::Json& world, const MapOptions& options = {});
 
 /// One candidate of a query answer, numbered for the user (1-based `number`): canonical text,
 /// probability, steps, picks/drops, warnings (repeats collapsed), induced rules and errors.
-std::string describe_candidate(const Json& candidate, int number);
+std::string describe_candidate(const kernel::Json& candidate, int number);
 
 /// Warnings with repeats collapsed, in first-seen order: "28 × move left blocked ...".
-std::vector<std::string> collapse_warnings(const Json& warnings);
+std::vector<std::string> collapse_warnings(const kernel::Json& warnings);
 
 /// Words of `tokens` the grammar does not know (not a terminal of `vocabulary`, not a number),
 /// each with " (did you mean 'x'?)" when a known word is close, else with what the core language
@@ -44,9 +45,9 @@ std::vector<std::string> unknown_words(const std::vector<std::string>& tokens,
 std::string plain_word_hint(const std::string& word);
 /// Every word `session`'s parser may know: the core grammar's terminals, colour, shape and
 /// direction words, and the words of the lexicon rules visible to its user.
-std::vector<std::string> vocabulary(Session& session);
+std::vector<std::string> vocabulary(kernel::Session& session);
 /// "Unknown words: 'vist' (did you mean 'visit'?), 'go' (the core language says ...)." or "".
-std::string unknown_words_note(Session& session, const std::string& text);
+std::string unknown_words_note(kernel::Session& session, const std::string& text);
 
 /// One row of the language guide's example table (docs/language.md).
 struct GuideExample {
@@ -84,6 +85,6 @@ std::unique_ptr<LineReader> make_line_reader(std::istream& in, bool terminal,
 std::string default_history_file();
 
 /// Runs the loop until `:quit` or end of input. Returns the process exit status.
-int run(Session& session, LineReader& reader, std::ostream& out);
+int run(kernel::Session& session, LineReader& reader, std::ostream& out);
 
-}  // namespace flipper::kernel::repl
+}  // namespace flipper::repl

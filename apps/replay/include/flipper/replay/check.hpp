@@ -9,7 +9,7 @@
 #include "flipper/record/figures.hpp"
 #include "flipper/replay/experiment.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 struct CheckResult {
   std::string rerun_dir;              ///< the re-run ("" when it was temporary and is removed)
@@ -35,4 +35,4 @@ CheckResult check_run(const std::string& run_dir, int jobs, const std::string& k
 RunSummary merge_runs(const std::vector<std::string>& runs, const std::string& out, bool plots,
                       std::vector<std::string>& warnings);
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

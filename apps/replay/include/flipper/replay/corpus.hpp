@@ -12,7 +12,7 @@
 #include <unordered_map>
 #include <vector>
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 /// One body line of a definition.
 struct BodyLine {
@@ -104,4 +104,4 @@ nlohmann::json protocol_world(const nlohmann::json& record);
 
 inline constexpr const char* kBadCorpus = "bad_corpus";
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -17,7 +17,7 @@
 
 #include "flipper/replay/corpus.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 struct OurRule {
   std::string id;
@@ -50,4 +50,4 @@ class DeletionMap {
   std::vector<int> seen_lines_;
 };
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -35,7 +35,7 @@
 #include "flipper/record/plots.hpp"
 #include "flipper/record/sweep.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 struct ExperimentVariant {
   std::string name;
@@ -109,4 +109,4 @@ RunSummary run_experiment(const Experiment& e, const RunOptions& options);
 /// plots). Used after running and after merging.
 RunSummary assemble_run(const std::string& run_dir, nlohmann::json manifest, bool plots);
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

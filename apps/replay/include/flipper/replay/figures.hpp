@@ -10,8 +10,8 @@
 #include "flipper/record/figures.hpp"
 #include "flipper/replay/metrics.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 std::vector<record::Figure> replay_figures(const std::string& variant, const Metrics& m);
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -14,7 +14,7 @@
 
 #include "flipper/replay/records.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 /// Our status in the original's vocabulary: core -> Core, induced -> Induced, else Nothing.
 std::string as_original_status(const std::string& ours);
@@ -112,4 +112,4 @@ struct Metrics {
 };
 Metrics compute_metrics(const ReplayResult& result);
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

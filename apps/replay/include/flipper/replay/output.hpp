@@ -15,7 +15,7 @@
 #include "flipper/replay/metrics.hpp"
 #include "flipper/replay/records.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 /// The metrics report, written indented to metrics.json for people to read. The one use of
 /// nlohmann::ordered_json in the tree: the report's sections stay in reading order (agreement
@@ -60,4 +60,4 @@ void write_report(const std::string& run_dir, const nlohmann::json& manifest,
                   const std::vector<record::VariantInfo>& variants,
                   const std::vector<record::Figure>& figures);
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

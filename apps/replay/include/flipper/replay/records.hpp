@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 /// A `:q` and our answer to it.
 struct QueryRow {
@@ -78,4 +78,4 @@ struct ReplayResult {
   std::vector<std::string> runs;  ///< replayed runs
 };
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -26,7 +26,7 @@
 #include "flipper/replay/corpus.hpp"
 #include "flipper/replay/records.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 struct ReplayOptions {
   std::optional<std::string> config_file;  ///< empty: the embedded default
@@ -51,4 +51,4 @@ std::vector<const Run*> select_runs(const Corpus& corpus, const std::vector<std:
 /// Replays the selected runs. Throws sdk::Error for an unknown run or a bad config.
 ReplayResult replay(const Corpus& corpus, const ReplayOptions& options);
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

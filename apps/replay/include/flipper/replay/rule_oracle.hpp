@@ -11,7 +11,7 @@
 
 #include "flipper/replay/corpus.hpp"
 
-namespace flipper::kernel::replay {
+namespace flipper::replay {
 
 /// One of our induced rules as the define answer reports it.
 struct RuleShape {
@@ -29,4 +29,4 @@ std::string compare_rules(const std::vector<LoggedRule>& original,
 std::string original_shape(const LoggedRule& rule);
 std::string our_shape(const RuleShape& rule);
 
-}  // namespace flipper::kernel::replay
+}  // namespace flipper::replay

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace flipper::kernel::svg {
+namespace flipper::svg {
 
 /// Text safe inside SVG elements and attributes.
 std::string escape(const std::string& text);
@@ -55,4 +55,4 @@ Pt point_of(const nlohmann::json& p);
 std::string world_picture(const nlohmann::json& world, const nlohmann::json* trace,
                           const std::string& title);
 
-}  // namespace flipper::kernel::svg
+}  // namespace flipper::svg

@@ -12,17 +12,19 @@
 #include "flipper/kernel/session.hpp"
 #include "flipper/kernel/session_extension.hpp"
 
-namespace flipper::kernel {
-
+namespace flipper::naturalization {
 class Naturalizer;
+}
+
+namespace flipper::wiring {
 
 /// Loads the config (file or embedded default, then overrides), builds the runtime and the
 /// session. Throws sdk::Error (bad_config, plugin_*, bad_world, bad_grammar).
-std::unique_ptr<Session> open_session(const std::optional<std::string>& config_file,
-                                      const std::vector<std::string>& overrides);
+std::unique_ptr<kernel::Session> open_session(const std::optional<std::string>& config_file,
+                                              const std::vector<std::string>& overrides);
 
 /// A session over an existing runtime, with every module's ops installed.
-std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime);
+std::unique_ptr<kernel::Session> open_session(std::shared_ptr<kernel::Runtime> runtime);
 
 /// One runtime and one lexicon (naturalizer) that several sessions share: the front ends that
 /// serve many callers (`flipper serve`, the DDS node, the repl and session with DDS services) and
@@ -31,19 +33,19 @@ std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime);
 /// shared, so the sharing mode applies across sessions exactly as between users of one session. Not
 /// thread-safe: the owner serialises every call into the host and its sessions.
 struct SessionHost {
-  std::shared_ptr<Runtime> runtime;
-  std::shared_ptr<Naturalizer> naturalizer;
+  std::shared_ptr<kernel::Runtime> runtime;
+  std::shared_ptr<naturalization::Naturalizer> naturalizer;
   /// What every session of this host gets installed, in order (naturalization first).
-  std::vector<std::shared_ptr<SessionExtension>> extensions;
+  std::vector<std::shared_ptr<kernel::SessionExtension>> extensions;
   /// A new session over the shared runtime and lexicon, with every module's ops installed.
-  std::unique_ptr<Session> open() const;
+  std::unique_ptr<kernel::Session> open() const;
   /// Call before handling a request of `session` when sessions interleave: with per-user
   /// weights (lexicon.weights: per_user) the scorer must hold this session's user's weights.
-  void activate(const Session& session) const;
+  void activate(const kernel::Session& session) const;
 };
 /// Opens the lexicon (lexicon.*) once over `runtime`. Throws sdk::Error like open_session.
-SessionHost open_host(std::shared_ptr<Runtime> runtime);
+SessionHost open_host(std::shared_ptr<kernel::Runtime> runtime);
 SessionHost open_host(const std::optional<std::string>& config_file,
                       const std::vector<std::string>& overrides);
 
-}  // namespace flipper::kernel
+}  // namespace flipper::wiring

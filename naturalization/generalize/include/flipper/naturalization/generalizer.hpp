@@ -25,7 +25,7 @@
 #include "flipper/sdk/rewriter.hpp"
 #include "flipper/sdk/similarity.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 struct GeneralizeCandidate {
   sdk::Program program;
@@ -57,7 +57,8 @@ struct GeneralizeOptions {
 class Generalizer {
  public:
   /// `similarity` may be empty (no similarity feature). Calls go through the refs.
-  Generalizer(PluginRef<const sdk::Rewriter> rewriter, PluginRef<const sdk::Similarity> similarity,
+  Generalizer(kernel::PluginRef<const sdk::Rewriter> rewriter,
+              kernel::PluginRef<const sdk::Similarity> similarity,
               const sdk::ExecutionService& exec, GeneralizeOptions options = {});
   /// @param head_tokens the head's tokens (lexed, lower case).
   /// @param packing_score best-packing score of a program against the head chart (inducer); an
@@ -70,8 +71,8 @@ class Generalizer {
       const std::function<double(const sdk::Program&)>& packing_score) const;
 
  private:
-  PluginRef<const sdk::Rewriter> rewriter_;
-  PluginRef<const sdk::Similarity> similarity_;
+  kernel::PluginRef<const sdk::Rewriter> rewriter_;
+  kernel::PluginRef<const sdk::Similarity> similarity_;
   const sdk::ExecutionService& exec_;
   GeneralizeOptions options_;
 };
@@ -83,4 +84,4 @@ std::vector<std::string> head_words(const std::vector<std::string>& head_tokens)
 /// `is containing in item items and`.
 std::vector<std::string> candidate_words(const sdk::Program& program);
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -17,7 +17,7 @@
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/scorer.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 /// Stable error codes of definitions.
 namespace induction_codes {
@@ -134,7 +134,7 @@ class Inducer {
   /// `visible` restricts the rules used to parse head and body (the author's view).
   /// Parser calls go through `parser` (PluginRef: failures name the plugin). `usage`, the
   /// kernel's use counters, is handed to the scorer as the session's parses do.
-  Inducer(PluginRef<const sdk::Parser> parser, PluginRef<const sdk::Scorer> scorer,
+  Inducer(kernel::PluginRef<const sdk::Parser> parser, kernel::PluginRef<const sdk::Scorer> scorer,
           InductionOptions options = {}, const sdk::UsageCounters* usage = nullptr);
 
   /// §4.1–4.3: checks, body program, head chart. Throws sdk::Error with the codes above
@@ -156,10 +156,10 @@ class Inducer {
   const InductionOptions& options() const { return options_; }
 
  private:
-  PluginRef<const sdk::Parser> parser_;
-  PluginRef<const sdk::Scorer> scorer_;
+  kernel::PluginRef<const sdk::Parser> parser_;
+  kernel::PluginRef<const sdk::Scorer> scorer_;
   InductionOptions options_;
   const sdk::UsageCounters* usage_;
 };
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -23,7 +23,7 @@
 
 #include "flipper/kernel/keys.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace lexicon_codes {
 /// Not a Flipper lexicon (foreign tables, newer schema), or another fault of the file.
@@ -43,7 +43,7 @@ bool is_store_fault(const std::string& code);
 /// How a store is opened.
 struct LexiconStoreOptions {
   /// lexicon.busy_timeout_ms: longest wait for other writers
-  int busy_timeout_ms = static_cast<int>(keys::kBusyTimeoutMs.def);
+  int busy_timeout_ms = static_cast<int>(kernel::keys::kBusyTimeoutMs.def);
   /// SQLite's max_page_count (0: SQLite's default): caps the file size. Tests use it to make a
   /// store "full" without a full device.
   std::int64_t max_page_count = 0;
@@ -284,4 +284,4 @@ class LexiconStore {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -18,7 +18,7 @@
 
 #include "flipper/naturalization/lexicon_store.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 /// Version of the encoding above; a snapshot of another format is ignored (rebuilt). Format 1 had
 /// no decode_error.
@@ -57,4 +57,4 @@ bool read_rule_snapshot(std::string_view blob,
 /// 64-bit checksum of a blob (not cryptographic: it catches damage, not forgery).
 std::uint64_t snapshot_checksum(std::string_view blob);
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -12,14 +12,15 @@
 #include "flipper/kernel/session_extension.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 /// Installs the ops and hooks over an existing naturalizer (kept alive by the session).
-void install_naturalization(Session& session, const std::shared_ptr<Naturalizer>& naturalizer);
+void install_naturalization(kernel::Session& session,
+                            const std::shared_ptr<Naturalizer>& naturalizer);
 /// Builds the naturalizer from the session runtime's config (lexicon.*, induction.*) and
 /// installs it. Returns it for front ends that want direct access.
-std::shared_ptr<Naturalizer> install_naturalization(Session& session,
-                                                    std::shared_ptr<Runtime> runtime);
+std::shared_ptr<Naturalizer> install_naturalization(kernel::Session& session,
+                                                    std::shared_ptr<kernel::Runtime> runtime);
 
 /// The typed definition request of the naturalization service: what a `define` carries.
 struct DefineCall {
@@ -34,32 +35,33 @@ struct DefineCall {
 /// The typed naturalization service of one session (the define/rules/delete_rule ops call it,
 /// front ends call it directly): validation against input.* and the session's deadline here.
 /// Throws sdk::Error like the ops (input_too_long, naturalize_codes, deadline_exceeded).
-DefineOutcome define(Naturalizer& nat, Session& session, const DefineCall& call);
-std::vector<RuleListing> list_rules(Naturalizer& nat, Session& session,
+DefineOutcome define(Naturalizer& nat, kernel::Session& session, const DefineCall& call);
+std::vector<RuleListing> list_rules(Naturalizer& nat, kernel::Session& session,
                                     const std::optional<std::string>& author);
-void delete_rule(Naturalizer& nat, Session& session, const std::string& id);
+void delete_rule(Naturalizer& nat, kernel::Session& session, const std::string& id);
 
 /// Naturalization as a session extension over one naturalizer that several sessions share:
 /// install() wires the ops and hooks above; activate() selects the caller's weights
 /// (lexicon.weights: per_user) and picks up what other kernels committed (refresh) before one of
 /// the sessions handles a request. Front ends find it
 /// with `session.extension<NaturalizationExtension>()` and call the typed service through it.
-class NaturalizationExtension final : public SessionExtension {
+class NaturalizationExtension final : public kernel::SessionExtension {
  public:
   explicit NaturalizationExtension(std::shared_ptr<Naturalizer> naturalizer)
       : naturalizer_(std::move(naturalizer)) {}
-  void install(Session& session) override;
-  void activate(const Session& session) override;
+  void install(kernel::Session& session) override;
+  void activate(const kernel::Session& session) override;
   const std::shared_ptr<Naturalizer>& naturalizer() const { return naturalizer_; }
 
-  DefineOutcome define(Session& session, const DefineCall& call) {
-    return kernel::define(*naturalizer_, session, call);
+  DefineOutcome define(kernel::Session& session, const DefineCall& call) {
+    return naturalization::define(*naturalizer_, session, call);
   }
-  std::vector<RuleListing> rules(Session& session, const std::optional<std::string>& author) {
+  std::vector<RuleListing> rules(kernel::Session& session,
+                                 const std::optional<std::string>& author) {
     return list_rules(*naturalizer_, session, author);
   }
-  void delete_rule(Session& session, const std::string& id) {
-    kernel::delete_rule(*naturalizer_, session, id);
+  void delete_rule(kernel::Session& session, const std::string& id) {
+    naturalization::delete_rule(*naturalizer_, session, id);
   }
 
  private:
@@ -68,6 +70,6 @@ class NaturalizationExtension final : public SessionExtension {
 
 /// Protocol form of a rule: {"id","lhs","rhs","semantics","author","how"}; `close` false leaves
 /// the object open for more members.
-void write_rule(JsonWriter& w, const sdk::Rule& rule, bool close = true);
+void write_rule(kernel::JsonWriter& w, const sdk::Rule& rule, bool close = true);
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

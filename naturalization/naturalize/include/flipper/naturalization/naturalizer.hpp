@@ -34,7 +34,7 @@
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/world.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 namespace naturalize_codes {
 inline constexpr const char* kForbidden = "forbidden";  ///< deleting another user's rule
@@ -57,15 +57,16 @@ struct NaturalizeOptions {
   /// Start-up keeps a rule snapshot in the store once it holds this many live rules, and rebuilds
   /// it when more than max(this, an eighth of its rules) rows changed since (docs/naturalization.md
   /// §5 "Start-up at scale"). 0: never use or write one.
-  std::int64_t snapshot_min_rules = keys::kSnapshotMinRules.def;  ///< lexicon.snapshot_min_rules
+  std::int64_t snapshot_min_rules =
+      kernel::keys::kSnapshotMinRules.def;  ///< lexicon.snapshot_min_rules
   /// Where warnings go (quarantined rules, preload failures, a store that opened degraded);
   /// default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
-  InductionOptions induction;               ///< induction.alignment (+ parser beam)
-  bool generalize = keys::kGeneralize.def;  ///< induction.generalize
-  int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
+  InductionOptions induction;                       ///< induction.alignment (+ parser beam)
+  bool generalize = kernel::keys::kGeneralize.def;  ///< induction.generalize
+  int perturbed_checks = static_cast<int>(kernel::keys::kPerturbedChecks.def);  ///< induction.*
   /// Reads the keys above from a validated config (the schema filled every default).
-  static NaturalizeOptions from_config(const Config& config);
+  static NaturalizeOptions from_config(const kernel::Config& config);
 };
 
 struct DefineRequest {
@@ -130,7 +131,7 @@ class Naturalizer {
  public:
   /// Opens the store and restores rules and weights into the runtime's parser and scorer, then
   /// preloads. Throws sdk::Error (bad_lexicon, bad_config for an unreadable preload file).
-  Naturalizer(std::shared_ptr<Runtime> runtime, NaturalizeOptions options);
+  Naturalizer(std::shared_ptr<kernel::Runtime> runtime, NaturalizeOptions options);
   ~Naturalizer();
 
   const NaturalizeOptions& options() const { return options_; }
@@ -208,7 +209,7 @@ class Naturalizer {
   /// Loads the scorer's stored weights under `key` (saved state, then additive weights).
   void load_weights(const std::string& key);
 
-  std::shared_ptr<Runtime> runtime_;
+  std::shared_ptr<kernel::Runtime> runtime_;
   NaturalizeOptions options_;
   std::unique_ptr<LexiconStore> store_;
   std::vector<sdk::RulePtr> rules_;
@@ -246,4 +247,4 @@ std::optional<std::string> quarantine_reason(const StoredRule& stored);
 void check_head_tokens(const std::string& head);
 StoredRule stored_from_rule(const sdk::Rule& rule, std::int64_t definition);
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization
