@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Time and peak memory of `flipper session` on each hostile input of the bad-input table (tests/limits), next to its target
+# Time and peak memory of `flipper session` on each hostile input of the bad-input table (tests/integration/limits), next to its target
 # (answered within session.deadline_ms + 1 s, peak RSS <= 100 MB unless noted). Inputs are made in
 # a temp dir. Usage: bash bench/limits/run.sh [FLIPPER]
 set -euo pipefail

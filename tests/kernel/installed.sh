@@ -51,7 +51,7 @@ grep -q "^flipper serve: listening on http://127.0.0.1:[0-9]*/$" serve.log
 
 # A replay run in a folder outside both trees: the installed plot scripts draw its plots (the
 # corpus is the source's data, which is not installed).
-env -u FLIPPER_PLUGIN_PATH "$flipper" replay --corpus "$src/tests/replay/data" --out runs >replay.log 2>&1
+env -u FLIPPER_PLUGIN_PATH "$flipper" replay --corpus "$src/tests/apps/replay/data" --out runs >replay.log 2>&1
 cat replay.log
 grep -q "^plots: .* in runs/replay-" replay.log
 test -f runs/latest/plain/tokens.pdf

@@ -1,8 +1,8 @@
 #pragma once
 // The crowd (docs/naturalization.md §5): N `flipper session` processes on ONE lexicon file, each
 // user defining, querying, accepting and deleting at once. Shared by the crowd test
-// (tests/naturalize) and the crowd benchmark (bench/crowd). Free of Catch2; the store is checked
-// with raw SQL, independently of the lexicon module.
+// (tests/naturalization/naturalize) and the crowd benchmark (bench/crowd). Free of Catch2; the
+// store is checked with raw SQL, independently of the lexicon module.
 //
 // User k ("u<k>") runs `defines` rounds; round i:
 //   define "<word k,i> left" := "move left"      -> acknowledged rules recorded

@@ -14,7 +14,7 @@
 ///   w.begin_object().key("ok").boolean(true).key("world").raw(world_text).end_object();
 /// @endcode
 /// The writer does not check the structure (a key outside an object, an unclosed array): the
-/// session's byte-identity test (tests/session/test_session_golden.cpp) guards the answers.
+/// session's byte-identity test (tests/kernel/session/test_session_golden.cpp) guards the answers.
 
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
