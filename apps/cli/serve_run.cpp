@@ -19,6 +19,8 @@ int run_serve(const CommonOptions& opts) {
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
+  // SIGUSR1 is how the main thread wakes the waiter when listen() returns on its own.
+  sigaddset(&signals, SIGUSR1);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   studio::Server server(config);
@@ -39,7 +41,7 @@ int run_serve(const CommonOptions& opts) {
   });
   server.listen();
   // listen() also returns when binding breaks: wake the waiter so it can be joined.
-  pthread_kill(waiter.native_handle(), SIGTERM);
+  pthread_kill(waiter.native_handle(), SIGUSR1);
   waiter.join();
   std::cout << "flipper serve: stopped" << std::endl;
   return kExitOk;

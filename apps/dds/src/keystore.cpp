@@ -100,7 +100,7 @@ ossl::Cert make_cert(const std::string& subject_cn, EVP_PKEY* key, X509* issuer,
   BN_to_ASN1_INTEGER(bn, X509_get_serialNumber(c));
   BN_free(bn);
   X509_set_version(c, 2);
-  X509_gmtime_adj(X509_getm_notBefore(c), -24 * 3600);  // clocks of other machines may lag
+  X509_gmtime_adj(X509_getm_notBefore(c), -24L * 3600);  // clocks of other machines may lag
   X509_time_adj_ex(X509_getm_notAfter(c), kValidDays, 0, nullptr);
   X509_NAME* name = X509_get_subject_name(c);
   X509_NAME_add_entry_by_txt(name, "CN", MBSTRING_UTF8,

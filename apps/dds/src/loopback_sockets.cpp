@@ -59,7 +59,7 @@ UdpSocket decode(const std::string& local, bool v6) {
     inet_ntop(AF_INET, &a, text, sizeof text);
   } else {
     in6_addr a{};
-    for (int word = 0; word < 4; ++word) {
+    for (std::size_t word = 0; word < 4; ++word) {
       const auto w = static_cast<std::uint32_t>(std::stoul(hex.substr(8 * word, 8), nullptr, 16));
       std::memcpy(&a.s6_addr[4 * word], &w, 4);
     }

@@ -190,6 +190,7 @@ std::string render_map(const kernel::Json& world, const MapOptions& options) {
     for (const kernel::Json* it : list) codes.emplace(item_code(*it), item_name(*it));
   if (!codes.empty()) {
     std::vector<std::string> parts;
+    parts.reserve(codes.size());
     for (const auto& [code, name] : codes) parts.push_back(code + " " + name);
     out << wrapped(" ", parts);
   }

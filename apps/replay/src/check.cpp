@@ -117,6 +117,7 @@ RunSummary merge_runs(const std::vector<std::string>& runs, const std::string& o
                       std::vector<std::string>& warnings) {
   if (runs.empty()) throw sdk::Error(sdk::codes::kBadRequest, "no runs to merge");
   std::vector<json> manifests;
+  manifests.reserve(runs.size());
   for (const auto& r : runs) manifests.push_back(complete_replay_manifest(r));
   const json& first = manifests.front();
   std::map<int, std::string> by_index;

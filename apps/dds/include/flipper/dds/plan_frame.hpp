@@ -29,7 +29,7 @@ class PlanFrame {
  public:
   /// From the config (throws sdk::Error(bad_config) for a 3-D world with world.resolution != 1).
   static PlanFrame from_config(const kernel::Config& config, int dims);
-  explicit PlanFrame(Eigen::Affine3d cell_to_map) : cell_to_map_(cell_to_map) {}
+  explicit PlanFrame(const Eigen::Affine3d& cell_to_map) : cell_to_map_(cell_to_map) {}
 
   Eigen::Vector3d to_metres(const sdk::Cell& c) const;
   /// The robot's start cell, then one pose per cell entered, in order.
