@@ -117,6 +117,19 @@ async function didYouMean(page, url) {
   check(hint.includes('dne') && hint.includes('den') && !hint.includes('hop'),
     'for the unparsable text, only the unknown word gets a hint', hint);
   await page.click('#define-cancel');
+
+  // A generalized rule ("go to $Color") reads as the example it was taught from.
+  equal((await other({ op: 'define', head: 'go to red', body: ['visit world containing item is red'] })).ok, true,
+    'another session teaches "go to red"');
+  equal((await query(page, 'go to blue')).status, 'induced', '"go to blue" is read through the generalized rule');
+  await page.waitForSelector('#rules li[data-rule] .rule-head >> text=go to red', { timeout: 5000 });
+  const rows = await page.$$eval('#rules li[data-rule]', (lis) => lis.map((li) => ({
+    head: li.querySelector('.rule-head').textContent,
+    notation: li.querySelector('.rule-notation code').textContent,
+  })));
+  const general = rows.filter((r) => r.notation.includes('$Color') || r.notation.includes('$Property'));
+  check(general.length > 0 && general.every((r) => r.head === 'go to red'),
+    'a generalized rule is titled by its example, the notation ($Color) folded', JSON.stringify(rows));
 }
 
 async function typedDefine(page) {

@@ -32,10 +32,10 @@ run(async () => {
     await page.keyboard.press('Escape');
 
     // Looking at floor 1 while the robot is on floor 0: an accepted step brings the view back.
-    await page.click('[data-testid=floor-1]');
-    equal(await page.evaluate(() => window.flipperStudio.map.floor), 1, 'the floor-1 button shows floor 1');
     await query(page, 'move right');
     await waitAnimation(page);
+    await page.click('[data-testid=floor-1]');
+    equal(await page.evaluate(() => window.flipperStudio.map.floor), 1, 'the floor-1 button shows floor 1');
     await accept(page);
     equal(await page.evaluate(() => window.flipperStudio.state.world.robot.z), 0, 'the robot stays on floor 0');
     equal(await page.$$eval('#floor-select button.active', (bs) => bs.map((b) => b.textContent)), ['z = 0'],
