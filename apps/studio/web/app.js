@@ -6,7 +6,7 @@ import { EXAMPLES } from './help.js';
 import { DefinePanel } from './define.js';
 import { HistoryPanel } from './history.js';
 import { ruleView } from './rule-view.js';
-import { suggest, tokens } from './suggest.js';
+import { suggest } from './suggest.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -418,23 +418,16 @@ function vocabulary() {
   return words;
 }
 
-// Words of the chosen reading's taught rules: the parser read them, whatever the vocabulary says.
-async function coveredWords(candidate) {
-  const ids = candidate?.induced ? candidate.rules || [] : [];
-  if (ids.some((id) => !state.rules.find((r) => r.id === id))) await refreshRules();
-  const words = new Set();
-  for (const id of ids)
-    for (const t of state.rules.find((r) => r.id === id)?.rhs || []) if (!t.startsWith('$')) for (const w of tokens(t)) words.add(w);
-  return words;
-}
-
-// "Did you mean", from the answer: every unknown word of an unparsable text; for an understood
-// one, the words the chosen reading did not cover (a core reading may skip words).
+// "Did you mean", from the answer: the words neither the grammar, the rooms nor a visible rule
+// knows. The rules of the chosen reading are fetched first when the page does not know one yet
+// (another participant's, in a shared group), so a word a taught rule read is never "unknown".
 async function renderSuggestions(text, answer) {
   const el = $('did-you-mean');
-  const covered = await coveredWords(answer.candidates?.[state.selected]);
+  const candidate = answer.candidates?.[state.selected];
+  const ids = candidate?.induced ? candidate.rules || [] : [];
+  if (ids.some((id) => !state.rules.find((r) => r.id === id))) await refreshRules();
   if (state.query?.answer !== answer) return; // a newer query has its own
-  const hints = suggest(text, vocabulary()).filter(({ word }) => !covered.has(word));
+  const hints = suggest(text, vocabulary());
   el.hidden = hints.length === 0;
   el.innerHTML = '';
   if (!hints.length) return;
