@@ -46,6 +46,12 @@ run(async () => {
     await page.click('#history li[data-step="0"] [data-testid=history-from]');
     equal(await page.$$eval('#history li.marked', (l) => l.length), 3, '"from here" on step 1 marks steps 1..3');
     equal(await page.textContent('[data-testid=history-teach]'), 'Teach a phrase from these 3 steps', 'the teach button counts the steps');
+    await page.click('#history li[data-step="1"] [data-testid=history-from]', { modifiers: ['Shift'] });
+    equal(await page.textContent('[data-testid=history-teach]'), 'Teach a phrase from these 2 steps', 'shift-click on step 2 ends the range there');
+    await page.click('#history li[data-step="0"] [data-testid=history-from]');
+    check(await page.isHidden('[data-testid=history-teach]'), 'a second click on the start unmarks the range');
+    await page.click('#history li[data-step="0"] [data-testid=history-from]');
+    equal(await page.textContent('[data-testid=history-teach]'), 'Teach a phrase from these 3 steps', 'marked again: steps 1..3');
     await page.click('[data-testid=history-teach]');
     equal(await page.inputValue('[data-testid=define-head]'), 'trip', 'the head is the text not understood');
     equal(await page.$$eval('#define-steps li', (l) => l.length), 3, 'the define panel shows the 3 steps read-only');
@@ -85,6 +91,20 @@ run(async () => {
     await accept(page);
     equal(await robot(page), after, 'accepting "trip" walks the three steps');
     equal((await steps(page)).map((s) => s.utterance), ['trip'], 'the history lists the new phrase as one step');
+    // A long history folds all but the last eight steps.
+    const fold = await page.evaluate(() => {
+      const { historyPanel, state } = window.flipperStudio;
+      const many = Array.from({ length: 10 }, (_, i) => ({ ...state.history[0], utterance: `step ${i + 1}` }));
+      historyPanel.render(many);
+      const out = {
+        summary: document.querySelector('#history li.fold summary')?.textContent,
+        folded: document.querySelectorAll('#history li.fold li[data-step]').length,
+        all: document.querySelectorAll('#history li[data-step]').length,
+      };
+      historyPanel.render(state.history);
+      return out;
+    });
+    equal(fold, { summary: '… 2 earlier steps', folded: 2, all: 10 }, 'ten steps: the two oldest fold under "… 2 earlier steps"');
     equal(page.jsErrors, [], 'no JavaScript errors on the page');
   } finally {
     await close();
