@@ -28,7 +28,8 @@ const state = {
 };
 
 const NO_TEACHING = 'Flipper cannot learn new phrases in this study: say it with words it knows (Help, F1).';
-const POINTS_3D = 'Points are [x, y] on the robot\'s floor; change floor with move ascend / move descend, or visit a room on that floor.';
+const POINTS_3D = 'Points are [x, y] on the robot\'s floor; change floor with move ascend / move descend, '
+  + 'or visit a room on that floor.';
 
 const api = new Api(new URLSearchParams(location.search).get('group') || '');
 const map = new MapView($('map'));

@@ -31,7 +31,8 @@ export class DefinePanel {
 
   // Typed lines not yet taught (closing the panel would lose them).
   hasWork() {
-    return !this.history && !$('define-result').className.includes('ok') && this.lines.some((l) => l.input.value.trim());
+    const taught = $('define-result').className.includes('ok');
+    return !this.history && !taught && this.lines.some((l) => l.input.value.trim());
   }
 
   // Typed mode (history absent), or history mode with {steps, range: [from, to]}.
@@ -48,7 +49,8 @@ export class DefinePanel {
     $('define-add').hidden = Boolean(history);
     $('define-hint').textContent = history
       ? 'These steps, with the readings you accepted, become what the phrase means.'
-      : 'Say it again in words Flipper understands, one step per line. Each line is read as you type; pick the right reading.';
+      : 'Say it again in words Flipper understands, one step per line. Each line is read as you type; '
+        + 'pick the right reading.';
     this.lines = [];
     if (history) {
       const [from, to] = history.range;
