@@ -23,6 +23,17 @@ export class DefinePanel {
     $('define-add').onclick = () => this.addLine('').input.focus();
     $('define-submit').onclick = () => this.submit();
     $('define-cancel').onclick = () => this.close();
+    // Working in the panel again keeps it open, and a new edit clears the last success.
+    $('define-panel').addEventListener('click', (e) => {
+      if (e.target.id !== 'define-submit') clearTimeout(this.closeTimer);
+    });
+    $('define-panel').addEventListener('input', () => {
+      clearTimeout(this.closeTimer);
+      if ($('define-result').className === 'ok') {
+        $('define-result').innerHTML = '';
+        $('define-result').className = '';
+      }
+    });
   }
 
   get isOpen() {

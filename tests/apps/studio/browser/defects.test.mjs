@@ -167,16 +167,27 @@ async function typedDefine(page) {
   await page.click('[data-testid=teach]');
   equal(await page.textContent('[data-testid=define-result]'), '', 'opened again, the panel has no old "Learned…" text');
   equal(await page.$$eval('[data-testid=define-line]', (l) => l.map((i) => i.value)), [''], 'and one empty line');
+
+  // Typing on right after a success keeps the panel open (and clears the old result).
+  await page.fill('[data-testid=define-head]', 'zog');
+  await page.locator('[data-testid=define-line]').first().fill('move down');
+  await page.waitForSelector('#define-lines li[data-state=ok]');
+  await page.click('[data-testid=define-submit]');
+  await page.waitForSelector('[data-testid=define-result].ok');
+  await page.fill('[data-testid=define-head]', 'zog zog');
+  equal(await page.textContent('[data-testid=define-result]'), '', 'an edit after a success clears its result');
+  await page.waitForTimeout(4500); // past the close after a success: nothing to await, the panel must stay
+  check(await page.isVisible('[data-testid=define-panel]'), 'and the panel stays open while it is worked in');
   await page.click('#define-cancel');
 
   // The rule reads as its example; the notation is there on demand.
   await page.waitForSelector('#rules li[data-rule]');
-  const row = await page.$eval('#rules li[data-rule]', (li) => ({
+  const row = await page.$$eval('#rules li[data-rule]', (lis) => lis.map((li) => ({
     head: li.querySelector('.rule-head').textContent,
     means: li.querySelector('.rule-means').textContent,
     open: li.querySelector('details.rule-notation').open,
     notation: li.querySelector('details.rule-notation code').textContent,
-  }));
+  })).find((r) => r.head === 'zag') ?? {});
   equal([row.head, row.means, row.open], ['zag', 'means: move left; visit room3 or room5 containing item is red', false],
     'a taught rule shows its head and body, the notation folded');
   check(row.notation.includes('→') && row.notation.includes('⇒'), 'the notation is there on demand', row.notation);
