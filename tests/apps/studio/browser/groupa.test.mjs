@@ -37,6 +37,7 @@ run(async () => {
   const dir = makeStudy();
   const server = await startServer(opt.flipper, [`serve.study=${join(dir, 'study.yaml')}`], { dir });
   const { context, close } = await launchBrowser();
+  const browsers = [];
   try {
     const a = await openPage(context, `${server.url}?group=A`);
     check(await a.isHidden('#sharing'), 'the lexicon badge (the condition) is not shown to a participant');
@@ -84,8 +85,11 @@ run(async () => {
     equal(await historyTexts(a), [], 'and a new history');
     equal(a.jsErrors, [], 'no JavaScript errors on the group-A page');
 
-    // Group B of the same study teaches.
-    const b = await openPage(context, `${server.url}?group=B`);
+    // Group B of the same study teaches: another participant, so another browser (a tab of the
+    // same browser is the same participant again once participants are accounts).
+    const other = await launchBrowser();
+    browsers.push(other);
+    const b = await openPage(other.context, `${server.url}?group=B`);
     check(await b.isHidden('#sharing'), 'group B does not see its condition either');
     check(await b.isVisible('[data-testid=teach]'), 'group B can teach');
     await b.click('#study-start');
@@ -93,6 +97,7 @@ run(async () => {
     await b.waitForSelector('[data-testid=define-panel]:not([hidden])');
     check(true, 'an unparsable command opens the define panel in group B');
   } finally {
+    for (const b of browsers) await b.close();
     await close();
     await server.stop();
   }
