@@ -17,6 +17,7 @@ function makeStudy() {
   const dir = mkdtempSync(join(tmpdir(), 'flipper-groupa-'));
   const map = JSON.parse(readFileSync(join(root, 'configs/worlds/study2018.json'), 'utf8'));
   writeFileSync(join(dir, 'start.json'), JSON.stringify(map));
+  writeFileSync(join(dir, 'goal.json'), JSON.stringify({ ...map, robot: { ...map.robot, x: map.robot.x + 1 } }));
   writeFileSync(join(dir, 'second.json'), JSON.stringify({ ...map, robot: { x: 10, y: 1, holding: [] } }));
   writeFileSync(join(dir, 'study.yaml'), [
     'name: conditions',
@@ -24,7 +25,7 @@ function makeStudy() {
     'groups: [A, B]',
     'record: recording',
     'tasks:',
-    '  - {name: first, text: "Move the robot.", start: start.json}',
+    '  - {name: first, text: "Move the robot one step right.", start: start.json, goal: goal.json}',
     '  - {name: second, text: "Move it again.", start: second.json}',
     '',
   ].join('\n'));
@@ -61,6 +62,12 @@ run(async () => {
       await accept(a);
     }
     equal(await historyTexts(a), ['move right', 'move up'], 'group A has the history of its steps');
+    // The goal (one step right) was reached by the first accept; a server that records the study
+    // says so in the accept's Flipper-Goal header (an older one does not: nothing to show).
+    if (await a.evaluate(() => 'teaching' in window.flipperStudio.state.info.study)) {
+      check(await a.isVisible('[data-testid=goal-reached]'), 'the page shows "Goal reached"');
+      equal(await a.getAttribute('#study-next', 'data-goal'), 'reached', '#study-next is marked data-goal=reached');
+    } else console.log('     skip: "Goal reached" (this server sends no Flipper-Goal)');
     equal(await a.$$eval('[data-testid=history-from]', (b) => b.length), 0, 'but no "from here" to teach from it');
     check(await a.isHidden('#rules-area'), 'nor a list of taught phrases');
     await query(a, 'zig');
