@@ -134,11 +134,15 @@ async function didYouMean(page, url) {
 
 async function typedDefine(page) {
   const seen = watchRequests(page);
+  await query(page, 'move up');
+  await waitAnimation(page);
   await page.fill('[data-testid=query-input]', 'zag');
   await page.click('[data-testid=teach]');
   equal(await page.inputValue('[data-testid=define-head]'), 'zag', 'Teach takes the box\'s text as the head');
   await page.locator('[data-testid=define-line]').first().fill('move left');
   await page.waitForSelector('#define-lines li[data-state=ok]');
+  // The live check replaced the session's last query: "move up"'s readings can no longer be accepted.
+  check(await page.isHidden('#candidates-panel'), 'a define line\'s check takes away the readings of the query before it');
   await page.press('[data-testid=define-line] >> nth=0', 'Enter');
   await page.locator('[data-testid=define-line]').nth(1).fill('visit room3 or room5 containing item is red');
   await page.waitForFunction(() => document.querySelectorAll('#define-lines li[data-state=ok]').length === 2);
