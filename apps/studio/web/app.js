@@ -654,7 +654,7 @@ function wire() {
   });
   $('accept').onclick = accept;
   $('reject').onclick = reject;
-  $('teach').onclick = () => definePanel.open(state.query?.text || $('query-input').value.trim());
+  $('teach').onclick = () => definePanel.open($('query-input').value.trim() || state.query?.text);
   $('undo').onclick = undo;
   $('reset').onclick = reset;
   $('rules-search').oninput = renderRules;
