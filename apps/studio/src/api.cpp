@@ -45,14 +45,24 @@ Json vocabulary(const kernel::Runtime& rt) {
   return Json(std::vector<std::string>(words.begin(), words.end()));
 }
 
-Json world_files(const std::string& root) {
+// The world menu (docs/studio.md "The page"): the *.json files of the config's world directory
+// that this runtime's world plugin loads (a 3-D world is no choice on a 2-D server), each read
+// within input.max_file_bytes and world.max_cells as a `world` request would be.
+Json world_files(const kernel::Runtime& rt, const std::string& root) {
   Json out = Json::array();
   std::error_code ec;
   std::set<std::string> names;
   for (const auto& e : fs::directory_iterator(root, ec))
     if (e.is_regular_file() && e.path().extension() == ".json")
       names.insert(e.path().filename().string());
-  for (const auto& n : names) out.push_back(n);
+  for (const auto& n : names) {
+    try {
+      (void)kernel::load_world_file(rt, (fs::path(root) / n).string());
+      out.push_back(n);
+    } catch (const std::exception&) {
+      // not a world of this runtime: left out of the menu
+    }
+  }
   return out;
 }
 
@@ -160,6 +170,8 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
           fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();
       k->max_world_bytes = world_bytes(static_cast<std::size_t>(config.get_int("world.max_cells")));
       k->vocabulary = vocabulary(*k->runtime);
+      k->worlds = pool.kernels.empty() ? world_files(*k->runtime, k->world_root)
+                                       : pool.kernels.front()->worlds;
       bytes += kernel_bytes(k->host->naturalizer->induced_rules().size());
       ++count;
       pool.kernels.push_back(std::move(k));
@@ -411,7 +423,7 @@ void Api::info(const HttpRequest& r, Respond respond) {
              {"k", c.get_int("session.k")},
              {"max_chars", c.get_int("input.max_chars")},
              {"vocabulary", k.vocabulary},
-             {"worlds", world_files(k.world_root)},
+             {"worlds", k.worlds},
              {"account", account},
              {"guests", options_.guests},
              {"study", Json()}};

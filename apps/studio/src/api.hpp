@@ -35,6 +35,7 @@ struct Kernel {
   std::string world_root;  ///< `world` requests may name files under this directory only
   std::size_t max_world_bytes = 0;
   kernel::Json vocabulary;  ///< for "did you mean" (computed once)
+  kernel::Json worlds;      ///< the world menu: files of world_root this runtime loads
   std::mutex mutex;         ///< one request at a time
 };
 

@@ -2,13 +2,24 @@
 // session named by the token the server issued. The token lives in sessionStorage, so a reload
 // keeps the session and another tab is another session. Who the session's user is comes from
 // the login cookie (HttpOnly: this code never sees it; docs/accounts.md), or the server names a
-// guest.
+// guest. Every request and study event goes through one promise chain, so the server sees (and a
+// study records) them in the page's order (docs/studio.md "The page").
 const KEY = 'flipper.session';
 
 export class Api {
   constructor(group) {
     this.token = sessionStorage.getItem(KEY) || '';
+    this.reloaded = Boolean(this.token); // the page had a session before this load
     this.group = group || '';
+    this.chain = Promise.resolve();
+    this.events = false; // set when the server records study events
+  }
+
+  // Runs `task` after everything queued before it; a failure does not break the chain.
+  queue(task) {
+    const run = this.chain.then(task, task);
+    this.chain = run.catch(() => {});
+    return run;
   }
 
   url(path) {
@@ -30,7 +41,11 @@ export class Api {
 
   // One protocol request; resolves to the answer object (ok true or false). A session the
   // server no longer knows (restart, expiry) is replaced by a new one, once.
-  async request(req, retried = false) {
+  request(req) {
+    return this.queue(() => this.send(req));
+  }
+
+  async send(req, retried = false) {
     const res = await fetch(this.url('/api/v1/request'), {
       method: 'POST',
       headers: { 'Content-Type': 'application/json' },
@@ -48,9 +63,26 @@ export class Api {
     if ((res.status === 404 || res.status === 401) && gone && this.token && !retried) {
       this.token = '';
       sessionStorage.removeItem(KEY);
-      return this.request(req, true);
+      return this.send(req, true);
     }
+    // The reply's headers (e.g. Flipper-Goal on an accept), kept out of the answer's JSON.
+    if (answer && typeof answer === 'object') Object.defineProperty(answer, 'headers', { value: res.headers });
     return answer;
+  }
+
+  // A study event (POST /api/v1/study/event: flip, reject, page_load), in order with the
+  // requests. Sent only to a server that records them; a 404 (no study, an older server) is
+  // ignored, as is any other refusal: an event never stops the participant.
+  event(kind, fields = {}) {
+    if (!this.events || !this.token) return Promise.resolve(null);
+    return this.queue(async () => {
+      const res = await fetch(`/api/v1/study/event?session=${encodeURIComponent(this.token)}`, {
+        method: 'POST',
+        headers: { 'Content-Type': 'application/json' },
+        body: JSON.stringify({ kind, ...fields }),
+      });
+      return res.ok ? res.json().catch(() => null) : null;
+    });
   }
 
   // POST /api/v1/login with {name, password} or {code}: the server sets an HttpOnly cookie. The
@@ -76,8 +108,7 @@ export class Api {
     sessionStorage.removeItem(KEY);
   }
 
-  async info() {
-    const res = await fetch(this.url('/api/v1/info'));
-    return res.json();
+  info() {
+    return this.queue(async () => (await fetch(this.url('/api/v1/info'))).json());
   }
 }

@@ -4,6 +4,8 @@ import { Api } from './api.js';
 import { MapView, drawShape, worldGeometry } from './map.js';
 import { EXAMPLES } from './help.js';
 import { DefinePanel } from './define.js';
+import { HistoryPanel } from './history.js';
+import { ruleView } from './rule-view.js';
 import { suggest } from './suggest.js';
 
 const $ = (id) => document.getElementById(id);
@@ -11,16 +13,23 @@ const $ = (id) => document.getElementById(id);
 const state = {
   info: null,
   world: null, // the session's current world
-  startWorld: null, // for "Reset world"
-  history: [], // worlds before each accept, for "Undo"
+  startWorld: null, // for "Reset world" (a study: the task's start)
+  history: [], // the accepted steps since startWorld: {qid?, utterance, formula, world, steps?}
   query: null, // {text, answer}
+  lastUnsaid: '', // the last text not understood or rejected: the head a history define suggests
   selected: 0,
   cancelAnimation: null,
   user: '',
   rules: [],
   taskIndex: -1,
+  goalReached: false,
+  teaching: true, // false for a study group that cannot teach (the core-lexicon condition)
   ready: false,
 };
+
+const NO_TEACHING = 'Flipper cannot learn new phrases in this study: say it with words it knows (Help, F1).';
+const POINTS_3D = 'Points are [x, y] on the robot\'s floor; change floor with move ascend / move descend, '
+  + 'or visit a room on that floor.';
 
 const api = new Api(new URLSearchParams(location.search).get('group') || '');
 const map = new MapView($('map'));
@@ -50,9 +59,14 @@ function showError(el, error) {
 
 // ---- world ---------------------------------------------------------------------------------
 
-function setWorld(world, { animate = false } = {}) {
+// `follow`: show the robot's floor (after an accept, undo, reset or a new world); the floor also
+// follows when the robot changed floor.
+function setWorld(world, { follow = false } = {}) {
+  const previousZ = state.world?.robot?.z;
   state.world = world;
   map.setWorld(world);
+  const z = world.robot?.z;
+  if (map.geo?.dims === 3 && z !== undefined && (follow || z !== previousZ)) map.floor = z;
   renderFloors();
   map.draw(world);
   renderHolding(world);
@@ -125,10 +139,15 @@ function currentCandidate() {
   return state.query?.answer?.candidates?.[state.selected] ?? null;
 }
 
-async function runQuery(text) {
+// A query. `why` marks the page's own queries for a study's recording (docs/studio.md "Study
+// annotations"): "rerun" after a definition; a participant's query has none.
+async function runQuery(text, { why = '' } = {}) {
   showError($('query-error'), null);
-  renderSuggestions(text);
-  const answer = await api.request({ op: 'query', text });
+  $('did-you-mean').hidden = true;
+  showPreview(null);
+  const request = { op: 'query', text };
+  if (why) request.studio = { why };
+  const answer = await api.request(request);
   if (!answer.ok) {
     state.query = null;
     renderCandidates();
@@ -138,17 +157,32 @@ async function runQuery(text) {
   state.query = { text, answer };
   state.selected = 0;
   renderCandidates();
+  await renderSuggestions(text, answer);
   refreshRules(); // others may have taught phrases since (shared mode)
   if (answer.status === 'unparsable') {
-    showError($('query-error'), {
-      code: 'unparsable',
-      message: `Flipper does not understand "${text}" yet. Teach it below.`,
-    });
-    definePanel.open(text);
+    state.lastUnsaid = text;
+    const points3d = map.geo?.dims === 3 && /\[\s*-?\d+\s*,\s*-?\d+\s*,\s*-?\d+\s*\]/.test(text);
+    const message = state.teaching
+      ? `Flipper does not understand "${text}" yet. Teach it below.`
+      : `Flipper does not understand "${text}". ${NO_TEACHING}`;
+    showError($('query-error'), { code: 'unparsable', message: points3d ? `${message} ${POINTS_3D}` : message });
+    if (state.teaching) definePanel.open(text);
   } else {
-    selectCandidate(0);
+    // A finished definition (or an empty panel) gives way to the new query's readings.
+    if (!why && definePanel.isOpen && !definePanel.hasWork()) definePanel.close();
+    selectCandidate(0, { user: false });
   }
   return answer;
+}
+
+// The define panel's live checks replace the session's last query: the readings shown for an
+// earlier query could no longer be accepted (accept names a rank of the last query).
+function dropCandidates() {
+  if (!state.query) return;
+  state.cancelAnimation?.();
+  state.query = null;
+  renderCandidates();
+  redraw();
 }
 
 function renderCandidates() {
@@ -196,10 +230,16 @@ function describeTrace(c) {
   return parts.join(' · ');
 }
 
-function selectCandidate(i) {
+// `user`: the participant flipped to this reading (a study records which one was shown).
+function selectCandidate(i, { user = true } = {}) {
   const cands = state.query?.answer?.candidates || [];
   if (!cands.length) return;
   state.selected = (i + cands.length) % cands.length;
+  showPreview(null);
+  if (user) {
+    api.event('flip', { rank: state.selected, formula: cands[state.selected].formula });
+    renderSuggestions(state.query.text, state.query.answer);
+  }
   for (const li of $('candidates').children) {
     const on = Number(li.dataset.rank) === state.selected;
     li.classList.toggle('selected', on);
@@ -238,19 +278,23 @@ function selectCandidate(i) {
 async function accept() {
   const c = currentCandidate();
   if (!c || c.error) return;
-  const before = state.world;
+  const text = state.query.text;
   const answer = await api.request({ op: 'accept', rank: state.selected });
   if (!answer.ok) {
     showError($('query-error'), answer.error);
     return;
   }
   state.cancelAnimation?.();
-  state.history.push(before);
+  state.history.push({ utterance: text, formula: c.formula, world: answer.world });
   state.query = null;
   renderCandidates();
-  setWorld(answer.world);
+  setWorld(answer.world, { follow: true });
+  if (answer.headers?.get('Flipper-Goal') === 'reached') state.goalReached = true;
+  renderHistory();
+  renderStudy();
   for (const w of answer.warnings || []) toast(`⚠ ${w}`);
   $('query-input').value = '';
+  $('did-you-mean').hidden = true;
   $('query-input').focus();
   refreshRules();
 }
@@ -258,17 +302,24 @@ async function accept() {
 function reject() {
   state.cancelAnimation?.();
   const text = state.query?.text;
+  if (text) api.event('reject');
   state.query = null;
   renderCandidates();
   setWorld(state.world);
-  if (text) {
+  if (!text) return;
+  state.lastUnsaid = text;
+  if (state.teaching) {
     toast('None of the readings was right: teach Flipper what you meant.');
     definePanel.open(text);
-  }
+  } else showError($('query-error'), { code: 'rejected', message: `None of the readings was right. ${NO_TEACHING}` });
 }
 
-async function replaceWorld(world) {
-  const answer = await api.request({ op: 'world', world });
+// Replaces the session's world; `why` annotates it for a study's recording (undo, reset,
+// task_start) and `task` names the task started.
+async function replaceWorld(world, why = '', task = undefined) {
+  const request = { op: 'world', world };
+  if (why) request.studio = task === undefined ? { why } : { why, task };
+  const answer = await api.request(request);
   if (!answer.ok) {
     toast(`${answer.error.code}: ${answer.error.message}`);
     return false;
@@ -276,8 +327,14 @@ async function replaceWorld(world) {
   state.cancelAnimation?.();
   state.query = null;
   renderCandidates();
-  setWorld(answer.world);
+  showPreview(null);
+  setWorld(answer.world, { follow: true });
   return true;
+}
+
+// The world before step i of the history.
+function worldBefore(i) {
+  return i > 0 ? state.history[i - 1].world : state.startWorld;
 }
 
 async function undo() {
@@ -285,12 +342,72 @@ async function undo() {
     toast('Nothing to undo');
     return;
   }
-  const prev = state.history.pop();
-  if (!(await replaceWorld(prev))) state.history.push(prev);
+  const last = state.history.length - 1;
+  if (await replaceWorld(worldBefore(last), 'undo')) {
+    state.history.pop();
+    renderHistory();
+  }
 }
 
 async function reset() {
-  if (state.startWorld && (await replaceWorld(state.startWorld))) state.history = [];
+  if (state.startWorld && (await replaceWorld(state.startWorld, 'reset'))) {
+    state.history = [];
+    renderHistory();
+  }
+}
+
+// ---- history -----------------------------------------------------------------------------------
+
+// Keeps the page's place for a reload (the server's info.study, when it has it, wins; README
+// "Flipper Studio").
+function persist() {
+  const saved = state.info?.study
+    ? { task: state.taskIndex, goal_reached: state.goalReached, history: state.history }
+    : { start: state.startWorld, history: state.history };
+  try {
+    sessionStorage.setItem(state.info?.study ? 'flipper.study' : 'flipper.history', JSON.stringify(saved));
+  } catch {
+    // a full storage only costs the restore after a reload
+  }
+}
+
+function renderHistory() {
+  historyPanel.render(state.history, { teaching: state.teaching && definePanel.formulaLines });
+  persist();
+}
+
+// Shows the world after step i on the map (null: the current world again).
+function showPreview(i) {
+  if (i === null || i === undefined) {
+    if (document.body.dataset.preview === undefined) return;
+    delete document.body.dataset.preview;
+    if (historyPanel.preview !== null) historyPanel.showPreview(null);
+    map.setWorld(state.world);
+    renderFloors();
+    redraw();
+    return;
+  }
+  const world = state.history[i].world;
+  state.cancelAnimation?.();
+  document.body.dataset.preview = String(i + 1);
+  map.setWorld(world);
+  if (map.geo?.dims === 3 && world.robot.z !== undefined) map.floor = world.robot.z;
+  renderFloors();
+  map.draw(world);
+  $('map-caption').textContent = `World after step ${i + 1} — click it again or press Esc to return`;
+}
+
+// A phrase taught from steps from..to: they collapse into one step (the world does not change).
+function collapseHistory([from, to], head) {
+  const part = state.history.slice(from, to + 1);
+  state.history.splice(from, part.length, {
+    utterance: head,
+    formula: `{${part.map((s) => s.formula).join(';')}}`,
+    world: part[part.length - 1].world,
+    steps: part,
+  });
+  historyPanel.range = null;
+  renderHistory();
 }
 
 // ---- "did you mean" ----------------------------------------------------------------------------
@@ -302,8 +419,15 @@ function vocabulary() {
   return words;
 }
 
-function renderSuggestions(text) {
+// "Did you mean", from the answer: the words neither the grammar, the rooms nor a visible rule
+// knows. The rules of the chosen reading are fetched first when the page does not know one yet
+// (another participant's, in a shared group), so a word a taught rule read is never "unknown".
+async function renderSuggestions(text, answer) {
   const el = $('did-you-mean');
+  const candidate = answer.candidates?.[state.selected];
+  const ids = candidate?.induced ? candidate.rules || [] : [];
+  if (ids.some((id) => !state.rules.find((r) => r.id === id))) await refreshRules();
+  if (state.query?.answer !== answer) return; // a newer query has its own
   const hints = suggest(text, vocabulary());
   el.hidden = hints.length === 0;
   el.innerHTML = '';
@@ -323,7 +447,7 @@ function renderSuggestions(text) {
       b.onclick = () => {
         const input = $('query-input');
         input.value = input.value.replace(new RegExp(`\\b${word}\\b`), best);
-        renderSuggestions(input.value);
+        el.hidden = true;
         input.focus();
       };
       el.append(b, '?');
@@ -357,14 +481,9 @@ function renderRules() {
     const own = r.author === state.user;
     li.className = own ? 'own' : 'other';
     li.dataset.rule = r.id;
-    const head = document.createElement('div');
-    head.className = 'rule-head';
-    head.textContent = (r.rhs || []).join(' ');
-    const sem = document.createElement('code');
-    sem.textContent = r.semantics;
     const meta = document.createElement('div');
     meta.className = 'meta';
-    meta.textContent = `${r.lhs} · by ${r.author}${own ? ' (you)' : ''} · ${r.how} · used ${r.uses ?? 0}×`;
+    meta.textContent = `by ${r.author}${own ? ' (you)' : ''} · ${r.how} · used ${r.uses ?? 0}×`;
     const del = document.createElement('button');
     del.type = 'button';
     del.className = 'delete';
@@ -372,7 +491,7 @@ function renderRules() {
     del.disabled = !own;
     del.title = own ? 'Delete this rule' : `Only ${r.author} can delete this rule`;
     del.onclick = () => deleteRule(r.id);
-    li.append(head, sem, meta, del);
+    li.append(...ruleView(r), meta, del);
     list.append(li);
   }
 }
@@ -415,11 +534,14 @@ async function logIn(credentials) {
 }
 
 function renderStudy() {
-  const study = state.info.study;
+  const study = state.info?.study;
   if (!study) return;
   $('world-select').parentElement.hidden = true;
   const t = study.tasks[state.taskIndex];
   $('study-banner').hidden = state.taskIndex < 0;
+  $('goal-reached').hidden = !state.goalReached;
+  if (state.goalReached) $('study-next').dataset.goal = 'reached';
+  else delete $('study-next').dataset.goal;
   if (t) {
     $('study-task-title').textContent = `Task ${state.taskIndex + 1} of ${study.tasks.length}: ${t.name}`;
     $('study-task-text').textContent = t.text;
@@ -434,27 +556,33 @@ function renderStudy() {
 
 async function startTask(i) {
   const t = state.info.study.tasks[i];
-  state.taskIndex = i;
   $('study-tutorial').hidden = true;
-  if (await replaceWorld(t.start)) {
+  if (await replaceWorld(t.start, 'task_start', i)) {
+    state.taskIndex = i;
+    state.goalReached = false;
     state.startWorld = state.world;
     state.history = [];
+    renderHistory();
   }
   renderStudy();
   $('query-input').focus();
 }
 
 async function loadWorldFile(name) {
+  const select = $('world-select');
   const answer = await api.request({ op: 'world', file: name });
   if (!answer.ok) {
     toast(`${answer.error.code}: ${answer.error.message}`);
+    select.value = select.dataset.current ?? '';
     return;
   }
+  select.dataset.current = name;
   state.query = null;
   renderCandidates();
   state.history = [];
   state.startWorld = answer.world;
-  setWorld(answer.world);
+  setWorld(answer.world, { follow: true });
+  renderHistory();
 }
 
 // ---- wiring ------------------------------------------------------------------------------------
@@ -486,12 +614,34 @@ function toggleHelp(force) {
 
 const definePanel = new DefinePanel({
   api,
-  onDefined: (answer) => {
+  toast,
+  onLiveCheck: dropCandidates,
+  onDefined: (answer, { history, head }) => {
     refreshRules();
-    const text = $('query-input').value.trim();
-    if (text && answer.ok) runQuery(text);
+    // What was not understood is now taught: its error and hints go.
+    showError($('query-error'), null);
+    $('did-you-mean').hidden = true;
+    if (history) collapseHistory(history, head);
+    else {
+      // The phrase just taught, read again (marked: not the participant's query).
+      $('query-input').value = head;
+      runQuery(head, { why: 'rerun' });
+    }
   },
 });
+
+const historyPanel = new HistoryPanel({
+  onPreview: (i) => showPreview(i),
+  onTeach: (range) => definePanel.open(state.lastUnsaid, { steps: state.history, range }),
+});
+
+// Ctrl+Z undoes the last accepted step, also from the command box when it is empty (with text
+// in it, Ctrl+Z is the box's own text undo).
+function isUndoKey(e) {
+  if (e.key !== 'z' || !(e.ctrlKey || e.metaKey) || e.shiftKey) return false;
+  if (e.target.id === 'query-input') return e.target.value === '';
+  return !['INPUT', 'TEXTAREA', 'SELECT'].includes(e.target.tagName);
+}
 
 function wire() {
   $('query-form').onsubmit = (e) => {
@@ -504,7 +654,7 @@ function wire() {
   });
   $('accept').onclick = accept;
   $('reject').onclick = reject;
-  $('teach').onclick = () => definePanel.open(state.query?.text || $('query-input').value.trim());
+  $('teach').onclick = () => definePanel.open($('query-input').value.trim() || state.query?.text);
   $('undo').onclick = undo;
   $('reset').onclick = reset;
   $('rules-search').oninput = renderRules;
@@ -541,13 +691,49 @@ function wire() {
       accept();
     } else if (e.key === 'Escape') {
       if (!$('help').hidden) toggleHelp(false);
+      else if (document.body.dataset.preview !== undefined) showPreview(null);
       else if (state.query) reject();
-    } else if (e.key === 'z' && (e.ctrlKey || e.metaKey) && e.target.tagName !== 'INPUT') {
+    } else if (isUndoKey(e)) {
       e.preventDefault();
       undo();
     }
   });
   window.addEventListener('resize', redraw);
+}
+
+// Robot and items of two worlds (key order aside): is it the same place?
+function sameWorld(a, b) {
+  const canon = (v) => (Array.isArray(v) ? v.map(canon)
+    : v && typeof v === 'object' ? Object.fromEntries(Object.keys(v).sort().map((k) => [k, canon(v[k])])) : v);
+  return Boolean(a && b) && JSON.stringify(canon([a.robot, a.items])) === JSON.stringify(canon([b.robot, b.items]));
+}
+
+function readSaved(key) {
+  try {
+    return JSON.parse(sessionStorage.getItem(key) || 'null');
+  } catch {
+    return null;
+  }
+}
+
+// After a reload: the task, goal and history from the server's info.study when it keeps them,
+// else from this tab's sessionStorage (kept only when it still ends in the session's world).
+function restorePlace(world) {
+  const study = state.info.study;
+  const saved = readSaved(study ? 'flipper.study' : 'flipper.history');
+  const fits = (h, start) => sameWorld(h.length ? h[h.length - 1].world : start, world);
+  if (!study) {
+    const ok = api.reloaded && saved?.start && Array.isArray(saved.history) && fits(saved.history, saved.start);
+    state.startWorld = ok ? saved.start : world;
+    state.history = ok ? saved.history : [];
+    return;
+  }
+  state.taskIndex = study.task ?? (api.reloaded ? saved?.task : undefined) ?? -1;
+  state.goalReached = Boolean(study.goal_reached ?? (api.reloaded && saved?.goal_reached));
+  state.startWorld = study.tasks[state.taskIndex]?.start ?? world;
+  if (Array.isArray(study.history)) state.history = study.history;
+  else if (api.reloaded && Array.isArray(saved?.history) && fits(saved.history, state.startWorld))
+    state.history = saved.history;
 }
 
 async function main() {
@@ -569,7 +755,18 @@ async function main() {
   const st = await api.request({ op: 'state' });
   state.info = await api.info();
   const who = await api.request({ op: 'rules' });
-  $('sharing').textContent = `${state.info.study?.sharing ?? state.info.sharing} lexicon`;
+  const study = state.info.study;
+  // A study group without teaching (the core lexicon) is told so instead of a define panel; the
+  // condition itself is not shown to participants.
+  state.teaching = !study || (study.teaching ?? study.sharing !== 'core');
+  // A study server that records page events and formula lines says `teaching`; an older one
+  // records string lines only, so the page sends those and offers no define from history.
+  api.events = Boolean(study) && 'teaching' in study;
+  definePanel.formulaLines = !study || 'teaching' in study;
+  $('sharing').hidden = Boolean(study);
+  $('sharing').textContent = `${state.info.sharing} lexicon`;
+  $('teach').hidden = !state.teaching;
+  $('rules-area').hidden = !state.teaching; // a group that cannot teach has no taught phrases
   const select = $('world-select');
   const current = document.createElement('option');
   current.value = '';
@@ -582,9 +779,10 @@ async function main() {
     o.textContent = w.replace(/\.json$/, '');
     select.append(o);
   }
-  setWorld(st.world);
-  state.startWorld = st.world;
   select.value = '';
+  select.dataset.current = '';
+  restorePlace(st.world);
+  setWorld(st.world, { follow: true });
   // The session's user: the account logged in, or the guest name the server gave it.
   state.user = api.user;
   $('who').textContent = state.user;
@@ -594,16 +792,20 @@ async function main() {
     state.rules = who.rules;
     renderRules();
   }
-  if (state.info.study) {
-    $('study-tutorial-text').textContent = state.info.study.tutorial || 'Follow the tasks shown at the top.';
-    $('study-tutorial').hidden = false;
+  if (study) {
+    $('study-tutorial-text').textContent = study.tutorial || 'Follow the tasks shown at the top.';
+    $('study-tutorial').hidden = state.taskIndex >= 0;
     renderStudy();
+    api.event('page_load', { reloaded: api.reloaded });
   }
+  renderHistory();
   state.ready = true;
   document.body.dataset.ready = 'true';
   $('query-input').focus();
 }
 
 // Exposed for the browser tests and the curious.
-window.flipperStudio = { state, api, map, runQuery, selectCandidate, accept, setUser, deleteRule, logIn };
+window.flipperStudio = {
+  state, api, map, runQuery, selectCandidate, accept, undo, reset, setUser, deleteRule, logIn, historyPanel,
+};
 main();

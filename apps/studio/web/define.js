@@ -1,29 +1,83 @@
-// The define panel: the head pre-filled, body lines added one at a time, each parsed as it is
-// typed (a protocol `query`), its reading chosen from its candidates (sent as `ranks`), errors
-// shown on the line before anything is submitted; then the answer's rules, generalized and
-// discarded.
+// The define panel (docs/studio.md "Teaching"). Typed mode: the head pre-filled, body lines added
+// one at a time, each parsed as it is typed (a protocol `query` marked as a live check), its
+// reading chosen from its candidates and sent as the line's formula, errors shown on the line
+// before anything is submitted. History mode: the body is a range of accepted steps, each with
+// the program that was accepted. Then the answer's rules as their example, generalized and
+// discarded; the panel closes by itself a few seconds after a success.
+import { ruleView } from './rule-view.js';
+
 const $ = (id) => document.getElementById(id);
+const CLOSE_AFTER_MS = 4000;
 
 export class DefinePanel {
-  constructor({ api, onDefined }) {
+  constructor({ api, onDefined, onLiveCheck, toast }) {
     this.api = api;
-    this.onDefined = onDefined;
+    // Body lines as {"text","formula"}; off only for a study server whose recording keeps string
+    // lines alone (one without info.study.teaching): then strings and `ranks`, as it replays them.
+    this.formulaLines = true;
+    this.onLiveCheck = onLiveCheck; // a live check replaces the session's last query
+    this.onDefined = onDefined; // (answer, {history: [from, to] | null, head})
+    this.toast = toast;
     this.lines = []; // {input, select, status, answer, seq}
+    this.history = null; // {steps, range} in history mode
     $('define-add').onclick = () => this.addLine('').input.focus();
     $('define-submit').onclick = () => this.submit();
     $('define-cancel').onclick = () => this.close();
+    // Working in the panel again keeps it open, and a new edit clears the last success.
+    $('define-panel').addEventListener('click', (e) => {
+      if (e.target.id !== 'define-submit') clearTimeout(this.closeTimer);
+    });
+    $('define-panel').addEventListener('input', () => {
+      clearTimeout(this.closeTimer);
+      if ($('define-result').className === 'ok') {
+        $('define-result').innerHTML = '';
+        $('define-result').className = '';
+      }
+    });
   }
 
-  open(head) {
+  get isOpen() {
+    return !$('define-panel').hidden;
+  }
+
+  // Typed lines not yet taught (closing the panel would lose them).
+  hasWork() {
+    const taught = $('define-result').className.includes('ok');
+    return !this.history && !taught && this.lines.some((l) => l.input.value.trim());
+  }
+
+  // Typed mode (history absent), or history mode with {steps, range: [from, to]}.
+  open(head, history = null) {
+    clearTimeout(this.closeTimer);
+    this.history = history;
     $('define-panel').hidden = false;
+    $('define-panel').dataset.mode = history ? 'history' : 'typed';
     $('define-head').value = head || '';
     $('define-result').innerHTML = '';
+    $('define-result').className = '';
     $('define-lines').innerHTML = '';
+    $('define-steps').innerHTML = '';
+    $('define-add').hidden = Boolean(history);
+    $('define-hint').textContent = history
+      ? 'These steps, with the readings you accepted, become what the phrase means.'
+      : 'Say it again in words Flipper understands, one step per line. Each line is read as you type; '
+        + 'pick the right reading.';
     this.lines = [];
-    this.addLine('').input.focus();
+    if (history) {
+      const [from, to] = history.range;
+      for (const step of history.steps.slice(from, to + 1)) {
+        const li = document.createElement('li');
+        const code = document.createElement('code');
+        code.textContent = step.formula;
+        li.append(`${step.utterance} ⇒ `, code);
+        $('define-steps').append(li);
+      }
+      $('define-head').focus();
+    } else this.addLine('').input.focus();
   }
 
   close() {
+    clearTimeout(this.closeTimer);
     $('define-panel').hidden = true;
   }
 
@@ -72,9 +126,12 @@ export class DefinePanel {
       line.li.dataset.state = 'empty';
       return;
     }
-    const answer = await this.api.request({ op: 'query', text, k: 5 });
+    // A live check, not a participant's query (a study records it as its own kind).
+    this.onLiveCheck?.();
+    const answer = await this.api.request({ op: 'query', text, k: 5, studio: { why: 'live' } });
     if (seq !== line.seq) return; // a newer keystroke has its own answer coming
     line.answer = answer;
+    line.text = text;
     line.select.innerHTML = '';
     if (!answer.ok || answer.status === 'unparsable') {
       line.select.hidden = true;
@@ -98,40 +155,66 @@ export class DefinePanel {
     line.li.dataset.state = 'ok';
   }
 
+  // The body as the protocol's formula lines: each line's chosen reading, whatever the parser
+  // reads in its text later (docs/protocol.md "define").
+  body() {
+    if (this.history) {
+      const [from, to] = this.history.range;
+      return this.history.steps.slice(from, to + 1).map((s) => ({ text: s.utterance, formula: s.formula }));
+    }
+    return this.lines.filter((l) => l.input.value.trim()).map((l) => ({
+      text: l.input.value.trim(),
+      formula: l.answer.candidates[Number(l.select.value || 0)].formula,
+    }));
+  }
+
   async submit() {
     const head = $('define-head').value.trim();
-    const used = this.lines.filter((l) => l.input.value.trim());
-    for (const l of used) if (!l.answer || l.seq === 0) await this.parse(l);
+    const used = this.history ? [] : this.lines.filter((l) => l.input.value.trim());
+    for (const l of used) if (!l.answer || l.seq === 0 || l.text !== l.input.value.trim()) await this.parse(l);
     const result = $('define-result');
     result.innerHTML = '';
     const bad = used.find((l) => l.li.dataset.state === 'error');
-    if (!head || !used.length || bad) {
+    if (!head || (!this.history && !used.length) || bad) {
       result.className = 'error';
       result.textContent = !head ? 'Say which phrase to teach.'
         : !used.length ? 'Add at least one line.'
         : 'Fix the lines marked in red first.';
       return null;
     }
-    const answer = await this.api.request({
-      op: 'define',
-      head,
-      body: used.map((l) => l.input.value.trim()),
-      ranks: used.map((l) => Number(l.select.value || 0)),
-    });
+    const body = this.body();
+    const request = { op: 'define', head, body };
+    if (!this.formulaLines && !this.history) {
+      request.body = body.map((l) => l.text);
+      request.ranks = used.map((l) => Number(l.select.value || 0));
+    }
+    if (this.history) request.studio = { why: 'history', steps: this.history.range };
+    const answer = await this.api.request(request);
     result.className = answer.ok ? 'ok' : 'error';
     if (!answer.ok) {
       result.textContent = `${answer.error.code}: ${answer.error.message}`;
       return answer;
     }
+    this.showResult(answer, head, body);
+    const learned = `Learned "${head}"`;
+    this.toast?.(learned);
+    const history = this.history?.range ?? null;
+    this.closeTimer = setTimeout(() => this.close(), CLOSE_AFTER_MS);
+    this.onDefined?.(answer, { history, head });
+    return answer;
+  }
+
+  showResult(answer, head, body) {
+    const result = $('define-result');
+    const n = answer.rules.length;
     const h = document.createElement('p');
-    h.textContent = `Learned "${head}": ${answer.rules.length} rule${answer.rules.length === 1 ? '' : 's'}.`;
+    h.textContent = `Learned "${head}": ${n} rule${n === 1 ? '' : 's'}.`;
     result.append(h);
     const ul = document.createElement('ul');
     for (const r of answer.rules) {
       const li = document.createElement('li');
-      const code = document.createElement('code');
-      code.textContent = `${r.lhs} → ${r.rhs.join(' ')}  ⇒  ${r.semantics}`;
-      li.append(code, ` (${r.how})`);
+      li.append(...ruleView(r, { head, body: body.map((l) => l.text) }));
+      li.append(` (${r.how})`);
       ul.append(li);
     }
     result.append(ul);
@@ -152,7 +235,5 @@ export class DefinePanel {
       }
       result.append(d);
     }
-    this.onDefined?.(answer);
-    return answer;
   }
 }

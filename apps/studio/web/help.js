@@ -1,4 +1,5 @@
-// The core language by example (docs/core-language.md §3, §10), for the help panel.
+// The core language by example (docs/core-language.md §3, §10), for the help panel. Every example
+// must parse (tests/apps/studio/browser/defects.test.mjs runs them all).
 export const EXAMPLES = [
   ['move left', 'one step; a wall stops it and leaves a warning'],
   ['move up; move up', 'statements run in order, separated by ;'],
@@ -14,7 +15,7 @@ export const EXAMPLES = [
   ['foreach point in room1 containing item { visit point; pick every item }', 'every cell of an area'],
   ['foreach area in [room1, room2] { visit area; drop item }', 'every area of a collection'],
   ['if robot has item is blue drop item is blue', 'a condition (there is no else)'],
-  ['while possible move down', 'repeat while a statement could succeed'],
+  ['while possible { move down } { move down }', 'move down while a step down is possible (at most 20 times)'],
   ['strict { move up; move up }', 'all or nothing: a failure rolls the block back'],
   ['visit area with corners [0, 0] and [3, 1]', 'a rectangle given by two corners'],
 ];

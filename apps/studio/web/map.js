@@ -232,6 +232,11 @@ export class MapView {
     let i = 0;
     const robot = { ...start.robot, holding: [...(start.robot.holding || [])] };
     let items = [...(start.items || [])];
+    // The plan starts on the robot's floor, whichever floor was being looked at.
+    if (this.geo?.dims === 3 && robot.z !== undefined && robot.z !== this.floor) {
+      this.floor = robot.z;
+      this.onFloorChange?.(this.floor);
+    }
     const frame = () => {
       if (cancelled) return;
       if (i >= trace.length) {

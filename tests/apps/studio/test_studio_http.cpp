@@ -107,7 +107,8 @@ TEST_CASE("the page's files are served with their types, unknown paths are 404")
   REQUIRE(info);
   const json i = json::parse(info->body);
   CHECK(i["sharing"] == "shared");
-  CHECK(i["worlds"] == json::array({"study2018.json", "two-floors.json"}));
+  // two-floors.json is a 3-D world: the default (grid2d) server cannot load it, so it is no choice.
+  CHECK(i["worlds"] == json::array({"study2018.json"}));
   const auto& words = i["vocabulary"];
   CHECK(std::find(words.begin(), words.end(), "visit") != words.end());
   CHECK(std::find(words.begin(), words.end(), "triangle") != words.end());
