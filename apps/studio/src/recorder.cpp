@@ -77,7 +77,7 @@ std::string text_of(const Json& j, const char* key) {
 }
 
 // A world's robot cell, held items and lying items, ids and order ignored: what a goal compares
-// (docs/studio.md §7).
+// (docs/studio.md §6).
 struct GoalDigest {
   std::vector<std::int64_t> robot;
   std::vector<std::string> held, lying;
@@ -135,7 +135,7 @@ Recorder::Recorder(std::shared_ptr<Study> study,
 }
 
 // A recording already there: numbering, worlds, sessions, the rule map and the preload continue
-// (docs/studio.md §7 "Restarts").
+// (docs/studio.md §6 "Restarts").
 void Recorder::load_existing() {
   const fs::path dir = dir_;
   for_each_json_line(dir / "queries.jsonl", [&](const Json&) { ++line_; });
@@ -332,7 +332,7 @@ Json Recorder::resume_world(const std::string& participant) {
   return it == worlds_by_id_.end() ? Json() : it->second;
 }
 
-// Group C's preloaded definitions, written once per recording (docs/studio.md §7).
+// Group C's preloaded definitions, written once per recording (docs/studio.md §6).
 void Recorder::preloaded(const std::string& group) {
   const std::string source = study_->source(group);
   if (group != "C" || study_->preload().empty() || !preloaded_.insert(source).second) return;
@@ -376,7 +376,7 @@ RecordOutcome Recorder::record(const SessionEntry& entry, const std::string& req
   const Json a = Json::parse(answer, nullptr, false);
   std::string qid;
   if (req.is_object() && a.is_object()) qid = command(entry, p, req, a, ms, n, outcome);
-  // Ordered: the short members first, the request and answer texts last (docs/studio.md §7).
+  // Ordered: the short members first, the request and answer texts last (docs/studio.md §6).
   using Ordered = nlohmann::ordered_json;
   exchanges_ << Ordered{{"n", n},
                      {"time", now_iso()},
@@ -463,7 +463,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
     auto it = rule_defs_.find(rule);
     c["def_id"] = it == rule_defs_.end() ? Json() : Json(it->second.first);
     c["rule_pos"] = it == rule_defs_.end() ? -1 : it->second.second;
-    c["rule_index"] = -1;  // the 2018 grammar-log index: none here (docs/studio.md §7)
+    c["rule_index"] = -1;  // the 2018 grammar-log index: none here (docs/studio.md §6)
     c["status"] = ok ? std::string("ok") : a["error"].value("code", std::string("error"));
   } else if (op == "world" && ok) {
     if (why == "resume") return {};  // the `resume` line says it
@@ -471,7 +471,10 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
         why == "undo" || why == "reset" || why == "task_start" ? why : std::string("world");
     if (kind == "task_start") {
       const int task = studio.value("task", p.task + 1);
-      if (p.task >= 0 && !p.goal_reached && task != p.task) {
+      const auto& tasks = study_->tasks();
+      const bool had_goal = p.task >= 0 && p.task < static_cast<int>(tasks.size()) &&
+                            tasks[static_cast<std::size_t>(p.task)].goal.is_object();
+      if (had_goal && !p.goal_reached && task != p.task) {
         Json skip = line(entry, p, "task_skip", exchange);
         write(queries_, skip);
       }
@@ -557,7 +560,7 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
                        {"line", c["line"]},
                        {"rules_status", ok ? "induced" : "failed"},
                        {"induced_rules", std::move(induced)}});
-  // A phrase taught from history: its steps collapse into one (docs/studio.md §7).
+  // A phrase taught from history: its steps collapse into one (docs/studio.md §6).
   if (ok && range_ok) {
     std::string formula = "{";
     Json replaced = Json::array();
