@@ -22,9 +22,9 @@
 #include "flipper/record/processes.hpp"
 #include "flipper/record/run_folder.hpp"
 #include "flipper/replay/check.hpp"
+#include "flipper/replay/corpus.hpp"
 #include "flipper/replay/experiment.hpp"
 #include "flipper/replay/output.hpp"
-#include "flipper/replay/corpus.hpp"
 #include "flipper/replay/verify.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -269,7 +269,8 @@ void add_plot(CLI::App& replay) {
 // A studio recording's every answer again, byte for byte (docs/experiments.md §8).
 void add_verify(CLI::App& replay) {
   auto* cmd = replay.add_subcommand(
-      "verify", "Replay a studio study recording's exchanges and compare every answer byte for byte");
+      "verify",
+      "Replay a studio study recording's exchanges and compare every answer byte for byte");
   static CommonOptions opts;
   static std::string dir;
   cmd->add_option("recording", dir, "The recording folder (study.json, exchanges.jsonl)")

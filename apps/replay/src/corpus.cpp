@@ -30,8 +30,8 @@ std::vector<BodyLine> body_of(const json& j) {
   std::vector<BodyLine> out;
   if (auto it = j.find("body"); it != j.end() && it->is_array())
     for (const auto& b : *it)
-      out.push_back({str(b, "utterance"), str(b, "formula"), integer(b, "rank", -1),
-                     str(b, "accept_qid")});
+      out.push_back(
+          {str(b, "utterance"), str(b, "formula"), integer(b, "rank", -1), str(b, "accept_qid")});
   return out;
 }
 

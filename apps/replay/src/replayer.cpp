@@ -135,9 +135,9 @@ std::string attempt(F&& call) {
 }
 
 bool is_observation(const std::string& kind) {
-  static const std::set<std::string> kKinds = {
-      "live",  "rerun",   "flip",          "undo",   "reset",     "task_start", "task_skip",
-      "goal",  "world",   "session_start", "resume", "page_load"};
+  static const std::set<std::string> kKinds = {"live",  "rerun",         "flip",      "undo",
+                                               "reset", "task_start",    "task_skip", "goal",
+                                               "world", "session_start", "resume",    "page_load"};
   return kKinds.count(kind) != 0;
 }
 
@@ -401,8 +401,8 @@ class RunReplay {
   void delete_rule(const Command& c) {
     DeleteRow row{c.qid, c.source, c.user, c.rule_index, "", {}, ""};
     // A studio recording names the rule by its define and position: delete our rule there.
-    if (auto it = rules_by_definition_.find(c.def_id); it != rules_by_definition_.end() &&
-                                                       c.rule_pos >= 0) {
+    if (auto it = rules_by_definition_.find(c.def_id);
+        it != rules_by_definition_.end() && c.rule_pos >= 0) {
       row.definition = c.def_id;
       if (c.rule_pos < static_cast<int>(it->second.size())) {
         const std::string id = it->second[static_cast<std::size_t>(c.rule_pos)];

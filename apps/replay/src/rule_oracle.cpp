@@ -39,7 +39,8 @@ std::string compare_rules(const std::vector<LoggedRule>& original,
     else if (!r.alignment)
       theirs.insert(original_shape(r));
   if (theirs.empty()) return "";
-  for (const auto& r : ours) mine.insert(our_shape(r) + (with_semantics ? " => " + r.semantics : ""));
+  for (const auto& r : ours)
+    mine.insert(our_shape(r) + (with_semantics ? " => " + r.semantics : ""));
   if (mine == theirs) return "identical";
   const bool common = std::any_of(mine.begin(), mine.end(),
                                   [&](const std::string& s) { return theirs.count(s) != 0; });

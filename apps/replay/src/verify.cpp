@@ -23,7 +23,8 @@ using nlohmann::json;
 
 json read_json_file(const fs::path& path) {
   std::ifstream in(path);
-  if (!in) throw sdk::Error(kBadCorpus, "'" + path.string() + "' is missing: not a studio recording");
+  if (!in)
+    throw sdk::Error(kBadCorpus, "'" + path.string() + "' is missing: not a studio recording");
   std::ostringstream text;
   text << in.rdbuf();
   json j = json::parse(text.str(), nullptr, false);
@@ -44,8 +45,8 @@ std::string comparable(const std::string& dump) {
   for (; std::getline(in, line);) {
     if (line.empty()) continue;
     if (line[0] != ' ') section = line;
-    if (section == "serve:" ||
-        (section == "lexicon:" && (line.rfind("  path:", 0) == 0 || line.rfind("  preload:", 0) == 0)))
+    if (section == "serve:" || (section == "lexicon:" && (line.rfind("  path:", 0) == 0 ||
+                                                          line.rfind("  preload:", 0) == 0)))
       continue;
     out += line + "\n";
   }
@@ -80,8 +81,7 @@ VerifyResult verify_recording(const std::string& dir, const VerifyOptions& optio
     if (g) return *g;
     const json recorded = study["groups"].value(name, json::object());
     const std::string sharing = text(recorded, "sharing");
-    if (sharing.empty())
-      throw sdk::Error(kBadCorpus, "study.json names no group '" + name + "'");
+    if (sharing.empty()) throw sdk::Error(kBadCorpus, "study.json names no group '" + name + "'");
     std::vector<std::string> sets = options.sets;
     const fs::path preload = fs::path(dir) / "preload-C.jsonl";
     sets.push_back("lexicon.sharing=" + sharing);

@@ -123,8 +123,8 @@ std::string login_cookie(const std::string& header) {
 }
 
 std::string login_cookie_header(const std::string& token, std::chrono::seconds valid_for) {
-  return std::string(kCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" +
-         std::to_string(valid_for.count());
+  return std::string(kCookie) + "=" + token +
+         "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" + std::to_string(valid_for.count());
 }
 
 std::string header_safe(const std::string& name) {
@@ -342,8 +342,8 @@ bool Api::enroll(const HttpRequest& r, std::optional<Login>& login, SessionEntry
     const std::string id =
         recorder_->next_id([this](const std::string& name) { return accounts_.name_taken(name); });
     const auto valid_for = std::chrono::hours(24) * options_.login_days;
-    const std::string code =
-        accounts_.invite(id, Role::participant, std::chrono::duration_cast<std::chrono::seconds>(valid_for));
+    const std::string code = accounts_.invite(
+        id, Role::participant, std::chrono::duration_cast<std::chrono::seconds>(valid_for));
     login = accounts_.redeem(code, valid_for);
     if (!login) {
       reply = error_reply(500, "internal", "could not enroll participant " + id);
@@ -423,8 +423,7 @@ HttpReply Api::run(SessionEntry& entry, Kernel& free, const HttpRequest& r) {
     answer = session.handle_line(r.body);
     ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     // Inside the kernel's lock: a group's records are in the order it answered (§5).
-    if (recorder_ && !answer.empty() &&
-        recorder_->record(entry, r.body, answer, ms).goal_reached)
+    if (recorder_ && !answer.empty() && recorder_->record(entry, r.body, answer, ms).goal_reached)
       reply.set_header("Flipper-Goal", "reached");
   }
   // An expensive request (a long query builds large charts and traces) leaves the heap grown:

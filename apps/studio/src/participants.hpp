@@ -7,10 +7,10 @@
 // session holds (by worlds.jsonl id) and counts of what it did. Not thread-safe: the recorder
 // calls it under its lock.
 #include <chrono>
+#include <deque>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <deque>
 #include <vector>
 
 namespace flipper::studio {

@@ -99,16 +99,16 @@ GoalDigest goal_digest(const Json& w) {
   return d;
 }
 
-const std::vector<std::string> kCounted = {"q",      "live", "accept", "reject",
-                                           "def",    "delete", "undo", "reset"};
+const std::vector<std::string> kCounted = {"q",   "live",   "accept", "reject",
+                                           "def", "delete", "undo",   "reset"};
 
 }  // namespace
 
 const std::vector<std::string>& Recorder::files() {
   static const std::vector<std::string> kFiles = {
-      "queries.jsonl", "worlds.jsonl",  "definitions.jsonl", "original-answers.jsonl",
-      "sessions.json", "exchanges.jsonl", "participants.json", "study.json",
-      "preload-C.jsonl"};
+      "queries.jsonl",          "worlds.jsonl",  "definitions.jsonl",
+      "original-answers.jsonl", "sessions.json", "exchanges.jsonl",
+      "participants.json",      "study.json",    "preload-C.jsonl"};
   return kFiles;
 }
 
@@ -379,18 +379,18 @@ RecordOutcome Recorder::record(const SessionEntry& entry, const std::string& req
   // Ordered: the short members first, the request and answer texts last (docs/studio.md §6).
   using Ordered = nlohmann::ordered_json;
   exchanges_ << Ordered{{"n", n},
-                     {"time", now_iso()},
-                     {"group", entry.group},
-                     {"participant", entry.participant},
-                     {"session", session_numbers_.count(entry.token)
-                                     ? Ordered(session_numbers_[entry.token])
-                                     : Ordered()},
-                     {"user", entry.session->user()},
-                     {"qid", qid.empty() ? Ordered() : Ordered(qid)},
-                     {"origin", origin},
-                     {"request", request},
-                     {"answer", answer},
-                     {"sha256", sha256_hex(corpus::answer_for_digest(answer))}}
+                        {"time", now_iso()},
+                        {"group", entry.group},
+                        {"participant", entry.participant},
+                        {"session", session_numbers_.count(entry.token)
+                                        ? Ordered(session_numbers_[entry.token])
+                                        : Ordered()},
+                        {"user", entry.session->user()},
+                        {"qid", qid.empty() ? Ordered() : Ordered(qid)},
+                        {"origin", origin},
+                        {"request", request},
+                        {"answer", answer},
+                        {"sha256", sha256_hex(corpus::answer_for_digest(answer))}}
                     .dump(-1, ' ', false, Json::error_handler_t::replace)
              << '\n';
   exchanges_.flush();
@@ -569,16 +569,18 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
       formula += (k > first ? ";" : "") + text_of(step, "formula");
       replaced.push_back(step);
     }
-    Json collapsed{{"qid", c["qid"]},
-                   {"utterance", c["head"]},
-                   {"formula", formula + "}"},
-                   {"world_id", p.history[static_cast<std::size_t>(last)]["world_id"]},
-                   {"before_world_id", p.history[static_cast<std::size_t>(first)]["before_world_id"]},
-                   {"steps", std::move(replaced)}};
+    Json collapsed{
+        {"qid", c["qid"]},
+        {"utterance", c["head"]},
+        {"formula", formula + "}"},
+        {"world_id", p.history[static_cast<std::size_t>(last)]["world_id"]},
+        {"before_world_id", p.history[static_cast<std::size_t>(first)]["before_world_id"]},
+        {"steps", std::move(replaced)}};
     Json kept = Json::array();
     for (int k = 0; k < first; ++k) kept.push_back(p.history[static_cast<std::size_t>(k)]);
     kept.push_back(std::move(collapsed));
-    for (int k = last + 1; k < n_history; ++k) kept.push_back(p.history[static_cast<std::size_t>(k)]);
+    for (int k = last + 1; k < n_history; ++k)
+      kept.push_back(p.history[static_cast<std::size_t>(k)]);
     p.history = std::move(kept);
   }
 }

@@ -106,7 +106,7 @@ class Recorder {
   std::map<std::string, Live> live_;  ///< by participant
   kernel::Json sessions_ = kernel::Json::array();
   std::map<std::string, std::size_t> session_numbers_;  ///< by token: the sessions.json index
-  std::set<std::string> preloaded_;  ///< sources whose preload is written
+  std::set<std::string> preloaded_;                     ///< sources whose preload is written
   std::map<std::string, std::pair<std::string, int>> rule_defs_;  ///< rule id -> (def_id, pos)
   std::map<std::string, int> rule_lines_;                         ///< per source
   std::int64_t line_ = 0, exchange_ = 0;

@@ -42,8 +42,8 @@ struct Server::Impl {
   // Destroyed before the transport: no worker answers into a transport that is gone.
   std::unique_ptr<Api> api;
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
-  std::unique_ptr<StudyEndpoints> study;   ///< events and the researcher's view (docs/studio.md §6)
-  std::unique_ptr<Scheduler> scheduler;    // destroyed first: its workers use the api
+  std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §6)
+  std::unique_ptr<Scheduler> scheduler;   // destroyed first: its workers use the api
 
   void add_routes() {
     Api* a = api.get();

@@ -53,10 +53,9 @@ void StudyEndpoints::event(const HttpRequest& r, Respond respond) {
     if (r.body.size() > kMaxEventBytes)
       return error_reply(400, "bad_request", "an event is at most 4096 bytes");
     const Json body = Json::parse(r.body, nullptr, false);
-    const std::string kind =
-        body.is_object() && body.contains("kind") && body["kind"].is_string()
-            ? body["kind"].get<std::string>()
-            : std::string();
+    const std::string kind = body.is_object() && body.contains("kind") && body["kind"].is_string()
+                                 ? body["kind"].get<std::string>()
+                                 : std::string();
     const bool shaped =
         (kind == "flip" && body.contains("rank") && body["rank"].is_number_integer() &&
          (!body.contains("formula") || body["formula"].is_string())) ||
@@ -67,8 +66,7 @@ void StudyEndpoints::event(const HttpRequest& r, Respond respond) {
                          "send {\"kind\":\"flip\",\"rank\":N,\"formula\":F}, {\"kind\":\"reject\"} "
                          "or {\"kind\":\"page_load\",\"reloaded\":B}");
     std::shared_ptr<SessionEntry> entry = api_.registry().find(token);
-    if (!entry)
-      return error_reply(404, "unknown_session", "no session has this token");
+    if (!entry) return error_reply(404, "unknown_session", "no session has this token");
     const std::optional<Login> login = api_.accounts().resume(login_cookie(r.cookie));
     if (!entry->account.empty() && (!login || login->name != entry->account))
       return error_reply(401, "login_required",
@@ -83,8 +81,9 @@ void StudyEndpoints::event(const HttpRequest& r, Respond respond) {
 
 void StudyEndpoints::overview(const HttpRequest& r, Respond respond) {
   if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
-  later("study:" + r.peer, [this] { return json_ok(api_.recorder()->overview()); },
-        std::move(respond));
+  later(
+      "study:" + r.peer, [this] { return json_ok(api_.recorder()->overview()); },
+      std::move(respond));
 }
 
 void StudyEndpoints::recording(const HttpRequest& r, Respond respond) {
@@ -93,8 +92,8 @@ void StudyEndpoints::recording(const HttpRequest& r, Respond respond) {
   const std::string name = r.path.substr(std::min(r.path.size(), prefix.size()));
   const auto& files = Recorder::files();
   if (std::find(files.begin(), files.end(), name) == files.end())
-    return respond(error_reply(404, "not_found", "the recording has no file '" +
-                                                     name.substr(0, 100) + "'"));
+    return respond(
+        error_reply(404, "not_found", "the recording has no file '" + name.substr(0, 100) + "'"));
   auto job = [this, name]() -> HttpReply {
     std::ifstream in(std::filesystem::path(api_.study()->record_dir()) / name, std::ios::binary);
     if (!in) return error_reply(404, "not_found", "'" + name + "' is not written yet");

@@ -157,15 +157,14 @@ TEST_CASE("a study records every participant action with its fields and replays 
     const std::string zig_rule = r.body["rules"][0]["id"];
     r = p1.send({{"op", "query"}, {"text", "zig"}, {"studio", {{"why", "rerun"}}}});
     CHECK(r.body["status"] == "induced");
-    CHECK(p1.event({{"kind", "flip"}, {"rank", 0}, {"formula", "{{move right};{move up}}"}}) == 200);
+    CHECK(p1.event({{"kind", "flip"}, {"rank", 0}, {"formula", "{{move right};{move up}}"}}) ==
+          200);
     CHECK(p1.event({{"kind", "reject"}}) == 200);
     REQUIRE(p1.send({{"op", "delete_rule"}, {"rule", zig_rule}}).body["ok"] == true);
     REQUIRE(p1.send({{"op", "query"}, {"text", "move up"}}).body["ok"] == true);
     REQUIRE(p1.send({{"op", "accept"}, {"rank", 0}}).body["ok"] == true);
     CHECK(p1.goal.empty());  // reached before: said once
-    REQUIRE(p1.send({{"op", "world"},
-                     {"world", world_file()},
-                     {"studio", {{"why", "undo"}}}})
+    REQUIRE(p1.send({{"op", "world"}, {"world", world_file()}, {"studio", {{"why", "undo"}}}})
                 .body["ok"] == true);
     // info: the participant's place, not the condition.
     const json info = p1.info();
@@ -211,8 +210,7 @@ TEST_CASE("a study records every participant action with its fields and replays 
   const auto defs = of_kind(lines, "def");
   REQUIRE(defs.size() == 3);
   CHECK(defs[0]["body"] == json::parse(R"([{"utterance":"move up","formula":"","rank":0}])"));
-  CHECK(defs[1]["body"] ==
-        json::parse(R"([{"utterance":"move left","formula":"{move left}"}])"));
+  CHECK(defs[1]["body"] == json::parse(R"([{"utterance":"move left","formula":"{move left}"}])"));
   CHECK(defs[2]["body"][1] == json::parse(R"({"utterance":"hop","formula":"","rank":1})"));
   const auto del = of_kind(lines, "delete");
   REQUIRE(del.size() == 1);
@@ -254,8 +252,8 @@ TEST_CASE("a study records every participant action with its fields and replays 
   CHECK(exchanges.size() == 17);  // P1: 13 requests; P2: 4
   for (std::size_t i = 0; i < exchanges.size(); ++i) {
     CHECK(exchanges[i]["n"] == i + 1);
-    CHECK(exchanges[i]["sha256"] ==
-          record::sha256_text(corpus::answer_for_digest(exchanges[i]["answer"].get<std::string>())));
+    CHECK(exchanges[i]["sha256"] == record::sha256_text(corpus::answer_for_digest(
+                                        exchanges[i]["answer"].get<std::string>())));
   }
   CHECK(exchanges[1]["qid"] == q[0]["qid"]);
   CHECK(json::parse(exchanges[1]["request"].get<std::string>())["text"] == "move right");
@@ -292,7 +290,8 @@ TEST_CASE("a study records every participant action with its fields and replays 
   CHECK(bad.out.find("does not match its recorded sha256") != std::string::npos);
   bad = run_flipper("replay verify " + corrupt("rehashed", true).string());
   CHECK(bad.status == 1);
-  CHECK(bad.out.find("exchange 2 (participant P1, group B, qid \"studio/t/B#3\", op query) differs at byte 34") != std::string::npos);
+  CHECK(bad.out.find("exchange 2 (participant P1, group B, qid \"studio/t/B#3\", op query) differs "
+                     "at byte 34") != std::string::npos);
   CHECK(bad.out.find("differs at byte") != std::string::npos);
   CHECK(bad.out.find("live:    {\"ok\":true,\"op\":\"query\",\"status\":\"kore\"") !=
         std::string::npos);
@@ -333,8 +332,7 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
     CHECK(http.Get("/api/v1/study/overview")->status == 401);
     const auto ana = cookie(login(http, json{{"name", "ana"}, {"password", "ana's password"}}));
     CHECK(http.Get("/api/v1/study/overview", ana)->status == 403);
-    const auto mod =
-        cookie(login(http, json{{"name", "mod"}, {"password", "moderator password"}}));
+    const auto mod = cookie(login(http, json{{"name", "mod"}, {"password", "moderator password"}}));
     auto res = http.Get("/api/v1/study/overview", mod);
     REQUIRE(res->status == 200);
     const json o = json::parse(res->body);
@@ -348,13 +346,11 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
     // Downloads: the allowlist only.
     res = http.Get("/api/v1/study/recording/queries.jsonl", mod);
     REQUIRE(res->status == 200);
-    CHECK(res->get_header_value("Content-Disposition") ==
-          "attachment; filename=\"queries.jsonl\"");
+    CHECK(res->get_header_value("Content-Disposition") == "attachment; filename=\"queries.jsonl\"");
     CHECK(res->get_header_value("Content-Type") == "application/x-ndjson");
     CHECK(res->body == read_file(fs::path(dir) / "rec" / "queries.jsonl"));
     for (const char* name : {"lexicon-C.sqlite", "..%2Fstudy.yaml", "../study.yaml", "x"})
-      CHECK(http.Get((std::string("/api/v1/study/recording/") + name).c_str(), mod)->status ==
-            404);
+      CHECK(http.Get((std::string("/api/v1/study/recording/") + name).c_str(), mod)->status == 404);
     CHECK(http.Get("/api/v1/study/recording/queries.jsonl", ana)->status == 403);
     // Events: shape, session and login checked.
     CHECK(p1.event({{"kind", "shout"}}) == 400);

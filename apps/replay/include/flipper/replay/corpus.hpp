@@ -52,9 +52,9 @@ struct Command {
   std::string head, def_id;
   std::vector<BodyLine> body;
   // delete
-  int rule_index = -1;   ///< the 2018 grammar-log index (-1: none)
-  std::string rule;      ///< studio: the live rule id
-  int rule_pos = -1;     ///< studio: the rule's index in its define's answer (with def_id)
+  int rule_index = -1;  ///< the 2018 grammar-log index (-1: none)
+  std::string rule;     ///< studio: the live rule id
+  int rule_pos = -1;    ///< studio: the rule's index in its define's answer (with def_id)
 };
 
 struct Definition {
