@@ -90,24 +90,6 @@ struct Participant {
   }
 };
 
-struct Cli {
-  int status = 0;
-  std::string out;
-};
-
-Cli run_flipper(const std::string& args) {
-  Cli r;
-  const std::string cmd = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args + " 2>&1";
-  FILE* p = ::popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p) != nullptr) r.out += buf;
-  const int raw = ::pclose(p);
-  REQUIRE(WIFEXITED(raw));
-  r.status = WEXITSTATUS(raw);
-  return r;
-}
-
 std::vector<json> of_kind(const std::vector<json>& lines, const std::string& kind) {
   std::vector<json> out;
   for (const auto& l : lines)
@@ -266,7 +248,7 @@ TEST_CASE("a study records every participant action with its fields and replays 
   CHECK(parts["participants"][1]["group"] == "C");
 
   // flipper replay verify: equal; one answer byte changed; the change with its hash redone.
-  const Cli ok = run_flipper("replay verify " + rec.string());
+  const CliRun ok = run_flipper("replay verify " + rec.string(), dir);
   INFO(ok.out);
   CHECK(ok.status == 0);
   CHECK(ok.out.find("17 exchanges, every answer equal byte for byte") != std::string::npos);
@@ -284,11 +266,11 @@ TEST_CASE("a study records every participant action with its fields and replays 
     for (const auto& e : ex) out << e.dump() << "\n";
     return copy;
   };
-  Cli bad = run_flipper("replay verify " + corrupt("changed", false).string());
+  CliRun bad = run_flipper("replay verify " + corrupt("changed", false).string(), dir);
   CHECK(bad.status == 1);
   CHECK(bad.out.find("exchange 2 (participant P1, group B") != std::string::npos);
   CHECK(bad.out.find("does not match its recorded sha256") != std::string::npos);
-  bad = run_flipper("replay verify " + corrupt("rehashed", true).string());
+  bad = run_flipper("replay verify " + corrupt("rehashed", true).string(), dir);
   CHECK(bad.status == 1);
   CHECK(bad.out.find("exchange 2 (participant P1, group B, qid \"studio/t/B#3\", op query) differs "
                      "at byte 34") != std::string::npos);
@@ -297,7 +279,7 @@ TEST_CASE("a study records every participant action with its fields and replays 
         std::string::npos);
   CHECK(bad.out.find("replay:  {\"ok\":true,\"op\":\"query\",\"status\":\"core\"") !=
         std::string::npos);
-  const Cli missing = run_flipper("replay verify " + dir + "/nothing-here");
+  const CliRun missing = run_flipper("replay verify " + dir + "/nothing-here", dir);
   CHECK(missing.status == 2);
   CHECK(missing.out.find("[bad_corpus]") != std::string::npos);
 }
@@ -394,7 +376,7 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
   for (const auto& d : read_jsonl(fs::path(dir) / "rec" / "definitions.jsonl"))
     preloaded += d["origin"] == "preloaded";
   CHECK(preloaded == 1);
-  const Cli ok = run_flipper("replay verify " + (fs::path(dir) / "rec").string());
+  const CliRun ok = run_flipper("replay verify " + (fs::path(dir) / "rec").string(), dir);
   INFO(ok.out);
   CHECK(ok.status == 0);
 }
@@ -422,7 +404,7 @@ TEST_CASE("participants of one group teaching at once are recorded in the order 
     a.join();
     b.join();
   }
-  const Cli ok = run_flipper("replay verify " + dir + "/rec");
+  const CliRun ok = run_flipper("replay verify " + dir + "/rec", dir);
   INFO(ok.out);
   CHECK(ok.status == 0);
   CHECK(ok.out.find("150 exchanges") != std::string::npos);
