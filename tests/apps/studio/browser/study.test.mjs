@@ -170,8 +170,11 @@ run(async () => {
     await ask(p1, 'move up');
     await waitAnimation(p1);
     await accept(p1);
+    const accepted3 = await p1.evaluate(() => window.flipperStudio.state.history?.length ?? null);
     await p1.click('[data-testid=undo]');
     await p1.waitForFunction(() => window.flipperStudio.state.world.robot.y === 5);
+    // The page pops its history once the world is back.
+    if (accepted3 !== null) await p1.waitForFunction((n) => window.flipperStudio.state.history.length === n - 1, accepted3);
     const historyBefore = await p1.evaluate(() => window.flipperStudio.state.history?.length ?? null);
     await p1.reload();
     await p1.waitForSelector('body[data-ready=true]', { state: 'attached' });
@@ -279,6 +282,17 @@ run(async () => {
     equal(of('P1', 'task_start').map((c) => c.task), [0, 1], 'both task starts are recorded');
     check(of('P1', 'page_load').some((c) => c.reloaded === true), 'the reload is recorded');
     equal(of('P2', 'q').map((c) => c.utterance).slice(0, 2), ['go to green', 'move lfet'], 'P2\'s queries are recorded');
+    equal(of('P1', 'rerun').map((c) => c.utterance), ['hop', 'hop', 'zig'], 'the re-runs after each definition are recorded as rerun');
+    const fromHistory = of('P2', 'def');
+    if (fromHistory.length) {
+      const accepts2 = of('P2', 'accept');
+      equal(fromHistory[0].from_history, accepts2.map((c) => c.qid), 'the definition from history names the accepts it came from');
+      equal(fromHistory[0].body.map((b) => [b.utterance, b.formula]), accepts2.map((c) => [c.utterance, c.formula]),
+        'each of its lines is the accepted step with the program accepted');
+      const p2 = JSON.parse(readFileSync(join(rec, 'participants.json'), 'utf8')).participants.find((p) => p.participant === 'P2');
+      equal([p2.history.length, p2.history[0]?.utterance, p2.history[0]?.steps?.length], [1, 'go green then up', 2],
+        'the server\'s history collapses the steps into the new phrase');
+    }
   } else {
     console.log('     skip: goal, live, rerun, reject, undo, task_start, page_load and the query list (the page does not annotate)');
   }
