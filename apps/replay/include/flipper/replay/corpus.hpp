@@ -19,7 +19,7 @@ struct BodyLine {
   std::string utterance;
   std::string formula;  ///< the program meant (the original's formula, or canonical text)
   int rank = -1;        ///< a studio line without a formula: the reading chosen (-1: none logged)
-  std::string accept_qid;  ///< a studio line taught from history: the accept it came from
+  std::string accept_qid = {};  ///< a studio line taught from history: the accept it came from
 };
 
 /// One induced rule of the original's grammar log (what the deletion mapping and the rule
@@ -30,7 +30,7 @@ struct LoggedRule {
   bool alignment = false;        ///< induced by alignment (`align`)
   std::string lhs;               ///< e.g. "$Action"
   std::vector<std::string> rhs;  ///< tokens and the original's category names
-  std::string semantics;         ///< studio recordings: the template (canonical text)
+  std::string semantics = {};    ///< studio recordings: the template (canonical text)
 };
 
 /// One non-context command of queries.jsonl.

@@ -19,7 +19,7 @@ namespace flipper::replay {
 struct RuleShape {
   std::string lhs;
   std::vector<std::string> rhs;
-  std::string semantics;  ///< the rule's template (canonical text)
+  std::string semantics = {};  ///< the rule's template (canonical text)
 };
 
 /// "identical" (same set of shapes), "subset" (ours a proper, non-empty subset of the
