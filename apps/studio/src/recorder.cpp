@@ -200,6 +200,12 @@ void Recorder::write(std::ofstream& out, const Json& line) {
   out.flush();
 }
 
+void Recorder::write_line(const Line& line) {
+  std::ofstream& out = queries_;
+  out << line.dump(-1, ' ', false, Json::error_handler_t::replace) << '\n';
+  out.flush();
+}
+
 void Recorder::write_sessions() {
   const fs::path path = fs::path(dir_) / "sessions.json";
   const fs::path tmp = path.string() + ".tmp";
@@ -276,36 +282,37 @@ ParticipantState& Recorder::state(const SessionEntry& entry) {
   return *p;
 }
 
-Json Recorder::line(const SessionEntry& entry, ParticipantState& p, const std::string& kind,
-                    std::optional<std::int64_t> exchange) {
+Recorder::Line Recorder::line(const SessionEntry& entry, ParticipantState& p,
+                              const std::string& kind, std::optional<std::int64_t> exchange) {
   ++line_;
   const std::string source = study_->source(entry.group);
   const auto& tasks = study_->tasks();
   const bool in_task = p.task >= 0 && p.task < static_cast<int>(tasks.size());
   if (std::find(kCounted.begin(), kCounted.end(), kind) != kCounted.end()) ++p.counts[kind];
-  return Json{{"qid", source + "#" + std::to_string(line_)},
+  // Ordered: who, what and when first (docs/studio.md §6).
+  return Line{{"qid", source + "#" + std::to_string(line_)},
+              {"kind", kind},
+              {"time", now_iso()},
+              {"participant", entry.participant},
+              {"group", entry.group},
+              {"task", p.task},
+              {"task_name", in_task ? Line(tasks[static_cast<std::size_t>(p.task)].name) : Line()},
+              {"phase", in_task ? "task" : "tutorial"},
+              {"exchange", exchange ? Line(*exchange) : Line()},
+              {"world_id", p.world_id},
+              {"next_world_id", p.world_id},
               {"source", source},
               {"file", "studio"},
               {"line", line_},
               {"cohort", study_->name()},
-              {"group", entry.group},
               {"session", entry.participant},
               {"uid", entry.participant},
-              {"participant", entry.participant},
               {"account", p.account},
-              {"in_authors_tables", true},
               {"user", entry.session->user()},
+              {"in_authors_tables", true},
               {"syntax", "studio"},
               {"seq", ++live_[entry.participant].seq},
-              {"time", now_iso()},
-              {"phase", in_task ? "task" : "tutorial"},
-              {"task", p.task},
-              {"task_name", in_task ? Json(tasks[static_cast<std::size_t>(p.task)].name) : Json()},
-              {"kind", kind},
-              {"split", "studio"},
-              {"exchange", exchange ? Json(*exchange) : Json()},
-              {"world_id", p.world_id},
-              {"next_world_id", p.world_id}};
+              {"split", "studio"}};
 }
 
 void Recorder::session_started(const SessionEntry& entry, bool resumed) {
@@ -313,8 +320,8 @@ void Recorder::session_started(const SessionEntry& entry, bool resumed) {
   ParticipantState& p = state(entry);
   if (!resumed) p.world_id = world_id(entry);
   preloaded(entry.group);
-  Json c = line(entry, p, resumed ? "resume" : "session_start", std::nullopt);
-  write(queries_, c);
+  Line c = line(entry, p, resumed ? "resume" : "session_start", std::nullopt);
+  write_line(c);
   sessions_.push_back({{"source", study_->source(entry.group)},
                        {"session", entry.participant},
                        {"resumed", resumed},
@@ -408,7 +415,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
   Live& live = live_[entry.participant];
   const std::string before = p.world_id;
   if (ok && (op == "world" || op == "accept")) p.world_id = world_id(entry);
-  Json c;
+  Line c;
   if (op == "query" && ok) {
     c = line(entry, p, why == "live" || why == "rerun" ? why : "q", exchange);
     c["utterance"] = text_of(req, "text");
@@ -445,12 +452,12 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
                          {"formula", formula},
                          {"world_id", p.world_id},
                          {"before_world_id", before}});
-    write(queries_, c);
+    write_line(c);
     if (!p.goal_reached && goal_reached(entry, p.task)) {
       p.goal_reached = outcome.goal_reached = true;
-      Json g = line(entry, p, "goal", exchange);
+      Line g = line(entry, p, "goal", exchange);
       g["for_qid"] = c["qid"];
-      write(queries_, g);
+      write_line(g);
     }
     return c["qid"];
   } else if (op == "define") {
@@ -475,8 +482,8 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
       const bool had_goal = p.task >= 0 && p.task < static_cast<int>(tasks.size()) &&
                             tasks[static_cast<std::size_t>(p.task)].goal.is_object();
       if (had_goal && !p.goal_reached && task != p.task) {
-        Json skip = line(entry, p, "task_skip", exchange);
-        write(queries_, skip);
+        Line skip = line(entry, p, "task_skip", exchange);
+        write_line(skip);
       }
       p.task = task;
       p.goal_reached = false;
@@ -492,12 +499,12 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
   } else {
     return {};  // rules, state, refusals: exchanges.jsonl only
   }
-  write(queries_, c);
+  write_line(c);
   return c["qid"];
 }
 
 void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json& req,
-                      const Json& a, Json& c) {
+                      const Json& a, Line& c) {
   const bool ok = a.value("ok", false);
   const Json ranks = req.value("ranks", Json::array());
   const Json studio = req.value("studio", Json::object());
@@ -590,7 +597,7 @@ void Recorder::event(const SessionEntry& entry, const Json& body) {
   ParticipantState& p = state(entry);
   const std::string kind = text_of(body, "kind");
   const Live& live = live_[entry.participant];
-  Json c = line(entry, p, kind, std::nullopt);
+  Line c = line(entry, p, kind, std::nullopt);
   if (kind == "flip") {
     c["for_qid"] = live.last_qid;
     c["utterance"] = live.last_text;
@@ -603,7 +610,7 @@ void Recorder::event(const SessionEntry& entry, const Json& body) {
   } else if (kind == "page_load") {
     c["reloaded"] = body.value("reloaded", false);
   }
-  write(queries_, c);
+  write_line(c);
   participants_.save();
 }
 

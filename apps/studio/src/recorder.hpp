@@ -81,10 +81,13 @@ class Recorder {
     kernel::Json last_formulas = kernel::Json::array();
     int seq = 0;
   };
+  /// A queries.jsonl line, its members in the order they are set (who, what, when first).
+  using Line = nlohmann::ordered_json;
   std::string world_id(const SessionEntry& entry);
-  kernel::Json line(const SessionEntry& entry, ParticipantState& p, const std::string& kind,
-                    std::optional<std::int64_t> exchange);
+  Line line(const SessionEntry& entry, ParticipantState& p, const std::string& kind,
+            std::optional<std::int64_t> exchange);
   void write(std::ofstream& out, const kernel::Json& line);
+  void write_line(const Line& line);  ///< to queries.jsonl
   void write_sessions();
   void write_study_json(const std::vector<std::pair<std::string, kernel::Config>>& kernels);
   void load_existing();
@@ -96,7 +99,7 @@ class Recorder {
                       const kernel::Json& answer, double ms, std::int64_t exchange,
                       RecordOutcome& outcome);
   void define(const SessionEntry& entry, ParticipantState& p, const kernel::Json& request,
-              const kernel::Json& answer, kernel::Json& c);
+              const kernel::Json& answer, Line& c);
 
   std::mutex mutex_;
   std::shared_ptr<Study> study_;

@@ -257,6 +257,11 @@ run(async () => {
   writeFileSync(join(opt.artifacts, 'study-recording-head.txt'), files.map((f) =>
     `==> ${f} <==\n${readFileSync(join(rec, f), 'utf8').split('\n').slice(0, 3).join('\n')}\n`).join('\n'));
   const commands = readJsonl(join(rec, 'queries.jsonl'));
+  // P1's recording in brief (the closing note shows it): one line per action, the main fields.
+  const brief = (c) => [c.line, c.kind, `task ${c.task}`, c.utterance ?? c.head ?? '', c.status ?? c.formula ?? '',
+    c.body ? JSON.stringify(c.body) : '', c.exchange ?? '-'].join(' | ');
+  writeFileSync(join(opt.artifacts, 'study-recording-P1.txt'),
+    `${commands.filter((c) => c.participant === 'P1').map(brief).join('\n')}\n`);
   const of = (p, kind) => commands.filter((c) => c.participant === p && c.kind === kind);
   const kinds = (p) => commands.filter((c) => c.participant === p).map((c) => c.kind);
   console.log(`     P1: ${kinds('P1').join(' ')}`);
