@@ -165,7 +165,7 @@ class RunReplay {
   void command(const Command& c) {
     // A studio recording's observational kinds change nothing a replay reproduces (live checks,
     // re-runs, flips, task marks, world steps whose result the next command's world_id names;
-    // docs/studio.md §6).
+    // docs/studio.md §7).
     if (is_observation(c.kind)) return;
     if (c.kind != "q" && c.kind != "accept") last_qid_.clear();  // defines/deletes change parses
     set_user(c.user);
@@ -362,7 +362,7 @@ class RunReplay {
     naturalization::DefineCall call;
     call.head = head;
     for (const auto& b : body) call.body.push_back(b.utterance);
-    // A studio line without a formula names the reading chosen by rank (docs/studio.md §6).
+    // A studio line without a formula names the reading chosen by rank (docs/studio.md §7).
     if (std::any_of(body.begin(), body.end(), [](const BodyLine& b) { return b.rank > 0; }))
       for (const auto& b : body) call.ranks.push_back(std::max(0, b.rank));
     naturalization::DefineOutcome defined;

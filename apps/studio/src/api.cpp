@@ -324,7 +324,7 @@ std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
 
 bool Api::enroll(const HttpRequest& r, std::optional<Login>& login, SessionEntry& entry,
                  bool& resumed, HttpReply& reply) {
-  // docs/studio.md §6 "Participants and resume": a login that is a participant resumes; a new
+  // docs/studio.md §7 "Participants and resume": a login that is a participant resumes; a new
   // one, or a guest (enrolled as account P<n> with a login cookie), joins while the study is open.
   if (login) {
     if (auto p = recorder_->participant_of(login->name)) {
@@ -459,7 +459,7 @@ void Api::info(const HttpRequest& r, Respond respond) {
     const kernel::Config& c = k.runtime->config;
     Json account = nullptr;
     if (login) account = Json{{"name", login->name}, {"role", to_string(login->role)}};
-    // A study does not show its participants their condition (docs/studio.md §6).
+    // A study does not show its participants their condition (docs/studio.md §7).
     Json out{{"ok", true},
              {"sharing", study_ ? Json() : Json(c.get_string("lexicon.sharing"))},
              {"k", c.get_int("session.k")},

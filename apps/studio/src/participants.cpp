@@ -18,7 +18,7 @@ ParticipantStore::ParticipantStore(std::string path) : path_(std::move(path)) {
   const json j = json::parse(text.str(), nullptr, false);
   if (!j.is_object() || !j.contains("participants") || !j["participants"].is_array())
     throw sdk::Error(sdk::codes::kBadConfig,
-                     "study: '" + path_ + "' is not a participants file (docs/studio.md §6)");
+                     "study: '" + path_ + "' is not a participants file (docs/studio.md §7)");
   open_ = j.value("open", true);
   next_ = j.value("next", 0);
   for (const auto& p : j["participants"]) {

@@ -1,6 +1,6 @@
 #pragma once
 // A study's participants as the server keeps them across reloads, reopened tabs and restarts
-// (docs/studio.md §6 "Participants and resume"): participants.json in the recording folder,
+// (docs/studio.md §7 "Participants and resume"): participants.json in the recording folder,
 // rewritten atomically after every change and read back at start. Each participant is an
 // account (enrolled as P<n>, or the login that arrived), with its group, task, whether the
 // task's goal was reached, the history of accepted steps since the task started, the world the

@@ -77,7 +77,7 @@ std::string text_of(const Json& j, const char* key) {
 }
 
 // A world's robot cell, held items and lying items, ids and order ignored: what a goal compares
-// (docs/studio.md §6).
+// (docs/studio.md §7).
 struct GoalDigest {
   std::vector<std::int64_t> robot;
   std::vector<std::string> held, lying;
@@ -135,7 +135,7 @@ Recorder::Recorder(std::shared_ptr<Study> study,
 }
 
 // A recording already there: numbering, worlds, sessions, the rule map and the preload continue
-// (docs/studio.md §6 "Restarts").
+// (docs/studio.md §7 "Restarts").
 void Recorder::load_existing() {
   const fs::path dir = dir_;
   for_each_json_line(dir / "queries.jsonl", [&](const Json&) { ++line_; });
@@ -289,7 +289,7 @@ Recorder::Line Recorder::line(const SessionEntry& entry, ParticipantState& p,
   const auto& tasks = study_->tasks();
   const bool in_task = p.task >= 0 && p.task < static_cast<int>(tasks.size());
   if (std::find(kCounted.begin(), kCounted.end(), kind) != kCounted.end()) ++p.counts[kind];
-  // Ordered: who, what and when first (docs/studio.md §6).
+  // Ordered: who, what and when first (docs/studio.md §7).
   return Line{{"qid", source + "#" + std::to_string(line_)},
               {"kind", kind},
               {"time", now_iso()},
@@ -339,7 +339,7 @@ Json Recorder::resume_world(const std::string& participant) {
   return it == worlds_by_id_.end() ? Json() : it->second;
 }
 
-// Group C's preloaded definitions, written once per recording (docs/studio.md §6).
+// Group C's preloaded definitions, written once per recording (docs/studio.md §7).
 void Recorder::preloaded(const std::string& group) {
   const std::string source = study_->source(group);
   if (group != "C" || study_->preload().empty() || !preloaded_.insert(source).second) return;
@@ -383,7 +383,7 @@ RecordOutcome Recorder::record(const SessionEntry& entry, const std::string& req
   const Json a = Json::parse(answer, nullptr, false);
   std::string qid;
   if (req.is_object() && a.is_object()) qid = command(entry, p, req, a, ms, n, outcome);
-  // Ordered: the short members first, the request and answer texts last (docs/studio.md §6).
+  // Ordered: the short members first, the request and answer texts last (docs/studio.md §7).
   using Ordered = nlohmann::ordered_json;
   exchanges_ << Ordered{{"n", n},
                         {"time", now_iso()},
@@ -470,7 +470,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
     auto it = rule_defs_.find(rule);
     c["def_id"] = it == rule_defs_.end() ? Json() : Json(it->second.first);
     c["rule_pos"] = it == rule_defs_.end() ? -1 : it->second.second;
-    c["rule_index"] = -1;  // the 2018 grammar-log index: none here (docs/studio.md §6)
+    c["rule_index"] = -1;  // the 2018 grammar-log index: none here (docs/studio.md §7)
     c["status"] = ok ? std::string("ok") : a["error"].value("code", std::string("error"));
   } else if (op == "world" && ok) {
     if (why == "resume") return {};  // the `resume` line says it
@@ -567,7 +567,7 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
                        {"line", c["line"]},
                        {"rules_status", ok ? "induced" : "failed"},
                        {"induced_rules", std::move(induced)}});
-  // A phrase taught from history: its steps collapse into one (docs/studio.md §6).
+  // A phrase taught from history: its steps collapse into one (docs/studio.md §7).
   if (ok && range_ok) {
     std::string formula = "{";
     Json replaced = Json::array();

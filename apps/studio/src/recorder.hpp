@@ -1,5 +1,5 @@
 #pragma once
-// Study recording (docs/studio.md §6) in the corpus format `flipper replay` reads (as
+// Study recording (docs/studio.md §7) in the corpus format `flipper replay` reads (as
 // data/study2018/dev): queries.jsonl (one time-ordered line per participant action, each its own
 // kind), worlds.jsonl (every world a command started or ended in), definitions.jsonl (the
 // definitions with their induced rules, and group C's preloaded ones), original-answers.jsonl

@@ -42,7 +42,7 @@ struct Server::Impl {
   // Destroyed before the transport: no worker answers into a transport that is gone.
   std::unique_ptr<Api> api;
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
-  std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §6)
+  std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §7)
   std::unique_ptr<Scheduler> scheduler;   // destroyed first: its workers use the api
 
   void add_routes() {

@@ -38,7 +38,7 @@ class Study {
   /// recording directory.
   std::vector<std::pair<std::string, kernel::Config>> kernels(const kernel::Config& base) const;
   /// What the page shows: name, tutorial and tasks (the participant's part comes from the
-  /// recorder; the group and its sharing mode are not shown: docs/studio.md §6).
+  /// recorder; the group and its sharing mode are not shown: docs/studio.md §7).
   kernel::Json page_json() const;
 
   const std::string& name() const { return name_; }

@@ -1,5 +1,5 @@
 #pragma once
-// Study mode's own HTTP endpoints (docs/studio.md §6): the page's events and the researcher's
+// Study mode's own HTTP endpoints (docs/studio.md §7): the page's events and the researcher's
 // view. The protocol exchanges themselves go through Api (api.hpp) and are recorded there.
 //   POST /api/v1/study/event?session=T   {"kind":"flip","rank","formula"} | {"kind":"reject"} |
 //                                        {"kind":"page_load","reloaded"}: a queries.jsonl line

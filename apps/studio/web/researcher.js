@@ -1,4 +1,4 @@
-// The researcher's view of a study (docs/studio.md §6): who takes part, their group and task,
+// The researcher's view of a study (docs/studio.md §7): who takes part, their group and task,
 // counts so far, the recording's files, and closing the study to new participants. Needs an
 // administrator's login (the HttpOnly cookie of POST /api/v1/login); refreshed every 5 s.
 const $ = (id) => document.getElementById(id);

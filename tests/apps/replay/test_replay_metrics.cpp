@@ -155,7 +155,7 @@ TEST_CASE("rule oracle: identical, subset, overlap, missing", "[replay][defects]
 
 TEST_CASE("rule oracle: a studio recording's rules are compared with their semantics",
           "[replay][defects]") {
-  // docs/studio.md §6: every logged rule has semantics in our notation, alignment rules count.
+  // docs/studio.md §7: every logged rule has semantics in our notation, alignment rules count.
   using flipper::replay::compare_rules;
   using flipper::replay::LoggedRule;
   using flipper::replay::RuleShape;

@@ -1,4 +1,4 @@
-// Study mode over HTTP against the real binary (docs/studio.md §6): every record kind with its
+// Study mode over HTTP against the real binary (docs/studio.md §7): every record kind with its
 // fields, participants enrolled as accounts and resumed by their login cookie, the researcher's
 // endpoints (401/403/200, downloads, close), page events, a restart that continues the
 // numbering, one kernel per group under concurrent participants, and `flipper replay verify` on

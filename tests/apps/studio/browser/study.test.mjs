@@ -1,4 +1,4 @@
-// Study mode end to end (docs/studio.md §6): a scripted study with two participants in groups B
+// Study mode end to end (docs/studio.md §7): a scripted study with two participants in groups B
 // (private) and C (shared) run through the page: a goal reached, two definitions of one phrase,
 // a definition whose second line uses its second reading, an induced phrase accepted, a reject,
 // a delete, an undo and a reload; then the researcher's view (login, the table, close: a new

@@ -6,7 +6,7 @@
 /// The 2018 corpus: templates are not compared (the original printed them as lambda formulas of
 /// its own) and its alignment rules are left out (replays run with alignment off, as the study).
 /// A studio recording logs each rule's `semantics` in our notation: then every rule, alignment
-/// ones too, is compared as `lhs -> rhs => semantics` (docs/studio.md §6).
+/// ones too, is compared as `lhs -> rhs => semantics` (docs/studio.md §7).
 
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file verify.hpp
 /// `flipper replay verify REC`: a studio study recording replayed exchange by exchange
-/// (docs/experiments.md §8, docs/studio.md §6). Per study group one runtime with the group's
+/// (docs/experiments.md §8, docs/studio.md §7). Per study group one runtime with the group's
 /// lexicon mode, a store in memory and the recording's own preload (REC/preload-C.jsonl); per
 /// participant's protocol session one kernel Session with the participant's user; each
 /// `request` of exchanges.jsonl fed in file order, and our answer compared byte for byte with the
