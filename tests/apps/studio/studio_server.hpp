@@ -116,12 +116,16 @@ struct Reply {
   std::string text;
   std::string session;
   std::string user;
+  std::string set_cookie;  ///< a new login's Set-Cookie (study enrollment)
+  std::string goal;        ///< Flipper-Goal (study mode)
 };
 
+/// `group`: a new session's ?group= (study mode).
 inline Reply post(httplib::Client& c, const std::string& session, const std::string& body,
-                  const httplib::Headers& headers = {}) {
-  const std::string path =
-      session.empty() ? "/api/v1/request" : "/api/v1/request?session=" + session;
+                  const httplib::Headers& headers = {}, const std::string& group = "") {
+  const std::string path = !session.empty() ? "/api/v1/request?session=" + session
+                           : group.empty()  ? std::string("/api/v1/request")
+                                            : "/api/v1/request?group=" + group;
   auto res = c.Post(path.c_str(), headers, body, "application/json");
   REQUIRE(res);
   Reply r;
@@ -130,6 +134,8 @@ inline Reply post(httplib::Client& c, const std::string& session, const std::str
   r.body = json::parse(res->body, nullptr, false);
   r.session = res->get_header_value("Flipper-Session");
   r.user = res->get_header_value("Flipper-User");
+  r.set_cookie = res->get_header_value("Set-Cookie");
+  r.goal = res->get_header_value("Flipper-Goal");
   return r;
 }
 

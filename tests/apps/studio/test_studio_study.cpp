@@ -61,20 +61,10 @@ struct Participant {
   std::string group;
   std::string goal = {};  ///< the last reply's Flipper-Goal header
   Reply send(const json& request) {
-    std::string path = session.empty() ? "/api/v1/request" : "/api/v1/request?session=" + session;
-    if (session.empty() && !group.empty()) path += "?group=" + group;
-    auto res = http.Post(path.c_str(), headers, request.dump(), "application/json");
-    REQUIRE(res);
-    Reply r;
-    r.status = res->status;
-    r.text = res->body;
-    r.body = json::parse(res->body, nullptr, false);
-    r.session = res->get_header_value("Flipper-Session");
-    r.user = res->get_header_value("Flipper-User");
+    Reply r = post(http, session, request.dump(), headers, group);
     if (!r.session.empty()) session = r.session;
-    const std::string set = res->get_header_value("Set-Cookie");
-    if (!set.empty()) headers = cookie(set.substr(0, set.find(';')));
-    goal = res->get_header_value("Flipper-Goal");
+    if (!r.set_cookie.empty()) headers = cookie(r.set_cookie.substr(0, r.set_cookie.find(';')));
+    goal = r.goal;
     return r;
   }
   json info() {
