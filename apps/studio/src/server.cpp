@@ -62,6 +62,8 @@ struct Server::Impl {
                [s](const HttpRequest& r, Respond done) { s->overview(r, std::move(done)); });
     router.add("POST", "/api/v1/study/close",
                [s](const HttpRequest& r, Respond done) { s->close(r, std::move(done)); });
+    router.add("POST", "/api/v1/study/invite",
+               [s](const HttpRequest& r, Respond done) { s->invite(r, std::move(done)); });
     if (sempre) {
       // On the plain kernel's worker, one request at a time per sessionId, never on the I/O
       // thread (docs/sempre.md, docs/studio.md §5).

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "flipper/sdk/errors.hpp"
 #include "recorder.hpp"
 #include "study.hpp"
 
@@ -120,6 +121,35 @@ void StudyEndpoints::close(const HttpRequest& r, Respond respond) {
   auto job = [this, open] {
     api_.recorder()->set_open(open);
     return json_ok(api_.recorder()->overview());
+  };
+  later("study:" + r.peer, std::move(job), std::move(respond));
+}
+
+void StudyEndpoints::invite(const HttpRequest& r, Respond respond) {
+  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
+  const Json body = Json::parse(r.body, nullptr, false);
+  if (!body.is_object() || !body.contains("participant") || !body["participant"].is_string())
+    return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
+  const std::string name = body["participant"].get<std::string>();
+  auto job = [this, name]() -> HttpReply {
+    // Only a participant's account, or a new one: never a code for another account (an admin's).
+    const auto account = api_.accounts().find(name);
+    if (account && !api_.recorder()->participant_of(name))
+      return error_reply(409, "not_a_participant",
+                         "'" + name + "' is an account that is not a participant of this study");
+    try {
+      const std::string code =
+          api_.accounts().invite(name, Role::participant, std::chrono::hours(24) * 7);
+      return json_ok(Json{{"ok", true},
+                          {"participant", name},
+                          {"code", code},
+                          {"url", "/?code=" + code},
+                          {"known", account.has_value()}});
+    } catch (const sdk::Error& e) {
+      return error_reply(400, e.code(), e.what());
+    }
   };
   later("study:" + r.peer, std::move(job), std::move(respond));
 }

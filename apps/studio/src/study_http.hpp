@@ -6,6 +6,8 @@
 //   GET  /api/v1/study/overview          (admin) participants, their group, task, counts, files
 //   GET  /api/v1/study/recording/NAME    (admin) one file of the recording, as an attachment
 //   POST /api/v1/study/close {"open":b}  (admin) stop (or resume) taking new participants
+//   POST /api/v1/study/invite {"participant":P}  (admin) a one-time login code for P: a known
+//                                        participant resumes on another device, a new name joins
 // The researcher's endpoints answer 401 login_required without a login, 403 forbidden for a
 // login that is not an administrator; a server without a study answers 404 no_study.
 #include "api.hpp"
@@ -22,6 +24,7 @@ class StudyEndpoints {
   void overview(const HttpRequest& request, Respond respond);
   void recording(const HttpRequest& request, Respond respond);
   void close(const HttpRequest& request, Respond respond);
+  void invite(const HttpRequest& request, Respond respond);
 
  private:
   /// nullopt when the request is a researcher's; else the refusal.

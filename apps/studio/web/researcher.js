@@ -97,5 +97,19 @@ $('close').addEventListener('click', async () => {
   else showError(o.error?.message ?? `HTTP ${res.status}`);
 });
 
+// A one-time code link: a participant resumes on another device, or a new name joins.
+$('invite').addEventListener('submit', async (e) => {
+  e.preventDefault();
+  const res = await fetch('/api/v1/study/invite', {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify({ participant: $('invite-name').value.trim() }),
+  });
+  const a = await res.json().catch(() => ({}));
+  if (!a.ok) return showError(a.error?.message ?? `HTTP ${res.status}`);
+  showError('');
+  $('invite-url').textContent = `${location.origin}${a.url}`;
+});
+
 refresh();
 setInterval(refresh, 5000);

@@ -341,6 +341,17 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
     r = late.send({{"op", "state"}});
     CHECK(r.status == 403);
     CHECK(r.body["error"]["code"] == "study_closed");
+    // Another device: the researcher's code logs in as P1 (no new participant, even closed).
+    res = http.Post("/api/v1/study/invite", mod, R"({"participant":"P1"})", "application/json");
+    REQUIRE(res->status == 200);
+    const json code = json::parse(res->body);
+    CHECK(code["url"] == "/?code=" + code["code"].get<std::string>());
+    Participant device{http, cookie(login(http, json{{"code", code["code"]}})), "", "", ""};
+    CHECK(device.send({{"op", "state"}}).user == "P1");
+    CHECK(http.Post("/api/v1/study/invite", mod, R"({"participant":"mod"})", "application/json")
+              ->status == 409);  // never a code for a researcher's account
+    CHECK(http.Post("/api/v1/study/invite", ana, R"({"participant":"P1"})", "application/json")
+              ->status == 403);
     Participant back{http, p1.headers, "", "", ""};
     CHECK(back.send({{"op", "state"}}).user == "P1");
     REQUIRE(http.Post("/api/v1/study/close", mod, R"({"open":true})", "application/json")->status ==

@@ -233,6 +233,10 @@ run(async () => {
     if (withPage) equal(rows, [['P1', 'B', '2: room1'], ['P2', 'C', '1: warm-up']], 'the researcher sees both participants, their group and task');
     else equal(rows.map((row) => row.slice(0, 2)), [['P1', 'B'], ['P2', 'C']], 'the researcher sees both participants and their group (tasks need the page\'s task_start)');
     check(await r.isVisible('[data-testid=researcher-download-queries]'), 'the recording can be downloaded file by file');
+    await r.fill('#invite-name', 'P1');
+    await r.click('[data-testid=researcher-invite] button');
+    await r.waitForFunction(() => document.getElementById('invite-url').textContent.includes('/?code='));
+    check(true, 'the researcher makes a code link for P1\'s other device');
     await shot(r, opt.artifacts, 'researcher');
     await r.click('[data-testid=researcher-close]');
     await r.waitForFunction(() => document.getElementById('study-state').textContent.includes('closed'));
