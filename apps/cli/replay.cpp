@@ -5,6 +5,7 @@
 // flipper replay merge RUN... --out PARENT [--no-plots]
 // flipper replay compare RUN_A RUN_B [--all]
 // flipper replay plot RUN
+// flipper replay verify REC [--config F] [--set k=v]...
 // Replays a corpus split through kernel sessions into a new run folder under --out: manifest,
 // figures (tidy CSV), metrics, report.md and plots (docs/experiments.md). Command-line options
 // override the experiment file; --set applies to every variant.
@@ -21,8 +22,10 @@
 #include "flipper/record/processes.hpp"
 #include "flipper/record/run_folder.hpp"
 #include "flipper/replay/check.hpp"
+#include "flipper/replay/corpus.hpp"
 #include "flipper/replay/experiment.hpp"
 #include "flipper/replay/output.hpp"
+#include "flipper/replay/verify.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::cli {
@@ -263,6 +266,36 @@ void add_plot(CLI::App& replay) {
   });
 }
 
+// A studio recording's every answer again, byte for byte (docs/experiments.md §8).
+void add_verify(CLI::App& replay) {
+  auto* cmd = replay.add_subcommand(
+      "verify",
+      "Replay a studio study recording's exchanges and compare every answer byte for byte");
+  static CommonOptions opts;
+  static std::string dir;
+  cmd->add_option("recording", dir, "The recording folder (study.json, exchanges.jsonl)")
+      ->required();
+  add_common_options(*cmd, opts);
+  on_run(*cmd, [] {
+    return guarded("replay verify", [] {
+      replay::VerifyResult r;
+      try {
+        r = replay::verify_recording(dir, {config_file(opts), opts.overrides});
+      } catch (const sdk::Error& e) {
+        if (e.code() != std::string(replay::kBadCorpus)) throw;
+        return report_error("replay verify", e.code(), e.what(), kExitUsage);
+      }
+      for (const auto& note : r.notes) std::cerr << "flipper replay verify: note: " << note << "\n";
+      if (!r.equal) {
+        std::cout << "flipper replay verify: " << r.divergence;
+        return kExitFailed;
+      }
+      std::cout << r.exchanges << " exchanges, every answer equal byte for byte (ms excluded)\n";
+      return kExitOk;
+    });
+  });
+}
+
 }  // namespace
 
 void add_replay_command(CLI::App& app) {
@@ -292,8 +325,9 @@ void add_replay_command(CLI::App& app) {
   add_merge(*cmd);
   add_compare(*cmd);
   add_plot(*cmd);
+  add_verify(*cmd);
   on_run(*cmd, [cmd] {
-    if (!cmd->get_subcommands().empty()) return kExitOk;  // check, merge, compare, plot
+    if (!cmd->get_subcommands().empty()) return kExitOk;  // check, merge, compare, plot, verify
     return guarded("replay", [] { return run_replay(opts, args); });
   });
 }

@@ -29,7 +29,9 @@ int integer(const json& j, const char* key, int fallback = 0) {
 std::vector<BodyLine> body_of(const json& j) {
   std::vector<BodyLine> out;
   if (auto it = j.find("body"); it != j.end() && it->is_array())
-    for (const auto& b : *it) out.push_back({str(b, "utterance"), str(b, "formula")});
+    for (const auto& b : *it)
+      out.push_back(
+          {str(b, "utterance"), str(b, "formula"), integer(b, "rank", -1), str(b, "accept_qid")});
   return out;
 }
 
@@ -80,6 +82,8 @@ Command command_of(const json& j) {
   c.def_id = str(j, "def_id");
   c.body = body_of(j);
   c.rule_index = integer(j, "rule_index", -1);
+  c.rule = str(j, "rule");
+  c.rule_pos = integer(j, "rule_pos", -1);
   if (c.qid.empty() || c.source.empty() || c.kind.empty())
     throw sdk::Error(kBadCorpus, "a command needs qid, source and kind");
   return c;
@@ -104,7 +108,8 @@ Definition definition_of(const json& j) {
                       r.value("simple_packing", false),
                       r.value("align", false),
                       str(r, "lhs"),
-                      {}};
+                      {},
+                      str(r, "semantics")};
       if (auto rhs = r.find("rhs"); rhs != r.end() && rhs->is_array())
         for (const auto& s : *rhs)
           if (s.is_string()) rule.rhs.push_back(s.get<std::string>());

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string_view>
 #include <tuple>
 #include <unordered_map>
@@ -133,6 +134,13 @@ std::string attempt(F&& call) {
   }
 }
 
+bool is_observation(const std::string& kind) {
+  static const std::set<std::string> kKinds = {"live",  "rerun",         "flip",      "undo",
+                                               "reset", "task_start",    "task_skip", "goal",
+                                               "world", "session_start", "resume",    "page_load"};
+  return kKinds.count(kind) != 0;
+}
+
 class RunReplay {
  public:
   RunReplay(const Corpus& corpus, const Run& run, const ReplayOptions& options, ReplayResult& out)
@@ -155,6 +163,10 @@ class RunReplay {
   }
 
   void command(const Command& c) {
+    // A studio recording's observational kinds change nothing a replay reproduces (live checks,
+    // re-runs, flips, task marks, world steps whose result the next command's world_id names;
+    // docs/studio.md §7).
+    if (is_observation(c.kind)) return;
     if (c.kind != "q" && c.kind != "accept") last_qid_.clear();  // defines/deletes change parses
     set_user(c.user);
     set_world(c.world_id);
@@ -350,6 +362,9 @@ class RunReplay {
     naturalization::DefineCall call;
     call.head = head;
     for (const auto& b : body) call.body.push_back(b.utterance);
+    // A studio line without a formula names the reading chosen by rank (docs/studio.md §7).
+    if (std::any_of(body.begin(), body.end(), [](const BodyLine& b) { return b.rank > 0; }))
+      for (const auto& b : body) call.ranks.push_back(std::max(0, b.rank));
     naturalization::DefineOutcome defined;
     row.error_code = attempt([&] {
       // The program the user accepted for each line, as the 2018 server induced from it
@@ -366,7 +381,7 @@ class RunReplay {
     if (row.ok)
       for (const auto& r : defined.rules) {
         ours.push_back({r->id, sdk::to_string(r->how)});
-        RuleShape shape{r->lhs, {}};
+        RuleShape shape{r->lhs, {}, sdk::render(r->sem)};
         for (const auto& symbol : r->rhs) shape.rhs.push_back(symbol.text);
         shapes.push_back(std::move(shape));
       }
@@ -374,6 +389,10 @@ class RunReplay {
     row.rule_match = compare_rules(def.rules, shapes);
     // Definitions not in definitions.jsonl have no logged rules: they only take part in the
     // deletion model as empty entries.
+    if (!def.def_id.empty()) {
+      auto& ids = rules_by_definition_[def.def_id];
+      for (const auto& r : ours) ids.push_back(r.id);
+    }
     if (!def.def_id.empty() && corpus_.definition_index.count(def.def_id))
       deletions_.add_definition(def, session_->user(), std::move(ours));
     out_.defines.push_back(std::move(row));
@@ -381,6 +400,23 @@ class RunReplay {
 
   void delete_rule(const Command& c) {
     DeleteRow row{c.qid, c.source, c.user, c.rule_index, "", {}, ""};
+    // A studio recording names the rule by its define and position: delete our rule there.
+    if (auto it = rules_by_definition_.find(c.def_id);
+        it != rules_by_definition_.end() && c.rule_pos >= 0) {
+      row.definition = c.def_id;
+      if (c.rule_pos < static_cast<int>(it->second.size())) {
+        const std::string id = it->second[static_cast<std::size_t>(c.rule_pos)];
+        const std::string error = attempt([&] { naturalization_->delete_rule(*session_, id); });
+        if (error.empty())
+          row.deleted.push_back(id);
+        else
+          row.note = id + ": " + error;
+      } else {
+        row.note = "our definition has no rule " + std::to_string(c.rule_pos);
+      }
+      out_.deletes.push_back(std::move(row));
+      return;
+    }
     DeletionMap::Mapping m = deletions_.map(c.user, c.rule_index);
     row.definition = m.def_id;
     row.note = m.note;
@@ -405,6 +441,7 @@ class RunReplay {
   std::string world_id_;  ///< the logged world the session holds ("" after our own accept)
   std::unordered_map<std::string, sdk::WorldState> world_cache_;
   DeletionMap deletions_;
+  std::unordered_map<std::string, std::vector<std::string>> rules_by_definition_;  ///< our ids
 };
 
 // The commands of a run that --max-queries keeps.

@@ -30,10 +30,17 @@ std::string our_shape(const RuleShape& rule) {
 std::string compare_rules(const std::vector<LoggedRule>& original,
                           const std::vector<RuleShape>& ours) {
   std::set<std::string> theirs, mine;
+  const bool with_semantics =
+      !original.empty() && std::all_of(original.begin(), original.end(),
+                                       [](const LoggedRule& r) { return !r.semantics.empty(); });
   for (const auto& r : original)
-    if (!r.alignment) theirs.insert(original_shape(r));
+    if (with_semantics)
+      theirs.insert(original_shape(r) + " => " + r.semantics);
+    else if (!r.alignment)
+      theirs.insert(original_shape(r));
   if (theirs.empty()) return "";
-  for (const auto& r : ours) mine.insert(our_shape(r));
+  for (const auto& r : ours)
+    mine.insert(our_shape(r) + (with_semantics ? " => " + r.semantics : ""));
   if (mine == theirs) return "identical";
   const bool common = std::any_of(mine.begin(), mine.end(),
                                   [&](const std::string& s) { return theirs.count(s) != 0; });

@@ -68,8 +68,10 @@ Json world_files(const kernel::Runtime& rt, const std::string& root) {
 
 // serve.kernels: 0 means the cores plus one kernel the heavy sessions cannot take. A store in
 // memory is private to its connection: one kernel then.
+// A study group has one kernel: its records are then in the order it answered, and a replay
+// of them meets the same store (docs/studio.md §5).
 int pool_size(const ServeOptions& options, const kernel::Config& config) {
-  if (config.get_string("lexicon.path") == ":memory:") return 1;
+  if (config.get_string("lexicon.path") == ":memory:" || !options.study.empty()) return 1;
   if (options.kernels > 0) return options.kernels;
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) + 1;
 }
@@ -128,6 +130,11 @@ std::string login_cookie(const std::string& header) {
     at = end + 1;
   }
   return {};
+}
+
+std::string login_cookie_header(const std::string& token, std::chrono::seconds valid_for) {
+  return std::string(kCookie) + "=" + token +
+         "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" + std::to_string(valid_for.count());
 }
 
 std::string header_safe(const std::string& name) {
@@ -276,6 +283,7 @@ HttpReply Api::serve(const HttpRequest& r, Kernel& k) {
     throw;
   }
   registry_.set_busy(*entry, false);
+  for (auto& [name, value] : reply.headers) out.set_header(name, value);  // a new login's cookie
   return out;
 }
 
@@ -293,20 +301,19 @@ std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
   }
   auto entry = std::make_shared<SessionEntry>();
   entry->address = r.peer;
-  if (login) {
-    entry->user = login->name;
-    entry->account = login->name;
-    entry->role = login->role;
-    entry->login = login->token;
+  std::string group = r.param("group");
+  bool resumed = false;
+  std::optional<Login> who = login;
+  if (recorder_ && !enroll(r, who, *entry, resumed, reply)) return nullptr;
+  if (who) {
+    entry->user = who->name;
+    entry->account = who->name;
+    entry->role = who->role;
+    entry->login = who->token;
   } else {
     entry->user = accounts_.next_guest();
   }
-  std::string group = r.param("group");
-  if (study_) {
-    std::lock_guard lock(study_mutex_);
-    group = study_->assign_group(group);
-    entry->participant = study_->next_participant();
-  }
+  if (recorder_) group = entry->group;
   entry->group = group;
   // A study may assign another group than the request named: the session opens on that pool's
   // first kernel and moves to a free one of its pool from its next request on.
@@ -319,11 +326,60 @@ std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
     install_studio_ops(*entry, at);
   }
   registry_.add(entry, Clock::now());
-  if (study_ && recorder_) {
-    std::lock_guard lock(study_mutex_);
-    recorder_->session_started(*entry);
+  if (recorder_) {
+    std::lock_guard lock(at.mutex);
+    recorder_->session_started(*entry, resumed);
+    if (resumed) resume_world(*entry, at);
   }
   return entry;
+}
+
+bool Api::enroll(const HttpRequest& r, std::optional<Login>& login, SessionEntry& entry,
+                 bool& resumed, HttpReply& reply) {
+  // docs/studio.md §7 "Participants and resume": a login that is a participant resumes; a new
+  // one, or a guest (enrolled as account P<n> with a login cookie), joins while the study is open.
+  if (login) {
+    if (auto p = recorder_->participant_of(login->name)) {
+      entry.participant = p->participant;
+      entry.group = p->group;
+      resumed = true;
+      return true;
+    }
+  }
+  if (!recorder_->open()) {
+    reply = error_reply(403, "study_closed", "this study takes no new participants");
+    return false;
+  }
+  if (!login) {
+    const std::string id =
+        recorder_->next_id([this](const std::string& name) { return accounts_.name_taken(name); });
+    const auto valid_for = std::chrono::hours(24) * options_.login_days;
+    const std::string code = accounts_.invite(
+        id, Role::participant, std::chrono::duration_cast<std::chrono::seconds>(valid_for));
+    login = accounts_.redeem(code, valid_for);
+    if (!login) {
+      reply = error_reply(500, "internal", "could not enroll participant " + id);
+      return false;
+    }
+    reply.set_header("Set-Cookie", login_cookie_header(login->token, valid_for));
+  }
+  const ParticipantState p = recorder_->enroll(login->name, r.param("group"));
+  entry.participant = p.participant;
+  entry.group = p.group;
+  return true;
+}
+
+void Api::resume_world(SessionEntry& entry, Kernel& k) {
+  const Json world = recorder_->resume_world(entry.participant);
+  if (!world.is_object()) return;
+  const std::string request =
+      Json{{"op", "world"}, {"world", world}, {"studio", {{"why", "resume"}}}}.dump();
+  k.host->activate(*entry.session);
+  if (auto* ops = entry.session->extension<StudioOps>()) ops->reset();
+  const auto start = Clock::now();
+  const std::string answer = entry.session->handle_line(request);
+  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  recorder_->record(entry, request, answer, ms, "server");
 }
 
 void Api::install_studio_ops(SessionEntry& entry, Kernel& k) {
@@ -378,6 +434,9 @@ HttpReply Api::run(SessionEntry& entry, Kernel& free, const HttpRequest& r) {
     const auto start = Clock::now();
     answer = session.handle_line(r.body);
     ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    // Inside the kernel's lock: a group's records are in the order it answered (§5).
+    if (recorder_ && !answer.empty() && recorder_->record(entry, r.body, answer, ms).goal_reached)
+      reply.set_header("Flipper-Goal", "reached");
   }
   // An expensive request (a long query builds large charts and traces) leaves the heap grown:
   // give the freed memory back to the system (docs/studio.md §4).
@@ -398,12 +457,6 @@ HttpReply Api::run(SessionEntry& entry, Kernel& free, const HttpRequest& r) {
     }
     reply.status = is_request_error(code) ? 400 : 200;
   }
-  if (recorder_) {
-    // Study mode records the request as parsed (the study helper's recorder reads fields).
-    const Json parsed = Json::parse(r.body, nullptr, false);
-    std::lock_guard lock(study_mutex_);
-    if (parsed.is_object()) recorder_->record(entry, parsed, answer, ms);
-  }
   reply.body = std::move(answer);
   return reply;
 }
@@ -418,8 +471,9 @@ void Api::info(const HttpRequest& r, Respond respond) {
     const kernel::Config& c = k.runtime->config;
     Json account = nullptr;
     if (login) account = Json{{"name", login->name}, {"role", to_string(login->role)}};
+    // A study does not show its participants their condition (docs/studio.md §7).
     Json out{{"ok", true},
-             {"sharing", c.get_string("lexicon.sharing")},
+             {"sharing", study_ ? Json() : Json(c.get_string("lexicon.sharing"))},
              {"k", c.get_int("session.k")},
              {"max_chars", c.get_int("input.max_chars")},
              {"vocabulary", k.vocabulary},
@@ -428,8 +482,10 @@ void Api::info(const HttpRequest& r, Respond respond) {
              {"guests", options_.guests},
              {"study", Json()}};
     if (study_) {
-      std::lock_guard lock(study_mutex_);
-      out["study"] = study_->page_json(entry.get());
+      out["study"] = study_->page_json();
+      if (entry && recorder_)
+        if (Json p = recorder_->page_state(entry->participant); p.is_object())
+          out["study"].update(p);
     }
     respond(json_reply(200, out));
   };
@@ -484,9 +540,7 @@ HttpReply Api::login_reply(const HttpRequest& r) {
                        "wrong name or password, or a code that is used, expired or unknown");
   HttpReply reply =
       json_reply(200, Json{{"ok", true}, {"user", login->name}, {"role", to_string(login->role)}});
-  reply.set_header("Set-Cookie", std::string(kCookie) + "=" + login->token +
-                                     "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" +
-                                     std::to_string(std::chrono::seconds(valid_for).count()));
+  reply.set_header("Set-Cookie", login_cookie_header(login->token, valid_for));
   return reply;
 }
 

@@ -87,6 +87,9 @@ class Api {
   /// Study mode: every protocol exchange is handed to the recorder.
   void set_recorder(std::shared_ptr<Recorder> recorder) { recorder_ = std::move(recorder); }
   void set_study(std::shared_ptr<Study> study) { study_ = std::move(study); }
+  const std::shared_ptr<Recorder>& recorder() const { return recorder_; }
+  const std::shared_ptr<Study>& study() const { return study_; }
+  AccountStore& accounts() { return accounts_; }
 
   SessionRegistry& registry() { return registry_; }
 
@@ -103,6 +106,12 @@ class Api {
   /// studio's ops, as when it was opened.
   void install_ops(SessionEntry& entry, Kernel& k);
   HttpReply run(SessionEntry& entry, Kernel& free, const HttpRequest& request);
+  /// Study mode: who the new session's participant is (resumed or enrolled; a guest becomes
+  /// an account with a login cookie in `reply`); false with `reply` set when refused.
+  bool enroll(const HttpRequest& request, std::optional<Login>& login, SessionEntry& entry,
+              bool& resumed, HttpReply& reply);
+  /// A resumed participant's session gets the world it had (a request the server makes).
+  void resume_world(SessionEntry& entry, Kernel& k);
   bool in_pool(const std::string& group, const Kernel& k);
   HttpReply login_reply(const HttpRequest& request);
   /// Destroys evicted sessions under their kernel's lock; a session whose kernel is busy waits
@@ -120,7 +129,6 @@ class Api {
   SessionRegistry registry_;
   std::shared_ptr<Recorder> recorder_;
   std::shared_ptr<Study> study_;
-  std::mutex study_mutex_;  ///< the study's assignment and the recorder
   std::atomic<std::uint64_t> new_requests_{0};
   std::mutex login_mutex_;
   std::map<std::string, std::pair<double, Clock::time_point>> login_buckets_;
@@ -128,6 +136,8 @@ class Api {
 
 /// The login token in a Cookie header ("" when none).
 std::string login_cookie(const std::string& cookie_header);
+/// The Set-Cookie value of a login.
+std::string login_cookie_header(const std::string& token, std::chrono::seconds valid_for);
 /// A header-safe form of a name: anything but letters, digits, '.', '_' and '-' as %XX.
 std::string header_safe(const std::string& name);
 

@@ -1,5 +1,8 @@
 #include "recorder.hpp"
 
+#include <sodium.h>
+
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <filesystem>
@@ -8,7 +11,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "flipper/corpus/answer_digest.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/version.hpp"
 #include "registry.hpp"
 #include "study.hpp"
 
@@ -43,19 +48,151 @@ std::ofstream open_append(const fs::path& path) {
   return out;
 }
 
+template <class F>
+void for_each_json_line(const fs::path& path, F&& f) {
+  std::ifstream in(path);
+  std::string text;
+  while (std::getline(in, text)) {
+    if (text.empty()) continue;
+    const Json j = Json::parse(text, nullptr, false);
+    f(j);
+  }
+}
+
+std::string sha256_hex(const std::string& text) {
+  unsigned char digest[crypto_hash_sha256_BYTES];
+  crypto_hash_sha256(digest, reinterpret_cast<const unsigned char*>(text.data()), text.size());
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (unsigned char b : digest) {
+    out.push_back(kHex[b >> 4]);
+    out.push_back(kHex[b & 15]);
+  }
+  return out;
+}
+
+std::string text_of(const Json& j, const char* key) {
+  auto it = j.find(key);
+  return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+// A world's robot cell, held items and lying items, ids and order ignored: what a goal compares
+// (docs/studio.md §7).
+struct GoalDigest {
+  std::vector<std::int64_t> robot;
+  std::vector<std::string> held, lying;
+  bool operator==(const GoalDigest&) const = default;
+};
+
+GoalDigest goal_digest(const Json& w) {
+  GoalDigest d;
+  const Json robot = w.value("robot", Json::object());
+  for (const char* k : {"x", "y", "z"}) d.robot.push_back(robot.value(k, std::int64_t{0}));
+  for (const auto& h : robot.value("holding", Json::array()))
+    d.held.push_back(text_of(h, "color") + "/" + text_of(h, "shape"));
+  for (const auto& i : w.value("items", Json::array()))
+    d.lying.push_back(std::to_string(i.value("x", 0)) + "," + std::to_string(i.value("y", 0)) +
+                      "," + std::to_string(i.value("z", 0)) + "/" + text_of(i, "color") + "/" +
+                      text_of(i, "shape"));
+  std::sort(d.held.begin(), d.held.end());
+  std::sort(d.lying.begin(), d.lying.end());
+  return d;
+}
+
+const std::vector<std::string> kCounted = {"q",   "live",   "accept", "reject",
+                                           "def", "delete", "undo",   "reset"};
+
 }  // namespace
 
-Recorder::Recorder(std::shared_ptr<const Study> study) : study_(std::move(study)) {
-  const fs::path dir = study_->record_dir();
+const std::vector<std::string>& Recorder::files() {
+  static const std::vector<std::string> kFiles = {
+      "queries.jsonl",          "worlds.jsonl",  "definitions.jsonl",
+      "original-answers.jsonl", "sessions.json", "exchanges.jsonl",
+      "participants.json",      "study.json",    "preload-C.jsonl"};
+  return kFiles;
+}
+
+Recorder::Recorder(std::shared_ptr<Study> study,
+                   const std::vector<std::pair<std::string, kernel::Config>>& kernels)
+    : study_(std::move(study)),
+      dir_(study_->record_dir()),
+      participants_((fs::path(study_->record_dir()) / "participants.json").string()) {
+  if (sodium_init() < 0) throw sdk::Error(sdk::codes::kInternal, "libsodium could not start");
   std::error_code ec;
-  fs::create_directories(dir, ec);
+  fs::create_directories(dir_, ec);
   if (ec)
     throw sdk::Error(sdk::codes::kBadConfig,
-                     "study: cannot create '" + dir.string() + "': " + ec.message());
+                     "study: cannot create '" + dir_ + "': " + ec.message());
+  load_existing();
+  const fs::path dir = dir_;
   queries_ = open_append(dir / "queries.jsonl");
   worlds_ = open_append(dir / "worlds.jsonl");
   definitions_ = open_append(dir / "definitions.jsonl");
   answers_ = open_append(dir / "original-answers.jsonl");
+  exchanges_ = open_append(dir / "exchanges.jsonl");
+  if (!fs::exists(dir / "study.json")) write_study_json(kernels);
+  participants_.save();
+}
+
+// A recording already there: numbering, worlds, sessions, the rule map and the preload continue
+// (docs/studio.md §7 "Restarts").
+void Recorder::load_existing() {
+  const fs::path dir = dir_;
+  for_each_json_line(dir / "queries.jsonl", [&](const Json&) { ++line_; });
+  for_each_json_line(dir / "exchanges.jsonl", [&](const Json&) { ++exchange_; });
+  for_each_json_line(dir / "worlds.jsonl", [&](const Json& j) {
+    if (!j.is_object()) return;
+    Json w = j;
+    const std::string id = text_of(j, "world_id");
+    w.erase("world_id");
+    worlds_by_id_[id] = std::move(w);
+  });
+  for_each_json_line(dir / "definitions.jsonl", [&](const Json& j) {
+    if (!j.is_object()) return;
+    const std::string source = text_of(j, "source");
+    if (text_of(j, "origin") == "preloaded") preloaded_.insert(source);
+    int pos = 0;
+    for (const auto& r : j.value("induced_rules", Json::array())) {
+      rule_defs_[text_of(r, "id")] = {text_of(j, "def_id"), pos++};
+      ++rule_lines_[source];
+    }
+  });
+  std::ifstream sessions(dir / "sessions.json");
+  if (sessions) {
+    std::ostringstream text;
+    text << sessions.rdbuf();
+    const Json s = Json::parse(text.str(), nullptr, false);
+    if (s.is_array()) sessions_ = s;
+  }
+}
+
+void Recorder::write_study_json(
+    const std::vector<std::pair<std::string, kernel::Config>>& kernels) {
+  Json groups = Json::object();
+  for (const auto& [group, config] : kernels)
+    groups[group] = {{"sharing", sharing_of_group(group)},
+                     {"source", study_->source(group)},
+                     {"config_source", config.source()},
+                     {"config", config.dump()}};
+  Json tasks = Json::array();
+  for (const auto& t : study_->tasks()) tasks.push_back(t.name);
+  std::string preload;
+  if (!study_->preload().empty()) {
+    std::error_code ec;
+    fs::copy_file(study_->preload(), fs::path(dir_) / "preload-C.jsonl",
+                  fs::copy_options::overwrite_existing, ec);
+    if (!ec) preload = "preload-C.jsonl";
+  }
+  const auto& v = sdk::kSdkVersion;
+  const Json study{{"name", study_->name()},
+                   {"started", now_iso()},
+                   {"flipper_sdk", std::to_string(v.major) + "." + std::to_string(v.minor) + "." +
+                                       std::to_string(v.patch)},
+                   {"groups", std::move(groups)},
+                   {"tasks", std::move(tasks)},
+                   {"preload", preload.empty() ? Json() : Json(preload)}};
+  std::ofstream out(fs::path(dir_) / "study.json", std::ios::trunc);
+  out << study.dump(1) << '\n';
 }
 
 void Recorder::write(std::ofstream& out, const Json& line) {
@@ -63,8 +200,14 @@ void Recorder::write(std::ofstream& out, const Json& line) {
   out.flush();
 }
 
+void Recorder::write_line(const Line& line) {
+  std::ofstream& out = queries_;
+  out << line.dump(-1, ' ', false, Json::error_handler_t::replace) << '\n';
+  out.flush();
+}
+
 void Recorder::write_sessions() {
-  const fs::path path = fs::path(study_->record_dir()) / "sessions.json";
+  const fs::path path = fs::path(dir_) / "sessions.json";
   const fs::path tmp = path.string() + ".tmp";
   {
     std::ofstream out(tmp, std::ios::trunc);
@@ -73,29 +216,133 @@ void Recorder::write_sessions() {
   fs::rename(tmp, path);
 }
 
+std::optional<ParticipantState> Recorder::participant_of(const std::string& account) {
+  std::lock_guard lock(mutex_);
+  const ParticipantState* p = participants_.find_account(account);
+  return p ? std::optional<ParticipantState>(*p) : std::nullopt;
+}
+
+bool Recorder::open() {
+  std::lock_guard lock(mutex_);
+  return participants_.open();
+}
+
+void Recorder::set_open(bool open) {
+  std::lock_guard lock(mutex_);
+  participants_.set_open(open);
+  participants_.save();
+}
+
+std::string Recorder::next_id(const std::function<bool(const std::string&)>& taken) {
+  std::lock_guard lock(mutex_);
+  std::string id = participants_.next_id(taken);
+  participants_.save();
+  return id;
+}
+
+ParticipantState Recorder::enroll(const std::string& account, const std::string& requested) {
+  std::lock_guard lock(mutex_);
+  if (const ParticipantState* p = participants_.find_account(account)) return *p;
+  const auto& groups = study_->groups();
+  std::string group = groups[participants_.all().size() % groups.size()];
+  if (std::find(groups.begin(), groups.end(), requested) != groups.end()) group = requested;
+  ParticipantState s;
+  s.participant = account;
+  s.account = account;
+  s.group = group;
+  s.first_seen = s.last_seen = now_iso();
+  ParticipantState& added = participants_.add(std::move(s));
+  participants_.save();
+  return added;
+}
+
 std::string Recorder::world_id(const SessionEntry& entry) {
-  const Json world = entry.session->world_json(entry.session->world());
-  const std::string text = world.dump();
+  Json world = entry.session->world_json(entry.session->world());
   std::ostringstream id;
-  id << 'w' << std::hex << std::hash<std::string>{}(text);
-  if (worlds_written_.insert(id.str()).second) {
+  id << 'w' << std::hex << std::hash<std::string>{}(world.dump());
+  if (!worlds_by_id_.count(id.str())) {
     Json line{{"world_id", id.str()}};
     for (const auto& [k, v] : world.items()) line[k] = v;
     write(worlds_, line);
+    worlds_by_id_.emplace(id.str(), std::move(world));
   }
   return id.str();
 }
 
-void Recorder::session_started(const SessionEntry& entry) {
-  Participant& p = participants_[entry.token];
-  p.world_id = world_id(entry);
-  preloaded(entry.group);
-  sessions_.push_back({{"source", study_->source(entry.group)}, {"session", entry.participant}});
-  write_sessions();
+ParticipantState& Recorder::state(const SessionEntry& entry) {
+  ParticipantState* p = participants_.find(entry.participant);
+  if (p == nullptr) {  // enrolled before (always, through enroll); kept for safety
+    ParticipantState s;
+    s.participant = s.account = entry.participant;
+    s.group = entry.group;
+    p = &participants_.add(std::move(s));
+  }
+  p->last_seen = now_iso();
+  p->last_request = std::chrono::steady_clock::now();
+  return *p;
 }
 
+Recorder::Line Recorder::line(const SessionEntry& entry, ParticipantState& p,
+                              const std::string& kind, std::optional<std::int64_t> exchange) {
+  ++line_;
+  const std::string source = study_->source(entry.group);
+  const auto& tasks = study_->tasks();
+  const bool in_task = p.task >= 0 && p.task < static_cast<int>(tasks.size());
+  if (std::find(kCounted.begin(), kCounted.end(), kind) != kCounted.end()) ++p.counts[kind];
+  // Ordered: who, what and when first (docs/studio.md §7).
+  return Line{{"qid", source + "#" + std::to_string(line_)},
+              {"kind", kind},
+              {"time", now_iso()},
+              {"participant", entry.participant},
+              {"group", entry.group},
+              {"task", p.task},
+              {"task_name", in_task ? Line(tasks[static_cast<std::size_t>(p.task)].name) : Line()},
+              {"phase", in_task ? "task" : "tutorial"},
+              {"exchange", exchange ? Line(*exchange) : Line()},
+              {"world_id", p.world_id},
+              {"next_world_id", p.world_id},
+              {"source", source},
+              {"file", "studio"},
+              {"line", line_},
+              {"cohort", study_->name()},
+              {"session", entry.participant},
+              {"uid", entry.participant},
+              {"account", p.account},
+              {"user", entry.session->user()},
+              {"in_authors_tables", true},
+              {"syntax", "studio"},
+              {"seq", ++live_[entry.participant].seq},
+              {"split", "studio"}};
+}
+
+void Recorder::session_started(const SessionEntry& entry, bool resumed) {
+  std::lock_guard lock(mutex_);
+  ParticipantState& p = state(entry);
+  if (!resumed) p.world_id = world_id(entry);
+  preloaded(entry.group);
+  Line c = line(entry, p, resumed ? "resume" : "session_start", std::nullopt);
+  write_line(c);
+  sessions_.push_back({{"source", study_->source(entry.group)},
+                       {"session", entry.participant},
+                       {"resumed", resumed},
+                       {"time", c["time"]}});
+  session_numbers_[entry.token] = sessions_.size() - 1;
+  write_sessions();
+  participants_.save();
+}
+
+Json Recorder::resume_world(const std::string& participant) {
+  std::lock_guard lock(mutex_);
+  const ParticipantState* p = participants_.find(participant);
+  if (p == nullptr) return nullptr;
+  auto it = worlds_by_id_.find(p->world_id);
+  return it == worlds_by_id_.end() ? Json() : it->second;
+}
+
+// Group C's preloaded definitions, written once per recording (docs/studio.md §7).
 void Recorder::preloaded(const std::string& group) {
-  if (group != "C" || study_->preload().empty() || !preloaded_.insert(group).second) return;
+  const std::string source = study_->source(group);
+  if (group != "C" || study_->preload().empty() || !preloaded_.insert(source).second) return;
   std::ifstream in(study_->preload());
   std::string text;
   int n = 0;
@@ -103,10 +350,12 @@ void Recorder::preloaded(const std::string& group) {
     const Json d = Json::parse(text, nullptr, false);
     if (!d.is_object()) continue;
     Json body = Json::array();
-    for (const auto& b : d.value("body", Json::array())) body.push_back({{"utterance", b}});
-    write(definitions_, {{"def_id", "p:" + study_->source(group) + "#" + std::to_string(++n)},
+    for (const auto& b : d.value("body", Json::array()))
+      body.push_back({{"utterance", b.is_string() ? b : Json(text_of(b, "text"))},
+                      {"formula", b.is_object() ? Json(text_of(b, "formula")) : Json("")}});
+    write(definitions_, {{"def_id", "p:" + source + "#" + std::to_string(++n)},
                          {"origin", "preloaded"},
-                         {"source", study_->source(group)},
+                         {"source", source},
                          {"group", group},
                          {"kind", "def"},
                          {"user", d.value("author", std::string("expert"))},
@@ -116,100 +365,314 @@ void Recorder::preloaded(const std::string& group) {
   }
 }
 
-Json Recorder::command(const SessionEntry& entry, Participant& p, const std::string& kind) {
-  ++line_;
-  ++p.seq;
-  const std::string source = study_->source(entry.group);
-  return Json{{"qid", source + "#" + std::to_string(line_)},
-              {"source", source},
-              {"file", "studio"},
-              {"line", line_},
-              {"cohort", study_->name()},
-              {"group", entry.group},
-              {"session", entry.participant},
-              {"uid", entry.participant},
-              {"participant", entry.participant},
-              {"in_authors_tables", true},
-              {"user", entry.session->user()},
-              {"syntax", "studio"},
-              {"seq", p.seq},
-              {"time", now_iso()},
-              {"phase", "task"},
-              {"kind", kind},
-              {"split", "studio"}};
+bool Recorder::goal_reached(const SessionEntry& entry, int task) const {
+  const auto& tasks = study_->tasks();
+  if (task < 0 || task >= static_cast<int>(tasks.size())) return false;
+  const Json& goal = tasks[static_cast<std::size_t>(task)].goal;
+  if (!goal.is_object()) return false;
+  return goal_digest(entry.session->world_json(entry.session->world())) == goal_digest(goal);
 }
 
-void Recorder::record(const SessionEntry& entry, const Json& request, const std::string& answer,
-                      double ms) {
-  Participant& p = participants_[entry.token];
-  const std::string op =
-      request.value("op", Json()).is_string() ? request["op"].get<std::string>() : std::string();
+RecordOutcome Recorder::record(const SessionEntry& entry, const std::string& request,
+                               const std::string& answer, double ms, const char* origin) {
+  std::lock_guard lock(mutex_);
+  RecordOutcome outcome;
+  ParticipantState& p = state(entry);
+  const std::int64_t n = ++exchange_;
+  const Json req = Json::parse(request, nullptr, false);
   const Json a = Json::parse(answer, nullptr, false);
-  const bool ok = a.is_object() && a.value("ok", false);
+  std::string qid;
+  if (req.is_object() && a.is_object()) qid = command(entry, p, req, a, ms, n, outcome);
+  // Ordered: the short members first, the request and answer texts last (docs/studio.md §7).
+  using Ordered = nlohmann::ordered_json;
+  exchanges_ << Ordered{{"n", n},
+                        {"time", now_iso()},
+                        {"group", entry.group},
+                        {"participant", entry.participant},
+                        {"session", session_numbers_.count(entry.token)
+                                        ? Ordered(session_numbers_[entry.token])
+                                        : Ordered()},
+                        {"user", entry.session->user()},
+                        {"qid", qid.empty() ? Ordered() : Ordered(qid)},
+                        {"origin", origin},
+                        {"request", request},
+                        {"answer", answer},
+                        {"sha256", sha256_hex(corpus::answer_for_digest(answer))}}
+                    .dump(-1, ' ', false, Json::error_handler_t::replace)
+             << '\n';
+  exchanges_.flush();
+  participants_.save();
+  return outcome;
+}
+
+std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, const Json& req,
+                              const Json& a, double ms, std::int64_t exchange,
+                              RecordOutcome& outcome) {
+  const std::string op = text_of(req, "op");
+  const Json studio = req.value("studio", Json::object());
+  const std::string why = studio.is_object() ? text_of(studio, "why") : std::string();
+  const bool ok = a.value("ok", false);
+  Live& live = live_[entry.participant];
   const std::string before = p.world_id;
-  if (op == "world" || op == "accept") p.world_id = world_id(entry);
+  if (ok && (op == "world" || op == "accept")) p.world_id = world_id(entry);
+  Line c;
   if (op == "query" && ok) {
-    Json c = command(entry, p, "q");
-    c["utterance"] = request.value("text", std::string());
-    c["world_id"] = before;
-    c["next_world_id"] = before;
-    c["status"] = corpus_status(a.value("status", std::string()));
+    c = line(entry, p, why == "live" || why == "rerun" ? why : "q", exchange);
+    c["utterance"] = text_of(req, "text");
+    c["status"] = corpus_status(text_of(a, "status"));
     const kernel::LastQuery* q = entry.session->last_query();
     c["n_parses"] = q ? q->parse.candidates.size() : 0;
     c["walltime_s"] = ms / 1000.0;
     c["server_ms"] = ms;
-    Json candidates = Json::array();
-    for (const auto& k : a["candidates"])
-      candidates.push_back({{"pretty", k.value("formula", std::string())},
-                            {"formula", k.value("formula", std::string())},
-                            {"core_only", !k.value("induced", false)}});
-    write(answers_, {{"qid", c["qid"]}, {"candidates", candidates}});
-    p.last_qid = c["qid"];
-    p.last_text = c["utterance"];
-    p.last_candidates = std::move(candidates);
-    write(queries_, c);
+    Json candidates = Json::array(), formulas = Json::array();
+    for (const auto& k : a.value("candidates", Json::array())) {
+      const std::string formula = text_of(k, "formula");
+      candidates.push_back(
+          {{"pretty", formula}, {"formula", formula}, {"core_only", !k.value("induced", false)}});
+      formulas.push_back(formula);
+    }
+    write(answers_, {{"qid", c["qid"]}, {"candidates", std::move(candidates)}});
+    live.last_qid = c["qid"];
+    live.last_text = c["utterance"];
+    live.last_formulas = std::move(formulas);
   } else if (op == "accept" && ok) {
-    Json c = command(entry, p, "accept");
-    const auto rank = request.value("rank", -1);
-    c["for_qid"] = p.last_qid;
-    c["utterance"] = p.last_text;
+    c = line(entry, p, "accept", exchange);
+    const int rank = req.value("rank", 0);
+    c["for_qid"] = live.last_qid;
+    c["utterance"] = live.last_text;
+    c["rank"] = rank;
     c["world_id"] = before;
     c["next_world_id"] = p.world_id;
-    if (rank >= 0 && rank < static_cast<int>(p.last_candidates.size()))
-      c["formula"] = p.last_candidates[static_cast<std::size_t>(rank)]["formula"];
-    write(queries_, c);
+    std::string formula;
+    if (rank >= 0 && rank < static_cast<int>(live.last_formulas.size()))
+      formula = live.last_formulas[static_cast<std::size_t>(rank)];
+    c["formula"] = formula;
+    p.history.push_back({{"qid", c["qid"]},
+                         {"utterance", live.last_text},
+                         {"formula", formula},
+                         {"world_id", p.world_id},
+                         {"before_world_id", before}});
+    write_line(c);
+    if (!p.goal_reached && goal_reached(entry, p.task)) {
+      p.goal_reached = outcome.goal_reached = true;
+      Line g = line(entry, p, "goal", exchange);
+      g["for_qid"] = c["qid"];
+      write_line(g);
+    }
+    return c["qid"];
   } else if (op == "define") {
-    Json c = command(entry, p, "def");
-    Json body = Json::array();
-    for (const auto& b : request.value("body", Json::array()))
-      if (b.is_string()) body.push_back({{"utterance", b}, {"formula", ""}});
-    c["head"] = request.value("head", std::string());
-    c["body"] = body;
-    c["def_id"] = "d:" + c["qid"].get<std::string>();
-    c["world_id"] = before;
-    c["next_world_id"] = before;
-    c["status"] = ok ? "ok" : a["error"].value("code", std::string("error"));
-    Json def{{"def_id", c["def_id"]},
-             {"origin", "query_log"},
-             {"source", c["source"]},
-             {"group", entry.group},
-             {"session", entry.participant},
-             {"user", c["user"]},
-             {"kind", "def"},
-             {"head", c["head"]},
-             {"body", body},
-             {"line", c["line"]},
-             {"rules_status", ok ? "induced" : "failed"}};
-    write(definitions_, def);
-    write(queries_, c);
+    c = line(entry, p, "def", exchange);
+    define(entry, p, req, a, c);
   } else if (op == "delete_rule") {
-    Json c = command(entry, p, "delete");
-    c["rule"] = request.value("rule", std::string());
-    c["rule_index"] = -1;  // ids are this system's own; the replay's deletion map cannot use them
+    c = line(entry, p, "delete", exchange);
+    const std::string rule = text_of(req, "rule");
+    c["rule"] = rule;
+    auto it = rule_defs_.find(rule);
+    c["def_id"] = it == rule_defs_.end() ? Json() : Json(it->second.first);
+    c["rule_pos"] = it == rule_defs_.end() ? -1 : it->second.second;
+    c["rule_index"] = -1;  // the 2018 grammar-log index: none here (docs/studio.md §7)
+    c["status"] = ok ? std::string("ok") : a["error"].value("code", std::string("error"));
+  } else if (op == "world" && ok) {
+    if (why == "resume") return {};  // the `resume` line says it
+    const std::string kind =
+        why == "undo" || why == "reset" || why == "task_start" ? why : std::string("world");
+    if (kind == "task_start") {
+      const int task = studio.value("task", p.task + 1);
+      const auto& tasks = study_->tasks();
+      const bool had_goal = p.task >= 0 && p.task < static_cast<int>(tasks.size()) &&
+                            tasks[static_cast<std::size_t>(p.task)].goal.is_object();
+      if (had_goal && !p.goal_reached && task != p.task) {
+        Line skip = line(entry, p, "task_skip", exchange);
+        write_line(skip);
+      }
+      p.task = task;
+      p.goal_reached = false;
+      p.history = Json::array();
+    } else if (kind == "undo" && !p.history.empty()) {
+      p.history.erase(p.history.size() - 1);
+    } else if (kind == "reset") {
+      p.history = Json::array();
+    }
+    c = line(entry, p, kind, exchange);
     c["world_id"] = before;
-    c["next_world_id"] = before;
-    write(queries_, c);
+    c["next_world_id"] = p.world_id;
+  } else {
+    return {};  // rules, state, refusals: exchanges.jsonl only
   }
+  write_line(c);
+  return c["qid"];
+}
+
+void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json& req,
+                      const Json& a, Line& c) {
+  const bool ok = a.value("ok", false);
+  const Json ranks = req.value("ranks", Json::array());
+  const Json studio = req.value("studio", Json::object());
+  const bool from_history = studio.is_object() && text_of(studio, "why") == "history";
+  Json steps = studio.is_object() ? studio.value("steps", Json::array()) : Json::array();
+  int first = -1, last = -1;
+  if (from_history && steps.is_array() && steps.size() == 2 && steps[0].is_number_integer() &&
+      steps[1].is_number_integer()) {
+    first = steps[0].get<int>();
+    last = steps[1].get<int>();
+  }
+  const int n_history = static_cast<int>(p.history.size());
+  const bool range_ok = first >= 0 && first <= last && last < n_history;
+  Json body = Json::array(), history_qids = Json::array();
+  std::size_t i = 0;
+  for (const auto& b : req.value("body", Json::array())) {
+    Json lineout;
+    if (b.is_string()) {
+      const int rank = i < ranks.size() && ranks[i].is_number_integer() ? ranks[i].get<int>() : 0;
+      lineout = {{"utterance", b}, {"formula", ""}, {"rank", rank}};
+    } else if (b.is_object()) {
+      lineout = {{"utterance", text_of(b, "text")}, {"formula", text_of(b, "formula")}};
+    }
+    if (range_ok && first + static_cast<int>(i) <= last) {
+      const Json& step = p.history[static_cast<std::size_t>(first) + i];
+      lineout["accept_qid"] = step.value("qid", Json());
+      history_qids.push_back(step.value("qid", Json()));
+    }
+    body.push_back(std::move(lineout));
+    ++i;
+  }
+  c["head"] = text_of(req, "head");
+  c["body"] = body;
+  c["def_id"] = "d:" + c["qid"].get<std::string>();
+  c["status"] = ok ? std::string("ok") : a["error"].value("code", std::string("error"));
+  c["from_history"] = from_history ? history_qids : Json();
+  Json induced = Json::array();
+  int pos = 0;
+  for (const auto& r : ok ? a.value("rules", Json::array()) : Json::array()) {
+    const std::string id = text_of(r, "id");
+    rule_defs_[id] = {c["def_id"], pos++};
+    induced.push_back({{"id", id},
+                       {"line", ++rule_lines_[c["source"].get<std::string>()]},
+                       {"lhs", r.value("lhs", Json())},
+                       {"rhs", r.value("rhs", Json::array())},
+                       {"semantics", r.value("semantics", Json())},
+                       {"how", r.value("how", Json())},
+                       {"simple_packing", text_of(r, "how") == "simple"},
+                       {"align", text_of(r, "how") == "alignment"}});
+  }
+  write(definitions_, {{"def_id", c["def_id"]},
+                       {"origin", "query_log"},
+                       {"source", c["source"]},
+                       {"group", entry.group},
+                       {"session", entry.participant},
+                       {"user", c["user"]},
+                       {"kind", "def"},
+                       {"head", c["head"]},
+                       {"body", body},
+                       {"line", c["line"]},
+                       {"rules_status", ok ? "induced" : "failed"},
+                       {"induced_rules", std::move(induced)}});
+  // A phrase taught from history: its steps collapse into one (docs/studio.md §7).
+  if (ok && range_ok) {
+    std::string formula = "{";
+    Json replaced = Json::array();
+    for (int k = first; k <= last; ++k) {
+      const Json& step = p.history[static_cast<std::size_t>(k)];
+      formula += (k > first ? ";" : "") + text_of(step, "formula");
+      replaced.push_back(step);
+    }
+    Json collapsed{
+        {"qid", c["qid"]},
+        {"utterance", c["head"]},
+        {"formula", formula + "}"},
+        {"world_id", p.history[static_cast<std::size_t>(last)]["world_id"]},
+        {"before_world_id", p.history[static_cast<std::size_t>(first)]["before_world_id"]},
+        {"steps", std::move(replaced)}};
+    Json kept = Json::array();
+    for (int k = 0; k < first; ++k) kept.push_back(p.history[static_cast<std::size_t>(k)]);
+    kept.push_back(std::move(collapsed));
+    for (int k = last + 1; k < n_history; ++k)
+      kept.push_back(p.history[static_cast<std::size_t>(k)]);
+    p.history = std::move(kept);
+  }
+}
+
+void Recorder::event(const SessionEntry& entry, const Json& body) {
+  std::lock_guard lock(mutex_);
+  ParticipantState& p = state(entry);
+  const std::string kind = text_of(body, "kind");
+  const Live& live = live_[entry.participant];
+  Line c = line(entry, p, kind, std::nullopt);
+  if (kind == "flip") {
+    c["for_qid"] = live.last_qid;
+    c["utterance"] = live.last_text;
+    c["rank"] = body.value("rank", 0);
+    c["formula"] = text_of(body, "formula");
+  } else if (kind == "reject") {
+    c["for_qid"] = live.last_qid;
+    c["utterance"] = live.last_text;
+    c["formulas"] = live.last_formulas;
+  } else if (kind == "page_load") {
+    c["reloaded"] = body.value("reloaded", false);
+  }
+  write_line(c);
+  participants_.save();
+}
+
+Json Recorder::page_state(const std::string& participant) {
+  std::lock_guard lock(mutex_);
+  const ParticipantState* p = participants_.find(participant);
+  if (p == nullptr) return nullptr;
+  Json history = Json::array();
+  for (const auto& step : p->history) {
+    auto w = worlds_by_id_.find(text_of(step, "world_id"));
+    history.push_back({{"qid", step.value("qid", Json())},
+                       {"utterance", step.value("utterance", Json())},
+                       {"formula", step.value("formula", Json())},
+                       {"world", w == worlds_by_id_.end() ? Json() : w->second}});
+  }
+  return {{"participant", p->participant},
+          {"teaching", p->group != "A"},
+          {"task", p->task},
+          {"goal_reached", p->goal_reached},
+          {"history", std::move(history)}};
+}
+
+Json Recorder::overview() {
+  std::lock_guard lock(mutex_);
+  const auto now = std::chrono::steady_clock::now();
+  const auto& tasks = study_->tasks();
+  Json list = Json::array();
+  for (const auto& p : participants_.all()) {
+    const bool in_task = p.task >= 0 && p.task < static_cast<int>(tasks.size());
+    Json counts = Json::object();
+    for (const auto& k : kCounted) {
+      auto it = p.counts.find(k);
+      counts[k] = it == p.counts.end() ? 0 : it->second;
+    }
+    list.push_back(
+        {{"participant", p.participant},
+         {"account", p.account},
+         {"group", p.group},
+         {"task", p.task},
+         {"task_name", in_task ? Json(tasks[static_cast<std::size_t>(p.task)].name) : Json()},
+         {"goal_reached", p.goal_reached},
+         {"online", p.last_request.time_since_epoch().count() != 0 &&
+                        now - p.last_request < std::chrono::seconds(120)},
+         {"last_seen", p.last_seen},
+         {"counts", std::move(counts)}});
+  }
+  Json names = Json::array();
+  for (const auto& t : tasks) names.push_back(t.name);
+  Json files = Json::array();
+  for (const auto& f : Recorder::files()) {
+    std::error_code ec;
+    const auto size = fs::file_size(fs::path(dir_) / f, ec);
+    if (!ec) files.push_back({{"name", f}, {"bytes", size}});
+  }
+  return {{"ok", true},
+          {"study",
+           {{"name", study_->name()},
+            {"open", participants_.open()},
+            {"groups", study_->groups()},
+            {"tasks", std::move(names)}}},
+          {"participants", std::move(list)},
+          {"files", std::move(files)}};
 }
 
 }  // namespace flipper::studio

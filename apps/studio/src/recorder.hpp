@@ -1,57 +1,119 @@
 #pragma once
-// Study recording in the corpus format `flipper replay` reads (as data/study2018/dev):
-// queries.jsonl (q, accept, def commands), worlds.jsonl (every world a command started or ended
-// in), definitions.jsonl (the definitions and group C's preloaded ones), original-answers.jsonl
-// (the candidates each query showed, so an accept can be matched on replay) and sessions.json.
-// Each group is one run ("studio/<study>/<group>"); statuses are written as the original's
-// Core / Induced / Nothing. Lines are flushed as they are written.
+// Study recording (docs/studio.md §7) in the corpus format `flipper replay` reads (as
+// data/study2018/dev): queries.jsonl (one time-ordered line per participant action, each its own
+// kind), worlds.jsonl (every world a command started or ended in), definitions.jsonl (the
+// definitions with their induced rules, and group C's preloaded ones), original-answers.jsonl
+// (the candidates each query showed, so an accept can be matched on replay), sessions.json,
+// exchanges.jsonl (every protocol exchange, byte for byte, with the SHA-256 of its answer, for
+// `flipper replay verify`), study.json (the study, the build and each group's effective config)
+// and participants.json (participants.hpp). Each group is one run ("studio/<study>/<group>").
+//
+// Thread-safe: one mutex. The server calls record() inside the kernel's lock, so a group's
+// records are in the order its kernel answered (docs/studio.md §5). Restart-safe: line and
+// exchange numbers, participant ids, the rule map and the preload continue from the files.
 #include <cstdint>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "flipper/kernel/config.hpp"
 #include "flipper/kernel/session.hpp"
+#include "participants.hpp"
 
 namespace flipper::studio {
 
 struct SessionEntry;
 class Study;
 
+/// What a recorded exchange means for the HTTP reply.
+struct RecordOutcome {
+  bool goal_reached = false;  ///< an accept reached the task's goal (header Flipper-Goal)
+};
+
 class Recorder {
  public:
-  /// Creates the directory and its files (appending to a recording already there).
-  Recorder(std::shared_ptr<const Study> study);
-  /// A participant joined (sessions.json) with the session's first world.
-  void session_started(const SessionEntry& entry);
-  /// One protocol exchange of a participant (after the session answered it).
-  void record(const SessionEntry& entry, const kernel::Json& request, const std::string& answer,
-              double ms);
-  /// group C's preloaded definitions, written once per run.
-  void preloaded(const std::string& group);
+  /// Opens the recording folder (continuing a recording already there) and writes study.json
+  /// when it has none. `kernels`: the groups' configs.
+  Recorder(std::shared_ptr<Study> study,
+           const std::vector<std::pair<std::string, kernel::Config>>& kernels);
+
+  // -- participants (participants.json) --
+  /// The participant an account already is.
+  std::optional<ParticipantState> participant_of(const std::string& account);
+  /// Whether new participants are taken.
+  bool open();
+  void set_open(bool open);
+  /// A fresh participant id "P<n>"; `taken(name)`: the name is an account already.
+  std::string next_id(const std::function<bool(const std::string&)>& taken);
+  /// Enrolls an account: its group is `requested` when the study has it, else round robin.
+  ParticipantState enroll(const std::string& account, const std::string& requested);
+
+  // -- records --
+  /// A protocol session opened for a participant: `session_start` (new) or `resume`.
+  void session_started(const SessionEntry& entry, bool resumed);
+  /// The world a resumed participant had (null: none yet).
+  kernel::Json resume_world(const std::string& participant);
+  /// One protocol exchange (after the session answered it, inside the kernel's lock).
+  /// `origin`: "page" or "server" (requests the server made itself, e.g. resume).
+  RecordOutcome record(const SessionEntry& entry, const std::string& request,
+                       const std::string& answer, double ms, const char* origin = "page");
+  /// A page event (flip, reject, page_load); the body was checked by the caller.
+  void event(const SessionEntry& entry, const kernel::Json& body);
+
+  // -- what the page and the researcher see --
+  /// info.study's participant part: {participant, teaching, task, goal_reached, history}.
+  kernel::Json page_state(const std::string& participant);
+  /// The researcher's overview: participants and the files.
+  kernel::Json overview();
+  /// The recording's files a researcher may download.
+  static const std::vector<std::string>& files();
 
  private:
-  struct Participant {
-    std::string world_id;  ///< the world the session holds now
-    std::string last_qid;
-    std::string last_text;
-    kernel::Json last_candidates;
+  struct Live {  ///< what a participant's session showed last (not kept across restarts)
+    std::string last_qid, last_text;
+    kernel::Json last_formulas = kernel::Json::array();
     int seq = 0;
   };
+  /// A queries.jsonl line, its members in the order they are set (who, what, when first).
+  using Line = nlohmann::ordered_json;
   std::string world_id(const SessionEntry& entry);
-  kernel::Json command(const SessionEntry& entry, Participant& p, const std::string& kind);
+  Line line(const SessionEntry& entry, ParticipantState& p, const std::string& kind,
+            std::optional<std::int64_t> exchange);
   void write(std::ofstream& out, const kernel::Json& line);
+  void write_line(const Line& line);  ///< to queries.jsonl
   void write_sessions();
+  void write_study_json(const std::vector<std::pair<std::string, kernel::Config>>& kernels);
+  void load_existing();
+  void preloaded(const std::string& group);
+  ParticipantState& state(const SessionEntry& entry);
+  bool goal_reached(const SessionEntry& entry, int task) const;
+  /// Writes the queries.jsonl line(s) of one exchange; returns the qid of the main one ("").
+  std::string command(const SessionEntry& entry, ParticipantState& p, const kernel::Json& request,
+                      const kernel::Json& answer, double ms, std::int64_t exchange,
+                      RecordOutcome& outcome);
+  void define(const SessionEntry& entry, ParticipantState& p, const kernel::Json& request,
+              const kernel::Json& answer, Line& c);
 
-  std::shared_ptr<const Study> study_;
-  std::ofstream queries_, worlds_, definitions_, answers_;
-  std::set<std::string> worlds_written_;
-  std::map<std::string, Participant> participants_;  ///< by token
+  std::mutex mutex_;
+  std::shared_ptr<Study> study_;
+  std::string dir_;
+  std::ofstream queries_, worlds_, definitions_, answers_, exchanges_;
+  std::map<std::string, kernel::Json> worlds_by_id_;
+  std::map<std::string, Live> live_;  ///< by participant
   kernel::Json sessions_ = kernel::Json::array();
-  std::set<std::string> preloaded_;
-  std::int64_t line_ = 0;
+  std::map<std::string, std::size_t> session_numbers_;  ///< by token: the sessions.json index
+  std::set<std::string> preloaded_;                     ///< sources whose preload is written
+  std::map<std::string, std::pair<std::string, int>> rule_defs_;  ///< rule id -> (def_id, pos)
+  std::map<std::string, int> rule_lines_;                         ///< per source
+  std::int64_t line_ = 0, exchange_ = 0;
+  ParticipantStore participants_;
 };
 
 }  // namespace flipper::studio

@@ -13,6 +13,7 @@
 #include "sempre.hpp"
 #include "static_files.hpp"
 #include "study.hpp"
+#include "study_http.hpp"
 
 namespace flipper::studio {
 namespace {
@@ -41,7 +42,8 @@ struct Server::Impl {
   // Destroyed before the transport: no worker answers into a transport that is gone.
   std::unique_ptr<Api> api;
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
-  std::unique_ptr<Scheduler> scheduler;    // destroyed first: its workers use the api
+  std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §7)
+  std::unique_ptr<Scheduler> scheduler;   // destroyed first: its workers use the api
 
   void add_routes() {
     Api* a = api.get();
@@ -53,6 +55,15 @@ struct Server::Impl {
                [a](const HttpRequest& r, Respond done) { a->login(r, std::move(done)); });
     router.add("POST", "/api/v1/logout",
                [a](const HttpRequest& r, Respond done) { a->logout(r, std::move(done)); });
+    StudyEndpoints* s = study.get();
+    router.add("POST", "/api/v1/study/event",
+               [s](const HttpRequest& r, Respond done) { s->event(r, std::move(done)); });
+    router.add("GET", "/api/v1/study/overview",
+               [s](const HttpRequest& r, Respond done) { s->overview(r, std::move(done)); });
+    router.add("POST", "/api/v1/study/close",
+               [s](const HttpRequest& r, Respond done) { s->close(r, std::move(done)); });
+    router.add("POST", "/api/v1/study/invite",
+               [s](const HttpRequest& r, Respond done) { s->invite(r, std::move(done)); });
     if (sempre) {
       // On the plain kernel's worker, one request at a time per sessionId, never on the I/O
       // thread (docs/sempre.md, docs/studio.md §5).
@@ -68,7 +79,10 @@ struct Server::Impl {
       router.add("OPTIONS", "/sempre", answer);
     }
     const StaticFiles* f = files.get();
-    router.fallback("GET", [f](const HttpRequest& r, Respond done) { done(static_reply(*f, r)); });
+    router.fallback("GET", [f, s](const HttpRequest& r, Respond done) {
+      if (r.path.starts_with("/api/v1/study/recording/")) return s->recording(r, std::move(done));
+      done(static_reply(*f, r));
+    });
     router.guard([this](const HttpRequest& r, HttpReply& reply) { return hosts.refuse(r, reply); });
   }
 };
@@ -98,8 +112,9 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   m.api = std::make_unique<Api>(kernels, m.options, *m.accounts, *m.scheduler, m.hosts);
   if (study) {
     m.api->set_study(study);
-    m.api->set_recorder(std::make_shared<Recorder>(study));
+    m.api->set_recorder(std::make_shared<Recorder>(study, kernels));
   }
+  m.study = std::make_unique<StudyEndpoints>(*m.api, *m.scheduler, m.hosts);
   TransportOptions t;
   t.request_timeout_ms = m.options.request_timeout_ms;
   t.idle_timeout_ms = m.options.idle_timeout_ms;
@@ -115,6 +130,7 @@ Server::~Server() {
   // Workers first (they answer into the transport), then the api they use.
   impl_->scheduler.reset();
   impl_->sempre.reset();
+  impl_->study.reset();
   impl_->api.reset();
 }
 

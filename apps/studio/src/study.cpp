@@ -116,23 +116,11 @@ std::vector<std::pair<std::string, kernel::Config>> Study::kernels(
   return out;
 }
 
-std::string Study::assign_group(const std::string& requested) {
-  for (const auto& g : groups_)
-    if (g == requested) return g;
-  return groups_[next_group_++ % groups_.size()];
-}
-
-Json Study::page_json(const SessionEntry* participant) const {
+Json Study::page_json() const {
   Json tasks = Json::array();
   for (const auto& t : tasks_)
     tasks.push_back({{"name", t.name}, {"text", t.text}, {"start", t.start}, {"goal", t.goal}});
-  Json out{{"name", name_}, {"tutorial", tutorial_}, {"tasks", std::move(tasks)}};
-  if (participant != nullptr) {
-    out["participant"] = participant->participant;
-    out["group"] = participant->group;
-    out["sharing"] = sharing_of_group(participant->group);
-  }
-  return out;
+  return Json{{"name", name_}, {"tutorial", tutorial_}, {"tasks", std::move(tasks)}};
 }
 
 }  // namespace flipper::studio

@@ -22,8 +22,6 @@
 
 namespace flipper::studio {
 
-struct SessionEntry;
-
 struct StudyTask {
   std::string name;
   std::string text;
@@ -39,16 +37,15 @@ class Study {
   /// The kernels' configs: `base` with the group's lexicon mode and its own store in the
   /// recording directory.
   std::vector<std::pair<std::string, kernel::Config>> kernels(const kernel::Config& base) const;
-  /// The group of a new participant: `requested` when the study has it, else round-robin.
-  std::string assign_group(const std::string& requested);
-  /// "P1", "P2", ... in order of arrival.
-  std::string next_participant() { return "P" + std::to_string(++participants_); }
-  /// What the page shows: name, tutorial, tasks, and the participant's id and group.
-  kernel::Json page_json(const SessionEntry* participant) const;
+  /// What the page shows: name, tutorial and tasks (the participant's part comes from the
+  /// recorder; the group and its sharing mode are not shown: docs/studio.md §7).
+  kernel::Json page_json() const;
 
   const std::string& name() const { return name_; }
   const std::string& record_dir() const { return record_dir_; }
   const std::string& preload() const { return preload_; }
+  const std::vector<StudyTask>& tasks() const { return tasks_; }
+  const std::vector<std::string>& groups() const { return groups_; }
   /// The recording's run for a group: "studio/<name>/<group>".
   std::string source(const std::string& group) const { return "studio/" + name_ + "/" + group; }
 
@@ -59,8 +56,6 @@ class Study {
   std::string preload_;
   std::string record_dir_;
   std::vector<StudyTask> tasks_;
-  std::size_t next_group_ = 0;
-  int participants_ = 0;
 };
 
 /// The lexicon.sharing of a study group (A core, B private, C shared).

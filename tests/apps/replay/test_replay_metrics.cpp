@@ -152,3 +152,20 @@ TEST_CASE("rule oracle: identical, subset, overlap, missing", "[replay][defects]
   CHECK(compare_rules({aligned}, {our_simple}).empty());
   CHECK(compare_rules({}, {our_simple}).empty());
 }
+
+TEST_CASE("rule oracle: a studio recording's rules are compared with their semantics",
+          "[replay][defects]") {
+  // docs/studio.md §7: every logged rule has semantics in our notation, alignment rules count.
+  using flipper::replay::compare_rules;
+  using flipper::replay::LoggedRule;
+  using flipper::replay::RuleShape;
+  const LoggedRule zig{1, true, false, "$Action", {"zig"}, "{{move right};{move up}}"};
+  const LoggedRule grab{2, false, true, "$ItemAct", {"grab"}, "pick"};
+  const RuleShape ours{"$Action", {"zig"}, "{{move right};{move up}}"};
+  const RuleShape our_grab{"$ItemAct", {"grab"}, "pick"};
+  const RuleShape other_reading{"$Action", {"zig"}, "{{move right};{move left}}"};
+  CHECK(compare_rules({zig}, {ours}) == "identical");
+  CHECK(compare_rules({zig}, {other_reading}) == "missing");  // same shape, another program
+  CHECK(compare_rules({zig, grab}, {ours, our_grab}) == "identical");
+  CHECK(compare_rules({zig, grab}, {ours}) == "subset");  // the alignment rule is compared too
+}

@@ -28,6 +28,31 @@ inline std::string fresh_dir(const std::string& name) {
   return dir.string();
 }
 
+/// `flipper ARGS` with `input` on standard input (a file in `dir`): status and output.
+struct CliRun {
+  int status = 0;
+  std::string out;
+};
+inline CliRun run_flipper(const std::string& args, const std::string& dir,
+                          const std::string& input = "") {
+  const std::string in = dir + "/stdin.txt";
+  {
+    std::ofstream f(in, std::ios::trunc);
+    f << input;
+  }
+  const std::string cmd =
+      std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args + " < " + in + " 2>&1";
+  CliRun r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p) != nullptr) r.out += buf;
+  const int raw = ::pclose(p);
+  REQUIRE(WIFEXITED(raw));
+  r.status = WEXITSTATUS(raw);
+  return r;
+}
+
 class StudioServer {
  public:
   /// Starts the server with `sets` (--set values) after the test defaults.
@@ -58,27 +83,8 @@ class StudioServer {
     REQUIRE(run_accounts("add " + name + " --role " + role, password + "\n").status == 0);
   }
   /// `flipper accounts ARGS` with `input` on standard input: status and output.
-  struct CliRun {
-    int status = 0;
-    std::string out;
-  };
   CliRun run_accounts(const std::string& args, const std::string& input = "") const {
-    const std::string in = dir_ + "/stdin.txt";
-    {
-      std::ofstream f(in, std::ios::trunc);
-      f << input;
-    }
-    const std::string cmd = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper accounts " + args +
-                            " --set lexicon.path=" + lexicon() + " < " + in + " 2>&1";
-    CliRun r;
-    FILE* p = ::popen(cmd.c_str(), "r");
-    REQUIRE(p != nullptr);
-    char buf[4096];
-    while (std::fgets(buf, sizeof buf, p) != nullptr) r.out += buf;
-    const int raw = ::pclose(p);
-    REQUIRE(WIFEXITED(raw));
-    r.status = WEXITSTATUS(raw);
-    return r;
+    return run_flipper("accounts " + args + " --set lexicon.path=" + lexicon(), dir_, input);
   }
   std::string lexicon() const { return dir_ + "/lexicon.sqlite"; }
   std::string origin() const { return "http://127.0.0.1:" + std::to_string(port_); }
@@ -110,12 +116,16 @@ struct Reply {
   std::string text;
   std::string session;
   std::string user;
+  std::string set_cookie;  ///< a new login's Set-Cookie (study enrollment)
+  std::string goal;        ///< Flipper-Goal (study mode)
 };
 
+/// `group`: a new session's ?group= (study mode).
 inline Reply post(httplib::Client& c, const std::string& session, const std::string& body,
-                  const httplib::Headers& headers = {}) {
-  const std::string path =
-      session.empty() ? "/api/v1/request" : "/api/v1/request?session=" + session;
+                  const httplib::Headers& headers = {}, const std::string& group = "") {
+  const std::string path = !session.empty() ? "/api/v1/request?session=" + session
+                           : group.empty()  ? std::string("/api/v1/request")
+                                            : "/api/v1/request?group=" + group;
   auto res = c.Post(path.c_str(), headers, body, "application/json");
   REQUIRE(res);
   Reply r;
@@ -124,6 +134,8 @@ inline Reply post(httplib::Client& c, const std::string& session, const std::str
   r.body = json::parse(res->body, nullptr, false);
   r.session = res->get_header_value("Flipper-Session");
   r.user = res->get_header_value("Flipper-User");
+  r.set_cookie = res->get_header_value("Set-Cookie");
+  r.goal = res->get_header_value("Flipper-Goal");
   return r;
 }
 

@@ -17,7 +17,9 @@ namespace flipper::replay {
 /// One body line of a definition.
 struct BodyLine {
   std::string utterance;
-  std::string formula;  ///< the original's internal formula (not used to parse)
+  std::string formula;  ///< the program meant (the original's formula, or canonical text)
+  int rank = -1;        ///< a studio line without a formula: the reading chosen (-1: none logged)
+  std::string accept_qid = {};  ///< a studio line taught from history: the accept it came from
 };
 
 /// One induced rule of the original's grammar log (what the deletion mapping and the rule
@@ -28,6 +30,7 @@ struct LoggedRule {
   bool alignment = false;        ///< induced by alignment (`align`)
   std::string lhs;               ///< e.g. "$Action"
   std::vector<std::string> rhs;  ///< tokens and the original's category names
+  std::string semantics = {};    ///< studio recordings: the template (canonical text)
 };
 
 /// One non-context command of queries.jsonl.
@@ -49,7 +52,9 @@ struct Command {
   std::string head, def_id;
   std::vector<BodyLine> body;
   // delete
-  int rule_index = -1;
+  int rule_index = -1;  ///< the 2018 grammar-log index (-1: none)
+  std::string rule;     ///< studio: the live rule id
+  int rule_pos = -1;    ///< studio: the rule's index in its define's answer (with def_id)
 };
 
 struct Definition {

@@ -3,8 +3,10 @@
 /// The induced-rule oracle: our rules for a definition against the rules the original system
 /// logged for it (definitions.jsonl `induced_rules`), compared as `lhs -> rhs` shapes after
 /// mapping the original's category names to ours ($ItemActionFragment is our $ItemAct).
-/// Templates are not compared: the original printed them as lambda formulas of its own.
-/// The original's alignment rules are left out (replays run with alignment off, as the study).
+/// The 2018 corpus: templates are not compared (the original printed them as lambda formulas of
+/// its own) and its alignment rules are left out (replays run with alignment off, as the study).
+/// A studio recording logs each rule's `semantics` in our notation: then every rule, alignment
+/// ones too, is compared as `lhs -> rhs => semantics` (docs/studio.md §7).
 
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@ namespace flipper::replay {
 struct RuleShape {
   std::string lhs;
   std::vector<std::string> rhs;
+  std::string semantics = {};  ///< the rule's template (canonical text)
 };
 
 /// "identical" (same set of shapes), "subset" (ours a proper, non-empty subset of the

@@ -1,0 +1,157 @@
+#include "study_http.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "flipper/sdk/errors.hpp"
+#include "recorder.hpp"
+#include "study.hpp"
+
+namespace flipper::studio {
+using kernel::Json;
+
+namespace {
+
+constexpr std::size_t kMaxEventBytes = 4096;
+
+HttpReply json_ok(const Json& body) {
+  HttpReply r;
+  r.body = body.dump(-1, ' ', false, Json::error_handler_t::replace);
+  r.set_header("Cache-Control", "no-store");
+  return r;
+}
+
+HttpReply no_study() {
+  return error_reply(404, "no_study", "this server runs no study (serve.study)");
+}
+
+}  // namespace
+
+void StudyEndpoints::later(const std::string& key, std::function<HttpReply()> job,
+                           Respond respond) {
+  auto work = [job = std::move(job), respond](int) { respond(job()); };
+  if (!scheduler_.submit(key, std::move(work)))
+    respond(error_reply(429, "session_busy", "too many requests waiting"));
+}
+
+std::optional<HttpReply> StudyEndpoints::refuse_researcher(const HttpRequest& r) const {
+  if (!api_.recorder()) return no_study();
+  const std::optional<Login> login = api_.accounts().resume(login_cookie(r.cookie));
+  if (!login)
+    return error_reply(401, "login_required", "log in as the study's researcher (an admin)");
+  if (login->role != Role::admin)
+    return error_reply(403, "forbidden", "only an administrator sees the study's recording");
+  return std::nullopt;
+}
+
+void StudyEndpoints::event(const HttpRequest& r, Respond respond) {
+  if (!api_.recorder()) return respond(no_study());
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "events must come from this server's page"));
+  const std::string token = r.param("session");
+  auto job = [this, r, token]() -> HttpReply {
+    if (r.body.size() > kMaxEventBytes)
+      return error_reply(400, "bad_request", "an event is at most 4096 bytes");
+    const Json body = Json::parse(r.body, nullptr, false);
+    const std::string kind = body.is_object() && body.contains("kind") && body["kind"].is_string()
+                                 ? body["kind"].get<std::string>()
+                                 : std::string();
+    const bool shaped =
+        (kind == "flip" && body.contains("rank") && body["rank"].is_number_integer() &&
+         (!body.contains("formula") || body["formula"].is_string())) ||
+        kind == "reject" ||
+        (kind == "page_load" && (!body.contains("reloaded") || body["reloaded"].is_boolean()));
+    if (!shaped)
+      return error_reply(400, "bad_request",
+                         "send {\"kind\":\"flip\",\"rank\":N,\"formula\":F}, {\"kind\":\"reject\"} "
+                         "or {\"kind\":\"page_load\",\"reloaded\":B}");
+    std::shared_ptr<SessionEntry> entry = api_.registry().find(token);
+    if (!entry) return error_reply(404, "unknown_session", "no session has this token");
+    const std::optional<Login> login = api_.accounts().resume(login_cookie(r.cookie));
+    if (!entry->account.empty() && (!login || login->name != entry->account))
+      return error_reply(401, "login_required",
+                         "this session belongs to account '" + entry->account + "'");
+    if (!api_.registry().admit(*entry, Clock::now()))
+      return error_reply(429, "rate_limited", "too many requests in this session");
+    api_.recorder()->event(*entry, body);
+    return json_ok(Json{{"ok", true}});
+  };
+  later(token.empty() ? "event:" + r.peer : token, std::move(job), std::move(respond));
+}
+
+void StudyEndpoints::overview(const HttpRequest& r, Respond respond) {
+  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  later(
+      "study:" + r.peer, [this] { return json_ok(api_.recorder()->overview()); },
+      std::move(respond));
+}
+
+void StudyEndpoints::recording(const HttpRequest& r, Respond respond) {
+  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  const std::string prefix = "/api/v1/study/recording/";
+  const std::string name = r.path.substr(std::min(r.path.size(), prefix.size()));
+  const auto& files = Recorder::files();
+  if (std::find(files.begin(), files.end(), name) == files.end())
+    return respond(
+        error_reply(404, "not_found", "the recording has no file '" + name.substr(0, 100) + "'"));
+  auto job = [this, name]() -> HttpReply {
+    std::ifstream in(std::filesystem::path(api_.study()->record_dir()) / name, std::ios::binary);
+    if (!in) return error_reply(404, "not_found", "'" + name + "' is not written yet");
+    std::ostringstream text;
+    text << in.rdbuf();
+    HttpReply reply;
+    reply.body = text.str();
+    reply.content_type = name.ends_with(".jsonl") ? "application/x-ndjson" : "application/json";
+    reply.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+    reply.set_header("Cache-Control", "no-store");
+    return reply;
+  };
+  later("study:" + r.peer, std::move(job), std::move(respond));
+}
+
+void StudyEndpoints::close(const HttpRequest& r, Respond respond) {
+  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
+  const Json body = Json::parse(r.body, nullptr, false);
+  if (!body.is_object() || !body.contains("open") || !body["open"].is_boolean())
+    return respond(error_reply(400, "bad_request", "send {\"open\": false} or {\"open\": true}"));
+  const bool open = body["open"].get<bool>();
+  auto job = [this, open] {
+    api_.recorder()->set_open(open);
+    return json_ok(api_.recorder()->overview());
+  };
+  later("study:" + r.peer, std::move(job), std::move(respond));
+}
+
+void StudyEndpoints::invite(const HttpRequest& r, Respond respond) {
+  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
+  const Json body = Json::parse(r.body, nullptr, false);
+  if (!body.is_object() || !body.contains("participant") || !body["participant"].is_string())
+    return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
+  const std::string name = body["participant"].get<std::string>();
+  auto job = [this, name]() -> HttpReply {
+    // Only a participant's account, or a new one: never a code for another account (an admin's).
+    const auto account = api_.accounts().find(name);
+    if (account && !api_.recorder()->participant_of(name))
+      return error_reply(409, "not_a_participant",
+                         "'" + name + "' is an account that is not a participant of this study");
+    try {
+      const std::string code =
+          api_.accounts().invite(name, Role::participant, std::chrono::hours(24) * 7);
+      return json_ok(Json{{"ok", true},
+                          {"participant", name},
+                          {"code", code},
+                          {"url", "/?code=" + code},
+                          {"known", account.has_value()}});
+    } catch (const sdk::Error& e) {
+      return error_reply(400, e.code(), e.what());
+    }
+  };
+  later("study:" + r.peer, std::move(job), std::move(respond));
+}
+
+}  // namespace flipper::studio

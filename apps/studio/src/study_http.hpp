@@ -1,0 +1,39 @@
+#pragma once
+// Study mode's own HTTP endpoints (docs/studio.md §7): the page's events and the researcher's
+// view. The protocol exchanges themselves go through Api (api.hpp) and are recorded there.
+//   POST /api/v1/study/event?session=T   {"kind":"flip","rank","formula"} | {"kind":"reject"} |
+//                                        {"kind":"page_load","reloaded"}: a queries.jsonl line
+//   GET  /api/v1/study/overview          (admin) participants, their group, task, counts, files
+//   GET  /api/v1/study/recording/NAME    (admin) one file of the recording, as an attachment
+//   POST /api/v1/study/close {"open":b}  (admin) stop (or resume) taking new participants
+//   POST /api/v1/study/invite {"participant":P}  (admin) a one-time login code for P: a known
+//                                        participant resumes on another device, a new name joins
+// The researcher's endpoints answer 401 login_required without a login, 403 forbidden for a
+// login that is not an administrator; a server without a study answers 404 no_study.
+#include "api.hpp"
+#include "http_types.hpp"
+
+namespace flipper::studio {
+
+class StudyEndpoints {
+ public:
+  StudyEndpoints(Api& api, Scheduler& scheduler, const HostPolicy& hosts)
+      : api_(api), scheduler_(scheduler), hosts_(hosts) {}
+
+  void event(const HttpRequest& request, Respond respond);
+  void overview(const HttpRequest& request, Respond respond);
+  void recording(const HttpRequest& request, Respond respond);
+  void close(const HttpRequest& request, Respond respond);
+  void invite(const HttpRequest& request, Respond respond);
+
+ private:
+  /// nullopt when the request is a researcher's; else the refusal.
+  std::optional<HttpReply> refuse_researcher(const HttpRequest& request) const;
+  void later(const std::string& key, std::function<HttpReply()> job, Respond respond);
+
+  Api& api_;
+  Scheduler& scheduler_;
+  const HostPolicy& hosts_;
+};
+
+}  // namespace flipper::studio
