@@ -299,7 +299,7 @@ bool AccountStore::name_taken(const std::string& name) const {
 std::string AccountStore::invite(const std::string& name, Role role_if_new,
                                  std::chrono::seconds valid_for) {
   if (auto why = name_problem(name)) fail("bad_name", "'" + name + "': " + *why);
-  const std::string code = random_token(16);
+  std::string code = random_token(16);
   std::lock_guard lock(impl_->mutex);
   if (!impl_->find(name)) {
     if (impl_->taken(name))

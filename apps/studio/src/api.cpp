@@ -163,7 +163,7 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
           options_.max_sessions, std::chrono::seconds(options_.session_idle_s),
           options_.rate_per_second, options_.rate_burst, options_.sessions_per_address,
           static_cast<double>(options_.new_sessions_per_minute), options_.memory_budget_mb << 20,
-          64 * 1024, std::chrono::seconds(options_.evict_after_s)}) {
+          std::size_t{64} * 1024, std::chrono::seconds(options_.evict_after_s)}) {
   std::size_t count = 0, bytes = 0;
   for (const auto& [group, config] : kernels) {
     KernelPool& pool = pools_[group];
@@ -216,7 +216,7 @@ void Api::bury_evicted() {
   });
 }
 
-void Api::request(const HttpRequest& r, Respond respond) {
+void Api::request(const HttpRequest& r, const Respond& respond) {
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin",
                                "state-changing requests must come from this server's own page "
@@ -239,7 +239,7 @@ void Api::request(const HttpRequest& r, Respond respond) {
 }
 
 void Api::run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job,
-                              Respond respond) {
+                              const Respond& respond) {
   // Pinned to the first kernel: /sempre keeps its sessions there (docs/sempre.md).
   auto work = [job = std::move(job), respond](int) { respond(job()); };
   if (!pool_for(std::string()).scheduler->submit(key, std::move(work), 0))
@@ -461,7 +461,7 @@ HttpReply Api::run(SessionEntry& entry, Kernel& free, const HttpRequest& r) {
   return reply;
 }
 
-void Api::info(const HttpRequest& r, Respond respond) {
+void Api::info(const HttpRequest& r, const Respond& respond) {
   const std::string token = r.param("session");
   auto job = [this, r, respond](int) {
     const std::optional<Login> login = accounts_.resume(login_cookie(r.cookie));
@@ -508,7 +508,7 @@ bool Api::login_allowed(const std::string& address) {
   return true;
 }
 
-void Api::login(const HttpRequest& r, Respond respond) {
+void Api::login(const HttpRequest& r, const Respond& respond) {
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "logins must come from this server's page"));
   if (!login_allowed(r.peer))
@@ -544,7 +544,7 @@ HttpReply Api::login_reply(const HttpRequest& r) {
   return reply;
 }
 
-void Api::logout(const HttpRequest& r, Respond respond) {
+void Api::logout(const HttpRequest& r, const Respond& respond) {
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "logouts must come from this server's page"));
   auto job = [this, r, respond](int) {

@@ -62,13 +62,13 @@ class Api {
   ~Api();
 
   /// POST /api/v1/request[?session=TOKEN]
-  void request(const HttpRequest& request, Respond respond);
+  void request(const HttpRequest& request, const Respond& respond);
   /// GET /api/v1/info[?session=TOKEN]: what the page needs besides the protocol.
-  void info(const HttpRequest& request, Respond respond);
+  void info(const HttpRequest& request, const Respond& respond);
   /// POST /api/v1/login {"name","password"} or {"code"}: a login cookie.
-  void login(const HttpRequest& request, Respond respond);
+  void login(const HttpRequest& request, const Respond& respond);
   /// POST /api/v1/logout: ends the cookie's login.
-  void logout(const HttpRequest& request, Respond respond);
+  void logout(const HttpRequest& request, const Respond& respond);
 
   /// Runs `f(kernel)` with the plain server's kernel under its lock (call on a worker, e.g. from
   /// a job of run_on_plain_kernel): the /sempre endpoint (sempre.hpp) keeps its own sessions over
@@ -82,7 +82,8 @@ class Api {
   /// Queues `job` on the plain pool's first kernel under `key` (one job at a time per key, the
   /// least CPU-hungry key first) and answers its reply; 429 `session_busy` when the key already
   /// has requests waiting.
-  void run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job, Respond respond);
+  void run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job,
+                           const Respond& respond);
 
   /// Study mode: every protocol exchange is handed to the recorder.
   void set_recorder(std::shared_ptr<Recorder> recorder) { recorder_ = std::move(recorder); }

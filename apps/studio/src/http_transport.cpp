@@ -116,7 +116,7 @@ bool is_chunked_only(std::string_view te) {
 }  // namespace
 
 struct HttpTransport::Impl {
-  Impl(TransportOptions o, const Router& r) : options(std::move(o)), router(r) {}
+  Impl(TransportOptions o, const Router& r) : options(o), router(r) {}
   TransportOptions options;
   const Router& router;
   // Before io: destroying io destroys the connections still pending, which release here.
@@ -324,7 +324,7 @@ void HttpTransport::Impl::admit(tcp::socket socket) {
 }
 
 HttpTransport::HttpTransport(TransportOptions options, const Router& router)
-    : impl_(std::make_unique<Impl>(std::move(options), router)) {}
+    : impl_(std::make_unique<Impl>(options, router)) {}
 
 HttpTransport::~HttpTransport() = default;
 

@@ -50,8 +50,8 @@ struct RegistryLimits {
   std::size_t sessions_per_address = 32;
   double new_sessions_per_minute = 60;  ///< per address (token bucket, this many banked)
   std::size_t memory_budget_bytes = std::size_t{1} << 30;
-  std::size_t session_base_bytes = 64 * 1024;  ///< charged for every open session
-  std::chrono::seconds evict_after{120};       ///< idle time after which the budget may evict
+  std::size_t session_base_bytes = std::size_t{64} * 1024;  ///< charged for every open session
+  std::chrono::seconds evict_after{120};  ///< idle time after which the budget may evict
 };
 
 class SessionRegistry {

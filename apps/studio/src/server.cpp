@@ -48,39 +48,39 @@ struct Server::Impl {
   void add_routes() {
     Api* a = api.get();
     router.add("POST", "/api/v1/request",
-               [a](const HttpRequest& r, Respond done) { a->request(r, std::move(done)); });
+               [a](const HttpRequest& r, const Respond& done) { a->request(r, done); });
     router.add("GET", "/api/v1/info",
-               [a](const HttpRequest& r, Respond done) { a->info(r, std::move(done)); });
+               [a](const HttpRequest& r, const Respond& done) { a->info(r, done); });
     router.add("POST", "/api/v1/login",
-               [a](const HttpRequest& r, Respond done) { a->login(r, std::move(done)); });
+               [a](const HttpRequest& r, const Respond& done) { a->login(r, done); });
     router.add("POST", "/api/v1/logout",
-               [a](const HttpRequest& r, Respond done) { a->logout(r, std::move(done)); });
+               [a](const HttpRequest& r, const Respond& done) { a->logout(r, done); });
     StudyEndpoints* s = study.get();
     router.add("POST", "/api/v1/study/event",
-               [s](const HttpRequest& r, Respond done) { s->event(r, std::move(done)); });
+               [s](const HttpRequest& r, const Respond& done) { s->event(r, done); });
     router.add("GET", "/api/v1/study/overview",
-               [s](const HttpRequest& r, Respond done) { s->overview(r, std::move(done)); });
+               [s](const HttpRequest& r, const Respond& done) { s->overview(r, done); });
     router.add("POST", "/api/v1/study/close",
-               [s](const HttpRequest& r, Respond done) { s->close(r, std::move(done)); });
+               [s](const HttpRequest& r, const Respond& done) { s->close(r, done); });
     router.add("POST", "/api/v1/study/invite",
-               [s](const HttpRequest& r, Respond done) { s->invite(r, std::move(done)); });
+               [s](const HttpRequest& r, const Respond& done) { s->invite(r, done); });
     if (sempre) {
       // On the plain kernel's worker, one request at a time per sessionId, never on the I/O
       // thread (docs/sempre.md, docs/studio.md §5).
-      auto answer = [a, s = sempre.get()](const HttpRequest& r, Respond done) {
+      auto answer = [a, s = sempre.get()](const HttpRequest& r, const Respond& done) {
         a->run_on_plain_kernel(
             "sempre:" + r.param("sessionId"),
             [s, r] {
               return s->handle({r.method, r.raw_query});
             },
-            std::move(done));
+            done);
       };
       router.add("GET", "/sempre", answer);
       router.add("OPTIONS", "/sempre", answer);
     }
     const StaticFiles* f = files.get();
-    router.fallback("GET", [f, s](const HttpRequest& r, Respond done) {
-      if (r.path.starts_with("/api/v1/study/recording/")) return s->recording(r, std::move(done));
+    router.fallback("GET", [f, s](const HttpRequest& r, const Respond& done) {
+      if (r.path.starts_with("/api/v1/study/recording/")) return s->recording(r, done);
       done(static_reply(*f, r));
     });
     router.guard([this](const HttpRequest& r, HttpReply& reply) { return hosts.refuse(r, reply); });

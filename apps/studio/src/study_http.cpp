@@ -29,7 +29,7 @@ HttpReply no_study() {
 }  // namespace
 
 void StudyEndpoints::later(const std::string& key, std::function<HttpReply()> job,
-                           Respond respond) {
+                           const Respond& respond) {
   auto work = [job = std::move(job), respond](int) { respond(job()); };
   if (!scheduler_.submit(key, std::move(work)))
     respond(error_reply(429, "session_busy", "too many requests waiting"));
@@ -45,7 +45,7 @@ std::optional<HttpReply> StudyEndpoints::refuse_researcher(const HttpRequest& r)
   return std::nullopt;
 }
 
-void StudyEndpoints::event(const HttpRequest& r, Respond respond) {
+void StudyEndpoints::event(const HttpRequest& r, const Respond& respond) {
   if (!api_.recorder()) return respond(no_study());
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "events must come from this server's page"));
@@ -77,17 +77,16 @@ void StudyEndpoints::event(const HttpRequest& r, Respond respond) {
     api_.recorder()->event(*entry, body);
     return json_ok(Json{{"ok", true}});
   };
-  later(token.empty() ? "event:" + r.peer : token, std::move(job), std::move(respond));
+  later(token.empty() ? "event:" + r.peer : token, std::move(job), respond);
 }
 
-void StudyEndpoints::overview(const HttpRequest& r, Respond respond) {
+void StudyEndpoints::overview(const HttpRequest& r, const Respond& respond) {
   if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
   later(
-      "study:" + r.peer, [this] { return json_ok(api_.recorder()->overview()); },
-      std::move(respond));
+      "study:" + r.peer, [this] { return json_ok(api_.recorder()->overview()); }, respond);
 }
 
-void StudyEndpoints::recording(const HttpRequest& r, Respond respond) {
+void StudyEndpoints::recording(const HttpRequest& r, const Respond& respond) {
   if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
   const std::string prefix = "/api/v1/study/recording/";
   const std::string name = r.path.substr(std::min(r.path.size(), prefix.size()));
@@ -107,10 +106,10 @@ void StudyEndpoints::recording(const HttpRequest& r, Respond respond) {
     reply.set_header("Cache-Control", "no-store");
     return reply;
   };
-  later("study:" + r.peer, std::move(job), std::move(respond));
+  later("study:" + r.peer, std::move(job), respond);
 }
 
-void StudyEndpoints::close(const HttpRequest& r, Respond respond) {
+void StudyEndpoints::close(const HttpRequest& r, const Respond& respond) {
   if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "must come from this server's page"));
@@ -122,10 +121,10 @@ void StudyEndpoints::close(const HttpRequest& r, Respond respond) {
     api_.recorder()->set_open(open);
     return json_ok(api_.recorder()->overview());
   };
-  later("study:" + r.peer, std::move(job), std::move(respond));
+  later("study:" + r.peer, std::move(job), respond);
 }
 
-void StudyEndpoints::invite(const HttpRequest& r, Respond respond) {
+void StudyEndpoints::invite(const HttpRequest& r, const Respond& respond) {
   if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "must come from this server's page"));
@@ -151,7 +150,7 @@ void StudyEndpoints::invite(const HttpRequest& r, Respond respond) {
       return error_reply(400, e.code(), e.what());
     }
   };
-  later("study:" + r.peer, std::move(job), std::move(respond));
+  later("study:" + r.peer, std::move(job), respond);
 }
 
 }  // namespace flipper::studio

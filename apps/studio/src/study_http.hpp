@@ -20,16 +20,16 @@ class StudyEndpoints {
   StudyEndpoints(Api& api, Scheduler& scheduler, const HostPolicy& hosts)
       : api_(api), scheduler_(scheduler), hosts_(hosts) {}
 
-  void event(const HttpRequest& request, Respond respond);
-  void overview(const HttpRequest& request, Respond respond);
-  void recording(const HttpRequest& request, Respond respond);
-  void close(const HttpRequest& request, Respond respond);
-  void invite(const HttpRequest& request, Respond respond);
+  void event(const HttpRequest& request, const Respond& respond);
+  void overview(const HttpRequest& request, const Respond& respond);
+  void recording(const HttpRequest& request, const Respond& respond);
+  void close(const HttpRequest& request, const Respond& respond);
+  void invite(const HttpRequest& request, const Respond& respond);
 
  private:
   /// nullopt when the request is a researcher's; else the refusal.
   std::optional<HttpReply> refuse_researcher(const HttpRequest& request) const;
-  void later(const std::string& key, std::function<HttpReply()> job, Respond respond);
+  void later(const std::string& key, std::function<HttpReply()> job, const Respond& respond);
 
   Api& api_;
   Scheduler& scheduler_;

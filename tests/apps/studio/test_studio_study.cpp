@@ -3,6 +3,7 @@
 // endpoints (401/403/200, downloads, close), page events, a restart that continues the
 // numbering, one kernel per group under concurrent participants, and `flipper replay verify` on
 // the recording (equal, one byte changed, a bad folder).
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -94,6 +95,55 @@ TEST_CASE("answer_for_digest removes the ms members only") {
   CHECK(corpus::answer_for_digest(R"({"t":"x\",\"ms\":5"})") == R"({"t":"x\",\"ms\":5"})");
   CHECK(corpus::answer_for_digest(R"({"ms":3,"a":1})") == R"({"ms":3,"a":1})");  // no comma
   CHECK(corpus::answer_for_digest(R"({"a":1,"ms":"x"})") == R"({"a":1,"ms":"x"})");
+}
+
+// `flipper serve` with `sets`, bounded by `timeout` in case a regression lets it start serving:
+// its exit status and output.
+CliRun serve_refusal(const std::string& dir, const std::string& sets) {
+  const std::string cmd =
+      "cd " + dir + " && timeout 60 " + std::string(FLIPPER_BINARY_DIR) +
+      "/bin/flipper serve --set serve.port=0 --set lexicon.path=:memory: " + sets +
+      " </dev/null 2>&1";
+  CliRun r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, p) != nullptr) r.out += buf;
+  const int raw = ::pclose(p);
+  REQUIRE(WIFEXITED(raw));
+  r.status = WEXITSTATUS(raw);
+  return r;
+}
+
+TEST_CASE("a study file or task world that is no bounded regular file is refused bad_config") {
+  const std::string dir = fresh_dir("study-bounds");
+  const auto started = std::chrono::steady_clock::now();
+  CliRun r = serve_refusal(dir, "--set serve.study=/dev/zero");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("[bad_config]") && Catch::Contains("study file") &&
+                        Catch::Contains("/dev/zero"));
+  // An alias bomb: 9 levels of 10 aliases expand to 10^9 nodes.
+  {
+    std::ofstream bomb(dir + "/bomb.yaml");
+    bomb << "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+    for (int i = 1; i <= 9; ++i) {
+      bomb << "a" << i << ": &a" << i << " [";
+      for (int j = 0; j < 10; ++j) bomb << (j ? ", " : "") << "*a" << (i - 1);
+      bomb << "]\n";
+    }
+  }
+  r = serve_refusal(dir, "--set serve.study=" + dir + "/bomb.yaml");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("[bad_config]") && Catch::Contains("100000 nodes"));
+  // A task whose start world is a device.
+  std::ofstream(dir + "/study.yaml") << "name: t\ngroups: [B]\ntasks:\n"
+                                        "  - {name: one, text: x, start: /dev/zero}\n";
+  r = serve_refusal(dir, "--set serve.study=" + dir + "/study.yaml");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.out, Catch::Contains("[bad_config]") && Catch::Contains("/dev/zero") &&
+                        Catch::Contains("regular file"));
+  // Each refusal is immediate, not a read of an endless device or an expansion of 10^9 nodes.
+  CHECK(std::chrono::steady_clock::now() - started < std::chrono::seconds(30));
 }
 
 TEST_CASE("a study records every participant action with its fields and replays byte for byte") {
