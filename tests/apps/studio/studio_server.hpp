@@ -28,20 +28,13 @@ inline std::string fresh_dir(const std::string& name) {
   return dir.string();
 }
 
-/// `flipper ARGS` with `input` on standard input (a file in `dir`): status and output.
+/// A command's exit status and output.
 struct CliRun {
   int status = 0;
   std::string out;
 };
-inline CliRun run_flipper(const std::string& args, const std::string& dir,
-                          const std::string& input = "") {
-  const std::string in = dir + "/stdin.txt";
-  {
-    std::ofstream f(in, std::ios::trunc);
-    f << input;
-  }
-  const std::string cmd =
-      std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args + " < " + in + " 2>&1";
+/// A shell command's exit status and output (stdout and stderr).
+inline CliRun run_shell(const std::string& cmd) {
   CliRun r;
   FILE* p = ::popen(cmd.c_str(), "r");
   REQUIRE(p != nullptr);
@@ -51,6 +44,16 @@ inline CliRun run_flipper(const std::string& args, const std::string& dir,
   REQUIRE(WIFEXITED(raw));
   r.status = WEXITSTATUS(raw);
   return r;
+}
+/// `flipper ARGS` with `input` on standard input (a file in `dir`): status and output.
+inline CliRun run_flipper(const std::string& args, const std::string& dir,
+                          const std::string& input = "") {
+  const std::string in = dir + "/stdin.txt";
+  {
+    std::ofstream f(in, std::ios::trunc);
+    f << input;
+  }
+  return run_shell(std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args + " < " + in + " 2>&1");
 }
 
 class StudioServer {

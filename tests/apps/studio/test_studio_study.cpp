@@ -100,19 +100,9 @@ TEST_CASE("answer_for_digest removes the ms members only") {
 // `flipper serve` with `sets`, bounded by `timeout` in case a regression lets it start serving:
 // its exit status and output.
 CliRun serve_refusal(const std::string& dir, const std::string& sets) {
-  const std::string cmd =
-      "cd " + dir + " && timeout 60 " + std::string(FLIPPER_BINARY_DIR) +
-      "/bin/flipper serve --set serve.port=0 --set lexicon.path=:memory: " + sets +
-      " </dev/null 2>&1";
-  CliRun r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, p) != nullptr) r.out += buf;
-  const int raw = ::pclose(p);
-  REQUIRE(WIFEXITED(raw));
-  r.status = WEXITSTATUS(raw);
-  return r;
+  return run_shell("cd " + dir + " && timeout 60 " + std::string(FLIPPER_BINARY_DIR) +
+                   "/bin/flipper serve --set serve.port=0 --set lexicon.path=:memory: " + sets +
+                   " </dev/null 2>&1");
 }
 
 TEST_CASE("a study file or task world that is no bounded regular file is refused bad_config") {
