@@ -10,6 +10,7 @@
 
 #include "flipper/corpus/answer_digest.hpp"
 #include "flipper/kernel/config.hpp"
+#include "flipper/kernel/runtime.hpp"
 #include "flipper/record/checksum.hpp"
 #include "flipper/replay/corpus.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -53,10 +54,6 @@ std::string comparable(const std::string& dump) {
   return out;
 }
 
-struct Group {
-  wiring::SessionHost host;
-};
-
 std::size_t first_difference(const std::string& a, const std::string& b) {
   std::size_t i = 0;
   while (i < a.size() && i < b.size() && a[i] == b[i]) ++i;
@@ -74,9 +71,9 @@ VerifyResult verify_recording(const std::string& dir, const VerifyOptions& optio
   if (!in) throw sdk::Error(kBadCorpus, "'" + exchanges.string() + "' is missing");
 
   VerifyResult result;
-  std::map<std::string, std::unique_ptr<Group>> groups;
+  std::map<std::string, std::unique_ptr<wiring::SessionHost>> groups;
   std::map<std::string, std::unique_ptr<kernel::Session>> sessions;  // by participant + session
-  auto group_of = [&](const std::string& name) -> Group& {
+  auto group_of = [&](const std::string& name) -> wiring::SessionHost& {
     auto& g = groups[name];
     if (g) return *g;
     const json recorded = study["groups"].value(name, json::object());
@@ -93,7 +90,7 @@ VerifyResult verify_recording(const std::string& dir, const VerifyOptions& optio
       result.notes.push_back("group " + name +
                              ": the effective config differs from the one study.json recorded "
                              "(give the server's --config and --set)");
-    g = std::make_unique<Group>(Group{wiring::open_host(options.config_file, sets)});
+    g = std::make_unique<wiring::SessionHost>(wiring::open_host(kernel::make_runtime(config)));
     return *g;
   };
 
@@ -106,14 +103,14 @@ VerifyResult verify_recording(const std::string& dir, const VerifyOptions& optio
       throw sdk::Error(kBadCorpus, exchanges.string() + ":" + std::to_string(n) +
                                        ": not an exchange {n, request, answer, sha256, ...}");
     const std::string group = text(e, "group"), participant = text(e, "participant");
-    Group& g = group_of(group);
+    wiring::SessionHost& host = group_of(group);
     const std::string key = participant + "#" + e.value("session", json()).dump();
     auto& session = sessions[key];
     if (!session) {
-      session = g.host.open();
+      session = host.open();
       session->set_user(text(e, "user"));
     }
-    g.host.activate(*session);
+    host.activate(*session);
     const std::string request = e["request"].get<std::string>();
     const std::string live = corpus::answer_for_digest(e["answer"].get<std::string>());
     const std::string ours = corpus::answer_for_digest(session->handle_line(request));

@@ -105,17 +105,7 @@ std::size_t kernel_bytes(std::size_t rules) {
   return (std::size_t{4} << 20) + rules * 1024;
 }
 
-namespace {
-
-HttpReply json_reply(int status, const Json& body) {
-  HttpReply r;
-  r.status = status;
-  r.body = body.dump(-1, ' ', false, Json::error_handler_t::replace);
-  r.set_header("Cache-Control", "no-store");
-  return r;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::string login_cookie(const std::string& header) {
   // "a=1; flipper_login=TOKEN; b=2"

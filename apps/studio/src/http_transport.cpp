@@ -34,6 +34,14 @@ HttpReply error_reply(int status, const std::string& code, const std::string& me
   return r;
 }
 
+HttpReply json_reply(int status, const nlohmann::json& body) {
+  HttpReply r;
+  r.status = status;
+  r.body = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  r.set_header("Cache-Control", "no-store");
+  return r;
+}
+
 void Router::add(const std::string& method, const std::string& path, Route route) {
   routes_[{method, path}] = std::move(route);
 }

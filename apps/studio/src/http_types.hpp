@@ -1,6 +1,8 @@
 #pragma once
 // The HTTP request and reply as the studio's routes see them, independent of the HTTP library
 // (http_transport.cpp fills and sends them). docs/studio.md §2 (transport).
+#include <nlohmann/json_fwd.hpp>
+
 #include <functional>
 #include <map>
 #include <string>
@@ -53,5 +55,7 @@ using Route = std::function<void(const HttpRequest& request, Respond respond)>;
 std::string error_body(const std::string& code, const std::string& message);
 /// A reply with that body.
 HttpReply error_reply(int status, const std::string& code, const std::string& message);
+/// A JSON answer, never cached.
+HttpReply json_reply(int status, const nlohmann::json& body);
 
 }  // namespace flipper::studio

@@ -1,21 +1,15 @@
 #include "participants.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
 #include "flipper/sdk/errors.hpp"
+#include "json_file.hpp"
 
 namespace flipper::studio {
-namespace fs = std::filesystem;
 using nlohmann::json;
 
 ParticipantStore::ParticipantStore(std::string path) : path_(std::move(path)) {
-  std::ifstream in(path_);
-  if (!in) return;
-  std::ostringstream text;
-  text << in.rdbuf();
-  const json j = json::parse(text.str(), nullptr, false);
+  const std::optional<json> read = read_json_file(path_);
+  if (!read) return;
+  const json& j = *read;
   if (!j.is_object() || !j.contains("participants") || !j["participants"].is_array())
     throw sdk::Error(sdk::codes::kBadConfig,
                      "study: '" + path_ + "' is not a participants file (docs/studio.md §7)");
@@ -67,14 +61,7 @@ void ParticipantStore::save() const {
                     {"counts", p.counts},
                     {"first_seen", p.first_seen},
                     {"last_seen", p.last_seen}});
-  const json out{{"open", open_}, {"next", next_}, {"participants", std::move(list)}};
-  const std::string tmp = path_ + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::trunc);
-    if (!f) throw sdk::Error(sdk::codes::kInternal, "study: cannot write '" + tmp + "'");
-    f << out.dump(1) << '\n';
-  }
-  fs::rename(tmp, path_);
+  write_json_file(path_, {{"open", open_}, {"next", next_}, {"participants", std::move(list)}});
 }
 
 }  // namespace flipper::studio

@@ -1,7 +1,5 @@
 #include "recorder.hpp"
 
-#include <sodium.h>
-
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -12,8 +10,10 @@
 #include <sstream>
 
 #include "flipper/corpus/answer_digest.hpp"
+#include "flipper/record/checksum.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/version.hpp"
+#include "json_file.hpp"
 #include "registry.hpp"
 #include "study.hpp"
 
@@ -59,16 +59,12 @@ void for_each_json_line(const fs::path& path, F&& f) {
   }
 }
 
-std::string sha256_hex(const std::string& text) {
-  unsigned char digest[crypto_hash_sha256_BYTES];
-  crypto_hash_sha256(digest, reinterpret_cast<const unsigned char*>(text.data()), text.size());
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string out;
-  for (unsigned char b : digest) {
-    out.push_back(kHex[b >> 4]);
-    out.push_back(kHex[b & 15]);
-  }
-  return out;
+// One line of a .jsonl file, flushed (Json or ordered_json: queries.jsonl keeps its members in
+// reading order).
+template <class J>
+void append_line(std::ofstream& out, const J& line) {
+  out << line.dump(-1, ' ', false, J::error_handler_t::replace) << '\n';
+  out.flush();
 }
 
 std::string text_of(const Json& j, const char* key) {
@@ -117,7 +113,6 @@ Recorder::Recorder(std::shared_ptr<Study> study,
     : study_(std::move(study)),
       dir_(study_->record_dir()),
       participants_((fs::path(study_->record_dir()) / "participants.json").string()) {
-  if (sodium_init() < 0) throw sdk::Error(sdk::codes::kInternal, "libsodium could not start");
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec)
@@ -157,13 +152,8 @@ void Recorder::load_existing() {
       ++rule_lines_[source];
     }
   });
-  std::ifstream sessions(dir / "sessions.json");
-  if (sessions) {
-    std::ostringstream text;
-    text << sessions.rdbuf();
-    const Json s = Json::parse(text.str(), nullptr, false);
-    if (s.is_array()) sessions_ = s;
-  }
+  if (auto s = read_json_file((dir / "sessions.json").string()); s && s->is_array())
+    sessions_ = std::move(*s);
 }
 
 void Recorder::write_study_json(
@@ -191,29 +181,11 @@ void Recorder::write_study_json(
                    {"groups", std::move(groups)},
                    {"tasks", std::move(tasks)},
                    {"preload", preload.empty() ? Json() : Json(preload)}};
-  std::ofstream out(fs::path(dir_) / "study.json", std::ios::trunc);
-  out << study.dump(1) << '\n';
-}
-
-void Recorder::write(std::ofstream& out, const Json& line) {
-  out << line.dump(-1, ' ', false, Json::error_handler_t::replace) << '\n';
-  out.flush();
-}
-
-void Recorder::write_line(const Line& line) {
-  std::ofstream& out = queries_;
-  out << line.dump(-1, ' ', false, Json::error_handler_t::replace) << '\n';
-  out.flush();
+  write_json_file((fs::path(dir_) / "study.json").string(), study);
 }
 
 void Recorder::write_sessions() {
-  const fs::path path = fs::path(dir_) / "sessions.json";
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << sessions_.dump(1) << '\n';
-  }
-  fs::rename(tmp, path);
+  write_json_file((fs::path(dir_) / "sessions.json").string(), sessions_);
 }
 
 std::optional<ParticipantState> Recorder::participant_of(const std::string& account) {
@@ -263,7 +235,7 @@ std::string Recorder::world_id(const SessionEntry& entry) {
   if (!worlds_by_id_.count(id.str())) {
     Json line{{"world_id", id.str()}};
     for (const auto& [k, v] : world.items()) line[k] = v;
-    write(worlds_, line);
+    append_line(worlds_, line);
     worlds_by_id_.emplace(id.str(), std::move(world));
   }
   return id.str();
@@ -321,7 +293,7 @@ void Recorder::session_started(const SessionEntry& entry, bool resumed) {
   if (!resumed) p.world_id = world_id(entry);
   preloaded(entry.group);
   Line c = line(entry, p, resumed ? "resume" : "session_start", std::nullopt);
-  write_line(c);
+  append_line(queries_, c);
   sessions_.push_back({{"source", study_->source(entry.group)},
                        {"session", entry.participant},
                        {"resumed", resumed},
@@ -353,15 +325,15 @@ void Recorder::preloaded(const std::string& group) {
     for (const auto& b : d.value("body", Json::array()))
       body.push_back({{"utterance", b.is_string() ? b : Json(text_of(b, "text"))},
                       {"formula", b.is_object() ? Json(text_of(b, "formula")) : Json("")}});
-    write(definitions_, {{"def_id", "p:" + source + "#" + std::to_string(++n)},
-                         {"origin", "preloaded"},
-                         {"source", source},
-                         {"group", group},
-                         {"kind", "def"},
-                         {"user", d.value("author", std::string("expert"))},
-                         {"head", d.value("head", std::string())},
-                         {"body", std::move(body)},
-                         {"line", n}});
+    append_line(definitions_, Json{{"def_id", "p:" + source + "#" + std::to_string(++n)},
+                                   {"origin", "preloaded"},
+                                   {"source", source},
+                                   {"group", group},
+                                   {"kind", "def"},
+                                   {"user", d.value("author", std::string("expert"))},
+                                   {"head", d.value("head", std::string())},
+                                   {"body", std::move(body)},
+                                   {"line", n}});
   }
 }
 
@@ -385,22 +357,20 @@ RecordOutcome Recorder::record(const SessionEntry& entry, const std::string& req
   if (req.is_object() && a.is_object()) qid = command(entry, p, req, a, ms, n, outcome);
   // Ordered: the short members first, the request and answer texts last (docs/studio.md §7).
   using Ordered = nlohmann::ordered_json;
-  exchanges_ << Ordered{{"n", n},
-                        {"time", now_iso()},
-                        {"group", entry.group},
-                        {"participant", entry.participant},
-                        {"session", session_numbers_.count(entry.token)
-                                        ? Ordered(session_numbers_[entry.token])
-                                        : Ordered()},
-                        {"user", entry.session->user()},
-                        {"qid", qid.empty() ? Ordered() : Ordered(qid)},
-                        {"origin", origin},
-                        {"request", request},
-                        {"answer", answer},
-                        {"sha256", sha256_hex(corpus::answer_for_digest(answer))}}
-                    .dump(-1, ' ', false, Json::error_handler_t::replace)
-             << '\n';
-  exchanges_.flush();
+  append_line(exchanges_,
+              Ordered{{"n", n},
+                      {"time", now_iso()},
+                      {"group", entry.group},
+                      {"participant", entry.participant},
+                      {"session", session_numbers_.count(entry.token)
+                                      ? Ordered(session_numbers_[entry.token])
+                                      : Ordered()},
+                      {"user", entry.session->user()},
+                      {"qid", qid.empty() ? Ordered() : Ordered(qid)},
+                      {"origin", origin},
+                      {"request", request},
+                      {"answer", answer},
+                      {"sha256", record::sha256_text(corpus::answer_for_digest(answer))}});
   participants_.save();
   return outcome;
 }
@@ -431,7 +401,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
           {{"pretty", formula}, {"formula", formula}, {"core_only", !k.value("induced", false)}});
       formulas.push_back(formula);
     }
-    write(answers_, {{"qid", c["qid"]}, {"candidates", std::move(candidates)}});
+    append_line(answers_, Json{{"qid", c["qid"]}, {"candidates", std::move(candidates)}});
     live.last_qid = c["qid"];
     live.last_text = c["utterance"];
     live.last_formulas = std::move(formulas);
@@ -452,12 +422,12 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
                          {"formula", formula},
                          {"world_id", p.world_id},
                          {"before_world_id", before}});
-    write_line(c);
+    append_line(queries_, c);
     if (!p.goal_reached && goal_reached(entry, p.task)) {
       p.goal_reached = outcome.goal_reached = true;
       Line g = line(entry, p, "goal", exchange);
       g["for_qid"] = c["qid"];
-      write_line(g);
+      append_line(queries_, g);
     }
     return c["qid"];
   } else if (op == "define") {
@@ -483,7 +453,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
                             tasks[static_cast<std::size_t>(p.task)].goal.is_object();
       if (had_goal && !p.goal_reached && task != p.task) {
         Line skip = line(entry, p, "task_skip", exchange);
-        write_line(skip);
+        append_line(queries_, skip);
       }
       p.task = task;
       p.goal_reached = false;
@@ -499,7 +469,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
   } else {
     return {};  // rules, state, refusals: exchanges.jsonl only
   }
-  write_line(c);
+  append_line(queries_, c);
   return c["qid"];
 }
 
@@ -555,18 +525,18 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
                        {"simple_packing", text_of(r, "how") == "simple"},
                        {"align", text_of(r, "how") == "alignment"}});
   }
-  write(definitions_, {{"def_id", c["def_id"]},
-                       {"origin", "query_log"},
-                       {"source", c["source"]},
-                       {"group", entry.group},
-                       {"session", entry.participant},
-                       {"user", c["user"]},
-                       {"kind", "def"},
-                       {"head", c["head"]},
-                       {"body", body},
-                       {"line", c["line"]},
-                       {"rules_status", ok ? "induced" : "failed"},
-                       {"induced_rules", std::move(induced)}});
+  append_line(definitions_, Json{{"def_id", c["def_id"]},
+                                 {"origin", "query_log"},
+                                 {"source", c["source"]},
+                                 {"group", entry.group},
+                                 {"session", entry.participant},
+                                 {"user", c["user"]},
+                                 {"kind", "def"},
+                                 {"head", c["head"]},
+                                 {"body", body},
+                                 {"line", c["line"]},
+                                 {"rules_status", ok ? "induced" : "failed"},
+                                 {"induced_rules", std::move(induced)}});
   // A phrase taught from history: its steps collapse into one (docs/studio.md §7).
   if (ok && range_ok) {
     std::string formula = "{";
@@ -610,7 +580,7 @@ void Recorder::event(const SessionEntry& entry, const Json& body) {
   } else if (kind == "page_load") {
     c["reloaded"] = body.value("reloaded", false);
   }
-  write_line(c);
+  append_line(queries_, c);
   participants_.save();
 }
 

@@ -86,8 +86,6 @@ class Recorder {
   std::string world_id(const SessionEntry& entry);
   Line line(const SessionEntry& entry, ParticipantState& p, const std::string& kind,
             std::optional<std::int64_t> exchange);
-  void write(std::ofstream& out, const kernel::Json& line);
-  void write_line(const Line& line);  ///< to queries.jsonl
   void write_sessions();
   void write_study_json(const std::vector<std::pair<std::string, kernel::Config>>& kernels);
   void load_existing();

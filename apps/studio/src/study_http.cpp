@@ -15,13 +15,6 @@ namespace {
 
 constexpr std::size_t kMaxEventBytes = 4096;
 
-HttpReply json_ok(const Json& body) {
-  HttpReply r;
-  r.body = body.dump(-1, ' ', false, Json::error_handler_t::replace);
-  r.set_header("Cache-Control", "no-store");
-  return r;
-}
-
 HttpReply no_study() {
   return error_reply(404, "no_study", "this server runs no study (serve.study)");
 }
@@ -75,7 +68,7 @@ void StudyEndpoints::event(const HttpRequest& r, const Respond& respond) {
     if (!api_.registry().admit(*entry, Clock::now()))
       return error_reply(429, "rate_limited", "too many requests in this session");
     api_.recorder()->event(*entry, body);
-    return json_ok(Json{{"ok", true}});
+    return json_reply(200, Json{{"ok", true}});
   };
   later(token.empty() ? "event:" + r.peer : token, std::move(job), respond);
 }
@@ -83,7 +76,7 @@ void StudyEndpoints::event(const HttpRequest& r, const Respond& respond) {
 void StudyEndpoints::overview(const HttpRequest& r, const Respond& respond) {
   if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
   later(
-      "study:" + r.peer, [this] { return json_ok(api_.recorder()->overview()); }, respond);
+      "study:" + r.peer, [this] { return json_reply(200, api_.recorder()->overview()); }, respond);
 }
 
 void StudyEndpoints::recording(const HttpRequest& r, const Respond& respond) {
@@ -119,7 +112,7 @@ void StudyEndpoints::close(const HttpRequest& r, const Respond& respond) {
   const bool open = body["open"].get<bool>();
   auto job = [this, open] {
     api_.recorder()->set_open(open);
-    return json_ok(api_.recorder()->overview());
+    return json_reply(200, api_.recorder()->overview());
   };
   later("study:" + r.peer, std::move(job), respond);
 }
@@ -141,11 +134,11 @@ void StudyEndpoints::invite(const HttpRequest& r, const Respond& respond) {
     try {
       const std::string code =
           api_.accounts().invite(name, Role::participant, std::chrono::hours(24) * 7);
-      return json_ok(Json{{"ok", true},
-                          {"participant", name},
-                          {"code", code},
-                          {"url", "/?code=" + code},
-                          {"known", account.has_value()}});
+      return json_reply(200, Json{{"ok", true},
+                                  {"participant", name},
+                                  {"code", code},
+                                  {"url", "/?code=" + code},
+                                  {"known", account.has_value()}});
     } catch (const sdk::Error& e) {
       return error_reply(400, e.code(), e.what());
     }

@@ -1,0 +1,20 @@
+#pragma once
+// The study recording's whole-file JSON state (docs/studio.md §7: participants.json,
+// sessions.json, study.json): read at start, rewritten through a temporary file renamed over it,
+// so a reader or a restart never sees half a file.
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+
+namespace flipper::studio {
+
+/// The JSON document of `path`; nullopt when the file does not exist or cannot be opened, a
+/// discarded value (is_discarded()) when it is not JSON.
+std::optional<nlohmann::json> read_json_file(const std::string& path);
+
+/// Writes `value` (indent 1) to `path` atomically. Throws sdk::Error(internal) naming the file
+/// when it cannot be written.
+void write_json_file(const std::string& path, const nlohmann::json& value);
+
+}  // namespace flipper::studio
