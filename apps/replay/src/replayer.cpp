@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -14,6 +15,7 @@
 #include "flipper/corpus/original_formula.hpp"
 #include "flipper/corpus/original_text.hpp"
 #include "flipper/kernel/plugin_ref.hpp"
+#include "flipper/kernel/session.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/replay/deletion_map.hpp"
 #include "flipper/replay/rule_oracle.hpp"
@@ -321,10 +323,17 @@ class RunReplay {
     row.plan_success = row.executed && accepted.outcome.realizable;
     if (row.executed)
       std::tie(row.path_length, row.turns) = path_shape(start.robot, accepted.outcome.trace);
-    if (row.executed)
+    if (row.executed) {
       world_id_.clear();  // the session now holds our world, not a logged one
-    else
+    } else if (error == kernel::session_codes::kNotAcceptable && outcome.error_code) {
+      // The candidate's own execution failed (a refused plugin answer: invalid_plan, ...): its
+      // code is the reason, its message goes to standard error (docs/plugins-untrusted.md §3).
+      row.note = *outcome.error_code;
+      std::cerr << "flipper replay: " << c.qid << ": " << row.note << ": "
+                << outcome.error.value_or("") << "\n";
+    } else {
       row.note = error;
+    }
     auto after = corpus_.worlds.find(c.next_world_id);
     if (after == corpus_.worlds.end()) return;
     if (row.executed) {

@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "flipper/kernel/plugin_checks.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "interpreter.hpp"
@@ -97,8 +98,8 @@ sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avo
     req.goals = &nearest;
     if (distance != nullptr) *distance = n.distance;
   }
-  sdk::PathResult r =
-      planner_.call("plan", [&](const sdk::Planner& p) { return p.plan(geometry_, req, stop_); });
+  // Checked before anything follows it (docs/plugins-untrusted.md): invalid_plan otherwise.
+  sdk::PathResult r = checked_plan(planner_, geometry_, req, stop_);
   if (r.status == sdk::PlanStatus::stopped) tick();  // the deadline fired inside the planner
   if (distance != nullptr && planner_optimal_) *distance = r.path.size();
   return r;

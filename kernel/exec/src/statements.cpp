@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "flipper/kernel/plugin_checks.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "interpreter.hpp"
@@ -168,8 +169,7 @@ std::vector<std::size_t> Interpreter::point_tour(Cell start, const Area& cells) 
   if (planner_deterministic_ && last_tour_.valid && last_tour_.start == start &&
       last_tour_.cells == cells)
     return last_tour_.order;
-  sdk::TourResult tour = planner_.call(
-      "tour", [&](const sdk::Planner& p) { return p.tour(geometry_, start, cells, stop_); });
+  sdk::TourResult tour = checked_tour(planner_, geometry_, start, cells, stop_);
   if (tour.status == sdk::PlanStatus::stopped) tick();
   if (tour.status != sdk::PlanStatus::found || tour.order.size() != cells.size())
     throw sdk::Error(sdk::codes::kExecution,
@@ -207,8 +207,7 @@ bool Interpreter::exec_foreach_area(const Node& n, WorldState& s, Sinks& out) {
   std::vector<std::size_t> order;
   order.reserve(areas.size());
   if (!reps.empty()) {
-    const sdk::TourResult tour = planner_.call(
-        "tour", [&](const sdk::Planner& p) { return p.tour(geometry_, s.robot, reps, stop_); });
+    const sdk::TourResult tour = checked_tour(planner_, geometry_, s.robot, reps, stop_);
     if (tour.status == sdk::PlanStatus::stopped) tick();
     if (tour.status != sdk::PlanStatus::found || tour.order.size() != reps.size())
       throw sdk::Error(sdk::codes::kExecution,

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "flipper/kernel/plugin_checks.hpp"
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session.hpp"
 #include "flipper/kernel/session_request.hpp"
@@ -94,7 +95,7 @@ QueryResult Session::query(const QueryRequest& request) {
   pr.visible = visible_rules();
   pr.beam = options_.beam;
   pr.stop.deadline = deadline();
-  q->parse = runtime_->parser.call("parse", [&](const sdk::Parser& p) { return p.parse(pr); });
+  q->parse = checked_parse(runtime_->parser, pr);  // docs/plugins-untrusted.md
   if (q->parse.stopped) check_deadline("parsing");
   q->probs = softmax(q->parse.candidates);
   q->world = world_;

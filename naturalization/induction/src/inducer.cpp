@@ -1,4 +1,5 @@
 // The §4 pipeline: checks, body program, head chart, packings, rules.
+#include "flipper/kernel/plugin_checks.hpp"
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -61,7 +62,7 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
   req.want_chart = true;
   req.whole_span = true;
   auto parse = [&] {
-    return parser_.call("parse", [&](const sdk::Parser& p) { return p.parse(req); });
+    return kernel::checked_parse(parser_, req);  // docs/plugins-untrusted.md
   };
   sdk::ParseResult head = parse();
   refuse_if_stopped(head, "the head");

@@ -1,8 +1,10 @@
 // Requests in: `flipper dds` answers session-protocol requests from rt/flipper/request on
 // rt/flipper/answer, with the same answer lines as `flipper session` for the same script (the
 // example of docs/protocol.md and more; only the timing field `ms` differs); malformed samples
-// are answered with an error or dropped. Two nodes in two namespaces: each request gets one
-// answer, from the node it names, and each robot's plans go to its own topics.
+// are answered with an error or dropped; an invalid plan of an untrusted planner is refused with
+// the same error as in `flipper session` (docs/plugins-untrusted.md). Two nodes in two
+// namespaces: each request gets one answer, from the node it names, and each robot's plans go to
+// its own topics.
 #include <fstream>
 #include <map>
 
@@ -157,6 +159,51 @@ TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]
     REQUIRE(client.wait_for(506));
     CHECK(json::parse(client.answers[506].second)["rules"].size() == expected[7]["rules"].size());
   }
+  kill(node.pid(), SIGTERM);
+  CHECK(node.finish() == 0);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("flipper dds refuses an invalid plan exactly as flipper session does", "[dds]") {
+  // docs/plugins-untrusted.md: the evil planner's straight walk from [2,4] to room1's [9,0]
+  // enters the wall [9,3] on step 8 (hand-checked: tests/integration/untrusted).
+  const int kDomain = test_domain();
+  const auto dir = scratch_dir("untrusted");
+  const std::string evil = std::string(FLIPPER_BINARY_DIR) + "/tests/plugins/evil";
+  const std::vector<std::string> sets{"plugin_paths=[" + evil + "]", "planner.plugin=evil_planner",
+                                      "planner.params.mode=wall"};
+  const std::string request = R"({"op":"query","text":"visit room1"})";
+  std::vector<std::string> reference_args{flipper_bin(), "session", "--set",
+                                          "lexicon.path=" + (dir / "ref.sqlite").string()};
+  std::vector<std::string> node_args{
+      flipper_bin(), "dds",
+      "--set",       "dds.domain=" + std::to_string(kDomain),
+      "--set",       "lexicon.path=" + (dir / "node.sqlite").string()};
+  for (const auto& s : sets) {
+    for (auto* args : {&reference_args, &node_args}) {
+      args->push_back("--set");
+      args->push_back(s);
+    }
+  }
+  testsupport::ChildProcess reference(reference_args);
+  REQUIRE(reference.write_line(request));
+  const json expected = json::parse(reference.read_line());
+  REQUIRE(reference.finish() == 0);
+
+  auto participant = test_participant(kDomain);
+  Client client(*participant);
+  testsupport::ChildProcess node(node_args);
+  REQUIRE(client.matched());
+  client.send("s1", 1, request);
+  REQUIRE(client.wait_for(1));
+  const json answer = json::parse(client.answers[1].second);
+  CHECK(without_ms(answer) == without_ms(expected));
+  json error;
+  for (const auto& c : answer["candidates"])
+    if (c["formula"] == "visit room1") error = c["error"];
+  CHECK(error == json{{"code", "invalid_plan"},
+                      {"message", "plugin 'evil_planner' (" + evil +
+                                      "/evil_planner.so): step 8 enters wall [9,3]"}});
   kill(node.pid(), SIGTERM);
   CHECK(node.finish() == 0);
   std::filesystem::remove_all(dir);

@@ -100,20 +100,12 @@ TEST_CASE("the oracle's shortest steps, unreachable goals and walls") {
   CHECK_FALSE(shortest_steps(*walled, {0, 0, 0}, {2, 1, 0}));
 }
 
-TEST_CASE(
-    "turns count changes of direction, and a valid path is free neighbour steps to the goal") {
+// Which paths are valid is the kernel's check (tests/kernel/plugin/test_plugin_checks.cpp).
+TEST_CASE("turns count changes of direction") {
   CHECK(count_turns({0, 0, 0}, {}) == 0u);
   CHECK(count_turns({0, 0, 0}, {{0, 1, 0}, {0, 2, 0}}) == 0u);
   CHECK(count_turns({0, 0, 0}, {{0, 1, 0}, {0, 2, 0}, {1, 2, 0}}) == 1u);
   CHECK(count_turns({0, 0, 0}, {{0, 1, 0}, {1, 1, 0}, {1, 2, 0}, {2, 2, 0}}) == 3u);
-  const std::vector<Cell> around{{0, 1, 0}, {0, 2, 0}, {1, 2, 0}, {2, 2, 0}, {2, 1, 0}, {2, 0, 0}};
-  CHECK(valid_path(*kRing, {0, 0, 0}, {2, 0, 0}, around));
-  CHECK(valid_path(*kRing, {0, 0, 0}, {0, 0, 0}, {}));
-  CHECK_FALSE(valid_path(*kRing, {0, 0, 0}, {2, 0, 0}, {}));                      // not there
-  CHECK_FALSE(valid_path(*kRing, {0, 0, 0}, {2, 0, 0}, {{1, 0, 0}, {2, 0, 0}}));  // a wall
-  CHECK_FALSE(valid_path(*kRing, {0, 0, 0}, {1, 1, 0}, {{1, 1, 0}}));  // diagonal, and a wall
-  CHECK_FALSE(valid_path(*kRing, {0, 0, 0}, {0, 2, 0}, {{0, 2, 0}}));  // a jump of two
-  CHECK_FALSE(valid_path(*kRing, {0, 0, 0}, {0, 2, 0}, {{0, 1, 0}, {0, 2, 0}, {1, 2, 0}}));
 }
 
 TEST_CASE("random tasks: SplitMix64, connected pairs, the same for the same seed") {
@@ -234,17 +226,19 @@ TEST_CASE("a cell's rows: success against the oracle, invalid paths, varying ans
   CHECK(row_fields(rows[0])[11] == "1");  // length_ratio
   CHECK(row_fields(rows[0]).size() == run_columns().size());
 
-  stub->answers = {found({{0, 2, 0}})};  // a jump: not a path
+  stub->answers = {found({{0, 2, 0}})};  // a jump: not a path, refused by the kernel's check
   stub->calls = 0;
   rows = measure_cell(cell, *kRing, ref, tasks);
-  CHECK(rows[0].status == "invalid_path");
+  CHECK(rows[0].status == "invalid_plan");
+  CHECK_FALSE(rows[0].length);
   CHECK_FALSE(rows[0].success);
   CHECK(row_fields(rows[0])[11].empty());
 
   // Three repetitions, the third different: `varies`, not a success.
   cell.repetitions = 3;
-  stub->answers = {found({{0, 1, 0}, {0, 2, 0}}), found({{0, 1, 0}, {0, 2, 0}}),
-                   found({{1, 0, 0}})};
+  sdk::PathResult gave_up;
+  gave_up.status = sdk::PlanStatus::no_path;
+  stub->answers = {found({{0, 1, 0}, {0, 2, 0}}), found({{0, 1, 0}, {0, 2, 0}}), gave_up};
   stub->calls = 0;
   rows = measure_cell(cell, *kRing, ref, tasks);
   CHECK(stub->calls == 3u);

@@ -10,11 +10,16 @@
 /// - unparsable input (gibberish, empty) gives no candidates and does not throw;
 /// - results depend on the inputs only: parsing twice gives the same programs in the same order
 ///   with the same scores.
+/// Candidates are also judged by the kernel's own check (flipper/sdk/answer_check.hpp), and
+/// every failure names its scenario: the utterance, the candidate and what is wrong.
 
 #include <catch2/catch.hpp>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "flipper/sdk/answer_check.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/parser.hpp"
 
@@ -29,18 +34,41 @@ inline sdk::ParseResult conformance_parse(const sdk::Parser& parser, const sdk::
   return parser.parse(req);
 }
 
+/// A candidate in words: "candidate 2: visit room1 (score 1.5, core)".
+inline std::string describe_candidate(const sdk::ParseResult& r, std::size_t i) {
+  const auto& c = r.candidates[i];
+  std::ostringstream s;
+  s << "candidate " << i << ": " << (c.program ? sdk::render(c.program) : std::string("(null)"))
+    << " (score " << c.score << ", " << (c.core_only ? "core" : "induced") << ", "
+    << c.derivations.size() << " derivations)";
+  return s.str();
+}
+
 inline void check_candidate_list(const sdk::ParseResult& r, std::size_t n_tokens) {
+  sdk::ParseRequest asked;
+  asked.tokens.resize(n_tokens);  // the check reads the number of tokens only
+  const std::optional<sdk::Violation> wrong = sdk::parse_violation(asked, r);
+  INFO("what is wrong (the kernel's check): " << (wrong ? wrong->what : std::string("nothing")));
+  REQUIRE_FALSE(wrong.has_value());
   for (std::size_t i = 0; i < r.candidates.size(); ++i) {
     const auto& c = r.candidates[i];
+    INFO(describe_candidate(r, i));
     REQUIRE(c.program != nullptr);
     REQUIRE_FALSE(c.derivations.empty());
     for (const auto& d : c.derivations) {
+      INFO("a derivation over tokens [" << d->start << ", " << d->end << ") of the " << n_tokens
+                                        << " yields " << sdk::render(d->sem));
       CHECK(sdk::equal(d->sem, c.program));
       CHECK(d->start == 0);
       CHECK(d->end == static_cast<int>(n_tokens));
     }
-    for (std::size_t k = 0; k < i; ++k) CHECK_FALSE(sdk::equal(r.candidates[k].program, c.program));
+    for (std::size_t k = 0; k < i; ++k) {
+      INFO("the same program as candidate " << k);
+      CHECK_FALSE(sdk::equal(r.candidates[k].program, c.program));
+    }
     if (i > 0) {
+      INFO("ordered after " << describe_candidate(r, i - 1)
+                            << "; want core first, then by score (desc)");
       const auto& p = r.candidates[i - 1];
       CHECK((p.core_only > c.core_only || (p.core_only == c.core_only && p.score >= c.score)));
     }
@@ -53,9 +81,11 @@ inline void check_parser_conformance(const sdk::Parser& parser, const sdk::Score
     INFO("utterance: " << u);
     sdk::ParseResult r;
     REQUIRE_NOTHROW(r = conformance_parse(parser, scorer, u));
+    INFO("answered " << r.candidates.size() << " candidates; want at least one");
     REQUIRE_FALSE(r.candidates.empty());
     check_candidate_list(r, sdk::tokenize(u).size());
     const auto& top = r.candidates.front();
+    INFO("the top " << describe_candidate(r, 0) << "; want a core-only program");
     CHECK(top.core_only);
     const std::string text = sdk::render(top.program);
     INFO("canonical: " << text);
@@ -65,10 +95,15 @@ inline void check_parser_conformance(const sdk::Parser& parser, const sdk::Score
     const auto again = conformance_parse(parser, scorer, text);
     bool found = false;
     for (const auto& c : again.candidates) found = found || sdk::equal(c.program, top.program);
+    INFO("parsing the canonical text gave " << again.candidates.size()
+                                            << " candidates; want the top program among them");
     CHECK(found);
     const auto twice = conformance_parse(parser, scorer, u);
+    INFO("parsed twice: " << r.candidates.size() << " then " << twice.candidates.size()
+                          << " candidates; want the same answer");
     REQUIRE(twice.candidates.size() == r.candidates.size());
     for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+      INFO("first " << describe_candidate(r, i) << "; second " << describe_candidate(twice, i));
       CHECK(sdk::equal(twice.candidates[i].program, r.candidates[i].program));
       CHECK(twice.candidates[i].score == r.candidates[i].score);
     }
@@ -77,6 +112,9 @@ inline void check_parser_conformance(const sdk::Parser& parser, const sdk::Score
     INFO("unparsable: '" << bad << "'");
     sdk::ParseResult r;
     REQUIRE_NOTHROW(r = conformance_parse(parser, scorer, bad));
+    INFO("answered " << r.candidates.size() << " candidates"
+                     << (r.candidates.empty() ? "" : ", the first " + describe_candidate(r, 0))
+                     << "; want none");
     CHECK(r.candidates.empty());
   }
 }

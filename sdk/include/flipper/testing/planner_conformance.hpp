@@ -11,7 +11,9 @@
 /// that are mirror images of one another, so they tie under any symmetric distance);
 /// `deterministic` planners answer the same twice and the same whatever they were asked before
 /// (a fresh instance asked in reverse order agrees); tours are permutations with unreachable
-/// points last in (x, y, z) order.
+/// points last in (x, y, z) order. Paths and tours are judged by the kernel's own check
+/// (flipper/sdk/answer_check.hpp), and every failure names its scenario: what was asked, what
+/// came back and what is wrong with it.
 ///
 /// @code
 ///   FLIPPER_PLANNER_CONFORMANCE("astar", [] { return load_plugin<sdk::Planner>("astar"); })
@@ -24,9 +26,13 @@
 #include <functional>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <random>
+#include <sstream>
+#include <string>
 #include <vector>
 
+#include "flipper/sdk/answer_check.hpp"
 #include "flipper/sdk/planner.hpp"
 
 namespace flipper::testing {
@@ -75,22 +81,57 @@ inline int reference_distance(const sdk::Geometry& g, sdk::Cell start, const sdk
   return -1;
 }
 
-/// The path is a walk of neighbour steps from `start` over free, non-avoided cells ending at
-/// the target, which is a goal.
+/// Cells in words for a failure message: "[0,0] [5,1]", the first `most` of them and a count.
+inline std::string describe_cells(const std::vector<sdk::Cell>& cells, int dims,
+                                  std::size_t most = 8) {
+  std::ostringstream s;
+  for (std::size_t i = 0; i < cells.size() && i < most; ++i)
+    s << (i == 0 ? "" : " ") << sdk::to_string(cells[i], dims);
+  if (cells.size() > most) s << " ... (" << cells.size() << " cells)";
+  if (cells.empty()) s << "nothing";
+  return s.str();
+}
+
+/// A path request in words: "from [1,1] to [0,0] [5,1] avoiding [2,2]".
+inline std::string describe_request(const sdk::Geometry& g, const sdk::PathRequest& req) {
+  std::ostringstream s;
+  s << "from " << sdk::to_string(req.start, g.dims()) << " to "
+    << (req.goals == nullptr ? std::string("(no goal set)") : describe_cells(*req.goals, g.dims()));
+  if (req.avoid != nullptr) s << " avoiding " << describe_cells(*req.avoid, g.dims());
+  return s.str();
+}
+
+/// A planner's answer in words: "found [5,1] by 6 steps: [1,2] [2,2] ...", "no_path (why)".
+inline std::string describe_answer(const sdk::Geometry& g, const sdk::PathResult& r) {
+  std::ostringstream s;
+  s << sdk::to_string(r.status);
+  if (r.status == sdk::PlanStatus::found)
+    s << " " << sdk::to_string(r.target, g.dims()) << " by " << r.path.size()
+      << " steps: " << describe_cells(r.path, g.dims(), 12);
+  if (!r.message.empty()) s << " (" << r.message << ")";
+  return s.str();
+}
+
+/// A tour's order in words: "[2,0,1]".
+inline std::string describe_order(const std::vector<std::size_t>& order) {
+  std::ostringstream s;
+  s << "[";
+  for (std::size_t i = 0; i < order.size(); ++i) s << (i == 0 ? "" : ",") << order[i];
+  s << "]";
+  return s.str();
+}
+
+/// The path is found, and the kernel's check (sdk::path_violation) accepts it: a walk of
+/// neighbour steps from `start` over free, non-avoided cells ending at the target, which is a
+/// goal.
 inline void check_path_shape(const sdk::Geometry& g, const sdk::PathRequest& req,
                              const sdk::PathResult& r) {
+  INFO("asked: a path " << describe_request(g, req));
+  INFO("answered: " << describe_answer(g, r));
   REQUIRE(r.status == sdk::PlanStatus::found);
-  sdk::Cell at = req.start;
-  for (const sdk::Cell& c : r.path) {
-    const sdk::Cell step{c.x - at.x, c.y - at.y, c.z - at.z};
-    const auto& offs = g.neighbour_offsets();
-    REQUIRE(std::find(offs.begin(), offs.end(), step) != offs.end());
-    REQUIRE(g.is_free(c));
-    if (req.avoid != nullptr) REQUIRE(!sdk::areas::contains(*req.avoid, c));
-    at = c;
-  }
-  REQUIRE(at == r.target);
-  REQUIRE(sdk::areas::contains(*req.goals, r.target));
+  const std::optional<std::string> wrong = sdk::path_violation(g, req, r);
+  INFO("what is wrong: " << wrong.value_or("nothing"));
+  REQUIRE_FALSE(wrong.has_value());
 }
 
 inline void check_random_requests(const sdk::Planner& planner, const sdk::Geometry& g,
@@ -111,10 +152,13 @@ inline void check_random_requests(const sdk::Planner& planner, const sdk::Geomet
     sdk::areas::normalize(goals);
     sdk::areas::normalize(avoid);
     const sdk::PathRequest req{start, &goals, avoid.empty() ? nullptr : &avoid};
-    INFO("request " << n << " from " << sdk::to_string(start, g.dims()));
+    INFO("random request " << n << " (seed " << seed << "): a path " << describe_request(g, req));
     sdk::PathResult r;
     REQUIRE_NOTHROW(r = planner.plan(g, req, sdk::StopCondition{}));
+    INFO("answered: " << describe_answer(g, r));
     const int expected = reference_distance(g, start, goals, avoid);
+    INFO("breadth-first reference: " << (expected < 0 ? std::string("no path")
+                                                      : std::to_string(expected) + " steps"));
     if (traits.optimal) {
       if (expected < 0) {
         REQUIRE(r.status == sdk::PlanStatus::no_path);
@@ -137,6 +181,7 @@ inline void check_random_requests(const sdk::Planner& planner, const sdk::Geomet
     }
     if (traits.deterministic) {
       const sdk::PathResult again = planner.plan(g, req, sdk::StopCondition{});
+      INFO("asked again (a deterministic planner): " << describe_answer(g, again));
       REQUIRE(again.status == r.status);
       REQUIRE(again.path == r.path);
       if (r.status == sdk::PlanStatus::found) REQUIRE(again.target == r.target);
@@ -157,13 +202,14 @@ inline void check_tour(const sdk::Planner& planner, const sdk::Geometry& g, std:
   for (int k = 0; k < 25; ++k) points.push_back(g.cell_at(pick_any(rng)));
   points.push_back(points.front());  // a duplicate point
   points.push_back(start);
+  INFO("asked (seed " << seed << "): a tour from " << sdk::to_string(start, g.dims()) << " over "
+                      << describe_cells(points, g.dims(), 30));
   const sdk::TourResult t = planner.tour(g, start, points, sdk::StopCondition{});
+  INFO("answered: " << sdk::to_string(t.status) << ", order " << describe_order(t.order));
   REQUIRE(t.status == sdk::PlanStatus::found);
-  std::vector<std::size_t> sorted = t.order;
-  std::sort(sorted.begin(), sorted.end());
-  std::vector<std::size_t> identity(points.size());
-  std::iota(identity.begin(), identity.end(), 0);
-  REQUIRE(sorted == identity);
+  const std::optional<std::string> wrong = sdk::tour_violation(points.size(), t);
+  INFO("what is wrong: " << wrong.value_or("nothing"));
+  REQUIRE_FALSE(wrong.has_value());
   // Reachable points first, then the unreachable ones in (x, y, z) order.
   const sdk::Area self{start};
   std::size_t first_unreachable = t.order.size();
@@ -171,6 +217,9 @@ inline void check_tour(const sdk::Planner& planner, const sdk::Geometry& g, std:
     const sdk::Cell c = points[t.order[i]];
     const bool reachable = reference_distance(g, c, self, {}) >= 0 && g.is_free(c);
     if (!reachable && first_unreachable == t.order.size()) first_unreachable = i;
+    INFO("position " << i << " of the order: point " << t.order[i] << " "
+                     << sdk::to_string(c, g.dims()) << (reachable ? ", reachable" : ", unreachable")
+                     << "; unreachable points must come last, in (x, y, z) order");
     if (i >= first_unreachable) {
       REQUIRE(!reachable);
       if (i > first_unreachable) REQUIRE(points[t.order[i - 1]] <= c);
@@ -178,10 +227,13 @@ inline void check_tour(const sdk::Planner& planner, const sdk::Geometry& g, std:
   }
   if (planner.traits().deterministic) {
     const sdk::TourResult again = planner.tour(g, start, points, sdk::StopCondition{});
+    INFO("asked again (a deterministic planner): order " << describe_order(again.order)
+                                                         << ", length " << again.length);
     REQUIRE(again.order == t.order);
     REQUIRE(again.length == t.length);
   }
   const sdk::TourResult none = planner.tour(g, start, {}, sdk::StopCondition{});
+  INFO("asked: a tour over no points; answered order " << describe_order(none.order));
   REQUIRE(none.order.empty());
 }
 
@@ -204,32 +256,62 @@ inline void check_planner_edge_cases(const sdk::Planner& planner) {
   fired.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
   const sdk::Area empty;
   for (const sdk::StopCondition& stop : {sdk::StopCondition{}, fired}) {
+    INFO("edge cases on the split map, with "
+         << (stop.expired() ? "a stop that has already fired" : "no stop condition"));
     // No goals is a bad request even when the stop has fired.
-    sdk::PathResult r = planner.plan(*g, {start, &empty, nullptr}, stop);
-    REQUIRE(r.status == sdk::PlanStatus::invalid);
-    REQUIRE(r.message == "the goal set is empty");
-    REQUIRE(r.path.empty());
-    r = planner.plan(*g, {start, nullptr, nullptr}, stop);
-    REQUIRE(r.status == sdk::PlanStatus::invalid);
-    REQUIRE(r.message == "the goal set is empty");
-    const sdk::Area goal{{0, 0, 0}};
-    r = planner.plan(*g, {{40, 1, 0}, &goal, nullptr}, stop);
-    REQUIRE(r.status == sdk::PlanStatus::invalid);
-    REQUIRE(r.message == "start [40,1] is outside the bounds");
+    {
+      const sdk::PathRequest req{start, &empty, nullptr};
+      const sdk::PathResult r = planner.plan(*g, req, stop);
+      INFO("asked: a path " << describe_request(*g, req) << "; answered: " << describe_answer(*g, r)
+                            << "; want: invalid (the goal set is empty)");
+      REQUIRE(r.status == sdk::PlanStatus::invalid);
+      REQUIRE(r.message == "the goal set is empty");
+      REQUIRE(r.path.empty());
+    }
+    {
+      const sdk::PathResult r = planner.plan(*g, {start, nullptr, nullptr}, stop);
+      INFO("asked: a path from [1,1] with no goal set (null); answered: "
+           << describe_answer(*g, r) << "; want: invalid (the goal set is empty)");
+      REQUIRE(r.status == sdk::PlanStatus::invalid);
+      REQUIRE(r.message == "the goal set is empty");
+    }
+    {
+      const sdk::Area goal{{0, 0, 0}};
+      const sdk::PathRequest req{{40, 1, 0}, &goal, nullptr};
+      const sdk::PathResult r = planner.plan(*g, req, stop);
+      INFO("asked: a path " << describe_request(*g, req) << " (a start outside the bounds); "
+                            << "answered: " << describe_answer(*g, r)
+                            << "; want: invalid (start [40,1] is outside the bounds)");
+      REQUIRE(r.status == sdk::PlanStatus::invalid);
+      REQUIRE(r.message == "start [40,1] is outside the bounds");
+    }
     // No points: nothing to order, found.
-    const sdk::TourResult t = planner.tour(*g, start, {}, stop);
-    REQUIRE(t.status == sdk::PlanStatus::found);
-    REQUIRE(t.order.empty());
+    {
+      const sdk::TourResult t = planner.tour(*g, start, {}, stop);
+      INFO("asked: a tour from [1,1] over no points; answered: "
+           << sdk::to_string(t.status) << ", order " << describe_order(t.order)
+           << "; want: found, an empty order");
+      REQUIRE(t.status == sdk::PlanStatus::found);
+      REQUIRE(t.order.empty());
+    }
   }
   // A stop that has fired: stopped before any search, even for the start's own cell.
-  const sdk::Area self{start};
-  const sdk::PathResult r = planner.plan(*g, {start, &self, nullptr}, fired);
-  REQUIRE(r.status == sdk::PlanStatus::stopped);
-  REQUIRE(r.message == "stopped before planning");
-  REQUIRE(r.path.empty());
+  {
+    const sdk::Area self{start};
+    const sdk::PathResult r = planner.plan(*g, {start, &self, nullptr}, fired);
+    INFO("asked: a path from [1,1] to [1,1] with a stop that has already fired; answered: "
+         << describe_answer(*g, r) << "; want: stopped (stopped before planning), no path");
+    REQUIRE(r.status == sdk::PlanStatus::stopped);
+    REQUIRE(r.message == "stopped before planning");
+    REQUIRE(r.path.empty());
+  }
   // ... and a tour gives every point in (x, y, z) order, ties by index.
   const std::vector<sdk::Cell> pts{{5, 0, 0}, {0, 2, 0}, {2, 2, 0}, {0, 2, 0}, {0, 0, 0}};
   const sdk::TourResult t = planner.tour(*g, start, pts, fired);
+  INFO("asked: a tour from [1,1] over "
+       << describe_cells(pts, 2)
+       << " with a stop that has already fired; answered: " << sdk::to_string(t.status)
+       << ", order " << describe_order(t.order) << "; want: stopped, order [4,1,3,2,0]");
   REQUIRE(t.status == sdk::PlanStatus::stopped);
   REQUIRE(t.order == std::vector<std::size_t>{4, 1, 3, 2, 0});
 }
@@ -238,39 +320,71 @@ inline void check_planner_basics(const sdk::Planner& planner) {
   const auto g = split_map();
   const sdk::Cell start{1, 1, 0};
   // A path to the own cell is empty.
-  const sdk::Area self{start};
-  sdk::PathResult r = planner.plan(*g, {start, &self, nullptr}, sdk::StopCondition{});
-  REQUIRE(r.status == sdk::PlanStatus::found);
-  REQUIRE(r.path.empty());
-  REQUIRE(r.target == start);
+  {
+    const sdk::Area self{start};
+    const sdk::PathResult r = planner.plan(*g, {start, &self, nullptr}, sdk::StopCondition{});
+    INFO("asked: a path from [1,1] to [1,1] on the split map; answered: "
+         << describe_answer(*g, r) << "; want: found [1,1] by 0 steps");
+    REQUIRE(r.status == sdk::PlanStatus::found);
+    REQUIRE(r.path.empty());
+    REQUIRE(r.target == start);
+  }
   // Infeasible: a status with a message, not an exception.
-  const sdk::Area right{{5, 1, 0}};
-  REQUIRE_NOTHROW(r = planner.plan(*g, {start, &right, nullptr}, sdk::StopCondition{}));
-  REQUIRE(r.status == sdk::PlanStatus::no_path);
-  REQUIRE(!r.message.empty());
+  {
+    const sdk::Area right{{5, 1, 0}};
+    INFO("asked: a path from [1,1] to [5,1], behind the split map's wall");
+    sdk::PathResult r;
+    REQUIRE_NOTHROW(r = planner.plan(*g, {start, &right, nullptr}, sdk::StopCondition{}));
+    INFO("answered: " << describe_answer(*g, r) << "; want: no_path with a message");
+    REQUIRE(r.status == sdk::PlanStatus::no_path);
+    REQUIRE(!r.message.empty());
+  }
   // Goals on walls and outside the bounds are ignored.
-  const sdk::Area walls{{3, 1, 0}, {40, 1, 0}};
-  r = planner.plan(*g, {start, &walls, nullptr}, sdk::StopCondition{});
-  REQUIRE(r.status == sdk::PlanStatus::no_path);
+  {
+    const sdk::Area walls{{3, 1, 0}, {40, 1, 0}};
+    const sdk::PathResult r = planner.plan(*g, {start, &walls, nullptr}, sdk::StopCondition{});
+    INFO("asked: a path from [1,1] to the wall [3,1] and [40,1] outside; answered: "
+         << describe_answer(*g, r) << "; want: no_path");
+    REQUIRE(r.status == sdk::PlanStatus::no_path);
+  }
   // An empty goal set is a bad request, still not an exception.
-  const sdk::Area empty;
-  REQUIRE_NOTHROW(r = planner.plan(*g, {start, &empty, nullptr}, sdk::StopCondition{}));
-  REQUIRE(r.status == sdk::PlanStatus::invalid);
+  {
+    const sdk::Area empty;
+    INFO("asked: a path from [1,1] to an empty goal set");
+    sdk::PathResult r;
+    REQUIRE_NOTHROW(r = planner.plan(*g, {start, &empty, nullptr}, sdk::StopCondition{}));
+    INFO("answered: " << describe_answer(*g, r) << "; want: invalid");
+    REQUIRE(r.status == sdk::PlanStatus::invalid);
+  }
   // A stop condition that is already true stops at once, for paths and tours.
   const sdk::Area far{{0, 0, 0}};
   sdk::StopCondition past;
   past.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
-  r = planner.plan(*g, {start, &far, nullptr}, past);
-  REQUIRE(r.status == sdk::PlanStatus::stopped);
-  std::atomic<bool> cancel{true};
-  sdk::StopCondition cancelled;
-  cancelled.cancel = &cancel;
-  r = planner.plan(*g, {start, &far, nullptr}, cancelled);
-  REQUIRE(r.status == sdk::PlanStatus::stopped);
-  const std::vector<sdk::Cell> pts{{0, 0, 0}, {2, 2, 0}, {5, 0, 0}};
-  const sdk::TourResult t = planner.tour(*g, start, pts, past);
-  REQUIRE(t.status == sdk::PlanStatus::stopped);
-  REQUIRE(t.order.size() == pts.size());
+  {
+    const sdk::PathResult r = planner.plan(*g, {start, &far, nullptr}, past);
+    INFO("asked: a path from [1,1] to [0,0] with a deadline already past; answered: "
+         << describe_answer(*g, r) << "; want: stopped");
+    REQUIRE(r.status == sdk::PlanStatus::stopped);
+  }
+  {
+    std::atomic<bool> cancel{true};
+    sdk::StopCondition cancelled;
+    cancelled.cancel = &cancel;
+    const sdk::PathResult r = planner.plan(*g, {start, &far, nullptr}, cancelled);
+    INFO("asked: a path from [1,1] to [0,0] with the cancel flag set; answered: "
+         << describe_answer(*g, r) << "; want: stopped");
+    REQUIRE(r.status == sdk::PlanStatus::stopped);
+  }
+  {
+    const std::vector<sdk::Cell> pts{{0, 0, 0}, {2, 2, 0}, {5, 0, 0}};
+    const sdk::TourResult t = planner.tour(*g, start, pts, past);
+    INFO("asked: a tour from [1,1] over "
+         << describe_cells(pts, 2)
+         << " with a deadline already past; answered: " << sdk::to_string(t.status) << ", order "
+         << describe_order(t.order) << "; want: stopped, every point");
+    REQUIRE(t.status == sdk::PlanStatus::stopped);
+    REQUIRE(t.order.size() == pts.size());
+  }
   check_planner_edge_cases(planner);
 }
 
@@ -363,11 +477,20 @@ inline void check_history_independence(const PlannerFactory& factory, const sdk:
     forward.push_back(first->plan(g, {start, &goals, nullptr}, sdk::StopCondition{}));
   const sdk::TourResult tour_after = first->tour(g, free.front(), points, sdk::StopCondition{});
   const sdk::TourResult tour_before = second->tour(g, free.front(), points, sdk::StopCondition{});
+  INFO("asked: a tour from " << sdk::to_string(free.front(), g.dims()) << " over "
+                             << describe_cells(points, g.dims(), 12) << " of a fresh instance "
+                             << "first, and after " << asked.size() << " paths: orders "
+                             << describe_order(tour_before.order) << " and "
+                             << describe_order(tour_after.order));
   REQUIRE(tour_before.order == tour_after.order);
   for (std::size_t k = asked.size(); k-- > 0;) {
     INFO("request " << k << " asked last of " << asked.size() << ", then first");
     const auto& [start, goals] = asked[k];
-    const sdk::PathResult r = second->plan(g, {start, &goals, nullptr}, sdk::StopCondition{});
+    const sdk::PathRequest req{start, &goals, nullptr};
+    const sdk::PathResult r = second->plan(g, req, sdk::StopCondition{});
+    INFO("asked: a path " << describe_request(g, req)
+                          << "; answered first: " << describe_answer(g, r)
+                          << "; answered last: " << describe_answer(g, forward[k]));
     REQUIRE(r.status == forward[k].status);
     REQUIRE(r.path == forward[k].path);
     if (r.status == sdk::PlanStatus::found) REQUIRE(r.target == forward[k].target);

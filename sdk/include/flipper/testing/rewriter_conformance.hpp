@@ -12,12 +12,15 @@
 #include <vector>
 
 #include "flipper/sdk/ast.hpp"
+#include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/rewriter.hpp"
 
 namespace flipper::testing {
 
 inline void check_rewrite_candidates(const std::vector<sdk::RewriteCandidate>& candidates) {
   for (const auto& c : candidates) {
+    INFO("rewriting '" << c.rewriting << "' proposed "
+                       << (c.program ? sdk::render(c.program) : std::string("(null)")));
     REQUIRE(c.program != nullptr);
     CHECK(c.program->sort == sdk::Sort::Action);
     CHECK_FALSE(sdk::has_holes(c.program));
@@ -32,14 +35,19 @@ inline void check_rewriter_conformance(const sdk::Rewriter& rewriter,
   REQUIRE_NOTHROW(first = rewriter.propose(request));
   REQUIRE_NOTHROW(second = rewriter.propose(request));
   check_rewrite_candidates(first);
+  INFO("proposed twice for the same request: " << first.size() << " then " << second.size()
+                                               << " candidates; want the same");
   REQUIRE(first.size() == second.size());
   for (std::size_t i = 0; i < first.size(); ++i) {
+    INFO("candidate " << i << ": first '" << first[i].rewriting << "', second '"
+                      << second[i].rewriting << "'");
     CHECK(sdk::equal(first[i].program, second[i].program));
     CHECK(first[i].rewriting == second[i].rewriting);
   }
   sdk::RewriteRequest blind = request;
   blind.exec = nullptr;
   std::vector<sdk::RewriteCandidate> without_exec;
+  INFO("the same request without an executor (exec = null)");
   REQUIRE_NOTHROW(without_exec = rewriter.propose(blind));
   check_rewrite_candidates(without_exec);
 }

@@ -36,7 +36,9 @@ inline void check_scorer_conformance(const std::function<std::shared_ptr<sdk::Sc
   req.tokens = sdk::tokenize(ambiguous);
   req.context.user = "alice";
   req.scorer = scorer.get();
+  INFO("the ambiguous utterance: " << ambiguous);
   auto r = parser.parse(req);
+  INFO("parsed into " << r.candidates.size() << " candidates; the kit needs at least 2");
   REQUIRE(r.candidates.size() >= 2);
   sdk::ScoreContext ctx = req.context;
   ctx.tokens = &req.tokens;
@@ -44,6 +46,9 @@ inline void check_scorer_conformance(const std::function<std::shared_ptr<sdk::Sc
     for (const auto& d : c.derivations)
       for_each_node(*d, [&](const sdk::Derivation& n) {
         const double s = scorer->score_node(n, ctx);
+        INFO("candidate " << sdk::render(c.program) << ", node " << n.category() << " over tokens ["
+                          << n.start << ", " << n.end << ") by rule " << n.rule->id << " ("
+                          << (n.core_only ? "core" : "induced") << "): score " << s);
         CHECK(std::isfinite(s));
         if (n.core_only) CHECK(s >= 1.0);
         sdk::FeatureVector f1, f2;
@@ -62,6 +67,8 @@ inline void check_scorer_conformance(const std::function<std::shared_ptr<sdk::Sc
     r = parser.parse(req);
     on_top = sdk::equal(r.candidates.front().program, wanted);
   }
+  INFO("accepted " << sdk::render(wanted) << " up to 10 times; the top is now "
+                   << sdk::render(r.candidates.front().program));
   CHECK(on_top);
   // Persistence.
   const std::string state = scorer->save_state();
@@ -70,8 +77,12 @@ inline void check_scorer_conformance(const std::function<std::shared_ptr<sdk::Sc
   for (const auto& c : r.candidates)
     for (const auto& d : c.derivations)
       for_each_node(*d, [&](const sdk::Derivation& n) {
+        INFO("after save_state/load_state: candidate "
+             << sdk::render(c.program) << ", node " << n.category() << " over tokens [" << n.start
+             << ", " << n.end << ")");
         CHECK(other->score_node(n, ctx) == scorer->score_node(n, ctx));
       });
+  INFO("load_state(\"not a state {\"): want sdk::Error(bad_config)");
   CHECK_THROWS_AS(other->load_state("not a state {"), sdk::Error);
 }
 

@@ -3,7 +3,8 @@
 /// Conformance checks for world plugins (header-only, Catch2 v2; include <catch2/catch.hpp>
 /// first). In the spirit of OMPL's StateSpace::sanityChecks(): the save/load round trip is a
 /// fixpoint, malformed worlds are refused with `bad_world` naming the entry, copies are
-/// independent, and the free cells agree with the mask.
+/// independent, and the free cells agree with the mask. Every failure names its scenario: the
+/// world asked for, what came back and what disagrees.
 ///
 /// @code
 ///   FLIPPER_WORLD_CONFORMANCE("grid2d", [] { return load_plugin<sdk::World>("grid2d"); },
@@ -46,24 +47,46 @@ inline void require_bad_world(const sdk::World& world, const BadWorld& bad) {
 /// The mask, free_cells(), is_free() and the placement of robot and items agree; the
 /// neighbourhood is symmetric (so path distances are).
 inline void check_world_consistent(const sdk::WorldState& s) {
+  INFO("the loaded state has " << (s.geometry ? "a" : "no") << " geometry and "
+                               << (s.rooms ? "a" : "no") << " room map; want both");
   REQUIRE(s.geometry != nullptr);
   REQUIRE(s.rooms != nullptr);
   const sdk::Geometry& g = *s.geometry;
+  const int dims = g.dims();
+  INFO("the loaded world: bounds " << sdk::to_string(g.min(), dims) << " to "
+                                   << sdk::to_string(g.max(), dims) << ", " << g.cell_count()
+                                   << " cells, robot at " << sdk::to_string(s.robot, dims));
+  INFO("size " << g.size_x() << " x " << g.size_y() << " x " << g.size_z()
+               << "; want the cell count to be its product");
   REQUIRE(g.cell_count() == g.size_x() * g.size_y() * g.size_z());
   sdk::Area free;
   for (std::size_t i = 0; i < g.cell_count(); ++i) {
     const sdk::Cell c = g.cell_at(i);
-    REQUIRE(g.index(c) == i);
-    REQUIRE(g.in_bounds(c));
-    REQUIRE(g.is_free(c) == (g.free_mask()[i] != 0));
+    const bool agree = g.in_bounds(c) && g.index(c) == i && g.is_free(c) == (g.free_mask()[i] != 0);
+    if (!agree) {  // (the message only when it fails: worlds have millions of cells)
+      INFO("cell_at(" << i << ") = " << sdk::to_string(c, dims) << ": in_bounds " << g.in_bounds(c)
+                      << ", index " << (g.in_bounds(c) ? g.index(c) : 0) << ", is_free "
+                      << g.is_free(c) << ", mask " << int{g.free_mask()[i]}
+                      << "; want in bounds, index " << i << " and is_free equal to the mask");
+      REQUIRE(agree);
+    }
     if (g.is_free(c)) free.push_back(c);
   }
   sdk::areas::normalize(free);
+  INFO("free_cells() has " << g.free_cells().size() << " cells, the mask " << free.size()
+                           << "; want the same cells");
   REQUIRE(free == g.free_cells());
+  INFO("the robot's cell is " << (g.is_free(s.robot) ? "free" : "not free") << "; want free");
   REQUIRE(g.is_free(s.robot));
-  for (const auto& li : s.items) REQUIRE(g.is_free(li.at));
+  for (const auto& li : s.items) {
+    INFO("item " << li.item.id << " (" << li.item.color << " " << li.item.shape << ") lies at "
+                 << sdk::to_string(li.at, dims) << ", which must be free");
+    REQUIRE(g.is_free(li.at));
+  }
   for (const sdk::Cell& o : g.neighbour_offsets()) {
     const sdk::Cell back{-o.x, -o.y, -o.z};
+    INFO("the neighbour offset " << sdk::to_string(o, 3) << " has no opposite "
+                                 << sdk::to_string(back, 3) << " (distances must be symmetric)");
     REQUIRE(std::find(g.neighbour_offsets().begin(), g.neighbour_offsets().end(), back) !=
             g.neighbour_offsets().end());
   }
@@ -71,6 +94,7 @@ inline void check_world_consistent(const sdk::WorldState& s) {
   for (const auto& li : s.items) ids.push_back(li.item.id);
   for (const auto& h : s.held) ids.push_back(h.id);
   std::sort(ids.begin(), ids.end());
+  INFO("item ids (lying and held) must be distinct and below next_item_id " << s.next_item_id);
   REQUIRE(std::adjacent_find(ids.begin(), ids.end()) == ids.end());
   for (std::int64_t id : ids) REQUIRE(id < s.next_item_id);
 }
@@ -78,12 +102,20 @@ inline void check_world_consistent(const sdk::WorldState& s) {
 /// Loads `good`, saves, loads the saved text and saves again: the texts agree and the states
 /// are equal (robot, items, held items, rooms, bounds and mask).
 inline void check_world_round_trip(const sdk::World& world, const std::string& good) {
+  INFO(
+      "round trip: load the good world, save it, load the saved text, save again; the good "
+      "world: "
+      << good);
   const sdk::WorldState a = world.load(good, ".");
   check_world_consistent(a);
+  INFO("the loaded geometry has " << a.geometry->dims() << " dimensions, the plugin's dims() "
+                                  << world.dims());
   REQUIRE(a.geometry->dims() == world.dims());
   const std::string saved = world.save(a);
+  INFO("saved: " << saved);
   const sdk::WorldState b = world.load(saved, ".");
   check_world_consistent(b);
+  INFO("saved again: " << world.save(b));
   REQUIRE(world.save(b) == saved);
   REQUIRE(b.robot == a.robot);
   REQUIRE(b.items == a.items);
@@ -98,6 +130,10 @@ inline void check_world_round_trip(const sdk::World& world, const std::string& g
 
 /// Copies share the immutable parts and never see each other's changes.
 inline void check_world_copies(const sdk::World& world, const std::string& good) {
+  INFO(
+      "copies: a copy of the loaded good world moves its robot, drops its items and holds a new "
+      "one; the original must not change. The good world: "
+      << good);
   const sdk::WorldState a = world.load(good, ".");
   sdk::WorldState b = a;
   REQUIRE(b.geometry == a.geometry);  // shared, not copied

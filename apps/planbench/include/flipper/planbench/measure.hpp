@@ -23,10 +23,10 @@ bool is_measured_column(const std::string& column);
 
 struct RunRow {
   std::string world, planner, plugin, seed, task, start, goal;
-  /// found | no_path | stopped | invalid (the planner's), or `invalid_path` (found, but not a
-  /// path of free neighbouring cells from the start to the goal) or `varies` (repetitions gave
-  /// different answers), or the error code of a plan call that threw (`plugin_error`: the run
-  /// goes on with the next task).
+  /// found | no_path | stopped | invalid (the planner's), or `varies` (repetitions gave
+  /// different answers), or the error code of a plan call that threw (`plugin_error`) or whose
+  /// answer the kernel refused (`invalid_plan`: not a path of free neighbouring cells from the
+  /// start to the goal, docs/plugins-untrusted.md); the run goes on with the next task.
   std::string status;
   bool success = false;  ///< a valid path to a reachable goal, or no_path for an unreachable one
   std::optional<std::size_t> length, shortest;           ///< steps
@@ -41,9 +41,6 @@ std::vector<std::string> row_fields(const RunRow& row);
 
 /// Changes of direction along start, path[0], path[1], ...
 std::size_t count_turns(sdk::Cell start, const std::vector<sdk::Cell>& path);
-/// Whether `path` goes from `start` to `goal` through free cells, one neighbour step at a time.
-bool valid_path(const sdk::Geometry& g, sdk::Cell start, sdk::Cell goal,
-                const std::vector<sdk::Cell>& path);
 
 struct CellSpec {
   std::string world, planner, plugin, seed;

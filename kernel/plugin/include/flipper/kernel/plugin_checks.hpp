@@ -1,0 +1,54 @@
+#pragma once
+/// @file plugin_checks.hpp
+/// Plugin answers checked where they enter the kernel (docs/plugins-untrusted.md). Plugins are
+/// untrusted: every planner path and tour and every parse the kernel acts on comes through these
+/// calls (the executor behind `run`, `session`, `serve`, `dds` and `replay`; a query's and a
+/// definition's parse; `bench planners`), so no front end can act on an answer another refuses.
+/// Each makes the plugin call through its PluginRef (a throwing plugin is plugin_error there),
+/// then applies the SDK's one check of the answer (flipper/sdk/answer_check.hpp) and throws
+/// sdk::Error(invalid_plan | invalid_candidate | invalid_score, "plugin 'NAME' (FILE): WHAT")
+/// when the answer breaks its contract: nothing of it is acted on.
+
+#include <string>
+#include <vector>
+
+#include "flipper/kernel/plugin_ref.hpp"
+
+namespace flipper::sdk {
+inline namespace v1 {
+// Declared only (flipper/sdk/planner.hpp and parser.hpp define them; see
+// flipper/sdk/answer_check.hpp).
+struct Cell;
+class Geometry;
+class Planner;
+struct PathRequest;
+struct PathResult;
+struct StopCondition;
+struct TourResult;
+class Parser;
+struct ParseRequest;
+struct ParseResult;
+}  // namespace v1
+}  // namespace flipper::sdk
+
+namespace flipper::kernel {
+
+/// Throws sdk::Error(code, "plugin 'NAME' (FILE): WHAT").
+[[noreturn]] void throw_invalid_output(const PluginId& plugin, const char* code,
+                                       const std::string& what);
+
+/// planner.plan(geometry, request, stop), its path checked (invalid_plan).
+sdk::PathResult checked_plan(const PluginRef<const sdk::Planner>& planner,
+                             const sdk::Geometry& geometry, const sdk::PathRequest& request,
+                             const sdk::StopCondition& stop);
+
+/// planner.tour(geometry, start, points, stop), its order checked (invalid_plan).
+sdk::TourResult checked_tour(const PluginRef<const sdk::Planner>& planner,
+                             const sdk::Geometry& geometry, sdk::Cell start,
+                             const std::vector<sdk::Cell>& points, const sdk::StopCondition& stop);
+
+/// parser.parse(request), its candidates checked (invalid_candidate, invalid_score).
+sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
+                               const sdk::ParseRequest& request);
+
+}  // namespace flipper::kernel
