@@ -4,6 +4,10 @@
 // The planner benchmark (docs/planners.md §5): tasks × worlds × planners × seeds, any planner
 // plugin by name (in-tree, or out-of-tree through plugin_paths), one row per plan in runs.csv of
 // a new run folder under --out, with manifest, summary tables (report.md) and plots.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
 #include <iostream>
 
 #include "commands.hpp"
@@ -20,7 +24,7 @@ namespace {
 
 struct PlannerBenchArgs {
   std::string experiment, out, print;
-  int jobs = 0;  ///< 0: the cores available
+  int jobs = -1;  ///< -1 (not given): the cores available
   bool no_plots = false;
 };
 
@@ -51,6 +55,28 @@ std::string print_tables(const std::string& names, const std::string& run_dir) {
   return out;
 }
 
+// One progress line on a terminal, redrawn in place: cells done / total, rate, time left. Quiet
+// when standard error is not a terminal (logs, CI).
+class CellProgress {
+ public:
+  CellProgress() : tty_(isatty(STDERR_FILENO) != 0), start_(std::chrono::steady_clock::now()) {}
+  void operator()(std::size_t done, std::size_t total) const {
+    if (!tty_) return;
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double rate = s > 0 ? static_cast<double>(done) / s : 0;
+    const double left = rate > 0 ? static_cast<double>(total - done) / rate : 0;
+    std::fprintf(stderr, "\rbench planners: %zu/%zu cells, %.1f cells/s, ETA %.0f s   ", done,
+                 total, rate, left);
+    if (done == total) std::fputc('\n', stderr);
+    std::fflush(stderr);
+  }
+
+ private:
+  bool tty_;
+  std::chrono::steady_clock::time_point start_;
+};
+
 int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args) {
   if (args.experiment.empty())
     return report_error("bench planners", "usage",
@@ -60,8 +86,10 @@ int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args)
     return report_error("bench planners", "usage",
                         "--out PARENT is required: the run goes into a new folder under it",
                         kExitUsage);
-  if (args.jobs < 0)
-    return report_error("bench planners", "usage", "--jobs must be at least 1", kExitUsage);
+  if (args.jobs != -1 && args.jobs < 1)
+    return report_error("bench planners", "usage",
+                        "--jobs must be at least 1 (got " + std::to_string(args.jobs) + ")",
+                        kExitUsage);
   print_tables(args.print, "");
   const auto experiment = planbench::load_bench_experiment(args.experiment);
   planbench::BenchOptions options;
@@ -70,6 +98,7 @@ int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args)
   options.out = args.out;
   options.jobs = args.jobs > 0 ? args.jobs : record::available_cores();
   options.plots = !args.no_plots;
+  options.progress = CellProgress();
   const auto result = planbench::run_bench(experiment, options);
   std::ostream& summary = args.print.empty() ? std::cout : std::cerr;
   summary << "planner benchmark: " << result.cells << " cells, " << result.runs
@@ -79,6 +108,12 @@ int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args)
   else if (options.plots)
     std::cerr << "flipper bench planners: note: " << result.plots.message << "\n";
   if (!args.print.empty()) std::cout << print_tables(args.print, result.run_dir);
+  if (result.failures > 0) {
+    std::cerr << "flipper bench planners: " << result.failures
+              << " task(s) lost their process (run " << result.status
+              << "; see the manifest's `failed` list and report.md)\n";
+    return kExitFailed;
+  }
   return kExitOk;
 }
 

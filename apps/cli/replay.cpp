@@ -36,7 +36,7 @@ using replay::RunSummary;
 struct ReplayArgs {
   std::string corpus, out, experiment, runs, shard, print;
   int max_queries = -1;
-  int jobs = 0;  ///< 0: the cores available
+  int jobs = -1;  ///< -1 (not given): the cores available
   bool json = false, no_plots = false;
 };
 
@@ -115,8 +115,10 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
                         "--out PARENT is required: the run goes into a new folder under it "
                         "(see --help)",
                         kExitUsage);
-  if (args.jobs < 0)
-    return report_error("replay", "usage", "--jobs must be at least 1", kExitUsage);
+  if (args.jobs != -1 && args.jobs < 1)
+    return report_error("replay", "usage",
+                        "--jobs must be at least 1 (got " + std::to_string(args.jobs) + ")",
+                        kExitUsage);
   if (!args.print.empty()) table_text(args.print, {});  // an unknown table before the run
   Experiment e;
   if (!args.experiment.empty()) e = load_experiment(args.experiment);
@@ -139,6 +141,14 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
   Progress progress(options.jobs > 1);
   options.progress = std::ref(progress);
   const RunSummary s = run_experiment(e, options);
+  // Variants whose process died: said on stderr, and the exit status says the run is not complete.
+  const auto finish = [&s] {
+    for (const auto& f : s.failed) std::cerr << "flipper replay: variant " << f << "\n";
+    if (s.failed.empty()) return kExitOk;
+    std::cerr << "flipper replay: run " << s.status << ": " << s.failed.size()
+              << " variant(s) did not finish (manifest `failed`, report.md)\n";
+    return kExitFailed;
+  };
 
   const record::FigureTable t(s.figures);
   auto figure = [&](const std::string& v, const std::string& metric) {
@@ -160,7 +170,7 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
                                 {"report", s.run_dir + "/report.md"}}
                      .dump(2)
               << "\n";
-    return kExitOk;
+    return finish();
   }
   // With --print the table is the only standard output (a README block's content).
   std::ostream& summary = args.print.empty() ? std::cout : std::cerr;
@@ -171,12 +181,12 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
   summary << "run: " << s.run_dir << "\nreport: " << s.run_dir << "/report.md\n";
   say_plots(s.plots);
   if (!args.print.empty()) std::cout << table_text(args.print, s);
-  return kExitOk;
+  return finish();
 }
 
 struct CheckArgs {
   std::string run, out;
-  int jobs = 0;
+  int jobs = -1;  ///< -1 (not given): the cores available
 };
 
 struct MergeArgs {
@@ -208,6 +218,9 @@ void add_check(CLI::App& replay) {
   cmd->add_option("--out", args.out, "Keep the re-run under this folder (default: removed)");
   on_run(*cmd, [] {
     return guarded("replay check", [] {
+      if (args.jobs != -1 && args.jobs < 1)
+        throw sdk::Error(sdk::codes::kBadRequest,
+                         "--jobs must be at least 1 (got " + std::to_string(args.jobs) + ")");
       const auto r = replay::check_run(args.run, jobs_or_cores(args.jobs), args.out);
       std::cout << r.text;
       return r.differs() ? kExitFailed : kExitOk;
@@ -244,8 +257,13 @@ void add_compare(CLI::App& replay) {
   cmd->add_flag("--all", args.all, "List every figure, not only those that differ");
   on_run(*cmd, [] {
     return guarded("replay compare", [] {
+      record::ComparisonCounts counts;
       std::cout << record::compare_runs(record::read_run_figures(args.a),
-                                        record::read_run_figures(args.b), args.all);
+                                        record::read_run_figures(args.b), args.all, &counts);
+      if (counts.compared == 0) {
+        std::cerr << "flipper replay compare: nothing compared (the runs share no condition)\n";
+        return kExitFailed;
+      }
       return kExitOk;
     });
   });

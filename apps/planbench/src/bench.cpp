@@ -1,6 +1,7 @@
 // Running a planner benchmark into a run folder (docs/planners.md §5).
 #include "flipper/planbench/bench.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -33,6 +34,7 @@ struct Cell {
   std::size_t world = 0;  ///< index into the loaded worlds
   kernel::Config config;
   kernel::PluginRef<sdk::Planner> planner;
+  int kill_after_s = 0;  ///< the experiment's wall-clock backstop of one task
 };
 
 std::vector<std::string> world_sets(const WorldSpec& w) {
@@ -132,7 +134,8 @@ std::vector<Cell> plan_cells(const Settings& settings, const BenchExperiment& e,
         Cell c{{w.name, p.name, base.plugin_name("planner"), seed, e.repetitions, e.deadline_ms},
                wi,
                about(what, [&] { return settings.config(cell_sets); }),
-               {}};
+               {},
+               e.kill_after_s};
         c.planner = about(what, [&] { return loader.create<sdk::Planner>(c.config, "planner"); });
         const auto traits =
             c.planner.call("traits", [](const sdk::Planner& pl) { return pl.traits(); });
@@ -155,21 +158,117 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-// A cell in its child process: rows to cells/<i>.csv, or its error to cells/<i>.err.
-int run_cell(const std::string& dir, std::size_t i, const Cell& cell, const LoadedWorld& world) {
-  const std::string stem = dir + "/" + std::to_string(i);
-  try {
-    const auto rows = measure_cell(cell.spec, *world.state.geometry, cell.planner, world.tasks);
-    record::OutFile out(stem + ".csv");
+// A cell in its child process, from task `first` on: each task's row appended to
+// cells/<i>.csv as soon as it is measured, so a crash or a hang loses that task only. Each task
+// gets the whole wall-clock backstop (processes.hpp).
+int run_cell(const std::string& dir, std::size_t i, std::size_t first, const Cell& cell,
+             const LoadedWorld& world) {
+  std::ofstream out(dir + "/" + std::to_string(i) + ".csv", std::ios::app);
+  for (std::size_t t = first; t < world.tasks.size(); ++t) {
+    record::restart_backstop();
+    const auto rows =
+        measure_cell(cell.spec, *world.state.geometry, cell.planner, {world.tasks[t]});
     for (const auto& row : rows) out << record::csv_line(row_fields(row)) << "\n";
-    out.close();
-    return 0;
-  } catch (const sdk::Error& e) {
-    std::ofstream(stem + ".err") << e.code() << "\n" << e.what();
-  } catch (const std::exception& e) {
-    std::ofstream(stem + ".err") << sdk::codes::kInternal << "\n" << e.what();
+    out.flush();
+    if (!out)
+      throw sdk::Error(sdk::codes::kWriteFailed,
+                       "cannot write the rows of cell " + std::to_string(i) + " in '" + dir + "'");
   }
-  return 1;
+  return 0;
+}
+
+std::size_t count_lines(const std::string& path) {
+  std::ifstream in(path);
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+// The row of a task whose process died (a crash, the backstop, an error outside plan()).
+RunRow failed_row(const Cell& cell, const LoadedWorld& world, std::size_t t,
+                  const record::ChildExit& exit) {
+  const Task& task = world.tasks[t];
+  const int dims = world.state.geometry->dims();
+  RunRow row;
+  row.world = cell.spec.world;
+  row.planner = cell.spec.planner;
+  row.plugin = cell.spec.plugin;
+  row.seed = cell.spec.seed;
+  row.task = task.name;
+  row.start = sdk::to_string(task.start, dims);
+  row.goal = sdk::to_string(task.goal, dims);
+  row.shortest = task.shortest;
+  row.status = exit.kind();
+  row.cause = exit.backstop ? "killed after " + std::to_string(cell.kill_after_s) + " s"
+              : exit.signal ? record::signal_name(exit.signal)
+                            : exit.message;
+  return row;
+}
+
+// A row without its measured fields (nothing was measured for a task whose process died).
+std::string unmeasured_line(const RunRow& row) {
+  auto fields = row_fields(row);
+  const auto& columns = run_columns();
+  for (std::size_t c = 0; c < columns.size(); ++c)
+    if (is_measured_column(columns[c]) || columns[c] == "turns" || columns[c] == "expansions")
+      fields[c].clear();
+  return record::csv_line(fields);
+}
+
+// Runs every cell in its own process, `jobs` at once. A cell whose process dies gets a row for
+// the task it died in (its cause), and its later tasks run in a new process (as a microkernel
+// restarts a crashed driver): one crash costs one task. Returns the failures for the manifest.
+nlohmann::json run_cells(const std::string& cell_dir, const std::vector<Cell>& cells,
+                         const std::vector<LoadedWorld>& worlds, const BenchOptions& options,
+                         int kill_after_s) {
+  std::vector<std::pair<std::pair<std::size_t, std::size_t>, nlohmann::json>> lost;
+  std::vector<std::pair<std::size_t, std::size_t>> work;  // (cell, first task)
+  for (std::size_t i = 0; i < cells.size(); ++i) work.emplace_back(i, 0);
+  record::IsolationOptions isolation;
+  isolation.jobs = options.jobs;
+  isolation.wall_backstop_s = kill_after_s;
+  std::size_t done = 0;
+  while (!work.empty()) {
+    isolation.on_exit = [&](std::size_t k, const record::ChildExit& exit) {
+      const std::size_t i = work[k].first;
+      // A cell is done when its process ends well or dies on its last task.
+      const bool more = !exit.ok() && count_lines(cell_dir + "/" + std::to_string(i) + ".csv") + 1 <
+                                          worlds[cells[i].world].tasks.size();
+      if (!more && options.progress) options.progress(++done, cells.size());
+    };
+    const auto exits = record::run_isolated(work.size(), isolation, [&](std::size_t k) {
+      const auto [i, first] = work[k];
+      return run_cell(cell_dir, i, first, cells[i], worlds[cells[i].world]);
+    });
+    std::vector<std::pair<std::size_t, std::size_t>> again;
+    for (std::size_t k = 0; k < exits.size(); ++k) {
+      if (exits[k].ok()) continue;
+      const std::size_t i = work[k].first;
+      const Cell& cell = cells[i];
+      const LoadedWorld& world = worlds[cell.world];
+      const std::string rows_file = cell_dir + "/" + std::to_string(i) + ".csv";
+      const std::size_t t = count_lines(rows_file);  // the task it died in
+      nlohmann::json failure = {{"world", cell.spec.world},   {"planner", cell.spec.planner},
+                                {"plugin", cell.spec.plugin}, {"seed", cell.spec.seed},
+                                {"status", exits[k].kind()},  {"cause", exits[k].describe()}};
+      if (t < world.tasks.size()) {
+        failure["task"] = world.tasks[t].name;
+        std::ofstream out(rows_file, std::ios::app);
+        out << unmeasured_line(failed_row(cell, world, t, exits[k])) << "\n";
+        out.flush();
+        if (!out) throw sdk::Error(sdk::codes::kWriteFailed, "cannot write '" + rows_file + "'");
+        if (t + 1 < world.tasks.size()) again.emplace_back(i, t + 1);
+      }
+      lost.emplace_back(std::make_pair(i, t), std::move(failure));
+    }
+    work = std::move(again);
+  }
+  // In cell and task order, whatever the order the processes died in.
+  std::stable_sort(lost.begin(), lost.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  nlohmann::json failures = nlohmann::json::array();
+  for (auto& [where, failure] : lost) failures.push_back(std::move(failure));
+  return failures;
 }
 
 void write_tasks(const std::string& path, const std::vector<LoadedWorld>& worlds) {
@@ -195,9 +294,25 @@ std::string load_text() {
   return s.str();
 }
 
+// The tasks whose process died, first in the report: no figure of theirs is in the tables but
+// their row (status plugin_crashed, crashed, wall_backstop or failed).
+std::string failures_text(const nlohmann::json& failures) {
+  if (failures.empty()) return "";
+  std::string out =
+      "## Failed tasks\n\n" + std::to_string(failures.size()) +
+      " task(s) lost their process; the cell's other tasks ran in a new one "
+      "(docs/planners.md §5). The rest of the run is complete.\n\n"
+      "| world | planner | seed | task | status | cause |\n|---|---|---|---|---|---|\n";
+  for (const auto& f : failures)
+    out += "| " + f.value("world", "") + " | " + f.value("planner", "") + " | " +
+           f.value("seed", "") + " | " + f.value("task", "") + " | " + f.value("status", "") +
+           " | " + f.value("cause", "") + " |\n";
+  return out + "\n";
+}
+
 void write_report(const std::string& run_dir, const BenchExperiment& e,
                   const record::CsvTable& runs, const nlohmann::json& host, const std::string& load,
-                  std::size_t cells) {
+                  std::size_t cells, const nlohmann::json& failures) {
   record::OutFile out(run_dir + "/report.md");
   out << "# Planner benchmark: " << e.name << "\n\n"
       << "Experiment `" << e.file << "`; " << e.worlds.size() << " worlds × " << e.planners.size()
@@ -206,7 +321,7 @@ void write_report(const std::string& run_dir, const BenchExperiment& e,
          "inputs), `tasks.csv` (each world's tasks with the oracle's shortest length), "
          "`runs.csv` (one row per plan), `figures.csv`, `variants.csv`, the plots "
          "(`planners.pdf`, `.svg`).\n\n"
-      << "## Results (deterministic)\n\n"
+      << failures_text(failures) << "## Results (deterministic)\n\n"
       << "Length in steps; length / shortest against a breadth-first oracle over the world's "
          "cells; means over the successful plans, success over all (tasks × seeds).\n\n"
       << results_table(runs) << "\n## Timing (measured)\n\n"
@@ -251,22 +366,8 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
   result.cells = cells.size();
   const std::string cell_dir = result.run_dir + "/cells";
   fs::create_directories(cell_dir);
-  const auto statuses = record::run_in_processes(
-      cells.size(), options.jobs,
-      [&](std::size_t i) { return run_cell(cell_dir, i, cells[i], worlds[cells[i].world]); },
-      nullptr);
-  for (std::size_t i = 0; i < statuses.size(); ++i) {
-    if (statuses[i] == 0) continue;
-    const std::string err = read_text(cell_dir + "/" + std::to_string(i) + ".err");
-    const auto nl = err.find('\n');
-    const std::string where = "cell " + cells[i].spec.world + " × " + cells[i].spec.planner +
-                              (cells[i].spec.seed.empty() ? "" : " seed " + cells[i].spec.seed);
-    if (nl != std::string::npos)
-      throw sdk::Error(err.substr(0, nl), where + ": " + err.substr(nl + 1));
-    if (statuses[i] > 0)
-      throw sdk::Error(sdk::codes::kInternal,
-                       where + ": its process ended with status " + std::to_string(statuses[i]));
-  }
+  const nlohmann::json failures = run_cells(cell_dir, cells, worlds, options, e.kill_after_s);
+  result.failures = failures.size();
 
   record::OutFile runs_out(result.run_dir + "/runs.csv");
   runs_out << record::csv_line(run_columns()) << "\n";
@@ -282,20 +383,35 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
   record::write_figures(result.run_dir + "/figures.csv", figures.figures);
   record::write_variants(result.run_dir, figures.variants);
   const nlohmann::json host = record::host_json();
-  write_report(result.run_dir, e, runs, host, load, cells.size());
+  write_report(result.run_dir, e, runs, host, load, cells.size(), failures);
 
-  record::write_manifest(result.run_dir, {{"kind", "planner-benchmark"},
-                                          {"build", record::build_json()},
-                                          {"command", record::command_json()},
-                                          {"host", host},
-                                          {"load_average", load},
-                                          {"jobs", options.jobs},
-                                          {"started", started},
-                                          {"finished", record::utc_now()},
-                                          {"experiment", experiment_json(e)},
-                                          {"inputs", inputs},
-                                          {"cells", cell_list}});
+  // complete: every task answered; partial: some tasks' processes died; failed: all did.
+  const std::string status = failures.empty()                      ? "complete"
+                             : failures.size() >= runs.rows.size() ? "failed"
+                                                                   : "partial";
+  result.status = status;
   if (options.plots) result.plots = record::draw_plots("planner_bench_plots.py", result.run_dir);
+  const char* plot_status[] = {"drawn", "skipped", "failed"};
+  record::write_manifest(
+      result.run_dir,
+      {{"kind", "planner-benchmark"},
+       {"status", status},
+       {"failed", failures},
+       {"build", record::build_json()},
+       {"source", record::source_json()},
+       {"plots",
+        {{"status", options.plots ? plot_status[static_cast<int>(result.plots.status)] : "skipped"},
+         {"versions", result.plots.versions}}},
+       {"command", record::command_json()},
+       {"host", host},
+       {"load_average", load},
+       {"jobs", options.jobs},
+       {"started", started},
+       {"finished", record::utc_now()},
+       {"experiment", experiment_json(e)},
+       {"inputs", inputs},
+       {"cells", cell_list}});
+  record::mark_latest(result.run_dir);
   return result;
 }
 

@@ -53,9 +53,9 @@ std::string optional_text(const std::optional<std::size_t>& v) {
 
 const std::vector<std::string>& run_columns() {
   static const std::vector<std::string> columns{
-      "world", "planner",    "plugin",  "seed",    "task",         "start",
-      "goal",  "status",     "success", "length",  "shortest",     "length_ratio",
-      "turns", "expansions", "cpu_us",  "wall_us", "peak_rss_kib", "memory_kib"};
+      "world",  "planner", "plugin",       "seed",       "task",         "start", "goal",
+      "status", "success", "length",       "shortest",   "length_ratio", "turns", "expansions",
+      "cpu_us", "wall_us", "peak_rss_kib", "memory_kib", "cause"};
   return columns;
 }
 
@@ -90,7 +90,8 @@ std::vector<std::string> row_fields(const RunRow& r) {
           record::exact_number(r.cpu_us),
           record::exact_number(r.wall_us),
           kib(r.peak_rss_kib),
-          kib(r.memory_kib)};
+          kib(r.memory_kib),
+          r.cause};
 }
 
 std::size_t count_turns(sdk::Cell start, const std::vector<sdk::Cell>& path) {

@@ -27,6 +27,45 @@ std::map<Key, Spread> by_key(const std::vector<Spread>& spreads) {
   return out;
 }
 
+// Natural order: digit runs compare as numbers ("rank_2" before "rank_10", "seed=9" before
+// "seed=10"), everything else as text.
+bool natural_less(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  while (i < a.size() && j < b.size()) {
+    if (digit(a[i]) && digit(b[j])) {
+      std::size_t ei = i, ej = j;
+      while (ei < a.size() && digit(a[ei])) ++ei;
+      while (ej < b.size() && digit(b[ej])) ++ej;
+      std::size_t zi = i, zj = j;  // leading zeros do not count
+      while (zi + 1 < ei && a[zi] == '0') ++zi;
+      while (zj + 1 < ej && b[zj] == '0') ++zj;
+      if (ei - zi != ej - zj) return ei - zi < ej - zj;
+      const int c = a.compare(zi, ei - zi, b, zj, ej - zj);
+      if (c != 0) return c < 0;
+      i = ei;
+      j = ej;
+      continue;
+    }
+    if (a[i] != b[j]) return a[i] < b[j];
+    ++i;
+    ++j;
+  }
+  return a.size() - i < b.size() - j;
+}
+
+struct NaturalKeyLess {
+  bool operator()(const Key& x, const Key& y) const {
+    const std::string* xs[] = {&std::get<0>(x), &std::get<1>(x), &std::get<2>(x), &std::get<3>(x)};
+    const std::string* ys[] = {&std::get<0>(y), &std::get<1>(y), &std::get<2>(y), &std::get<3>(y)};
+    for (int k = 0; k < 4; ++k) {
+      if (natural_less(*xs[k], *ys[k])) return true;
+      if (natural_less(*ys[k], *xs[k])) return false;
+    }
+    return false;
+  }
+};
+
 bool same(const Spread& a, const Spread& b) {
   return a.n == b.n && a.mean == b.mean && a.min == b.min && a.max == b.max && a.sd == b.sd;
 }
@@ -39,8 +78,11 @@ std::string show_value(double value) {
     std::snprintf(b, sizeof b, "%.0f", value);
     return b;
   }
-  char b[32];
+  char b[64];
   std::snprintf(b, sizeof b, "%.4g", value);
+  // Large values keep their digits (123456.7, never 1.235e+05).
+  if (std::isfinite(value) && std::fabs(value) >= 1e4 && std::fabs(value) < 1e15)
+    std::snprintf(b, sizeof b, "%.1f", value);
   return b;
 }
 
@@ -48,7 +90,8 @@ RunFigures read_run_figures(const std::string& run_dir) {
   return {run_dir, read_figures(run_dir + "/figures.csv"), read_variants(run_dir)};
 }
 
-std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all) {
+std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all,
+                         ComparisonCounts* counts) {
   const auto sa = spread_over_seeds(a.figures, a.variants);
   const auto sb = spread_over_seeds(b.figures, b.variants);
   const auto ma = by_key(sa), mb = by_key(sb);
@@ -66,7 +109,7 @@ std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all) {
     std::vector<std::string> rows, timing;
     bool in_a = false, in_b = false;
     int seeds_a = 0, seeds_b = 0;
-    std::set<Key> keys;
+    std::set<Key, NaturalKeyLess> keys;
     for (const auto& [k, s] : ma)
       if (std::get<0>(k) == condition)
         keys.insert(k), in_a = true, seeds_a = std::max(seeds_a, s.n);
@@ -123,9 +166,16 @@ std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all) {
     for (const auto& c : only_b) o << " `" << c << "`";
     o << (only_b.empty() ? " none" : "") << ".\n\n";
   }
-  o << differing << " of " << compared << " figures differ";
-  if (timing_rows) o << "; timing figures (not compared): " << timing_rows;
-  o << ".\n";
+  if (compared == 0) {
+    o << "Nothing compared: A and B share no figure of one condition";
+    if (timing_rows) o << " (timing figures are never compared: " << timing_rows << ")";
+    o << ". Compare runs of the same experiment, or variants of the same names.\n";
+  } else {
+    o << differing << " of " << compared << " figures differ";
+    if (timing_rows) o << "; timing figures (not compared): " << timing_rows;
+    o << ".\n";
+  }
+  if (counts != nullptr) *counts = {compared, differing};
   return o.str();
 }
 

@@ -24,11 +24,8 @@ using nlohmann::json;
 
 json build_json() {
   const BuildInfo& b = build_info();
-  return {{"flipper", b.version},
-          {"sdk", b.sdk},
-          {"commit", b.commit},
-          {"describe", b.describe},
-          {"dirty", b.dirty}};
+  return {{"flipper", b.version},   {"sdk", b.sdk},     {"commit", b.commit},
+          {"describe", b.describe}, {"dirty", b.dirty}, {"libraries", libraries_json()}};
 }
 
 json command_json() {
@@ -108,7 +105,8 @@ json plugins_json(const kernel::Config& config, const std::vector<std::string>& 
                    {"version", plugin.descriptor->version},
                    {"file", plugin.entry.library},
                    {"sha256", sha256_file(plugin.entry.library)},
-                   {"params", params}});
+                   {"params", params},
+                   {"origin", plugin_origin_json(loader, plugin.entry.library)}});
   }
   return out;
 }
@@ -189,6 +187,12 @@ std::vector<std::string> provenance_warnings(const json& recorded, const json& n
     if (text_at(rb, key) != text_at(nb, key))
       out.push_back(std::string("flipper ") + key + " differs: recorded " + text_at(rb, key) +
                     ", now " + text_at(nb, key));
+  const json rsrc = recorded.value("source", json::object()),
+             nsrc = now.value("source", json::object());
+  for (const char* key : {"commit", "dirty"})
+    if (rsrc.contains(key) && text_at(rsrc, key) != text_at(nsrc, key))
+      out.push_back(std::string("source tree ") + key + " differs: recorded " + text_at(rsrc, key) +
+                    ", now " + text_at(nsrc, key));
   const json now_list = now.value("variants", json::array());
   std::map<std::string, const json*> now_variants;
   for (const auto& v : now_list) now_variants[text_at(v, "name")] = &v;

@@ -68,21 +68,39 @@ PlotOutcome draw_plots(const std::string& script, const std::string& run_dir) {
     return {PlotOutcome::Status::skipped,
             "plots skipped: the plot scripts are not installed (looked for <exe>/../share/"
             "flipper/plots/" +
-                script + ")."};
+                script + ").",
+            {}};
   std::string tried;
   for (const auto& python : interpreters()) {
     const Ran r =
         run(quote(python) + " " + quote((fs::path(dir) / script).string()) + " " + quote(run_dir));
-    if (r.status == 0) return {PlotOutcome::Status::drawn, r.output};
+    if (r.status == 0) {
+      PlotOutcome drawn{PlotOutcome::Status::drawn, r.output, {}};
+      // The versions that drew them (docs/experiments.md §2): "3.11.2 3.6.3".
+      const Ran v = run(quote(python) +
+                        " -c 'import sys, matplotlib; "
+                        "print(sys.version.split()[0], matplotlib.__version__)'");
+      const auto space = v.output.find(' ');
+      if (v.status == 0 && space != std::string::npos) {
+        std::string mpl = v.output.substr(space + 1);
+        while (!mpl.empty() && (mpl.back() == '\n' || mpl.back() == '\r')) mpl.pop_back();
+        drawn.versions = {
+            {"python", python}, {"python_version", v.output.substr(0, space)}, {"matplotlib", mpl}};
+      }
+      return drawn;
+    }
     if (r.status == kNoMatplotlib || r.status == 127 || r.status == 126) {
       tried += (tried.empty() ? "" : ", ") + python;
       continue;
     }
-    return {PlotOutcome::Status::failed, "plots failed (" + python + " " + script + ", exit " +
-                                             std::to_string(r.status) + "):\n" + r.output};
+    return {PlotOutcome::Status::failed,
+            "plots failed (" + python + " " + script + ", exit " + std::to_string(r.status) +
+                "):\n" + r.output,
+            {}};
   }
   return {PlotOutcome::Status::skipped,
-          "plots skipped: no Python with matplotlib (tried " + tried + ")." + how};
+          "plots skipped: no Python with matplotlib (tried " + tried + ")." + how,
+          {}};
 }
 
 }  // namespace flipper::record

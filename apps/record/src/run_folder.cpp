@@ -63,6 +63,14 @@ bool is_run_folder(const std::string& dir) {
   return fs::is_regular_file(fs::path(dir) / "manifest.json", ec);
 }
 
+void mark_latest(const std::string& run_dir) {
+  const fs::path dir = fs::path(run_dir).lexically_normal();
+  const fs::path name = dir.filename().empty() ? dir.parent_path().filename() : dir.filename();
+  const fs::path parent =
+      dir.filename().empty() ? dir.parent_path().parent_path() : dir.parent_path();
+  update_latest(parent.empty() ? fs::path(".") : parent, name.string());
+}
+
 std::string create_run_folder(const std::string& parent, const std::string& stem) {
   if (is_run_folder(parent))
     throw sdk::Error(sdk::codes::kBadRequest,
@@ -79,10 +87,7 @@ std::string create_run_folder(const std::string& parent, const std::string& stem
   for (int k = 1; k < 10000; ++k) {
     const std::string name = k == 1 ? base : base + "-" + std::to_string(k);
     const fs::path dir = fs::path(parent) / name;
-    if (fs::create_directory(dir, ec)) {
-      update_latest(parent, name);
-      return dir.string();
-    }
+    if (fs::create_directory(dir, ec)) return dir.string();
     if (ec)
       throw sdk::Error(sdk::codes::kBadRequest,
                        "cannot create the run folder '" + dir.string() + "': " + ec.message());

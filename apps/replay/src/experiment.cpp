@@ -99,13 +99,14 @@ Experiment load_experiment(const std::string& path) {
   try {
     for (const auto& kv : root) {
       const auto key = kv.first.as<std::string>();
-      static const char* known[] = {"name",   "config", "corpus",   "runs", "max_queries",
-                                    "bodies", "set",    "variants", "sweep"};
+      static const char* known[] = {"name",        "config",    "corpus",      "runs",
+                                    "max_queries", "bodies",    "set",         "variants",
+                                    "sweep",       "isolation", "kill_after_s"};
       if (std::find(std::begin(known), std::end(known), key) == std::end(known))
         throw sdk::Error(sdk::codes::kBadConfig,
                          where + "unknown key '" + key +
                              "' (keys: name, config, corpus, runs, max_queries, bodies, set, "
-                             "variants, sweep)");
+                             "variants, sweep, isolation, kill_after_s)");
     }
     if (root["name"]) e.name = root["name"].as<std::string>();
     if (root["config"] && !root["config"].as<std::string>().empty())
@@ -120,6 +121,16 @@ Experiment load_experiment(const std::string& path) {
                          where + "'bodies' must be accepted or reparsed, got '" + bodies + "'");
       e.reparse_bodies = bodies == "reparsed";
     }
+    if (root["isolation"]) {
+      const std::string isolation = root["isolation"].as<std::string>();
+      if (isolation != "process" && isolation != "none")
+        throw sdk::Error(sdk::codes::kBadConfig,
+                         where + "'isolation' must be process or none, got '" + isolation + "'");
+      e.isolate = isolation == "process";
+    }
+    if (root["kill_after_s"]) e.kill_after_s = root["kill_after_s"].as<int>();
+    if (e.kill_after_s < 1 || e.kill_after_s > 604800)
+      throw sdk::Error(sdk::codes::kBadConfig, where + "'kill_after_s' must be in [1, 604800]");
     e.sets = string_list(root["set"], where + "'set'");
     if (const auto v = root["variants"]) {
       if (!v.IsSequence())
@@ -159,7 +170,9 @@ nlohmann::json experiment_json(const Experiment& e) {
           {"bodies", e.reparse_bodies ? "reparsed" : "accepted"},
           {"set", e.sets},
           {"variants", variants},
-          {"sweep", sweep}};
+          {"sweep", sweep},
+          {"isolation", e.isolate ? "process" : "none"},
+          {"kill_after_s", e.kill_after_s}};
 }
 
 Experiment experiment_from_json(const nlohmann::json& j) {
@@ -179,6 +192,8 @@ Experiment experiment_from_json(const nlohmann::json& j) {
     for (const auto& a : j.at("sweep"))
       e.sweep.push_back(
           {a.at("key").get<std::string>(), a.at("values").get<std::vector<std::string>>()});
+    e.isolate = j.value("isolation", std::string("process")) == "process";
+    e.kill_after_s = j.value("kill_after_s", e.kill_after_s);
     return e;
   } catch (const nlohmann::json::exception& ex) {
     throw sdk::Error(sdk::codes::kBadRequest,

@@ -200,15 +200,35 @@ class VariantSection {
   const record::VariantInfo& v_;
 };
 
+// A plugin from outside the build's plugin folder, and one that hides a same-named plugin.
+std::string origin_note(const json& plugin) {
+  const json origin = plugin.value("origin", json::object());
+  std::string note;
+  if (!origin.value("in_tree", true)) note += " (out of tree)";
+  for (const auto& hidden : origin.value("shadows", json::array()))
+    note += " **shadows `" + hidden.get<std::string>() + "`**";
+  return note;
+}
+
 void provenance(std::ostream& o, const json& m) {
   const json b = m.value("build", json::object());
   const json e = m.value("experiment", json::object());
-  o << "## What this run is\n\n"
+  o << "## Appendix: what this run is\n\n"
     << "| | |\n|---|---|\n"
     << "| flipper | " << text(b, "flipper") << " (plugin SDK " << text(b, "sdk") << ") |\n"
-    << "| source | commit `" << text(b, "commit") << "` (`" << text(b, "describe")
-    << "`), uncommitted changes: " << text(b, "dirty") << " |\n"
-    << "| date | " << text(m, "started") << " – " << text(m, "finished") << " (UTC) |\n";
+    << "| build | commit `" << text(b, "commit") << "` (`" << text(b, "describe")
+    << "`), uncommitted changes: " << text(b, "dirty") << " (when built) |\n";
+  if (m.contains("source")) {
+    const json s = m["source"];
+    o << "| source tree | `" << text(s, "tree") << "`: commit `" << text(s, "commit")
+      << "`, uncommitted changes: " << text(s, "dirty") << " (" << text(s, "read") << ") |\n";
+  }
+  std::string libraries;
+  const json libs = b.value("libraries", json::object());
+  for (auto it = libs.begin(); it != libs.end(); ++it)
+    libraries += (libraries.empty() ? "" : ", ") + it.key() + " " + it.value().get<std::string>();
+  if (!libraries.empty()) o << "| libraries | " << libraries << " |\n";
+  o << "| date | " << text(m, "started") << " – " << text(m, "finished") << " (UTC) |\n";
   const json host = m.value("host", json::object());
   o << "| host | " << text(host, "name") << " (" << text(host, "system") << " "
     << text(host, "release") << ", " << host.value("cores", 0)
@@ -243,7 +263,8 @@ void provenance(std::ostream& o, const json& m) {
       << "| plugin | version | file | sha256 |\n|---|---|---|---|\n";
     for (const auto& p : v.value("plugins", json::array()))
       o << "| " << text(p, "section") << ": " << text(p, "name") << " | " << text(p, "version")
-        << " | `" << text(p, "file") << "` | `" << text(p, "sha256") << "` |\n";
+        << " | `" << text(p, "file") << "`" << origin_note(p) << " | `" << text(p, "sha256")
+        << "` |\n";
     o << "\nSeeds: ";
     const json seeds = v.value("seeds", json::object());
     if (seeds.empty()) o << "none (no plugin of this variant takes a seed)";
@@ -273,7 +294,18 @@ void write_report(const std::string& run_dir, const json& manifest,
   std::ostream& o = file.stream();
   const json e = manifest.value("experiment", json::object());
   o << "# " << text(e, "name") << "\n\n";
-  provenance(o, manifest);
+  const json failed = manifest.value("failed", json::array());
+  if (!failed.empty()) {
+    o << "## Variants that did not finish\n\nRun status: " << text(manifest, "status") << ". "
+      << failed.size()
+      << " variant(s) lost their process; their figures are missing below, every other "
+         "variant's are complete (docs/experiments.md §4).\n\n"
+      << "| variant | status | cause |\n|---|---|---|\n";
+    for (const auto& f : failed)
+      o << "| " << text(f, "variant") << " | " << text(f, "status") << " | " << text(f, "cause")
+        << " |\n";
+    o << "\n";
+  }
   const std::string plots = text(manifest.value("plots", json::object()), "message");
   if (!plots.empty()) o << "Plots: " << plots << "\n\n";
   o << "Figures count `q` commands with phase `task` of participants with `in_authors_tables`, "
@@ -304,6 +336,9 @@ void write_report(const std::string& run_dir, const json& manifest,
       if (text(x, "name") == v.name) mv = x;
     VariantSection(o, figures, table, v).write(mv);
   }
+  // Results first; what produced them (build, source, libraries, inputs, each variant's plugins
+  // and effective config) in the appendix.
+  provenance(o, manifest);
   file.close();
 }
 

@@ -84,6 +84,7 @@ RunSummary run_experiment(const Experiment& e, const RunOptions& options) {
                    {"kind", "replay"},
                    {"status", "running"},
                    {"build", record::build_json()},
+                   {"source", record::source_json()},
                    {"host", record::host_json()},
                    {"command", record::command_json()},
                    {"started", record::utc_now()},
@@ -109,34 +110,41 @@ RunSummary run_experiment(const Experiment& e, const RunOptions& options) {
   manifest["run"] = fs::path(run_dir).filename().string();
   record::write_manifest(run_dir, manifest);
 
-  try {
-    if (options.jobs <= 1 || planned.size() <= 1) {
+  if (!e.isolate && (options.jobs <= 1 || planned.size() <= 1)) {
+    try {
       for (const auto& v : planned) run_variant(corpus, e, v, run_dir, options);
-    } else {
-      const auto status = record::run_in_processes(
-          planned.size(), options.jobs,
-          [&](std::size_t i) {
-            run_variant(corpus, e, planned[i], run_dir, options);
-            return 0;
-          },
-          [&](const std::exception& ex) {
-            const auto* err = dynamic_cast<const sdk::Error*>(&ex);
-            std::cerr << "flipper replay: [" << (err ? err->code() : "internal") << "] "
-                      << ex.what() << "\n";
-          });
-      for (std::size_t i = 0; i < status.size(); ++i)
-        if (status[i] != 0)
-          throw sdk::Error(sdk::codes::kInternal,
-                           "variant '" + planned[i].info.name + "' failed (" +
-                               (status[i] < 0 ? std::string("not started after an earlier failure")
-                                              : "exit status " + std::to_string(status[i])) +
-                               "); its error is above");
+    } catch (...) {
+      manifest["status"] = "failed";
+      manifest["finished"] = record::utc_now();
+      record::write_manifest(run_dir, manifest);
+      record::mark_latest(run_dir);
+      throw;
     }
-  } catch (...) {
-    manifest["status"] = "failed";
-    manifest["finished"] = record::utc_now();
-    record::write_manifest(run_dir, manifest);
-    throw;
+  } else {
+    record::IsolationOptions isolation;
+    isolation.jobs = options.jobs;
+    isolation.wall_backstop_s = e.kill_after_s;
+    const auto exits = record::run_isolated(
+        planned.size(), isolation,
+        [&](std::size_t i) {
+          run_variant(corpus, e, planned[i], run_dir, options);
+          return 0;
+        },
+        [&](const std::exception& ex) {
+          const auto* err = dynamic_cast<const sdk::Error*>(&ex);
+          std::cerr << "flipper replay: [" << (err ? err->code() : "internal") << "] " << ex.what()
+                    << "\n";
+        });
+    json failed = json::array();
+    for (std::size_t i = 0; i < exits.size(); ++i) {
+      if (exits[i].ok()) continue;
+      manifest["variants"][i]["status"] = exits[i].kind();
+      manifest["variants"][i]["cause"] = exits[i].describe();
+      failed.push_back({{"variant", planned[i].info.name},
+                        {"status", exits[i].kind()},
+                        {"cause", exits[i].describe()}});
+    }
+    manifest["failed"] = failed;
   }
   manifest["finished"] = record::utc_now();
   return assemble_run(run_dir, manifest, options.plots);
@@ -145,7 +153,14 @@ RunSummary run_experiment(const Experiment& e, const RunOptions& options) {
 RunSummary assemble_run(const std::string& run_dir, json manifest, bool plots) {
   RunSummary summary;
   summary.run_dir = run_dir;
+  std::size_t finished = 0;
   for (const auto& v : manifest.value("variants", json::array())) {
+    if (v.contains("status") && v["status"] != "ok") {  // its process died: no figures
+      summary.failed.push_back(v.at("name").get<std::string>() + ": " +
+                               v.value("cause", std::string()));
+      continue;
+    }
+    ++finished;
     record::VariantInfo info{v.at("name").get<std::string>(),
                              v.at("directory").get<std::string>(),
                              v.at("condition").get<std::string>(),
@@ -169,15 +184,19 @@ RunSummary assemble_run(const std::string& run_dir, json manifest, bool plots) {
   } else {
     summary.plots = {
         record::PlotOutcome::Status::skipped,
-        "plots not drawn (--no-plots); `flipper replay plot " + run_dir + "` draws them"};
+        "plots not drawn (--no-plots); `flipper replay plot " + run_dir + "` draws them",
+        {}};
   }
   const char* status[] = {"drawn", "skipped", "failed"};
   manifest["plots"] = {{"status", status[static_cast<int>(summary.plots.status)]},
-                       {"message", summary.plots.message}};
+                       {"message", summary.plots.message},
+                       {"versions", summary.plots.versions}};
   if (!manifest.contains("finished")) manifest["finished"] = record::utc_now();
-  manifest["status"] = "complete";
+  manifest["status"] = summary.failed.empty() ? "complete" : finished > 0 ? "partial" : "failed";
+  summary.status = manifest["status"].get<std::string>();
   write_report(run_dir, manifest, summary.variants, summary.figures);
   record::write_manifest(run_dir, manifest);
+  record::mark_latest(run_dir);
   return summary;
 }
 

@@ -134,3 +134,37 @@ TEST_CASE("compare puts two runs side by side, over seeds, timing apart", "[reco
   CHECK_THAT(compare_runs(a, b, true),
              Catch::Contains("| ours / all / same | 3 ± 0 (3–3, n=2) | 3 ± 0 (3–3, n=2) | 0 |"));
 }
+
+TEST_CASE("compare orders numbers as numbers and says when it compared nothing",
+          "[record][compare]") {
+  const std::vector<VariantInfo> one = {{"v", "v", "v", "", {}}};
+  RunFigures a{"A",
+               {{"v", "ours", "all", "rank_10", 1, "", false},
+                {"v", "ours", "all", "rank_2", 1, "", false},
+                {"v", "ours", "all", "rank_1", 1, "", false},
+                {"v", "ours", "all", "rank_02x", 1, "", false}},
+               one};
+  RunFigures b = a;
+  for (auto& f : b.figures) f.value = 2;
+  ComparisonCounts counts;
+  const std::string text = compare_runs(a, b, false, &counts);
+  INFO(text);
+  CHECK(counts.compared == 4);
+  CHECK(counts.differing == 4);
+  const auto at = [&](const char* metric) {
+    return text.find(std::string("all / ") + metric + " |");
+  };
+  CHECK(at("rank_1") < at("rank_2"));
+  CHECK(at("rank_2") < at("rank_02x"));
+  CHECK(at("rank_02x") < at("rank_10"));
+  CHECK(at("rank_10") != std::string::npos);
+  // Runs with no condition in common: nothing compared, said in words.
+  RunFigures c{"C", {{"w", "ours", "all", "rank_1", 1, "", false}}, {{"w", "w", "w", "", {}}}};
+  const std::string none = compare_runs(a, c, false, &counts);
+  CHECK(counts.compared == 0);
+  CHECK_THAT(none, Catch::Contains("Nothing compared: A and B share no figure of one condition."));
+  CHECK_FALSE(Catch::Contains("0 of 0").match(none));
+  CHECK(show_value(123456.75) == "123456.8");
+  CHECK(show_value(1234.25) == "1234");
+  CHECK(show_value(0.0125) == "0.0125");
+}

@@ -1,5 +1,8 @@
 // Run folders, sweeps and shards, parallel processes, SHA-256, manifests' provenance checks.
 #include <sys/mman.h>
+#include <unistd.h>
+
+#include <csignal>
 
 #include <atomic>
 #include <catch2/catch.hpp>
@@ -8,6 +11,7 @@
 #include <fstream>
 #include <set>
 
+#include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/record/checksum.hpp"
 #include "flipper/record/manifest.hpp"
 #include "flipper/record/processes.hpp"
@@ -46,7 +50,11 @@ TEST_CASE("every run gets a new folder, and none is overwritten", "[record][runs
   if (fs::path(a).filename().string().substr(0, 26) ==
       fs::path(b).filename().string().substr(0, 26))
     CHECK(fs::path(b).filename().string().substr(26) == "-2");
-  // `latest` links the newest, relative (the parent can move).
+  // No `latest` until a run is final; then it links that run, relative (the parent can move).
+  CHECK_FALSE(fs::exists(fs::symlink_status(parent / "latest")));
+  mark_latest(b);
+  CHECK(fs::read_symlink(parent / "latest") == fs::path(b).filename());
+  mark_latest(c + "/");
   CHECK(fs::read_symlink(parent / "latest") == fs::path(c).filename());
   // A run folder is no parent of runs.
   std::ofstream(fs::path(a) / "manifest.json") << "{}";
@@ -56,7 +64,7 @@ TEST_CASE("every run gets a new folder, and none is overwritten", "[record][runs
   // A user's own folder named `latest` is left alone.
   const fs::path other = scratch("runs-latest");
   fs::create_directories(other / "latest");
-  create_run_folder(other.string(), "e");
+  mark_latest(create_run_folder(other.string(), "e"));
   CHECK(fs::is_directory(other / "latest"));
   CHECK_FALSE(fs::is_symlink(other / "latest"));
 }
@@ -182,6 +190,57 @@ TEST_CASE("tasks run in child processes, at most `jobs` at once", "[record][proc
   CHECK(run_in_processes(1, 4, [](std::size_t) { return 7; }, {}) == std::vector<int>{7});
   CHECK(available_cores() >= 1);
   ::munmap(shared, 4096);
+}
+
+TEST_CASE("a task that crashes, hangs or throws costs itself only, and says where it died",
+          "[record][processes]") {
+  // A "plugin" call that dies of a signal: the child's handler names plugin and operation.
+  const flipper::kernel::PluginRef<int> plugin(
+      std::make_shared<int>(0), flipper::kernel::PluginId{"planner", "crashy", "/x/crashy.so"});
+  IsolationOptions options;
+  options.jobs = 2;
+  options.wall_backstop_s = 1;
+  const auto exits = run_isolated(6, options, [&](std::size_t i) {
+    switch (i) {
+      case 1:
+        plugin.call("plan", [](const int&) { std::raise(SIGSEGV); });
+        return 0;
+      case 2:
+        plugin.call("tour", [](const int&) { std::abort(); });
+        return 0;
+      case 3:  // a hang inside a plugin call, ended by the backstop
+        plugin.call("plan", [](const int&) {
+          for (;;) ::pause();
+        });
+        return 0;
+      case 4:
+        throw flipper::sdk::Error("bad_world", "world 4 is broken");
+      case 5:
+        std::raise(SIGSEGV);  // outside any plugin call
+        return 0;
+      default:
+        return 0;
+    }
+  });
+  REQUIRE(exits.size() == 6);
+  CHECK(exits[0].ok());
+  CHECK(exits[0].kind() == "ok");
+  CHECK(exits[1].kind() == "plugin_crashed");
+  CHECK(exits[1].signal == SIGSEGV);
+  CHECK(exits[1].describe() == "plugin_crashed: plugin 'crashy' (/x/crashy.so): plan: SIGSEGV");
+  CHECK(exits[2].describe() == "plugin_crashed: plugin 'crashy' (/x/crashy.so): tour: SIGABRT");
+  CHECK(exits[3].kind() == "wall_backstop");
+  CHECK(exits[3].describe() ==
+        "wall_backstop: still running at the wall-clock backstop, in plugin 'crashy' "
+        "(/x/crashy.so): plan");
+  CHECK(exits[4].kind() == "failed");
+  CHECK(exits[4].status == 1);
+  CHECK(exits[4].describe() == "[bad_world] world 4 is broken");
+  CHECK(exits[5].kind() == "crashed");
+  CHECK(exits[5].describe() == "crashed: SIGSEGV outside any plugin call");
+  CHECK(exits[5].status == 128 + SIGSEGV);
+  CHECK(signal_name(SIGABRT) == "SIGABRT");
+  CHECK(signal_name(64) == "signal 64");
 }
 
 TEST_CASE("a re-check warns about what differs in the build, plugins and files",

@@ -5,7 +5,12 @@
 /// before anything runs, as sdk::Error), the tasks are drawn, then each cell (world × planner ×
 /// seed) runs in its own process, at most `jobs` at once (apps/record processes.hpp); the rows
 /// are joined in cell order, so runs.csv does not depend on `jobs` but for measured columns.
+/// A cell's process that dies (a plugin's crash, a hang stopped by the `kill_after_s` backstop)
+/// costs the task it was on: that task's row names the cause, the cell's later tasks run in a
+/// new process, and the manifest says `status: partial` (or `failed`) with the failed tasks.
+/// `latest` moves to the run once its manifest is written.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,12 +25,17 @@ struct BenchOptions {
   std::string out;                     ///< parent of the run folder
   int jobs = 1;
   bool plots = true;
+  /// Called as cells finish (done, total); a cell that lost a task counts when its last process
+  /// ends. Nothing when unset.
+  std::function<void(std::size_t, std::size_t)> progress;
 };
 
 struct BenchResult {
   std::string run_dir;
   record::PlotOutcome plots;
   std::size_t cells = 0, runs = 0;
+  std::size_t failures = 0;  ///< tasks whose process died (crash, backstop)
+  std::string status;        ///< the manifest's: complete, partial or failed
 };
 
 BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options);

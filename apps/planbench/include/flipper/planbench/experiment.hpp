@@ -43,6 +43,10 @@ struct BenchExperiment {
   std::vector<std::uint64_t> seeds{1};    ///< for planners that declare `seed`
   int repetitions = 1;                    ///< plans per task (CPU time: their median)
   std::int64_t deadline_ms = 10000;       ///< runaway deadline of one plan (docs/planners.md §2)
+  /// The far wall-clock backstop of one task's plans: a cell's process still planning one task
+  /// after this many seconds is killed, and the task's row says `wall_backstop` (a planner that
+  /// ignores its stop condition; docs/planners.md §5).
+  int kill_after_s = 300;
   TaskSource tasks{20, 1, ""};
   std::vector<WorldSpec> worlds;
   std::vector<PlannerSpec> planners;

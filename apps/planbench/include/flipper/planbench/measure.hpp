@@ -34,6 +34,9 @@ struct RunRow {
   std::uint64_t expansions = 0;                          ///< the planner's own count of work
   double cpu_us = 0, wall_us = 0;                        ///< median over the repetitions
   std::optional<std::int64_t> peak_rss_kib, memory_kib;  ///< VmHWM during the plan, and its growth
+  /// Why a task has no answer when its process died (status `plugin_crashed` or `crashed`: the
+  /// signal, "SIGSEGV"; `wall_backstop`: "killed after N s"; `failed`: the error), else "".
+  std::string cause;
 };
 
 /// The row as CSV fields (runs.csv's columns).

@@ -20,8 +20,16 @@ struct RunFigures {
 /// Reads a run folder's figures.csv, variants.csv and settings.csv.
 RunFigures read_run_figures(const std::string& run_dir);
 
-/// The comparison as Markdown.
-std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all);
+/// How many figures (timing ones apart) were compared, and how many of them differ.
+struct ComparisonCounts {
+  std::size_t compared = 0, differing = 0;
+};
+
+/// The comparison as Markdown; figures in natural order (numbers inside names compare as numbers:
+/// `rank_2` before `rank_10`). When nothing was compared (no condition in both runs) it says so
+/// instead of "0 of 0 figures differ". `counts`, when given, receives the counts.
+std::string compare_runs(const RunFigures& a, const RunFigures& b, bool all,
+                         ComparisonCounts* counts = nullptr);
 
 /// A figure's value as a report shows it: integers without decimals, others with up to 4
 /// significant decimals ("97.0", "0.0125", "3830").

@@ -13,10 +13,31 @@
 
 #include "flipper/kernel/config.hpp"
 
+namespace flipper::kernel {
+class PluginLoader;
+}
+
 namespace flipper::record {
 
 /// {"flipper", "sdk", "commit", "describe", "dirty"} of this binary (build_info.hpp).
 nlohmann::json build_json();
+/// The source tree's commit, `git describe` and dirty state read now, by git, from `tree` (when it
+/// exists and is the top of a git checkout; else "unknown"), with the build's
+/// own commit and dirty state beside them: {"tree", "commit", "describe", "dirty" (yes, no or
+/// unknown), "read" (how they were read), "build_commit", "build_dirty"}.
+nlohmann::json source_json(const std::string& tree);
+/// source_json of the source tree of the build tree this executable runs from (named by the
+/// build's CMakeCache.txt beside bin/); an installed executable has none: "unknown".
+nlohmann::json source_json();
+/// The compiler and the library versions this binary was built against (OMPL, FCL, OctoMap,
+/// Eigen, Boost, Cyclone DDS, SQLite) and the SQLite library loaded now: {"compiler", "ompl",
+/// ..., "sqlite_loaded"}; "unknown" for one the build did not find.
+nlohmann::json libraries_json();
+/// Where a loaded plugin came from: {"dir", "in_tree" (found in the plugin folder beside the
+/// executable), "shadows": [libraries of same-named plugins later on the search path that it
+/// hides]}. A plugin that shadows an in-tree one is flagged by a non-empty "shadows".
+nlohmann::json plugin_origin_json(const kernel::PluginLoader& loader, const std::string& library);
+
 /// This process's command line (/proc/self/cmdline) and working directory:
 /// {"argv": [...], "cwd": "..."}.
 nlohmann::json command_json();
@@ -31,9 +52,9 @@ nlohmann::json folder_json(const std::string& dir);
 /// "files": [file_json of the config file, world.file and grammar.file]}.
 nlohmann::json config_json(const kernel::Config& config);
 /// The plugins a config selects, in section order: [{"section", "name", "version", "file",
-/// "sha256", "params": {name: value as text, defaults included}}]. Opens each plugin library
-/// (checks as the kernel does); throws sdk::Error as loading would. `sections` limits it to
-/// those sections (a planner benchmark records only its world and planner).
+/// "sha256", "params": {name: value as text, defaults included}, "origin" (plugin_origin_json)}].
+/// Opens each plugin library (checks as the kernel does); throws sdk::Error as loading would.
+/// `sections` limits it to those sections (a planner benchmark records only its world and planner).
 nlohmann::json plugins_json(const kernel::Config& config,
                             const std::vector<std::string>& sections = {});
 

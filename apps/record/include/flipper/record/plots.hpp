@@ -7,6 +7,7 @@
 /// it plotted (<figure>.plotdata.json). Python with matplotlib is optional: without it the run
 /// succeeds and says how to get the plots.
 
+#include <map>
 #include <string>
 
 namespace flipper::record {
@@ -14,6 +15,8 @@ namespace flipper::record {
 struct PlotOutcome {
   enum class Status { drawn, skipped, failed } status = Status::skipped;
   std::string message;  ///< what was drawn, why skipped (and how to get them), or the error
+  /// When drawn: {"python" (the interpreter), "python_version", "matplotlib"}.
+  std::map<std::string, std::string> versions;
 };
 
 /// The installed plot scripts' folder (<exe>/../share/flipper/plots, resolved through links),

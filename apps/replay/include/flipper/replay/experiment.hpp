@@ -17,7 +17,14 @@
 ///   sweep:                            # optional: a grid, crossed with the variants
 ///     planner.plugin: [astar, ompl]
 ///     planner.params.seed: [1, 2, 3]
+///   isolation: process                # optional (default): each variant in its own process,
+///                                     # also with --jobs 1; `none`: in this process
+///   kill_after_s: 86400               # optional: wall-clock backstop of one variant's process
 /// @endcode
+/// With isolation, a variant whose process dies (a plugin's crash, a hang the backstop ends)
+/// costs that variant only: the run finishes with the others, its manifest `status: partial`
+/// (or `failed` when none finished) and a `failed` list naming each lost variant and its cause
+/// (docs/experiments.md §4).
 /// Each variant replays the same runs with its overrides after the run's mode keys, so a
 /// variant may switch alignment back on. A sweep's grid points are crossed with the hand-written
 /// variants (each variant at each point; without `variants`, the points alone); a point's
@@ -53,6 +60,8 @@ struct Experiment {
   std::vector<std::string> sets;
   std::vector<ExperimentVariant> variants;
   std::vector<record::SweepAxis> sweep;
+  bool isolate = true;       ///< `isolation: process`: every variant in a child process
+  int kill_after_s = 86400;  ///< the far wall-clock backstop of one variant's process
 };
 
 /// Resolves `path`, written in `file`, against the directory `file` is in (the path rule,
@@ -97,11 +106,15 @@ struct RunSummary {
   std::vector<record::VariantInfo> variants;  ///< those run here (a shard's part)
   std::vector<record::Figure> figures;
   record::PlotOutcome plots;
+  std::string status;               ///< the manifest's: complete, partial or failed
+  std::vector<std::string> failed;  ///< "VARIANT: CAUSE" of each variant that did not finish
 };
 
 /// Runs the experiment (the shard's variants, when sharded) into a new run folder under
-/// options.out and writes its manifest, figures, report and plots. Throws sdk::Error; a variant
-/// that fails leaves the manifest with status "failed" and throws its error.
+/// options.out and writes its manifest, figures, report and plots. Isolated (the default), a
+/// variant that fails or whose process dies is listed in the manifest's `failed` and the others
+/// finish (RunSummary::failed). In-process (`isolation: none`), a variant that fails leaves the
+/// manifest with status "failed" and throws its error.
 RunSummary run_experiment(const Experiment& e, const RunOptions& options);
 
 /// Writes a run's figures.csv, variants.csv, settings.csv, report.md and plots from its

@@ -53,8 +53,17 @@ PluginCallObserver set_plugin_call_observer(PluginCallObserver observer);
 [[noreturn]] void throw_plugin_failure(const PluginId& plugin, std::string_view op,
                                        std::string_view message);
 
+/// The plugin call a thread is in (the innermost), so that a process that dies inside a plugin
+/// can say which (apps/record processes.hpp: `plugin_crashed` names plugin, operation, signal).
+struct CurrentPluginCall {
+  const PluginId* plugin = nullptr;
+  std::string_view op;
+};
+
 namespace detail {
 extern std::atomic<PluginCallObserver> g_plugin_call_observer;
+/// This thread's current plugin call (two pointer stores per call; read by signal handlers).
+inline thread_local CurrentPluginCall t_current_call;
 /// Rethrows the exception in flight: sdk::Error as is, anything else as plugin_error.
 [[noreturn]] void rethrow_plugin_failure(const PluginId& plugin, std::string_view op);
 
@@ -64,13 +73,16 @@ class CallTimer {
   CallTimer(const PluginId& plugin, std::string_view op)
       : observer_(g_plugin_call_observer.load(std::memory_order_relaxed)),
         plugin_(plugin),
-        op_(op) {
+        op_(op),
+        outer_(t_current_call) {
+    t_current_call = CurrentPluginCall{&plugin, op};
     if (observer_ != nullptr) {
       start_ = std::chrono::steady_clock::now();
       cpu_start_ = thread_cpu();
     }
   }
   ~CallTimer() {
+    t_current_call = outer_;
     if (observer_ != nullptr)
       observer_(
           plugin_, op_,
@@ -83,6 +95,7 @@ class CallTimer {
   PluginCallObserver observer_;
   const PluginId& plugin_;
   std::string_view op_;
+  CurrentPluginCall outer_;
   std::chrono::steady_clock::time_point start_{};
   std::chrono::nanoseconds cpu_start_{0};
 
