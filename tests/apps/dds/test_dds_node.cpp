@@ -200,7 +200,7 @@ TEST_CASE("flipper dds refuses an invalid plan exactly as flipper session does",
   CHECK(without_ms(answer) == without_ms(expected));
   json error;
   for (const auto& c : answer["candidates"])
-    if (c["formula"] == "visit room1") error = c["error"];
+    if (c["formula"] == "{visit room1}") error = c["error"];
   CHECK(error == json{{"code", "invalid_plan"},
                       {"message", "plugin 'evil_planner' (" + evil +
                                       "/evil_planner.so): step 8 enters wall [9,3]"}});

@@ -26,6 +26,7 @@ const std::string kEvilDir = std::string(FLIPPER_BINARY_DIR) + "/tests/plugins/e
 const std::string kEvilFile = kEvilDir + "/evil_planner.so";
 const std::string kLabel = "plugin 'evil_planner' (" + kEvilFile + ")";
 const std::string kWall = kLabel + ": step 8 enters wall [9,3]";
+const std::string kFlipper = std::string(FLIPPER_BINARY_DIR) + "/bin/flipper";
 const std::string kData = std::string(FLIPPER_SOURCE_DIR) + "/tests/integration/untrusted/data";
 
 // The --set values that select the evil planner in `mode`.
@@ -123,32 +124,37 @@ TEST_CASE("session: the candidate carries invalid_plan, nothing of it is applied
                                  {R"({"op":"query","text":"visit room1"})",
                                   R"({"op":"accept","rank":0})", R"({"op":"state"})"},
                                  "session-wall");
-  const json c = candidate(a[0], "visit room1");
+  const json c = candidate(a[0], "{visit room1}");
   CHECK(c["realizable"] == false);
   CHECK(c["error"] == json{{"code", "invalid_plan"}, {"message", kWall}});
-  CHECK(c["trace"] == "");
+  CHECK(c["trace"] == json::array());
+  CHECK(c["world"]["robot"] == json{{"x", 2}, {"y", 4}, {"holding", json::array()}});
   CHECK(a[1]["error"]["code"] == "not_acceptable");
   CHECK(a[1]["error"]["message"] ==
         "candidate 0 cannot be accepted: its execution failed (" + kWall + ")");
-  CHECK(a[2]["world"]["robot"]["x"] == 2);  // the robot never moved
-  CHECK(a[2]["world"]["robot"]["y"] == 4);
+  // The robot never moved.
+  CHECK(a[2]["world"]["robot"] == json{{"x", 2}, {"y", 4}, {"holding", json::array()}});
 }
 
 TEST_CASE("session: a bad answer on a later call refuses the whole candidate", "[untrusted]") {
-  // on_call=2: the first plan (to room1) is valid, the second (room1 to room2) is not; the
-  // whole candidate is refused with it (core-language §9: nothing of a failed execution applies).
+  // on_call=2: the first plan (13 steps to room1's [9,0]) is valid; the second, to room2's
+  // nearest cell [7,0] by [8,0], leaves out its first step. The whole candidate is refused
+  // with it (core-language §9: nothing of a failed execution applies).
   std::string script = R"({"op":"query","text":"visit room1; visit room2"})";
   const std::string in = clitest::write_file("session-on-call.jsonl", script + "\n");
   const auto r = clitest::run_flipper(
-      "session --set lexicon.path=:memory: --set lexicon.preload=" + evil_args("wall") +
+      "session --set lexicon.path=:memory: --set lexicon.preload=" + evil_args("jump") +
           " --set planner.params.on_call=2 " + in,
       false);
   REQUIRE(r.status == 0);
   const json a = json::parse(r.out);
-  const json c = candidate(a, "visit room1; visit room2");
-  CHECK(c["error"]["code"] == "invalid_plan");
-  CHECK(c["trace"] == "");
+  const json c = candidate(a, "{{visit room1};{visit room2}}");
+  CHECK(c["error"] ==
+        json{{"code", "invalid_plan"},
+             {"message", kLabel + ": step 1 jumps from [9,0] to [7,0], which is not a neighbour"}});
+  CHECK(c["trace"] == json::array());
   CHECK(c["realizable"] == false);
+  CHECK(c["world"]["robot"] == json{{"x", 2}, {"y", 4}, {"holding", json::array()}});
 }
 
 TEST_CASE("serve: the same answer as session over HTTP on 127.0.0.1", "[untrusted]") {
@@ -160,7 +166,7 @@ TEST_CASE("serve: the same answer as session over HTTP on 127.0.0.1", "[untruste
   CHECK(r.status == 200);
   REQUIRE_FALSE(r.body.is_discarded());
   CHECK(without_ms(r.body) == without_ms(expected));
-  CHECK(candidate(r.body, "visit room1")["error"] ==
+  CHECK(candidate(r.body, "{visit room1}")["error"] ==
         json{{"code", "invalid_plan"}, {"message", kWall}});
   CHECK(server.stop() == 0);
 }
@@ -169,9 +175,9 @@ TEST_CASE("replay: the accept is not executed, noted invalid_plan, the message o
           "[untrusted]") {
   const std::string out = clitest::scratch_dir("untrusted-replay");
   const std::string err = out + "/stderr.txt";
-  const auto r = clitest::run_flipper("replay --corpus " + kData + "/corpus --no-plots --out " +
-                                          out + evil_args("wall") + " 2>" + err,
-                                      false);
+  const auto r =
+      clitest::run_shell(kFlipper + " replay --corpus " + kData + "/corpus --no-plots --out " +
+                         out + evil_args("wall") + " 2>" + err);
   INFO(r.out << clitest::read_file(err));
   REQUIRE(r.status == 0);
   const std::string stderr_text = clitest::read_file(err);
@@ -193,10 +199,9 @@ TEST_CASE("bench planners: the row's status is invalid_plan, the message on stde
           "[untrusted]") {
   const std::string out = clitest::scratch_dir("untrusted-bench");
   const std::string err = out + "/stderr.txt";
-  const auto r = clitest::run_flipper("bench planners --experiment " + kData +
-                                          "/bench.yaml --no-plots --out " + out +
-                                          " --set plugin_paths=[" + kEvilDir + "] 2>" + err,
-                                      false);
+  const auto r = clitest::run_shell(kFlipper + " bench planners --experiment " + kData +
+                                    "/bench.yaml --no-plots --out " + out +
+                                    " --set plugin_paths=[" + kEvilDir + "] 2>" + err);
   INFO(r.out << clitest::read_file(err));
   REQUIRE(r.status == 0);
   CHECK(clitest::read_file(err) ==
@@ -207,5 +212,8 @@ TEST_CASE("bench planners: the row's status is invalid_plan, the message on stde
   std::string header, row;
   std::getline(rows, header);
   std::getline(rows, row);
-  CHECK(row.rfind("grid2d,evil,evil_planner,,room1,[2,4],[9,0],invalid_plan,0,,13,,0,", 0) == 0);
+  // world,planner,plugin,seed,task,start,goal,status,success,length,shortest,length_ratio,turns,
+  // expansions: no length, turns or expansions of a refused answer; the oracle's 13 steps.
+  CHECK(row.rfind(R"(grid2d,evil,evil_planner,,room1,"[2,4]","[9,0]",invalid_plan,0,,13,,0,0,)",
+                  0) == 0);
 }

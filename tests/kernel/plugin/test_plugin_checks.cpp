@@ -254,7 +254,7 @@ sdk::Candidate move_up(double score = 1.5) {
   d->start = 0;
   d->end = 2;
   d->score = score;
-  d->sem = sdk::read_canonical("move up");
+  d->sem = sdk::read_canonical("{move up}");
   sdk::Candidate c;
   c.program = d->sem;
   c.derivations = {d};
@@ -333,12 +333,12 @@ TEST_CASE("a parser's candidates: well-formed statements over the utterance, fin
   CHECK(parse_check(one(c)) ==
         "invalid_candidate: candidate 0 is not a program: a template hole where a program was "
         "expected");
-  auto seq = std::make_shared<sdk::Node>(*sdk::read_canonical("move up; move left"));
+  auto seq = std::make_shared<sdk::Node>(*sdk::read_canonical("{{move up};{move left}}"));
   seq->kids.pop_back();  // a sequence of one statement: `make` never builds it
   c.program = seq;
   CHECK(parse_check(one(c)).rfind(
             "invalid_candidate: candidate 0 is not a program: a malformed Seq node (", 0) == 0);
-  c.program = sdk::read_canonical("foreach point in world visit point");
+  c.program = sdk::read_canonical("{foreach point in world {visit point}}");
   CHECK(parse_check(one(c)) == "ok");
   c.program = c.program->kids[1];  // `visit point` without its loop
   CHECK(parse_check(one(c)) ==
