@@ -267,6 +267,13 @@ inline void check_planner_basics(const sdk::Planner& planner) {
   cancelled.cancel = &cancel;
   r = planner.plan(*g, {start, &far, nullptr}, cancelled);
   REQUIRE(r.status == sdk::PlanStatus::stopped);
+  // A CPU budget already spent (docs/planners.md §2) stops as well.
+  sdk::StopCondition spent;
+  spent.cpu_clock = sdk::this_thread_cpu_clock();
+  spent.cpu_deadline = sdk::cpu_time(spent.cpu_clock);
+  REQUIRE(spent.cause() == sdk::StopCause::cpu_budget);
+  r = planner.plan(*g, {start, &far, nullptr}, spent);
+  REQUIRE(r.status == sdk::PlanStatus::stopped);
   const std::vector<sdk::Cell> pts{{0, 0, 0}, {2, 2, 0}, {5, 0, 0}};
   const sdk::TourResult t = planner.tour(*g, start, pts, past);
   REQUIRE(t.status == sdk::PlanStatus::stopped);

@@ -42,7 +42,10 @@ struct BenchExperiment {
   std::vector<std::string> plugin_paths;  ///< absolute; become `plugin_paths=[...]`
   std::vector<std::uint64_t> seeds{1};    ///< for planners that declare `seed`
   int repetitions = 1;                    ///< plans per task (CPU time: their median)
-  std::int64_t deadline_ms = 10000;       ///< runaway deadline of one plan (docs/planners.md §2)
+  /// One plan's time limits (docs/planners.md §2): the planning thread's CPU time, and a far
+  /// wall-clock backstop against hangs (not load); either makes the row `stopped`.
+  std::int64_t cpu_budget_ms = 10000;
+  std::int64_t deadline_ms = 600000;
   TaskSource tasks{20, 1, ""};
   std::vector<WorldSpec> worlds;
   std::vector<PlannerSpec> planners;
