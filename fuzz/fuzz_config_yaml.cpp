@@ -40,8 +40,8 @@ const LoadedPlugin& open_plugin(const std::string& section, const std::string& n
 void read_everything(Config& config) {
   (void)config.dump();
   for (const char* key :
-       {"execution.action_budget", "execution.step_budget", "execution.deadline_ms",
-        "execution.while_limit", "input.max_chars", "session.k"})
+       {"execution.action_budget", "execution.step_budget", "execution.cpu_budget_ms",
+        "execution.deadline_ms", "execution.while_limit", "input.max_chars", "session.k"})
     (void)config.get_int(key);
   for (const char* key : {"grammar.colors", "grammar.shapes", "grammar.directions"})
     (void)config.get_string_list(key);

@@ -24,12 +24,12 @@ namespace {
 
 std::unique_ptr<Session> g_session;
 
-// A short deadline and a smaller world limit keep slow inputs (long parses, big worlds) cheap, so
+// A short CPU budget and a smaller world limit keep slow inputs (long parses, big worlds) cheap, so
 // the fuzzer spends its time on many inputs; the code paths are the same as at the defaults.
 std::unique_ptr<Session> make_session() {
   return flipper::wiring::open_session(
       std::nullopt,
-      {"lexicon.path=:memory:", "session.deadline_ms=500", "world.max_cells=1048576"});
+      {"lexicon.path=:memory:", "session.cpu_budget_ms=500", "world.max_cells=1048576"});
 }
 
 bool changes_state(const std::string& answer) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "flipper/kernel/config.hpp"
+#include "flipper/sdk/stop.hpp"
 
 namespace flipper::cli {
 
@@ -51,15 +52,16 @@ inline bool& json_output() {
 }
 
 /// The one error format of every subcommand: `flipper <cmd>: [code] message` on stderr, or with
-/// --json `{"ok":false,"command":CMD,"error":{"code","message"}}` on stdout and nothing on stderr.
+/// --json `{"ok":false,"command":CMD,"error":{"code","message"}}` on stdout and nothing on stderr;
+/// a deadline_exceeded error also has `stopped` ("cpu_budget" | "wall_backstop", docs/protocol.md).
 /// Returns `status` so callers can `return report_error(...)`.
 inline int report_error(const std::string& cmd, const std::string& code, const std::string& message,
-                        int status) {
+                        int status, sdk::StopCause stopped = sdk::StopCause::none) {
   if (json_output()) {
-    std::cout << nlohmann::json{{"ok", false},
-                                {"command", cmd},
-                                {"error", {{"code", code}, {"message", message}}}}
-                     .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+    nlohmann::json error{{"code", code}, {"message", message}};
+    if (stopped != sdk::StopCause::none) error["stopped"] = sdk::to_string(stopped);
+    std::cout << nlohmann::json{{"ok", false}, {"command", cmd}, {"error", error}}.dump(
+                     -1, ' ', false, nlohmann::json::error_handler_t::replace)
               << "\n"
               << std::flush;
     return status;

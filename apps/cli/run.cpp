@@ -94,8 +94,9 @@ void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
 
 int run(const RunOptions& opts) {
   // With --json every failure is one JSON object on stdout (report_error, json_output()).
-  auto fail = [](const std::string& code, const std::string& message, int exit_code) {
-    return report_error("run", code, message, exit_code);
+  auto fail = [](const std::string& code, const std::string& message, int exit_code,
+                 sdk::StopCause stopped = sdk::StopCause::none) {
+    return report_error("run", code, message, exit_code, stopped);
   };
   std::unique_ptr<kernel::Session> session;
   try {
@@ -118,7 +119,7 @@ int run(const RunOptions& opts) {
   try {
     reading = interpret(*session, opts.program);
   } catch (const sdk::Error& e) {
-    return fail(e.code(), e.what(), kExitFailed);
+    return fail(e.code(), e.what(), kExitFailed, sdk::stop_cause_of(e));
   }
   const sdk::Program& program = reading.program;
   if (reading.readings > 1 && !opts.json)
@@ -127,7 +128,8 @@ int run(const RunOptions& opts) {
                  "them all and lets you choose\n",
                  reading.readings, reading.prob);
   const sdk::Outcome o = session->executor().run(program, world);  // the session's limits
-  if (o.error) return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed);
+  if (o.error)
+    return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed, o.stopped);
   if (!opts.svg_file.empty()) {
     const kernel::Json before = session->world_json(world);
     const kernel::Json trace = kernel::protocol::trace_json(o.trace, dims);

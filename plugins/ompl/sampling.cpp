@@ -213,7 +213,8 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
   planner->setProblemDefinition(pdef);
   planner->setup();
 
-  // Stops on the caller's condition (deadline, cancel, expansion budget counted in checks) and
+  // Stops on the caller's condition (expansion budget counted in checks; its CPU budget, wall
+  // backstop and cancel flag every 64 checks: reading the CPU clock is a syscall) and
   // on the own budget of max_iterations checks, both counted on this one thread; RRT* is anytime
   // and, after its first solution, refines for `iterations` more checks (counted too).
   ob::IterationTerminationCondition budget(settings.max_iterations);
@@ -228,7 +229,8 @@ SamplingOutcome sample_path(const CellSearch& search, Cell goal, const SamplingS
   const ob::PlannerTerminationCondition ptc([&] {
     if (budget.eval()) return true;
     const std::uint64_t n = budget.getTimesCalled();
-    if (stop.should_stop(n)) return caller_stopped = true;
+    if (n >= stop.max_expansions || ((n & 63u) == 0 && stop.expired()))
+      return caller_stopped = true;
     return refine && first_solution_at > 0 && n - first_solution_at >= settings.iterations;
   });
   planner->solve(ptc);

@@ -49,6 +49,20 @@ bool parse_kind(const char* name, PluginKind& out) {
   return false;
 }
 
+const char* to_string(StopCause c) {
+  switch (c) {
+    case StopCause::none:
+      return "none";
+    case StopCause::cancelled:
+      return "cancelled";
+    case StopCause::cpu_budget:
+      return "cpu_budget";
+    case StopCause::wall_backstop:
+      return "wall_backstop";
+  }
+  return "unknown";
+}
+
 const char* to_string(PlanStatus s) {
   switch (s) {
     case PlanStatus::found:

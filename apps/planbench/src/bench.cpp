@@ -131,7 +131,8 @@ std::vector<Cell> plan_cells(const Settings& settings, const BenchExperiment& e,
       for (const auto& seed : seeds) {
         std::vector<std::string> cell_sets = sets;
         if (!seed.empty()) cell_sets.push_back("planner.params.seed=" + seed);
-        Cell c{{w.name, p.name, base.plugin_name("planner"), seed, e.repetitions, e.deadline_ms},
+        Cell c{{w.name, p.name, base.plugin_name("planner"), seed, e.repetitions, e.deadline_ms,
+                e.cpu_budget_ms},
                wi,
                about(what, [&] { return settings.config(cell_sets); }),
                {},
@@ -323,7 +324,10 @@ void write_report(const std::string& run_dir, const BenchExperiment& e,
          "(`planners.pdf`, `.svg`).\n\n"
       << failures_text(failures) << "## Results (deterministic)\n\n"
       << "Length in steps; length / shortest against a breadth-first oracle over the world's "
-         "cells; means over the successful plans, success over all (tasks × seeds).\n\n"
+         "cells; means over the successful plans, success over all (tasks × seeds). \"Stopped "
+         "for time\": plans a time limit ended, not planning failures: `cpu_budget` (the "
+         "experiment's cpu_budget_ms of the planning thread's CPU time) or `wall_backstop` (its "
+         "deadline_ms of wall time, a runaway guard).\n\n"
       << results_table(runs) << "\n## Timing (measured)\n\n"
       << "Measured on " << host.value("name", std::string("?")) << " (" << host.value("cores", 0)
       << " cores, load " << load

@@ -84,8 +84,8 @@ BenchExperiment load_bench_experiment(const std::string& path) {
   const std::string where = "experiment file '" + path + "': ";
   try {
     only_keys(root,
-              {"name", "config", "set", "plugin_paths", "seeds", "repetitions", "deadline_ms",
-               "kill_after_s", "tasks", "worlds", "planners"},
+              {"name", "config", "set", "plugin_paths", "seeds", "repetitions", "cpu_budget_ms",
+               "deadline_ms", "kill_after_s", "tasks", "worlds", "planners"},
               where);
     e.name = root["name"] ? root["name"].as<std::string>() : "planner benchmark";
     if (root["config"] && !root["config"].as<std::string>().empty())
@@ -106,6 +106,8 @@ BenchExperiment load_bench_experiment(const std::string& path) {
     if (e.repetitions < 1 || e.repetitions > 1000) bad(where, "'repetitions' must be in [1, 1000]");
     if (root["deadline_ms"]) e.deadline_ms = root["deadline_ms"].as<std::int64_t>();
     if (e.deadline_ms < 1) bad(where, "'deadline_ms' must be at least 1");
+    if (root["cpu_budget_ms"]) e.cpu_budget_ms = root["cpu_budget_ms"].as<std::int64_t>();
+    if (e.cpu_budget_ms < 1) bad(where, "'cpu_budget_ms' must be at least 1");
     if (root["kill_after_s"]) e.kill_after_s = root["kill_after_s"].as<int>();
     if (e.kill_after_s < 1 || e.kill_after_s > 86400)
       bad(where, "'kill_after_s' must be in [1, 86400]");
@@ -170,6 +172,7 @@ nlohmann::json experiment_json(const BenchExperiment& e) {
           {"plugin_paths", e.plugin_paths},
           {"seeds", e.seeds},
           {"repetitions", e.repetitions},
+          {"cpu_budget_ms", e.cpu_budget_ms},
           {"deadline_ms", e.deadline_ms},
           {"kill_after_s", e.kill_after_s},
           {"tasks", source(e.tasks)},

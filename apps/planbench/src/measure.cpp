@@ -55,7 +55,7 @@ const std::vector<std::string>& run_columns() {
   static const std::vector<std::string> columns{
       "world",  "planner", "plugin",       "seed",       "task",         "start", "goal",
       "status", "success", "length",       "shortest",   "length_ratio", "turns", "expansions",
-      "cpu_us", "wall_us", "peak_rss_kib", "memory_kib", "cause"};
+      "cpu_us", "wall_us", "peak_rss_kib", "memory_kib", "stopped", "cause"};
   return columns;
 }
 
@@ -91,6 +91,7 @@ std::vector<std::string> row_fields(const RunRow& r) {
           record::exact_number(r.wall_us),
           kib(r.peak_rss_kib),
           kib(r.memory_kib),
+          r.stopped,
           r.cause};
 }
 
@@ -129,7 +130,9 @@ std::vector<RunRow> measure_cell(const CellSpec& cell, const sdk::Geometry& g,
     for (int rep = 0; rep < cell.repetitions && error.empty(); ++rep) {
       const bool probe = rep == 0 && reset_peak_rss();
       const auto rss_before = probe ? status_kib("VmRSS") : std::nullopt;
-      const auto stop = sdk::StopCondition::within(std::chrono::milliseconds(cell.deadline_ms));
+      const auto stop =
+          sdk::StopCondition::within_cpu(std::chrono::milliseconds(cell.cpu_budget_ms),
+                                         std::chrono::milliseconds(cell.deadline_ms));
       const auto wall0 = std::chrono::steady_clock::now();
       const double cpu0 = thread_cpu_us();
       sdk::PathResult r;
@@ -149,6 +152,10 @@ std::vector<RunRow> measure_cell(const CellSpec& cell, const sdk::Geometry& g,
       if (probe) {
         row.peak_rss_kib = status_kib("VmHWM");
         if (row.peak_rss_kib && rss_before) row.memory_kib = *row.peak_rss_kib - *rss_before;
+      }
+      if (rep == 0 && r.status == sdk::PlanStatus::stopped) {
+        const sdk::StopCause cause = stop.cause();
+        if (cause != sdk::StopCause::none) row.stopped = sdk::to_string(cause);
       }
       if (rep == 0)
         first = std::move(r);

@@ -18,6 +18,7 @@ using stats::sd;
 
 struct Run {
   std::string seed;
+  std::string stopped;  // the time limit that stopped the plan (runs.csv `stopped`), or ""
   bool success = false;
   std::optional<double> length, ratio;
   double turns = 0, expansions = 0, cpu_us = 0, wall_us = 0;
@@ -44,6 +45,9 @@ std::vector<Group> groups_of(const record::CsvTable& t) {
                     turns = t.column("turns", where), expansions = t.column("expansions", where),
                     cpu = t.column("cpu_us", where), wall = t.column("wall_us", where),
                     peak = t.column("peak_rss_kib", where), memory = t.column("memory_kib", where);
+  // Run folders written before the column existed have no `stopped`.
+  const auto stopped_at = std::find(t.header.begin(), t.header.end(), "stopped");
+  const auto stopped = static_cast<std::size_t>(stopped_at - t.header.begin());
   std::vector<Group> groups;
   for (const auto& r : t.rows) {
     auto g = std::find_if(groups.begin(), groups.end(), [&](const Group& x) {
@@ -54,6 +58,7 @@ std::vector<Group> groups_of(const record::CsvTable& t) {
       g->seeds.push_back(r[seed]);
     Run run;
     run.seed = r[seed];
+    if (stopped_at != t.header.end() && stopped < r.size()) run.stopped = r[stopped];
     run.success = r[success] == "1";
     run.length = number(r[length]);
     run.ratio = number(r[ratio]);
@@ -71,6 +76,7 @@ std::vector<Group> groups_of(const record::CsvTable& t) {
 // What the figures and tables say about some runs (a cell, or a group over its seeds).
 struct Stats {
   std::size_t runs = 0, solved = 0;
+  std::map<std::string, std::size_t> stopped;  // per time limit: runs it stopped
   std::vector<double> lengths, ratios, turns, expansions, cpu, wall, peak, memory;
 };
 
@@ -79,6 +85,7 @@ Stats stats_of(const std::vector<Run>& runs, const std::string* seed = nullptr) 
   for (const auto& r : runs) {
     if (seed != nullptr && r.seed != *seed) continue;
     ++s.runs;
+    if (!r.stopped.empty()) ++s.stopped[r.stopped];
     s.expansions.push_back(r.expansions);
     s.cpu.push_back(r.cpu_us);
     s.wall.push_back(r.wall_us);
@@ -108,6 +115,14 @@ std::string duration(double us) {
   return fixed(us / 1e6, 2) + " s";
 }
 
+// "–", or the runs each time limit stopped: "2 cpu_budget, 1 wall_backstop".
+std::string stopped_text(const Stats& s) {
+  std::string out;
+  for (const auto& [cause, n] : s.stopped)
+    out += (out.empty() ? "" : ", ") + std::to_string(n) + " " + cause;
+  return out.empty() ? "–" : out;
+}
+
 std::string variant_name(const std::string& world, const std::string& planner,
                          const std::string& seed) {
   return "world=" + world + ",planner=" + planner + (seed.empty() ? "" : ",seed=" + seed);
@@ -118,7 +133,8 @@ std::string variant_name(const std::string& world, const std::string& planner,
 std::string results_table(const record::CsvTable& runs) {
   std::string out =
       "| world | planner | seeds | runs | success | length (mean) | length / shortest (mean) | "
-      "(worst) | turns (mean) | expansions (median) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+      "(worst) | turns (mean) | expansions (median) | stopped for time |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& g : groups_of(runs)) {
     const Stats s = stats_of(g.runs);
     const double rate =
@@ -131,7 +147,7 @@ std::string results_table(const record::CsvTable& runs) {
            (s.ratios.empty() ? "–" : fixed(mean(s.ratios), 3)) + " | " +
            (s.ratios.empty() ? "–" : fixed(max_of(s.ratios), 3)) + " | " +
            (s.turns.empty() ? "–" : fixed(mean(s.turns), 2)) + " | " +
-           fixed(median(s.expansions), 0) + " |\n";
+           fixed(median(s.expansions), 0) + " | " + stopped_text(s) + " |\n";
   }
   return out;
 }

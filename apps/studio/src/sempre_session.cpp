@@ -21,7 +21,7 @@ class SessionExecution : public sdk::ExecutionService {
  public:
   explicit SessionExecution(const kernel::Session& s) : s_(s) {}
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override {
-    return s_.executor().run(program, world, s_.deadline());
+    return s_.executor().run(program, world, s_.request_stop());
   }
 
  private:

@@ -93,13 +93,14 @@ ParamSchema build() {
   add(s, keys::kActionBudget);
   add(s, keys::kStepBudget);
   add(s, keys::kWhileLimit);
+  add(s, keys::kExecCpuBudgetMs);
   add(s, keys::kExecDeadlineMs);
   s.add_retired("execution.time_budget_ms",
                 "it was a wall-clock budget, so a result depended on the machine's load; results "
-                "are bounded by work now (execution.action_budget, execution.step_budget), and "
-                "the wall-clock limit is the runaway deadline execution.deadline_ms, which "
-                "refuses the query (deadline_exceeded) instead of changing a plan "
-                "(docs/planners.md §2)");
+                "are bounded by work now (execution.action_budget, execution.step_budget) and "
+                "by CPU time (execution.cpu_budget_ms), and the wall-clock limit is the far "
+                "backstop execution.deadline_ms; either refuses the query (deadline_exceeded) "
+                "instead of changing a plan (docs/planners.md §2)");
   s.add_section("input", "limits on what a request or a file may make the kernel do");
   add(s, keys::kMaxChars);
   add(s, keys::kMaxSemicolons);
@@ -110,6 +111,7 @@ ParamSchema build() {
   add(s, keys::kMaxFileBytes);
   s.add_section("session", "one session's answers");
   add(s, keys::kSessionK);
+  add(s, keys::kCpuBudgetMs);
   add(s, keys::kDeadlineMs);
   s.add_path_list("plugin_paths", {}, "more directories to find plugins in");
 

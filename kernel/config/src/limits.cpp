@@ -51,6 +51,7 @@ InputLimits InputLimits::from_config(const Config& c) {
   l.max_body_lines = static_cast<std::size_t>(c.get(keys::kMaxBodyLines));
   l.max_file_bytes = static_cast<std::uint64_t>(c.get(keys::kMaxFileBytes));
   l.max_world_cells = static_cast<std::uint64_t>(c.get(keys::kMaxWorldCells));
+  l.cpu_budget = std::chrono::milliseconds(c.get(keys::kCpuBudgetMs));
   l.deadline = std::chrono::milliseconds(c.get(keys::kDeadlineMs));
   return l;
 }

@@ -16,11 +16,11 @@ Executor::Executor(PluginRef<const sdk::Planner> planner, ExecLimits limits)
 }
 
 sdk::Outcome Executor::run(const sdk::Program& program, const sdk::WorldState& world) const {
-  return run(program, world, std::chrono::steady_clock::time_point::max());
+  return run(program, world, sdk::StopCondition{});
 }
 
 sdk::Outcome Executor::run(const sdk::Program& program, const sdk::WorldState& world,
-                           std::chrono::steady_clock::time_point deadline) const {
+                           const sdk::StopCondition& request) const {
   sdk::Outcome out;
   out.world = world;
   auto error = [&](const std::string& code, const std::string& message) {
@@ -43,10 +43,11 @@ sdk::Outcome Executor::run(const sdk::Program& program, const sdk::WorldState& w
   // else is the executor's own failure, not the planner's.
   std::optional<detail::Interpreter> interp;
   try {
-    interp.emplace(planner_, limits_, world, deadline);
+    interp.emplace(planner_, limits_, world, request);
     out.realizable = interp->run(program, out.world, out.trace, out.warnings);
   } catch (const sdk::Error& e) {
     error(e.code(), e.what());
+    out.stopped = sdk::stop_cause_of(e);
   } catch (const std::exception& e) {
     error(sdk::codes::kInternal, std::string("the executor failed: ") + e.what());
   } catch (...) {

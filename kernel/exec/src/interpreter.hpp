@@ -23,9 +23,7 @@ using Collection = std::vector<sdk::Area>;
 class Interpreter {
  public:
   Interpreter(const PluginRef<const sdk::Planner>& planner, const ExecLimits& limits,
-              const sdk::WorldState& start,
-              std::chrono::steady_clock::time_point request_deadline =
-                  std::chrono::steady_clock::time_point::max());
+              const sdk::WorldState& start, const sdk::StopCondition& request = {});
 
   /// Runs a statement on `state` (the real run); fills trace and warnings. Returns success.
   /// Throws sdk::Error(execution_error | budget_exceeded | deadline_exceeded).
@@ -48,7 +46,8 @@ class Interpreter {
   const sdk::RoomMap& rooms_;
   ExecLimits limits_;
   sdk::StopCondition stop_;
-  bool request_deadline_binds_ = false;  // the request deadline comes before execution.deadline_ms
+  bool request_cpu_binds_ = false;   // less of session.cpu_budget_ms is left than execution's
+  bool request_wall_binds_ = false;  // the request's backstop comes before execution.deadline_ms
   std::uint64_t actions_ = 0;
   std::uint64_t steps_ = 0;
   std::vector<sdk::Cell> point_vars_;  // innermost last; popping restores the outer binding (§4.7)
@@ -73,7 +72,7 @@ class Interpreter {
   /// nullopt for any other statement.
   std::optional<bool> primitive_succeeds(const sdk::Node& n, const sdk::WorldState& s);
   void count_step();  // one statement more (execution.step_budget), the deadline now and then
-  void tick();        // the runaway deadline: throws deadline_exceeded once it has passed
+  void tick();        // the CPU budget and wall backstop: throw deadline_exceeded once one fired
 
   // actions.cpp: primitives
   bool move(const sdk::Node& n, sdk::WorldState& s, Sinks& out);

@@ -25,8 +25,7 @@ sdk::PlannerTraits traits_of(const PluginRef<const sdk::Planner>& planner) {
 }  // namespace
 
 Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const ExecLimits& limits,
-                         const WorldState& start,
-                         std::chrono::steady_clock::time_point request_deadline)
+                         const WorldState& start, const sdk::StopCondition& request)
     : planner_(planner),
       planner_optimal_(traits_of(planner).optimal),
       planner_deterministic_(traits_of(planner).deterministic),
@@ -34,10 +33,19 @@ Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const Exe
       geometry_(*start.geometry),
       rooms_(*start.rooms),
       limits_(limits) {
+  // docs/planners.md §2: the CPU budget counts this thread's CPU time (plugins run on it); the
+  // request's budget, on its own clock, binds when less of it is left than execution's.
+  stop_.cancel = request.cancel;
+  stop_.cpu_clock = sdk::this_thread_cpu_clock();
+  const auto cpu_now = sdk::cpu_time(stop_.cpu_clock);
+  const std::chrono::nanoseconds own = limits.cpu_budget;
+  const std::chrono::nanoseconds left = request.cpu_left();
+  request_cpu_binds_ = left < own;
+  stop_.cpu_deadline = cpu_now + (request_cpu_binds_ ? left : own);
   stop_.deadline = std::chrono::steady_clock::now() + limits.deadline;
-  if (request_deadline < stop_.deadline) {
-    stop_.deadline = request_deadline;
-    request_deadline_binds_ = true;
+  if (request.deadline < stop_.deadline) {
+    stop_.deadline = request.deadline;
+    request_wall_binds_ = true;
   }
 }
 
@@ -50,13 +58,33 @@ void Interpreter::count_step() {
 }
 
 void Interpreter::tick() {
-  if (std::chrono::steady_clock::now() < stop_.deadline) return;
-  if (request_deadline_binds_)
-    throw sdk::Error(sdk::codes::kDeadlineExceeded,
-                     "deadline exceeded: the request took longer than session.deadline_ms");
-  throw sdk::Error(sdk::codes::kDeadlineExceeded,
-                   "deadline exceeded: the execution took longer than execution.deadline_ms = " +
-                       std::to_string(limits_.deadline.count()) + " ms");
+  switch (stop_.cause()) {
+    case sdk::StopCause::none:
+      return;
+    case sdk::StopCause::cancelled:
+      throw sdk::StoppedError(sdk::StopCause::cancelled, "deadline exceeded: cancelled");
+    case sdk::StopCause::cpu_budget:
+      if (request_cpu_binds_)
+        throw sdk::StoppedError(sdk::StopCause::cpu_budget,
+                                "deadline exceeded: the request used more CPU time than "
+                                "session.cpu_budget_ms (stopped: cpu_budget)");
+      throw sdk::StoppedError(sdk::StopCause::cpu_budget,
+                              "deadline exceeded: the execution used more CPU time than "
+                              "execution.cpu_budget_ms = " +
+                                  std::to_string(limits_.cpu_budget.count()) +
+                                  " ms (stopped: cpu_budget)");
+    case sdk::StopCause::wall_backstop:
+      if (request_wall_binds_)
+        throw sdk::StoppedError(sdk::StopCause::wall_backstop,
+                                "deadline exceeded: the request took longer than "
+                                "session.deadline_ms, the wall-clock backstop (stopped: "
+                                "wall_backstop)");
+      throw sdk::StoppedError(sdk::StopCause::wall_backstop,
+                              "deadline exceeded: the execution took longer than "
+                              "execution.deadline_ms = " +
+                                  std::to_string(limits_.deadline.count()) +
+                                  " ms, the wall-clock backstop (stopped: wall_backstop)");
+  }
 }
 
 bool Interpreter::run(const sdk::Program& program, WorldState& state,

@@ -13,6 +13,7 @@ SessionOptions SessionOptions::from_config(const Config& c) {
   o.max_semicolons = static_cast<int>(get(keys::kMaxSemicolons));
   o.limits.action_budget = static_cast<std::uint64_t>(get(keys::kActionBudget));
   o.limits.step_budget = static_cast<std::uint64_t>(get(keys::kStepBudget));
+  o.limits.cpu_budget = std::chrono::milliseconds(get(keys::kExecCpuBudgetMs));
   o.limits.deadline = std::chrono::milliseconds(get(keys::kExecDeadlineMs));
   o.limits.while_limit = static_cast<int>(get(keys::kWhileLimit));
   o.input = InputLimits::from_config(c);

@@ -94,7 +94,7 @@ QueryResult Session::query(const QueryRequest& request) {
   pr.scorer = runtime_->scorer.borrow();  // the parser's call guards its scorer calls
   pr.visible = visible_rules();
   pr.beam = options_.beam;
-  pr.stop.deadline = deadline();
+  pr.stop = request_stop();
   q->parse = checked_parse(runtime_->parser, pr);  // docs/plugins-untrusted.md
   if (q->parse.stopped) check_deadline("parsing");
   q->probs = softmax(q->parse.candidates);
@@ -108,14 +108,14 @@ QueryResult Session::query(const QueryRequest& request) {
     sc.index = i;
     sc.derivation = credited_derivation(cands[i]);
     collect_induced(sc.derivation, sc.induced_rules);
-    sc.outcome = executor_.run(cands[i].program, world_, deadline());
-    // A candidate cut by a deadline (the request's, or execution.deadline_ms) cannot be shown:
-    // the whole query is refused rather than answered differently (docs/core-language.md §9).
+    sc.outcome = executor_.run(cands[i].program, world_, request_stop());
+    // A candidate cut by a time limit (the request's, or execution's) cannot be shown: the whole
+    // query is refused rather than answered differently (docs/core-language.md §9).
     if (sc.outcome.error_code == sdk::codes::kDeadlineExceeded) {
       check_deadline("executing");
-      throw sdk::Error(sdk::codes::kDeadlineExceeded,
-                       "deadline exceeded while executing candidate " + std::to_string(i) + ": " +
-                           sc.outcome.error.value_or("(no message)"));
+      throw sdk::StoppedError(sc.outcome.stopped, "deadline exceeded while executing candidate " +
+                                                      std::to_string(i) + ": " +
+                                                      sc.outcome.error.value_or("(no message)"));
     }
     if (sc.outcome.error) sc.error_code = sc.outcome.error_code.value_or(sdk::codes::kExecution);
     q->shown.push_back(std::move(sc));
@@ -211,9 +211,9 @@ AcceptResult Session::accept(const AcceptRequest& request,
                          sc.outcome.error.value_or(*sc.error_code) + ")");
   AcceptResult result;
   sdk::Outcome& outcome = result.outcome;
-  outcome = executor_.run(q.parse.candidates[sc.index].program, world_, deadline());
+  outcome = executor_.run(q.parse.candidates[sc.index].program, world_, request_stop());
   if (outcome.error_code == sdk::codes::kDeadlineExceeded)  // says so, applies nothing
-    throw sdk::Error(sdk::codes::kDeadlineExceeded, *outcome.error);
+    throw sdk::StoppedError(outcome.stopped, *outcome.error);
   if (outcome.error)
     throw sdk::Error(session_codes::kNotAcceptable, "candidate " + std::to_string(rank) +
                                                         " cannot be accepted: " + *outcome.error);

@@ -15,8 +15,10 @@ namespace {
 
 // {"ok":false,"op":OP,"id":ID,"error":{"code","message"}}: op and id echoed from the request's
 // text when it is at hand (object key order as sent), else from the tree.
+// A deadline_exceeded error also names the limit that fired: "stopped" (docs/protocol.md).
 void write_error(std::string& out, const Json* op, std::string_view op_text, const Json* id,
-                 std::string_view id_text, const std::string& code, const std::string& message);
+                 std::string_view id_text, const std::string& code, const std::string& message,
+                 sdk::StopCause stopped = sdk::StopCause::none);
 
 void write_echo(JsonWriter& w, const Json& value, std::string_view text, bool raw_float) {
   if (!text.empty())
@@ -26,7 +28,8 @@ void write_echo(JsonWriter& w, const Json& value, std::string_view text, bool ra
 }
 
 void write_error(std::string& out, const Json* op, std::string_view op_text, const Json* id,
-                 std::string_view id_text, const std::string& code, const std::string& message) {
+                 std::string_view id_text, const std::string& code, const std::string& message,
+                 sdk::StopCause stopped) {
   out.clear();
   JsonWriter w(out);
   w.begin_object().key("ok").boolean(false).key("op");
@@ -36,6 +39,7 @@ void write_error(std::string& out, const Json* op, std::string_view op_text, con
     w.null();
   if (id != nullptr) write_echo(w.key("id"), *id, id_text, true);
   w.key("error").begin_object().key("code").string(code).key("message").string(message);
+  if (stopped != sdk::StopCause::none) w.key("stopped").string(sdk::to_string(stopped));
   w.end_object().end_object();
 }
 
@@ -182,17 +186,26 @@ std::string Session::line_too_long(std::uint64_t bytes) const {
 
 void Session::begin_call() {
   if (in_request_) return;
-  deadline_ = options_.input.deadline.count() > 0
-                  ? std::chrono::steady_clock::now() + options_.input.deadline
-                  : std::chrono::steady_clock::time_point::max();
+  request_stop_ =
+      sdk::StopCondition::within_cpu(options_.input.cpu_budget, options_.input.deadline);
 }
 
 void Session::check_deadline(const char* stage) const {
-  if (std::chrono::steady_clock::now() >= deadline_)
-    throw sdk::Error(sdk::codes::kDeadlineExceeded,
-                     std::string("deadline exceeded while ") + stage +
-                         ": the request took longer than session.deadline_ms = " +
-                         std::to_string(options_.input.deadline.count()));
+  switch (const sdk::StopCause cause = request_stop_.cause()) {
+    case sdk::StopCause::none:
+      return;
+    case sdk::StopCause::cpu_budget:
+      throw sdk::StoppedError(cause, std::string("deadline exceeded while ") + stage +
+                                         ": the request used more than session.cpu_budget_ms = " +
+                                         std::to_string(options_.input.cpu_budget.count()) +
+                                         " ms of CPU time (stopped: cpu_budget)");
+    case sdk::StopCause::wall_backstop:
+    case sdk::StopCause::cancelled:
+      throw sdk::StoppedError(cause, std::string("deadline exceeded while ") + stage +
+                                         ": the request took longer than session.deadline_ms = " +
+                                         std::to_string(options_.input.deadline.count()) +
+                                         " ms, the wall-clock backstop (stopped: wall_backstop)");
+  }
 }
 
 std::string Session::handle_line(std::string_view line) {
@@ -252,8 +265,9 @@ void Session::answer(const Json& request, std::string_view line, std::string& ou
   };
   const std::string_view op_text = echo_text(op, "op");
   const std::string_view id_text = echo_text(id, "id");
-  auto refuse = [&](const std::string& code, const std::string& message) {
-    write_error(out, op, op_text, id, id_text, code, message);
+  auto refuse = [&](const std::string& code, const std::string& message,
+                    sdk::StopCause stopped = sdk::StopCause::none) {
+    write_error(out, op, op_text, id, id_text, code, message, stopped);
   };
   if (op == nullptr || op->is_null())
     return refuse(session_codes::kMissingField, "missing field 'op' (the operation to perform)");
@@ -282,7 +296,7 @@ void Session::answer(const Json& request, std::string_view line, std::string& ou
     handler->second(*this, request, w);
     w.end_object();
   } catch (const sdk::Error& e) {
-    refuse(e.code(), e.what());
+    refuse(e.code(), e.what(), sdk::stop_cause_of(e));
   } catch (const Json::exception& e) {
     refuse(sdk::codes::kBadRequest, std::string("bad request: ") + e.what());
   } catch (const std::exception& e) {

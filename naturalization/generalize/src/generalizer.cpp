@@ -69,18 +69,22 @@ class WatchedExecution final : public sdk::ExecutionService {
   explicit WatchedExecution(const sdk::ExecutionService& inner) : inner_(inner) {}
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override {
     sdk::Outcome o = inner_.run(program, world);
-    if (o.error_code == sdk::codes::kDeadlineExceeded && !stopped_) stopped_ = o.error;
+    if (o.error_code == sdk::codes::kDeadlineExceeded && !stopped_) {
+      stopped_ = o.error;
+      cause_ = o.stopped;
+    }
     return o;
   }
   void throw_if_stopped() const {
     if (stopped_)
-      throw sdk::Error(sdk::codes::kDeadlineExceeded,
-                       "deadline exceeded while generalizing the definition (" + *stopped_ + ")");
+      throw sdk::StoppedError(
+          cause_, "deadline exceeded while generalizing the definition (" + *stopped_ + ")");
   }
 
  private:
   const sdk::ExecutionService& inner_;
   mutable std::optional<std::string> stopped_;
+  mutable sdk::StopCause cause_ = sdk::StopCause::none;
 };
 
 }  // namespace

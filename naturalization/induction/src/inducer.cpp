@@ -51,10 +51,12 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
   req.beam = options_.beam;
   req.stop = stop;
   auto refuse_if_stopped = [&](const sdk::ParseResult& r, const std::string& what) {
-    if (r.stopped)
-      throw sdk::Error(
-          sdk::codes::kDeadlineExceeded,
-          "deadline exceeded while parsing " + what + " of the definition (session.deadline_ms)");
+    if (r.stopped) {
+      const sdk::StopCause cause = stop.cause();
+      throw sdk::StoppedError(cause, "deadline exceeded while parsing " + what +
+                                         " of the definition (stopped: " + sdk::to_string(cause) +
+                                         ": session.cpu_budget_ms or session.deadline_ms)");
+    }
   };
 
   // One parse of the head gives both the core check (whole span) and the head chart.

@@ -16,12 +16,6 @@ namespace flipper::naturalization {
 
 namespace {
 
-sdk::StopCondition stop_at(std::chrono::steady_clock::time_point deadline) {
-  sdk::StopCondition stop;
-  stop.deadline = deadline;
-  return stop;
-}
-
 sdk::RuleOrigin origin_from_string(std::string_view how) {
   if (how == "simple") return sdk::RuleOrigin::simple;
   if (how == "best") return sdk::RuleOrigin::best;
@@ -488,9 +482,8 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   refresh();  // induce against every rule committed so far, by any process
   Inducer inducer(runtime_->parser, runtime_->scorer, options_.induction, runtime_->usage.get());
   const auto visible_rules = visibility_for(req.user);
-  PreparedDefinition prepared =
-      inducer.prepare({req.head, req.body, req.user, req.body_ranks, req.body_programs},
-                      visible_rules, stop_at(req.deadline));
+  PreparedDefinition prepared = inducer.prepare(
+      {req.head, req.body, req.user, req.body_ranks, req.body_programs}, visible_rules, req.stop);
 
   DefineOutcome out;
   out.body = prepared.body;
@@ -519,10 +512,12 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   InductionResult induced = inducer.induce(
       prepared, winner, rewritten, [&](const sdk::Rule& r) { return exists_for(r, req.user); });
 
-  if (std::chrono::steady_clock::now() >= req.deadline)
-    throw sdk::Error(sdk::codes::kDeadlineExceeded,
-                     "deadline exceeded before the definition was stored (session.deadline_ms); "
-                     "nothing was stored");
+  if (const sdk::StopCause cause = req.stop.cause(); cause != sdk::StopCause::none)
+    throw sdk::StoppedError(cause, std::string("deadline exceeded before the definition was stored "
+                                               "(stopped: ") +
+                                       sdk::to_string(cause) +
+                                       ": session.cpu_budget_ms or session.deadline_ms); nothing "
+                                       "was stored");
 
   // Commit definition + rules in one transaction, where the store assigns their ids, before
   // anything becomes visible: a failed commit leaves parser and store unchanged.

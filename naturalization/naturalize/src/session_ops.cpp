@@ -22,18 +22,18 @@ namespace {
 
 constexpr int kMaxRank = 1000000;  // a body line's reading rank
 
-// The session's executor bound to the request's deadline (generalization runs many programs).
+// The session's executor bound to the request's time limits (generalization runs many programs).
 class DeadlineExecution : public sdk::ExecutionService {
  public:
-  DeadlineExecution(const kernel::Executor& exec, std::chrono::steady_clock::time_point deadline)
-      : exec_(exec), deadline_(deadline) {}
+  DeadlineExecution(const kernel::Executor& exec, const sdk::StopCondition& stop)
+      : exec_(exec), stop_(stop) {}
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override {
-    return exec_.run(program, world, deadline_);
+    return exec_.run(program, world, stop_);
   }
 
  private:
   const kernel::Executor& exec_;
-  std::chrono::steady_clock::time_point deadline_;
+  sdk::StopCondition stop_;
 };
 
 // Head and body lines are parsed into a chart of (n + 1)^2 cells: bounded by input.max_tokens.
@@ -73,10 +73,10 @@ DefineOutcome define(Naturalizer& nat, kernel::Session& s, const DefineCall& cal
   d.body = call.body;
   d.body_ranks = call.ranks;
   d.body_programs = call.programs;
-  const DeadlineExecution exec(s.executor(), s.deadline());
+  const DeadlineExecution exec(s.executor(), s.request_stop());
   d.before = &s.world();
   d.exec = &exec;
-  d.deadline = s.deadline();
+  d.stop = s.request_stop();
   return nat.define(d);
 }
 

@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <thread>
 
 #include "flipper/planbench/experiment.hpp"
 #include "flipper/planbench/measure.hpp"
+#include "flipper/planbench/summary.hpp"
 #include "flipper/planbench/tasks.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -63,11 +65,21 @@ class StubPlanner : public sdk::Planner {
   std::vector<sdk::PathResult> answers;  ///< one per call, the last repeated
   mutable std::size_t calls = 0;
   bool throws = false;  ///< plan throws std::runtime_error
+  /// plan runs until its stop condition fires (burning CPU, or waiting: no CPU), then `stopped`
+  enum class Until { answer, cpu_spent, waited } until = Until::answer;
 
  protected:
   sdk::PathResult do_plan(const sdk::Geometry&, const sdk::PathRequest&,
-                          const sdk::StopCondition&) const override {
+                          const sdk::StopCondition& stop) const override {
     if (throws) throw std::runtime_error("out of luck");
+    if (until != Until::answer) {
+      // Bounded by the cell's limits, which the test sets to a few ms.
+      while (!stop.expired())
+        if (until == Until::waited) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      sdk::PathResult r;
+      r.status = sdk::PlanStatus::stopped;
+      return r;
+    }
     const auto& a = answers[std::min(calls, answers.size() - 1)];
     ++calls;
     return a;
@@ -267,4 +279,46 @@ TEST_CASE("a cell's rows: success against the oracle, invalid paths, varying ans
   CHECK_FALSE(rows[0].success);
   CHECK_FALSE(rows[1].success);
   CHECK_FALSE(rows[0].length);
+}
+
+TEST_CASE("a plan a time limit stopped says which, in its row and the results table") {
+  // docs/planners.md §2 and §5: `stopped` is cpu_budget (the planning thread's CPU time) or
+  // wall_backstop (wall time, a runaway guard), apart from planning failures.
+  auto stub = std::make_shared<StubPlanner>();
+  const kernel::PluginRef<sdk::Planner> ref(std::static_pointer_cast<sdk::Planner>(stub));
+  const std::vector<Task> tasks{{"up", {0, 0, 0}, {0, 2, 0}, 2u}};
+  CellSpec cell{"w", "p", "stub", "", 1, 600000, 20};
+  stub->until = StubPlanner::Until::cpu_spent;
+  auto rows = measure_cell(cell, *kRing, ref, tasks);
+  REQUIRE(rows.size() == 1);
+  CHECK(rows[0].status == "stopped");
+  CHECK(rows[0].stopped == "cpu_budget");
+  CHECK_FALSE(rows[0].success);
+  CHECK(rows[0].cpu_us >= 19000);  // the budget, less the µs between making the stop and the plan
+  CHECK(row_fields(rows[0]).back() == "cpu_budget");
+  CHECK(run_columns().back() == "stopped");
+  // Waiting uses no CPU: only the wall-clock backstop ends it.
+  cell.deadline_ms = 20;
+  cell.cpu_budget_ms = 600000;
+  stub->until = StubPlanner::Until::waited;
+  auto waited = measure_cell(cell, *kRing, ref, tasks);
+  CHECK(waited[0].status == "stopped");
+  CHECK(waited[0].stopped == "wall_backstop");
+  // An answer within the limits has no cause.
+  stub->until = StubPlanner::Until::answer;
+  stub->answers = {found({{0, 1, 0}, {0, 2, 0}})};
+  auto ok = measure_cell(cell, *kRing, ref, tasks);
+  CHECK(ok[0].stopped.empty());
+
+  record::CsvTable table;
+  table.header = run_columns();
+  for (const auto& r : {rows[0], waited[0], ok[0]}) table.rows.push_back(row_fields(r));
+  const std::string results = results_table(table);
+  CHECK_THAT(results, Catch::Contains("| stopped for time |"));
+  CHECK_THAT(results,
+             Catch::EndsWith("| 3 | 33.3 % (1) | 2.00 | 1.000 | 1.000 | 0.00 | 0 | 1 cpu_budget, "
+                             "1 wall_backstop |\n"));
+  table.rows.pop_back();
+  table.rows.erase(table.rows.begin(), table.rows.begin() + 1);  // the wall-stopped one alone
+  CHECK_THAT(results_table(table), Catch::EndsWith("| 1 wall_backstop |\n"));
 }

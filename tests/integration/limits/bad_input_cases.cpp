@@ -37,7 +37,7 @@ std::vector<std::string> none(const Scratch&) {
 }  // namespace
 
 std::vector<std::string> session_settings() {
-  return {"--set", "lexicon.path=:memory:",   "--set", "session.deadline_ms=1000",
+  return {"--set", "lexicon.path=:memory:",   "--set", "session.cpu_budget_ms=1000",
           "--set", "world.max_cells=9000000", "--set", "input.max_file_bytes=2000000",
           "--set", "input.max_tokens=2000",   "--set", "induction.generalize=false"};
 }
@@ -104,7 +104,8 @@ const std::vector<SessionRow>& session_rows() {
        "the body has 101 lines; the limit is input.max_body_lines = 100", none,
        [](const Scratch&) { return define("glorb", std::vector<std::string>(101, "move left")); }},
       {"`'{'`×990 + `move left` + `'}'`×990 with `input.max_tokens` 2000", "deadline_exceeded",
-       "deadline exceeded while parsing: the request took longer than session.deadline_ms = 1000",
+       "deadline exceeded while parsing: the request used more than session.cpu_budget_ms = 1000 "
+       "ms of CPU time (stopped: cpu_budget)",
        none,
        [](const Scratch&) {
          return query(std::string(990, '{') + "move left" + std::string(990, '}'));
@@ -177,14 +178,15 @@ const std::vector<CliRow>& cli_rows() {
        [](const Scratch& s) {
          return "{flipper} run --set 'plugin_paths=[" + s.truncated_dir + "]' 'move left'";
        }},
-      {"`flipper run` of `pick item not is red and …` ×30 (`session.deadline_ms` 1000)",
+      {"`flipper run` of `pick item not is red and …` ×30 (`session.cpu_budget_ms` 1000)",
        "deadline_exceeded",
-       "deadline exceeded while parsing: the request took longer than session.deadline_ms = 1000",
+       "deadline exceeded while parsing: the request used more than session.cpu_budget_ms = 1000 "
+       "ms of CPU time (stopped: cpu_budget)",
        1,
        [](const Scratch&) {
          std::string text = "pick item not is red";
          for (int i = 1; i < 30; ++i) text += " and not is red";
-         return "{flipper} run --set lexicon.path=:memory: --set session.deadline_ms=1000 '" +
+         return "{flipper} run --set lexicon.path=:memory: --set session.cpu_budget_ms=1000 '" +
                 text + "'";
        }},
       {"`flipper run` of 2,500 × `é` (5,000 bytes): code points count, as in a query",

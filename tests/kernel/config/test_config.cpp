@@ -41,7 +41,10 @@ TEST_CASE("embedded default config has the documented values", "[config]") {
   CHECK(c.get_int("induction.perturbed_checks") == 0);
   CHECK(c.get_int("execution.action_budget") == 100000);
   CHECK(c.get_int("execution.step_budget") == 1000000);
-  CHECK(c.get_int("execution.deadline_ms") == 2000);
+  CHECK(c.get_int("execution.cpu_budget_ms") == 2000);
+  CHECK(c.get_int("execution.deadline_ms") == 300000);
+  CHECK(c.get_int("session.cpu_budget_ms") == 5000);
+  CHECK(c.get_int("session.deadline_ms") == 600000);
   CHECK(c.get_int("execution.while_limit") == 20);
   CHECK(c.get_int("input.max_chars") == 2000);
   CHECK(c.get_int("input.max_semicolons") == 30);
@@ -334,7 +337,7 @@ TEST_CASE("a bad kernel key is refused naming the file, the key and what is wron
         "config " + tmp("named/unknown.yaml") +
             ": unknown config key 'execution.action_budgt' (did you mean "
             "'execution.action_budget'?); keys in 'execution': action_budget, step_budget, "
-            "while_limit, deadline_ms");
+            "while_limit, cpu_budget_ms, deadline_ms");
   // A retired key says what replaced it, from a file and from --set alike.
   const std::string retired = load_error("named/retired.yaml", "execution: {time_budget_ms: 5}\n");
   CHECK_THAT(retired,
@@ -426,10 +429,12 @@ TEST_CASE("the option structs start from the schema's defaults", "[config][schem
   CHECK(static_cast<std::int64_t>(input.max_body_lines) == def("input.max_body_lines"));
   CHECK(static_cast<std::int64_t>(input.max_file_bytes) == def("input.max_file_bytes"));
   CHECK(static_cast<std::int64_t>(input.max_world_cells) == def("world.max_cells"));
+  CHECK(input.cpu_budget.count() == def("session.cpu_budget_ms"));
   CHECK(input.deadline.count() == def("session.deadline_ms"));
   const kernel::ExecLimits exec;
   CHECK(static_cast<std::int64_t>(exec.action_budget) == def("execution.action_budget"));
   CHECK(static_cast<std::int64_t>(exec.step_budget) == def("execution.step_budget"));
+  CHECK(exec.cpu_budget.count() == def("execution.cpu_budget_ms"));
   CHECK(exec.deadline.count() == def("execution.deadline_ms"));
   CHECK(exec.while_limit == def("execution.while_limit"));
   const kernel::SessionOptions session;

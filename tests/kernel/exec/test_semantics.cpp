@@ -1,6 +1,7 @@
 // Constructs of core-language §4, the paper's programs, bad and runaway programs.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "flipper/kernel/protocol.hpp"
 #include "study_fixture.hpp"
@@ -205,18 +206,24 @@ TEST_CASE("runaway programs hit a work budget, whatever the machine", "[exec][bu
   CHECK_THAT(*idle_loop.error, Catch::Contains("more than 1000000 statements"));
 }
 
-TEST_CASE("the execution deadline only stops runaways, and says so", "[exec][budget]") {
+TEST_CASE("the CPU budget stops runaways and the wall backstop hangs, each says which",
+          "[exec][budget]") {
   Study st;
+  const char* runaway =
+      "{repeat 99 times {repeat 99 times {repeat 99 times {{visit [9,8]};{visit [2,4]}}}}}";
   kernel::ExecLimits tight;
   tight.action_budget = 1u << 30;
   tight.step_budget = 1ull << 40;
-  tight.deadline = std::chrono::milliseconds(30);
-  auto t =
-      st.run("{repeat 99 times {repeat 99 times {repeat 99 times {{visit [9,8]};{visit [2,4]}}}}}",
-             st.state(), tight);
+  tight.cpu_budget = std::chrono::milliseconds(30);
+  const auto cpu0 = sdk::cpu_time();
+  auto t = st.run(runaway, st.state(), tight);
+  // Polled every 1024 statements and planner calls: far less than a second past the budget.
+  CHECK(sdk::cpu_time() - cpu0 < std::chrono::seconds(3));
   CHECK(t.error_code == "deadline_exceeded");
+  CHECK(t.stopped == sdk::StopCause::cpu_budget);
   CHECK(*t.error ==
-        "deadline exceeded: the execution took longer than execution.deadline_ms = 30 ms");
+        "deadline exceeded: the execution used more CPU time than execution.cpu_budget_ms = 30 "
+        "ms (stopped: cpu_budget)");
   CHECK(t.trace.empty());
   CHECK(t.world.robot == sdk::Cell{2, 4, 0});
   // Loops without primitive actions see the clock too.
@@ -225,13 +232,53 @@ TEST_CASE("the execution deadline only stops runaways, and says so", "[exec][bud
       "{move left}}}}}",
       st.state(), tight);
   CHECK(idle.error_code == "deadline_exceeded");
-  // A request deadline that comes first is named as the request's.
-  const kernel::Executor exec(st.planner, tight);
-  auto request = exec.run(sdk::read_canonical("{repeat 99 times {repeat 99 times {repeat 99 times "
-                                              "{{visit [9,8]};{visit [2,4]}}}}}"),
-                          st.state(), std::chrono::steady_clock::now());
-  CHECK(request.error_code == "deadline_exceeded");
-  CHECK(*request.error == "deadline exceeded: the request took longer than session.deadline_ms");
+  CHECK(idle.stopped == sdk::StopCause::cpu_budget);
+  // The wall-clock backstop, when it comes first, says it is the backstop.
+  kernel::ExecLimits wall = tight;
+  wall.cpu_budget = std::chrono::minutes(10);
+  wall.deadline = std::chrono::milliseconds(30);
+  auto w = st.run(runaway, st.state(), wall);
+  CHECK(w.error_code == "deadline_exceeded");
+  CHECK(w.stopped == sdk::StopCause::wall_backstop);
+  CHECK(*w.error ==
+        "deadline exceeded: the execution took longer than execution.deadline_ms = 30 ms, the "
+        "wall-clock backstop (stopped: wall_backstop)");
+  // A request's limit that fires first is named as the request's: its CPU budget (spent
+  // already: the deadline is the CPU time now) ...
+  const kernel::Executor exec(st.planner, wall);
+  const auto program = sdk::read_canonical(runaway);
+  sdk::StopCondition spent;
+  spent.cpu_clock = sdk::this_thread_cpu_clock();
+  spent.cpu_deadline = sdk::cpu_time(spent.cpu_clock);
+  auto request = exec.run(program, st.state(), spent);
+  CHECK(request.stopped == sdk::StopCause::cpu_budget);
+  CHECK(*request.error ==
+        "deadline exceeded: the request used more CPU time than session.cpu_budget_ms (stopped: "
+        "cpu_budget)");
+  // ... or its wall-clock backstop.
+  sdk::StopCondition passed;
+  passed.deadline = std::chrono::steady_clock::now();
+  auto late = exec.run(program, st.state(), passed);
+  CHECK(late.stopped == sdk::StopCause::wall_backstop);
+  CHECK(*late.error ==
+        "deadline exceeded: the request took longer than session.deadline_ms, the wall-clock "
+        "backstop (stopped: wall_backstop)");
+}
+
+TEST_CASE("the CPU budget counts the thread's CPU time, not the time it waited", "[exec][budget]") {
+  Study st;
+  kernel::ExecLimits limits;
+  limits.cpu_budget = std::chrono::milliseconds(200);
+  const kernel::Executor exec(st.planner, limits);
+  // A request whose thread has waited (not run) for longer than its CPU budget: the budget is
+  // almost whole, so a short program runs. A wall-clock budget would have fired.
+  const auto request =
+      sdk::StopCondition::within_cpu(std::chrono::milliseconds(100), std::chrono::milliseconds(0));
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));  // time passing without CPU
+  CHECK(request.cause() == sdk::StopCause::none);
+  auto o = exec.run(sdk::read_canonical("{visit [9,8]}"), st.state(), request);
+  CHECK_FALSE(o.error);
+  CHECK(o.world.robot == sdk::Cell{9, 8, 0});
 }
 
 TEST_CASE("protocol JSON of trace steps", "[protocol]") {

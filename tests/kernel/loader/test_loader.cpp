@@ -116,7 +116,7 @@ TEST_CASE("broken plugins are refused cleanly, naming file and values", "[loader
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",
        {"Wrong API version on plugin 'bad_abi' (" + bad + "/bad_abi.so).",
-        "Got version 3, supported version is 2."}},
+        "Got version 4, supported version is 3."}},
       {"bad_size",
        sdk::PluginKind::planner,
        "plugin_abi_mismatch",

@@ -109,41 +109,58 @@ TEST_CASE("accept without a query, out of range, twice", "[session][protocol]") 
   CHECK(error_code(ask(*s, R"({"op":"accept","rank":0})")) == "no_query");
 }
 
-TEST_CASE("a candidate cut by the execution deadline refuses the whole query",
+TEST_CASE("a candidate cut by a time limit refuses the whole query, naming the limit",
           "[session][protocol]") {
-  // docs/planners.md §2: a runaway deadline is never a different answer (here: a candidate
-  // shown as erroneous beside the others); the query says deadline_exceeded and changes nothing.
-  auto s = flipper::testsupport::bare_session({"execution.deadline_ms=1",
-                                               "execution.step_budget=1000000000000",
-                                               "execution.action_budget=1000000000000"});
-  move_robot(*s);
-  const Json before = ask(*s, R"({"op":"state"})")["world"];
-  Json q = ask(
-      *s,
-      R"({"op":"query","text":"repeat 99 times repeat 99 times repeat 99 times { move left ; move right }"})");
-  CHECK(error_code(q) == "deadline_exceeded");
-  CHECK_THAT(q["error"]["message"].get<std::string>(),
-             Catch::StartsWith("deadline exceeded while executing candidate 0: deadline exceeded: "
-                               "the execution took longer than execution.deadline_ms = 1 ms"));
-  CHECK(ask(*s, R"({"op":"state"})")["world"] == before);
-  CHECK(error_code(ask(*s, R"({"op":"accept","rank":0})")) == "no_query");
+  // docs/planners.md §2: a time limit is never a different answer (here: a candidate shown as
+  // erroneous beside the others); the query says deadline_exceeded, which limit fired in
+  // `stopped`, and changes nothing.
+  struct Limit {
+    const char* set;
+    const char* stopped;
+    const char* message;
+  };
+  const Limit limits[] = {
+      {"execution.cpu_budget_ms=1", "cpu_budget",
+       "deadline exceeded while executing candidate 0: deadline exceeded: the execution used more "
+       "CPU time than execution.cpu_budget_ms = 1 ms (stopped: cpu_budget)"},
+      {"execution.deadline_ms=1", "wall_backstop",
+       "deadline exceeded while executing candidate 0: deadline exceeded: the execution took "
+       "longer than execution.deadline_ms = 1 ms, the wall-clock backstop (stopped: "
+       "wall_backstop)"},
+  };
+  for (const Limit& limit : limits) {
+    CAPTURE(limit.set);
+    auto s = flipper::testsupport::bare_session({limit.set, "execution.step_budget=1000000000000",
+                                                 "execution.action_budget=1000000000000"});
+    move_robot(*s);
+    const Json before = ask(*s, R"({"op":"state"})")["world"];
+    Json q = ask(
+        *s,
+        R"({"op":"query","text":"repeat 99 times repeat 99 times repeat 99 times { move left ; move right }"})");
+    CHECK(error_code(q) == "deadline_exceeded");
+    CHECK(q["error"]["stopped"] == limit.stopped);
+    CHECK(q["error"]["message"] == limit.message);
+    CHECK(ask(*s, R"({"op":"state"})")["world"] == before);
+    CHECK(error_code(ask(*s, R"({"op":"accept","rank":0})")) == "no_query");
+  }
 }
 
-TEST_CASE("a define whose generalization meets the execution deadline stores nothing",
+TEST_CASE("a define whose generalization meets the execution's CPU budget stores nothing",
           "[session][protocol]") {
-  // A run cut by a deadline must not count as a program that errs (which would change which
+  // A run cut by a time limit must not count as a program that errs (which would change which
   // rewriting wins with the machine's load): the define is refused whole.
   auto s = flipper::wiring::open_session(flipper::testsupport::test_runtime(
-      {"execution.deadline_ms=1", "execution.step_budget=1000000000000",
+      {"execution.cpu_budget_ms=1", "execution.step_budget=1000000000000",
        "execution.action_budget=1000000000000"}));
   Json d = ask(
       *s,
       R"({"op":"define","head":"shuffle about","body":["repeat 99 times repeat 99 times repeat 99 times { move left ; move right }"]})");
   CHECK(error_code(d) == "deadline_exceeded");
+  CHECK(d["error"]["stopped"] == "cpu_budget");
   CHECK_THAT(d["error"]["message"].get<std::string>(),
              Catch::StartsWith("deadline exceeded while generalizing the definition (deadline "
-                               "exceeded: the execution took longer than execution.deadline_ms "
-                               "= 1 ms)"));
+                               "exceeded: the execution used more CPU time than "
+                               "execution.cpu_budget_ms = 1 ms (stopped: cpu_budget))"));
   CHECK(ask(*s, R"({"op":"rules"})")["rules"].empty());
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "flipper/sdk/export.hpp"
+#include "flipper/sdk/stop.hpp"
 
 namespace flipper::sdk {
 inline namespace v1 {
@@ -34,8 +35,9 @@ inline constexpr const char* kTooDeep = "too_deep";               ///< JSON nest
 inline constexpr const char* kWorldTooLarge = "world_too_large";  ///< more cells than allowed
 inline constexpr const char* kFileTooLarge = "file_too_large";
 inline constexpr const char* kNotARegularFile = "not_a_regular_file";  ///< a FIFO, device, dir
-inline constexpr const char* kDeadlineExceeded = "deadline_exceeded";  ///< the request's deadline
-inline constexpr const char* kWriteFailed = "write_failed";            ///< e.g. the device is full
+inline constexpr const char* kDeadlineExceeded =
+    "deadline_exceeded";                                     ///< a time limit: StoppedError
+inline constexpr const char* kWriteFailed = "write_failed";  ///< e.g. the device is full
 }  // namespace codes
 
 /// An error with a stable code. Plugins throw it (or any std::exception; the kernel wraps those
@@ -50,6 +52,20 @@ class FLIPPER_SDK_API Error : public std::runtime_error {
  private:
   std::string code_;
 };
+
+/// `deadline_exceeded` naming the limit that fired: a CPU budget (`cpu_budget`) or the
+/// wall-clock backstop (`wall_backstop`); answers carry it as `stopped` (docs/protocol.md).
+class FLIPPER_SDK_API StoppedError : public Error {
+ public:
+  StoppedError(StopCause cause, const std::string& message);
+  ~StoppedError() override;
+  StopCause cause() const noexcept { return cause_; }
+
+ private:
+  StopCause cause_;
+};
+/// The cause of a StoppedError, or none for any other exception.
+FLIPPER_SDK_API StopCause stop_cause_of(const std::exception& e) noexcept;
 
 }  // namespace v1
 }  // namespace flipper::sdk

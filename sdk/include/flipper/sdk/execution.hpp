@@ -11,6 +11,7 @@
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/export.hpp"
 #include "flipper/sdk/geometry.hpp"
+#include "flipper/sdk/stop.hpp"
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::sdk {
@@ -33,6 +34,7 @@ struct Outcome {
   bool realizable = true;             ///< every primitive executed for real succeeded
   std::optional<std::string> error;   ///< execution error (unknown room, budget exceeded...)
   std::optional<std::string> error_code;  ///< e.g. "budget_exceeded", "execution_error"
+  StopCause stopped = StopCause::none;    ///< with deadline_exceeded: the limit that fired
   std::uint64_t actions = 0;              ///< primitive actions executed (trials included)
 };
 

@@ -2,7 +2,8 @@
 /// @file planner.hpp
 /// Planner plugins: shortest paths to the nearest cell of a goal area while avoiding an area,
 /// and the visiting order (tour) of a set of cells, modelled on OMPL: "no plan" is a status, not
-/// an exception, and every call takes a stop condition (deadline, cancel flag, budget).
+/// an exception, and every call takes a stop condition (flipper/sdk/stop.hpp: work and CPU
+/// budgets, a cancel flag, a wall-clock backstop).
 
 #include <atomic>
 #include <chrono>
@@ -14,37 +15,11 @@
 #include "flipper/sdk/export.hpp"
 #include "flipper/sdk/geometry.hpp"
 #include "flipper/sdk/plugin.hpp"
+#include "flipper/sdk/stop.hpp"
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::sdk {
 inline namespace v1 {
-
-/// When to give up: a deadline, a cancel flag and an expansion budget, any of which stops. The
-/// budget is work (deterministic); the deadline and the cancel flag are not, so a planner stopped
-/// by them answers `stopped`, never a result it would not give with more time
-/// (docs/planners.md §2).
-struct StopCondition {
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
-  const std::atomic<bool>* cancel = nullptr;
-  std::uint64_t max_expansions = std::numeric_limits<std::uint64_t>::max();
-
-  bool should_stop(std::uint64_t expansions) const {
-    if (expansions >= max_expansions) return true;
-    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
-    return std::chrono::steady_clock::now() >= deadline;
-  }
-  /// The deadline passed or the cancel flag is set (the budget is not consulted).
-  bool expired() const {
-    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return true;
-    return deadline != std::chrono::steady_clock::time_point::max() &&
-           std::chrono::steady_clock::now() >= deadline;
-  }
-  static StopCondition within(std::chrono::milliseconds ms) {
-    StopCondition s;
-    s.deadline = std::chrono::steady_clock::now() + ms;
-    return s;
-  }
-};
 
 enum class PlanStatus {
   found,    ///< a path / tour was produced
@@ -99,11 +74,11 @@ class FLIPPER_SDK_API Planner : public Plugin {
   /// (docs/core-language.md §8; the conformance kit checks it). Contract for optimal planners:
   /// path length minimal; the path itself is the one found by breadth-first search expanding
   /// neighbours in geometry.neighbour_offsets() order (first discovery wins). A budget that can
-  /// change the answer counts work, never wall time (docs/planners.md §2): `stop.deadline`
-  /// only stops runaways. Never throws for "no path": returns a status.
+  /// change the answer counts work, never wall time (docs/planners.md §2): `stop`'s CPU budget
+  /// and wall backstop only stop runaways. Never throws for "no path": returns a status.
   /// The edge cases are decided here, the same for every planner, before do_plan
   /// runs: no goals -> invalid "the goal set is empty"; a start outside the bounds -> invalid;
-  /// a stop condition that already fired (deadline, cancel) -> stopped "stopped before
+  /// a stop condition that already fired (CPU budget, backstop, cancel) -> stopped "stopped before
   /// planning".
   PathResult plan(const Geometry& geometry, const PathRequest& request,
                   const StopCondition& stop) const;

@@ -15,5 +15,6 @@
 #include "flipper/sdk/rewriter.hpp"
 #include "flipper/sdk/scorer.hpp"
 #include "flipper/sdk/similarity.hpp"
+#include "flipper/sdk/stop.hpp"
 #include "flipper/sdk/version.hpp"
 #include "flipper/sdk/world.hpp"

@@ -385,6 +385,17 @@ inline void check_planner_basics(const sdk::Planner& planner) {
     REQUIRE(t.status == sdk::PlanStatus::stopped);
     REQUIRE(t.order.size() == pts.size());
   }
+  {
+    // A CPU budget already spent (docs/planners.md §2) stops as well.
+    sdk::StopCondition spent;
+    spent.cpu_clock = sdk::this_thread_cpu_clock();
+    spent.cpu_deadline = sdk::cpu_time(spent.cpu_clock);
+    REQUIRE(spent.cause() == sdk::StopCause::cpu_budget);
+    const sdk::PathResult r = planner.plan(*g, {start, &far, nullptr}, spent);
+    INFO("asked: a path from [1,1] to [0,0] with a CPU budget already spent; answered: "
+         << describe_answer(*g, r) << "; want: stopped");
+    REQUIRE(r.status == sdk::PlanStatus::stopped);
+  }
   check_planner_edge_cases(planner);
 }
 

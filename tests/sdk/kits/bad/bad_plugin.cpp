@@ -8,7 +8,7 @@
 
 #if defined(BAD_ABI)  // a plugin from a future ABI
 #undef FLIPPER_PLUGIN_ABI
-#define FLIPPER_PLUGIN_ABI 3
+#define FLIPPER_PLUGIN_ABI 4
 #elif defined(BAD_SDK_MAJOR)  // built against SDK 3.x
 #undef FLIPPER_SDK_VERSION_MAJOR
 #define FLIPPER_SDK_VERSION_MAJOR 3

@@ -42,11 +42,15 @@ struct BenchExperiment {
   std::vector<std::string> plugin_paths;  ///< absolute; become `plugin_paths=[...]`
   std::vector<std::uint64_t> seeds{1};    ///< for planners that declare `seed`
   int repetitions = 1;                    ///< plans per task (CPU time: their median)
-  std::int64_t deadline_ms = 10000;       ///< runaway deadline of one plan (docs/planners.md §2)
-  /// The far wall-clock backstop of one task's plans: a cell's process still planning one task
-  /// after this many seconds is killed, and the task's row says `wall_backstop` (a planner that
-  /// ignores its stop condition; docs/planners.md §5).
-  int kill_after_s = 300;
+  /// One plan's time limits (docs/planners.md §2): the planning thread's CPU time, and a far
+  /// wall-clock backstop against hangs (not load); either makes the row `stopped`.
+  std::int64_t cpu_budget_ms = 10000;
+  std::int64_t deadline_ms = 600000;
+  /// The last resort against a planner that ignores its stop condition: a cell's process still
+  /// planning one task after this many seconds is killed, and the task's row says
+  /// `wall_backstop` (docs/planners.md §5). Past deadline_ms, so a plan that honours its stop
+  /// condition is stopped by it first.
+  int kill_after_s = 900;
   TaskSource tasks{20, 1, ""};
   std::vector<WorldSpec> worlds;
   std::vector<PlannerSpec> planners;

@@ -28,6 +28,9 @@ struct RunRow {
   /// answer the kernel refused (`invalid_plan`: not a path of free neighbouring cells from the
   /// start to the goal, docs/plugins-untrusted.md); the run goes on with the next task.
   std::string status;
+  /// With status `stopped`: the limit that fired, `cpu_budget` or `wall_backstop` (or
+  /// `cancelled`); empty otherwise (docs/planners.md §5).
+  std::string stopped;
   bool success = false;  ///< a valid path to a reachable goal, or no_path for an unreachable one
   std::optional<std::size_t> length, shortest;           ///< steps
   std::size_t turns = 0;                                 ///< changes of direction along the path
@@ -48,7 +51,8 @@ std::size_t count_turns(sdk::Cell start, const std::vector<sdk::Cell>& path);
 struct CellSpec {
   std::string world, planner, plugin, seed;
   int repetitions = 1;
-  std::int64_t deadline_ms = 10000;
+  std::int64_t deadline_ms = 600000;   ///< wall-clock backstop of one plan
+  std::int64_t cpu_budget_ms = 10000;  ///< CPU time of one plan on the planning thread
 };
 
 /// Plans every task with `planner` on `g`, in order.

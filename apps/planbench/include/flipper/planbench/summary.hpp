@@ -12,7 +12,8 @@
 
 namespace flipper::planbench {
 
-/// success, length / shortest (mean, worst), turns, expansions, per world × planner.
+/// success, length / shortest (mean, worst), turns, expansions, and the runs a time limit
+/// stopped (`cpu_budget`, `wall_backstop`: not planning failures), per world × planner.
 std::string results_table(const record::CsvTable& runs);
 /// plan CPU time (median, spread of the seeds' medians), wall time, peak memory.
 std::string timing_table(const record::CsvTable& runs);

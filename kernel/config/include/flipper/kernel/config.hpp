@@ -18,10 +18,10 @@
 ///              replication: none|dds, site}
 ///   publish:  {plans: none|dds}      dds: {domain, interfaces, config}   (apps/dds)
 ///   induction:{alignment, generalize, perturbed_checks}
-///   execution:{action_budget, step_budget, while_limit, deadline_ms}
+///   execution:{action_budget, step_budget, while_limit, cpu_budget_ms, deadline_ms}
 ///   input:    {max_chars, max_semicolons, max_line_bytes, max_json_depth, max_tokens,
 ///              max_body_lines, max_file_bytes}
-///   session:  {k, deadline_ms}
+///   session:  {k, cpu_budget_ms, deadline_ms}
 ///   plugin_paths: [dirs]
 /// Paths, one rule (README "Paths"): a relative path written in a config file resolves against
 /// that file's directory (for a key from an extended file, that file's) (the embedded default

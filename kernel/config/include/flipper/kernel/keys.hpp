@@ -37,18 +37,31 @@ struct Text {
 };
 
 inline constexpr Int kSessionK{"session.k", 3, 1, 1000, "candidates shown per query"};
-inline constexpr Int kDeadlineMs{"session.deadline_ms", 5000, 1, 86400000,
-                                 "runaway deadline of one request, end to end (parsing "
-                                 "included): then deadline_exceeded"};
+// Time limits (docs/planners.md §2): a CPU-time budget on the request thread decides, the same on
+// a quiet or a busy machine; the wall-clock deadline is a far backstop that only ends runaways
+// (work that uses no CPU on the request thread: a wait, a sleep). It is far because a starved
+// thread is no runaway: at nice 19 beside two busy loops on a loaded 2-core machine a thread got
+// 0.2 % of a core (measured), so 10 minutes of wall time may be 1.2 s of CPU. Either limit gives
+// deadline_exceeded with `stopped` naming it.
+inline constexpr Int kCpuBudgetMs{"session.cpu_budget_ms", 5000, 1, 86400000,
+                                  "CPU time of one request on its thread, end to end (parsing "
+                                  "included): then deadline_exceeded, stopped: cpu_budget"};
+inline constexpr Int kDeadlineMs{"session.deadline_ms", 600000, 1, 86400000,
+                                 "wall-clock backstop of one request, end to end, against hangs "
+                                 "(not load): then deadline_exceeded, stopped: wall_backstop"};
 inline constexpr Int kActionBudget{"execution.action_budget", 100000, 1, 1000000000000,
                                    "primitive actions one program may take (work: then "
                                    "budget_exceeded)"};
 inline constexpr Int kStepBudget{"execution.step_budget", 1000000, 1, 1000000000000,
                                  "statements one program may execute, loop iterations and "
                                  "trial runs included (work: then budget_exceeded)"};
-inline constexpr Int kExecDeadlineMs{"execution.deadline_ms", 2000, 1, 86400000,
-                                     "runaway deadline of one execution (wall time: then "
-                                     "deadline_exceeded, never a different plan)"};
+inline constexpr Int kExecCpuBudgetMs{"execution.cpu_budget_ms", 2000, 1, 86400000,
+                                      "CPU time of one execution on the request thread: then "
+                                      "deadline_exceeded, stopped: cpu_budget (never a different "
+                                      "plan)"};
+inline constexpr Int kExecDeadlineMs{"execution.deadline_ms", 300000, 1, 86400000,
+                                     "wall-clock backstop of one execution, against hangs (not "
+                                     "load): then deadline_exceeded, stopped: wall_backstop"};
 inline constexpr Int kWhileLimit{"execution.while_limit", 20, 0, 1000000,
                                  "iterations of one `while`"};
 inline constexpr Int kMaxChars{"input.max_chars", 2000, 1, 100000000,

@@ -27,7 +27,9 @@ struct InputLimits {
   /// input.max_file_bytes: world/grammar/preload files
   std::uint64_t max_file_bytes = static_cast<std::uint64_t>(keys::kMaxFileBytes.def);
   std::uint64_t max_world_cells = static_cast<std::uint64_t>(keys::kMaxWorldCells.def);
-  /// session.deadline_ms: one request, end to end
+  /// session.cpu_budget_ms: CPU time of one request on its thread, end to end
+  std::chrono::milliseconds cpu_budget{keys::kCpuBudgetMs.def};
+  /// session.deadline_ms: the wall-clock backstop of one request, end to end
   std::chrono::milliseconds deadline{keys::kDeadlineMs.def};
 
   /// From a validated config (every key present: the schema filled the defaults).

@@ -15,14 +15,17 @@
 
 namespace flipper::kernel {
 
-/// execution.*; defaults from keys.hpp (one place). The budgets count work, so whether a program
-/// exceeds one never depends on the machine (docs/core-language.md §9); the deadline only stops
-/// runaways, and then the execution fails with deadline_exceeded instead of giving a plan.
+/// execution.*; defaults from keys.hpp (one place). The budgets count work or the request thread's
+/// CPU time, so whether a program exceeds one does not depend on the machine's load
+/// (docs/core-language.md §9, docs/planners.md §2); the wall-clock deadline is a far backstop
+/// against hangs. Either makes the execution fail with deadline_exceeded (Outcome::stopped says
+/// which) instead of giving a plan.
 struct ExecLimits {
   std::uint64_t action_budget = static_cast<std::uint64_t>(keys::kActionBudget.def);
   std::uint64_t step_budget = static_cast<std::uint64_t>(keys::kStepBudget.def);  ///< statements
-  int while_limit = static_cast<int>(keys::kWhileLimit.def);      ///< iterations of `while`
-  std::chrono::milliseconds deadline{keys::kExecDeadlineMs.def};  ///< runaway deadline
+  int while_limit = static_cast<int>(keys::kWhileLimit.def);         ///< iterations of `while`
+  std::chrono::milliseconds cpu_budget{keys::kExecCpuBudgetMs.def};  ///< CPU time
+  std::chrono::milliseconds deadline{keys::kExecDeadlineMs.def};     ///< wall-clock backstop
 };
 
 class Executor : public sdk::ExecutionService {
@@ -33,10 +36,11 @@ class Executor : public sdk::ExecutionService {
   /// budget_exceeded, deadline_exceeded, a failing planner: plugin_error naming it) come back
   /// in Outcome::error, with Outcome::world equal to the start world.
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world) const override;
-  /// The same within a request's deadline as well: execution stops at the earlier of
-  /// execution.deadline_ms and `deadline`, with `deadline_exceeded` naming the one that fired.
+  /// The same within a request's limits as well: execution stops when either its own limits
+  /// (execution.cpu_budget_ms, execution.deadline_ms) or the request's (`request`: its CPU
+  /// budget, wall backstop and cancel flag) fire, with `deadline_exceeded` naming the one.
   sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world,
-                   std::chrono::steady_clock::time_point deadline) const;
+                   const sdk::StopCondition& request) const;
   const ExecLimits& limits() const { return limits_; }
 
  private:

@@ -135,13 +135,16 @@ class Session {
   /// callers that want a tree). Never throws.
   Json handle(const Json& request);
 
-  /// The deadline of the request being handled (session.deadline_ms after it arrived, or after a
-  /// typed call began when no request is being handled).
-  std::chrono::steady_clock::time_point deadline() const { return deadline_; }
-  /// Starts the deadline of a typed call made outside a protocol request (a define called by a
+  /// The time limits of the request being handled, from when it arrived (or when a typed call
+  /// began, outside a request): session.cpu_budget_ms of this thread's CPU time and the
+  /// wall-clock backstop session.deadline_ms (docs/planners.md §2). Parses and executions of the
+  /// request stop at it.
+  const sdk::StopCondition& request_stop() const { return request_stop_; }
+  /// Starts the limits of a typed call made outside a protocol request (a define called by a
   /// front end); inside a request it keeps the request's.
   void begin_call();
-  /// Throws sdk::Error(deadline_exceeded) naming `stage` when the deadline has passed.
+  /// Throws sdk::StoppedError(deadline_exceeded, cpu_budget | wall_backstop) naming `stage` when
+  /// one of the request's limits has fired.
   void check_deadline(const char* stage) const;
   /// Throws sdk::Error(input_too_long) when `text` has more than input.max_chars code points.
   void check_length(std::string_view text) const;
@@ -254,7 +257,7 @@ class Session {
   std::vector<std::uint64_t> sent_versions_;  // protocol 2: versions whose geometry was sent
   std::string_view line_;                     // the request line being handled (handle_line)
   bool in_request_ = false;                   // a protocol request is being handled
-  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
+  sdk::StopCondition request_stop_;  // begin_call: the request's CPU budget and wall backstop
 };
 
 }  // namespace flipper::kernel

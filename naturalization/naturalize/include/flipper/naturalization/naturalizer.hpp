@@ -77,9 +77,10 @@ struct DefineRequest {
   std::vector<sdk::Program> body_programs;      ///< optional per line (null: by rank)
   const sdk::WorldState* before = nullptr;      ///< world before the first body line
   const sdk::ExecutionService* exec = nullptr;  ///< both needed for generalization
-  /// The request's deadline: parses stop at it, and a definition that reaches it before its
-  /// commit is refused (deadline_exceeded) with nothing stored.
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  /// The request's time limits (CPU budget, wall backstop): parses stop at them, and a
+  /// definition that reaches one before its commit is refused (deadline_exceeded) with nothing
+  /// stored.
+  sdk::StopCondition stop;
 };
 
 /// A rewriter candidate that generalization discarded.

@@ -1,0 +1,117 @@
+#!/usr/bin/env bash
+# Same answers on a quiet machine and at `nice -n 19` beside busy loops (docs/planners.md §2:
+# limits that can change an answer count work or the request thread's CPU time; the wall clock
+# is only a far backstop). Runs, once quietly and once at nice 19 while one busy loop per core
+# (at least 2) spins at normal priority:
+#   - every `build/bin/flipper run ...` line of the README's tested blocks (README "Using it",
+#     the 3-D octomap-ompl example included);
+#   - a small `flipper bench planners` experiment (small-planners.yaml), its results table;
+# and requires byte-identical answers (stdout, exit status) and results tables. The quiet run
+# must succeed (exit 0), so two equal failures do not pass.
+# Measured CPU (Release, this project's 2-core machine, each command end to end with start-up):
+# the study-map runs 10-20 ms, the octomap-ompl run 76 ms (execution.cpu_budget_ms 2000:
+# 26x margin; a sanitizer build 2-3x slower), the bench 0.5 s (longest plan 0.15 s, bench
+# cpu_budget_ms 10000). At nice 19 beside two busy loops a process got 0.16-1.4 % of a core
+# (0.16 % with 8 other builds on the machine), so the loaded phase takes 70-650x its CPU in
+# wall time: 0.62 s of CPU took 400 s here (the bench ~300 s of it), a sanitizer build would
+# take 2-3x that. Each loaded command is bounded by `timeout` (kLimit below, 3x the slowest
+# sanitizer estimate); the busy loops are killed at the end, also on failure.
+# Before CPU budgets (wall-clock deadlines, the same machine): the octomap-ompl run failed with
+# deadline_exceeded and the bench's octomap3d rows fell to 50 % (rrtconnect) and 25 % (prm).
+# Usage: under_load.sh <source dir> <build dir>
+set -euo pipefail
+src=$(cd "$1" && pwd -P)
+build=$(cd "$2" && pwd -P)
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd -P)
+kLimit=3000  # seconds per loaded command: the bench took ~300 s here, ~900 s with a sanitizer
+tmp=$(mktemp -d)
+burners=()
+cleanup() {
+  for pid in "${burners[@]}"; do kill "$pid" 2>/dev/null || true; done
+  for pid in "${burners[@]}"; do wait "$pid" 2>/dev/null || true; done
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+fail() {
+  echo "FAILED: $*"
+  exit 1
+}
+
+# A scratch folder that looks like the repository root (as scripts/readme-figures makes it).
+mkdir "$tmp/root"
+ln -s "$build" "$tmp/root/build"
+for d in configs data examples docs; do ln -s "$src/$d" "$tmp/root/$d"; done
+
+# The README's `run` examples: lines of its tested blocks (a fence after `<!-- readme-test -->`),
+# the comment after "  # " dropped.
+mapfile -t commands < <(awk '
+  /^<!-- readme-test -->$/ { armed = 1; next }
+  armed && /^```/ { if (inside) { inside = 0; armed = 0 } else inside = 1; next }
+  inside && /^build\/bin\/flipper run / { sub(/  # .*$/, ""); print }
+' "$src/README.md")
+((${#commands[@]} >= 3)) || fail "found ${#commands[@]} 'flipper run' lines in the README's tested blocks"
+printf '%s\n' "${commands[@]}" | grep -q 'configs/octomap-ompl.yaml' ||
+  fail "the README's octomap-ompl example is not among its tested run lines"
+
+run_phase() {  # run_phase NAME [PREFIX...]: every command, outputs in $tmp/NAME
+  local out=$tmp/$1
+  shift
+  mkdir -p "$out/home"
+  local i=0 status
+  for c in "${commands[@]}"; do
+    i=$((i + 1))
+    status=0
+    (cd "$tmp/root" && HOME=$out/home timeout "$kLimit" "$@" bash -c "$c") \
+      >"$out/run$i.out" 2>"$out/run$i.err" || status=$?
+    echo "$status" >"$out/run$i.status"
+  done
+  status=0
+  (cd "$tmp/root" && HOME=$out/home timeout "$kLimit" "$@" build/bin/flipper bench planners \
+    --experiment "$here/small-planners.yaml" --out "$out/bench" --jobs 1 --no-plots \
+    --print results) >"$out/bench.out" 2>"$out/bench.err" || status=$?
+  echo "$status" >"$out/bench.status"
+}
+
+TIMEFORMAT='%R s wall, %U s user CPU'
+echo "== quiet"
+time run_phase quiet
+for i in $(seq 1 ${#commands[@]}); do
+  [[ $(cat "$tmp/quiet/run$i.status") == 0 ]] ||
+    fail "quiet: '${commands[i - 1]}' exited $(cat "$tmp/quiet/run$i.status"): $(cat "$tmp/quiet/run$i.err")"
+done
+[[ $(cat "$tmp/quiet/bench.status") == 0 ]] || fail "quiet bench: $(cat "$tmp/quiet/bench.err")"
+grep -q '^| octomap3d | prm |' "$tmp/quiet/bench.out" || fail "quiet bench: no results table"
+
+cores=$(nproc)
+((cores >= 2)) || cores=2
+for _ in $(seq 1 "$cores"); do
+  bash -c 'while :; do :; done' &
+  burners+=($!)
+done
+echo "== nice 19 beside $cores busy loops"
+time run_phase loaded nice -n 19
+
+status=0
+for i in $(seq 1 ${#commands[@]}); do
+  c=${commands[i - 1]}
+  if ! cmp -s "$tmp/quiet/run$i.status" "$tmp/loaded/run$i.status" ||
+    ! cmp -s "$tmp/quiet/run$i.out" "$tmp/loaded/run$i.out"; then
+    echo "DIFFERS under load: $c (exit $(cat "$tmp/loaded/run$i.status"))"
+    diff "$tmp/quiet/run$i.out" "$tmp/loaded/run$i.out" | head -20 || true
+    head -c 600 "$tmp/loaded/run$i.err"
+    status=1
+  else
+    echo "same: $c"
+  fi
+done
+if ! cmp -s "$tmp/quiet/bench.status" "$tmp/loaded/bench.status" ||
+  ! cmp -s "$tmp/quiet/bench.out" "$tmp/loaded/bench.out"; then
+  echo "DIFFERS under load: the bench's results table (exit $(cat "$tmp/loaded/bench.status"))"
+  diff "$tmp/quiet/bench.out" "$tmp/loaded/bench.out" || true
+  head -c 600 "$tmp/loaded/bench.err"
+  status=1
+else
+  echo "same: the bench's results table"
+fi
+((status == 0)) || fail "answers differ between a quiet run and nice 19 under load"
+echo "PASSED"
