@@ -107,6 +107,9 @@ TEST_CASE("flipper run plans on the real maps by region name", "[ros_map][real][
   INFO(tb3.out);
   REQUIRE(tb3.status == 0);
   REQUIRE(clitest::contains(tb3.out, "interpretation: {visit room6}"));
+  // Metres out: cell (234, 190)'s centre is -10 + 234.5 * 0.05, -10 + 190.5 * 0.05.
+  REQUIRE(clitest::contains(tb3.out, "robot: [234,190] (1.725 m, -0.475 m)"));
+  REQUIRE(clitest::contains(tb3.out, "red circle@[211,211] (0.575 m, 0.575 m)"));
   REQUIRE(clitest::contains(tb3.out, "realizable: yes"));
 }
 
