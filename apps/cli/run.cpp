@@ -8,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "commands.hpp"
@@ -70,7 +71,36 @@ const char* act_name(sdk::TraceStep::Act a) {
   return a == sdk::TraceStep::Act::move ? "move" : a == sdk::TraceStep::Act::pick ? "pick" : "drop";
 }
 
-void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
+// A world's metric frame, when its object has one (`frame`: resolution and the metres of the
+// grid's lower-left corner; the ros_map plugin writes it, docs/ros-maps.md "Metres out").
+struct MetreFrame {
+  double resolution = 1;
+  double origin_x = 0;
+  double origin_y = 0;
+};
+
+std::optional<MetreFrame> metre_frame(const kernel::Json& world) {
+  const auto f = world.find("frame");
+  if (f == world.end() || !f->is_object()) return std::nullopt;
+  const auto r = f->find("resolution");
+  const auto o = f->find("origin");
+  if (r == f->end() || !r->is_number() || o == f->end() || !o->is_array() || o->size() < 2 ||
+      !(*o)[0].is_number() || !(*o)[1].is_number())
+    return std::nullopt;
+  return MetreFrame{r->get<double>(), (*o)[0].get<double>(), (*o)[1].get<double>()};
+}
+
+// " (x m, y m)": the cell's centre in the frame, or nothing without a frame.
+std::string in_metres(const sdk::Cell& c, const std::optional<MetreFrame>& f) {
+  if (!f) return "";
+  std::ostringstream s;
+  s << " (" << f->origin_x + (c.x + 0.5) * f->resolution << " m, "
+    << f->origin_y + (c.y + 0.5) * f->resolution << " m)";
+  return s.str();
+}
+
+void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims,
+                 const std::optional<MetreFrame>& frame) {
   std::cout << "interpretation: " << sdk::render(program) << "\n";
   std::cout << "trace (" << o.trace.size() << " steps):\n";
   for (const auto& s : o.trace) {
@@ -83,12 +113,13 @@ void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims) {
     std::cout << "warning: " << w << "\n";
   std::cout << "realizable: " << (o.realizable ? "yes" : "no") << "\n";
   const sdk::WorldState& w = o.world;
-  std::cout << "robot: " << sdk::to_string(w.robot, dims) << ", holding " << w.held.size()
-            << (w.held.empty() ? "" : ":");
+  std::cout << "robot: " << sdk::to_string(w.robot, dims) << in_metres(w.robot, frame)
+            << ", holding " << w.held.size() << (w.held.empty() ? "" : ":");
   for (const auto& h : w.held) std::cout << " " << h.color << " " << h.shape;
   std::cout << "\nitems (" << w.items.size() << "):";
   for (const auto& li : w.items)
-    std::cout << " " << li.item.color << " " << li.item.shape << "@" << sdk::to_string(li.at, dims);
+    std::cout << " " << li.item.color << " " << li.item.shape << "@" << sdk::to_string(li.at, dims)
+              << in_metres(li.at, frame);
   std::cout << "\n";
 }
 
@@ -146,7 +177,7 @@ int run(const RunOptions& opts) {
     j["readings"] = reading.readings;
     std::cout << j.dump() << "\n";
   } else {
-    print_human(program, o, dims);
+    print_human(program, o, dims, metre_frame(session->world_json(o.world)));
   }
   return kExitOk;
 }

@@ -122,7 +122,8 @@ class RosMapWorld final : public sdk::World {
       throw sdk::Error(sdk::codes::kBadWorld, "map must be the path of a map_server YAML file");
     std::filesystem::path yaml_path(world["map"].get<std::string>());
     if (yaml_path.is_relative()) yaml_path = std::filesystem::path(base_dir) / yaml_path;
-    yaml_path = yaml_path.lexically_normal();
+    // Absolute: a saved world names its map wherever it is loaded from.
+    yaml_path = std::filesystem::absolute(yaml_path).lexically_normal();
     const std::string yaml_file = yaml_path.string();
 
     const MapYaml map = parse_map_yaml(
