@@ -52,6 +52,9 @@ void bench_run(const std::string& flipper, const replay::Corpus& corpus, const r
                                 "--set", "serve.port=0", "--set", "serve.sempre=true"};
   std::vector<std::string> sets = replay::mode_overrides(run.group);
   sets.push_back("induction.generalize=false");
+  // Every logged sessionId comes from this one address.
+  sets.push_back("serve.sessions_per_address=100000");
+  sets.push_back("serve.new_sessions_per_minute=100000");
   if (run.group == "C") {
     const std::string file = dir + "/preload.jsonl";
     std::ofstream p(file);
