@@ -59,8 +59,11 @@ int accounts_action(studio::AccountStore&& store, const std::string& cmd,
               studio::role_from_string(args.role.empty() ? "user" : args.role));
     std::cout << "added " << args.name << "\n";
   } else if (args.action == "passwd") {
-    store.set_password(args.name, read_password());
-    std::cout << "password of " << args.name << " set\n";
+    const int ended = store.set_password(args.name, read_password());
+    std::cout << "password of " << args.name << " set; " << ended << " logins ended\n";
+  } else if (args.action == "role") {
+    const int ended = store.set_role(args.name, studio::role_from_string(args.role));
+    std::cout << args.name << " is now " << args.role << "; " << ended << " logins ended\n";
   } else if (args.action == "list") {
     for (const auto& a : store.list()) {
       if (args.json)

@@ -70,7 +70,11 @@ void add_accounts_command(CLI::App& app) {
   action("add", "Add an account (password from standard input; empty: codes only)", true)
       ->add_option("--role", args.role, "user, participant or admin")
       ->check(CLI::IsMember({"user", "participant", "admin"}));
-  action("passwd", "Set an account's password (from standard input)", true);
+  action("passwd", "Set an account's password (from standard input); ends its logins", true);
+  action("role", "Set an account's role; ends its logins", true)
+      ->add_option("--role", args.role, "user, participant or admin")
+      ->required()
+      ->check(CLI::IsMember({"user", "participant", "admin"}));
   action("list", "List the accounts", false)->add_flag("--json", args.json, "JSON Lines");
   action("remove", "Remove an account (its rules keep its name, which stays taken)", true);
   auto* invite = action("invite", "Print a one-time login code (and link) for NAME", true);

@@ -22,6 +22,9 @@ int run_serve(const CommonOptions& opts) {
   // SIGUSR1 is how the main thread wakes the waiter when listen() returns on its own.
   sigaddset(&signals, SIGUSR1);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // A file-size limit (ulimit -f) makes a write fail with EFBIG, answered write_failed like a
+  // full disk, instead of killing the server (docs/studio.md §7 "Nothing lost silently").
+  std::signal(SIGXFSZ, SIG_IGN);
 
   studio::Server server(config);
   const auto& o = server.options();
@@ -29,11 +32,15 @@ int run_serve(const CommonOptions& opts) {
     std::cerr << "flipper serve: warning: listening on " << o.host
               << ", which is not a loopback address: anyone who can reach it can use this "
                  "server\n";
+  if (server.connection_cap() < o.max_connections)
+    std::cerr << "flipper serve: at most " << server.connection_cap()
+              << " connections at once (serve.max_connections is " << o.max_connections
+              << "; the descriptor limit, ulimit -n, allows no more)" << std::endl;
   const int port = server.bind();
   std::cout << "flipper serve: listening on http://" << o.host << ":" << port << "/" << std::endl;
   if (o.sempre)
     std::cout << "flipper serve: the 2018 server's API at http://" << o.host << ":" << port
-              << "/sempre, open to every web page (docs/sempre.md)" << std::endl;
+              << "/sempre, for this page and serve.sempre_origins (docs/sempre.md)" << std::endl;
   std::thread waiter([&server, signals] {
     int sig = 0;
     sigwait(&signals, &sig);

@@ -15,7 +15,7 @@
 #include "flipper/kernel/loader.hpp"
 #include "flipper/record/build_info.hpp"
 #include "flipper/record/checksum.hpp"
-#include "flipper/record/out_file.hpp"
+#include "flipper/record/durable_file.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::record {
@@ -113,16 +113,7 @@ json plugins_json(const kernel::Config& config, const std::vector<std::string>& 
 
 void write_manifest(const std::string& run_dir, const json& manifest) {
   const std::string path = run_dir + "/manifest.json";
-  const std::string temp = path + ".tmp";
-  {
-    OutFile out(temp);
-    out << manifest.dump(2) << "\n";
-    out.close();
-  }
-  std::error_code ec;
-  fs::rename(temp, path, ec);
-  if (ec)
-    throw sdk::Error(sdk::codes::kWriteFailed, "cannot write '" + path + "': " + ec.message());
+  write_file_atomically(path, manifest.dump(2) + "\n");
 }
 
 json read_manifest(const std::string& run_dir) {

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <sodium.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cctype>
@@ -21,6 +22,18 @@ namespace fs = std::filesystem;
 
 [[noreturn]] void fail(const char* code, const std::string& message) {
   throw sdk::Error(code, message);
+}
+
+// Creates the folders of `dir` that are missing, each private to the user (0700: the data
+// folder holds credentials and the lexicon; docs/accounts.md §4). Existing folders keep their
+// modes. An error names the folder that could not be made.
+void create_private_folders(const fs::path& dir) {
+  fs::path at;
+  for (const auto& part : dir) {
+    at /= part;
+    if (::mkdir(at.c_str(), 0700) == 0 || errno == EEXIST) continue;
+    fail("bad_accounts", "cannot create the folder '" + at.string() + "': " + std::strerror(errno));
+  }
 }
 
 std::int64_t unix_now() {
@@ -90,6 +103,14 @@ class Stmt {
     const int rc = sqlite3_step(s_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
+    const int primary = rc & 0xff;
+    if (primary == SQLITE_READONLY)
+      fail("read_only",
+           "the accounts store is read-only: existing logins work, nothing new can be stored "
+           "(no new logins, codes, accounts or passwords)");
+    if (primary == SQLITE_FULL)
+      fail(sdk::codes::kWriteFailed,
+           "the accounts store's disk is full: nothing new can be stored");
     fail("bad_accounts", std::string("accounts store: ") + sqlite3_errmsg(db_));
   }
   std::string text(int col) const {
@@ -164,15 +185,77 @@ std::string accounts_path(const kernel::Config& config) {
 struct AccountStore::Impl {
   std::string path;
   sqlite3* db = nullptr;
+  bool read_only = false;  ///< opened for reading only (docs/accounts.md §4 "Degraded")
   mutable std::mutex mutex;
   std::string dummy_hash;  // verified against when a name is unknown (same time either way)
 
   void exec(const char* sql) {
     char* err = nullptr;
-    if (sqlite3_exec(db, sql, nullptr, nullptr, &err) != SQLITE_OK) {
+    if (const int rc = sqlite3_exec(db, sql, nullptr, nullptr, &err); rc != SQLITE_OK) {
       const std::string what = err ? err : "unknown error";
       sqlite3_free(err);
+      if ((rc & 0xff) == SQLITE_READONLY) fail("read_only", "accounts store is read-only: " + what);
       fail("bad_accounts", "accounts store '" + path + "': " + what);
+    }
+  }
+  void close() {
+    sqlite3_close(db);
+    db = nullptr;
+  }
+  /// Opens `path` writable (creating the schema); false with `why` set when it cannot.
+  bool open_writable(std::string& why) {
+    if (sqlite3_open_v2(path.c_str(), &db,
+                        SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+                        nullptr) != SQLITE_OK) {
+      why = db ? sqlite3_errmsg(db) : "cannot open";
+      close();
+      return false;
+    }
+    sqlite3_busy_timeout(db, 5000);
+    try {
+      exec("PRAGMA journal_mode=WAL");
+      exec("PRAGMA synchronous=FULL");
+      exec(kSchema);
+    } catch (const sdk::Error& e) {
+      why = e.what();
+      close();
+      return false;
+    }
+    return true;
+  }
+  /// Opens an existing store for reading only: through its write-ahead log when it has one
+  /// (mode=ro), else as an immutable file (a read-only folder cannot hold the WAL's index).
+  bool open_for_reading() {
+    std::error_code ec;
+    const auto wal = fs::file_size(path + "-wal", ec);
+    const std::string uri = "file:" + path + (ec || wal == 0 ? "?immutable=1" : "?mode=ro");
+    if (sqlite3_open_v2(uri.c_str(), &db,
+                        SQLITE_OPEN_READONLY | SQLITE_OPEN_URI | SQLITE_OPEN_FULLMUTEX,
+                        nullptr) != SQLITE_OK) {
+      close();
+      return false;
+    }
+    sqlite3_busy_timeout(db, 5000);
+    if (sqlite3_exec(db, "SELECT count(*) FROM accounts", nullptr, nullptr, nullptr) != SQLITE_OK) {
+      close();
+      return false;
+    }
+    read_only = true;
+    return true;
+  }
+  /// Runs `update` (binding `value`, then `name`) and ends every login of `name`, at once: a
+  /// new password or role takes effect on every browser (docs/accounts.md §2). The number ended.
+  int change_and_end_logins(const std::string& name, const char* update, const std::string& value) {
+    exec("BEGIN IMMEDIATE");
+    try {
+      Stmt(db, update).bind(1, value).bind(2, name).step();
+      Stmt(db, "DELETE FROM logins WHERE name = ?").bind(1, name).step();
+      const int ended = sqlite3_changes(db);
+      exec("COMMIT");
+      return ended;
+    } catch (...) {
+      sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
+      throw;
     }
   }
   Login open_login(const std::string& name, Role role, std::chrono::seconds valid_for) {
@@ -208,25 +291,33 @@ AccountStore::AccountStore(const std::string& path) : impl_(std::make_unique<Imp
   if (path != ":memory:") {
     std::error_code ec;
     if (!fs::exists(path, ec)) {
+      const fs::path parent = fs::path(path).parent_path();
+      if (!parent.empty() && !fs::is_directory(parent, ec)) create_private_folders(parent);
       const int fd = ::open(path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0600);
+      const int err = errno;
+      if (fd < 0 && (err == EROFS || err == EACCES || err == EPERM || err == ENOSPC)) {
+        // A folder that cannot be written holds no accounts: guests only, nothing stored
+        // (docs/accounts.md §4 "Degraded").
+        std::string why;
+        impl_->path = ":memory:";
+        if (!impl_->open_writable(why)) fail("bad_accounts", "accounts store in memory: " + why);
+        impl_->path = path;
+        impl_->read_only = true;
+        impl_->dummy_hash = hash_password("not a password of anyone");
+        return;
+      }
       if (fd < 0)
         fail("bad_accounts",
-             "cannot create the accounts store '" + path + "': " + std::strerror(errno));
+             "cannot create the accounts store '" + path + "': " + std::strerror(err));
       ::close(fd);
     }
   }
-  if (sqlite3_open_v2(path.c_str(), &impl_->db,
-                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                      nullptr) != SQLITE_OK) {
-    const std::string what = impl_->db ? sqlite3_errmsg(impl_->db) : "cannot open";
-    sqlite3_close(impl_->db);
-    impl_->db = nullptr;
-    fail("bad_accounts", "cannot open the accounts store '" + path + "': " + what);
-  }
-  sqlite3_busy_timeout(impl_->db, 5000);
-  impl_->exec("PRAGMA journal_mode=WAL");
-  impl_->exec("PRAGMA synchronous=FULL");
-  impl_->exec(kSchema);
+  std::string why;
+  // A store that exists but cannot be written (a read-only file, folder or file system, a full
+  // disk) still serves its logins; only writes are refused (docs/accounts.md §4 "Degraded").
+  if (!impl_->open_writable(why) &&
+      !(path != ":memory:" && fs::exists(path) && impl_->open_for_reading()))
+    fail("bad_accounts", "cannot open the accounts store '" + path + "': " + why);
   impl_->dummy_hash = hash_password("not a password of anyone");
 }
 
@@ -236,6 +327,10 @@ AccountStore::~AccountStore() {
 
 const std::string& AccountStore::path() const {
   return impl_->path;
+}
+
+bool AccountStore::read_only() const {
+  return impl_->read_only;
 }
 
 void AccountStore::add(const std::string& name, const std::string& password, Role role) {
@@ -253,15 +348,20 @@ void AccountStore::add(const std::string& name, const std::string& password, Rol
   s.step();
 }
 
-void AccountStore::set_password(const std::string& name, const std::string& password) {
+int AccountStore::set_password(const std::string& name, const std::string& password) {
   check_password(password);
   const std::string hash = hash_password(password);
   std::lock_guard lock(impl_->mutex);
   if (!impl_->find(name)) fail("no_such_account", "there is no account '" + name + "'");
-  Stmt(impl_->db, "UPDATE accounts SET password = ? WHERE name = ?")
-      .bind(1, hash)
-      .bind(2, name)
-      .step();
+  return impl_->change_and_end_logins(name, "UPDATE accounts SET password = ? WHERE name = ?",
+                                      hash);
+}
+
+int AccountStore::set_role(const std::string& name, Role role) {
+  std::lock_guard lock(impl_->mutex);
+  if (!impl_->find(name)) fail("no_such_account", "there is no account '" + name + "'");
+  return impl_->change_and_end_logins(name, "UPDATE accounts SET role = ? WHERE name = ?",
+                                      to_string(role));
 }
 
 bool AccountStore::remove(const std::string& name) {
@@ -379,6 +479,9 @@ int AccountStore::revoke(const std::string& name) {
 }
 
 std::string AccountStore::next_guest() {
+  // A read-only store cannot count: a random name no counter gives (guest-r…) is never given
+  // twice either.
+  if (impl_->read_only) return "guest-r" + random_token(8);
   std::lock_guard lock(impl_->mutex);
   Stmt(impl_->db,
        "INSERT INTO counters(name, value) VALUES('guest', 1) "

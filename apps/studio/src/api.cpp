@@ -99,6 +99,22 @@ std::size_t session_budget(const ServeOptions& options, std::size_t kernels,
   return budget - kernels_bytes;
 }
 
+RegistryLimits registry_limits(const ServeOptions& o) {
+  RegistryLimits l{o.max_sessions,
+                   std::chrono::seconds(o.session_idle_s),
+                   o.rate_per_second,
+                   o.rate_burst,
+                   o.sessions_per_address,
+                   static_cast<double>(o.new_sessions_per_minute),
+                   o.memory_budget_mb << 20,
+                   std::size_t{64} * 1024,
+                   std::chrono::seconds(o.evict_after_s)};
+  l.sessions_per_subnet = o.sessions_per_subnet;
+  l.new_guests_per_minute = static_cast<double>(o.new_guests_per_minute);
+  l.reserved_percent = o.reserved_sessions_percent;
+  return l;
+}
+
 }  // namespace
 
 std::size_t kernel_bytes(std::size_t rules) {
@@ -149,11 +165,7 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
       accounts_(accounts),
       scheduler_(scheduler),
       hosts_(hosts),
-      registry_(RegistryLimits{
-          options_.max_sessions, std::chrono::seconds(options_.session_idle_s),
-          options_.rate_per_second, options_.rate_burst, options_.sessions_per_address,
-          static_cast<double>(options_.new_sessions_per_minute), options_.memory_budget_mb << 20,
-          std::size_t{64} * 1024, std::chrono::seconds(options_.evict_after_s)}) {
+      registry_(registry_limits(options_)) {
   std::size_t count = 0, bytes = 0;
   for (const auto& [group, config] : kernels) {
     KernelPool& pool = pools_[group];
@@ -189,6 +201,12 @@ Api::~Api() {
   for (auto& e : graves_) e->session.reset();  // no worker runs any more
 }
 
+std::size_t Api::kernel_count() const {
+  std::size_t n = 0;
+  for (const auto& [group, pool] : pools_) n += pool.kernels.size();
+  return n;
+}
+
 KernelPool& Api::pool_for(const std::string& group) {
   auto it = pools_.find(group);
   return it == pools_.end() ? pools_.begin()->second : it->second;
@@ -220,7 +238,8 @@ void Api::request(const HttpRequest& r, const Respond& respond) {
   std::shared_ptr<SessionEntry> entry = token.empty() ? nullptr : registry_.find(token);
   KernelPool& pool = pool_for(entry ? entry->group : r.param("group"));
   auto job = [this, r, respond, &pool](int worker) {
-    respond(serve(r, *pool.kernels[static_cast<std::size_t>(worker)]));
+    respond(answer_or_failure(
+        [&] { return serve(r, *pool.kernels[static_cast<std::size_t>(worker)]); }));
   };
   if (!pool.scheduler->submit(key, std::move(job)))
     respond(error_reply(429, "session_busy",
@@ -231,7 +250,7 @@ void Api::request(const HttpRequest& r, const Respond& respond) {
 void Api::run_on_plain_kernel(const std::string& key, std::function<HttpReply()> job,
                               const Respond& respond) {
   // Pinned to the first kernel: /sempre keeps its sessions there (docs/sempre.md).
-  auto work = [job = std::move(job), respond](int) { respond(job()); };
+  auto work = [job = std::move(job), respond](int) { respond(answer_or_failure(job)); };
   if (!pool_for(std::string()).scheduler->submit(key, std::move(work), 0))
     respond(error_reply(429, "session_busy",
                         "this session already has requests waiting; send the next one after "
@@ -285,7 +304,7 @@ std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
                         "this server has no guests (serve.guests: false): log in first");
     return nullptr;
   }
-  if (auto refused = registry_.admit_new(r.peer, Clock::now())) {
+  if (auto refused = registry_.admit_new(r.peer, Clock::now(), login.has_value())) {
     reply = error_reply(refused->status, refused->code, refused->message);
     return nullptr;
   }
@@ -409,6 +428,20 @@ HttpReply Api::run(SessionEntry& entry, Kernel& free, const HttpRequest& r) {
   reply.set_header("Cache-Control", "no-store");
   reply.set_header("Flipper-Session", entry.token);
   reply.set_header("Flipper-User", header_safe(entry.user));
+  // A study group that cannot learn (A, the core lexicon) is refused `define` before it
+  // reaches the session, as the page offers no teaching there (docs/studio.md §7); not recorded.
+  if (recorder_ && entry.group == "A") {
+    const Json request = Json::parse(r.body, nullptr, false);
+    if (request.is_object() && request.value("op", std::string()) == "define") {
+      reply.body = Json{{"ok", false},
+                        {"op", "define"},
+                        {"error",
+                         {{"code", "teaching_off"},
+                          {"message", "teaching new phrases is not part of this study"}}}}
+                       .dump();
+      return reply;
+    }
+  }
   kernel::Session& session = *entry.session;
   std::string answer;
   double ms = 0;
@@ -453,34 +486,35 @@ HttpReply Api::run(SessionEntry& entry, Kernel& free, const HttpRequest& r) {
 
 void Api::info(const HttpRequest& r, const Respond& respond) {
   const std::string token = r.param("session");
-  auto job = [this, r, respond](int) {
-    const std::optional<Login> login = accounts_.resume(login_cookie(r.cookie));
-    const std::string session = r.param("session");
-    std::shared_ptr<SessionEntry> entry = session.empty() ? nullptr : registry_.find(session);
-    Kernel& k = *pool_for(entry ? entry->group : std::string()).kernels.front();
-    const kernel::Config& c = k.runtime->config;
-    Json account = nullptr;
-    if (login) account = Json{{"name", login->name}, {"role", to_string(login->role)}};
-    // A study does not show its participants their condition (docs/studio.md §7).
-    Json out{{"ok", true},
-             {"sharing", study_ ? Json() : Json(c.get_string("lexicon.sharing"))},
-             {"k", c.get_int("session.k")},
-             {"max_chars", c.get_int("input.max_chars")},
-             {"vocabulary", k.vocabulary},
-             {"worlds", k.worlds},
-             {"account", account},
-             {"guests", options_.guests},
-             {"study", Json()}};
-    if (study_) {
-      out["study"] = study_->page_json();
-      if (entry && recorder_)
-        if (Json p = recorder_->page_state(entry->participant); p.is_object())
-          out["study"].update(p);
-    }
-    respond(json_reply(200, out));
-  };
+  auto job = [this, r, respond](int) { respond(answer_or_failure([&] { return info_reply(r); })); };
   if (!scheduler_.submit(token.empty() ? "info:" + r.peer : token, std::move(job)))
     respond(error_reply(429, "session_busy", "too many requests waiting"));
+}
+
+HttpReply Api::info_reply(const HttpRequest& r) {
+  const std::optional<Login> login = accounts_.resume(login_cookie(r.cookie));
+  const std::string session = r.param("session");
+  std::shared_ptr<SessionEntry> entry = session.empty() ? nullptr : registry_.find(session);
+  Kernel& k = *pool_for(entry ? entry->group : std::string()).kernels.front();
+  const kernel::Config& c = k.runtime->config;
+  Json account = nullptr;
+  if (login) account = Json{{"name", login->name}, {"role", to_string(login->role)}};
+  // A study does not show its participants their condition (docs/studio.md §7).
+  Json out{{"ok", true},
+           {"sharing", study_ ? Json() : Json(c.get_string("lexicon.sharing"))},
+           {"k", c.get_int("session.k")},
+           {"max_chars", c.get_int("input.max_chars")},
+           {"vocabulary", k.vocabulary},
+           {"worlds", k.worlds},
+           {"account", account},
+           {"guests", options_.guests},
+           {"study", Json()}};
+  if (study_) {
+    out["study"] = study_->page_json();
+    if (entry && recorder_)
+      if (Json p = recorder_->page_state(entry->participant); p.is_object()) out["study"].update(p);
+  }
+  return json_reply(200, out);
 }
 
 bool Api::login_allowed(const std::string& address) {
@@ -504,7 +538,9 @@ void Api::login(const HttpRequest& r, const Respond& respond) {
   if (!login_allowed(r.peer))
     return respond(error_reply(429, "login_rate_limited",
                                "too many login attempts from this address; wait a minute"));
-  auto job = [this, r, respond](int) { respond(login_reply(r)); };
+  auto job = [this, r, respond](int) {
+    respond(answer_or_failure([&] { return login_reply(r); }));
+  };
   if (!scheduler_.submit("login:" + r.peer, std::move(job)))
     respond(error_reply(429, "login_rate_limited", "too many login attempts waiting"));
 }
@@ -538,12 +574,14 @@ void Api::logout(const HttpRequest& r, const Respond& respond) {
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "logouts must come from this server's page"));
   auto job = [this, r, respond](int) {
-    const std::string token = login_cookie(r.cookie);
-    if (!token.empty()) accounts_.logout(token);
-    HttpReply reply = json_reply(200, Json{{"ok", true}});
-    reply.set_header("Set-Cookie",
-                     std::string(kCookie) + "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
-    respond(std::move(reply));
+    respond(answer_or_failure([&] {
+      const std::string token = login_cookie(r.cookie);
+      if (!token.empty()) accounts_.logout(token);
+      HttpReply reply = json_reply(200, Json{{"ok", true}});
+      reply.set_header("Set-Cookie",
+                       std::string(kCookie) + "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+      return reply;
+    }));
   };
   if (!scheduler_.submit("login:" + r.peer, std::move(job)))
     respond(error_reply(429, "session_busy", "too many requests waiting"));

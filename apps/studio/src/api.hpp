@@ -93,6 +93,11 @@ class Api {
   AccountStore& accounts() { return accounts_; }
 
   SessionRegistry& registry() { return registry_; }
+  /// The kernels of every pool.
+  std::size_t kernel_count() const;
+  /// Destroys evicted sessions under their kernel's lock; a session whose kernel is busy waits
+  /// for a later call (never for the kernel). Call without holding a kernel's lock.
+  void bury_evicted();
 
  private:
   KernelPool& pool_for(const std::string& group);
@@ -115,9 +120,7 @@ class Api {
   void resume_world(SessionEntry& entry, Kernel& k);
   bool in_pool(const std::string& group, const Kernel& k);
   HttpReply login_reply(const HttpRequest& request);
-  /// Destroys evicted sessions under their kernel's lock; a session whose kernel is busy waits
-  /// for a later call (never for the kernel).
-  void bury_evicted();
+  HttpReply info_reply(const HttpRequest& request);
   bool login_allowed(const std::string& address);
 
   ServeOptions options_;

@@ -5,6 +5,10 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 
+#include <fcntl.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <mutex>
@@ -12,6 +16,7 @@
 #include <optional>
 
 #include "flipper/sdk/errors.hpp"
+#include "registry.hpp"
 
 namespace flipper::studio {
 namespace beast = boost::beast;
@@ -19,11 +24,23 @@ namespace http = beast::http;
 namespace net = boost::asio;
 using tcp = net::ip::tcp;
 
+const std::vector<std::pair<std::string, std::string>>& security_headers() {
+  // An answer is never framed by another site, never sniffed as another type, never leaks the
+  // address it came from; an API answer loads nothing (docs/studio.md §2 "Headers"). The page's
+  // files set their own Content-Security-Policy (static_reply), also with frame-ancestors 'none'.
+  static const std::vector<std::pair<std::string, std::string>> kHeaders = {
+      {"X-Content-Type-Options", "nosniff"},
+      {"X-Frame-Options", "DENY"},
+      {"Referrer-Policy", "no-referrer"},
+      {"Content-Security-Policy", "default-src 'none'; frame-ancestors 'none'"}};
+  return kHeaders;
+}
+
 std::string error_body(const std::string& code, const std::string& message) {
   nlohmann::json a;
   a["ok"] = false;
   a["op"] = nullptr;
-  a["error"] = nlohmann::json{{"code", code}, {"message", message}};
+  a["error"] = nlohmann::json{{"code", code}, {"message", without_paths(message)}};
   return a.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
@@ -112,6 +129,17 @@ void split_target(std::string_view target, HttpRequest& r) {
   }
 }
 
+// A whole 503 too_many_connections answer, written to a socket that is closed after it.
+std::string refusal_text(const std::string& message) {
+  const std::string body = error_body("too_many_connections", message);
+  std::string text =
+      "HTTP/1.1 503 Service Unavailable\r\nContent-Type: "
+      "application/json\r\nConnection: close\r\nContent-Length: " +
+      std::to_string(body.size()) + "\r\n";
+  for (const auto& [k, v] : security_headers()) text += k + ": " + v + "\r\n";
+  return text + "\r\n" + body;
+}
+
 bool is_chunked_only(std::string_view te) {
   while (!te.empty() && std::isspace(static_cast<unsigned char>(te.front()))) te.remove_prefix(1);
   while (!te.empty() && std::isspace(static_cast<unsigned char>(te.back()))) te.remove_suffix(1);
@@ -130,16 +158,28 @@ struct HttpTransport::Impl {
   // Before io: destroying io destroys the connections still pending, which release here.
   std::mutex mutex;  // the connection counts (a connection may end on a worker thread)
   std::map<std::string, std::size_t> per_address;
+  std::map<std::string, std::size_t> per_subnet;
   std::size_t total = 0;
   net::io_context io{1};
   tcp::acceptor acceptor{io};
+  net::steady_timer backoff{io};
+  /// A descriptor kept free: at EMFILE it is closed to accept one waiting connection, refuse it
+  /// and close it, then taken again (docs/studio.md §2 "Descriptors").
+  int spare_fd = -1;
 
+  ~Impl() {
+    if (spare_fd >= 0) ::close(spare_fd);
+  }
   void accept();
   void admit(tcp::socket socket);
+  /// Out of descriptors: refuses the oldest waiting connection, then waits before accepting
+  /// again (instead of retrying at once, which spins: the connection stays in the backlog).
+  void out_of_descriptors();
   void release(const std::string& peer) {
     std::lock_guard lock(mutex);
     --total;
     if (--per_address[peer] == 0) per_address.erase(peer);
+    if (--per_subnet[subnet_of(peer)] == 0) per_subnet.erase(subnet_of(peer));
   }
 };
 
@@ -224,6 +264,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
     auto res = std::make_shared<http::response<http::string_body>>(
         static_cast<http::status>(reply.status), 11);
     for (auto& [k, v] : reply.headers) res->set(k, v);
+    for (const auto& [k, v] : security_headers())
+      if (res->find(k) == res->end()) res->set(k, v);
     res->set(http::field::content_type, reply.content_type);
     res->body() = std::move(reply.body);
     res->keep_alive(!close_after);
@@ -286,8 +328,32 @@ class Connection : public std::enable_shared_from_this<Connection> {
 void HttpTransport::Impl::accept() {
   acceptor.async_accept([this](beast::error_code ec, tcp::socket socket) {
     if (!acceptor.is_open()) return;
+    if (ec == net::error::no_descriptors ||
+        ec == boost::system::errc::too_many_files_open_in_system ||
+        ec == net::error::no_buffer_space || ec == net::error::no_memory)
+      return out_of_descriptors();
     if (!ec) admit(std::move(socket));
     accept();
+  });
+}
+
+void HttpTransport::Impl::out_of_descriptors() {
+  if (spare_fd >= 0) {
+    ::close(spare_fd);
+    spare_fd = -1;
+  }
+  const int fd =
+      ::accept4(acceptor.native_handle(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+  if (fd >= 0) {
+    const std::string text = refusal_text(
+        "the server has no descriptors left for connections (its descriptor limit); try later");
+    (void)::send(fd, text.data(), text.size(), MSG_NOSIGNAL);
+    ::close(fd);
+  }
+  spare_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  backoff.expires_after(std::chrono::milliseconds(20));
+  backoff.async_wait([this](beast::error_code ec) {
+    if (!ec && acceptor.is_open()) accept();
   });
 }
 
@@ -302,26 +368,28 @@ void HttpTransport::Impl::admit(tcp::socket socket) {
   std::string refusal;
   {
     std::lock_guard lock(mutex);
-    std::size_t& mine = per_address[peer];
+    const std::string subnet = subnet_of(peer);
+    const std::size_t mine = per_address[peer], ours = per_subnet[subnet];
     if (mine >= options.max_connections_per_address)
       refusal = "this address has " + std::to_string(mine) +
                 " open connections (serve.max_connections_per_address)";
+    else if (ours >= options.max_connections_per_subnet)
+      refusal = "the addresses of " + subnet + " have " + std::to_string(ours) +
+                " open connections (serve.max_connections_per_subnet)";
     else if (total >= options.max_connections)
       refusal =
           "the server has " + std::to_string(total) + " open connections (serve.max_connections)";
     if (refusal.empty()) {
-      ++mine;
+      ++per_address[peer];
+      ++per_subnet[subnet];
       ++total;
-    } else if (mine == 0) {
-      per_address.erase(peer);
+    } else {
+      if (mine == 0) per_address.erase(peer);
+      if (ours == 0) per_subnet.erase(subnet);
     }
   }
   if (!refusal.empty()) {
-    const std::string body = error_body("too_many_connections", refusal);
-    const std::string text =
-        "HTTP/1.1 503 Service Unavailable\r\nContent-Type: "
-        "application/json\r\nConnection: close\r\nContent-Length: " +
-        std::to_string(body.size()) + "\r\n\r\n" + body;
+    const std::string text = refusal_text(refusal);
     socket.non_blocking(true, ec);
     socket.write_some(net::buffer(text), ec);
     socket.shutdown(tcp::socket::shutdown_both, ec);
@@ -352,7 +420,9 @@ int HttpTransport::bind(const std::string& host, int port) {
   if (!ec) a.set_option(net::socket_base::reuse_address(true), ec);
   if (!ec) a.bind(endpoint, ec);
   if (!ec) a.listen(net::socket_base::max_listen_connections, ec);
+  if (!ec) a.non_blocking(true, ec);
   if (ec) return fail(ec.message());
+  impl_->spare_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
   return a.local_endpoint().port();
 }
 

@@ -22,8 +22,9 @@ struct TransportOptions {
   int write_timeout_ms = 10000;    ///< writing one answer
   std::size_t max_connections = 1024;
   std::size_t max_connections_per_address = 64;
-  std::size_t max_request_bytes = 65536;  ///< the body
-  std::size_t max_header_bytes = 16384;   ///< request line and headers
+  std::size_t max_connections_per_subnet = 256;  ///< per /24 (IPv4) or /64 (IPv6)
+  std::size_t max_request_bytes = 65536;         ///< the body
+  std::size_t max_header_bytes = 16384;          ///< request line and headers
 };
 
 /// Method + path -> route; other paths of a method go to its fallback (the page's files).

@@ -50,11 +50,23 @@ using Respond = std::function<void(HttpReply)>;
 /// A route: answers `request` now or later (a worker thread) through `respond`.
 using Route = std::function<void(const HttpRequest& request, Respond respond)>;
 
+/// The headers every answer carries unless its route set them (docs/studio.md §2 "Headers"):
+/// nosniff, X-Frame-Options DENY, Referrer-Policy no-referrer, and a Content-Security-Policy
+/// that loads nothing and forbids framing.
+const std::vector<std::pair<std::string, std::string>>& security_headers();
 /// {"ok":false,"op":null,"error":{"code","message"}}: the protocol's error object for refusals
 /// made before a request reaches a session.
 std::string error_body(const std::string& code, const std::string& message);
 /// A reply with that body.
 HttpReply error_reply(int status, const std::string& code, const std::string& message);
+/// `message` with every absolute path cut to its last part ('/srv/study/queries.jsonl' ->
+/// 'queries.jsonl'): what a client may see of the server's files (docs/studio.md §2 "Messages").
+/// error_body applies it to every message.
+std::string without_paths(const std::string& message);
+/// `job()`, or the reply for what it threw (logged on stderr in full): write_failed and
+/// read_only 503, any other sdk::Error 500 with its code, anything else 500 internal. A job
+/// never ends the server.
+HttpReply answer_or_failure(const std::function<HttpReply()>& job);
 /// A JSON answer, never cached.
 HttpReply json_reply(int status, const nlohmann::json& body);
 

@@ -1,10 +1,9 @@
 #include "json_file.hpp"
 
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
-#include "flipper/sdk/errors.hpp"
+#include "flipper/record/durable_file.hpp"
 
 namespace flipper::studio {
 
@@ -17,13 +16,7 @@ std::optional<nlohmann::json> read_json_file(const std::string& path) {
 }
 
 void write_json_file(const std::string& path, const nlohmann::json& value) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::trunc);
-    if (!f) throw sdk::Error(sdk::codes::kInternal, "study: cannot write '" + tmp + "'");
-    f << value.dump(1) << '\n';
-  }
-  std::filesystem::rename(tmp, path);
+  record::write_file_atomically(path, value.dump(1) + "\n");
 }
 
 }  // namespace flipper::studio

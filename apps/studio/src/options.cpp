@@ -35,12 +35,19 @@ ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   o.new_sessions_per_minute = static_cast<int>(c.get(keys::kServeNewSessionsPerMinute));
   o.memory_budget_mb = static_cast<std::size_t>(c.get(keys::kServeMemoryBudgetMb));
   o.evict_after_s = static_cast<int>(c.get(keys::kServeEvictAfterS));
+  o.sessions_per_subnet = static_cast<std::size_t>(c.get_int("serve.sessions_per_subnet"));
+  o.new_guests_per_minute = static_cast<int>(c.get_int("serve.new_guests_per_minute"));
+  o.reserved_sessions_percent =
+      static_cast<std::size_t>(c.get_int("serve.reserved_sessions_percent"));
+  o.max_connections_per_subnet =
+      static_cast<std::size_t>(c.get_int("serve.max_connections_per_subnet"));
   o.cpu_ms_per_s = static_cast<int>(c.get(keys::kServeCpuMsPerS));
   o.cpu_burst_ms = static_cast<int>(c.get(keys::kServeCpuBurstMs));
   o.kernels = static_cast<int>(c.get(keys::kServeKernels));
   if (!c.get_string("serve.web_dir").empty()) o.web_dir = c.get_path("serve.web_dir");
   if (!c.get_string("serve.study").empty()) o.study = c.get_path("serve.study");
   o.sempre = c.get(keys::kServeSempre);
+  o.sempre_origins = c.get_string_list("serve.sempre_origins");
   return o;
 }
 

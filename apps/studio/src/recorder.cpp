@@ -4,6 +4,7 @@
 #include <chrono>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 
 #include "flipper/corpus/answer_digest.hpp"
 #include "flipper/record/checksum.hpp"
+#include "flipper/record/durable_file.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/version.hpp"
 #include "json_file.hpp"
@@ -42,10 +44,12 @@ std::string corpus_status(const std::string& status) {
   return "Nothing";
 }
 
-std::ofstream open_append(const fs::path& path) {
-  std::ofstream out(path, std::ios::app);
-  if (!out) throw sdk::Error(sdk::codes::kBadConfig, "study: cannot write '" + path.string() + "'");
-  return out;
+record::AppendFile open_append(const fs::path& path) {
+  try {
+    return record::AppendFile(path.string());
+  } catch (const sdk::Error& e) {
+    throw sdk::Error(sdk::codes::kBadConfig, std::string("study: ") + e.what());
+  }
 }
 
 template <class F>
@@ -59,12 +63,11 @@ void for_each_json_line(const fs::path& path, F&& f) {
   }
 }
 
-// One line of a .jsonl file, flushed (Json or ordered_json: queries.jsonl keeps its members in
-// reading order).
+// One whole line of a .jsonl file, or write_failed and the file as it was (Json or
+// ordered_json: queries.jsonl keeps its members in reading order).
 template <class J>
-void append_line(std::ofstream& out, const J& line) {
-  out << line.dump(-1, ' ', false, J::error_handler_t::replace) << '\n';
-  out.flush();
+void append_line(record::AppendFile& out, const J& line) {
+  out.append(line.dump(-1, ' ', false, J::error_handler_t::replace) + "\n");
 }
 
 std::string text_of(const Json& j, const char* key) {

@@ -12,7 +12,6 @@
 // records are in the order its kernel answered (docs/studio.md §5). Restart-safe: line and
 // exchange numbers, participant ids, the rule map and the preload continue from the files.
 #include <cstdint>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -25,6 +24,7 @@
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/session.hpp"
+#include "flipper/record/durable_file.hpp"
 #include "participants.hpp"
 
 namespace flipper::studio {
@@ -102,7 +102,7 @@ class Recorder {
   std::mutex mutex_;
   std::shared_ptr<Study> study_;
   std::string dir_;
-  std::ofstream queries_, worlds_, definitions_, answers_, exchanges_;
+  record::AppendFile queries_, worlds_, definitions_, answers_, exchanges_;
   std::map<std::string, kernel::Json> worlds_by_id_;
   std::map<std::string, Live> live_;  ///< by participant
   kernel::Json sessions_ = kernel::Json::array();

@@ -52,7 +52,16 @@ struct RegistryLimits {
   std::size_t memory_budget_bytes = std::size_t{1} << 30;
   std::size_t session_base_bytes = std::size_t{64} * 1024;  ///< charged for every open session
   std::chrono::seconds evict_after{120};  ///< idle time after which the budget may evict
+  // Admission from many addresses (docs/studio.md §4 "Admission"); guests only: an account is
+  // authenticated, and a lab's participants may share one address.
+  std::size_t sessions_per_subnet = 128;  ///< guests per /24 (IPv4) or /64 (IPv6)
+  double new_guests_per_minute = 600;     ///< new guest sessions, all addresses together
+  std::size_t reserved_percent = 10;      ///< of max_sessions, kept for accounts
 };
+
+/// The subnet an address is counted in: "a.b.c/24" for IPv4 (and IPv4-mapped IPv6), the first
+/// 64 bits for IPv6 ("2001:db8:0:1::/64"); the address itself when it is neither.
+std::string subnet_of(const std::string& address);
 
 class SessionRegistry {
  public:
@@ -61,12 +70,15 @@ class SessionRegistry {
   std::shared_ptr<SessionEntry> find(const std::string& token);
 
   /// Why a new session for `address` cannot be opened now, after evicting idle sessions when
-  /// the server is full; nullopt when it can.
+  /// the server is full; nullopt when it can. `account`: the session is a logged-in account's
+  /// (it may use the reserved sessions; the per-address, per-subnet and guest-rate limits are
+  /// for guests).
   struct Refusal {
     int status;  ///< 429: this address asks too much; 503: the server is full
     std::string code, message;
   };
-  std::optional<Refusal> admit_new(const std::string& address, Clock::time_point now);
+  std::optional<Refusal> admit_new(const std::string& address, Clock::time_point now,
+                                   bool account = false);
   /// Adds a session (call admit_new first) under a fresh token.
   std::shared_ptr<SessionEntry> add(std::shared_ptr<SessionEntry> entry, Clock::time_point now);
   /// Takes one request from the entry's token bucket; false when the rate is exceeded.
@@ -94,20 +106,24 @@ class SessionRegistry {
 
  private:
   void erase_locked(std::map<std::string, std::shared_ptr<SessionEntry>>::iterator it);
-  /// Evicts idle entries (not busy, idle >= min_idle), guests first, oldest first, until
-  /// `enough()` holds; returns whether it does.
+  /// Evicts idle entries (not busy, idle >= min_idle; guests only when `guests_only`), guests
+  /// first, oldest first, until `enough()` holds; returns whether it does.
   template <class Enough>
-  bool evict_until(Clock::time_point now, std::chrono::seconds min_idle, Enough enough);
+  bool evict_until(Clock::time_point now, std::chrono::seconds min_idle, Enough enough,
+                   bool guests_only);
 
   RegistryLimits limits_;
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<SessionEntry>> sessions_;
-  std::map<std::string, std::size_t> per_address_;
+  std::map<std::string, std::size_t> per_address_;  ///< open guest sessions
+  std::map<std::string, std::size_t> per_subnet_;   ///< open guest sessions
+  std::size_t guests_ = 0;                          ///< open guest sessions in total
   struct Bucket {
     double tokens = 0;
     Clock::time_point refilled;
   };
   std::map<std::string, Bucket> new_session_buckets_;
+  Bucket new_guests_;  ///< all addresses together
   std::size_t used_bytes_ = 0;
   std::vector<std::shared_ptr<SessionEntry>> evicted_;
 };

@@ -1,9 +1,11 @@
 // GET /sempre: transport, sessions and answers (see sempre.hpp; docs/sempre.md).
 #include "sempre.hpp"
 
+#include <cctype>
 #include <nlohmann/json.hpp>
 
 #include "flipper/sdk/errors.hpp"
+#include "studio_ops.hpp"
 
 namespace flipper::studio {
 namespace {
@@ -47,9 +49,18 @@ bool valid_session_id(const std::string& id) {
   return true;
 }
 
-void cors(HttpReply& reply) {
-  reply.headers.emplace_back("Access-Control-Allow-Origin", "*");
+// `allow`: the Access-Control-Allow-Origin ("" none).
+void cors(HttpReply& reply, const std::string& allow) {
+  if (!allow.empty()) {
+    reply.headers.emplace_back("Access-Control-Allow-Origin", allow);
+    reply.headers.emplace_back("Vary", "Origin");
+  }
   reply.headers.emplace_back("Cache-Control", "no-store");
+}
+
+std::string lower(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
 }
 
 std::string body(const std::string& type, std::uint64_t count, double seconds,
@@ -65,9 +76,9 @@ std::string body(const std::string& type, std::uint64_t count, double seconds,
 }
 
 HttpReply refused(int status, const std::string& code, const std::string& message,
-                  std::uint64_t count) {
+                  std::uint64_t count, const std::string& allow) {
   HttpReply reply;
-  cors(reply);
+  cors(reply, allow);
   reply.status = status;
   SempreAnswer a;
   a.lines.push_back(message);
@@ -92,29 +103,74 @@ std::map<std::string, std::string> decode_query_string(std::string_view query) {
 }
 
 SempreEndpoint::SempreEndpoint(Api& api, const ServeOptions& options)
-    : api_(api), max_sessions_(options.max_sessions), idle_(options.session_idle_s) {}
+    : api_(api), origins_(options.sempre_origins) {}
 
-SempreSession* SempreEndpoint::session_for(Kernel& kernel, const std::string& id) {
-  const auto now = std::chrono::steady_clock::now();
-  auto it = sessions_.find(id);
-  if (it == sessions_.end()) {
-    if (sessions_.size() >= max_sessions_)
-      std::erase_if(sessions_, [&](const auto& e) { return now - e.second.last_used >= idle_; });
-    if (sessions_.size() >= max_sessions_) return nullptr;
-    SempreSession s;
-    s.session = kernel.host->open();
-    s.session->set_user(sempre_user(id));
-    it = sessions_.emplace(id, std::move(s)).first;
+std::optional<std::string> SempreEndpoint::allowed_origin(const SempreRequest& r) const {
+  // A listed origin (or "*": every origin, the original's behaviour) is answered with its CORS
+  // header; the server's own page and programs need none; any other browser request is refused
+  // before it does anything: CORS only hides an answer, the GET (a :def) would still run.
+  for (const auto& o : origins_) {
+    if (o == "*") return r.origin.empty() ? std::string("*") : r.origin;
+    if (!r.origin.empty() && lower(o) == lower(r.origin)) return r.origin;
   }
-  it->second.last_used = now;
+  if (r.own_origin) return std::string();
+  return std::nullopt;
+}
+
+SempreEndpoint::Slot* SempreEndpoint::slot_for(Kernel& kernel, const std::string& id,
+                                               const std::string& peer,
+                                               std::optional<SessionRegistry::Refusal>& refusal) {
+  SessionRegistry& registry = api_.registry();
+  const auto now = Clock::now();
+  auto it = sessions_.find(id);
+  // Evicted by the registry (idle, or for memory): the sessionId starts afresh.
+  if (it != sessions_.end() && registry.find(it->second.entry->token) != it->second.entry) {
+    sessions_.erase(it);
+    it = sessions_.end();
+  }
+  if (it == sessions_.end()) {
+    if ((refusal = registry.admit_new(peer, now))) return nullptr;
+    if (sessions_.size() >= 2 * registry.limits().max_sessions)  // drop the evicted ones
+      std::erase_if(sessions_, [&](const auto& e) {
+        return registry.find(e.second.entry->token) != e.second.entry;
+      });
+    auto entry = std::make_shared<SessionEntry>();
+    entry->address = peer;
+    entry->user = sempre_user(id);
+    entry->kernel = &kernel;
+    entry->session = kernel.host->open();
+    entry->session->set_user(entry->user);
+    registry.add(entry, now);
+    Slot slot;
+    slot.entry = entry;
+    slot.state.session = entry->session.get();
+    SessionEntry* raw = entry.get();
+    const std::size_t most = kernel.max_world_bytes;
+    const std::size_t base = registry.limits().session_base_bytes;
+    slot.state.reserve_world = [&registry, raw, most] {
+      return registry.reserve(*raw, most, Clock::now());
+    };
+    slot.state.charge_world = [&registry, raw, base] {
+      const auto& geometry = raw->session->world().geometry;
+      registry.charge(*raw, base + (geometry ? world_bytes(geometry->cell_count()) : 0));
+    };
+    it = sessions_.emplace(id, std::move(slot)).first;
+  }
   return &it->second;
 }
 
 HttpReply SempreEndpoint::handle(const SempreRequest& request) {
   const std::uint64_t count = ++count_;
-  if (request.method == "OPTIONS") {  // a pre-flight: any origin may send the GET
+  const std::optional<std::string> allow = allowed_origin(request);
+  if (!allow)
+    return refused(403, "cross_origin",
+                   "/sempre answers this server's own page and the origins of "
+                   "serve.sempre_origins only (Origin '" +
+                       request.origin.substr(0, 200) + "')",
+                   count, std::string());
+  if (request.method == "OPTIONS") {  // a pre-flight of an allowed origin
     HttpReply reply;
-    cors(reply);
+    cors(reply, *allow);
     reply.status = 204;
     reply.headers.emplace_back("Access-Control-Allow-Methods", "GET, OPTIONS");
     reply.headers.emplace_back("Access-Control-Allow-Headers", "*");
@@ -125,34 +181,45 @@ HttpReply SempreEndpoint::handle(const SempreRequest& request) {
   try {
     params = decode_query_string(request.query);
   } catch (const sdk::Error& e) {
-    return refused(400, e.code(), e.what(), count);
+    return refused(400, e.code(), e.what(), count, *allow);
   }
   const auto q = params.find("q");
   const auto id = params.find("sessionId");
   if (q == params.end())
-    return refused(400, "missing_field", "missing parameter 'q' (the command)", count);
+    return refused(400, "missing_field", "missing parameter 'q' (the command)", count, *allow);
   if (id == params.end() || !valid_session_id(id->second))
     return refused(400, "bad_request",
                    "parameter 'sessionId' must be 1 to 128 printable ASCII characters "
                    "without spaces",
-                   count);
+                   count, *allow);
 
   SempreCommand command;
   try {
     command = parse_sempre_command(q->second);
   } catch (const sdk::Error& e) {
-    return refused(400, e.code(), e.what(), count);
+    return refused(400, e.code(), e.what(), count, *allow);
   }
+  api_.bury_evicted();  // sessions the registry evicted, destroyed under their kernel's lock
   return api_.with_kernel([&](Kernel& kernel) {
-    SempreSession* s = session_for(kernel, id->second);
-    if (s == nullptr)
-      return refused(503, "too_many_sessions",
-                     "the server has " + std::to_string(max_sessions_) +
-                         " /sempre sessions in use (serve.max_sessions); try later",
-                     count);
+    std::optional<SessionRegistry::Refusal> refusal;
+    Slot* slot = slot_for(kernel, id->second, request.peer, refusal);
+    if (slot == nullptr)
+      return refused(refusal->status, refusal->code, refusal->message, count, *allow);
+    SessionRegistry& registry = api_.registry();
+    if (!registry.admit(*slot->entry, Clock::now()))
+      return refused(429, "rate_limited",
+                     "too many requests in this session (serve.rate_per_second)", count, *allow);
+    // Running: never evicted meanwhile.
+    registry.set_busy(*slot->entry, true);
+    struct Idle {
+      SessionRegistry& registry;
+      SessionEntry& entry;
+      ~Idle() { registry.set_busy(entry, false); }
+    } idle{registry, *slot->entry};
+    SempreSession* s = &slot->state;
     kernel.host->activate(*s->session);
     HttpReply reply;
-    cors(reply);
+    cors(reply, *allow);
     const auto start = std::chrono::steady_clock::now();
     SempreAnswer answer;
     std::string code;
@@ -160,11 +227,11 @@ HttpReply SempreEndpoint::handle(const SempreRequest& request) {
       answer = run_sempre_command(*s, command);
     } catch (const sdk::Error& e) {
       answer = {};
-      answer.lines.push_back(e.what());
+      answer.lines.push_back(without_paths(e.what()));
       code = e.code();
     } catch (const std::exception& e) {
       answer = {};
-      answer.lines.push_back(std::string("internal error: ") + e.what());
+      answer.lines.push_back("internal error: " + without_paths(e.what()));
       code = sdk::codes::kInternal;
     }
     const double seconds =

@@ -3,14 +3,18 @@
 // and other SEMPRE clients run on Flipper unchanged. Independent of the HTTP library, like
 // api.hpp: the method and the raw query string in, status, headers and body out. Each sessionId
 // is a kernel session over the plain server's kernel (same runtime, lexicon and sharing mode as
-// /api/v1) whose user, the author of the rules defined there, is sempre_user(sessionId). Every
-// answer allows any origin (Access-Control-Allow-Origin: *), which is why serve.sempre is off
-// by default.
+// /api/v1) whose user, the author of the rules defined there, is sempre_user(sessionId). Its
+// sessions are entries of the server's one session table: they count in serve.max_sessions, the
+// per-address limits and the memory budget like /api/v1's guests (docs/sempre.md "Bounds").
+// Browsers are answered only from the page's own origin and serve.sempre_origins.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "api.hpp"
 #include "sempre_session.hpp"
@@ -20,24 +24,36 @@ namespace flipper::studio {
 struct SempreRequest {
   std::string method;  ///< "GET", "OPTIONS", ...
   std::string query;   ///< the raw query string (after '?'), percent-encoded
+  std::string peer;    ///< the client's address
+  std::string origin;  ///< the Origin header ("" when none)
+  /// HostPolicy::allows_origin: the server's own page, or no browser (no Origin, not marked
+  /// cross-site by Sec-Fetch-Site).
+  bool own_origin = true;
 };
 
 class SempreEndpoint {
  public:
-  /// Sessions are limited like /api/v1's (serve.max_sessions, serve.session_idle_s).
   SempreEndpoint(Api& api, const ServeOptions& options);
   HttpReply handle(const SempreRequest& request);
 
  private:
-  /// The sessionId's session, opened on first use. Null when the table is full of sessions used
-  /// within serve.session_idle_s. Call under the kernel lock.
-  SempreSession* session_for(Kernel& kernel, const std::string& id);
+  struct Slot {
+    std::shared_ptr<SessionEntry> entry;  ///< in the Api's registry while the session lives
+    SempreSession state;
+  };
+  /// The sessionId's session, opened on first use (admitted by the registry as a new guest
+  /// session from `peer`); null with `refusal` set when the registry refuses it. Call under the
+  /// kernel lock.
+  Slot* slot_for(Kernel& kernel, const std::string& id, const std::string& peer,
+                 std::optional<SessionRegistry::Refusal>& refusal);
+  /// The Access-Control-Allow-Origin of an answer to `request` ("" none: the server's own page
+  /// or no browser), or nullopt when the origin may not use /sempre.
+  std::optional<std::string> allowed_origin(const SempreRequest& request) const;
 
   Api& api_;
-  std::size_t max_sessions_;
-  std::chrono::seconds idle_;
-  std::map<std::string, SempreSession> sessions_;  ///< by sessionId; under the kernel lock
-  std::atomic<std::uint64_t> count_{0};            ///< requests answered (stats.count)
+  std::vector<std::string> origins_;      ///< serve.sempre_origins
+  std::map<std::string, Slot> sessions_;  ///< by sessionId; under the kernel lock
+  std::atomic<std::uint64_t> count_{0};   ///< requests answered (stats.count)
 };
 
 /// The query string's parameters, percent-decoded ('+' is a space, as in the original's

@@ -64,12 +64,19 @@ const char* original_status(const std::string& ours) {
 SempreAnswer context(SempreSession& s, const SempreCommand& c) {
   if (c.text == s.context && s.context_error.empty()) return {};  // the same world again
   s.context.clear();
+  if (s.reserve_world && !s.reserve_world()) {
+    s.context_error =
+        "the server's memory for sessions is in use (serve.memory_budget_mb); try later";
+    throw sdk::Error("server_busy", s.context_error);
+  }
   try {
     s.session->open_world_text(sempre_context_world(c.text), std::string());
   } catch (const sdk::Error& e) {
+    if (s.charge_world) s.charge_world();
     s.context_error = e.what();
     throw;
   }
+  if (s.charge_world) s.charge_world();
   s.context = c.text;
   s.context_error.clear();
   return {};

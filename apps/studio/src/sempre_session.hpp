@@ -6,6 +6,7 @@
 // the kernel lock (Api::with_kernel).
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -34,10 +35,14 @@ struct SempreAnswer {
 };
 
 struct SempreSession {
-  std::unique_ptr<kernel::Session> session;
-  std::string context;        ///< the context text the session's world was loaded from
-  std::string context_error;  ///< why the last context was refused ("" when it loaded)
-  std::chrono::steady_clock::time_point last_used;
+  kernel::Session* session = nullptr;  ///< owned by the server's session table (SessionEntry)
+  std::string context;                 ///< the context text the session's world was loaded from
+  std::string context_error;           ///< why the last context was refused ("" when it loaded)
+  /// The memory budget (docs/studio.md §4): reserves the most a world may take before a context
+  /// is loaded (false: the budget cannot hold it, the context is refused `server_busy`), and
+  /// charges what the session's world takes after. Empty: no budget.
+  std::function<bool()> reserve_world;
+  std::function<void()> charge_world;
 };
 
 /// Runs one command. Refusals (sdk::Error) propagate; the endpoint turns them into `lines`.

@@ -1,5 +1,8 @@
 // The server's parts and its routes. The transport is http_transport.cpp, the protocol mapping
 // api.cpp; a new page or API path is one line in add_routes().
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -25,9 +28,30 @@ HttpReply static_reply(const StaticFiles& files, const HttpRequest& req) {
   r.content_type = f->content_type;
   r.body = f->body;
   r.set_header("Cache-Control", "no-cache");
-  r.set_header("X-Content-Type-Options", "nosniff");
-  r.set_header("Content-Security-Policy", "default-src 'self'; img-src 'self' data:");
+  r.set_header("Content-Security-Policy",
+               "default-src 'self'; img-src 'self' data:; frame-ancestors 'none'; "
+               "base-uri 'none'; form-action 'self'");
   return r;
+}
+
+// Descriptors the server needs besides connections: the standard streams, the event loop's, each
+// kernel's lexicon store (file, WAL and its index), the accounts store, the recording's files,
+// the page's files while read, and the spare kept for refusing at EMFILE.
+constexpr std::size_t kDescriptorsBesideConnections = 64;
+constexpr std::size_t kDescriptorsPerKernel = 4;
+
+// Raises the descriptor limit to its hard limit (a server should not fail at the common
+// `ulimit -n 1024` when the system allows more) and returns it (docs/studio.md §2).
+std::size_t raise_descriptor_limit() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return 1024;
+  if (limit.rlim_cur < limit.rlim_max) {
+    rlimit raised = limit;
+    raised.rlim_cur = limit.rlim_max;
+    if (::setrlimit(RLIMIT_NOFILE, &raised) == 0) limit = raised;
+  }
+  return limit.rlim_cur == RLIM_INFINITY ? std::size_t{1} << 20
+                                         : static_cast<std::size_t>(limit.rlim_cur);
 }
 
 }  // namespace
@@ -44,6 +68,7 @@ struct Server::Impl {
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
   std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §7)
   std::unique_ptr<Scheduler> scheduler;   // destroyed first: its workers use the api
+  std::size_t connection_cap = 0;         ///< serve.max_connections, lowered to fit the descriptors
 
   void add_routes() {
     Api* a = api.get();
@@ -67,11 +92,11 @@ struct Server::Impl {
     if (sempre) {
       // On the plain kernel's worker, one request at a time per sessionId, never on the I/O
       // thread (docs/sempre.md, docs/studio.md §5).
-      auto answer = [a, s = sempre.get()](const HttpRequest& r, const Respond& done) {
+      auto answer = [this, a, s = sempre.get()](const HttpRequest& r, const Respond& done) {
         a->run_on_plain_kernel(
             "sempre:" + r.param("sessionId"),
-            [s, r] {
-              return s->handle({r.method, r.raw_query});
+            [s, r, own = hosts.allows_origin(r)] {
+              return s->handle({r.method, r.raw_query, r.peer, r.origin, own});
             },
             done);
       };
@@ -118,8 +143,18 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   TransportOptions t;
   t.request_timeout_ms = m.options.request_timeout_ms;
   t.idle_timeout_ms = m.options.idle_timeout_ms;
-  t.max_connections = m.options.max_connections;
+  // The connection cap stays below the descriptor limit, so a flood meets a 503, never EMFILE.
+  const std::size_t descriptors = raise_descriptor_limit();
+  const std::size_t needed =
+      kDescriptorsBesideConnections + kDescriptorsPerKernel * m.api->kernel_count();
+  if (descriptors <= needed + 1)
+    throw sdk::Error(sdk::codes::kBadConfig,
+                     "the descriptor limit (" + std::to_string(descriptors) +
+                         ", ulimit -n) leaves no room for connections: raise it");
+  t.max_connections = std::min(m.options.max_connections, descriptors - needed);
+  m.connection_cap = t.max_connections;
   t.max_connections_per_address = m.options.max_connections_per_address;
+  t.max_connections_per_subnet = m.options.max_connections_per_subnet;
   t.max_request_bytes = m.options.max_request_bytes;
   m.transport = std::make_unique<HttpTransport>(t, m.router);
   if (m.options.sempre) m.sempre = std::make_unique<SempreEndpoint>(*m.api, m.options);
@@ -136,6 +171,10 @@ Server::~Server() {
 
 const ServeOptions& Server::options() const {
   return impl_->options;
+}
+
+std::size_t Server::connection_cap() const {
+  return impl_->connection_cap;
 }
 
 int Server::bind() {

@@ -7,6 +7,7 @@
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "http_types.hpp"
 
 namespace flipper::studio {
 namespace fs = std::filesystem;
@@ -35,6 +36,15 @@ bool path_inside(const std::string& path, const std::string& root) {
   return true;
 }
 
+namespace {
+
+// The error as a client may see it: no server path (docs/studio.md §2 "Messages").
+sdk::Error client_error(const sdk::Error& e) {
+  return sdk::Error(e.code(), without_paths(e.what()));
+}
+
+}  // namespace
+
 void StudioOps::install(Session& session) {
   // Every op reports whether it ran and what it threw (the HTTP status depends on the code).
   for (const auto& name : session.op_names()) {
@@ -45,7 +55,7 @@ void StudioOps::install(Session& session) {
         inner(s, r, a);
       } catch (const sdk::Error& e) {
         error_code_ = e.code();
-        throw;
+        throw client_error(e);
       }
     });
   }
@@ -59,7 +69,7 @@ void StudioOps::install(Session& session) {
         (this->*method)(s, r, a, inner);
       } catch (const sdk::Error& e) {
         error_code_ = e.code();
-        throw;
+        throw client_error(e);
       }
     });
   };
@@ -89,8 +99,9 @@ void StudioOps::op_world(Session& s, const Json& req, JsonWriter& a,
     const fs::path file =
         fs::weakly_canonical(fs::path(context_.world_root) / req["file"].get<std::string>(), ec);
     if (ec || !path_inside(file.string(), context_.world_root))
-      throw sdk::Error("forbidden", "over HTTP a world file must lie in " + context_.world_root +
-                                        " (or send the world object in 'world')");
+      throw sdk::Error("forbidden",
+                       "over HTTP a world file must be one of the server's worlds (info.worlds), "
+                       "or send the world object in 'world'");
     resolved = req;
     resolved["file"] = file.string();
     forwarded = &resolved;

@@ -23,7 +23,7 @@ HttpReply no_study() {
 
 void StudyEndpoints::later(const std::string& key, std::function<HttpReply()> job,
                            const Respond& respond) {
-  auto work = [job = std::move(job), respond](int) { respond(job()); };
+  auto work = [job = std::move(job), respond](int) { respond(answer_or_failure(job)); };
   if (!scheduler_.submit(key, std::move(work)))
     respond(error_reply(429, "session_busy", "too many requests waiting"));
 }

@@ -127,7 +127,12 @@ ParamSchema build() {
   add(s, keys::kServeSessionIdleS);
   s.add_path("serve.web_dir", std::string(), "the page's files (empty: the installed ones)");
   s.add_path("serve.study", std::string(), "a study description (empty: no study)");
-  add(s, keys::kServeSempre);
+  s.add_bool(std::string(keys::kServeSempre.path), keys::kServeSempre.def,
+             "also answer the 2018 server's API at GET /sempre, to this page and "
+             "serve.sempre_origins (docs/sempre.md)");
+  s.add_string_list("serve.sempre_origins", {},
+                    "web origins ('http://host:port') whose pages may use /sempre besides the "
+                    "server's own; '*' every origin (docs/sempre.md)");
   s.add_string_list("serve.allowed_hosts", {},
                     "more Host names the server answers to ('name' or 'name:port')");
   s.add_path("serve.accounts", std::string(),
@@ -142,6 +147,14 @@ ParamSchema build() {
   add(s, keys::kServeNewSessionsPerMinute);
   add(s, keys::kServeMemoryBudgetMb);
   add(s, keys::kServeEvictAfterS);
+  s.add_int("serve.sessions_per_subnet", 128,
+            "open guest sessions per /24 (IPv4) or /64 (IPv6) subnet: 429 beyond", 1, 1000000);
+  s.add_int("serve.new_guests_per_minute", 600,
+            "new guest sessions per minute, all addresses together: 503 beyond", 1, 1000000);
+  s.add_int("serve.reserved_sessions_percent", 10,
+            "per cent of serve.max_sessions that only logged-in users may open", 0, 90);
+  s.add_int("serve.max_connections_per_subnet", 256,
+            "open connections per /24 (IPv4) or /64 (IPv6) subnet: 503 beyond", 1, 1000000);
   add(s, keys::kServeCpuMsPerS);
   add(s, keys::kServeCpuBurstMs);
   add(s, keys::kServeKernels);

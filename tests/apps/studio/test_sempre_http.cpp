@@ -55,8 +55,10 @@ TEST_CASE("/sempre is off by default and answers 404 like any unknown path") {
   CHECK(res->status == 404);
 }
 
-TEST_CASE("transport: CORS for any origin, JSON, pre-flights, ignored parameters, bad requests") {
-  StudioServer server(fresh_dir("sempre-transport"), kSempre);
+TEST_CASE(
+    "transport: CORS for listed origins, JSON, pre-flights, ignored parameters, bad requests") {
+  StudioServer server(fresh_dir("sempre-transport"),
+                      {"serve.sempre=true", "serve.sempre_origins=[http://localhost:3000]"});
   auto http = server.client();
   // The literal target a browser sends for (:q "move left"), with the optional parameters.
   SempreReply r = sempre_get_target(
@@ -64,7 +66,7 @@ TEST_CASE("transport: CORS for any origin, JSON, pre-flights, ignored parameters
       "/sempre?format=lisp2json&q=(%3Aq%20%22move%20left%22)&sessionId=k3j9x0a1bz&logging=0"
       "&cite=0&grammar=0&learn=0&stats=0");
   CHECK(r.status == 200);
-  CHECK(r.allow_origin == "*");
+  CHECK(r.allow_origin.empty());  // no browser: no CORS header needed
   CHECK(r.content_type.rfind("application/json", 0) == 0);
   CHECK(r.body["candidates"][0]["formula"] == "{move left}");
   // '+' is a space (form decoding, as the original), %2B a plus.
@@ -72,20 +74,25 @@ TEST_CASE("transport: CORS for any origin, JSON, pre-flights, ignored parameters
   CHECK(r.body["candidates"][0]["formula"] == "{move left}");
   // Text that does not start with "(:" is a query.
   CHECK(sempre_get(http, "move right", "k3").body["candidates"][0]["formula"] == "{move right}");
-  // A pre-flight from another origin is answered with the CORS headers and no body.
+  // A pre-flight from a listed origin is answered with the CORS headers (that origin) and no body.
   httplib::Headers preflight{{"Origin", "http://localhost:3000"},
                              {"Access-Control-Request-Method", "GET"}};
   auto res = http.Options("/sempre", preflight);
   REQUIRE(res);
   CHECK(res->status == 204);
-  CHECK(res->get_header_value("Access-Control-Allow-Origin") == "*");
+  CHECK(res->get_header_value("Access-Control-Allow-Origin") == "http://localhost:3000");
   CHECK(res->get_header_value("Access-Control-Allow-Methods").find("GET") != std::string::npos);
-  // A request from another origin is answered (that is the point), with the same header.
+  // A request from the listed origin is answered (that is the point), with the same header.
   res = http.Get(sempre_target("(:dictionary)", "k3").c_str(),
-                 httplib::Headers{{"Origin", "http://127.0.0.1:9"}});
+                 httplib::Headers{{"Origin", "http://localhost:3000"}});
   REQUIRE(res);
   CHECK(res->status == 200);
-  CHECK(res->get_header_value("Access-Control-Allow-Origin") == "*");
+  CHECK(res->get_header_value("Access-Control-Allow-Origin") == "http://localhost:3000");
+  // The server's own page (same origin) is answered too.
+  res = http.Get(sempre_target("(:dictionary)", "k3").c_str(),
+                 httplib::Headers{{"Origin", server.origin()}, {"Sec-Fetch-Site", "same-origin"}});
+  REQUIRE(res);
+  CHECK(res->status == 200);
   // Missing parameters, bad escapes, bad sessionIds and unknown commands: 400, a line saying
   // why, and still the answer's shape (a client reading `candidates` does not break).
   for (const std::string& target :
@@ -99,7 +106,7 @@ TEST_CASE("transport: CORS for any origin, JSON, pre-flights, ignored parameters
     INFO(target);
     r = sempre_get_target(http, target);
     CHECK(r.status == 400);
-    CHECK(r.allow_origin == "*");
+    CHECK(r.allow_origin.empty());  // a program: no CORS header
     REQUIRE(r.body["lines"].size() == 1);
     CHECK(r.body["candidates"] == json::array());
     CHECK(r.body["error"]["code"].is_string());
@@ -448,6 +455,45 @@ TEST_CASE("/sempre sessions are bounded by serve.max_sessions") {
   CHECK(r.status == 503);
   CHECK(r.body["error"]["code"] == "too_many_sessions");
   CHECK(sempre_get(http, "(:dictionary)", "a").status == 200);  // known ones go on
+}
+
+TEST_CASE("/sempre refuses other origins before running anything, and '*' opens it to all") {
+  StudioServer server(fresh_dir("sempre-origins"), kSempre);
+  auto http = server.client();
+  http.set_url_encode(false);  // the targets are encoded already
+  const std::string steps = json::array({json::array({"move up", "{move up}"})}).dump();
+  const std::string def = sempre_target("(:def \"hop\" " + json(steps).dump() + ")", "eve");
+  // A page of another origin (fetch sends Origin), or one that sends no Origin but is marked
+  // cross-site by the browser (an <img> or a link): 403, and the definition is not stored.
+  for (const httplib::Headers& h :
+       {httplib::Headers{{"Origin", "http://evil.example"}},
+        httplib::Headers{{"Origin", "http://127.0.0.1:9"}, {"Sec-Fetch-Site", "same-site"}},
+        httplib::Headers{{"Sec-Fetch-Site", "cross-site"}}}) {
+    auto res = http.Get(def.c_str(), h);
+    REQUIRE(res);
+    CHECK(res->status == 403);
+    CHECK(res->get_header_value("Access-Control-Allow-Origin").empty());
+    const json body = json::parse(res->body);
+    CHECK(body["error"]["code"] == "cross_origin");
+    CHECK(body.contains("candidates"));  // still the answer's shape
+  }
+  auto pre = http.Options("/sempre", httplib::Headers{{"Origin", "http://evil.example"},
+                                                      {"Access-Control-Request-Method", "GET"}});
+  REQUIRE(pre);
+  CHECK(pre->status == 403);
+  SempreReply d = sempre_get(http, "(:dictionary)", "eve");
+  CHECK(d.body["stats"]["dictionary"] == "[]");
+  // A program (no Origin, no fetch metadata) defines.
+  CHECK(sempre_get_target(http, def).body["stats"]["rules"] == 1);
+
+  StudioServer open(fresh_dir("sempre-open"), {"serve.sempre=true", "serve.sempre_origins=['*']"});
+  auto o = open.client();
+  o.set_url_encode(false);
+  auto res = o.Get(sempre_target("(:dictionary)", "x").c_str(),
+                   httplib::Headers{{"Origin", "http://evil.example"}});
+  REQUIRE(res);
+  CHECK(res->status == 200);
+  CHECK(res->get_header_value("Access-Control-Allow-Origin") == "http://evil.example");
 }
 
 TEST_CASE("serve.sempre with a study is a bad config") {

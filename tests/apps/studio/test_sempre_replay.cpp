@@ -43,6 +43,11 @@ std::vector<std::string> run_keys(const replay::Corpus& corpus, const replay::Ru
   std::vector<std::string> sets = replay::mode_overrides(run.group);
   sets.push_back("induction.generalize=false");
   sets.push_back("serve.sempre=true");
+  // Every logged sessionId comes from this one address, as fast as the server answers.
+  for (const char* key : {"serve.sessions_per_address", "serve.new_sessions_per_minute",
+                          "serve.new_guests_per_minute", "serve.sessions_per_subnet",
+                          "serve.rate_per_second", "serve.rate_burst"})
+    sets.push_back(std::string(key) + "=100000");
   const auto preloaded = corpus.preloaded(run.source);
   if (run.group == "C" && !preloaded.empty()) {
     const std::string file = dir + "/preload.jsonl";
@@ -172,7 +177,10 @@ TEST_CASE("definitions from history induce the same rules through /sempre and /a
     return std::make_pair((*a)["source"].get<std::string>(), (*a)["line"].get<int>()) <
            std::make_pair((*b)["source"].get<std::string>(), (*b)["line"].get<int>());
   });
-  StudioServer sempre(fresh_dir("sempre-defs"), {"serve.sempre=true"});
+  StudioServer sempre(fresh_dir("sempre-defs"),
+                      {"serve.sempre=true", "serve.sessions_per_address=100000",
+                       "serve.new_sessions_per_minute=100000", "serve.rate_per_second=100000",
+                       "serve.rate_burst=100000"});
   StudioServer api(fresh_dir("api-defs"));
   auto s = sempre.client(), a = api.client();
   const std::string session = studiotest::new_session(a);

@@ -33,8 +33,10 @@ function startStatic() {
 }
 
 run(async () => {
-  const flipper = await startServer(opt.flipper, ['serve.sempre=true']);
   const statics = await startStatic();
+  // The client's page is another origin: listed in serve.sempre_origins (docs/sempre.md).
+  const flipper = await startServer(opt.flipper, ['serve.sempre=true',
+    `serve.sempre_origins=[http://127.0.0.1:${statics.address().port}]`]);
   const browser = await launchBrowser();
   try {
     const api = flipper.url.replace(/\/$/, '');

@@ -55,19 +55,26 @@ std::string accounts_path(const kernel::Config& config);
 
 class AccountStore {
  public:
-  /// Opens (creating, mode 0600) the store. Throws sdk::Error(bad_accounts) naming the file.
+  /// Opens (creating, mode 0600, its missing folders 0700) the store. A store that exists but
+  /// cannot be written is opened for reading: logins resume, every write throws read_only.
+  /// Throws sdk::Error(bad_accounts) naming the file.
   explicit AccountStore(const std::string& path);
   ~AccountStore();
   AccountStore(const AccountStore&) = delete;
   AccountStore& operator=(const AccountStore&) = delete;
 
   const std::string& path() const;
+  /// Opened for reading only (a read-only file, folder or file system, or a full disk).
+  bool read_only() const;
 
   /// Adds an account. An empty password: the account logs in with codes only. Throws
   /// sdk::Error: bad_name, weak_password, account_exists.
   void add(const std::string& name, const std::string& password, Role role);
-  /// Throws no_such_account, weak_password.
-  void set_password(const std::string& name, const std::string& password);
+  /// Sets the password and ends every login of the account (its open sessions need a new
+  /// login). The number of logins ended. Throws no_such_account, weak_password.
+  int set_password(const std::string& name, const std::string& password);
+  /// Sets the role and ends every login of the account, as set_password.
+  int set_role(const std::string& name, Role role);
   /// Removes the account, its codes and logins (its rules stay, under its name, which stays
   /// taken: see add). Returns false when there is no such account.
   bool remove(const std::string& name);
@@ -91,7 +98,8 @@ class AccountStore {
   /// Revokes every login of `name`; the number revoked.
   int revoke(const std::string& name);
 
-  /// "guest-N" with an N this store never gave before (kept across restarts).
+  /// "guest-N" with an N this store never gave before (kept across restarts); on a read-only
+  /// store "guest-r" and 16 random hex digits.
   std::string next_guest();
 
  private:

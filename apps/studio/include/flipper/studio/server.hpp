@@ -30,6 +30,8 @@ struct ServeOptions {
   std::string web_dir;  ///< empty: found next to the binary or in the source tree
   std::string study;    ///< a study description file (empty: no study mode)
   bool sempre = kernel::keys::kServeSempre.def;  ///< also answer GET /sempre (docs/sempre.md)
+  /// Origins whose pages may use /sempre besides the server's own ("*": every origin).
+  std::vector<std::string> sempre_origins;
   // Names and accounts (docs/accounts.md, docs/studio.md §3).
   std::vector<std::string> allowed_hosts;
   std::string accounts;  ///< the accounts store (accounts_path())
@@ -47,6 +49,11 @@ struct ServeOptions {
   int new_sessions_per_minute = static_cast<int>(kernel::keys::kServeNewSessionsPerMinute.def);
   std::size_t memory_budget_mb = static_cast<std::size_t>(kernel::keys::kServeMemoryBudgetMb.def);
   int evict_after_s = static_cast<int>(kernel::keys::kServeEvictAfterS.def);
+  // Admission from many addresses (docs/studio.md §4 "Admission"; keys in kernel/config).
+  std::size_t sessions_per_subnet = 128;       ///< guest sessions per /24 or /64
+  int new_guests_per_minute = 600;             ///< new guest sessions, all addresses together
+  std::size_t reserved_sessions_percent = 10;  ///< of max_sessions, for logged-in users
+  std::size_t max_connections_per_subnet = 256;
   // Fairness (docs/studio.md §5).
   int cpu_ms_per_s = static_cast<int>(kernel::keys::kServeCpuMsPerS.def);
   int cpu_burst_ms = static_cast<int>(kernel::keys::kServeCpuBurstMs.def);
@@ -78,6 +85,9 @@ class Server {
   void listen();
   void stop();
   const ServeOptions& options() const;
+  /// The connections served at once: serve.max_connections, lowered to fit the descriptor
+  /// limit (raised to its hard limit at start; docs/studio.md §2).
+  std::size_t connection_cap() const;
 
  private:
   struct Impl;
