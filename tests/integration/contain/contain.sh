@@ -9,7 +9,11 @@
 # 2. a run killed while running leaves `latest` where it was (its manifest is not final);
 # 3. replay, --jobs 1 and --jobs 2: the crashing and hanging variants are listed as failed with
 #    their cause, the healthy variant's figures equal a run of it alone;
-# 4. --jobs 0 is refused (exit 2) by both.
+# 4. the manifest says what ran: the source tree's commit and dirty state as git says them now
+#    (not as they were at build time), the library versions as pkg-config says them, the Python
+#    and matplotlib that drew the plots, and an out-of-tree `astar` that shadows the in-tree one
+#    flagged with the file it hides;
+# 5. --jobs 0 is refused (exit 2) by both.
 # Usage: contain.sh <source dir> <build dir>
 set -euo pipefail
 src=$(cd "$1" && pwd -P)
@@ -201,7 +205,63 @@ PY
 grep -q "^flipper replay: variant segv: plugin_crashed: plugin 'evil_planner'" "$tmp/replay1.err" ||
   fail "replay does not name the crashed variant on stderr"
 
-echo "== 4. --jobs 0 is refused"
+echo "== 4. the manifest says what ran: source tree now, libraries, plugin origins, plot versions"
+mkdir -p "$tmp/shadow"
+cp "$build/plugins/astar.so" "$build/plugins/astar.flipper.yaml" "$tmp/shadow/"
+cat >"$tmp/shadow.yaml" <<EOF
+name: shadow
+plugin_paths: [$tmp/shadow]
+worlds:
+  - {name: maze, plugin: grid2d, file: $data/maze.json, tasks: {file: $data/maze-tasks.yaml}}
+planners:
+  - {plugin: astar}
+EOF
+"$flipper" bench planners --experiment "$tmp/shadow.yaml" --out "$tmp/shadow-runs" --jobs 1 \
+  >/dev/null 2>&1 || fail "the shadowing run failed"
+# Independent oracles: git now, pkg-config, the Python that draws plots.
+commit=$(git -C "$src" rev-parse HEAD 2>/dev/null || echo unknown)
+if [[ $commit == unknown ]]; then
+  dirty=unknown
+elif [[ -z $(git -C "$src" status --porcelain --untracked-files=no) ]]; then
+  dirty=no
+else
+  dirty=yes
+fi
+versions=""
+for m in ompl fcl octomap eigen3 sqlite3; do versions+="$m=$(pkg-config --modversion $m) "; done
+python=$(/usr/bin/python3 -c 'import sys, matplotlib; print(sys.version.split()[0], matplotlib.__version__)' \
+  2>/dev/null || echo none)
+python3 - "$tmp/shadow-runs/latest" "$commit" "$dirty" "$versions" "$python" \
+  "$(readlink -f "$build/plugins/astar.so")" "$tmp/shadow/astar.so" <<'PY'
+import json, os, sys
+run, commit, dirty, versions, python, intree, shadow = sys.argv[1:8]
+def fail(msg):
+    print("FAILED:", msg); sys.exit(1)
+m = json.load(open(os.path.join(run, "manifest.json")))
+src = m["source"]
+if (src["commit"], src["dirty"]) != (commit, dirty): fail("source %s, git says %s %s" % (src, commit, dirty))
+libs = m["build"]["libraries"]
+names = {"ompl": "ompl", "fcl": "fcl", "octomap": "octomap", "eigen3": "eigen", "sqlite3": "sqlite"}
+for pair in versions.split():
+    pkg, version = pair.split("=")
+    if libs[names[pkg]] != version: fail("%s %s, pkg-config says %s" % (pkg, libs[names[pkg]], version))
+if not libs["compiler"].startswith(("GNU ", "Clang ")): fail("compiler %s" % libs["compiler"])
+planner = [p for p in m["cells"][0]["plugins"] if p["section"] == "planner"][0]
+if planner["file"] != os.path.realpath(shadow): fail("astar loaded from %s" % planner["file"])
+if planner["origin"]["in_tree"] or planner["origin"]["shadows"] != [intree]:
+    fail("the shadowing astar is not flagged: %s" % planner["origin"])
+world = [p for p in m["cells"][0]["plugins"] if p["section"] == "world"][0]
+if world["origin"] != {"dir": os.path.dirname(intree), "in_tree": True, "shadows": []}:
+    fail("grid2d origin %s" % world["origin"])
+if python != "none":
+    if m["plots"]["status"] != "drawn": fail("plots %s" % m["plots"])
+    v = m["plots"]["versions"]
+    if "%s %s" % (v["python_version"], v["matplotlib"]) != python:
+        fail("plot versions %s, not %s" % (v, python))
+print("manifest: ok")
+PY
+
+echo "== 5. --jobs 0 is refused"
 for cmd in "bench planners --experiment $tmp/bench.yaml" "replay --experiment $tmp/plain.yaml"; do
   status=0
   $flipper $cmd --out "$tmp/zero" --jobs 0 >"$tmp/zero.out" 2>&1 || status=$?
