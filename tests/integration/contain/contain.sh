@@ -13,7 +13,9 @@
 #    (not as they were at build time), the library versions as pkg-config says them, the Python
 #    and matplotlib that drew the plots, and an out-of-tree `astar` that shadows the in-tree one
 #    flagged with the file it hides;
-# 5. --jobs 0 is refused (exit 2) by both.
+# 5. `bench planners resume` finishes an interrupted run in its folder: rows kept (a row cut short
+#    dropped), a changed input refused, the rest run as the rules say, `latest` moved at the end;
+# 6. --jobs 0 is refused (exit 2) by both.
 # Usage: contain.sh <source dir> <build dir>
 set -euo pipefail
 src=$(cd "$1" && pwd -P)
@@ -261,7 +263,71 @@ if python != "none":
 print("manifest: ok")
 PY
 
-echo "== 5. --jobs 0 is refused"
+echo "== 5. an interrupted run resumes in its own folder"
+cp "$data/maze-tasks.yaml" "$tmp/tasks.yaml"
+cat >"$tmp/resume.yaml" <<EOF
+name: resume
+plugin_paths: [$evil]
+kill_after_s: 2
+worlds:
+  - {name: maze, plugin: grid2d, file: $data/maze.json, tasks: {file: $tmp/tasks.yaml}}
+planners:
+  - {plugin: astar}
+  - {name: hang, plugin: evil_planner, params: {mode: hang, on_call: 2}}
+  - {name: good, plugin: evil_planner, params: {mode: ok}}
+EOF
+setsid "$flipper" bench planners --experiment "$tmp/resume.yaml" --out "$tmp/resume" --jobs 1 \
+  --no-plots >/dev/null 2>&1 &
+pid=$!
+# Interrupt it (the command and its cells) while its `hang` cell hangs on its second task.
+for _ in $(seq 1 300); do
+  [[ $(cat "$tmp"/resume/resume-*/cells/1.csv 2>/dev/null | wc -l) -ge 1 ]] && break
+  sleep 0.1
+done
+kill -KILL -- "-$pid"
+wait "$pid" 2>/dev/null || true
+run=$(echo "$tmp"/resume/resume-*)
+[[ -d $run/cells && ! -e $tmp/resume/latest ]] || fail "the interrupted run: no cells, or latest set"
+grep -q '"status": "running"' "$run/manifest.json" || fail "the interrupted run's manifest is not running"
+printf 'maze,astar,cut short' >>"$run/cells/0.csv"  # a row cut by the interruption
+echo "# changed" >>"$tmp/tasks.yaml"
+status=0
+"$flipper" bench planners resume "$run" --no-plots >"$tmp/resume.out" 2>&1 || status=$?
+[[ $status == 2 ]] && grep -q "tasks maze '$tmp/tasks.yaml' changed since the run started" "$tmp/resume.out" ||
+  fail "resume with a changed task file: exit $status, $(cat "$tmp/resume.out")"
+cp "$data/maze-tasks.yaml" "$tmp/tasks.yaml"
+status=0
+"$flipper" bench planners resume "$run" --jobs 2 --no-plots >/dev/null 2>&1 || status=$?
+[[ $status == 1 ]] || fail "resume exited $status, not 1 (two tasks lost)"
+[[ $(readlink "$tmp/resume/latest") == "$(basename "$run")" ]] || fail "latest not moved after resume"
+python3 - "$run" "$tmp/bench1" <<'PY'
+import csv, json, os, sys
+run, clean = sys.argv[1], sys.argv[2]
+def fail(msg):
+    print("FAILED:", msg); sys.exit(1)
+keep = ("planner", "task", "status", "success", "length", "cause")
+rows = [tuple(r[k] for k in keep) for r in csv.DictReader(open(os.path.join(run, "runs.csv")))]
+latest = os.path.join(clean, "latest")
+ref = [tuple(r[k] for k in keep) for r in csv.DictReader(open(os.path.join(latest, "runs.csv")))
+       if r["planner"] in ("astar", "good")]
+# astar and good as in an uninterrupted run; `hang` by hand: corner done before the
+# interruption, then a new process from `around` (its count starts again): around ok, back hangs,
+# pocket ok (new process), cut_off hangs.
+hang = [r for r in rows if r[0] == "hang"]
+if [r[:3] for r in hang] != [("hang", "corner", "found"), ("hang", "around", "found"),
+                             ("hang", "back", "wall_backstop"), ("hang", "pocket", "found"),
+                             ("hang", "cut_off", "wall_backstop")]:
+    fail("hang rows after resume: %s" % hang)
+if [r for r in rows if r[0] != "hang"] != ref: fail("astar/good rows after resume differ")
+m = json.load(open(os.path.join(run, "manifest.json")))
+if m["status"] != "partial" or [(f["task"], f["status"]) for f in m["failed"]] != [
+        ("back", "wall_backstop"), ("cut_off", "wall_backstop")]:
+    fail("resumed manifest %s %s" % (m["status"], m["failed"]))
+if os.path.exists(os.path.join(run, "cells")): fail("cells/ left behind")
+print("resume: ok")
+PY
+
+echo "== 6. --jobs 0 is refused"
 for cmd in "bench planners --experiment $tmp/bench.yaml" "replay --experiment $tmp/plain.yaml"; do
   status=0
   $flipper $cmd --out "$tmp/zero" --jobs 0 >"$tmp/zero.out" 2>&1 || status=$?

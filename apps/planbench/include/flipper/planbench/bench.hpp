@@ -25,6 +25,9 @@ struct BenchOptions {
   std::string out;                     ///< parent of the run folder
   int jobs = 1;
   bool plots = true;
+  /// A run folder to resume (`bench planners resume`): its cells' rows are kept, each cell goes
+  /// on from its first task without a row. "" : a new run under `out`.
+  std::string resume;
   /// Called as cells finish (done, total); a cell that lost a task counts when its last process
   /// ends. Nothing when unset.
   std::function<void(std::size_t, std::size_t)> progress;
@@ -39,5 +42,10 @@ struct BenchResult {
 };
 
 BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options);
+
+/// Resumes an interrupted run (manifest `status: running`, written when it started): the
+/// experiment file, worlds and task files must have the checksums the manifest recorded (else
+/// sdk::Error(bad_request) naming the file); its --config and --set are the recorded ones.
+BenchResult resume_bench(const std::string& run_dir, int jobs, bool plots);
 
 }  // namespace flipper::planbench
