@@ -15,6 +15,7 @@
 #include "flipper/planbench/bench.hpp"
 #include "flipper/planbench/experiment.hpp"
 #include "flipper/planbench/summary.hpp"
+#include "flipper/record/compare.hpp"
 #include "flipper/record/processes.hpp"
 #include "flipper/record/run_folder.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -175,8 +176,31 @@ void add_planners(CLI::App& bench) {
           !resume_no_plots, "");
     });
   });
+  auto* compare = cmd->add_subcommand(
+      "compare",
+      "Two benchmark runs side by side: each cell's figures (over seeds where there are)");
+  static std::string compare_a, compare_b;
+  static bool compare_all = false;
+  compare->add_option("run_a", compare_a, "Run A")->required();
+  compare->add_option("run_b", compare_b, "Run B")->required();
+  compare->add_flag("--all", compare_all, "List every figure, not only those that differ");
+  on_run(*compare, [] {
+    return guarded("bench planners compare", [] {
+      for (const auto* folder : {&compare_a, &compare_b})
+        if (!record::is_run_folder(*folder))
+          throw sdk::Error(sdk::codes::kBadRequest, "'" + *folder + "' is not a run folder");
+      record::ComparisonCounts counts;
+      std::cout << record::compare_runs(record::read_run_figures(compare_a),
+                                        record::read_run_figures(compare_b), compare_all, &counts);
+      if (counts.compared == 0) {
+        std::cerr << "flipper bench planners compare: nothing compared (the runs share no cell)\n";
+        return kExitFailed;
+      }
+      return kExitOk;
+    });
+  });
   on_run(*cmd, [cmd] {
-    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot, resume
+    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot, resume, compare
     return guarded("bench planners", [] { return run_planner_bench(opts, args); });
   });
 }

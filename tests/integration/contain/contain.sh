@@ -15,7 +15,10 @@
 #    flagged with the file it hides;
 # 5. `bench planners resume` finishes an interrupted run in its folder: rows kept (a row cut short
 #    dropped), a changed input refused, the rest run as the rules say, `latest` moved at the end;
-# 6. --jobs 0 is refused (exit 2) by both.
+# 6. `runs list` shows the finished and the killed run, `runs show` the lost tasks, and
+#    `bench planners compare` finds no difference between --jobs 1 and 2 and says when two runs
+#    share nothing (exit 1);
+# 7. --jobs 0 is refused (exit 2) by both.
 # Usage: contain.sh <source dir> <build dir>
 set -euo pipefail
 src=$(cd "$1" && pwd -P)
@@ -327,7 +330,30 @@ if os.path.exists(os.path.join(run, "cells")): fail("cells/ left behind")
 print("resume: ok")
 PY
 
-echo "== 6. --jobs 0 is refused"
+echo "== 6. runs list|show, bench planners compare"
+"$flipper" runs list "$tmp/bench1" >"$tmp/list.out"
+cat "$tmp/list.out"
+grep -q "^| bench-[0-9-]* (latest) | planner-benchmark | partial | .* | containment | 5 | " "$tmp/list.out" ||
+  fail "runs list: the finished run"
+grep -q "^| bench-[0-9-]* | planner-benchmark | running | .* | containment | 0 | " "$tmp/list.out" ||
+  fail "runs list: the killed run"
+grep -q "^2 run(s) in " "$tmp/list.out" || fail "runs list: count"
+"$flipper" runs show "$tmp/bench1/latest" >"$tmp/show.out"
+grep -q "^status: partial$" "$tmp/show.out" && grep -q "^lost: 5$" "$tmp/show.out" &&
+  grep -q "^  segv on maze, task around: plugin_crashed: plugin 'evil_planner'" "$tmp/show.out" ||
+  fail "runs show: $(cat "$tmp/show.out")"
+status=0
+"$flipper" runs show "$tmp/bench1" >/dev/null 2>&1 || status=$?
+[[ $status == 2 ]] || fail "runs show of a parent exited $status, not 2"
+"$flipper" bench planners compare "$tmp/bench1/latest" "$tmp/bench2/latest" >"$tmp/cmp.out" ||
+  fail "compare of two runs of one experiment failed"
+grep -q "^0 of [1-9][0-9]* figures differ" "$tmp/cmp.out" || fail "compare: $(tail -2 "$tmp/cmp.out")"
+status=0
+"$flipper" bench planners compare "$tmp/bench1/latest" "$tmp/replay1/latest" >"$tmp/cmp.out" 2>&1 ||
+  status=$?
+[[ $status == 1 ]] && grep -q "^Nothing compared" "$tmp/cmp.out" || fail "compare of unrelated runs: $status"
+
+echo "== 7. --jobs 0 is refused"
 for cmd in "bench planners --experiment $tmp/bench.yaml" "replay --experiment $tmp/plain.yaml"; do
   status=0
   $flipper $cmd --out "$tmp/zero" --jobs 0 >"$tmp/zero.out" 2>&1 || status=$?
