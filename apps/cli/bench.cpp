@@ -176,6 +176,21 @@ void add_planners(CLI::App& bench) {
           !resume_no_plots, "");
     });
   });
+  auto* check = cmd->add_subcommand(
+      "check", "Re-run a benchmark run from its manifest and report every figure that differs");
+  static std::string check_run, check_out;
+  static int check_jobs_n = -1;
+  check->add_option("run", check_run, "The run folder")->required();
+  check->add_option("--jobs", check_jobs_n, "Cells in parallel processes (default: the cores)");
+  check->add_option("--out", check_out, "Keep the re-run under this folder (default: removed)");
+  on_run(*check, [] {
+    return guarded("bench planners check", [] {
+      const auto r = planbench::check_bench(check_run, check_jobs(check_jobs_n), check_out);
+      std::cout << r.text;
+      if (!r.rerun.empty()) std::cout << "re-run: " << r.rerun << "\n";
+      return r.differing > 0 || r.compared == 0 ? kExitFailed : kExitOk;
+    });
+  });
   auto* compare = cmd->add_subcommand(
       "compare",
       "Two benchmark runs side by side: each cell's figures (over seeds where there are)");
@@ -200,7 +215,7 @@ void add_planners(CLI::App& bench) {
     });
   });
   on_run(*cmd, [cmd] {
-    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot, resume, compare
+    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot, resume, check, compare
     return guarded("bench planners", [] { return run_planner_bench(opts, args); });
   });
 }

@@ -1,7 +1,9 @@
 // Running a planner benchmark into a run folder (docs/planners.md §5).
 #include "flipper/planbench/bench.hpp"
 
+#include <stdlib.h>
 #include <algorithm>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,7 @@
 #include "flipper/planbench/measure.hpp"
 #include "flipper/planbench/summary.hpp"
 #include "flipper/planbench/tasks.hpp"
+#include "flipper/record/compare.hpp"
 #include "flipper/record/csv.hpp"
 #include "flipper/record/manifest.hpp"
 #include "flipper/record/out_file.hpp"
@@ -459,21 +462,26 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
        {"started", started},
        {"finished", record::utc_now()},
        {"experiment", experiment_json(e)},
+       {"options",
+        {{"config", options.config}, {"overrides", options.overrides}, {"plots", options.plots}}},
        {"inputs", inputs},
        {"cells", cell_list}});
   record::mark_latest(result.run_dir);
   return result;
 }
 
-BenchResult resume_bench(const std::string& run_dir, int jobs, bool plots) {
-  const nlohmann::json m = record::read_manifest(run_dir);
+namespace {
+
+// A recorded benchmark run and what re-running it needs: its manifest, with every input checked
+// against the checksum it had (the rows came from those files), and the options it ran with.
+nlohmann::json recorded_run(const std::string& run_dir, const std::string& what) {
+  nlohmann::json m = record::read_manifest(run_dir);
   if (m.value("kind", std::string()) != "planner-benchmark")
     throw sdk::Error(sdk::codes::kBadRequest, "'" + run_dir + "' is not a planner benchmark run");
-  if (m.value("status", std::string()) != "running" || !fs::is_directory(run_dir + "/cells"))
-    throw sdk::Error(sdk::codes::kBadRequest,
-                     "'" + run_dir + "' finished (status " + m.value("status", std::string("?")) +
-                         "): only an interrupted run (status running) is resumed");
-  // The inputs must be those the run started with: the rows kept came from them.
+  if (!m.contains("options"))
+    throw sdk::Error(
+        sdk::codes::kBadRequest,
+        "'" + run_dir + "' records no options (made by an older flipper): cannot " + what + " it");
   for (const auto& f : m.value("inputs", nlohmann::json::array())) {
     const std::string path = f.at("path").get<std::string>();
     std::error_code ec;
@@ -481,21 +489,68 @@ BenchResult resume_bench(const std::string& run_dir, int jobs, bool plots) {
         fs::is_regular_file(path, ec) ? record::file_json("", path).value("sha256", "") : "";
     if (now != f.value("sha256", std::string()))
       throw sdk::Error(sdk::codes::kBadRequest,
-                       "cannot resume '" + run_dir + "': " + f.value("role", std::string()) + " '" +
-                           path + "' " + (now.empty() ? "is gone" : "changed") +
+                       "cannot " + what + " '" + run_dir + "': " + f.value("role", std::string()) +
+                           " '" + path + "' " + (now.empty() ? "is gone" : "changed") +
                            " since the run started (recorded sha256 " +
                            f.value("sha256", std::string()).substr(0, 12) + "…)");
   }
+  return m;
+}
+
+BenchOptions recorded_options(const nlohmann::json& m, const std::string& out, int jobs,
+                              bool plots) {
   const nlohmann::json o = m.value("options", nlohmann::json::object());
   BenchOptions options;
   options.config = o.value("config", std::string());
   options.overrides = o.value("overrides", std::vector<std::string>());
-  options.out = fs::path(run_dir).lexically_normal().parent_path().string();
+  options.out = out;
   options.jobs = jobs;
   options.plots = plots;
+  return options;
+}
+
+}  // namespace
+
+BenchResult resume_bench(const std::string& run_dir, int jobs, bool plots) {
+  const nlohmann::json m = recorded_run(run_dir, "resume");
+  if (m.value("status", std::string()) != "running" || !fs::is_directory(run_dir + "/cells"))
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "'" + run_dir + "' finished (status " + m.value("status", std::string("?")) +
+                         "): only an interrupted run (status running) is resumed");
+  BenchOptions options =
+      recorded_options(m, fs::path(run_dir).lexically_normal().parent_path().string(), jobs, plots);
   options.resume = run_dir;
   return run_bench(load_bench_experiment(m.at("experiment").at("file").get<std::string>()),
                    options);
+}
+
+BenchCheck check_bench(const std::string& run_dir, int jobs, const std::string& keep_under) {
+  const nlohmann::json m = recorded_run(run_dir, "check");
+  if (m.value("status", std::string()) == "running")
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "'" + run_dir + "' has not finished (status running): resume it first");
+  std::string parent = keep_under;
+  if (parent.empty()) {
+    std::string pattern = (fs::temp_directory_path() / "flipper-check-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr)
+      throw sdk::Error(sdk::codes::kWriteFailed, "cannot make a temporary folder for the check");
+    parent = pattern;
+  }
+  BenchCheck out;
+  const BenchResult again =
+      run_bench(load_bench_experiment(m.at("experiment").at("file").get<std::string>()),
+                recorded_options(m, parent, jobs, false));
+  record::ComparisonCounts counts;
+  out.text = record::compare_runs(record::read_run_figures(run_dir),
+                                  record::read_run_figures(again.run_dir), false, &counts);
+  out.compared = counts.compared;
+  out.differing = counts.differing;
+  out.rerun = keep_under.empty() ? std::string() : again.run_dir;
+  if (keep_under.empty()) {
+    std::error_code ec;
+    fs::remove_all(parent, ec);
+  }
+  return out;
 }
 
 }  // namespace flipper::planbench

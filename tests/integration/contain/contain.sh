@@ -15,9 +15,10 @@
 #    flagged with the file it hides;
 # 5. `bench planners resume` finishes an interrupted run in its folder: rows kept (a row cut short
 #    dropped), a changed input refused, the rest run as the rules say, `latest` moved at the end;
-# 6. `runs list` shows the finished and the killed run, `runs show` the lost tasks, and
+# 6. `runs list` shows the finished and the killed run, `runs show` the lost tasks,
 #    `bench planners compare` finds no difference between --jobs 1 and 2 and says when two runs
-#    share nothing (exit 1);
+#    share nothing (exit 1), `bench planners check` re-runs a run from its manifest: no
+#    difference, then a figure changed by hand named (exit 1);
 # 7. --jobs 0 is refused (exit 2) by both.
 # Usage: contain.sh <source dir> <build dir>
 set -euo pipefail
@@ -330,7 +331,7 @@ if os.path.exists(os.path.join(run, "cells")): fail("cells/ left behind")
 print("resume: ok")
 PY
 
-echo "== 6. runs list|show, bench planners compare"
+echo "== 6. runs list|show, bench planners compare and check"
 "$flipper" runs list "$tmp/bench1" >"$tmp/list.out"
 cat "$tmp/list.out"
 grep -q "^| bench-[0-9-]* (latest) | planner-benchmark | partial | .* | containment | 5 | " "$tmp/list.out" ||
@@ -352,6 +353,16 @@ status=0
 "$flipper" bench planners compare "$tmp/bench1/latest" "$tmp/replay1/latest" >"$tmp/cmp.out" 2>&1 ||
   status=$?
 [[ $status == 1 ]] && grep -q "^Nothing compared" "$tmp/cmp.out" || fail "compare of unrelated runs: $status"
+
+"$flipper" bench planners check "$tmp/shadow-runs/latest" --jobs 2 >"$tmp/check.out" ||
+  fail "check of an unchanged run: $(cat "$tmp/check.out")"
+grep -q "^0 of [1-9][0-9]* figures differ" "$tmp/check.out" || fail "check: $(tail -2 "$tmp/check.out")"
+sed -i 's/^"world=maze,planner=astar",ours,all,solved,5,/"world=maze,planner=astar",ours,all,solved,4,/' \
+  "$tmp/shadow-runs/latest/figures.csv"
+status=0
+"$flipper" bench planners check "$tmp/shadow-runs/latest" >"$tmp/check.out" || status=$?
+[[ $status == 1 ]] && grep -q "^| ours / all / solved (plans) | 4 | 5 | +1 |" "$tmp/check.out" &&
+  grep -q "^1 of [1-9][0-9]* figures differ" "$tmp/check.out" || fail "check of a changed figure: $status"
 
 echo "== 7. --jobs 0 is refused"
 for cmd in "bench planners --experiment $tmp/bench.yaml" "replay --experiment $tmp/plain.yaml"; do

@@ -48,4 +48,15 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options);
 /// sdk::Error(bad_request) naming the file); its --config and --set are the recorded ones.
 BenchResult resume_bench(const std::string& run_dir, int jobs, bool plots);
 
+/// A re-run of a finished run compared with it.
+struct BenchCheck {
+  std::string text;                         ///< the comparison (record/compare.hpp), Markdown
+  std::size_t compared = 0, differing = 0;  ///< deterministic figures (timing ones never count)
+  std::string rerun;                        ///< the re-run's folder when kept, else ""
+};
+/// Re-runs a finished run from its manifest (inputs checksummed as for resume, its --config and
+/// --set) into a new run under `keep_under` (or a temporary folder, removed), and compares every
+/// deterministic figure (docs/planners.md §5).
+BenchCheck check_bench(const std::string& run_dir, int jobs, const std::string& keep_under);
+
 }  // namespace flipper::planbench
