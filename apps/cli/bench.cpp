@@ -15,6 +15,7 @@
 #include "flipper/planbench/bench.hpp"
 #include "flipper/planbench/experiment.hpp"
 #include "flipper/planbench/summary.hpp"
+#include "flipper/record/compare.hpp"
 #include "flipper/record/processes.hpp"
 #include "flipper/record/run_folder.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -77,6 +78,32 @@ class CellProgress {
   std::chrono::steady_clock::time_point start_;
 };
 
+// What a finished run says: where it is, its plots, its lost tasks (exit 1 when any).
+int finish_run(const planbench::BenchResult& result, bool plots, const std::string& print) {
+  std::ostream& summary = print.empty() ? std::cout : std::cerr;
+  summary << "planner benchmark: " << result.cells << " cells, " << result.runs
+          << " plans\nrun: " << result.run_dir << "\nreport: " << result.run_dir << "/report.md\n";
+  if (result.plots.status == record::PlotOutcome::Status::drawn)
+    std::cerr << result.plots.message;
+  else if (plots)
+    std::cerr << "flipper bench planners: note: " << result.plots.message << "\n";
+  if (!print.empty()) std::cout << print_tables(print, result.run_dir);
+  if (result.failures > 0) {
+    std::cerr << "flipper bench planners: " << result.failures
+              << " task(s) lost their process (run " << result.status
+              << "; see the manifest's `failed` list and report.md)\n";
+    return kExitFailed;
+  }
+  return kExitOk;
+}
+
+int check_jobs(int jobs) {
+  if (jobs != -1 && jobs < 1)
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "--jobs must be at least 1 (got " + std::to_string(jobs) + ")");
+  return jobs > 0 ? jobs : record::available_cores();
+}
+
 int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args) {
   if (args.experiment.empty())
     return report_error("bench planners", "usage",
@@ -99,22 +126,7 @@ int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args)
   options.jobs = args.jobs > 0 ? args.jobs : record::available_cores();
   options.plots = !args.no_plots;
   options.progress = CellProgress();
-  const auto result = planbench::run_bench(experiment, options);
-  std::ostream& summary = args.print.empty() ? std::cout : std::cerr;
-  summary << "planner benchmark: " << result.cells << " cells, " << result.runs
-          << " plans\nrun: " << result.run_dir << "\nreport: " << result.run_dir << "/report.md\n";
-  if (result.plots.status == record::PlotOutcome::Status::drawn)
-    std::cerr << result.plots.message;
-  else if (options.plots)
-    std::cerr << "flipper bench planners: note: " << result.plots.message << "\n";
-  if (!args.print.empty()) std::cout << print_tables(args.print, result.run_dir);
-  if (result.failures > 0) {
-    std::cerr << "flipper bench planners: " << result.failures
-              << " task(s) lost their process (run " << result.status
-              << "; see the manifest's `failed` list and report.md)\n";
-    return kExitFailed;
-  }
-  return kExitOk;
+  return finish_run(planbench::run_bench(experiment, options), options.plots, args.print);
 }
 
 void add_planners(CLI::App& bench) {
@@ -147,8 +159,63 @@ void add_planners(CLI::App& bench) {
       return plots.status == record::PlotOutcome::Status::drawn ? kExitOk : kExitFailed;
     });
   });
+  auto* resume = cmd->add_subcommand(
+      "resume",
+      "Finish an interrupted benchmark run in its own folder (rows kept, checksummed inputs)");
+  static std::string resume_run;
+  static int resume_jobs = -1;
+  static bool resume_no_plots = false;
+  resume->add_option("run", resume_run, "The interrupted run folder (manifest status running)")
+      ->required();
+  resume->add_option("--jobs", resume_jobs, "Cells in parallel processes (default: the cores)");
+  resume->add_flag("--no-plots", resume_no_plots, "Do not draw the plots");
+  on_run(*resume, [] {
+    return guarded("bench planners resume", [] {
+      return finish_run(
+          planbench::resume_bench(resume_run, check_jobs(resume_jobs), !resume_no_plots),
+          !resume_no_plots, "");
+    });
+  });
+  auto* check = cmd->add_subcommand(
+      "check", "Re-run a benchmark run from its manifest and report every figure that differs");
+  static std::string check_run, check_out;
+  static int check_jobs_n = -1;
+  check->add_option("run", check_run, "The run folder")->required();
+  check->add_option("--jobs", check_jobs_n, "Cells in parallel processes (default: the cores)");
+  check->add_option("--out", check_out, "Keep the re-run under this folder (default: removed)");
+  on_run(*check, [] {
+    return guarded("bench planners check", [] {
+      const auto r = planbench::check_bench(check_run, check_jobs(check_jobs_n), check_out);
+      std::cout << r.text;
+      if (!r.rerun.empty()) std::cout << "re-run: " << r.rerun << "\n";
+      return r.differing > 0 || r.compared == 0 ? kExitFailed : kExitOk;
+    });
+  });
+  auto* compare = cmd->add_subcommand(
+      "compare",
+      "Two benchmark runs side by side: each cell's figures (over seeds where there are)");
+  static std::string compare_a, compare_b;
+  static bool compare_all = false;
+  compare->add_option("run_a", compare_a, "Run A")->required();
+  compare->add_option("run_b", compare_b, "Run B")->required();
+  compare->add_flag("--all", compare_all, "List every figure, not only those that differ");
+  on_run(*compare, [] {
+    return guarded("bench planners compare", [] {
+      for (const auto* folder : {&compare_a, &compare_b})
+        if (!record::is_run_folder(*folder))
+          throw sdk::Error(sdk::codes::kBadRequest, "'" + *folder + "' is not a run folder");
+      record::ComparisonCounts counts;
+      std::cout << record::compare_runs(record::read_run_figures(compare_a),
+                                        record::read_run_figures(compare_b), compare_all, &counts);
+      if (counts.compared == 0) {
+        std::cerr << "flipper bench planners compare: nothing compared (the runs share no cell)\n";
+        return kExitFailed;
+      }
+      return kExitOk;
+    });
+  });
   on_run(*cmd, [cmd] {
-    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot
+    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot, resume, check, compare
     return guarded("bench planners", [] { return run_planner_bench(opts, args); });
   });
 }

@@ -15,6 +15,7 @@ void add_session_command(CLI::App& app);   // session.cpp
 void add_repl_command(CLI::App& app);      // repl.cpp
 void add_replay_command(CLI::App& app);    // replay.cpp
 void add_bench_command(CLI::App& app);     // bench.cpp    (bench planners)
+void add_runs_command(CLI::App& app);      // runs.cpp     (runs list, runs show)
 void add_lexicon_command(CLI::App& app);   // lexicon.cpp  (lexicon list|export|import)
 void add_serve_command(CLI::App& app);     // frontend_commands.cpp (apps/studio: HTTP, web page)
 void add_dds_command(CLI::App& app);       // frontend_commands.cpp (DDS node, dds security)

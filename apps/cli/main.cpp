@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   flipper::cli::add_repl_command(app);
   flipper::cli::add_replay_command(app);
   flipper::cli::add_bench_command(app);
+  flipper::cli::add_runs_command(app);
   flipper::cli::add_lexicon_command(app);
   flipper::cli::add_serve_command(app);
   flipper::cli::add_dds_command(app);

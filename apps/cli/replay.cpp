@@ -48,13 +48,16 @@ std::vector<std::string> split_commas(const std::string& s) {
   return out;
 }
 
-// A bar on a terminal (redrawn in place) for one variant at a time; plain lines every 5 %
-// otherwise, and always when variants run in parallel (their lines interleave).
+// A bar on a terminal (redrawn in place) for one variant at a time; plain lines every 5 % when
+// variants run in parallel (their lines interleave). Quiet when standard error is not a
+// terminal (logs, CI).
 class Progress {
  public:
-  explicit Progress(bool plain) : tty_(!plain && isatty(STDERR_FILENO) != 0) {}
+  explicit Progress(bool plain)
+      : terminal_(isatty(STDERR_FILENO) != 0), tty_(!plain && terminal_) {}
   void operator()(const std::string& variant, std::size_t done, std::size_t total,
                   const std::string& run) {
+    if (!terminal_) return;
     const int percent = total ? static_cast<int>(100 * done / total) : 100;
     if (tty_) {
       const int width = 30, filled = percent * width / 100;
@@ -71,7 +74,7 @@ class Progress {
   }
 
  private:
-  bool tty_;
+  bool terminal_, tty_;
   int last_ = -1;
   std::string variant_;
 };

@@ -114,6 +114,8 @@ def label_text(value, unit):
         return "%.1f" % value
     if value == int(value) and abs(value) < 1e9:
         return "%d" % value
+    if abs(value) >= 1000:  # never "1.23e+04" beside integers
+        return "%.0f" % value
     return "%.3g" % value
 
 
@@ -133,6 +135,12 @@ def bar_panel(ax, title, categories, series, unit, ylabel, timing=False, integer
     of lists [below, above] in the values' unit). Returns the panel's plot data."""
     n = max(1, len(series))
     width = 0.8 / n
+    if unit == "%":  # a share is within 0-100: so are its error bars and its axis
+        for s in series:
+            errs = s.get("errors")
+            if errs:
+                s["errors"] = [[min(b, v) for b, v in zip(errs[0], s["values"])],
+                               [min(a, 100.0 - v) for a, v in zip(errs[1], s["values"])]]
     lows, highs = [], []
     for s in series:
         errs = s.get("errors")
@@ -142,6 +150,9 @@ def bar_panel(ax, title, categories, series, unit, ylabel, timing=False, integer
             lows.append(v - below)
             highs.append(v + above)
     ymin, ymax, zoomed = fit_axis(lows, highs)
+    if unit == "%":
+        ymax = min(ymax, 100.0)
+        ymin = min(ymin, ymax - 1.0)
     labels_out = []
     for k, s in enumerate(series):
         xs = [i - 0.4 + width * (k + 0.5) for i in range(len(categories))]
@@ -156,6 +167,8 @@ def bar_panel(ax, title, categories, series, unit, ylabel, timing=False, integer
     ax.set_xticks(range(len(categories)))
     ax.set_xticklabels(categories)
     ax.set_ylim(ymin, ymax)
+    # Plain tick labels: no scientific notation, no offset ("1e4", "+1.23e3") beside integers.
+    ax.ticklabel_format(axis="y", style="plain", useOffset=False)
     ax.set_title(title + (" (axis zoomed: it does not start at 0)" if zoomed and ymin > 0 else ""))
     ax.set_ylabel(ylabel)
     if integer:

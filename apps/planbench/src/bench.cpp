@@ -1,7 +1,9 @@
 // Running a planner benchmark into a run folder (docs/planners.md §5).
 #include "flipper/planbench/bench.hpp"
 
+#include <stdlib.h>
 #include <algorithm>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,7 @@
 #include "flipper/planbench/measure.hpp"
 #include "flipper/planbench/summary.hpp"
 #include "flipper/planbench/tasks.hpp"
+#include "flipper/record/compare.hpp"
 #include "flipper/record/csv.hpp"
 #include "flipper/record/manifest.hpp"
 #include "flipper/record/out_file.hpp"
@@ -185,6 +188,20 @@ std::size_t count_lines(const std::string& path) {
   return n;
 }
 
+// The rows a cell wrote before an interruption: complete lines only (a line cut short is
+// removed, and its task runs again).
+std::size_t complete_rows(const std::string& path) {
+  const std::string text = read_text(path);
+  const std::size_t end = text.rfind('\n');
+  const std::string kept = end == std::string::npos ? std::string() : text.substr(0, end + 1);
+  if (kept.size() != text.size()) {
+    std::ofstream out(path, std::ios::trunc);
+    out << kept;
+    if (!out) throw sdk::Error(sdk::codes::kWriteFailed, "cannot write '" + path + "'");
+  }
+  return static_cast<std::size_t>(std::count(kept.begin(), kept.end(), '\n'));
+}
+
 // The row of a task whose process died (a crash, the backstop, an error outside plan()).
 RunRow failed_row(const Cell& cell, const LoadedWorld& world, std::size_t t,
                   const record::ChildExit& exit) {
@@ -221,14 +238,18 @@ std::string unmeasured_line(const RunRow& row) {
 // restarts a crashed driver): one crash costs one task. Returns the failures for the manifest.
 nlohmann::json run_cells(const std::string& cell_dir, const std::vector<Cell>& cells,
                          const std::vector<LoadedWorld>& worlds, const BenchOptions& options,
-                         int kill_after_s) {
+                         int kill_after_s, const std::vector<std::size_t>& start) {
   std::vector<std::pair<std::pair<std::size_t, std::size_t>, nlohmann::json>> lost;
   std::vector<std::pair<std::size_t, std::size_t>> work;  // (cell, first task)
-  for (std::size_t i = 0; i < cells.size(); ++i) work.emplace_back(i, 0);
+  std::size_t done = 0;
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    if (start[i] < worlds[cells[i].world].tasks.size())
+      work.emplace_back(i, start[i]);
+    else
+      ++done;  // finished before an interruption (resume)
   record::IsolationOptions isolation;
   isolation.jobs = options.jobs;
   isolation.wall_backstop_s = kill_after_s;
-  std::size_t done = 0;
   while (!work.empty()) {
     isolation.on_exit = [&](std::size_t k, const record::ChildExit& exit) {
       const std::size_t i = work[k].first;
@@ -260,9 +281,22 @@ nlohmann::json run_cells(const std::string& cell_dir, const std::vector<Cell>& c
         if (!out) throw sdk::Error(sdk::codes::kWriteFailed, "cannot write '" + rows_file + "'");
         if (t + 1 < world.tasks.size()) again.emplace_back(i, t + 1);
       }
-      lost.emplace_back(std::make_pair(i, t), std::move(failure));
+      // Kept on disk at once, so a resumed run still names it.
+      std::ofstream log(cell_dir + "/failed.jsonl", std::ios::app);
+      log << nlohmann::json{{"cell_index", i}, {"task_index", t}, {"failure", failure}}.dump()
+          << "\n";
+      log.flush();
+      if (!log) throw sdk::Error(sdk::codes::kWriteFailed, "cannot write '" + cell_dir + "'");
     }
     work = std::move(again);
+  }
+  std::ifstream log(cell_dir + "/failed.jsonl");
+  for (std::string line; std::getline(log, line);) {
+    const auto j = nlohmann::json::parse(line, nullptr, false);
+    if (j.is_discarded()) continue;  // a line cut by an interruption
+    lost.emplace_back(std::make_pair(j.at("cell_index").get<std::size_t>(),
+                                     j.at("task_index").get<std::size_t>()),
+                      j.at("failure"));
   }
   // In cell and task order, whatever the order the processes died in.
   std::stable_sort(lost.begin(), lost.end(),
@@ -344,7 +378,7 @@ void write_report(const std::string& run_dir, const BenchExperiment& e,
 BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
   if (options.out.empty()) throw sdk::Error(sdk::codes::kBadRequest, "--out PARENT is required");
   const Settings settings(e, options);
-  const std::string started = record::utc_now();
+  std::string started = record::utc_now();
   const std::string load = load_text();
   // Everything loads and is checked before a run folder exists.
   std::vector<LoadedWorld> worlds;
@@ -366,11 +400,30 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
 
   const std::string stem = e.file.empty() ? "planners" : fs::path(e.file).stem().string();
   BenchResult result;
-  result.run_dir = record::create_run_folder(options.out, stem);
   result.cells = cells.size();
+  std::vector<std::size_t> start(cells.size(), 0);
+  if (options.resume.empty()) {
+    result.run_dir = record::create_run_folder(options.out, stem);
+    fs::create_directories(result.run_dir + "/cells");
+    // What `bench planners resume` needs when the run is interrupted (docs/planners.md §5).
+    record::write_manifest(
+        result.run_dir,
+        {{"kind", "planner-benchmark"},
+         {"status", "running"},
+         {"started", started},
+         {"options",
+          {{"config", options.config}, {"overrides", options.overrides}, {"plots", options.plots}}},
+         {"experiment", experiment_json(e)},
+         {"inputs", inputs}});
+  } else {
+    result.run_dir = options.resume;
+    started = record::read_manifest(result.run_dir).value("started", started);
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      start[i] = complete_rows(result.run_dir + "/cells/" + std::to_string(i) + ".csv");
+  }
   const std::string cell_dir = result.run_dir + "/cells";
-  fs::create_directories(cell_dir);
-  const nlohmann::json failures = run_cells(cell_dir, cells, worlds, options, e.kill_after_s);
+  const nlohmann::json failures =
+      run_cells(cell_dir, cells, worlds, options, e.kill_after_s, start);
   result.failures = failures.size();
 
   record::OutFile runs_out(result.run_dir + "/runs.csv");
@@ -413,10 +466,95 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
        {"started", started},
        {"finished", record::utc_now()},
        {"experiment", experiment_json(e)},
+       {"options",
+        {{"config", options.config}, {"overrides", options.overrides}, {"plots", options.plots}}},
        {"inputs", inputs},
        {"cells", cell_list}});
   record::mark_latest(result.run_dir);
   return result;
+}
+
+namespace {
+
+// A recorded benchmark run and what re-running it needs: its manifest, with every input checked
+// against the checksum it had (the rows came from those files), and the options it ran with.
+nlohmann::json recorded_run(const std::string& run_dir, const std::string& what) {
+  nlohmann::json m = record::read_manifest(run_dir);
+  if (m.value("kind", std::string()) != "planner-benchmark")
+    throw sdk::Error(sdk::codes::kBadRequest, "'" + run_dir + "' is not a planner benchmark run");
+  if (!m.contains("options"))
+    throw sdk::Error(
+        sdk::codes::kBadRequest,
+        "'" + run_dir + "' records no options (made by an older flipper): cannot " + what + " it");
+  for (const auto& f : m.value("inputs", nlohmann::json::array())) {
+    const std::string path = f.at("path").get<std::string>();
+    std::error_code ec;
+    const std::string now =
+        fs::is_regular_file(path, ec) ? record::file_json("", path).value("sha256", "") : "";
+    if (now != f.value("sha256", std::string()))
+      throw sdk::Error(sdk::codes::kBadRequest,
+                       "cannot " + what + " '" + run_dir + "': " + f.value("role", std::string()) +
+                           " '" + path + "' " + (now.empty() ? "is gone" : "changed") +
+                           " since the run started (recorded sha256 " +
+                           f.value("sha256", std::string()).substr(0, 12) + "…)");
+  }
+  return m;
+}
+
+BenchOptions recorded_options(const nlohmann::json& m, const std::string& out, int jobs,
+                              bool plots) {
+  const nlohmann::json o = m.value("options", nlohmann::json::object());
+  BenchOptions options;
+  options.config = o.value("config", std::string());
+  options.overrides = o.value("overrides", std::vector<std::string>());
+  options.out = out;
+  options.jobs = jobs;
+  options.plots = plots;
+  return options;
+}
+
+}  // namespace
+
+BenchResult resume_bench(const std::string& run_dir, int jobs, bool plots) {
+  const nlohmann::json m = recorded_run(run_dir, "resume");
+  if (m.value("status", std::string()) != "running" || !fs::is_directory(run_dir + "/cells"))
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "'" + run_dir + "' finished (status " + m.value("status", std::string("?")) +
+                         "): only an interrupted run (status running) is resumed");
+  BenchOptions options =
+      recorded_options(m, fs::path(run_dir).lexically_normal().parent_path().string(), jobs, plots);
+  options.resume = run_dir;
+  return run_bench(load_bench_experiment(m.at("experiment").at("file").get<std::string>()),
+                   options);
+}
+
+BenchCheck check_bench(const std::string& run_dir, int jobs, const std::string& keep_under) {
+  const nlohmann::json m = recorded_run(run_dir, "check");
+  if (m.value("status", std::string()) == "running")
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "'" + run_dir + "' has not finished (status running): resume it first");
+  std::string parent = keep_under;
+  if (parent.empty()) {
+    std::string pattern = (fs::temp_directory_path() / "flipper-check-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr)
+      throw sdk::Error(sdk::codes::kWriteFailed, "cannot make a temporary folder for the check");
+    parent = pattern;
+  }
+  BenchCheck out;
+  const BenchResult again =
+      run_bench(load_bench_experiment(m.at("experiment").at("file").get<std::string>()),
+                recorded_options(m, parent, jobs, false));
+  record::ComparisonCounts counts;
+  out.text = record::compare_runs(record::read_run_figures(run_dir),
+                                  record::read_run_figures(again.run_dir), false, &counts);
+  out.compared = counts.compared;
+  out.differing = counts.differing;
+  out.rerun = keep_under.empty() ? std::string() : again.run_dir;
+  if (keep_under.empty()) {
+    std::error_code ec;
+    fs::remove_all(parent, ec);
+  }
+  return out;
 }
 
 }  // namespace flipper::planbench

@@ -69,7 +69,7 @@ void arm_child(char* slot, int wall_backstop_s) {
   ::sigaltstack(&stack, nullptr);
   struct sigaction action {};
   action.sa_handler = on_fatal_signal;
-  action.sa_flags = SA_ONSTACK | SA_RESETHAND | SA_NODEFER;
+  action.sa_flags = static_cast<int>(SA_ONSTACK | SA_RESETHAND | SA_NODEFER);
   sigemptyset(&action.sa_mask);
   for (const int s : kFatalSignals) ::sigaction(s, &action, nullptr);
   if (wall_backstop_s > 0) ::alarm(static_cast<unsigned>(wall_backstop_s));
@@ -110,7 +110,7 @@ std::string ChildExit::kind() const {
 }
 
 std::string ChildExit::describe() const {
-  const std::string k = kind();
+  std::string k = kind();
   if (k == "wall_backstop")
     return k + ": still running at the wall-clock backstop" +
            (during.empty() ? std::string() : ", in " + during);

@@ -125,7 +125,8 @@ TEST_CASE("an unknown command is named, with a suggestion only within a typo's d
   CHECK(runn.status == 2);
   CHECK(runn.out ==
         "flipper: [usage] unknown command 'runn' (did you mean 'run'?); the commands are "
-        "plugins, plugin, config, run, session, repl, replay, bench, lexicon, serve, dds, accounts "
+        "plugins, plugin, config, run, session, repl, replay, bench, runs, lexicon, serve, dds, "
+        "accounts "
         "(see "
         "--help)\n");
   const Run far = run_flipper("zzz");

@@ -148,6 +148,8 @@ TEST_CASE("plots show exactly the run's figures, by the rules", "[replay][plots]
   // Planner success is the same everywhere: no zoom onto equal bars.
   CHECK(planner["panels"][0]["zoomed"] == false);
   CHECK(planner["panels"][0]["series"][0]["values"][0].get<double>() == 92.9);
+  // A percentage axis ends at 100 (92.9 × 1.12 would pass it).
+  CHECK(planner["panels"][0]["ylim"][1].get<double>() == 100.0);
 
   // Per variant: the tokens figure's bars are the CSV's values.
   const json t0 = plotdata(run + "/v0/tokens.plotdata.json");

@@ -9,7 +9,17 @@
 # 2. a run killed while running leaves `latest` where it was (its manifest is not final);
 # 3. replay, --jobs 1 and --jobs 2: the crashing and hanging variants are listed as failed with
 #    their cause, the healthy variant's figures equal a run of it alone;
-# 4. --jobs 0 is refused (exit 2) by both.
+# 4. the manifest says what ran: the source tree's commit and dirty state as git says them now
+#    (not as they were at build time), the library versions as pkg-config says them, the Python
+#    and matplotlib that drew the plots, and an out-of-tree `astar` that shadows the in-tree one
+#    flagged with the file it hides;
+# 5. `bench planners resume` finishes an interrupted run in its folder: rows kept (a row cut short
+#    dropped), a changed input refused, the rest run as the rules say, `latest` moved at the end;
+# 6. `runs list` shows the finished and the killed run, `runs show` the lost tasks,
+#    `bench planners compare` finds no difference between --jobs 1 and 2 and says when two runs
+#    share nothing (exit 1), `bench planners check` re-runs a run from its manifest: no
+#    difference, then a figure changed by hand named (exit 1);
+# 7. --jobs 0 is refused (exit 2) by both.
 # Usage: contain.sh <source dir> <build dir>
 set -euo pipefail
 src=$(cd "$1" && pwd -P)
@@ -201,7 +211,160 @@ PY
 grep -q "^flipper replay: variant segv: plugin_crashed: plugin 'evil_planner'" "$tmp/replay1.err" ||
   fail "replay does not name the crashed variant on stderr"
 
-echo "== 4. --jobs 0 is refused"
+echo "== 4. the manifest says what ran: source tree now, libraries, plugin origins, plot versions"
+mkdir -p "$tmp/shadow"
+cp "$build/plugins/astar.so" "$build/plugins/astar.flipper.yaml" "$tmp/shadow/"
+cat >"$tmp/shadow.yaml" <<EOF
+name: shadow
+plugin_paths: [$tmp/shadow]
+worlds:
+  - {name: maze, plugin: grid2d, file: $data/maze.json, tasks: {file: $data/maze-tasks.yaml}}
+planners:
+  - {plugin: astar}
+EOF
+"$flipper" bench planners --experiment "$tmp/shadow.yaml" --out "$tmp/shadow-runs" --jobs 1 \
+  >/dev/null 2>&1 || fail "the shadowing run failed"
+# Independent oracles: git now, pkg-config, the Python that draws plots.
+commit=$(git -C "$src" rev-parse HEAD 2>/dev/null || echo unknown)
+if [[ $commit == unknown ]]; then
+  dirty=unknown
+elif [[ -z $(git -C "$src" status --porcelain --untracked-files=no) ]]; then
+  dirty=no
+else
+  dirty=yes
+fi
+versions=""
+for m in ompl fcl octomap eigen3 sqlite3; do versions+="$m=$(pkg-config --modversion $m) "; done
+python=$(/usr/bin/python3 -c 'import sys, matplotlib; print(sys.version.split()[0], matplotlib.__version__)' \
+  2>/dev/null || echo none)
+python3 - "$tmp/shadow-runs/latest" "$commit" "$dirty" "$versions" "$python" \
+  "$(readlink -f "$build/plugins/astar.so")" "$tmp/shadow/astar.so" <<'PY'
+import json, os, sys
+run, commit, dirty, versions, python, intree, shadow = sys.argv[1:8]
+def fail(msg):
+    print("FAILED:", msg); sys.exit(1)
+m = json.load(open(os.path.join(run, "manifest.json")))
+src = m["source"]
+if (src["commit"], src["dirty"]) != (commit, dirty): fail("source %s, git says %s %s" % (src, commit, dirty))
+libs = m["build"]["libraries"]
+names = {"ompl": "ompl", "fcl": "fcl", "octomap": "octomap", "eigen3": "eigen", "sqlite3": "sqlite"}
+for pair in versions.split():
+    pkg, version = pair.split("=")
+    if libs[names[pkg]] != version: fail("%s %s, pkg-config says %s" % (pkg, libs[names[pkg]], version))
+if not libs["compiler"].startswith(("GNU ", "Clang ")): fail("compiler %s" % libs["compiler"])
+planner = [p for p in m["cells"][0]["plugins"] if p["section"] == "planner"][0]
+if planner["file"] != os.path.realpath(shadow): fail("astar loaded from %s" % planner["file"])
+if planner["origin"]["in_tree"] or planner["origin"]["shadows"] != [intree]:
+    fail("the shadowing astar is not flagged: %s" % planner["origin"])
+world = [p for p in m["cells"][0]["plugins"] if p["section"] == "world"][0]
+if world["origin"] != {"dir": os.path.dirname(intree), "in_tree": True, "shadows": []}:
+    fail("grid2d origin %s" % world["origin"])
+if python != "none":
+    if m["plots"]["status"] != "drawn": fail("plots %s" % m["plots"])
+    v = m["plots"]["versions"]
+    if "%s %s" % (v["python_version"], v["matplotlib"]) != python:
+        fail("plot versions %s, not %s" % (v, python))
+print("manifest: ok")
+PY
+
+echo "== 5. an interrupted run resumes in its own folder"
+cp "$data/maze-tasks.yaml" "$tmp/tasks.yaml"
+cat >"$tmp/resume.yaml" <<EOF
+name: resume
+plugin_paths: [$evil]
+kill_after_s: 2
+worlds:
+  - {name: maze, plugin: grid2d, file: $data/maze.json, tasks: {file: $tmp/tasks.yaml}}
+planners:
+  - {plugin: astar}
+  - {name: hang, plugin: evil_planner, params: {mode: hang, on_call: 2}}
+  - {name: good, plugin: evil_planner, params: {mode: ok}}
+EOF
+setsid "$flipper" bench planners --experiment "$tmp/resume.yaml" --out "$tmp/resume" --jobs 1 \
+  --no-plots >/dev/null 2>&1 &
+pid=$!
+# Interrupt it (the command and its cells) while its `hang` cell hangs on its second task.
+for _ in $(seq 1 300); do
+  [[ $(cat "$tmp"/resume/resume-*/cells/1.csv 2>/dev/null | wc -l) -ge 1 ]] && break
+  sleep 0.1
+done
+kill -KILL -- "-$pid"
+wait "$pid" 2>/dev/null || true
+run=$(echo "$tmp"/resume/resume-*)
+[[ -d $run/cells && ! -e $tmp/resume/latest ]] || fail "the interrupted run: no cells, or latest set"
+grep -q '"status": "running"' "$run/manifest.json" || fail "the interrupted run's manifest is not running"
+printf 'maze,astar,cut short' >>"$run/cells/0.csv"  # a row cut by the interruption
+echo "# changed" >>"$tmp/tasks.yaml"
+status=0
+"$flipper" bench planners resume "$run" --no-plots >"$tmp/resume.out" 2>&1 || status=$?
+[[ $status == 2 ]] && grep -q "tasks maze '$tmp/tasks.yaml' changed since the run started" "$tmp/resume.out" ||
+  fail "resume with a changed task file: exit $status, $(cat "$tmp/resume.out")"
+cp "$data/maze-tasks.yaml" "$tmp/tasks.yaml"
+status=0
+"$flipper" bench planners resume "$run" --jobs 2 --no-plots >/dev/null 2>&1 || status=$?
+[[ $status == 1 ]] || fail "resume exited $status, not 1 (two tasks lost)"
+[[ $(readlink "$tmp/resume/latest") == "$(basename "$run")" ]] || fail "latest not moved after resume"
+python3 - "$run" "$tmp/bench1" <<'PY'
+import csv, json, os, sys
+run, clean = sys.argv[1], sys.argv[2]
+def fail(msg):
+    print("FAILED:", msg); sys.exit(1)
+keep = ("planner", "task", "status", "success", "length", "cause")
+rows = [tuple(r[k] for k in keep) for r in csv.DictReader(open(os.path.join(run, "runs.csv")))]
+latest = os.path.join(clean, "latest")
+ref = [tuple(r[k] for k in keep) for r in csv.DictReader(open(os.path.join(latest, "runs.csv")))
+       if r["planner"] in ("astar", "good")]
+# astar and good as in an uninterrupted run; `hang` by hand: corner done before the
+# interruption, then a new process from `around` (its count starts again): around ok, back hangs,
+# pocket ok (new process), cut_off hangs.
+hang = [r for r in rows if r[0] == "hang"]
+if [r[:3] for r in hang] != [("hang", "corner", "found"), ("hang", "around", "found"),
+                             ("hang", "back", "wall_backstop"), ("hang", "pocket", "found"),
+                             ("hang", "cut_off", "wall_backstop")]:
+    fail("hang rows after resume: %s" % hang)
+if [r for r in rows if r[0] != "hang"] != ref: fail("astar/good rows after resume differ")
+m = json.load(open(os.path.join(run, "manifest.json")))
+if m["status"] != "partial" or [(f["task"], f["status"]) for f in m["failed"]] != [
+        ("back", "wall_backstop"), ("cut_off", "wall_backstop")]:
+    fail("resumed manifest %s %s" % (m["status"], m["failed"]))
+if os.path.exists(os.path.join(run, "cells")): fail("cells/ left behind")
+print("resume: ok")
+PY
+
+echo "== 6. runs list|show, bench planners compare and check"
+"$flipper" runs list "$tmp/bench1" >"$tmp/list.out"
+cat "$tmp/list.out"
+grep -q "^| bench-[0-9-]* (latest) | planner-benchmark | partial | .* | containment | 5 | " "$tmp/list.out" ||
+  fail "runs list: the finished run"
+grep -q "^| bench-[0-9-]* | planner-benchmark | running | .* | containment | 0 | " "$tmp/list.out" ||
+  fail "runs list: the killed run"
+grep -q "^2 run(s) in " "$tmp/list.out" || fail "runs list: count"
+"$flipper" runs show "$tmp/bench1/latest" >"$tmp/show.out"
+grep -q "^status: partial$" "$tmp/show.out" && grep -q "^lost: 5$" "$tmp/show.out" &&
+  grep -q "^  segv on maze, task around: plugin_crashed: plugin 'evil_planner'" "$tmp/show.out" ||
+  fail "runs show: $(cat "$tmp/show.out")"
+status=0
+"$flipper" runs show "$tmp/bench1" >/dev/null 2>&1 || status=$?
+[[ $status == 2 ]] || fail "runs show of a parent exited $status, not 2"
+"$flipper" bench planners compare "$tmp/bench1/latest" "$tmp/bench2/latest" >"$tmp/cmp.out" ||
+  fail "compare of two runs of one experiment failed"
+grep -q "^0 of [1-9][0-9]* figures differ" "$tmp/cmp.out" || fail "compare: $(tail -2 "$tmp/cmp.out")"
+status=0
+"$flipper" bench planners compare "$tmp/bench1/latest" "$tmp/replay1/latest" >"$tmp/cmp.out" 2>&1 ||
+  status=$?
+[[ $status == 1 ]] && grep -q "^Nothing compared" "$tmp/cmp.out" || fail "compare of unrelated runs: $status"
+
+"$flipper" bench planners check "$tmp/shadow-runs/latest" --jobs 2 >"$tmp/check.out" ||
+  fail "check of an unchanged run: $(cat "$tmp/check.out")"
+grep -q "^0 of [1-9][0-9]* figures differ" "$tmp/check.out" || fail "check: $(tail -2 "$tmp/check.out")"
+sed -i 's/^"world=maze,planner=astar",ours,all,solved,5,/"world=maze,planner=astar",ours,all,solved,4,/' \
+  "$tmp/shadow-runs/latest/figures.csv"
+status=0
+"$flipper" bench planners check "$tmp/shadow-runs/latest" >"$tmp/check.out" || status=$?
+[[ $status == 1 ]] && grep -q "^| ours / all / solved (plans) | 4 | 5 | +1 |" "$tmp/check.out" &&
+  grep -q "^1 of [1-9][0-9]* figures differ" "$tmp/check.out" || fail "check of a changed figure: $status"
+
+echo "== 7. --jobs 0 is refused"
 for cmd in "bench planners --experiment $tmp/bench.yaml" "replay --experiment $tmp/plain.yaml"; do
   status=0
   $flipper $cmd --out "$tmp/zero" --jobs 0 >"$tmp/zero.out" 2>&1 || status=$?

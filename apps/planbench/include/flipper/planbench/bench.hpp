@@ -25,6 +25,9 @@ struct BenchOptions {
   std::string out;                     ///< parent of the run folder
   int jobs = 1;
   bool plots = true;
+  /// A run folder to resume (`bench planners resume`): its cells' rows are kept, each cell goes
+  /// on from its first task without a row. "" : a new run under `out`.
+  std::string resume;
   /// Called as cells finish (done, total); a cell that lost a task counts when its last process
   /// ends. Nothing when unset.
   std::function<void(std::size_t, std::size_t)> progress;
@@ -39,5 +42,21 @@ struct BenchResult {
 };
 
 BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options);
+
+/// Resumes an interrupted run (manifest `status: running`, written when it started): the
+/// experiment file, worlds and task files must have the checksums the manifest recorded (else
+/// sdk::Error(bad_request) naming the file); its --config and --set are the recorded ones.
+BenchResult resume_bench(const std::string& run_dir, int jobs, bool plots);
+
+/// A re-run of a finished run compared with it.
+struct BenchCheck {
+  std::string text;                         ///< the comparison (record/compare.hpp), Markdown
+  std::size_t compared = 0, differing = 0;  ///< deterministic figures (timing ones never count)
+  std::string rerun;                        ///< the re-run's folder when kept, else ""
+};
+/// Re-runs a finished run from its manifest (inputs checksummed as for resume, its --config and
+/// --set) into a new run under `keep_under` (or a temporary folder, removed), and compares every
+/// deterministic figure (docs/planners.md §5).
+BenchCheck check_bench(const std::string& run_dir, int jobs, const std::string& keep_under);
 
 }  // namespace flipper::planbench
