@@ -118,7 +118,8 @@ class Api {
   /// Destroys evicted sessions under their kernel's lock; a session whose kernel is busy waits
   /// for a later call (never for the kernel).
   void bury_evicted();
-  bool login_allowed(const std::string& address);
+  /// 0: a login from `address` may go on; else the seconds until it may (Retry-After).
+  int login_wait_seconds(const std::string& address);
 
   ServeOptions options_;
   AccountStore& accounts_;
