@@ -300,7 +300,7 @@ TEST_CASE("a world of 16382² cells is refused before the world plugin allocates
 
 TEST_CASE(
     "flipper session serves a line of input.max_line_bytes and heads and bodies of "
-    "input.max_tokens; one more is refused") {
+    "input.max_tokens, one more is refused") {
   ChildProcess session({kFlipper, "session", "--set", "lexicon.path=:memory:", "--set",
                         "input.max_line_bytes=64", "--set", "input.max_tokens=40", "--set",
                         "induction.generalize=false"});
