@@ -3,6 +3,7 @@
 #include <malloc.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -517,7 +518,7 @@ HttpReply Api::info_reply(const HttpRequest& r) {
   return json_reply(200, out);
 }
 
-bool Api::login_allowed(const std::string& address) {
+int Api::login_wait_seconds(const std::string& address) {
   // Ten attempts per address per minute (each costs an Argon2id check: ~64 MiB, tens of ms).
   constexpr double kBurst = 10, kPerSecond = 10.0 / 60.0;
   std::lock_guard lock(login_mutex_);
@@ -527,17 +528,20 @@ bool Api::login_allowed(const std::string& address) {
   tokens =
       std::min(kBurst, tokens + std::chrono::duration<double>(now - refilled).count() * kPerSecond);
   refilled = now;
-  if (tokens < 1.0) return false;
+  if (tokens < 1.0) return static_cast<int>(std::ceil((1.0 - tokens) / kPerSecond));
   tokens -= 1.0;
-  return true;
+  return 0;
 }
 
 void Api::login(const HttpRequest& r, const Respond& respond) {
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "logins must come from this server's page"));
-  if (!login_allowed(r.peer))
-    return respond(error_reply(429, "login_rate_limited",
-                               "too many login attempts from this address; wait a minute"));
+  if (const int wait = login_wait_seconds(r.peer); wait > 0) {
+    HttpReply refused = error_reply(429, "login_rate_limited",
+                                    "too many login attempts from this address; wait a minute");
+    refused.set_header("Retry-After", std::to_string(wait));
+    return respond(refused);
+  }
   auto job = [this, r, respond](int) {
     respond(answer_or_failure([&] { return login_reply(r); }));
   };

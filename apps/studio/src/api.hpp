@@ -121,7 +121,8 @@ class Api {
   bool in_pool(const std::string& group, const Kernel& k);
   HttpReply login_reply(const HttpRequest& request);
   HttpReply info_reply(const HttpRequest& request);
-  bool login_allowed(const std::string& address);
+  /// 0: a login from `address` may go on; else the seconds until it may (Retry-After).
+  int login_wait_seconds(const std::string& address);
 
   ServeOptions options_;
   AccountStore& accounts_;

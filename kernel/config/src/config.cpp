@@ -17,6 +17,7 @@
 #include <set>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "flipper/kernel/limits.hpp"
@@ -352,14 +353,28 @@ std::string where_written(const std::string& message, const std::string& source,
   return source;
 }
 
+// Every key path of `node`'s maps ("a", "a.b", ...), to test many keys for presence at once.
+void collect_paths(const YAML::Node& node, const std::string& prefix,
+                   std::unordered_set<std::string>& out) {
+  if (!node.IsMap()) return;
+  for (const auto& kv : node) {
+    std::string key = prefix.empty() ? kv.first.Scalar() : prefix + "." + kv.first.Scalar();
+    collect_paths(kv.second, key, out);
+    out.insert(std::move(key));
+  }
+}
+
 Config build(YAML::Node root, std::string source, std::string base_dir,
              const std::vector<std::string>& overrides, std::set<std::string> cli_keys = {},
              std::map<std::string, ConfigOrigin> origins = {}) {
   for (const auto& a : overrides) apply_assignment(root, a, cli_keys);
   if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
-  yaml_bounds::check_expanded_size(root, source);        // --set values may hold aliases too
-  for (auto it = origins.begin(); it != origins.end();)  // keys an override removed
-    it = lookup(root, split_key(it->first)) ? std::next(it) : origins.erase(it);
+  yaml_bounds::check_expanded_size(root, source);  // --set values may hold aliases too
+  if (!origins.empty()) {  // forget the keys an override removed (one walk, not a lookup each)
+    std::unordered_set<std::string> present;
+    collect_paths(root, "", present);
+    std::erase_if(origins, [&](const auto& kv) { return present.count(kv.first) == 0; });
+  }
   auto impl = std::make_shared<Config::Impl>();
   // A null value means "not set": `rewriter: ~` removes the optional section, `--set x=null`
   // restores a default.
@@ -461,45 +476,45 @@ void record_leaves(const YAML::Node& node, const std::string& prefix, const Conf
   if (!prefix.empty()) origins.emplace(prefix, origin);
 }
 
-// `overlay` over `base`: maps merge key by key, anything else (scalars, lists, null) replaces.
-// A plugin section whose `plugin` the overlay changes starts with no params: the base's params
-// belong to the other plugin. Linear in the sizes of both (keys are found through an index, not
-// yaml-cpp's linear lookup).
-YAML::Node merge(const YAML::Node& base, const YAML::Node& overlay, const std::string& prefix,
+// `overlay` over `base`, in place: maps merge key by key, anything else (scalars, lists, null)
+// replaces. A plugin section whose `plugin` the overlay changes starts with no params: the base's
+// params belong to the other plugin. Linear in the sizes of both: keys are found through an index
+// (not yaml-cpp's linear lookup), and no subtree is copied (each copy re-registers every node of
+// it with yaml-cpp's memory, once per level of nesting). `base` and `overlay` are both consumed:
+// the result shares nodes with them.
+YAML::Node merge(YAML::Node base, const YAML::Node& overlay, const std::string& prefix,
                  std::map<std::string, ConfigOrigin>& origins) {
   if (!base.IsMap() || !overlay.IsMap()) {
     erase_below(origins, prefix);
-    return YAML::Clone(overlay);
+    return overlay;
   }
   const auto& sections = Config::plugin_sections();
   const bool plugin_section = std::find(sections.begin(), sections.end(), prefix) != sections.end();
+  const YAML::Node& read = base;  // const: yaml-cpp's operator[] would add an entry
   const bool other_plugin = plugin_section && overlay["plugin"].IsDefined() &&
-                            base["plugin"].IsDefined() && overlay["plugin"].IsScalar() &&
-                            base["plugin"].IsScalar() &&
-                            overlay["plugin"].Scalar() != base["plugin"].Scalar();
-  if (other_plugin) erase_below(origins, prefix + ".params");
-  std::vector<std::pair<std::string, YAML::Node>> entries;  // the base's order, then new keys
-  std::unordered_map<std::string, std::size_t> at;
-  for (const auto& kv : base) {
-    const std::string name = kv.first.Scalar();
-    if (other_plugin && name == "params") continue;
-    at.emplace(name, entries.size());
-    entries.emplace_back(name, YAML::Clone(kv.second));
+                            read["plugin"].IsDefined() && overlay["plugin"].IsScalar() &&
+                            read["plugin"].IsScalar() &&
+                            overlay["plugin"].Scalar() != read["plugin"].Scalar();
+  if (other_plugin) {
+    erase_below(origins, prefix + ".params");
+    base.remove("params");
   }
+  std::unordered_map<std::string, YAML::Node> at;  // the base's values by key (first wins)
+  for (const auto& kv : base) at.emplace(kv.first.Scalar(), kv.second);
   for (const auto& kv : overlay) {
     const std::string name = kv.first.Scalar();
     const std::string key = prefix.empty() ? name : prefix + "." + name;
     if (auto it = at.find(name); it != at.end()) {
-      entries[it->second].second = merge(entries[it->second].second, kv.second, key, origins);
+      // Assigning to the base's value node rewrites it where it stands (keeps the key's place).
+      YAML::Node merged = merge(it->second, kv.second, key, origins);
+      if (!merged.is(it->second)) it->second = merged;
     } else {
       erase_below(origins, key);
-      at.emplace(name, entries.size());
-      entries.emplace_back(name, YAML::Clone(kv.second));
+      base.force_insert(kv.first, kv.second);
+      at.emplace(name, kv.second);
     }
   }
-  YAML::Node out(YAML::NodeType::Map);
-  for (auto& [name, value] : entries) out.force_insert(name, value);
-  return out;
+  return base;
 }
 
 struct Layered {

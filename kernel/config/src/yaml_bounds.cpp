@@ -33,8 +33,19 @@ void check_expanded_size(const YAML::Node& root, const std::string& source) {
   }
 }
 
+namespace {
+bool holds_null(const YAML::Node& n) {
+  if (!n.IsMap()) return false;
+  for (const auto& kv : n)
+    if (kv.second.IsNull() || holds_null(kv.second)) return true;
+  return false;
+}
+}  // namespace
+
 YAML::Node without_nulls(const YAML::Node& n) {
-  if (!n.IsMap()) return n;
+  // A map without null values below it is returned as it is: copying it would re-register each
+  // of its nodes with yaml-cpp's memory once per level of nesting.
+  if (!holds_null(n)) return n;
   YAML::Node out(YAML::NodeType::Map);
   for (const auto& kv : n)
     if (!kv.second.IsNull()) out.force_insert(kv.first.Scalar(), without_nulls(kv.second));

@@ -17,12 +17,10 @@ using namespace flipper::ddstest;
 
 namespace {
 
-void publish_raw(dds::Participant& p, const dds::LexiconEvent& e) {
-  const dds_entity_t w = lexicon_writer(p);
-  write_event(w, e);
-  // Keep the writer until its (transient-local) sample is delivered to the sites.
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  dds_delete(w);
+std::uint32_t matched(dds_entity_t writer) {
+  dds_publication_matched_status_t st{};
+  dds_get_publication_matched_status(writer, &st);
+  return st.current_count;
 }
 
 }  // namespace
@@ -71,18 +69,22 @@ TEST_CASE("three sites share a definition, a deletion and a conflicting pair", "
   CHECK(rule_shapes(a, "go home") == winner);
   CHECK(rule_shapes(c, "go home") == winner);
 
-  // Malformed and forged events are dropped or refused; the sites go on.
+  // Malformed and forged events are dropped or refused; the sites go on. One reliable writer,
+  // matched by the three sites before it writes; the last event is a valid one, so once every
+  // site has applied it, the three before it (delivered in order) have been read and judged.
   auto participant = test_participant(kDomain);
+  const dds_entity_t w = lexicon_writer(*participant);
+  REQUIRE(wait_until([&] { return matched(w) >= 3; }, std::chrono::seconds(60)));
   dds::LexiconEvent bad;
   bad.site = "mallory";
   bad.kind = "define";
   bad.author = "eve";
   bad.head = "steal";
   bad.body = {"move up"};
-  publish_raw(*participant, bad);  // version 0
+  write_event(w, bad);  // version 0
   bad.version = 1;
   bad.kind = "zap";
-  publish_raw(*participant, bad);
+  write_event(w, bad);
   dds::LexiconEvent forged;
   forged.site = "mallory";
   forged.version = 2;
@@ -90,8 +92,18 @@ TEST_CASE("three sites share a definition, a deletion and a conflicting pair", "
   forged.author = "eve";
   forged.target_site = "b";
   forged.target_version = 1;  // b's "go home"
-  publish_raw(*participant, forged);
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  write_event(w, forged);
+  dds::LexiconEvent valid = bad;  // security is off: any participant may define
+  valid.version = 3;
+  valid.lamport = 100;
+  valid.kind = "define";
+  valid.head = "wander off";
+  valid.body = {"move down"};
+  write_event(w, valid);
+  for (Site* s : {&a, &b, &c})
+    CHECK(wait_until([&] { return s->top("wander off") == "{move down}"; },
+                     std::chrono::seconds(60)));
+  dds_delete(w);
   for (Site* s : {&a, &b, &c}) {
     CHECK(s->top("go home") == "{visit room2}");
     CHECK(s->top("steal") == "");

@@ -166,9 +166,17 @@ TEST_CASE("flipper session refuses a non-loopback DDS config with exit 2", "[dds
   const auto dir = scratch_dir("refuse");
   const std::string eth = write_file(dir / "eth.xml", kEth0);
   for (const std::string& cfg : {std::string(kEth0), kLo + ",file://" + eth}) {
-    testsupport::ChildProcess p({flipper_bin(), "session", "--set", "publish.plans=dds", "--set",
+    INFO(cfg);
+    // Its error output too (any misuse exits 2: the code and the reason are what is checked).
+    testsupport::ChildProcess p({"/bin/sh", "-c", "exec \"$0\" \"$@\" 2>&1", flipper_bin(),
+                                 "session", "--set", "publish.plans=dds", "--set",
                                  "dds.config=" + cfg, "--set", "lexicon.path=:memory:"});
+    const std::string out = p.read_all();
     CHECK(p.finish() == 2);
+    CHECK(out ==
+          "flipper session: [bad_config] dds.config selects interface 'eth0', which is not "
+          "loopback; Flipper stays on loopback unless dds.interfaces names every interface "
+          "explicitly (dds.interfaces: [])\n");
   }
   std::filesystem::remove_all(dir);
 }

@@ -256,6 +256,26 @@ TEST_CASE("the Host must be a served name, the Origin one of them") {
   CHECK(any.allows_host("localhost"));
   const HostPolicy v6("::1", 8410, {});
   CHECK(v6.allows_host("[::1]:8410"));
+  // The router's guard: a served Host passes untouched, any other is refused 421 wrong_host
+  // with the Host named; an empty Host too.
+  HttpRequest served;
+  served.host = "localhost:8410";
+  HttpReply untouched;
+  CHECK_FALSE(p.refuse(served, untouched));
+  CHECK(untouched.status == 200);
+  CHECK(untouched.body.empty());
+  for (const std::string host : {"evil.com:8410", "127.0.0.1:8411", "other.example:8410", ""}) {
+    INFO("Host: " << host);
+    HttpRequest wrong;
+    wrong.host = host;
+    HttpReply reply;
+    CHECK(p.refuse(wrong, reply));
+    CHECK(reply.status == 421);
+    const auto body = nlohmann::json::parse(reply.body);
+    CHECK(body["error"]["code"] == "wrong_host");
+    CHECK_THAT(body["error"]["message"].get<std::string>(),
+               Catch::StartsWith("this server does not answer to Host '" + host + "'"));
+  }
 }
 
 TEST_CASE("a world path is inside its folder by components, not by prefix") {

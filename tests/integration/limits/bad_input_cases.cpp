@@ -218,12 +218,23 @@ const std::vector<CliRow>& cli_rows() {
          }
          return "ulimit -t 2; {flipper} config print --set 'planner.params.x=" + value + "]'";
        }},
+      // CPU limits: at least 3x the cost in the slowest build that runs them, the sanitizer build,
+      // taken as 4x Release (docs/testing.md). Release costs (user+sys, `/usr/bin/time`, 2 cores
+      // at load ~16): 40,000 params 0.22 s (ASan ~0.9 s: 5 s is 5.6x); the same 40,000 again in
+      // an overlay 0.62 s (ASan ~2.5 s: 8 s is 3.2x; it was 1.67 s before merging became
+      // copy-free, and 5 s was killed under ASan); 20,000 + 20,000 other params 0.34 s (ASan
+      // ~1.4 s: 5 s is 3.7x; 5.9 s before, quadratic: each inherited key was looked up anew).
       {"a config giving a plugin 40,000 params, under a 5 s CPU limit", "bad_config",
        "unknown config key 'planner.params.p0'", 2,
        [](const Scratch& s) { return "ulimit -t 5; {flipper} config check " + s.many_params; }},
-      {"a config extending another, each giving a plugin 40,000 params, under a 5 s CPU limit",
+      {"a config extending another, each giving a plugin the same 40,000 params, under an 8 s "
+       "CPU limit",
        "bad_config", "unknown config key 'planner.params.p0'", 2,
-       [](const Scratch& s) { return "ulimit -t 5; {flipper} config check " + s.many_overlay; }},
+       [](const Scratch& s) { return "ulimit -t 8; {flipper} config check " + s.many_overlay; }},
+      {"a config extending another, each giving a plugin 20,000 params of other names, under a "
+       "5 s CPU limit",
+       "bad_config", "unknown config key 'planner.params.p0'", 2,
+       [](const Scratch& s) { return "ulimit -t 5; {flipper} config check " + s.other_overlay; }},
       {"a config file of 1 MiB + 1 byte", "bad_config",
        "has 1048577 bytes; the limit for a config is 1048576 bytes (1 MiB)", 2,
        [](const Scratch& s) { return "{flipper} config check " + s.big_config; }},

@@ -23,6 +23,8 @@ struct Scratch {
   std::string alias_bomb;     ///< a 395-byte config whose aliases expand to 387 million nodes
   std::string many_params;    ///< a config giving the planner 40,000 params
   std::string many_overlay;   ///< a config extending many_params with 40,000 params of its own
+  std::string other_base;     ///< a config giving the planner 20,000 params (p0..p19999)
+  std::string other_overlay;  ///< a config extending other_base with 20,000 others (p20000..)
   std::string big_config;     ///< a config file of 1 MiB + 1 byte
 };
 

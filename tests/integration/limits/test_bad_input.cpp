@@ -96,6 +96,16 @@ const Scratch& scratch() {
       for (int i = 0; i < 40000; ++i) overlay += "    p" + std::to_string(i) + ": 2\n";
       s.many_overlay = s.dir + "/many-params-overlay.yaml";
       write(s.many_overlay, overlay);
+      std::string base20 = "planner:\n  plugin: astar\n  params:\n";
+      std::string other20 = "extends: other-base.yaml\nplanner:\n  params:\n";
+      for (int i = 0; i < 20000; ++i) {
+        base20 += "    p" + std::to_string(i) + ": 1\n";
+        other20 += "    p" + std::to_string(20000 + i) + ": 2\n";
+      }
+      s.other_base = s.dir + "/other-base.yaml";
+      write(s.other_base, base20);
+      s.other_overlay = s.dir + "/other-overlay.yaml";
+      write(s.other_overlay, other20);
       std::string big = "# padding\n";
       big += "#" + std::string((1u << 20) + 1 - big.size() - 2, 'x') + "\n";
       REQUIRE(big.size() == (1u << 20) + 1);
@@ -290,7 +300,7 @@ TEST_CASE("a world of 16382² cells is refused before the world plugin allocates
 
 TEST_CASE(
     "flipper session serves a line of input.max_line_bytes and heads and bodies of "
-    "input.max_tokens; one more is refused") {
+    "input.max_tokens, one more is refused") {
   ChildProcess session({kFlipper, "session", "--set", "lexicon.path=:memory:", "--set",
                         "input.max_line_bytes=64", "--set", "input.max_tokens=40", "--set",
                         "induction.generalize=false"});

@@ -634,3 +634,21 @@ TEST_CASE("configs/default.yaml restates no schema default", "[config][defaults]
   walk(YAML::LoadFile(kerneltest::data_dir() + "/swap-full/default.yaml"), schema_only, "");
   CHECK(restated.size() > 40);
 }
+
+TEST_CASE("sixteen configs may extend one another, seventeen are a config error",
+          "[config][extends]") {
+  // c0 extends c1 ... extends c(n-1), which sets session.k = 7.
+  const auto chain = [](int n) {
+    const std::string dir = "extends/chain" + std::to_string(n) + "/";
+    for (int i = 0; i + 1 < n; ++i)
+      kerneltest::write_temp(dir + "c" + std::to_string(i) + ".yaml",
+                             "extends: c" + std::to_string(i + 1) + ".yaml\n");
+    kerneltest::write_temp(dir + "c" + std::to_string(n - 1) + ".yaml", "session: {k: 7}\n");
+    return kerneltest::write_temp(dir + "c0.yaml", "extends: c1.yaml\n");
+  };
+  CHECK(Config::load(chain(16), {}).get_int("session.k") == 7);
+  const std::string deep = chain(17);
+  require_error([&] { (void)Config::load(deep, {}); }, "bad_config",
+                {"config " + std::filesystem::path(deep).parent_path().string() +
+                 "/c15.yaml: more than 16 configs extend one another"});
+}

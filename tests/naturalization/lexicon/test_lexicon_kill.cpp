@@ -6,28 +6,18 @@
 #include <random>
 #include <set>
 #include <string>
-#include <thread>
+#include <vector>
 
 #include "child_process.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
-#include "sanitizer_build.hpp"
 #include "sqlite_integrity.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-// Sanitizer builds (build-fuzz/) start and write several times slower: kill later, so that the
-// kills still land while the writer is committing.
-constexpr int kSlowdown = flipper::testsupport::kAddressSanitizer ? 6 : 1;
-
-/// Runs the driver until killed after `ms`; returns the indices it acknowledged.
-std::vector<long> run_and_kill(const std::string& store, long start, int ms) {
-  flipper::testsupport::ChildProcess driver({KILL_DRIVER, store, std::to_string(start)});
-  std::this_thread::sleep_for(std::chrono::milliseconds(ms));
-  driver.kill_now();
-  // Everything the driver wrote before dying is in the pipe: those are the answers received.
-  const std::string text = driver.read_all();
+/// The indices acknowledged in the driver's "ack N" lines of `text` (a torn last line is none).
+std::vector<long> acks_in(const std::string& text) {
   std::vector<long> acks;
   std::size_t pos = 0;
   while ((pos = text.find("ack ", pos)) != std::string::npos) {
@@ -39,6 +29,24 @@ std::vector<long> run_and_kill(const std::string& store, long start, int ms) {
   return acks;
 }
 
+/// Runs the driver until it has acknowledged `after` definitions (a condition, not a time: a
+/// slow sanitizer build or a busy machine kills at the same point of the stream), then kills it
+/// while it commits the next; returns the indices it acknowledged.
+std::vector<long> run_and_kill(const std::string& store, long start, int after) {
+  flipper::testsupport::ChildProcess driver({KILL_DRIVER, store, std::to_string(start)});
+  std::string seen;
+  for (int got = 0; got < after;) {
+    // Bound: one definition commits in ~1 ms in Release; 60 s means the driver is stuck.
+    const std::string line = driver.read_line(std::chrono::seconds(60));
+    REQUIRE_FALSE(line.empty());
+    seen += line + "\n";
+    if (line.rfind("ack ", 0) == 0) ++got;
+  }
+  driver.kill_now();
+  // Everything the driver wrote before dying is in the pipe: those are the answers received.
+  return acks_in(seen + driver.read_all());
+}
+
 }  // namespace
 
 TEST_CASE("SIGKILL at random moments loses no acknowledged definition", "[lexicon][kill]") {
@@ -47,12 +55,12 @@ TEST_CASE("SIGKILL at random moments loses no acknowledged definition", "[lexico
   fs::create_directories(dir);
   const std::string store = (dir / "lexicon.db").string();
   std::mt19937 rng(20180917);
-  std::uniform_int_distribution<int> delay(5 * kSlowdown, 120 * kSlowdown);
+  std::uniform_int_distribution<int> after(0, 40);  // 0: killed while it starts up
   std::set<long> acknowledged;
   long next = 0;
   int kills_with_acks = 0;
   for (int round = 0; round < 30; ++round) {
-    const auto acks = run_and_kill(store, next, delay(rng));
+    const auto acks = run_and_kill(store, next, after(rng));
     if (!acks.empty()) ++kills_with_acks;
     for (long a : acks) acknowledged.insert(a);
     next += 100000;            // each round's heads are distinct

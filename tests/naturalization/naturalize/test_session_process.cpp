@@ -5,9 +5,11 @@
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <regex>
@@ -232,9 +234,16 @@ TEST_CASE("SIGKILL of flipper session loses no answered definition",
     {
       Session s(store);
       REQUIRE(s.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);  // started up
-      const int after_ms = std::uniform_int_distribution<int>(1, 60)(rng);
-      std::thread killer([&s, after_ms] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(after_ms));
+      // The kill comes once this round has `after` answers (a condition, not a time: a slow or
+      // busy machine kills at the same point of the stream), while the next define is on its way.
+      const int after = std::uniform_int_distribution<int>(0, 12)(rng);
+      std::mutex m;
+      std::condition_variable cv;
+      int in_round = 0;
+      std::thread killer([&] {
+        std::unique_lock lock(m);
+        // Bound: 60 s for at most 12 defines (~2 ms each in Release).
+        cv.wait_for(lock, std::chrono::seconds(60), [&] { return in_round >= after; });
         s.kill_now();
       });
       for (;; ++next) {
@@ -243,6 +252,11 @@ TEST_CASE("SIGKILL of flipper session loses no answered definition",
         if (a.is_null()) break;  // killed
         REQUIRE(a["ok"] == true);
         answered.insert(head);
+        {
+          std::lock_guard lock(m);
+          ++in_round;
+        }
+        cv.notify_one();
       }
       killer.join();
       ++next;
