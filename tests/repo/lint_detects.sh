@@ -72,3 +72,36 @@ long cells(int width, int height) {
 CPP
 expect fail "an int multiplication widened after the fact" --tidy-only build
 grep -q 'implicit-widening-of-multiplication-result' "$tmp/out" || { echo "no widening finding"; exit 1; }
+
+# --changed-since REF (scripts/test outside CI): only the units a change since REF can affect.
+# A committed unit with a finding is skipped while unchanged; a unit is checked when it changed
+# or when its dependency file names a changed header.
+clean
+printf '#pragma once\nint answer();\n' >"$tmp/apps/demo/demo.hpp"
+printf '#include "demo.hpp"\n' | cat - "$tmp/apps/demo/demo.cpp" >"$tmp/demo.tmp"
+mv "$tmp/demo.tmp" "$tmp/apps/demo/demo.cpp"
+cat >"$tmp/apps/demo/old.cpp" <<'CPP'
+long cells(int width, int height) {
+  return width * height;
+}
+CPP
+cat >"$tmp/build/compile_commands.json" <<JSON
+[{"directory": "$tmp", "file": "$tmp/apps/demo/demo.cpp",
+  "command": "clang++-14 -std=c++20 -c $tmp/apps/demo/demo.cpp -o /dev/null"},
+ {"directory": "$tmp", "file": "$tmp/apps/demo/old.cpp",
+  "command": "clang++-14 -std=c++20 -c $tmp/apps/demo/old.cpp -o /dev/null"}]
+JSON
+printf 'demo.cpp.o: \\\n %s %s\n' "$tmp/apps/demo/demo.cpp" "$tmp/apps/demo/demo.hpp" >"$tmp/build/demo.cpp.o.d"
+printf "build/\nout\n" >"$tmp/.gitignore"
+git -C "$tmp" init -q
+git -C "$tmp" add -A
+git -C "$tmp" -c user.name=lint -c user.email=lint@localhost commit -qm base
+expect fail "a finding in a committed unit, every unit checked" --tidy-only build
+expect pass "the same finding, its unit unchanged since the base" --tidy-only --changed-since HEAD build
+grep -q 'clang-tidy on 0 of 2 units' "$tmp/out" || { echo "units were checked"; cat "$tmp/out"; exit 1; }
+printf 'int other();\n' >>"$tmp/apps/demo/demo.hpp"
+expect pass "a changed header: the unit including it is checked" --tidy-only --changed-since HEAD build
+grep -q 'clang-tidy on 1 of 2 units' "$tmp/out" || { echo "not the header's unit"; cat "$tmp/out"; exit 1; }
+printf '// touched\n' >>"$tmp/apps/demo/old.cpp"
+expect fail "the unit with the finding changed" --tidy-only --changed-since HEAD build
+grep -q 'implicit-widening-of-multiplication-result' "$tmp/out" || { echo "no widening finding"; exit 1; }

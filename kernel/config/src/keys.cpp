@@ -67,6 +67,10 @@ ParamSchema build() {
   s.add_string("lexicon.weights", "global", "scorer weights", {"global", "per_user"});
   add(s, keys::kBusyTimeoutMs);
   add(s, keys::kSnapshotMinRules);
+  s.add_string("lexicon.durability", "full",
+               "full: each accept/define is on disk when answered; normal: survives any process "
+               "crash, a power loss may drop the last commits (docs/naturalization.md §5)",
+               {"full", "normal"});
   s.add_string("lexicon.replication", "none", "share rules between sites", {"none", "dds"});
   s.add_string("lexicon.site", "", "this site's name (replication)");
 

@@ -256,8 +256,10 @@ void open_writable(std::unique_ptr<sqlite::Db>& into, const std::string& path, b
     db.refuse_writes(lexicon_codes::kReadOnly);
   } else {
     // WAL + FULL: every COMMIT is on disk when it returns, and a kill mid-write never corrupts.
+    // WAL + NORMAL (lexicon.durability: normal): a COMMIT is in the WAL file (the OS's page cache)
+    // when it returns, so it survives a crash of the process; the WAL is synced at checkpoints.
     if (!memory) use_wal(db);
-    db.exec("PRAGMA synchronous=FULL");
+    db.exec(options.sync_every_commit ? "PRAGMA synchronous=FULL" : "PRAGMA synchronous=NORMAL");
     if (!memory) db.checkpoint_in_background();
     if (version < LexiconStore::kSchemaVersion) create_or_upgrade(db);
   }

@@ -322,11 +322,18 @@ TEST_CASE("SIGKILL right after an answered define, with background checkpoints, 
 
 // Durability against power loss, which a kill cannot show: every answered define was preceded,
 // in the answering thread, by an fdatasync of the WAL after the define's last write to it.
-TEST_CASE("every answered define is synced to the WAL before its answer is written",
-          "[naturalize][process][durability]") {
-  const std::string store = scratch_path("sync-order") + ".sqlite";
-  const std::string script = scratch_path("sync-order") + ".jsonl";
-  const std::string trace = scratch_path("sync-order") + ".strace";
+namespace {
+
+struct SyncOrder {
+  int answers = 0;         // defines answered ok
+  int synced_answers = 0;  // ... each after a sync of the WAL it wrote in the answering thread
+};
+
+/// 40 defines through `flipper session` under strace at lexicon.durability `level`.
+SyncOrder define_under_strace(const std::string& name, const std::string& level) {
+  const std::string store = scratch_path(name) + ".sqlite";
+  const std::string script = scratch_path(name) + ".jsonl";
+  const std::string trace = scratch_path(name) + ".strace";
   {
     std::ofstream f(script);
     f << Json{{"op", "user"}, {"name", "ana"}}.dump() << "\n";
@@ -338,8 +345,8 @@ TEST_CASE("every answered define is synced to the WAL before its answer is writt
   const std::string cmd =
       "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 strace -f -qq -y -s 40 "
       "-e trace=write,pwrite64,fdatasync,fsync -o '" +
-      trace + "' " + kFlipper + " session --set lexicon.path=" + store + " '" + script +
-      "' > /dev/null 2>&1";
+      trace + "' " + kFlipper + " session --set lexicon.path=" + store +
+      " --set lexicon.durability=" + level + " '" + script + "' > /dev/null 2>&1";
   REQUIRE(std::system(cmd.c_str()) == 0);  // strace must be installed (tests/README)
   // "PID write(1</dev/null>, ..." / "PID pwrite64(4</x.sqlite-wal>, ..." / "PID fdatasync(4<..."
   const std::regex line_re(R"(^(\d+) +(\w+)\((\d+)<([^>]*)>)");
@@ -361,8 +368,41 @@ TEST_CASE("every answered define is synced to the WAL before its answer is writt
       wrote[tid] = false;
     }
   }
-  CHECK(answers == 40);
-  CHECK(synced_answers == 40);
+  return {answers, synced_answers};
+}
+
+}  // namespace
+
+TEST_CASE("every answered define is synced to the WAL before its answer is written",
+          "[naturalize][process][durability]") {
+  const SyncOrder full = define_under_strace("sync-order", "full");  // the default level
+  CHECK(full.answers == 40);
+  CHECK(full.synced_answers == 40);
+}
+
+// lexicon.durability: normal (docs/naturalization.md §5): no sync on the answer's path, and still
+// nothing answered is lost when the process is killed.
+TEST_CASE("at lexicon.durability normal a define is answered unsynced and survives a kill",
+          "[naturalize][process][durability]") {
+  const SyncOrder normal = define_under_strace("sync-normal", "normal");
+  CHECK(normal.answers == 40);
+  CHECK(normal.synced_answers == 0);  // 40 small defines: no checkpoint, so no WAL sync at all
+  const std::string store = scratch_path("kill-normal") + ".sqlite";
+  std::set<std::string> answered;
+  {
+    Session s(store, {"lexicon.durability=normal"});
+    REQUIRE(s.ask({{"op", "user"}, {"name", "ana"}})["ok"] == true);
+    for (long n = 0; n < 10; ++n) {
+      const Json a = s.ask({{"op", "define"}, {"head", head_for(n)}, {"body", {"move left"}}});
+      REQUIRE(a["ok"] == true);
+      answered.insert(head_for(n));
+    }
+    s.kill_now();  // SIGKILL right after the last answer: no close, no checkpoint
+  }
+  flipper::naturalization::LexiconStore reopened(store);
+  std::set<std::string> heads;
+  for (const auto& d : reopened.definitions()) heads.insert(d.head);
+  CHECK(heads == answered);
 }
 
 TEST_CASE("a rule acknowledged in one process serves a running other one, and so does its deletion",

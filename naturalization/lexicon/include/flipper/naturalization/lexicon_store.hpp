@@ -51,6 +51,11 @@ struct LexiconStoreOptions {
   /// calls verify() itself when it cannot start from a valid rule snapshot (docs/naturalization.md
   /// §5 "Start-up at scale").
   bool check_on_open = true;
+  /// lexicon.durability (docs/naturalization.md §5 "Durability"): true (`full`) syncs the WAL in
+  /// every COMMIT (SQLite synchronous=FULL), so an answered accept/define survives a power loss;
+  /// false (`normal`, synchronous=NORMAL) syncs it only at checkpoints: every commit survives any
+  /// crash of the process, a power loss may drop the last ones.
+  bool sync_every_commit = true;
 };
 
 /// One definition as the user gave it.
