@@ -16,6 +16,8 @@ NaturalizeOptions NaturalizeOptions::from_config(const kernel::Config& config) {
   o.preload = preload.empty() ? preload : config.resolve_path_of("lexicon.preload", preload);
   o.per_user_weights = config.get_string("lexicon.weights") == "per_user";  // schema: enum
   o.store.busy_timeout_ms = static_cast<int>(config.get(kernel::keys::kBusyTimeoutMs));
+  o.store.site = config.get_string("lexicon.site");
+  o.conflicts = parse_conflict_policy(config.get_string("lexicon.conflicts"));
   o.snapshot_min_rules = config.get(kernel::keys::kSnapshotMinRules);
   o.induction.alignment = config.get(kernel::keys::kAlignment);
   o.generalize = config.get(kernel::keys::kGeneralize);
