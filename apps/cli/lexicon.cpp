@@ -277,8 +277,14 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
       continue;
     }
     try {
-      rules += naturalizer.define(d).rules.size();
+      const auto outcome = naturalizer.define(d);
+      rules += outcome.rules.size();
       ++added;
+      // Phrases of other users it reads differently (docs/naturalization.md §5 "Conflicts").
+      for (const auto& c : outcome.conflicts)
+        std::cout << "conflict: '" << d.head << "' (" << d.user << ") changes " << c.user << "'s '"
+                  << c.phrase << "': " << c.kind << " " << (c.before.empty() ? "(none)" : c.before)
+                  << " -> " << c.after << "\n";
     } catch (const sdk::Error& e) {
       if (naturalization::lexicon_codes::is_store_fault(e.code())) throw;
       failures.push_back("'" + d.head + "' (" + d.user + "): " + e.code() + ": " + e.what());
