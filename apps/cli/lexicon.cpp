@@ -1,4 +1,5 @@
-// flipper lexicon list|export|import|delete: the lexicon store of the config's lexicon.path.
+// flipper lexicon list|export|import|delete (log|diff|tag|revert: lexicon_history.cpp): the store
+// of the config's lexicon.path.
 //   list [--author A] [--json]  live rules: id, author, how, uses (by author/by others), the rule
 //   delete ID --user U      deletes U's rule ID (forbidden for others' rules; history kept)
 //   export FILE|-           JSON Lines copy of the whole store (LexiconStore::export_jsonl)
@@ -29,6 +30,10 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::cli {
+
+/// lexicon log|diff|tag|revert (lexicon_history.cpp).
+void add_lexicon_history_commands(CLI::App& lexicon);
+
 namespace {
 
 struct LexiconArgs {
@@ -248,6 +253,7 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
       d.head = j.at("head").get<std::string>();
       d.body = j.at("body").get<std::vector<std::string>>();
       d.user = j.value("author", std::string("import"));
+      d.via = "import";
       defs.push_back(std::move(d));
     } catch (const std::exception& e) {
       throw sdk::Error(
@@ -271,8 +277,14 @@ int import_definitions(const LexiconArgs& a, const kernel::Config& config,
       continue;
     }
     try {
-      rules += naturalizer.define(d).rules.size();
+      const auto outcome = naturalizer.define(d);
+      rules += outcome.rules.size();
       ++added;
+      // Phrases of other users it reads differently (docs/naturalization.md §5 "Conflicts").
+      for (const auto& c : outcome.conflicts)
+        std::cout << "conflict: '" << d.head << "' (" << d.user << ") changes " << c.user << "'s '"
+                  << c.phrase << "': " << c.kind << " " << (c.before.empty() ? "(none)" : c.before)
+                  << " -> " << c.after << "\n";
     } catch (const sdk::Error& e) {
       if (naturalization::lexicon_codes::is_store_fault(e.code())) throw;
       failures.push_back("'" + d.head + "' (" + d.user + "): " + e.code() + ": " + e.what());
@@ -329,8 +341,8 @@ std::function<int()> guarded(const char* what, int (*action)(const LexiconArgs&)
 }  // namespace
 
 void add_lexicon_command(CLI::App& app) {
-  auto* cmd =
-      app.add_subcommand("lexicon", "List, export, import and delete in the community lexicon");
+  auto* cmd = app.add_subcommand(
+      "lexicon", "List, export, import, delete, log, diff, tag and revert the community lexicon");
   cmd->require_subcommand(1);
   static LexiconArgs list_args, export_args, import_args;
 
@@ -360,6 +372,8 @@ void add_lexicon_command(CLI::App& app) {
   del->add_option("id", delete_args.rule_id, "The rule's id (from lexicon list)")->required();
   del->add_option("--user", delete_args.user, "Who deletes it: only its author may")->required();
   on_run(*del, guarded("delete", delete_rule, delete_args));
+
+  add_lexicon_history_commands(*cmd);
 }
 
 }  // namespace flipper::cli

@@ -81,10 +81,12 @@ json config_json(const kernel::Config& config) {
     const std::string path = config.has(key) ? config.get_path(key) : std::string();
     if (!path.empty() && fs::is_regular_file(path)) files.push_back(file_json(key, path));
   }
-  return {{"source", config.source()},
-          {"base_dir", config.base_dir()},
-          {"effective", config.dump()},
-          {"files", files}};
+  json out{{"source", config.source()},
+           {"base_dir", config.base_dir()},
+           {"effective", config.dump()},
+           {"files", files}};
+  if (json lexicon = lexicon_json(config); !lexicon.is_null()) out["lexicon"] = std::move(lexicon);
+  return out;
 }
 
 json plugins_json(const kernel::Config& config, const std::vector<std::string>& sections) {

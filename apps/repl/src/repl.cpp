@@ -469,6 +469,14 @@ class Repl {
     if (defined.generalized)  // quoted, as the protocol's "generalized" string
       out_ << "(generalized the body to: " << kernel::Json(sdk::render(defined.generalized)).dump()
            << ")\n";
+    // Phrases other users rely on that now read differently (docs/naturalization.md §5).
+    for (const auto& c : defined.conflicts)
+      out_ << "Note: " << c.user << "'s \"" << c.phrase << "\" "
+           << (c.kind == "first_reading" ? "now first reads " + c.after + " (was " +
+                                               (c.before.empty() ? "nothing" : c.before) + ")"
+                                         : "gains a reading (" + std::to_string(c.readings_before) +
+                                               " -> " + std::to_string(c.readings_after) + ")")
+           << "\n";
     // The lexicon picks up other processes' rules before each parse (docs/naturalization.md).
     out_ << "(Stored in the lexicon: other repls and sessions on the same store can use it from "
             "their next query on.)\n";

@@ -72,7 +72,11 @@ ParamSchema build() {
                "crash, a power loss may drop the last commits (docs/naturalization.md §5)",
                {"full", "normal"});
   s.add_string("lexicon.replication", "none", "share rules between sites", {"none", "dds"});
-  s.add_string("lexicon.site", "", "this site's name (replication)");
+  s.add_string("lexicon.site", "", "this site's name (replication; recorded in the history)");
+  s.add_string("lexicon.conflicts", "warn",
+               "a definition that changes other users' readings: shown (warn) or refused "
+               "(refuse, definition_conflicts)",
+               {"warn", "refuse"});
 
   s.add_section("publish", "what the DDS front end publishes");
   s.add_string("publish.plans", "none", "publish each accepted plan", {"none", "dds"});

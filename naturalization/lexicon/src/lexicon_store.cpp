@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <istream>
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 
 #include "degraded_open.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "history_store.hpp"
 #include "sqlite_handle.hpp"
 #include "store_impl.hpp"
 
@@ -61,6 +63,40 @@ CREATE INDEX rule_uses_seq ON rule_uses(seq);
 CREATE INDEX scorer_weights_seq ON scorer_weights(seq);
 CREATE INDEX scorer_state_seq ON scorer_state(seq);
 UPDATE flipper_schema SET version = 4;
+)sql";
+
+// Version 4 -> 5: the append-only history of every change to the live rules, and tags naming
+// points of it (docs/naturalization.md §5 "History and governance"). Rules stored before get a
+// synthesized `import` entry each (creation order), then a `delete` entry per deletion (deletion
+// order), with the times of their rows.
+constexpr const char* kUpgradeFrom4 = R"sql(
+CREATE TABLE lexicon_history(
+  seq INTEGER PRIMARY KEY, time INTEGER NOT NULL, author TEXT NOT NULL, action TEXT NOT NULL,
+  effect TEXT NOT NULL, rule TEXT, source_rule TEXT, definition INTEGER,
+  head TEXT NOT NULL DEFAULT '', body TEXT NOT NULL DEFAULT '[]', study TEXT NOT NULL DEFAULT '',
+  site TEXT NOT NULL DEFAULT '', note TEXT NOT NULL DEFAULT '');
+CREATE INDEX lexicon_history_rule ON lexicon_history(rule);
+CREATE INDEX lexicon_history_source ON lexicon_history(source_rule);
+CREATE TABLE lexicon_tags(
+  name TEXT PRIMARY KEY, seq INTEGER NOT NULL, time INTEGER NOT NULL, author TEXT NOT NULL,
+  checksum TEXT NOT NULL);
+CREATE TRIGGER lexicon_history_append_only_u BEFORE UPDATE ON lexicon_history
+  BEGIN SELECT RAISE(ABORT, 'the lexicon history is append-only'); END;
+CREATE TRIGGER lexicon_history_append_only_d BEFORE DELETE ON lexicon_history
+  BEGIN SELECT RAISE(ABORT, 'the lexicon history is append-only'); END;
+CREATE TRIGGER lexicon_tags_fixed_u BEFORE UPDATE ON lexicon_tags
+  BEGIN SELECT RAISE(ABORT, 'a lexicon tag is never moved'); END;
+CREATE TRIGGER lexicon_tags_fixed_d BEFORE DELETE ON lexicon_tags
+  BEGIN SELECT RAISE(ABORT, 'a lexicon tag is never moved'); END;
+INSERT INTO lexicon_history(time, author, action, effect, rule, definition, head, body, note)
+  SELECT coalesce(d.time, 0), r.author, 'import', 'add', r.id, r.definition, r.head, r.body,
+         'synthesized at the upgrade to schema 5'
+  FROM rules r LEFT JOIN definitions d ON d.id = r.definition ORDER BY r.created;
+INSERT INTO lexicon_history(time, author, action, effect, rule, definition, head, body, note)
+  SELECT coalesce(r.deleted_at, 0), r.author, 'delete', 'remove', r.id, r.definition, r.head,
+         r.body, 'synthesized at the upgrade to schema 5'
+  FROM rules r WHERE r.deleted = 1 ORDER BY r.deleted_seq;
+UPDATE flipper_schema SET version = 5;
 )sql";
 
 // Version 1 -> 2, in place: existing deletions get a sequence in `created` order.
@@ -193,6 +229,7 @@ void create_or_upgrade(sqlite::Db& db) {
   if (version == 1) db.exec(kUpgradeFrom1);
   if (version == 1 || version == 2) db.exec(kUpgradeFrom2);
   if (version <= 3) db.exec(kUpgradeFrom3);
+  if (version <= 4) db.exec(kUpgradeFrom4);
   tx.commit();
 }
 
@@ -231,9 +268,10 @@ namespace {
 
 /// A store opened for reading only must need no change: it holds a lexicon of this build's
 /// schema (version 2 only lacks the weight table, which weight_changes() treats as empty;
-/// versions 2 and 3 lack the learning sequence, so learned_since() sees nothing new).
+/// versions 2 and 3 lack the learning sequence, so learned_since() sees nothing new; versions
+/// before 5 have no history, which history() reports).
 void check_readable_version(sqlite::Db& db, std::int64_t version) {
-  if (version != LexiconStore::kSchemaVersion && version != 2 && version != 3)
+  if (version != LexiconStore::kSchemaVersion && version != 2 && version != 3 && version != 4)
     throw sdk::Error(lexicon_codes::kReadOnly,
                      "lexicon store '" + db.path() + "' is read-only and " +
                          (version == 0 ? std::string("holds no lexicon yet")
@@ -270,6 +308,7 @@ void open_writable(std::unique_ptr<sqlite::Db>& into, const std::string& path, b
 LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
+  impl_->site = options.site;
   const bool memory = path == ":memory:";
   bool existed = false;
   if (!memory) {
@@ -387,6 +426,30 @@ StoredRule read_rule(const sqlite::Stmt& s) {
 
 }  // namespace
 
+const char* const kRuleSelectForHistory = kRuleSelect;
+StoredRule read_history_rule(const sqlite::Stmt& s) {
+  return read_rule(s);
+}
+
+namespace {
+
+HistoryEntry entry_for(const StoredRule& r, const char* action, const char* effect,
+                       const std::string& author, std::int64_t time, const std::string& site) {
+  HistoryEntry e;
+  e.time = time;
+  e.author = author;
+  e.action = action;
+  e.effect = effect;
+  e.rule = r.id;
+  e.definition = r.definition;
+  e.head = r.head;
+  e.body = r.body;
+  e.site = site;
+  return e;
+}
+
+}  // namespace
+
 DefinitionCommit LexiconStore::commit_definition(const StoredDefinition& d,
                                                  std::vector<StoredRule> rules) {
   auto& db = *impl_->db;
@@ -395,6 +458,17 @@ DefinitionCommit LexiconStore::commit_definition(const StoredDefinition& d,
   ins.bind(1, d.head).bind(2, to_json_list(d.body)).bind(3, d.author).bind(4, d.time).run();
   DefinitionCommit out;
   out.definition = sqlite3_last_insert_rowid(db.raw());
+  HistoryEntry def;
+  def.time = d.time;
+  def.author = d.author;
+  def.action = d.via.empty() ? history_action::kDefine : d.via;
+  def.effect = history_effect::kNone;
+  def.definition = out.definition;
+  def.head = d.head;
+  def.body = d.body;
+  def.study = d.study;
+  def.site = impl_->site;
+  append_history(db, def);
   // Under the write lock: no other process can take these numbers before the commit.
   std::int64_t created = next_value(db, "SELECT coalesce(max(created), 0) + 1 FROM rules");
   for (auto& r : rules) {
@@ -403,6 +477,10 @@ DefinitionCommit LexiconStore::commit_definition(const StoredDefinition& d,
     r.definition = out.definition;
     r.deleted = false;
     insert_rule(db, r, out.definition);
+    HistoryEntry e =
+        entry_for(r, history_action::kInduce, history_effect::kAdd, d.author, d.time, impl_->site);
+    e.study = d.study;
+    append_history(db, e);
   }
   tx.commit();
   out.rules = std::move(rules);
@@ -449,10 +527,8 @@ std::int64_t LexiconStore::max_created() const {
   return s.int64(0);
 }
 
-namespace {
-
 /// Flags `id` deleted with the next deletion sequence number (inside the caller's transaction).
-void flag_deleted(sqlite::Db& db, const std::string& id, std::int64_t time) {
+void flag_rule_deleted(sqlite::Db& db, const std::string& id, std::int64_t time) {
   const std::int64_t seq = next_value(db, "SELECT coalesce(max(deleted_seq), 0) + 1 FROM rules");
   sqlite::Stmt s(db,
                  "UPDATE rules SET deleted = 1, deleted_at = ?, deleted_seq = ? "
@@ -460,13 +536,16 @@ void flag_deleted(sqlite::Db& db, const std::string& id, std::int64_t time) {
   s.bind(1, time).bind(2, seq).bind(3, id).run();
 }
 
-}  // namespace
-
 bool LexiconStore::mark_deleted(const std::string& id, std::int64_t time) {
   auto& db = *impl_->db;
   sqlite::Transaction tx(db);
-  flag_deleted(db, id, time);
+  flag_rule_deleted(db, id, time);
   const bool changed = sqlite3_changes(db.raw()) > 0;
+  if (changed) {
+    const auto r = rule(id);
+    append_history(db, entry_for(*r, history_action::kDelete, history_effect::kRemove, r->author,
+                                 time, impl_->site));
+  }
   tx.commit();
   return changed;
 }
@@ -491,7 +570,10 @@ DeleteResult LexiconStore::delete_rule(
     }
     out.author = author;
   }
-  flag_deleted(db, id, time);
+  flag_rule_deleted(db, id, time);
+  const auto r = rule(id);
+  append_history(
+      db, entry_for(*r, history_action::kDelete, history_effect::kRemove, user, time, impl_->site));
   tx.commit();
   out.status = DeleteStatus::deleted;
   return out;
@@ -804,6 +886,7 @@ std::size_t LexiconStore::import_jsonl(std::istream& in) {
   std::string line;
   std::size_t n = 0, line_no = 0;
   std::vector<PreloadFailure> failures;  // the report of the exporting store, copied as it was
+  const auto import_time = static_cast<std::int64_t>(std::time(nullptr));
   while (std::getline(in, line)) {
     ++line_no;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
@@ -823,6 +906,19 @@ std::size_t LexiconStore::import_jsonl(std::istream& in) {
             .bind(4, j.at("author").get<std::string>())
             .bind(5, j.value("time", std::int64_t{0}))
             .run();
+        HistoryEntry e;
+        e.time = import_time;
+        e.author = j.at("author").get<std::string>();
+        e.action = history_action::kImport;
+        e.effect = history_effect::kNone;
+        e.definition = id;
+        e.head = j.at("head").get<std::string>();
+        if (j.at("body").is_array())
+          for (const auto& body_line : j.at("body"))
+            if (body_line.is_string()) e.body.push_back(body_line.get<std::string>());
+        e.site = impl_->site;
+        e.note = "lexicon import --restore";
+        append_history(db, e);
       } else if (type == "rule") {
         StoredRule r;
         r.id = j.at("id").get<std::string>();
@@ -842,7 +938,19 @@ std::size_t LexiconStore::import_jsonl(std::istream& in) {
         if (taken.bind(1, r.id).bind(2, r.created).step())
           throw std::runtime_error("rule " + r.id + " (created " + std::to_string(r.created) +
                                    ") is already stored");
-        insert_rule(db, r, j.value("definition", std::int64_t{0}));
+        r.definition = j.value("definition", std::int64_t{0});
+        insert_rule(db, r, r.definition);
+        // A verbatim copy keeps ids and `created`: its history says so, and what it deleted.
+        HistoryEntry e = entry_for(r, history_action::kImport, history_effect::kAdd, r.author,
+                                   import_time, impl_->site);
+        e.note = "lexicon import --restore";
+        append_history(db, e);
+        if (r.deleted) {
+          HistoryEntry gone = entry_for(r, history_action::kImport, history_effect::kRemove,
+                                        r.author, import_time, impl_->site);
+          gone.note = "deleted in the imported store";
+          append_history(db, gone);
+        }
       } else if (type == "weight") {
         add_weight_changes(db, j.at("key").get<std::string>(),
                            {{j.at("model").get<std::string>(), j.at("feature").get<std::string>(),

@@ -18,6 +18,7 @@ void insert_preload_failures(sqlite::Db& db, const std::vector<PreloadFailure>& 
 struct LexiconStore::Impl {
   std::unique_ptr<sqlite::Db> db;
   std::string path;
+  std::string site;  // lexicon.site, in every history entry this process writes
   std::unique_ptr<sqlite::Stmt> data_version;  // cached: checked before every parse
   std::optional<std::int64_t> last_data_version;
 };

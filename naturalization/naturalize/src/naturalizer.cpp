@@ -267,6 +267,7 @@ void Naturalizer::restore() {
   store_->changed_elsewhere();             // the baseline for refresh(), taken before reading
   learned_mark_ = store_->learned_mark();  // likewise: what is learned later is read again
   if (!restore_from_snapshot()) restore_from_rows();
+  record_quarantines();
   // Counters last: they change on every accept without moving the mark, so no snapshot has them.
   for (const auto& u : store_->nonzero_uses())
     if (by_id_.count(u.rule)) runtime_->usage->set(u.rule, {u.by_author, u.by_others});
@@ -420,6 +421,16 @@ void Naturalizer::apply(const LexiconChanges& changes, const std::vector<sdk::Ru
   }
   for (const auto& id : changes.deleted) remove_live(id);
   mark_ = changes.mark;
+  record_quarantines();
+}
+
+void Naturalizer::record_quarantines() {
+  // After the reads that met them (a write cannot start inside their read transaction); the
+  // store writes each rule and reason once, whichever process meets it first.
+  for (; quarantines_recorded_ < quarantined_.size(); ++quarantines_recorded_) {
+    const auto& q = quarantined_[quarantines_recorded_];
+    store_->record_quarantine(q.stored, q.reason);
+  }
 }
 
 std::string Naturalizer::save_weights() const {
@@ -477,6 +488,28 @@ sdk::RulePtr Naturalizer::find_rule(const std::string& id) const {
   return it == by_id_.end() ? nullptr : it->second;
 }
 
+namespace {
+std::string conflicts_message(const std::vector<DefineConflict>& conflicts) {
+  constexpr std::size_t kShown = 5;
+  std::string m = "the definition would change how " + std::to_string(conflicts.size()) +
+                  " phrase(s) of other users read (lexicon.conflicts = refuse); nothing was "
+                  "stored:";
+  for (std::size_t i = 0; i < conflicts.size() && i < kShown; ++i) {
+    const auto& c = conflicts[i];
+    m += " '" + c.phrase + "' (" + c.user + "): ";
+    m += c.kind == "first_reading"
+             ? "first reading " + (c.before.empty() ? "(none)" : c.before) + " becomes " + c.after
+             : "gains a reading (" + std::to_string(c.readings_before) + " -> " +
+                   std::to_string(c.readings_after) + ")";
+    m += ";";
+  }
+  if (conflicts.size() > kShown)
+    m += " and " + std::to_string(conflicts.size() - kShown) + " more;";
+  m.pop_back();
+  return m;
+}
+}  // namespace
+
 DefineOutcome Naturalizer::define(const DefineRequest& req) {
   check_head_tokens(req.head);
   refresh();  // induce against every rule committed so far, by any process
@@ -519,21 +552,31 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
                                        ": session.cpu_budget_ms or session.deadline_ms); nothing "
                                        "was stored");
 
-  // Commit definition + rules in one transaction, where the store assigns their ids, before
-  // anything becomes visible: a failed commit leaves parser and store unchanged.
-  const std::int64_t now = static_cast<std::int64_t>(std::time(nullptr));
   std::vector<std::shared_ptr<sdk::Rule>> fresh;
-  std::vector<StoredRule> stored;
   for (auto& r : induced.rules) {
     auto rule = std::make_shared<sdk::Rule>(std::move(r));
     rule->author = req.user;
     rule->head = req.head;
     rule->body = req.body;
-    stored.push_back(stored_from_rule(*rule, 0));
     fresh.push_back(std::move(rule));
   }
-  DefinitionCommit commit =
-      store_->commit_definition({0, req.head, req.body, req.user, now}, std::move(stored));
+  // Conflicts before they happen (docs/naturalization.md §5 "Conflicts"): shown, or refused. A
+  // preloaded definition is the site's own lexicon, shown to no one: not checked.
+  if (req.via != "preload") out.conflicts = find_conflicts(req.user, fresh, req.stop);
+  if (!out.conflicts.empty() && options_.conflicts == ConflictPolicy::refuse && !req.dry_run)
+    throw sdk::Error(naturalize_codes::kDefinitionConflicts, conflicts_message(out.conflicts));
+  if (req.dry_run) {
+    out.rules.assign(fresh.begin(), fresh.end());
+    return out;
+  }
+
+  // Commit definition + rules in one transaction, where the store assigns their ids, before
+  // anything becomes visible: a failed commit leaves parser and store unchanged.
+  const std::int64_t now = static_cast<std::int64_t>(std::time(nullptr));
+  std::vector<StoredRule> stored;
+  for (const auto& rule : fresh) stored.push_back(stored_from_rule(*rule, 0));
+  DefinitionCommit commit = store_->commit_definition(
+      {0, req.head, req.body, req.user, now, {}, req.study, req.via}, std::move(stored));
   out.definition = commit.definition;
   std::vector<sdk::RulePtr> rules;
   for (std::size_t i = 0; i < fresh.size(); ++i) {
@@ -544,6 +587,7 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   // Everything up to this commit, others' rules first (creation order), then ours.
   apply(store_->changes_since(mark_), rules);
   out.rules = std::move(rules);
+  out.stored = true;
   return out;
 }
 

@@ -17,6 +17,8 @@ NaturalizeOptions NaturalizeOptions::from_config(const kernel::Config& config) {
   o.per_user_weights = config.get_string("lexicon.weights") == "per_user";  // schema: enum
   o.store.busy_timeout_ms = static_cast<int>(config.get(kernel::keys::kBusyTimeoutMs));
   o.store.sync_every_commit = config.get_string("lexicon.durability") == "full";  // schema: enum
+  o.store.site = config.get_string("lexicon.site");
+  o.conflicts = parse_conflict_policy(config.get_string("lexicon.conflicts"));
   o.snapshot_min_rules = config.get(kernel::keys::kSnapshotMinRules);
   o.induction.alignment = config.get(kernel::keys::kAlignment);
   o.generalize = config.get(kernel::keys::kGeneralize);

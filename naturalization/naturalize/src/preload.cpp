@@ -28,6 +28,7 @@ void Naturalizer::preload(const std::string& path) {
     ++line_no;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     DefineRequest req;
+    req.via = "preload";
     try {
       const auto j = nlohmann::json::parse(line);
       req.head = j.at("head").get<std::string>();

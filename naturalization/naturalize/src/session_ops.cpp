@@ -77,6 +77,7 @@ DefineOutcome define(Naturalizer& nat, kernel::Session& s, const DefineCall& cal
   d.before = &s.world();
   d.exec = &exec;
   d.stop = s.request_stop();
+  d.dry_run = call.dry_run;
   return nat.define(d);
 }
 
@@ -140,10 +141,29 @@ void op_define(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
       call.ranks.push_back(r.get<int>());
     }
   }
+  if (req.contains("dry_run") && !req["dry_run"].is_null()) {
+    if (!req["dry_run"].is_boolean())
+      throw sdk::Error(sdk::codes::kBadRequest, "field 'dry_run' must be true or false");
+    call.dry_run = req["dry_run"].get<bool>();
+  }
   const DefineOutcome out = define(nat, s, call);
   a.key("rules").begin_array();
   for (const auto& r : out.rules) write_rule(a, *r);
-  a.end_array().key("generalized");
+  a.end_array();
+  // Only when there is something to say: answers without conflicts stay as recorded studies
+  // hashed them (docs/studio.md §7).
+  if (!out.stored) a.key("stored").boolean(false);
+  if (!out.conflicts.empty()) {
+    a.key("conflicts").begin_array();
+    for (const auto& c : out.conflicts) {
+      a.begin_object().key("phrase").string(c.phrase).key("user").string(c.user);
+      a.key("kind").string(c.kind).key("before").string(c.before).key("after").string(c.after);
+      a.key("readings_before").unsigned_integer(c.readings_before);
+      a.key("readings_after").unsigned_integer(c.readings_after).end_object();
+    }
+    a.end_array();
+  }
+  a.key("generalized");
   if (out.generalized)
     a.string(sdk::render(out.generalized));
   else

@@ -148,6 +148,13 @@ TEST_CASE("a stored rule that does not load is quarantined at every start, rows 
     check_quarantined(second);
     CHECK(status_of(second, "go west") == "induced");
     CHECK(status_of(second, "c d") == "unparsable");
+    // The history has one `quarantine` entry per rule and reason, though two starts met them
+    // (docs/naturalization.md §5 "History and governance").
+    std::vector<std::string> noted;
+    for (const auto& e : second.nat->store().history())
+      if (e.action == "quarantine") noted.push_back(e.rule);
+    std::sort(noted.begin(), noted.end());
+    CHECK(noted == second.quarantined_ids());
   }
   // `flipper lexicon list` names every one of them, and the export flags them.
   const auto list = clitest::run_flipper("lexicon list --set lexicon.path=" + store);

@@ -51,6 +51,10 @@ nlohmann::json folder_json(const std::string& dir);
 /// A config: {"source", "base_dir", "effective" (the text `flipper config print` shows),
 /// "files": [file_json of the config file, world.file and grammar.file]}.
 nlohmann::json config_json(const kernel::Config& config);
+/// The lexicon store a config starts from, when lexicon.path names an existing file: {"path",
+/// "checksum" (of its live rules), "entry" (its last history entry), "tag" (naming that entry, or
+/// null)}; null otherwise (lexicon_provenance.cpp). config_json() includes it as "lexicon".
+nlohmann::json lexicon_json(const kernel::Config& config);
 /// The plugins a config selects, in section order: [{"section", "name", "version", "file",
 /// "sha256", "params": {name: value as text, defaults included}, "origin" (plugin_origin_json)}].
 /// Opens each plugin library (checks as the kernel does); throws sdk::Error as loading would.

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "flipper/kernel/keys.hpp"
+#include "flipper/naturalization/lexicon_history.hpp"
 
 namespace flipper::naturalization {
 
@@ -56,6 +57,8 @@ struct LexiconStoreOptions {
   /// false (`normal`, synchronous=NORMAL) syncs it only at checkpoints: every commit survives any
   /// crash of the process, a power loss may drop the last ones.
   bool sync_every_commit = true;
+  /// lexicon.site: recorded in every history entry this process writes.
+  std::string site{};
 };
 
 /// One definition as the user gave it.
@@ -68,6 +71,10 @@ struct StoredDefinition {
   /// Set when the stored row does not decode (its body is not a JSON list of strings): the body
   /// is then empty and this says why (docs/naturalization.md §5 "Quarantine").
   std::string decode_error{};
+  /// The study the definition was made in (when the front end knows it): kept in the history.
+  std::string study{};
+  /// The history action of the definition (empty: `define`; e.g. `import`, `preload`).
+  std::string via{};
 };
 
 /// One induced rule with its provenance; `semantics` is the template's canonical text.
@@ -91,6 +98,11 @@ struct StoredRule {
   /// stops the store from opening (docs/naturalization.md §5 "Quarantine").
   std::string decode_error{};
 };
+
+/// A 64-bit checksum (16 hex digits) of live rules' content in their order — category,
+/// right-hand side, template, author; not ids or times — the same for two stores serving the same
+/// rules (not cryptographic).
+std::string lexicon_checksum(const std::vector<StoredRule>& live);
 
 /// An incremental scorer's weight (or a change to it): sdk::WeightChange without the SDK type.
 struct StoredWeightChange {
@@ -185,7 +197,9 @@ class LexiconStore {
   const std::string& path() const;
   /// 2: rules.deleted_seq (deletions in commit order, for changes_since). Version 1 files are
   /// upgraded in place on open.
-  static constexpr int kSchemaVersion = 4;
+  /// 5: the history (lexicon_history, lexicon_tags); older files get it on open, their rules
+  /// each a synthesized `import` entry (docs/naturalization.md §5 "History and governance").
+  static constexpr int kSchemaVersion = 5;
   bool read_only() const;
   /// The code every write is refused with when the store opened degraded (lexicon_read_only,
   /// lexicon_full); null when it opened for writing.
@@ -283,6 +297,31 @@ class LexiconStore {
   /// Imports an export verbatim (one transaction, keeping ids and `created`). A definition or
   /// rule id already stored is refused (bad_request), never replaced. Returns lines imported.
   std::size_t import_jsonl(std::istream& in);
+
+  // ---- History and governance (lexicon_history.hpp; docs/naturalization.md §5) ----
+  /// Whether the store keeps a history (false only for a read-only store older than schema 5;
+  /// the calls below then throw lexicon_read_only).
+  bool has_history() const;
+  /// Entries in commit order, filtered.
+  std::vector<HistoryEntry> history(const HistoryFilter& filter = {}) const;
+  /// The last entry's seq (0: none).
+  std::int64_t history_head() const;
+  /// The last entry made at or before `time` (seconds since the epoch; 0: none).
+  std::int64_t history_at_time(std::int64_t time) const;
+  /// The rules live right after entry `seq`, in creation order (0: none).
+  std::vector<StoredRule> rules_at(std::int64_t seq) const;
+  std::vector<LexiconTag> tags() const;
+  std::optional<LexiconTag> find_tag(const std::string& name) const;
+  /// Names the current head of the history (refuses a taken or malformed name: bad_request).
+  LexiconTag tag(const std::string& name, const std::string& author, std::int64_t time);
+  /// Makes the live rules equal those right after entry `seq`, in one transaction: the live rules
+  /// after the longest prefix (creation order) the two sets share are deleted, the target's rules
+  /// after it re-created (verbatim copies with new ids, in their order, counters copied), each an
+  /// entry `revert` by `who`. Nothing is erased.
+  RevertOutcome revert_to(std::int64_t seq, const HistoryContext& who, std::int64_t time);
+  /// Records that `rule` is quarantined for `reason` (once per rule and reason; best effort:
+  /// false when it did not write).
+  bool record_quarantine(const StoredRule& rule, const std::string& reason);
 
  private:
   struct Impl;

@@ -30,6 +30,8 @@ struct DefineCall {
   /// Per body line, the program meant (the reading accepted for it; null or absent: the line's
   /// rank decides). docs/protocol.md § define, body lines with a `formula`.
   std::vector<sdk::Program> programs;
+  /// Induce and report conflicts only; store nothing (docs/protocol.md § define, `dry_run`).
+  bool dry_run = false;
 };
 
 /// The typed naturalization service of one session (the define/rules/delete_rule ops call it,

@@ -41,7 +41,28 @@ inline constexpr const char* kForbidden = "forbidden";  ///< deleting another us
 inline constexpr const char* kNotFound = "not_found";   ///< unknown (or hidden) rule id
 /// A head token starting with '$' (the mark of grammar categories in rules).
 inline constexpr const char* kHeadReservedToken = "head_reserved_token";
+/// lexicon.conflicts = refuse: the definition would change other users' readings (nothing stored).
+inline constexpr const char* kDefinitionConflicts = "definition_conflicts";
 }  // namespace naturalize_codes
+
+/// lexicon.conflicts: what a definition that changes other users' readings gets.
+enum class ConflictPolicy { warn, refuse };
+ConflictPolicy parse_conflict_policy(const std::string& text);  ///< throws bad_config
+
+/// A phrase another user relies on that a definition would read differently
+/// (docs/naturalization.md §5 "Conflicts").
+struct DefineConflict {
+  std::string phrase;  ///< a head or body line of one of `user`'s live rules
+  std::string user;
+  std::string kind;    ///< "first_reading" (another reading comes first) or "new_reading"
+  std::string before;  ///< its first reading now (core-language text; empty: none)
+  std::string after;   ///< and with the definition's rules
+  std::size_t readings_before = 0;
+  std::size_t readings_after = 0;
+};
+
+/// At most this many phrases are checked per definition (the newest rules' first).
+inline constexpr std::size_t kMaxConflictProbes = 256;
 
 /// lexicon.sharing
 enum class Sharing { shared, private_, core };
@@ -62,6 +83,7 @@ struct NaturalizeOptions {
   /// Where warnings go (quarantined rules, preload failures, a store that opened degraded);
   /// default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
+  ConflictPolicy conflicts = ConflictPolicy::warn;  ///< lexicon.conflicts
   InductionOptions induction;                       ///< induction.alignment (+ parser beam)
   bool generalize = kernel::keys::kGeneralize.def;  ///< induction.generalize
   int perturbed_checks = static_cast<int>(kernel::keys::kPerturbedChecks.def);  ///< induction.*
@@ -81,6 +103,12 @@ struct DefineRequest {
   /// definition that reaches one before its commit is refused (deadline_exceeded) with nothing
   /// stored.
   sdk::StopCondition stop;
+  /// The study it is made in, when the front end knows it (kept in the lexicon's history).
+  std::string study{};
+  /// The history action of the definition (empty: `define`; `import`, `preload`).
+  std::string via{};
+  /// Induce and check for conflicts, store nothing (the outcome's rules have no ids).
+  bool dry_run = false;
 };
 
 /// A rewriter candidate that generalization discarded.
@@ -98,6 +126,9 @@ struct DefineOutcome {
   sdk::Program generalized;  ///< the winning rewriting (null when the body won)
   std::string generalized_rewriting;
   std::vector<Discarded> discarded;
+  /// Phrases of other users the rules change (lexicon.conflicts = warn: stored anyway).
+  std::vector<DefineConflict> conflicts;
+  bool stored = false;  ///< false for a dry run
 };
 
 /// One line of a `rules` listing.
@@ -180,6 +211,10 @@ class Naturalizer {
 
  private:
   void restore();
+  /// The phrases of other users that `fresh` (not yet stored) would change (conflicts.cpp).
+  std::vector<DefineConflict> find_conflicts(const std::string& author,
+                                             const std::vector<std::shared_ptr<sdk::Rule>>& fresh,
+                                             const sdk::StopCondition& stop);
   /// Start-up from the stored snapshot plus the rows changed since; false (nothing loaded) when
   /// there is no usable snapshot or too much changed since.
   bool restore_from_snapshot();
@@ -191,6 +226,8 @@ class Naturalizer {
   void add_viewed(const StoredRuleView& viewed);
   /// Keeps a stored rule that does not load out of the grammar, with a warning naming it.
   void quarantine(StoredRule&& stored, const std::string& reason);
+  /// Writes the quarantines met since the last call into the store's history (best effort).
+  void record_quarantines();
   void preload(const std::string& path);
   /// Applies changes read from the store; `own` holds this process's just-committed rules (used
   /// as they are instead of being read back).
@@ -229,6 +266,7 @@ class Naturalizer {
   PreloadReport preload_report_;
   StartupReport startup_;
   std::vector<QuarantinedRule> quarantined_;
+  std::size_t quarantines_recorded_ = 0;  ///< quarantined_ entries already in the history
 };
 
 /// "$Action -> pick $Number items": the key rules with equal LHS and RHS share.
