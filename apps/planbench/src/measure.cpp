@@ -55,7 +55,7 @@ const std::vector<std::string>& run_columns() {
   static const std::vector<std::string> columns{
       "world",  "planner", "plugin",       "seed",       "task",         "start", "goal",
       "status", "success", "length",       "shortest",   "length_ratio", "turns", "expansions",
-      "cpu_us", "wall_us", "peak_rss_kib", "memory_kib", "stopped", "cause"};
+      "cpu_us", "wall_us", "peak_rss_kib", "memory_kib", "stopped",      "cause"};
   return columns;
 }
 
