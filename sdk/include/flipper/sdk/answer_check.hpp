@@ -17,12 +17,16 @@ namespace flipper::sdk {
 inline namespace v1 {
 
 // Declared only (flipper/sdk/planner.hpp and parser.hpp define them): this header may come
-// first, and ast.hpp included after geometry.hpp trips GCC's -Wshadow on Sort::Area.
+// first (kernel/plugin_checks.hpp includes it for these declarations), and ast.hpp included
+// after geometry.hpp trips GCC's -Wshadow on Sort::Area.
 struct Cell;
 class Geometry;
+class Planner;
 struct PathRequest;
 struct PathResult;
+struct StopCondition;
 struct TourResult;
+class Parser;
 struct ParseRequest;
 struct ParseResult;
 

@@ -13,23 +13,7 @@
 #include <vector>
 
 #include "flipper/kernel/plugin_ref.hpp"
-
-namespace flipper::sdk {
-inline namespace v1 {
-// Declared only (flipper/sdk/planner.hpp and parser.hpp define them; see
-// flipper/sdk/answer_check.hpp).
-struct Cell;
-class Geometry;
-class Planner;
-struct PathRequest;
-struct PathResult;
-struct StopCondition;
-struct TourResult;
-class Parser;
-struct ParseRequest;
-struct ParseResult;
-}  // namespace v1
-}  // namespace flipper::sdk
+#include "flipper/sdk/answer_check.hpp"  // declares the SDK types used here
 
 namespace flipper::kernel {
 
