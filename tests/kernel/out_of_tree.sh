@@ -55,7 +55,7 @@ test -f "$plugins/bfs_example.so" && test -f "$plugins/bfs_example.flipper.yaml"
 # The listing marks bfs_example as selected and loadable (other rows may vary with the build).
 listing=$("$flipper" plugins --set "plugin_paths=[$plugins]" --set planner.plugin=bfs_example || true)
 echo "$listing"
-echo "$listing" | grep -Eq "^\* bfs_example +planner +0\.1\.0 +2 \(sdk 2\.[0-9]+\) +$plugins/bfs_example\.so +ok$"
+echo "$listing" | grep -Eq "^\* bfs_example +planner +0\.1\.0 +3 \(sdk 2\.[0-9]+\) +$plugins/bfs_example\.so +ok$"
 # A full check instantiates it with the kernel test plugins, and with the default config.
 "$flipper" config check --config "$src/tests/kernel/data/kernel_test.yaml" \
   --set "plugin_paths=[$plugins, $build/tests/plugins/good]" --set planner.plugin=bfs_example \
@@ -130,7 +130,7 @@ sp=$scaffolds/build/plugins
 listing=$("$flipper" plugins --set "plugin_paths=[$sp]")
 echo "$listing"
 for kind in $kinds; do
-  echo "$listing" | grep -Eq "^  my_$kind +$kind +0\.1\.0 +2 \(sdk 2\.[0-9]+\) +$sp/my_$kind\.so +ok$" ||
+  echo "$listing" | grep -Eq "^  my_$kind +$kind +0\.1\.0 +3 \(sdk 2\.[0-9]+\) +$sp/my_$kind\.so +ok$" ||
     fail "my_$kind is not listed as a loadable $kind plugin"
 done
 # All six at once, in one runtime: a query parsed, scored, planned on the scaffolded world.
