@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <set>
 #include <sstream>
 
 #include "flipper/kernel/loader.hpp"
@@ -392,6 +394,12 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
                          {"config", record::config_json(c.config)},
                          {"plugins", record::plugins_json(c.config, {"world", "planner"})}});
   if (!e.file.empty()) inputs.push_back(record::file_json("experiment", e.file));
+  // A plugin that hides a same-named one (an out-of-tree astar before the in-tree one) is said
+  // at once, and flagged in the manifest (plugins[].origin.shadows).
+  std::set<std::string> notes;
+  for (const auto& c : cell_list)
+    for (const auto& note : record::shadow_notes(c["plugins"])) notes.insert(note);
+  for (const auto& note : notes) std::cerr << "flipper bench planners: note: " << note << "\n";
   for (const auto& w : worlds) {
     inputs.push_back(record::file_json("world " + w.spec->name, w.spec->file));
     const TaskSource& t = w.spec->tasks ? *w.spec->tasks : e.tasks;

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <set>
+#include <vector>
 
 #include "flipper/kernel/loader.hpp"
 #include "flipper/record/build_info.hpp"
@@ -111,6 +113,17 @@ json plugin_origin_json(const kernel::PluginLoader& loader, const std::string& l
       fs::weakly_canonical(exe.parent_path() / ".." / "lib" / "flipper" / "plugins", ec);
   const bool in_tree = !dir.empty() && fs::weakly_canonical(dir, ec) == own;
   return {{"dir", dir}, {"in_tree", in_tree}, {"shadows", shadows}};
+}
+
+std::vector<std::string> shadow_notes(const json& plugins) {
+  std::vector<std::string> out;
+  for (const auto& p : plugins) {
+    const json origin = p.value("origin", json::object());
+    for (const auto& hidden : origin.value("shadows", json::array()))
+      out.push_back("plugin '" + p.value("name", std::string()) + "' (" +
+                    p.value("file", std::string()) + ") shadows " + hidden.get<std::string>());
+  }
+  return out;
 }
 
 }  // namespace flipper::record

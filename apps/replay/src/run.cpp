@@ -2,6 +2,7 @@
 // (experiment.hpp; docs/experiments.md).
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/record/manifest.hpp"
@@ -99,7 +100,12 @@ RunSummary run_experiment(const Experiment& e, const RunOptions& options) {
   if (!e.file.empty()) inputs.push_back(record::file_json("experiment", e.file));
   manifest["inputs"] = inputs;
   json variants = json::array();
-  for (const auto& v : planned) variants.push_back(variant_json(e, v));
+  std::set<std::string> notes;  // plugins that hide same-named ones, said at once
+  for (const auto& v : planned) {
+    variants.push_back(variant_json(e, v));
+    for (const auto& note : record::shadow_notes(variants.back()["plugins"])) notes.insert(note);
+  }
+  for (const auto& note : notes) std::cerr << "flipper replay: note: " << note << "\n";
   manifest["variants"] = variants;
 
   std::string stem = stem_of(e);

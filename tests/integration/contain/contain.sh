@@ -223,7 +223,9 @@ planners:
   - {plugin: astar}
 EOF
 "$flipper" bench planners --experiment "$tmp/shadow.yaml" --out "$tmp/shadow-runs" --jobs 1 \
-  >/dev/null 2>&1 || fail "the shadowing run failed"
+  >/dev/null 2>"$tmp/shadow.err" || fail "the shadowing run failed"
+grep -qxF "flipper bench planners: note: plugin 'astar' ($(readlink -f "$tmp/shadow/astar.so")) shadows $(readlink -f "$build/plugins/astar.so")" \
+  "$tmp/shadow.err" || fail "no note of the shadowing astar: $(cat "$tmp/shadow.err")"
 # Independent oracles: git now, pkg-config, the Python that draws plots.
 commit=$(git -C "$src" rev-parse HEAD 2>/dev/null || echo unknown)
 if [[ $commit == unknown ]]; then

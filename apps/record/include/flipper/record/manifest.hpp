@@ -38,6 +38,10 @@ nlohmann::json libraries_json();
 /// hides]}. A plugin that shadows an in-tree one is flagged by a non-empty "shadows".
 nlohmann::json plugin_origin_json(const kernel::PluginLoader& loader, const std::string& library);
 
+/// One line per plugin of a plugins_json list that shadows a same-named plugin ("plugin 'astar'
+/// (/x/astar.so) shadows /build/plugins/astar.so"), for a run to say so when it starts.
+std::vector<std::string> shadow_notes(const nlohmann::json& plugins);
+
 /// This process's command line (/proc/self/cmdline) and working directory:
 /// {"argv": [...], "cwd": "..."}.
 nlohmann::json command_json();
