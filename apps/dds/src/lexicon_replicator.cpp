@@ -341,6 +341,7 @@ bool LexiconReplicator::apply_define(LogRow& row) {
   req.head = row.event.head;
   req.body = row.event.body;
   req.body_ranks = row.event.ranks;
+  req.via = "replicate";  // its history entry says so; its site checked its conflicts
   std::optional<sdk::WorldState> world;
   if (!row.event.world.empty()) {
     try {

@@ -561,8 +561,10 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
     fresh.push_back(std::move(rule));
   }
   // Conflicts before they happen (docs/naturalization.md §5 "Conflicts"): shown, or refused. A
-  // preloaded definition is the site's own lexicon, shown to no one: not checked.
-  if (req.via != "preload") out.conflicts = find_conflicts(req.user, fresh, req.stop);
+  // preloaded definition is the site's own lexicon, shown to no one, and a replicated one was
+  // checked where it was made: neither is checked here.
+  if (req.via != "preload" && req.via != "replicate")
+    out.conflicts = find_conflicts(req.user, fresh, req.stop);
   if (!out.conflicts.empty() && options_.conflicts == ConflictPolicy::refuse && !req.dry_run)
     throw sdk::Error(naturalize_codes::kDefinitionConflicts, conflicts_message(out.conflicts));
   if (req.dry_run) {
