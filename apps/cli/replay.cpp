@@ -37,7 +37,7 @@ struct ReplayArgs {
   std::string corpus, out, experiment, runs, shard, print;
   int max_queries = -1;
   int jobs = -1;  ///< -1 (not given): the cores available
-  bool json = false, no_plots = false;
+  bool json = false, no_plots = false, progress = false;
 };
 
 std::vector<std::string> split_commas(const std::string& s) {
@@ -53,8 +53,10 @@ std::vector<std::string> split_commas(const std::string& s) {
 // terminal (logs, CI).
 class Progress {
  public:
-  explicit Progress(bool plain)
-      : terminal_(isatty(STDERR_FILENO) != 0), tty_(!plain && terminal_) {}
+  /// Lines go to standard error when it is a terminal, or always with `force` (--progress).
+  Progress(bool plain, bool force)
+      : terminal_(force || isatty(STDERR_FILENO) != 0),
+        tty_(!plain && isatty(STDERR_FILENO) != 0) {}
   void operator()(const std::string& variant, std::size_t done, std::size_t total,
                   const std::string& run) {
     if (!terminal_) return;
@@ -141,7 +143,7 @@ int run_replay(const CommonOptions& common, const ReplayArgs& args) {
   options.jobs = jobs_or_cores(args.jobs);
   if (!args.shard.empty()) options.shard = record::parse_shard(args.shard);
   options.plots = !args.no_plots;
-  Progress progress(options.jobs > 1);
+  Progress progress(options.jobs > 1, args.progress);
   options.progress = std::ref(progress);
   const RunSummary s = run_experiment(e, options);
   // Variants whose process died: said on stderr, and the exit status says the run is not complete.
@@ -341,6 +343,8 @@ void add_replay_command(CLI::App& app) {
                   "variants, oracles, planner, seeds");
   cmd->add_flag("--json", args.json, "Print the per-variant summary as one JSON object");
   cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
+  cmd->add_flag("--progress", args.progress,
+                "Progress lines on standard error even when it is not a terminal");
   cmd->require_subcommand(0, 1);
   add_check(*cmd);
   add_merge(*cmd);
