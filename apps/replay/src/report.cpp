@@ -219,7 +219,7 @@ void provenance(std::ostream& o, const json& m) {
     << "| build | commit `" << text(b, "commit") << "` (`" << text(b, "describe")
     << "`), uncommitted changes: " << text(b, "dirty") << " (when built) |\n";
   if (m.contains("source")) {
-    const json s = m["source"];
+    const json& s = m["source"];
     o << "| source tree | `" << text(s, "tree") << "`: commit `" << text(s, "commit")
       << "`, uncommitted changes: " << text(s, "dirty") << " (" << text(s, "read") << ") |\n";
   }

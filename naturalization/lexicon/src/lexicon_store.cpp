@@ -305,7 +305,7 @@ void open_writable(std::unique_ptr<sqlite::Db>& into, const std::string& path, b
 
 }  // namespace
 
-LexiconStore::LexiconStore(const std::string& path, LexiconStoreOptions options)
+LexiconStore::LexiconStore(const std::string& path, const LexiconStoreOptions& options)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   impl_->site = options.site;

@@ -576,6 +576,7 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   // anything becomes visible: a failed commit leaves parser and store unchanged.
   const std::int64_t now = static_cast<std::int64_t>(std::time(nullptr));
   std::vector<StoredRule> stored;
+  stored.reserve(fresh.size());
   for (const auto& rule : fresh) stored.push_back(stored_from_rule(*rule, 0));
   DefinitionCommit commit = store_->commit_definition(
       {0, req.head, req.body, req.user, now, {}, req.study, req.via}, std::move(stored));

@@ -189,7 +189,7 @@ class LexiconStore {
   /// naming the file, which is left untouched. A store that already holds a lexicon but cannot
   /// be written — a read-only file, folder or file system, or a full device — opens degraded:
   /// reads work, every write throws write_refusal() (lexicon_read_only or lexicon_full).
-  explicit LexiconStore(const std::string& path, LexiconStoreOptions options = {});
+  explicit LexiconStore(const std::string& path, const LexiconStoreOptions& options = {});
   ~LexiconStore();
   LexiconStore(const LexiconStore&) = delete;
   LexiconStore& operator=(const LexiconStore&) = delete;
