@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "raw_socket.hpp"
+#include "sanitizer_build.hpp"
 #include "sempre_client.hpp"
 #include "studio_server.hpp"
 
@@ -111,7 +112,9 @@ TEST_CASE("/sempre worlds are charged to serve.memory_budget_mb: many sessionIds
   CHECK(busy == kSessions - 15);
   // Without the charge all 60 load (~4 MiB each: +240 MiB); within the budget the growth stays
   // under it.
-  CHECK(after - before < 64 * 1024);
+  // AddressSanitizer's shadow memory and quarantine add to every allocation: 95 MiB of growth
+  // was measured there with the charge, so its bound is twice the Release one.
+  CHECK(after - before < (flipper::testsupport::kAddressSanitizer ? 128 : 64) * 1024);
   // /api/v1 meets the same budget: no new session fits.
   const studiotest::Reply api = studiotest::post(http, "", R"({"op":"state"})");
   CHECK(api.status == 503);
