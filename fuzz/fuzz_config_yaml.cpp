@@ -11,8 +11,10 @@
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/loader.hpp"
+#include "flipper/naturalization/config_keys.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/plugin.hpp"
+#include "flipper/wiring/config_schema.hpp"
 #include "support/fuzz_support.hpp"
 
 namespace fz = flipper::fuzz;
@@ -38,15 +40,17 @@ const LoadedPlugin& open_plugin(const std::string& section, const std::string& n
 }
 
 void read_everything(Config& config) {
+  namespace keys = flipper::kernel::keys;
   (void)config.dump();
-  for (const char* key :
-       {"execution.action_budget", "execution.step_budget", "execution.cpu_budget_ms",
-        "execution.deadline_ms", "execution.while_limit", "input.max_chars", "session.k"})
-    (void)config.get_int(key);
-  for (const char* key : {"grammar.colors", "grammar.shapes", "grammar.directions"})
-    (void)config.get_string_list(key);
-  (void)config.get_path("grammar.file");
-  (void)config.get_path("lexicon.path");
+  for (const auto* key :
+       {&keys::kActionBudget, &keys::kStepBudget, &keys::kExecCpuBudgetMs, &keys::kExecDeadlineMs,
+        &keys::kWhileLimit, &keys::kMaxChars, &keys::kSessionK})
+    (void)config.get(*key);
+  (void)config.get(keys::kGrammarColors);
+  (void)config.get(keys::kGrammarShapes);
+  (void)config.get(keys::kGrammarDirections);
+  (void)config.get(keys::kGrammarFile);
+  (void)config.get(flipper::naturalization::keys::kLexiconPath);
   for (const std::string& section : Config::plugin_sections()) {
     if (!config.has_section(section)) continue;
     const LoadedPlugin& plugin = open_plugin(section, config.plugin_name(section));
@@ -57,6 +61,7 @@ void read_everything(Config& config) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  flipper::wiring::install_config_schema();  // the product's keys, as `flipper` loads them
   g_loader =
       std::make_unique<PluginLoader>(PluginLoader::search_path_for(Config::embedded_default()));
   return 0;

@@ -16,6 +16,7 @@
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/config_schema.hpp"
 #include "support/fuzz_support.hpp"
 
 namespace fz = flipper::fuzz;
@@ -48,8 +49,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   if (*config != 0) file = fz::source_dir() + "/" + config;
   g_runtime = flipper::kernel::make_runtime(
       // A smaller world limit than the default keeps each input cheap (same code paths).
-      Config::load(file, {"rewriter=null", "similarity=null",
-                          "lexicon.path=:memory:", "world.max_cells=1048576"}));
+      flipper::wiring::load_config(file, {"rewriter=null", "similarity=null",
+                                          "lexicon.path=:memory:", "world.max_cells=1048576"}));
   return 0;
 }
 

@@ -11,6 +11,7 @@
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/sdk/stop.hpp"
+#include "flipper/wiring/config_schema.hpp"
 
 namespace flipper::cli {
 
@@ -36,7 +37,7 @@ inline std::optional<std::string> config_file(const CommonOptions& opts) {
 
 /// The validated config the options name (throws sdk::Error(bad_config)).
 inline kernel::Config load_config(const CommonOptions& opts) {
-  return kernel::Config::load(config_file(opts), opts.overrides);
+  return wiring::load_config(config_file(opts), opts.overrides);
 }
 
 /// Exit codes.

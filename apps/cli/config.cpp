@@ -19,6 +19,7 @@
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/param_check.hpp"
+#include "flipper/wiring/config_schema.hpp"
 #include "schema_text.hpp"
 
 namespace flipper::cli {
@@ -59,7 +60,7 @@ std::optional<std::string> file_of(const CheckArgs& a);
 
 int check(const CheckArgs& a) {
   try {
-    const auto config = kernel::Config::load(file_of(a), a.opts.overrides);
+    const auto config = wiring::load_config(file_of(a), a.opts.overrides);
     const auto runtime = kernel::make_runtime(config);
     if (a.json)
       std::cout << nlohmann::json{{"ok", true},
@@ -84,7 +85,7 @@ std::optional<std::string> file_of(const CheckArgs& a) {
 
 int print(const CheckArgs& a) {
   try {
-    std::cout << kernel::Config::load(file_of(a), a.opts.overrides).dump();
+    std::cout << wiring::load_config(file_of(a), a.opts.overrides).dump();
     return kExitOk;
   } catch (const sdk::Error& e) {
     return report_error("config print", e.code(), e.what(), kExitUsage);
@@ -134,6 +135,7 @@ std::vector<PluginParams> selected_plugin_params(const kernel::Config& config) {
 // `config explain [KEY]`: the kernel's keys under KEY, then the params of the selected plugins
 // under it (`planner`, `planner.params`, `planner.params.heuristic`, or everything).
 int explain(const ExplainArgs& a) {
+  wiring::install_config_schema();
   const sdk::ParamSchema& schema = kernel::Config::schema();
   if (a.markdown) {
     std::cout << markdown_table(schema);

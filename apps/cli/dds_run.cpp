@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "dds_services.hpp"
+#include "flipper/dds/config_keys.hpp"
 #include "flipper/dds/request_node.hpp"
 
 namespace flipper::cli {
@@ -69,7 +70,7 @@ int run_dds_node(const CommonOptions& opts) {
   const DdsServices services = DdsServices::start(host, /*force_participant=*/true);
   dds::RequestNode node(
       services.participant, [&] { return services.open(host); }, std::cerr,
-      host.runtime->config.get_string("dds.namespace"));
+      host.runtime->config.get(dds::keys::kNamespace));
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   std::cerr << "flipper dds: serving " << node.request_topic() << " -> " << node.answer_topic()

@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "flipper/dds/config_keys.hpp"
 #include "flipper/dds/keystore.hpp"
 #include "flipper/dds/lexicon_replicator.hpp"
 #include "flipper/dds/names.hpp"
@@ -14,8 +15,9 @@ namespace flipper::cli {
 
 DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant) {
   const kernel::Config& config = host.runtime->config;
-  const bool plans = config.get_string("publish.plans") == "dds";
-  const bool replicate = config.get_string("lexicon.replication") == "dds";
+  const bool plans = config.get(dds::keys::kPublishPlans) == dds::keys::Plans::dds;
+  const bool replicate =
+      config.get(naturalization::keys::kReplication) == naturalization::keys::Replication::dds;
   DdsServices s;
   if (!wants_dds_services(config) && !force_participant) return s;
   const int dims =
@@ -23,17 +25,17 @@ DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant
   // Check everything before the participant exists.
   std::optional<dds::PlanFrame> frame;
   if (plans) frame = dds::PlanFrame::from_config(config, dims);
-  if (replicate && config.get_string("lexicon.site").empty())
+  if (replicate && config.get(naturalization::keys::kSite).empty())
     throw sdk::Error(sdk::codes::kBadConfig,
                      "lexicon.replication: dds needs this site's name in lexicon.site");
-  const std::string ns = config.get_string("dds.namespace");
+  const std::string ns = config.get(dds::keys::kNamespace);
   dds::check_namespace(ns);
   const auto security = dds::security_config(config);
-  if (security && replicate && security->identity != config.get_string("lexicon.site"))
+  if (security && replicate && security->identity != config.get(naturalization::keys::kSite))
     throw sdk::Error(sdk::codes::kBadConfig,
                      "with DDS Security a site is its certificate: dds.security.identity '" +
                          security->identity + "' must be lexicon.site '" +
-                         config.get_string("lexicon.site") + "'");
+                         config.get(naturalization::keys::kSite) + "'");
   if (security && ns.empty() && (plans || force_participant))
     throw sdk::Error(sdk::codes::kBadConfig,
                      "with DDS Security a node serves a namespace its permissions name: set "

@@ -6,7 +6,9 @@
 // execs flipper-frontends when a service is asked for (frontends.hpp).
 #include <memory>
 
+#include "flipper/dds/config_keys.hpp"
 #include "flipper/kernel/config.hpp"
+#include "flipper/naturalization/config_keys.hpp"
 
 #include "flipper/wiring/session_factory.hpp"
 
@@ -20,8 +22,8 @@ namespace flipper::cli {
 
 /// The config asks for a DDS service: plans published on DDS or lexicon replication over DDS.
 inline bool wants_dds_services(const kernel::Config& config) {
-  return config.get_string("publish.plans") == "dds" ||
-         config.get_string("lexicon.replication") == "dds";
+  return config.get(dds::keys::kPublishPlans) == dds::keys::Plans::dds ||
+         config.get(naturalization::keys::kReplication) == naturalization::keys::Replication::dds;
 }
 
 struct DdsServices {

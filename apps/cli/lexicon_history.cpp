@@ -46,7 +46,7 @@ std::unique_ptr<nat::LexiconStore> open_store(const CommonOptions& common) {
     throw sdk::Error(sdk::codes::kBadConfig,
                      "no lexicon store at '" + path + "' (lexicon.path; --set lexicon.path=FILE)");
   nat::LexiconStoreOptions options;
-  options.site = load_config(common).get_string("lexicon.site");
+  options.site = load_config(common).get(nat::keys::kSite);
   return std::make_unique<nat::LexiconStore>(path, options);
 }
 

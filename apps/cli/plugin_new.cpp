@@ -1,8 +1,8 @@
 // flipper plugin new KIND NAME [DIR]: scaffolds an out-of-tree plugin of any kind in DIR (default
 // ./NAME): its CMakeLists.txt (find_package(FlipperSDK), flipper_add_plugin with its VERSION, the
 // one source of the descriptor's and the sidecar's version, flipper_add_conformance_test), a
-// working source with its parameters as typed handles (flipper/toolkit/params.hpp), a test of its
-// own beside the conformance kits, and a README with the commands to build, test and load it.
+// working source with its parameters as typed handles (flipper/sdk/config_handles.hpp), a test of
+// its own beside the conformance kits, and a README with the commands to build, test and load it.
 // The files are the examples of examples/out-of-tree-planner and examples/plugin-templates/<kind>,
 // embedded at build time (embed_templates.cmake) with their name replaced: a scaffold is exactly
 // what CI builds, tests and loads (tests/kernel/out_of_tree.sh).
@@ -117,7 +117,8 @@ std::string readme(const std::string& kind, const std::string& name) {
          "- `" +
          name + ".cpp` is a working " + kind +
          " plugin to change. Its parameters are typed handles\n"
-         "  (`flipper/toolkit/params.hpp`): name, default, range and description written once.\n"
+         "  (`flipper/sdk/config_handles.hpp`): name, default, range and description written "
+         "once.\n"
          "- `VERSION` in `CMakeLists.txt` is the plugin's one version: `flipper_add_plugin` puts "
          "it in the\n"
          "  descriptor and in the sidecar `build/plugins/" +

@@ -14,6 +14,7 @@
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
+#include "flipper/wiring/config_schema.hpp"
 
 namespace fs = std::filesystem;
 using namespace flipper;
@@ -94,7 +95,7 @@ int main(int argc, char** argv) {
     double med[2] = {0, 0};
     double restore_ms = 0, commit_ms = 0, induce_ms = 0;
     for (int generalize = 0; generalize < 2; ++generalize) {
-      auto config = kernel::Config::load(
+      auto config = wiring::load_config(
           std::nullopt, {"lexicon.path=" + path,
                          std::string("induction.generalize=") + (generalize ? "true" : "false")});
       std::shared_ptr<kernel::Runtime> rt = kernel::make_runtime(config);

@@ -1,10 +1,10 @@
 // bfs_example: breadth-first search over the world's cell graph. Paths are shortest in steps;
 // among equally near goals the smallest (x, y, z) wins, and neighbours are expanded in the
 // geometry's tie order, as the planner contract asks. Tours are greedy nearest-neighbour.
-// Its one parameter is declared once, as a typed handle (flipper/toolkit/params.hpp).
+// Its one parameter is declared once, as a typed handle (flipper/sdk/config_handles.hpp).
+#include <flipper/sdk/config_handles.hpp>
 #include <flipper/sdk/planner.hpp>
 #include <flipper/sdk/plugin.hpp>
-#include <flipper/toolkit/params.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -17,7 +17,7 @@ using flipper::sdk::Area;
 using flipper::sdk::Cell;
 using flipper::sdk::Geometry;
 
-namespace param = flipper::toolkit::param;
+namespace param = flipper::sdk::param;
 
 // Name, default, range and description, written once: the schema and the constructor use it.
 constexpr param::Int<std::uint64_t> kMaxExpansions{

@@ -8,9 +8,9 @@
 #include <numeric>
 
 #include "distance_cache.hpp"
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/planner.hpp"
-#include "flipper/toolkit/params.hpp"
 #include "grid_search.hpp"
 #include "tour_solver.hpp"
 
@@ -19,7 +19,7 @@ namespace {
 
 using sdk::Cell;
 
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 enum class Heuristic { none, manhattan };  // in the order of kHeuristic's names
 constexpr param::Choice<Heuristic, 2> kHeuristic{

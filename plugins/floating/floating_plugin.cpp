@@ -6,7 +6,7 @@ namespace flipper::plugins::floating {
 
 namespace {
 
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 constexpr param::Int<int> kFloatingBeam{"floating_beam", 10, 1, 100000,
                                         "derivations that skip words kept per (category, span)"};

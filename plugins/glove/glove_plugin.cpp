@@ -4,16 +4,16 @@
 #include <cmath>
 #include <memory>
 
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/sdk/similarity.hpp"
-#include "flipper/toolkit/params.hpp"
 #include "word_vectors.hpp"
 
 namespace flipper::plugins::glove {
 
 namespace {
 
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 constexpr param::Path kPath{
     "path", "", "word vectors in GloVe or word2vec text format (e.g. glove.6B.100d.txt)", true};

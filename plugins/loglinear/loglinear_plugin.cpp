@@ -4,15 +4,15 @@
 #include <cmath>
 #include <limits>
 
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/toolkit/linear_scorer.hpp"
-#include "flipper/toolkit/params.hpp"
 
 namespace flipper::plugins::loglinear {
 
 namespace {
 
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 constexpr param::Double kStep{"step", 0.1, 0.0, 100.0, "AdaGrad step size"};
 constexpr param::Double kL1{"l1", 1e-4, 0.0, 1.0,

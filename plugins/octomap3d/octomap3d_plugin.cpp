@@ -10,10 +10,10 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/sdk/world.hpp"
-#include "flipper/toolkit/params.hpp"
 #include "obstacles.hpp"
 #include "occupancy.hpp"
 
@@ -21,7 +21,7 @@ namespace flipper::plugins::octomap3d {
 
 namespace {
 
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 constexpr param::Double kResolution{
     "resolution", 1.0, 1e-3, 1e3,

@@ -18,10 +18,10 @@
 #include <ompl/util/Console.h>
 
 #include "cell_search.hpp"
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/plugin.hpp"
-#include "flipper/toolkit/params.hpp"
 #include "sampling.hpp"
 #include "snap.hpp"
 #include "tour.hpp"
@@ -31,7 +31,7 @@ namespace flipper::plugins::ompl {
 using sdk::Cell;
 using sdk::PlanStatus;
 
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 constexpr const char* kTimeBudgetRetired =
     "it was a wall-clock budget per path request, so the plan depended on the machine's load; "

@@ -10,15 +10,15 @@
 // weight's aux; c = 1 + the accepts learnt from, counted by the model), i.e. the mean of the
 // weight vectors after every accept.
 #include "flipper/sdk/canonical.hpp"
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/toolkit/linear_scorer.hpp"
-#include "flipper/toolkit/params.hpp"
 
 namespace flipper::plugins::perceptron {
 
 namespace {
 
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 constexpr param::Double kRate{"rate", 1.0, 0.0, 100.0, "size of a perceptron update"};
 constexpr param::Bool kPerUser{"per_user", false,

@@ -6,10 +6,10 @@
 #include <unordered_set>
 #include <vector>
 
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/sdk/rewriter.hpp"
-#include "flipper/toolkit/params.hpp"
 #include "loop_rolling.hpp"
 #include "predicate_programs.hpp"
 
@@ -20,7 +20,7 @@ namespace {
 using sdk::Kind;
 using sdk::Program;
 
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 constexpr param::Int<std::size_t> kMaxCandidates{"max_candidates", 64, 0, 10000,
                                                  "most candidates proposed per definition"};

@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "bounded_file.hpp"
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/world.hpp"
 #include "flipper/sdk/world_format.hpp"
-#include "flipper/toolkit/params.hpp"
 #include "map_yaml.hpp"
 #include "occupancy.hpp"
 #include "pgm.hpp"
@@ -25,7 +25,7 @@ namespace {
 
 namespace sdk = flipper::sdk;
 namespace wf = flipper::sdk::world_format;
-namespace param = toolkit::param;
+namespace param = sdk::param;
 using nlohmann::json;
 
 constexpr param::Double kInflationRadius{

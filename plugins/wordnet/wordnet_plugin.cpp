@@ -5,9 +5,9 @@
 #include <cmath>
 #include <memory>
 
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/plugin.hpp"
 #include "flipper/sdk/similarity.hpp"
-#include "flipper/toolkit/params.hpp"
 #include "word_similarity.hpp"
 #include "wordnet_db.hpp"
 
@@ -15,17 +15,17 @@ namespace flipper::plugins::wordnet {
 
 namespace {
 
-constexpr toolkit::param::Path kPath{
-    "path", "/usr/share/wordnet", "WordNet 3.0 dictionary directory (index.noun, data.noun, ...)"};
+constexpr sdk::param::Path kPath{"path", "/usr/share/wordnet",
+                                 "WordNet 3.0 dictionary directory (index.noun, data.noun, ...)"};
 
 }  // namespace
 
 class WordNet : public sdk::Similarity {
  public:
   explicit WordNet(const sdk::Params& params)
-      : db_(std::make_unique<WordNetDb>(toolkit::param::get(params, kPath))), words_(*db_) {}
+      : db_(std::make_unique<WordNetDb>(sdk::param::get(params, kPath))), words_(*db_) {}
 
-  static sdk::ParamSchema schema() { return toolkit::param::schema(kPath); }
+  static sdk::ParamSchema schema() { return sdk::param::schema(kPath); }
 
  protected:
   double do_similarity(const std::vector<std::string>& a,

@@ -42,9 +42,10 @@ bool type_matches(ParamType type, const ParamValue& v) {
       return std::holds_alternative<std::string>(v);
     case ParamType::StringList:
     case ParamType::PathList:
-    case ParamType::DoubleList:
     case ParamType::Map:
       return std::holds_alternative<std::vector<std::string>>(v);
+    case ParamType::DoubleList:
+      return std::holds_alternative<std::vector<double>>(v);
   }
   return false;
 }

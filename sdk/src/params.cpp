@@ -98,12 +98,9 @@ ParamSchema& ParamSchema::add_path_list(std::string name, std::vector<std::strin
 }
 ParamSchema& ParamSchema::add_double_list(std::string name, const std::vector<double>& def,
                                           std::string description) {
-  std::vector<std::string> texts;
-  texts.reserve(def.size());
-  for (double d : def) texts.push_back(to_string(ParamValue{d}));
   params.push_back({std::move(name),
                     ParamType::DoubleList,
-                    ParamValue{std::move(texts)},
+                    ParamValue{def},
                     false,
                     std::move(description),
                     {},
@@ -168,20 +165,8 @@ const std::vector<std::string>& Params::get_string_list(const std::string& name)
 }
 
 std::vector<double> Params::get_double_list(const std::string& name) const {
-  std::vector<double> out;
-  for (const auto& text : get_string_list(name)) {
-    std::size_t used = 0;
-    double d = 0;
-    try {
-      d = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != text.size() || !std::isfinite(d))
-      throw Error(codes::kBadConfig, "parameter '" + name + "' is not a list of numbers");
-    out.push_back(d);
-  }
-  return out;
+  if (auto* v = std::get_if<std::vector<double>>(&at(name))) return *v;
+  throw Error(codes::kBadConfig, "parameter '" + name + "' is not a list of numbers");
 }
 
 std::string to_string(const ParamValue& v) {
@@ -197,6 +182,10 @@ std::string to_string(const ParamValue& v) {
   } else if (auto* l = std::get_if<std::vector<std::string>>(&v)) {
     os << '[';
     for (std::size_t k = 0; k < l->size(); ++k) os << (k ? ", " : "") << (*l)[k];
+    os << ']';
+  } else if (auto* n = std::get_if<std::vector<double>>(&v)) {
+    os << '[';
+    for (std::size_t k = 0; k < n->size(); ++k) os << (k ? ", " : "") << (*n)[k];
     os << ']';
   }
   return os.str();

@@ -10,6 +10,7 @@
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "product_schema.hpp"
 
 namespace flipper::kerneltest {
 

@@ -14,6 +14,7 @@
 
 #include "flipper/kernel/session.hpp"
 #include "flipper/wiring/session_factory.hpp"
+#include "product_schema.hpp"
 
 namespace flipper::testsupport {
 

@@ -1,15 +1,15 @@
-// Typed plugin parameter handles (flipper/toolkit/params.hpp): the schema a plugin declares from
-// them, and what `get` reads — from params the SDK validated, and from hand-made ones (defaults,
-// and refusals naming the parameter).
+// Typed plugin parameter handles (flipper/sdk/config_handles.hpp): the schema a plugin declares
+// from them, and what `get` reads — from params the SDK validated, and from hand-made ones
+// (defaults, and refusals naming the parameter).
 #include <catch2/catch.hpp>
 #include <cstdint>
 
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/param_check.hpp"
-#include "flipper/toolkit/params.hpp"
 
 using namespace flipper;
-namespace param = toolkit::param;
+namespace param = sdk::param;
 
 namespace {
 
@@ -118,4 +118,77 @@ TEST_CASE("params: get refuses, naming the parameter, what a hand-made Params ge
   CHECK(refusal(sdk::Params({{"parts", std::vector<std::string>{"two", "four"}}}), kParts) ==
         "param 'parts' has 'four', which is not one of one, two, three");
   CHECK(refusal(sdk::Params(), kFile) == "param 'file' is required");
+}
+
+TEST_CASE("params: list handles declare and read lists of paths and numbers") {
+  constexpr param::PathList<2> kDirs{"dirs", {"a", "/b"}, "folders"};
+  constexpr param::DoubleList<3> kOrigin{"origin", {0.5, -1, 2}, "metres"};
+  const sdk::ParamSchema s = param::schema(kDirs, kOrigin);
+  REQUIRE(s.params.size() == 2);
+  CHECK(s.params[0].type == sdk::ParamType::PathList);
+  CHECK(s.params[1].type == sdk::ParamType::DoubleList);
+  const sdk::Params defaults = sdk::validate_params(s, {}, "");
+  CHECK(param::get(defaults, kDirs) == std::vector<std::string>{"a", "/b"});
+  CHECK(param::get(defaults, kOrigin) == std::vector<double>{0.5, -1, 2});
+  CHECK(param::get(sdk::Params{}, kOrigin) == std::vector<double>{0.5, -1, 2});
+}
+
+TEST_CASE("params: compose joins fragments in order and refuses a key two of them declare") {
+  constexpr param::Int<int> kA{"one.a", 1, 0, 9, "a"};
+  constexpr param::Bool kB{"two.b", false, "b"};
+  sdk::ParamSchema first = param::schema(kA);
+  first.add_section("one", "the first");
+  sdk::ParamSchema second = param::schema(kB);
+  second.add_section("two", "the second");
+  const sdk::ParamSchema both = param::compose({&first, &second});
+  REQUIRE(both.params.size() == 2);
+  CHECK(both.params[0].name == "one.a");
+  CHECK(both.params[1].name == "two.b");
+  REQUIRE(both.sections.size() == 2);
+  CHECK(both.sections[1].name == "two");
+  try {
+    (void)param::compose({&first, &second, &first});
+    FAIL("a key declared twice was accepted");
+  } catch (const std::logic_error& e) {
+    CHECK(std::string(e.what()) == "config section 'one' is declared twice");
+  }
+  const sdk::ParamSchema again = param::schema(kA);  // the key without its section
+  try {
+    (void)param::compose({&first, &again});
+    FAIL("a key declared twice was accepted");
+  } catch (const std::logic_error& e) {
+    CHECK(std::string(e.what()) == "config key 'one.a' is declared twice");
+  }
+}
+
+TEST_CASE("params: a retired key is the flag, not its description's words") {
+  sdk::ParamSchema s;
+  s.add_retired("old", "use new");
+  sdk::ParamSpec lookalike;
+  lookalike.name = "lookalike";
+  lookalike.description = "retired: only words";
+  s.add(lookalike);
+  REQUIRE(s.find("old") != nullptr);
+  CHECK(sdk::is_retired(*s.find("old")));
+  CHECK(s.find("old")->has(sdk::ParamFlag::retired));
+  CHECK_FALSE(sdk::is_retired(*s.find("lookalike")));
+  try {
+    (void)sdk::validate_params(s, {{"old", std::string("x")}}, "p");
+    FAIL("a retired key was accepted");
+  } catch (const sdk::Error& e) {
+    CHECK(std::string(e.what()) == "config key 'p.old' is retired: use new");
+  }
+  const sdk::Params p = sdk::validate_params(s, {{"lookalike", std::string("x")}}, "p");
+  CHECK(p.get_string("lookalike") == "x");
+}
+
+TEST_CASE("params: a list of numbers holds numbers, and a list of texts is not one") {
+  sdk::ParamSchema s;
+  s.add_double_list("origin", {0.25, 2}, "metres");
+  const sdk::Params defaults = sdk::validate_params(s, {}, "");
+  CHECK(defaults.get_double_list("origin") == std::vector<double>{0.25, 2});
+  CHECK(sdk::to_string(defaults.values().at("origin")) == "[0.25, 2]");
+  CHECK_THROWS_AS(sdk::validate_params(s, {{"origin", std::vector<std::string>{"0.25", "2"}}}, "w"),
+                  sdk::Error);
+  CHECK_THROWS_AS(defaults.get_string_list("origin"), sdk::Error);
 }

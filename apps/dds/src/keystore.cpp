@@ -17,8 +17,10 @@
 #include <ostream>
 #include <sstream>
 
+#include "flipper/dds/config_keys.hpp"
 #include "flipper/dds/names.hpp"
 #include "flipper/kernel/config.hpp"
+#include "flipper/naturalization/config_keys.hpp"
 #include "openssl_util.hpp"
 
 namespace flipper::dds {
@@ -316,16 +318,16 @@ std::vector<std::pair<std::string, std::string>> security_properties(const Keyst
 }
 
 std::optional<SecurityConfig> security_config(const kernel::Config& config) {
-  const std::string dir = config.get_path("dds.security.keystore");
+  const std::string dir = config.get(keys::kKeystore);
   if (dir.empty()) return std::nullopt;
-  SecurityConfig sc{Keystore{dir}, config.get_string("dds.security.identity")};
-  if (sc.identity.empty()) sc.identity = config.get_string("lexicon.site");
-  if (sc.identity.empty()) sc.identity = config.get_string("dds.namespace");
+  SecurityConfig sc{Keystore{dir}, config.get(keys::kIdentity)};
+  if (sc.identity.empty()) sc.identity = config.get(naturalization::keys::kSite);
+  if (sc.identity.empty()) sc.identity = config.get(keys::kNamespace);
   if (sc.identity.empty())
     refuse(sdk::codes::kBadConfig,
            "dds.security.keystore is set but no identity is named: set dds.security.identity "
            "(or lexicon.site, or dds.namespace)");
-  if (config.get_int("dds.domain") > kMaxSecureDomain)
+  if (config.get(keys::kDomain) > kMaxSecureDomain)
     refuse(sdk::codes::kBadConfig, "with DDS Security, dds.domain must be at most " +
                                        std::to_string(kMaxSecureDomain) +
                                        " (the governance and permissions cover 0.." +

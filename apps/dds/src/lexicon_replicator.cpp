@@ -8,6 +8,7 @@
 
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/msg/LexiconEvent.h"
+#include "flipper/naturalization/config_keys.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -80,7 +81,7 @@ LexiconReplicator::LexiconReplicator(std::shared_ptr<Participant> participant,
     : participant_(std::move(participant)),
       host_(host),
       log_(log),
-      site_(host.runtime->config.get_string("lexicon.site")),
+      site_(host.runtime->config.get(naturalization::keys::kSite)),
       executor_(host.runtime->planner,
                 kernel::SessionOptions::from_config(host.runtime->config).limits) {
   if (keystore) {

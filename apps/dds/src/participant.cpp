@@ -10,6 +10,7 @@
 #include "flipper/dds/keystore.hpp"
 #include "flipper/dds/loopback_sockets.hpp"
 
+#include "flipper/dds/config_keys.hpp"
 #include "flipper/kernel/config.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -34,7 +35,7 @@ std::vector<std::pair<std::string, std::string>> configured_security(const kerne
 }  // namespace
 
 Participant::Participant(const kernel::Config& config, std::ostream& log)
-    : Participant(static_cast<int>(config.get_int("dds.domain")),
+    : Participant(static_cast<int>(config.get(keys::kDomain)),
                   choose_transport(config, std::getenv("CYCLONEDDS_URI")), log,
                   configured_security(config, log)) {}
 

@@ -1,30 +1,37 @@
 #include "flipper/dds/plan_frame.hpp"
 
 #include <cmath>
+#include <string_view>
+#include <vector>
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::dds {
+namespace {
+// The octomap3d world plugin's `resolution` param: not a config key (the plugin's own schema
+// declares and validates it), read from its section as written.
+constexpr std::string_view kWorldResolutionParam = "world.params.resolution";
+}  // namespace
 
 PlanFrame PlanFrame::from_config(const kernel::Config& config, int dims) {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  const auto origin_text = config.get_string_list("world.origin");
-  if (origin_text.size() < 2 || origin_text.size() > 3)
-    throw sdk::Error(sdk::codes::kBadConfig,
-                     "world.origin must list 2 or 3 numbers (metres), got " +
-                         std::to_string(origin_text.size()));
-  for (std::size_t i = 0; i < origin_text.size(); ++i)
-    origin[static_cast<int>(i)] = std::stod(origin_text[i]);
-  const double resolution = config.get_double("world.resolution");
+  const std::vector<double> given = config.get(kernel::keys::kWorldOrigin);
+  if (given.size() < 2 || given.size() > 3)
+    throw sdk::Error(
+        sdk::codes::kBadConfig,
+        "world.origin must list 2 or 3 numbers (metres), got " + std::to_string(given.size()));
+  for (std::size_t i = 0; i < given.size(); ++i) origin[static_cast<int>(i)] = given[i];
+  const double resolution = config.get(kernel::keys::kWorldResolution);
   Eigen::Affine3d t = Eigen::Affine3d::Identity();
   if (dims == 3) {
     if (resolution != 1.0)
       throw sdk::Error(sdk::codes::kBadConfig,
                        "world.resolution applies to 2-D grids; a 3-D world's plans use its own "
                        "metric coordinates (world.params.resolution)");
-    const double r =
-        config.has("world.params.resolution") ? config.get_double("world.params.resolution") : 1.0;
+    // A param of the world plugin (octomap3d), not a config key: its own schema declares it.
+    const std::string param(kWorldResolutionParam);
+    const double r = config.has(param) ? config.get_double(param) : 1.0;
     t.translate(origin);
     t.scale(r);
     t.translate(Eigen::Vector3d(0.5, 0.5, 0.5));

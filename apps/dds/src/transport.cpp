@@ -6,6 +6,7 @@
 
 #include "flipper/dds/cyclone_config.hpp"
 
+#include "flipper/dds/config_keys.hpp"
 #include "flipper/kernel/config.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -53,9 +54,9 @@ std::string Transport::describe(int domain) const {
 }
 
 Transport choose_transport(const kernel::Config& config, const char* env_uri) {
-  const std::vector<std::string> named = config.get_string_list("dds.interfaces");
-  const std::string given = config.get_string("dds.config");
-  const int domain = static_cast<int>(config.get_int("dds.domain"));
+  const std::vector<std::string> named = config.get(keys::kInterfaces);
+  const std::string given = config.get(keys::kConfig);
+  const int domain = static_cast<int>(config.get(keys::kDomain));
   const bool loop_named = !named.empty() && std::all_of(named.begin(), named.end(), is_loopback);
   const auto is_named = [&](const std::string& i) {
     return std::find(named.begin(), named.end(), i) != named.end();
@@ -95,7 +96,7 @@ Transport choose_transport(const kernel::Config& config, const char* env_uri) {
     return t;
   };
 
-  if (!given.empty()) return checked(given, "dds.config");
+  if (!given.empty()) return checked(given, std::string(keys::kConfig.name));
   if (named.empty() || loop_named) {
     if (env_uri != nullptr && *env_uri != '\0') return checked(env_uri, "CYCLONEDDS_URI");
     Transport t;

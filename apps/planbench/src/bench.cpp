@@ -23,6 +23,7 @@
 #include "flipper/record/processes.hpp"
 #include "flipper/record/run_folder.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/config_schema.hpp"
 
 namespace flipper::planbench {
 namespace fs = std::filesystem;
@@ -72,7 +73,7 @@ class Settings {
     std::vector<std::string> all = sets_;
     all.insert(all.end(), extra.begin(), extra.end());
     all.insert(all.end(), options_.overrides.begin(), options_.overrides.end());
-    return kernel::Config::load(config_.empty() ? std::nullopt : std::optional(config_), all);
+    return wiring::load_config(config_.empty() ? std::nullopt : std::optional(config_), all);
   }
 
  private:
@@ -87,7 +88,7 @@ LoadedWorld load_world_unlabelled(const Settings& settings, const BenchExperimen
   const kernel::PluginLoader loader(kernel::PluginLoader::search_path_for(config));
   kernel::Runtime rt(config);
   rt.world = loader.create<sdk::World>(config, "world");
-  LoadedWorld out{&w, kernel::load_world_file(rt, config.get_path("world.file")), {}};
+  LoadedWorld out{&w, kernel::load_world_file(rt, config.get(kernel::keys::kWorldFile)), {}};
   if (!out.state.geometry)
     throw sdk::Error(sdk::codes::kBadWorld, "plugin '" + w.plugin + "' gave no geometry");
   out.tasks = tasks_for(w.tasks ? *w.tasks : e.tasks, *out.state.geometry);

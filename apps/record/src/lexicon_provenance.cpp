@@ -10,10 +10,11 @@
 namespace flipper::record {
 
 nlohmann::json lexicon_json(const kernel::Config& config) {
-  if (!config.has("lexicon.path")) return nullptr;
-  const std::string text = config.get_string("lexicon.path");
+  namespace keys = naturalization::keys;
+  if (!config.has(keys::kLexiconPath)) return nullptr;
+  const std::string text = config.text(keys::kLexiconPath);
   if (text.empty() || text == ":memory:") return nullptr;
-  const std::string path = config.resolve_path_of("lexicon.path", text);
+  const std::string path = config.resolve_path_of(keys::kLexiconPath, text);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return nullptr;  // the run starts empty
   try {

@@ -77,9 +77,10 @@ json config_json(const kernel::Config& config) {
   json files = json::array();
   if (config.source() != "<embedded default>" && fs::is_regular_file(config.source()))
     files.push_back(file_json("config", config.source()));
-  for (const char* key : {"world.file", "grammar.file"}) {
-    const std::string path = config.has(key) ? config.get_path(key) : std::string();
-    if (!path.empty() && fs::is_regular_file(path)) files.push_back(file_json(key, path));
+  for (const auto* key : {&kernel::keys::kWorldFile, &kernel::keys::kGrammarFile}) {
+    const std::string path = config.has(*key) ? config.get(*key) : std::string();
+    if (!path.empty() && fs::is_regular_file(path))
+      files.push_back(file_json(std::string(key->name), path));
   }
   json out{{"source", config.source()},
            {"base_dir", config.base_dir()},

@@ -7,6 +7,7 @@
 #include "flipper/record/run_folder.hpp"
 #include "flipper/replay/experiment.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/config_schema.hpp"
 
 namespace flipper::replay {
 namespace {
@@ -72,7 +73,7 @@ std::vector<PlannedVariant> plan_variants(const Experiment& e) {
       std::vector<std::string> with_choices = p.sets;
       for (const auto& [key, value] : point)
         if (plugin_param(key).first.empty()) with_choices.push_back(key + "=" + value);
-      const kernel::Config config = kernel::Config::load(e.config, with_choices);
+      const kernel::Config config = wiring::load_config(e.config, with_choices);
       for (const auto& [key, value] : point) {
         const auto [section, param] = plugin_param(key);
         if (!section.empty() && config.has_section(section) &&

@@ -14,6 +14,7 @@
 #include "flipper/replay/output.hpp"
 #include "flipper/replay/replayer.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/config_schema.hpp"
 
 namespace flipper::replay {
 namespace fs = std::filesystem;
@@ -23,7 +24,7 @@ namespace {
 
 // A variant's entry in the manifest: what it is, its config and plugins, its seeds.
 json variant_json(const Experiment& e, const PlannedVariant& v) {
-  const kernel::Config config = kernel::Config::load(e.config, v.sets);
+  const kernel::Config config = wiring::load_config(e.config, v.sets);
   json plugins = record::plugins_json(config);
   json seeds = json::object();
   for (const auto& p : plugins)

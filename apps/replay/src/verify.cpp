@@ -14,6 +14,7 @@
 #include "flipper/record/checksum.hpp"
 #include "flipper/replay/corpus.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/config_schema.hpp"
 #include "flipper/wiring/session_factory.hpp"
 
 namespace flipper::replay {
@@ -85,7 +86,7 @@ VerifyResult verify_recording(const std::string& dir, const VerifyOptions& optio
     sets.push_back("lexicon.path=:memory:");
     sets.push_back("lexicon.preload=" +
                    (name == "C" && fs::exists(preload) ? fs::absolute(preload).string() : ""));
-    const kernel::Config config = kernel::Config::load(options.config_file, sets);
+    const kernel::Config config = wiring::load_config(options.config_file, sets);
     if (comparable(config.dump()) != comparable(text(recorded, "config")))
       result.notes.push_back("group " + name +
                              ": the effective config differs from the one study.json recorded "

@@ -13,7 +13,9 @@
 #include <filesystem>
 #include <mutex>
 
+#include "flipper/naturalization/config_keys.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/studio/config_keys.hpp"
 
 namespace flipper::studio {
 namespace {
@@ -175,11 +177,13 @@ std::optional<std::string> name_problem(std::string_view name) {
 }
 
 std::string accounts_path(const kernel::Config& config) {
-  if (!config.get_string("serve.accounts").empty()) return config.get_path("serve.accounts");
-  // The raw value decides "in memory": get_path would make ":memory:" a file in some folder.
-  const std::string given = config.get_string("lexicon.path");
+  if (!config.text(keys::kServeAccounts).empty()) return config.get(keys::kServeAccounts);
+  // The raw value decides "in memory": a resolved path would make ":memory:" a file in a folder.
+  const std::string given = config.text(naturalization::keys::kLexiconPath);
   if (given.empty() || given == ":memory:") return ":memory:";
-  return (fs::path(config.get_path("lexicon.path")).parent_path() / "accounts.sqlite").string();
+  return (fs::path(config.get(naturalization::keys::kLexiconPath)).parent_path() /
+          "accounts.sqlite")
+      .string();
 }
 
 struct AccountStore::Impl {

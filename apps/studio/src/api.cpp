@@ -72,7 +72,8 @@ Json world_files(const kernel::Runtime& rt, const std::string& root) {
 // A study group has one kernel: its records are then in the order it answered, and a replay
 // of them meets the same store (docs/studio.md §5).
 int pool_size(const ServeOptions& options, const kernel::Config& config) {
-  if (config.get_string("lexicon.path") == ":memory:" || !options.study.empty()) return 1;
+  if (config.text(naturalization::keys::kLexiconPath) == ":memory:" || !options.study.empty())
+    return 1;
   if (options.kernels > 0) return options.kernels;
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) + 1;
 }
@@ -177,8 +178,10 @@ Api::Api(const std::vector<std::pair<std::string, kernel::Config>>& kernels, Ser
       k->host = std::make_unique<wiring::SessionHost>(wiring::open_host(k->runtime));
       std::error_code ec;
       k->world_root =
-          fs::weakly_canonical(fs::path(config.get_path("world.file")).parent_path(), ec).string();
-      k->max_world_bytes = world_bytes(static_cast<std::size_t>(config.get_int("world.max_cells")));
+          fs::weakly_canonical(fs::path(config.get(kernel::keys::kWorldFile)).parent_path(), ec)
+              .string();
+      k->max_world_bytes =
+          world_bytes(static_cast<std::size_t>(config.get(kernel::keys::kMaxWorldCells)));
       k->vocabulary = vocabulary(*k->runtime);
       k->worlds = pool.kernels.empty() ? world_files(*k->runtime, k->world_root)
                                        : pool.kernels.front()->worlds;
@@ -501,15 +504,17 @@ HttpReply Api::info_reply(const HttpRequest& r) {
   Json account = nullptr;
   if (login) account = Json{{"name", login->name}, {"role", to_string(login->role)}};
   // A study does not show its participants their condition (docs/studio.md §7).
-  Json out{{"ok", true},
-           {"sharing", study_ ? Json() : Json(c.get_string("lexicon.sharing"))},
-           {"k", c.get_int("session.k")},
-           {"max_chars", c.get_int("input.max_chars")},
-           {"vocabulary", k.vocabulary},
-           {"worlds", k.worlds},
-           {"account", account},
-           {"guests", options_.guests},
-           {"study", Json()}};
+  Json out{
+      {"ok", true},
+      {"sharing",
+       study_ ? Json() : Json(naturalization::to_string(c.get(naturalization::keys::kSharing)))},
+      {"k", c.get(kernel::keys::kSessionK)},
+      {"max_chars", c.get(kernel::keys::kMaxChars)},
+      {"vocabulary", k.vocabulary},
+      {"worlds", k.worlds},
+      {"account", account},
+      {"guests", options_.guests},
+      {"study", Json()}};
   if (study_) {
     out["study"] = study_->page_json();
     if (entry && recorder_)

@@ -1,4 +1,4 @@
-// serve.* keys, loopback detection and where the page's files are.
+// serve.* keys (read through config_keys.hpp), loopback detection and where the page's files are.
 #include <arpa/inet.h>
 
 #include <filesystem>
@@ -6,6 +6,7 @@
 
 #include "flipper/sdk/errors.hpp"
 #include "flipper/studio/accounts.hpp"
+#include "flipper/studio/config_keys.hpp"
 #include "flipper/studio/server.hpp"
 
 namespace flipper::studio {
@@ -13,7 +14,6 @@ namespace fs = std::filesystem;
 
 ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   ServeOptions o;
-  namespace keys = kernel::keys;
   o.host = c.get(keys::kServeHost);
   o.port = static_cast<int>(c.get(keys::kServePort));
   o.threads = static_cast<int>(c.get(keys::kServeThreads));
@@ -22,7 +22,7 @@ ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   o.rate_burst = static_cast<double>(c.get(keys::kServeRateBurst));
   o.max_sessions = static_cast<std::size_t>(c.get(keys::kServeMaxSessions));
   o.session_idle_s = static_cast<int>(c.get(keys::kServeSessionIdleS));
-  o.allowed_hosts = c.get_string_list("serve.allowed_hosts");
+  o.allowed_hosts = c.get(keys::kServeAllowedHosts);
   o.accounts = accounts_path(c);
   o.guests = c.get(keys::kServeGuests);
   o.login_days = static_cast<int>(c.get(keys::kServeLoginDays));
@@ -35,19 +35,19 @@ ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   o.new_sessions_per_minute = static_cast<int>(c.get(keys::kServeNewSessionsPerMinute));
   o.memory_budget_mb = static_cast<std::size_t>(c.get(keys::kServeMemoryBudgetMb));
   o.evict_after_s = static_cast<int>(c.get(keys::kServeEvictAfterS));
-  o.sessions_per_subnet = static_cast<std::size_t>(c.get_int("serve.sessions_per_subnet"));
-  o.new_guests_per_minute = static_cast<int>(c.get_int("serve.new_guests_per_minute"));
+  o.sessions_per_subnet = static_cast<std::size_t>(c.get(keys::kServeSessionsPerSubnet));
+  o.new_guests_per_minute = static_cast<int>(c.get(keys::kServeNewGuestsPerMinute));
   o.reserved_sessions_percent =
-      static_cast<std::size_t>(c.get_int("serve.reserved_sessions_percent"));
+      static_cast<std::size_t>(c.get(keys::kServeReservedSessionsPercent));
   o.max_connections_per_subnet =
-      static_cast<std::size_t>(c.get_int("serve.max_connections_per_subnet"));
+      static_cast<std::size_t>(c.get(keys::kServeMaxConnectionsPerSubnet));
   o.cpu_ms_per_s = static_cast<int>(c.get(keys::kServeCpuMsPerS));
   o.cpu_burst_ms = static_cast<int>(c.get(keys::kServeCpuBurstMs));
   o.kernels = static_cast<int>(c.get(keys::kServeKernels));
-  if (!c.get_string("serve.web_dir").empty()) o.web_dir = c.get_path("serve.web_dir");
-  if (!c.get_string("serve.study").empty()) o.study = c.get_path("serve.study");
+  if (!c.text(keys::kServeWebDir).empty()) o.web_dir = c.get(keys::kServeWebDir);
+  if (!c.text(keys::kServeStudy).empty()) o.study = c.get(keys::kServeStudy);
   o.sempre = c.get(keys::kServeSempre);
-  o.sempre_origins = c.get_string_list("serve.sempre_origins");
+  o.sempre_origins = c.get(keys::kServeSempreOrigins);
   return o;
 }
 

@@ -3,6 +3,7 @@
 #include "flipper/wiring/session_factory.hpp"
 
 #include "flipper/naturalization/naturalize_ops.hpp"
+#include "flipper/wiring/config_schema.hpp"
 
 namespace flipper::wiring {
 
@@ -20,7 +21,7 @@ std::unique_ptr<Session> open_session(std::shared_ptr<Runtime> runtime) {
 
 std::unique_ptr<Session> open_session(const std::optional<std::string>& config_file,
                                       const std::vector<std::string>& overrides) {
-  std::shared_ptr<Runtime> runtime = make_runtime(Config::load(config_file, overrides));
+  std::shared_ptr<Runtime> runtime = make_runtime(load_config(config_file, overrides));
   return open_session(std::move(runtime));
 }
 
@@ -47,7 +48,7 @@ SessionHost open_host(std::shared_ptr<Runtime> runtime) {
 
 SessionHost open_host(const std::optional<std::string>& config_file,
                       const std::vector<std::string>& overrides) {
-  return open_host(make_runtime(Config::load(config_file, overrides)));
+  return open_host(make_runtime(load_config(config_file, overrides)));
 }
 
 }  // namespace flipper::wiring

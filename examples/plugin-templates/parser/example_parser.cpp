@@ -3,10 +3,10 @@
 // words by their synonyms, so that with `go=visit` "go room1" parses as "visit room1". A parser of
 // your own can change parse_chart as here, or derive from toolkit::IndexedParser and run a
 // toolkit::ChartRun of its own (flipper/toolkit/chart_run.hpp).
+#include <flipper/sdk/config_handles.hpp>
 #include <flipper/sdk/errors.hpp>
 #include <flipper/sdk/plugin.hpp>
 #include <flipper/toolkit/chart_parser.hpp>
-#include <flipper/toolkit/params.hpp>
 
 #include <map>
 #include <string>
@@ -15,7 +15,7 @@ namespace example_parser {
 
 namespace sdk = flipper::sdk;
 namespace toolkit = flipper::toolkit;
-namespace param = flipper::toolkit::param;
+namespace param = flipper::sdk::param;
 
 constexpr param::TextList<2> kSynonyms{
     "synonyms", {"go=visit", "grab=pick"}, "word=replacement pairs applied before parsing"};

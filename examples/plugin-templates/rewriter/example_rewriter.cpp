@@ -3,16 +3,16 @@
 // checks that a proposal does what the body does before it generalizes with it
 // (docs/naturalization.md §6).
 #include <flipper/sdk/ast.hpp>
+#include <flipper/sdk/config_handles.hpp>
 #include <flipper/sdk/plugin.hpp>
 #include <flipper/sdk/rewriter.hpp>
-#include <flipper/toolkit/params.hpp>
 
 #include <cmath>
 
 namespace example_rewriter {
 
 namespace sdk = flipper::sdk;
-namespace param = flipper::toolkit::param;
+namespace param = flipper::sdk::param;
 
 constexpr param::Int<int> kMaxUnroll{"max_unroll", 5, 1, 100, "largest repeat count written out"};
 

@@ -3,15 +3,15 @@
 // weights, the saved state and incremental persistence with the lexicon are done there), with its
 // own update rule: on an accept, the accepted reading's best derivation gains `rate` on each of
 // its features, and the best derivations of the other readings share a loss of `rate`.
+#include <flipper/sdk/config_handles.hpp>
 #include <flipper/sdk/plugin.hpp>
 #include <flipper/toolkit/linear_scorer.hpp>
-#include <flipper/toolkit/params.hpp>
 
 namespace example_scorer {
 
 namespace sdk = flipper::sdk;
 namespace toolkit = flipper::toolkit;
-namespace param = flipper::toolkit::param;
+namespace param = flipper::sdk::param;
 
 constexpr param::Double kRate{"rate", 1.0, 0.0, 100.0, "weight moved per accept"};
 constexpr param::Bool kPerUser{"per_user", false,

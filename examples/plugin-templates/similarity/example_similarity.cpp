@@ -1,9 +1,9 @@
 // example_similarity: the Jaccard overlap of two sentences' word sets, |A ∩ B| / |A ∪ B|, after
 // leaving out the words of `ignore`; 0 when either is empty. Symmetric, in [0, 1], 1 for the same
 // words, as the similarity contract asks (flipper/sdk/similarity.hpp).
+#include <flipper/sdk/config_handles.hpp>
 #include <flipper/sdk/plugin.hpp>
 #include <flipper/sdk/similarity.hpp>
-#include <flipper/toolkit/params.hpp>
 
 #include <algorithm>
 #include <set>
@@ -11,7 +11,7 @@
 namespace example_similarity {
 
 namespace sdk = flipper::sdk;
-namespace param = flipper::toolkit::param;
+namespace param = flipper::sdk::param;
 
 constexpr param::TextList<4> kIgnore{
     "ignore", {"a", "an", "the", "to"}, "words left out before the sentences are compared"};

@@ -2,11 +2,11 @@
 // protocol's common world format (flipper/sdk/world_format.hpp reads, checks and writes it). The
 // robot steps right, left, up and down (the tie order of shortest paths), and with `diagonal`
 // also diagonally.
+#include <flipper/sdk/config_handles.hpp>
 #include <flipper/sdk/errors.hpp>
 #include <flipper/sdk/plugin.hpp>
 #include <flipper/sdk/world.hpp>
 #include <flipper/sdk/world_format.hpp>
-#include <flipper/toolkit/params.hpp>
 
 #include <memory>
 #include <string>
@@ -16,7 +16,7 @@ namespace example_world {
 
 namespace sdk = flipper::sdk;
 namespace wf = flipper::sdk::world_format;
-namespace param = flipper::toolkit::param;
+namespace param = flipper::sdk::param;
 
 // Each parameter written once: name, default, range, description.
 constexpr param::Bool kDiagonal{"diagonal", false,

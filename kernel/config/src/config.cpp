@@ -16,6 +16,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -257,8 +258,13 @@ sdk::ParamValue typed_value(const sdk::ParamSpec& spec, const std::string& key, 
       if (!v.IsScalar()) wrong_type(key, spec.type, v);
       return path(key, v.Scalar());
     case ParamType::StringList:
-    case ParamType::DoubleList:
       return scalar_list(key, spec.type, v);
+    case ParamType::DoubleList: {
+      (void)scalar_list(key, spec.type, v);  // each element a finite number, else the error
+      std::vector<double> numbers;
+      for (const auto& e : v) numbers.push_back(e.as<double>());
+      return numbers;
+    }
     case ParamType::PathList: {
       std::vector<std::string> list = scalar_list(key, spec.type, v);
       for (auto& p : list) p = path(key, p);
@@ -316,6 +322,10 @@ YAML::Node yaml_of(const sdk::ParamValue& v) {
   }
   if (const auto* s = std::get_if<std::string>(&v)) return YAML::Node(*s);
   YAML::Node list(YAML::NodeType::Sequence);
+  if (const auto* numbers = std::get_if<std::vector<double>>(&v)) {
+    for (double d : *numbers) list.push_back(yaml_of(d));
+    return list;
+  }
   for (const auto& e : std::get<std::vector<std::string>>(v)) list.push_back(e);
   return list;
 }
@@ -634,6 +644,14 @@ std::string Config::path_origin(const std::string& key) const {
     return key + value + " (the default, written in no config): relative to the default " +
            "configs directory " + default_config_dir();
   return key + value + " from " + impl_->source + ": relative to its directory " + impl_->base_dir;
+}
+
+const sdk::Params& Config::declared(std::string_view key) const {
+  if (schema().find(std::string(key)) == nullptr)
+    throw std::logic_error("config key '" + std::string(key) +
+                           "' is not in the installed schema (docs/config.md \"Who declares a "
+                           "key\")");
+  return impl_->values;
 }
 
 bool Config::has(const std::string& key) const {

@@ -1,6 +1,14 @@
-// The kernel's config schema: every kernel key declared once, with the SDK's ParamSchema (the
-// engine that checks plugins' params), in the order the effective config lists them.
+// The kernel's schema fragment: its own keys (keys.hpp) and the plugin sections, in the order the
+// effective config lists them. The keys of the layers above are theirs (docs/config.md "Who
+// declares a key"); the host composes them with this fragment (Config::install_schema).
 #include "flipper/kernel/keys.hpp"
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <vector>
+
 #include "flipper/kernel/config.hpp"
 
 namespace flipper::kernel {
@@ -9,14 +17,7 @@ namespace {
 using sdk::ParamSchema;
 using sdk::ParamSpec;
 using sdk::ParamType;
-
-void add(ParamSchema& s, const keys::Int& k) {
-  s.add_int(std::string(k.path), k.def, std::string(k.doc), static_cast<double>(k.min),
-            static_cast<double>(k.max));
-}
-void add(ParamSchema& s, const keys::Bool& k) {
-  s.add_bool(std::string(k.path), k.def, std::string(k.doc));
-}
+using sdk::param::add;
 
 // A plugin section: `plugin` names the plugin (required; `def` empty: the section is optional),
 // `params` is validated against the plugin's own schema (Config::plugin_params).
@@ -39,9 +40,9 @@ void add_plugin_section(ParamSchema& s, const std::string& section, const std::s
 ParamSchema build() {
   ParamSchema s;
   add_plugin_section(s, "world", "grid2d", "the world plugin");
-  s.add_path("world.file", std::string("worlds/study2018.json"), "the default world");
-  s.add_double("world.resolution", 1.0, "metres per cell (plans over DDS)", 0.001, 1000);
-  s.add_double_list("world.origin", {0, 0, 0}, "metres of cell (0, 0, 0) (plans over DDS)");
+  add(s, keys::kWorldFile);
+  add(s, keys::kWorldResolution);
+  add(s, keys::kWorldOrigin);
   add(s, keys::kMaxWorldCells);
   add_plugin_section(s, "planner", "astar", "the planner plugin");
   add_plugin_section(s, "parser", "chart", "the parser plugin");
@@ -50,53 +51,11 @@ ParamSchema build() {
   add_plugin_section(s, "similarity", "", "optional: word similarity for alignment");
 
   s.add_section("grammar", "the core grammar and its vocabulary");
-  s.add_path("grammar.file", std::string("grammars/core.grammar"), "the core grammar");
-  s.add_string_list("grammar.colors",
-                    {"black", "blue", "gray", "green", "orange", "pink", "purple", "red", "yellow"},
-                    "colour words");
-  s.add_string_list("grammar.shapes", {"triangle", "circle", "square"}, "shape words");
-  s.add_string_list("grammar.directions", {},
-                    "a subset of the world plugin's direction words (empty: all of them)");
+  add(s, keys::kGrammarFile);
+  add(s, keys::kGrammarColors);
+  add(s, keys::kGrammarShapes);
+  add(s, keys::kGrammarDirections);
 
-  s.add_section("lexicon", "the store of induced rules (naturalization)");
-  s.add_path("lexicon.path", std::string("~/.local/share/flipper/lexicon.sqlite"),
-             "SQLite file (`:memory:`: none)");
-  s.add_string("lexicon.sharing", "shared", "whose rules serve a user",
-               {"shared", "private", "core"});
-  s.add_path("lexicon.preload", std::string(), "definitions replayed at start (empty: none)");
-  s.add_string("lexicon.weights", "global", "scorer weights", {"global", "per_user"});
-  add(s, keys::kBusyTimeoutMs);
-  add(s, keys::kSnapshotMinRules);
-  s.add_string("lexicon.durability", "full",
-               "full: each accept/define is on disk when answered; normal: survives any process "
-               "crash, a power loss may drop the last commits (docs/naturalization.md §5)",
-               {"full", "normal"});
-  s.add_string("lexicon.replication", "none", "share rules between sites", {"none", "dds"});
-  s.add_string("lexicon.site", "", "this site's name (replication; recorded in the history)");
-  s.add_string("lexicon.conflicts", "warn",
-               "a definition that changes other users' readings: shown (warn) or refused "
-               "(refuse, definition_conflicts)",
-               {"warn", "refuse"});
-
-  s.add_section("publish", "what the DDS front end publishes");
-  s.add_string("publish.plans", "none", "publish each accepted plan", {"none", "dds"});
-  s.add_section("dds", "Cyclone DDS (flipper dds; loopback-only by default)");
-  s.add_int("dds.domain", 0, "DDS domain id", 0, 232);
-  s.add_string_list("dds.interfaces", {}, "network interfaces (empty: loopback only)");
-  s.add_string("dds.config", "", "a Cyclone DDS XML config (empty: the built-in one)");
-  s.add_string("dds.namespace", "",
-               "this node's ROS 2 namespace: topics rt/<namespace>/flipper/... (empty: "
-               "rt/flipper/...)");
-  s.add_path("dds.security.keystore", std::string(),
-             "DDS Security: the folder of `flipper dds security init` (empty: security off)");
-  s.add_string("dds.security.identity", "",
-               "DDS Security: this participant's identity in the keystore (empty: lexicon.site, "
-               "else dds.namespace)");
-
-  s.add_section("induction", "grammar induction from definitions");
-  add(s, keys::kAlignment);
-  add(s, keys::kGeneralize);
-  add(s, keys::kPerturbedChecks);
   s.add_section("execution", "limits of one program's execution");
   add(s, keys::kActionBudget);
   add(s, keys::kStepBudget);
@@ -121,59 +80,38 @@ ParamSchema build() {
   add(s, keys::kSessionK);
   add(s, keys::kCpuBudgetMs);
   add(s, keys::kDeadlineMs);
-  s.add_path_list("plugin_paths", {}, "more directories to find plugins in");
-
-  s.add_section("serve", "flipper serve (Flipper Studio)");
-  s.add_string(std::string(keys::kServeHost.path), std::string(keys::kServeHost.def),
-               std::string(keys::kServeHost.doc));
-  add(s, keys::kServePort);
-  add(s, keys::kServeThreads);
-  add(s, keys::kServeMaxRequestBytes);
-  add(s, keys::kServeRatePerSecond);
-  add(s, keys::kServeRateBurst);
-  add(s, keys::kServeMaxSessions);
-  add(s, keys::kServeSessionIdleS);
-  s.add_path("serve.web_dir", std::string(), "the page's files (empty: the installed ones)");
-  s.add_path("serve.study", std::string(), "a study description (empty: no study)");
-  s.add_bool(std::string(keys::kServeSempre.path), keys::kServeSempre.def,
-             "also answer the 2018 server's API at GET /sempre, to this page and "
-             "serve.sempre_origins (docs/sempre.md)");
-  s.add_string_list("serve.sempre_origins", {},
-                    "web origins ('http://host:port') whose pages may use /sempre besides the "
-                    "server's own; '*' every origin (docs/sempre.md)");
-  s.add_string_list("serve.allowed_hosts", {},
-                    "more Host names the server answers to ('name' or 'name:port')");
-  s.add_path("serve.accounts", std::string(),
-             "the accounts store (empty: accounts.sqlite beside lexicon.path)");
-  add(s, keys::kServeGuests);
-  add(s, keys::kServeLoginDays);
-  add(s, keys::kServeRequestTimeoutMs);
-  add(s, keys::kServeIdleTimeoutMs);
-  add(s, keys::kServeMaxConnections);
-  add(s, keys::kServeMaxConnectionsPerAddress);
-  add(s, keys::kServeSessionsPerAddress);
-  add(s, keys::kServeNewSessionsPerMinute);
-  add(s, keys::kServeMemoryBudgetMb);
-  add(s, keys::kServeEvictAfterS);
-  s.add_int("serve.sessions_per_subnet", 128,
-            "open guest sessions per /24 (IPv4) or /64 (IPv6) subnet: 429 beyond", 1, 1000000);
-  s.add_int("serve.new_guests_per_minute", 600,
-            "new guest sessions per minute, all addresses together: 503 beyond", 1, 1000000);
-  s.add_int("serve.reserved_sessions_percent", 10,
-            "per cent of serve.max_sessions that only logged-in users may open", 0, 90);
-  s.add_int("serve.max_connections_per_subnet", 256,
-            "open connections per /24 (IPv4) or /64 (IPv6) subnet: 503 beyond", 1, 1000000);
-  add(s, keys::kServeCpuMsPerS);
-  add(s, keys::kServeCpuBurstMs);
-  add(s, keys::kServeKernels);
+  add(s, keys::kPluginPaths);
   return s;
+}
+
+// The schema the host installed (Config::install_schema), else the kernel's own. An installed
+// schema lives as long as the process: a reference handed out earlier stays valid.
+std::atomic<const ParamSchema*>& installed() {
+  static std::atomic<const ParamSchema*> schema{nullptr};
+  return schema;
 }
 
 }  // namespace
 
-const sdk::ParamSchema& Config::schema() {
+const sdk::ParamSchema& Config::kernel_schema() {
   static const ParamSchema kSchema = build();
   return kSchema;
+}
+
+void Config::install_schema(sdk::ParamSchema schema) {
+  for (const auto& spec : kernel_schema().params)
+    if (schema.find(spec.name) == nullptr)
+      throw std::logic_error("the config schema lacks the kernel key '" + spec.name + "'");
+  static std::mutex keep_mutex;
+  static std::vector<std::unique_ptr<const ParamSchema>> keep;
+  const std::lock_guard<std::mutex> lock(keep_mutex);
+  keep.push_back(std::make_unique<const ParamSchema>(std::move(schema)));
+  installed().store(keep.back().get());
+}
+
+const sdk::ParamSchema& Config::schema() {
+  const ParamSchema* schema = installed().load();
+  return schema != nullptr ? *schema : kernel_schema();
 }
 
 }  // namespace flipper::kernel

@@ -129,15 +129,15 @@ PluginLoader::PluginLoader(const std::vector<std::string>& search_path) {
 std::vector<std::string> PluginLoader::search_path_for(const Config& config) {
   std::vector<std::string> path;
   // A plugin_paths entry that is not a directory is a config error, not silently skipped.
-  const auto given = config.get_string_list("plugin_paths");
-  const auto resolved = config.get_path_list("plugin_paths");
+  const auto given = config.text(keys::kPluginPaths);
+  const auto resolved = config.get(keys::kPluginPaths);
   for (std::size_t i = 0; i < resolved.size(); ++i) {
     std::error_code ec;
     if (!fs::is_directory(resolved[i], ec))
       throw sdk::Error(sdk::codes::kBadConfig, "plugin_paths entry '" + given[i] +
                                                    "' resolves to '" + resolved[i] +
                                                    "', which is not a directory (" +
-                                                   config.path_origin("plugin_paths") + ")");
+                                                   config.path_origin(keys::kPluginPaths) + ")");
     path.push_back(resolved[i]);
   }
   if (const char* env = std::getenv("FLIPPER_PLUGIN_PATH")) {

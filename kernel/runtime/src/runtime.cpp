@@ -115,9 +115,9 @@ sdk::WorldState load_world_path(const PluginRef<sdk::World>& world, const Config
 
 // A missing file named by a path key: the message names the resolved path and the rule that
 // resolved it (a copied config otherwise fails with a puzzling "cannot read").
-void require_file(const Config& config, const std::string& key, const char* code,
+void require_file(const Config& config, const sdk::param::Path& key, const char* code,
                   const char* what) {
-  const std::string path = config.get_path(key);
+  const std::string path = config.get(key);
   std::error_code ec;
   // Existence only: what kind of file it is (regular, within the size limit) is checked when it
   // is read, with its own codes (not_a_regular_file, file_too_large).
@@ -136,7 +136,7 @@ std::vector<std::string> direction_words(const Config& config, const std::string
                 "world plugin '" + world_name + "' loaded a world without geometry");
   std::vector<std::string> known;
   for (const auto& [word, offset] : world.geometry->directions()) known.push_back(word);
-  std::vector<std::string> chosen = config.get_string_list("grammar.directions");
+  std::vector<std::string> chosen = config.get(keys::kGrammarDirections);
   if (chosen.empty()) return known;
   for (const auto& word : chosen)
     if (std::find(known.begin(), known.end(), word) == known.end()) {
@@ -176,17 +176,16 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
                                        (dims == 3 ? "supports_3d" : "supports_2d"));
 
   // The world first: its direction words are the grammar's (a world swap is one line).
-  require_file(config, "world.file", codes::kBadWorld, "world file");
-  rt->default_world = load_world_path(rt->world, config, config.get_path("world.file"));
+  require_file(config, keys::kWorldFile, codes::kBadWorld, "world file");
+  rt->default_world = load_world_path(rt->world, config, config.get(keys::kWorldFile));
 
-  require_file(config, "grammar.file", codes::kBadGrammar, "grammar file");
-  const std::string grammar_file = config.get_path("grammar.file");
+  require_file(config, keys::kGrammarFile, codes::kBadGrammar, "grammar file");
+  const std::string grammar_file = config.get(keys::kGrammarFile);
   check_regular_file(grammar_file, InputLimits::from_config(config).max_file_bytes, "grammar file",
                      codes::kBadGrammar);
   rt->core_grammar = std::make_shared<const sdk::Grammar>(sdk::load_grammar_file(
-      config.get_path("grammar.file"), config.get_string_list("grammar.colors"),
-      config.get_string_list("grammar.shapes"),
-      direction_words(config, world_name, rt->default_world)));
+      config.get(keys::kGrammarFile), config.get(keys::kGrammarColors),
+      config.get(keys::kGrammarShapes), direction_words(config, world_name, rt->default_world)));
   rt->parser.call("set_grammar", [&](sdk::Parser& p) { p.set_grammar(rt->core_grammar); });
   return rt;
 }

@@ -6,7 +6,7 @@
 namespace flipper::kernel {
 
 SessionOptions SessionOptions::from_config(const Config& c) {
-  const auto get = [&](const keys::Int& k) { return c.get_int(std::string(k.path)); };
+  const auto get = [&](const keys::Int& k) { return c.get(k); };
   SessionOptions o;
   o.k = static_cast<int>(get(keys::kSessionK));
   o.max_chars = static_cast<std::size_t>(get(keys::kMaxChars));

@@ -8,6 +8,7 @@
 #include "dds_test_support.hpp"
 #include "flipper/kernel/config.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "product_schema.hpp"
 
 using namespace flipper;
 using namespace flipper::ddstest;

@@ -6,6 +6,7 @@
 #include "flipper/kernel/config.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/record/manifest.hpp"
+#include "product_schema.hpp"
 #include "record_scratch.hpp"
 
 namespace nat = flipper::naturalization;

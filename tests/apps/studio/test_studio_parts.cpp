@@ -10,6 +10,7 @@
 #include "flipper/kernel/config.hpp"
 #include "flipper/studio/accounts.hpp"
 #include "host_policy.hpp"
+#include "product_schema.hpp"
 #include "registry.hpp"
 #include "scheduler.hpp"
 #include "studio_ops.hpp"

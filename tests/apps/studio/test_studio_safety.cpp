@@ -7,6 +7,7 @@
 
 #include "cli_test_support.hpp"
 #include "flipper/studio/server.hpp"
+#include "product_schema.hpp"
 #include "studio_server.hpp"
 
 namespace flipper::studiotest {

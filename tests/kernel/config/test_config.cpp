@@ -5,8 +5,11 @@
 #include <cstdlib>
 #include <functional>
 
+#include "flipper/dds/config_keys.hpp"
 #include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/session.hpp"
+#include "flipper/naturalization/config_keys.hpp"
+#include "flipper/studio/config_keys.hpp"
 
 #include "kernel/kernel_test_support.hpp"
 
@@ -651,4 +654,46 @@ TEST_CASE("sixteen configs may extend one another, seventeen are a config error"
   require_error([&] { (void)Config::load(deep, {}); }, "bad_config",
                 {"config " + std::filesystem::path(deep).parent_path().string() +
                  "/c15.yaml: more than 16 configs extend one another"});
+}
+
+// docs/config.md "Who declares a key": the kernel's fragment holds its own sections only, each
+// layer's fragment its own, and the installed schema is their composition in that order.
+TEST_CASE("each layer declares its own keys; the host composes them", "[config][schema][layers]") {
+  const auto sections_of = [](const sdk::ParamSchema& s) {
+    std::vector<std::string> out;
+    for (const auto& spec : s.params) {
+      const std::string top = spec.name.substr(0, spec.name.find('.'));
+      if (out.empty() || out.back() != top) out.push_back(top);
+    }
+    return out;
+  };
+  CHECK(sections_of(Config::kernel_schema()) ==
+        std::vector<std::string>{"world", "planner", "parser", "scorer", "rewriter", "similarity",
+                                 "grammar", "execution", "input", "session", "plugin_paths"});
+  CHECK(sections_of(naturalization::keys::config_schema()) ==
+        std::vector<std::string>{"lexicon", "induction"});
+  CHECK(sections_of(studio::keys::config_schema()) == std::vector<std::string>{"serve"});
+  CHECK(sections_of(dds::keys::config_schema()) == std::vector<std::string>{"publish", "dds"});
+  const sdk::ParamSchema& installed = Config::schema();
+  CHECK(installed.params.size() == Config::kernel_schema().params.size() +
+                                       naturalization::keys::config_schema().params.size() +
+                                       studio::keys::config_schema().params.size() +
+                                       dds::keys::config_schema().params.size());
+  CHECK(installed.params.size() == 88);  // the rows of docs/config.md's table before the split
+  CHECK(Config::kernel_schema().params.size() ==
+        37);  // 6 world, 2 x 5 plugins, 4 grammar, 6 + 7 + 3, 1
+  // A lexicon key is the naturalization's: a config reads it through its handle...
+  const Config c =
+      Config::load(std::nullopt, {"lexicon.path=:memory:", "lexicon.weights=per_user"});
+  CHECK(c.text(naturalization::keys::kLexiconPath) == ":memory:");
+  CHECK(c.get(naturalization::keys::kWeights) == naturalization::keys::Weights::per_user);
+  CHECK(c.get(naturalization::keys::kSharing) == naturalization::Sharing::shared);
+  // ... and a schema without the kernel's keys is refused.
+  sdk::ParamSchema partial = naturalization::keys::config_schema();
+  try {
+    Config::install_schema(partial);
+    FAIL("a schema without the kernel's keys was installed");
+  } catch (const std::logic_error& e) {
+    CHECK(std::string(e.what()) == "the config schema lacks the kernel key 'world.plugin'");
+  }
 }

@@ -8,6 +8,7 @@
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/kernel/session.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "product_schema.hpp"
 
 using namespace flipper;
 using kernel::Json;

@@ -8,6 +8,7 @@
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "naturalize_fixture.hpp"
+#include "product_schema.hpp"
 
 using namespace flipper;
 using namespace flipper::naturalizetest;

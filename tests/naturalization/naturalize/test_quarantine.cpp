@@ -13,6 +13,7 @@
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "naturalize_fixture.hpp"
+#include "product_schema.hpp"
 #include "store_sql.hpp"
 
 using namespace flipper;

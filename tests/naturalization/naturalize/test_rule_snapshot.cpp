@@ -14,6 +14,7 @@
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "naturalize_fixture.hpp"
+#include "product_schema.hpp"
 #include "store_sql.hpp"
 
 using namespace flipper;

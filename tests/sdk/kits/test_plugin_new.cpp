@@ -45,7 +45,7 @@ TEST_CASE("plugin new writes each kind's CMakeLists, source, test and README, na
     CHECK(contains(source, "namespace fast_" + kind + " {"));
     CHECK(contains(squeezed(source), "FLIPPER_PLUGIN(fast_" + kind + "::" + klass + ", " + kind +
                                          ", \"fast_" + kind + "\", FLIPPER_PLUGIN_VERSION"));
-    CHECK(contains(source, "flipper/toolkit/params.hpp"));
+    CHECK(contains(source, "flipper/sdk/config_handles.hpp"));
     CHECK(contains(read_file(dir + "/test_fast_" + kind + ".cpp"), "load_plugin<"));
     CHECK(contains(read_file(dir + "/README.md"), "--set " + kind + ".plugin=fast_" + kind));
     // Nothing of the examples' names is left.

@@ -21,8 +21,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/planner.hpp"
-#include "flipper/toolkit/params.hpp"
 
 namespace evil_planner {
 namespace {
@@ -31,7 +31,7 @@ using flipper::sdk::Area;
 using flipper::sdk::Cell;
 using flipper::sdk::Geometry;
 namespace sdk = flipper::sdk;
-namespace param = flipper::toolkit::param;
+namespace param = flipper::sdk::param;
 
 enum class Mode { ok, throws, wall, outside, jump, goal, segv, abort_, hang, tour };
 constexpr param::Choice<Mode, 10> kMode{

@@ -24,11 +24,17 @@ inline namespace v1 {
 enum class ParamType { Bool, Int, Double, String, StringList, Path, PathList, DoubleList, Map };
 
 /// A parameter value. `Path` values are stored as strings already resolved against the config
-/// file's directory. The 2.1 types reuse the list alternative (the variant is part of ABI 2):
-/// PathList holds the resolved paths, DoubleList the numbers' decimal texts (read them with
-/// Params::get_double_list), Map the key names of an opaque map another schema validates (e.g. a
-/// plugin section's `params`).
-using ParamValue = std::variant<bool, std::int64_t, double, std::string, std::vector<std::string>>;
+/// file's directory; PathList holds the resolved paths, Map the key names of an opaque map another
+/// schema validates (e.g. a plugin section's `params`), DoubleList the numbers themselves (the
+/// last alternative; read them with Params::get_double_list).
+using ParamValue = std::variant<bool, std::int64_t, double, std::string, std::vector<std::string>,
+                                std::vector<double>>;
+
+/// What a ParamSpec's `flags` may hold, one bit each.
+enum class ParamFlag : std::uint32_t {
+  /// A key that no longer exists (ParamSchema::add_retired): a config that gives it is refused.
+  retired = 1u << 0,
+};
 
 /// One declared parameter, in the style of BehaviorTree.CPP ports / MoveIt parameter YAML.
 struct ParamSpec {
@@ -40,6 +46,8 @@ struct ParamSpec {
   std::optional<double> min;        ///< numeric lower bound (inclusive)
   std::optional<double> max;        ///< numeric upper bound (inclusive)
   std::vector<std::string> one_of;  ///< allowed string values (empty: any)
+  std::uint32_t flags = 0;          ///< ParamFlag bits
+  bool has(ParamFlag f) const { return (flags & static_cast<std::uint32_t>(f)) != 0; }
 };
 
 /// A group of dotted names: the parameters "a.x" and "a.y" lie in section "a". A section needs no
@@ -87,15 +95,15 @@ struct FLIPPER_SDK_API ParamSchema {
 
   std::vector<ParamSection> sections;
 
-  // Defined here: no new exported symbol, no layout change (docs/sdk-migration.md).
   /// A key that no longer exists: a config that still gives it is refused (bad_config) with
   /// "config key '<key>' is retired: <hint>" rather than as an unknown key, so that the hint can
   /// say what replaced it. It has no default, never reaches the plugin, and no "did you mean"
-  /// suggests it. Declared as an optional string whose description starts with "retired: ".
+  /// suggests it. Flagged ParamFlag::retired; its description reads "retired: <hint>".
   ParamSchema& add_retired(std::string name, const std::string& hint) {
     ParamSpec spec;
     spec.name = std::move(name);
     spec.description = "retired: " + hint;
+    spec.flags = static_cast<std::uint32_t>(ParamFlag::retired);
     params.push_back(std::move(spec));
     return *this;
   }
@@ -103,8 +111,7 @@ struct FLIPPER_SDK_API ParamSchema {
 
 /// Whether `spec` was declared with ParamSchema::add_retired().
 inline bool is_retired(const ParamSpec& spec) {
-  return spec.type == ParamType::String && !spec.required && !spec.default_value &&
-         spec.description.rfind("retired: ", 0) == 0;
+  return spec.has(ParamFlag::retired);
 }
 
 /// The validated parameters a plugin is constructed with: every declared parameter with a

@@ -143,9 +143,14 @@ inline ParamValues param_values(const sdk::ParamSchema& schema,
           break;
         case sdk::ParamType::StringList:
         case sdk::ParamType::PathList:
-        case sdk::ParamType::DoubleList:
           out[name] = list();
           break;
+        case sdk::ParamType::DoubleList: {
+          std::vector<double> numbers;
+          for (const std::string& item : list()) numbers.push_back(std::stod(item));
+          out[name] = std::move(numbers);
+          break;
+        }
         default:
           out[name] = text;
       }

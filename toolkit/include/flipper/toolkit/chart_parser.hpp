@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/parser.hpp"
-#include "flipper/toolkit/params.hpp"
 #include "flipper/toolkit/rule_index.hpp"
 
 namespace flipper::toolkit {

@@ -7,6 +7,8 @@
 
 #include <string>
 
+#include "flipper/dds/config_keys.hpp"
+
 namespace flipper::dds {
 
 /// "rt/<ns>/flipper/<leaf>", or "rt/flipper/<leaf>" when `ns` is empty.
@@ -14,6 +16,7 @@ std::string node_topic(const std::string& ns, const std::string& leaf);
 
 /// Throws sdk::Error(bad_config) unless `ns` is empty or one ROS 2 name token: a letter or `_`,
 /// then letters, digits or `_`, at most 64 characters in all.
-void check_namespace(const std::string& ns, const std::string& key = "dds.namespace");
+void check_namespace(const std::string& ns,
+                     const std::string& key = std::string(keys::kNamespace.name));
 
 }  // namespace flipper::dds

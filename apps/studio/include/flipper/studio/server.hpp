@@ -13,53 +13,53 @@
 #include <vector>
 
 #include "flipper/kernel/config.hpp"
+#include "flipper/studio/config_keys.hpp"
 
 namespace flipper::studio {
 
-/// serve.* config keys; defaults from their declaration (flipper/kernel/keys.hpp).
+/// serve.* config keys; defaults from their declaration (flipper/studio/config_keys.hpp).
 struct ServeOptions {
-  std::string host{kernel::keys::kServeHost.def};
-  int port = static_cast<int>(kernel::keys::kServePort.def);        ///< 0: any free port
-  int threads = static_cast<int>(kernel::keys::kServeThreads.def);  ///< request workers
-  std::size_t max_request_bytes = static_cast<std::size_t>(kernel::keys::kServeMaxRequestBytes.def);
+  std::string host{keys::kServeHost.def};
+  int port = static_cast<int>(keys::kServePort.def);        ///< 0: any free port
+  int threads = static_cast<int>(keys::kServeThreads.def);  ///< request workers
+  std::size_t max_request_bytes = static_cast<std::size_t>(keys::kServeMaxRequestBytes.def);
   /// per session (token bucket)
-  double rate_per_second = static_cast<double>(kernel::keys::kServeRatePerSecond.def);
-  double rate_burst = static_cast<double>(kernel::keys::kServeRateBurst.def);
-  std::size_t max_sessions = static_cast<std::size_t>(kernel::keys::kServeMaxSessions.def);
-  int session_idle_s = static_cast<int>(kernel::keys::kServeSessionIdleS.def);
-  std::string web_dir;  ///< empty: found next to the binary or in the source tree
-  std::string study;    ///< a study description file (empty: no study mode)
-  bool sempre = kernel::keys::kServeSempre.def;  ///< also answer GET /sempre (docs/sempre.md)
+  double rate_per_second = static_cast<double>(keys::kServeRatePerSecond.def);
+  double rate_burst = static_cast<double>(keys::kServeRateBurst.def);
+  std::size_t max_sessions = static_cast<std::size_t>(keys::kServeMaxSessions.def);
+  int session_idle_s = static_cast<int>(keys::kServeSessionIdleS.def);
+  std::string web_dir;                   ///< empty: found next to the binary or in the source tree
+  std::string study;                     ///< a study description file (empty: no study mode)
+  bool sempre = keys::kServeSempre.def;  ///< also answer GET /sempre (docs/sempre.md)
   /// Origins whose pages may use /sempre besides the server's own ("*": every origin).
   std::vector<std::string> sempre_origins;
   // Names and accounts (docs/accounts.md, docs/studio.md §3).
   std::vector<std::string> allowed_hosts;
   std::string accounts;  ///< the accounts store (accounts_path())
-  bool guests = kernel::keys::kServeGuests.def;
-  int login_days = static_cast<int>(kernel::keys::kServeLoginDays.def);
+  bool guests = keys::kServeGuests.def;
+  int login_days = static_cast<int>(keys::kServeLoginDays.def);
   // Transport (docs/studio.md §2).
-  int request_timeout_ms = static_cast<int>(kernel::keys::kServeRequestTimeoutMs.def);
-  int idle_timeout_ms = static_cast<int>(kernel::keys::kServeIdleTimeoutMs.def);
-  std::size_t max_connections = static_cast<std::size_t>(kernel::keys::kServeMaxConnections.def);
+  int request_timeout_ms = static_cast<int>(keys::kServeRequestTimeoutMs.def);
+  int idle_timeout_ms = static_cast<int>(keys::kServeIdleTimeoutMs.def);
+  std::size_t max_connections = static_cast<std::size_t>(keys::kServeMaxConnections.def);
   std::size_t max_connections_per_address =
-      static_cast<std::size_t>(kernel::keys::kServeMaxConnectionsPerAddress.def);
+      static_cast<std::size_t>(keys::kServeMaxConnectionsPerAddress.def);
   // Sessions and memory (docs/studio.md §4).
-  std::size_t sessions_per_address =
-      static_cast<std::size_t>(kernel::keys::kServeSessionsPerAddress.def);
-  int new_sessions_per_minute = static_cast<int>(kernel::keys::kServeNewSessionsPerMinute.def);
-  std::size_t memory_budget_mb = static_cast<std::size_t>(kernel::keys::kServeMemoryBudgetMb.def);
-  int evict_after_s = static_cast<int>(kernel::keys::kServeEvictAfterS.def);
+  std::size_t sessions_per_address = static_cast<std::size_t>(keys::kServeSessionsPerAddress.def);
+  int new_sessions_per_minute = static_cast<int>(keys::kServeNewSessionsPerMinute.def);
+  std::size_t memory_budget_mb = static_cast<std::size_t>(keys::kServeMemoryBudgetMb.def);
+  int evict_after_s = static_cast<int>(keys::kServeEvictAfterS.def);
   // Admission from many addresses (docs/studio.md §4 "Admission"; keys in kernel/config).
   std::size_t sessions_per_subnet = 128;       ///< guest sessions per /24 or /64
   int new_guests_per_minute = 600;             ///< new guest sessions, all addresses together
   std::size_t reserved_sessions_percent = 10;  ///< of max_sessions, for logged-in users
   std::size_t max_connections_per_subnet = 256;
   // Fairness (docs/studio.md §5).
-  int cpu_ms_per_s = static_cast<int>(kernel::keys::kServeCpuMsPerS.def);
-  int cpu_burst_ms = static_cast<int>(kernel::keys::kServeCpuBurstMs.def);
+  int cpu_ms_per_s = static_cast<int>(keys::kServeCpuMsPerS.def);
+  int cpu_burst_ms = static_cast<int>(keys::kServeCpuBurstMs.def);
   /// Kernels per lexicon mode answering at once (serve.kernels; 0: the cores + 1), each
   /// charged to the memory budget (docs/studio.md §5).
-  int kernels = static_cast<int>(kernel::keys::kServeKernels.def);
+  int kernels = static_cast<int>(keys::kServeKernels.def);
   static ServeOptions from_config(const kernel::Config& config);
 };
 

@@ -3,10 +3,11 @@
 /// The validated configuration. Sources, in order: the file given with --config (or the embedded
 /// configs/default.yaml) over the files it `extends:` (each merged under the one that extends
 /// it), then each --set key.path=value. Validation happens before anything is
-/// built, by one engine (sdk::validate_params) with one wording: kernel keys against the kernel
-/// schema (Config::schema(), declared in keys.cpp and keys.hpp), each plugin's `params` against
-/// the schema that plugin declares; unknown keys are errors with a "did you mean" hint (code
-/// bad_config), and every message names the file and the full key.
+/// built, by one engine (sdk::validate_params) with one wording: the keys against the schema the
+/// host composed (Config::schema(): the kernel's fragment, keys.hpp and keys.cpp, and each layer's
+/// above it; docs/config.md "Who declares a key"), each plugin's `params` against the schema that
+/// plugin declares; unknown keys are errors with a "did you mean" hint (code bad_config), and
+/// every message names the file and the full key.
 ///
 /// Layout (Nav2-style named instances):
 ///   world:    {plugin: grid2d, params: {...}, file: worlds/study2018.json, resolution, origin,
@@ -14,15 +15,12 @@
 ///   planner:  {plugin: astar, params: {...}}
 ///   parser / scorer / rewriter / similarity: {plugin: NAME, params: {...}}
 ///   grammar:  {file, colors, shapes}
-///   lexicon:  {path, sharing: shared|private|core, preload, weights: global|per_user,
-///              replication: none|dds, site}
-///   publish:  {plans: none|dds}      dds: {domain, interfaces, config}   (apps/dds)
-///   induction:{alignment, generalize, perturbed_checks}
 ///   execution:{action_budget, step_budget, while_limit, cpu_budget_ms, deadline_ms}
 ///   input:    {max_chars, max_semicolons, max_line_bytes, max_json_depth, max_tokens,
 ///              max_body_lines, max_file_bytes}
 ///   session:  {k, cpu_budget_ms, deadline_ms}
 ///   plugin_paths: [dirs]
+/// and the layers' sections (lexicon, induction: naturalization; serve: studio; dds, publish: dds).
 /// Paths, one rule (README "Paths"): a relative path written in a config file resolves against
 /// that file's directory (for a key from an extended file, that file's) (the embedded default
 /// behaves as if it lived in the source tree's configs/); a relative path given on the command line
@@ -32,9 +30,11 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "flipper/kernel/keys.hpp"
+#include "flipper/sdk/config_handles.hpp"
 #include "flipper/sdk/params.hpp"
 
 namespace flipper::kernel {
@@ -47,9 +47,16 @@ class Config {
                      const std::vector<std::string>& overrides);
   /// The embedded default.
   static Config embedded_default();
-  /// The kernel keys: types, defaults, ranges, choices, descriptions, sections (keys.cpp). The
-  /// validation, `flipper config explain` and the README's key table all read this.
+  /// The keys a config is validated against: types, defaults, ranges, choices, descriptions,
+  /// sections. The validation, `flipper config explain` and docs/config.md's key table all read
+  /// this. It is the schema the host installed, else the kernel's own.
   static const sdk::ParamSchema& schema();
+  /// The kernel's own keys and plugin sections (keys.cpp): the first fragment of every schema.
+  static const sdk::ParamSchema& kernel_schema();
+  /// Installs the schema a host composed of the kernel's fragment and its layers' (e.g. with
+  /// sdk::param::compose) before it loads a config; the process keeps it. Throws
+  /// std::logic_error when it lacks a kernel key.
+  static void install_schema(sdk::ParamSchema schema);
 
   /// "<embedded default>" or the file path.
   const std::string& source() const;
@@ -75,10 +82,35 @@ class Config {
   double get_double(const std::string& key) const;
   bool get_bool(const std::string& key) const;
   std::vector<std::string> get_string_list(const std::string& key) const;
-  /// Typed handles (keys.hpp): the value of a declared key.
-  std::int64_t get(const keys::Int& key) const { return get_int(std::string(key.path)); }
-  bool get(const keys::Bool& key) const { return get_bool(std::string(key.path)); }
-  std::string get(const keys::Text& key) const { return get_string(std::string(key.path)); }
+  /// Typed handles (flipper/sdk/config_handles.hpp): the value of a declared key, the only way
+  /// code reads a key: a Choice as its enumerator, a Path or PathList resolved with
+  /// resolve_path_of() (text(): as written, e.g. `:memory:`). Throws std::logic_error for a key
+  /// the installed schema lacks (a host that did not compose the layer declaring it).
+  template <class Handle>
+  auto get(const Handle& key) const {
+    return sdk::param::get(declared(key.name), key);
+  }
+  std::string get(const sdk::param::Path& key) const { return get_path(std::string(key.name)); }
+  template <std::size_t N>
+  std::vector<std::string> get(const sdk::param::PathList<N>& key) const {
+    return get_path_list(std::string(key.name));
+  }
+  template <class Handle>
+  auto text(const Handle& key) const {
+    return sdk::param::get(declared(key.name), key);
+  }
+  /// has(), resolve_path_of() and path_origin() of a declared key.
+  template <class Handle>
+  bool has(const Handle& key) const {
+    return has(std::string(key.name));
+  }
+  std::string resolve_path_of(const sdk::param::Path& key, const std::string& path) const {
+    return resolve_path_of(std::string(key.name), path);
+  }
+  template <class Handle>
+  std::string path_origin(const Handle& key) const {
+    return path_origin(std::string(key.name));
+  }
 
   /// Sets a key after loading (same syntax and validation as --set).
   void set(const std::string& assignment);
@@ -108,6 +140,8 @@ class Config {
   const Impl& impl() const { return *impl_; }
 
  private:
+  /// The validated values, once `key` is known to be declared (else std::logic_error).
+  const sdk::Params& declared(std::string_view key) const;
   std::shared_ptr<Impl> impl_;  // copy-on-write shared state
 };
 

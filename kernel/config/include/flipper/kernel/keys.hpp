@@ -1,40 +1,46 @@
 #pragma once
 /// @file keys.hpp
-/// Typed handles of the kernel config keys whose values code reads into option structs. Each is
-/// one declaration: path, default, range and description. The kernel schema (keys.cpp, an
-/// sdk::ParamSchema — the engine plugins' params use) is built from these and from the other
-/// keys declared there, the option structs (ExecLimits, InputLimits, SessionOptions, ...) take
-/// their initial values from them and fill themselves with Config::get(handle), so a default
-/// lives in one place; configs/default.yaml restates none, and `flipper config explain` and the
-/// README's key table print the schema.
+/// The kernel's own config keys (docs/config.md "Who declares a key"): the plugin sections, the
+/// world and grammar files, execution, input and session limits, plugin_paths. Each is one typed
+/// handle of the SDK (flipper/sdk/config_handles.hpp): path, default, range and description. The
+/// kernel's schema fragment (keys.cpp) is built from them, the option structs (ExecLimits,
+/// InputLimits, SessionOptions, ...) take their initial values from them and fill themselves with
+/// Config::get(handle), so a default lives in one place. The layers above declare their own keys
+/// the same way (naturalization: lexicon.*, induction.*; studio: serve.*; dds: dds.*, publish.*),
+/// and the host composes the fragments before it loads a config (Config::install_schema).
 
 #include <cstdint>
 #include <string_view>
 
+#include "flipper/sdk/config_handles.hpp"
+
 namespace flipper::kernel::keys {
 
-/// An integer key: dotted path, default, inclusive range, description.
-struct Int {
-  std::string_view path;
-  std::int64_t def;
-  std::int64_t min;
-  std::int64_t max;
-  std::string_view doc;
-};
+using Int = sdk::param::Int<std::int64_t>;
+using Bool = sdk::param::Bool;
+using Text = sdk::param::Text;
+using Path = sdk::param::Path;
+template <std::size_t N>
+using TextList = sdk::param::TextList<N>;
 
-/// A boolean key.
-struct Bool {
-  std::string_view path;
-  bool def;
-  std::string_view doc;
-};
-
-/// A string key (no fixed choices).
-struct Text {
-  std::string_view path;
-  std::string_view def;
-  std::string_view doc;
-};
+inline constexpr Path kWorldFile{"world.file", "worlds/study2018.json", "the default world"};
+inline constexpr sdk::param::Double kWorldResolution{"world.resolution", 1.0, 0.001, 1000,
+                                                     "metres per cell (plans over DDS)"};
+inline constexpr sdk::param::DoubleList<3> kWorldOrigin{
+    "world.origin", {0, 0, 0}, "metres of cell (0, 0, 0) (plans over DDS)"};
+inline constexpr Path kGrammarFile{"grammar.file", "grammars/core.grammar", "the core grammar"};
+inline constexpr TextList<9> kGrammarColors{
+    "grammar.colors",
+    {"black", "blue", "gray", "green", "orange", "pink", "purple", "red", "yellow"},
+    "colour words"};
+inline constexpr TextList<3> kGrammarShapes{
+    "grammar.shapes", {"triangle", "circle", "square"}, "shape words"};
+inline constexpr TextList<0> kGrammarDirections{
+    "grammar.directions",
+    {},
+    "a subset of the world plugin's direction words (empty: all of them)"};
+inline constexpr sdk::param::PathList<0> kPluginPaths{
+    "plugin_paths", {}, "more directories to find plugins in"};
 
 inline constexpr Int kSessionK{"session.k", 3, 1, 1000, "candidates shown per query"};
 // Time limits (docs/planners.md §2): a CPU-time budget on the request thread decides, the same on
@@ -78,58 +84,4 @@ inline constexpr Int kMaxBodyLines{"input.max_body_lines", 100, 1, 100000,
 inline constexpr Int kMaxFileBytes{"input.max_file_bytes", 67108864, 1, 1099511627776,
                                    "world, grammar and preload files"};
 inline constexpr Int kMaxWorldCells{"world.max_cells", 4194304, 1, 268435456, "cells of a world"};
-inline constexpr Int kBusyTimeoutMs{"lexicon.busy_timeout_ms", 10000, 1, 600000,
-                                    "longest wait for other writers, then lexicon_busy"};
-inline constexpr Int kSnapshotMinRules{
-    "lexicon.snapshot_min_rules", 512, 0, 1000000000,
-    "keep a rule snapshot for fast start-up once the store holds this many live rules "
-    "(docs/naturalization.md §5); 0: never"};
-inline constexpr Bool kAlignment{"induction.alignment", true,
-                                 "induce rules by aligning head and body"};
-inline constexpr Bool kGeneralize{"induction.generalize", true,
-                                  "generalize definitions by rewriting"};
-inline constexpr Int kPerturbedChecks{"induction.perturbed_checks", 0, 0, 1000,
-                                      "perturbed worlds a generalization is checked on"};
-
-inline constexpr Text kServeHost{"serve.host", "127.0.0.1", "address to listen on"};
-inline constexpr Int kServePort{"serve.port", 8410, 0, 65535, "port (0: any free port, printed)"};
-inline constexpr Int kServeThreads{"serve.threads", 4, 1, 256, "worker threads running requests"};
-inline constexpr Int kServeMaxRequestBytes{"serve.max_request_bytes", 65536, 256, 67108864,
-                                           "larger bodies: 413"};
-inline constexpr Int kServeRatePerSecond{"serve.rate_per_second", 100, 1, 1000000,
-                                         "requests per session per second"};
-inline constexpr Int kServeRateBurst{"serve.rate_burst", 200, 1, 1000000, "burst per session"};
-inline constexpr Int kServeMaxSessions{"serve.max_sessions", 1000, 1, 1000000, "open sessions"};
-inline constexpr Int kServeSessionIdleS{"serve.session_idle_s", 3600, 1, 31536000,
-                                        "idle seconds before a session may be evicted"};
-inline constexpr Bool kServeSempre{"serve.sempre", false,
-                                   "also answer the 2018 server's API at GET /sempre, to any web "
-                                   "page (docs/sempre.md)"};
-inline constexpr Bool kServeGuests{"serve.guests", true,
-                                   "guests may use the server without an account"};
-inline constexpr Int kServeLoginDays{"serve.login_days", 30, 1, 3650,
-                                     "days a login (its cookie) lasts"};
-inline constexpr Int kServeRequestTimeoutMs{"serve.request_timeout_ms", 10000, 100, 600000,
-                                            "reading one request, headers and body"};
-inline constexpr Int kServeIdleTimeoutMs{"serve.idle_timeout_ms", 5000, 100, 600000,
-                                         "an idle keep-alive connection"};
-inline constexpr Int kServeMaxConnections{"serve.max_connections", 1024, 1, 1000000,
-                                          "open connections"};
-inline constexpr Int kServeMaxConnectionsPerAddress{"serve.max_connections_per_address", 64, 1,
-                                                    1000000, "open connections per client address"};
-inline constexpr Int kServeSessionsPerAddress{"serve.sessions_per_address", 32, 1, 1000000,
-                                              "open sessions per client address"};
-inline constexpr Int kServeNewSessionsPerMinute{"serve.new_sessions_per_minute", 60, 1, 1000000,
-                                                "new sessions per client address per minute"};
-inline constexpr Int kServeMemoryBudgetMb{"serve.memory_budget_mb", 1024, 1, 1048576,
-                                          "memory for all sessions' state (worlds)"};
-inline constexpr Int kServeEvictAfterS{"serve.evict_after_s", 120, 0, 31536000,
-                                       "idle seconds before the memory budget may evict"};
-inline constexpr Int kServeCpuMsPerS{"serve.cpu_ms_per_s", 500, 1, 1000000,
-                                     "CPU time per session per second"};
-inline constexpr Int kServeCpuBurstMs{"serve.cpu_burst_ms", 5000, 1, 100000000,
-                                      "CPU time a session may bank"};
-inline constexpr Int kServeKernels{"serve.kernels", 0, 0, 64,
-                                   "kernels answering at once (0: the cores + 1)"};
-
 }  // namespace flipper::kernel::keys

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "flipper/kernel/keys.hpp"
+#include "flipper/naturalization/config_keys.hpp"
 #include "flipper/naturalization/lexicon_history.hpp"
 
 namespace flipper::naturalization {
@@ -44,7 +44,7 @@ bool is_store_fault(const std::string& code);
 /// How a store is opened.
 struct LexiconStoreOptions {
   /// lexicon.busy_timeout_ms: longest wait for other writers
-  int busy_timeout_ms = static_cast<int>(kernel::keys::kBusyTimeoutMs.def);
+  int busy_timeout_ms = static_cast<int>(keys::kBusyTimeoutMs.def);
   /// SQLite's max_page_count (0: SQLite's default): caps the file size. Tests use it to make a
   /// store "full" without a full device.
   std::int64_t max_page_count = 0;

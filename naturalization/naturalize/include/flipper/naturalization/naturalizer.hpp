@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/naturalization/config_keys.hpp"
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/rule_snapshot.hpp"
@@ -45,8 +46,7 @@ inline constexpr const char* kHeadReservedToken = "head_reserved_token";
 inline constexpr const char* kDefinitionConflicts = "definition_conflicts";
 }  // namespace naturalize_codes
 
-/// lexicon.conflicts: what a definition that changes other users' readings gets.
-enum class ConflictPolicy { warn, refuse };
+/// lexicon.conflicts (the enum: config_keys.hpp)
 ConflictPolicy parse_conflict_policy(const std::string& text);  ///< throws bad_config
 
 /// A phrase another user relies on that a definition would read differently
@@ -64,8 +64,7 @@ struct DefineConflict {
 /// At most this many phrases are checked per definition (the newest rules' first).
 inline constexpr std::size_t kMaxConflictProbes = 256;
 
-/// lexicon.sharing
-enum class Sharing { shared, private_, core };
+/// lexicon.sharing (the enum: config_keys.hpp)
 Sharing parse_sharing(const std::string& text);  ///< throws bad_config
 const char* to_string(Sharing s);
 
@@ -78,15 +77,14 @@ struct NaturalizeOptions {
   /// Start-up keeps a rule snapshot in the store once it holds this many live rules, and rebuilds
   /// it when more than max(this, an eighth of its rules) rows changed since (docs/naturalization.md
   /// §5 "Start-up at scale"). 0: never use or write one.
-  std::int64_t snapshot_min_rules =
-      kernel::keys::kSnapshotMinRules.def;  ///< lexicon.snapshot_min_rules
+  std::int64_t snapshot_min_rules = keys::kSnapshotMinRules.def;  ///< lexicon.snapshot_min_rules
   /// Where warnings go (quarantined rules, preload failures, a store that opened degraded);
   /// default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
   ConflictPolicy conflicts = ConflictPolicy::warn;  ///< lexicon.conflicts
   InductionOptions induction;                       ///< induction.alignment (+ parser beam)
-  bool generalize = kernel::keys::kGeneralize.def;  ///< induction.generalize
-  int perturbed_checks = static_cast<int>(kernel::keys::kPerturbedChecks.def);  ///< induction.*
+  bool generalize = keys::kGeneralize.def;          ///< induction.generalize
+  int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
   /// Reads the keys above from a validated config (the schema filled every default).
   static NaturalizeOptions from_config(const kernel::Config& config);
 };

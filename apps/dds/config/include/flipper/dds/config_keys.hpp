@@ -1,0 +1,52 @@
+#pragma once
+/// @file config_keys.hpp
+/// The DDS front end's config keys (docs/config.md "Who declares a key"; README "Flipper with
+/// ROS 2"): the participant (`dds.*`) and what it publishes (`publish.*`), declared here with the
+/// SDK's typed handles and nowhere else. config_schema() is this layer's schema fragment, which
+/// the host composes with the kernel's before it loads a config. Header-only.
+
+#include <cstdint>
+
+#include "flipper/sdk/config_handles.hpp"
+
+namespace flipper::dds::keys {
+
+namespace param = sdk::param;
+
+/// publish.plans
+enum class Plans { none, dds };
+
+inline constexpr param::Choice<Plans, 2> kPublishPlans{
+    "publish.plans", Plans::none, {"none", "dds"}, "publish each accepted plan"};
+inline constexpr param::Int<std::int64_t> kDomain{"dds.domain", 0, 0, 232, "DDS domain id"};
+inline constexpr param::TextList<0> kInterfaces{
+    "dds.interfaces", {}, "network interfaces (empty: loopback only)"};
+inline constexpr param::Text kConfig{"dds.config", "",
+                                     "a Cyclone DDS XML config (empty: the built-in one)"};
+inline constexpr param::Text kNamespace{
+    "dds.namespace", "",
+    "this node's ROS 2 namespace: topics rt/<namespace>/flipper/... (empty: rt/flipper/...)"};
+inline constexpr param::Path kKeystore{
+    "dds.security.keystore", "",
+    "DDS Security: the folder of `flipper dds security init` (empty: security off)"};
+inline constexpr param::Text kIdentity{
+    "dds.security.identity", "",
+    "DDS Security: this participant's identity in the keystore (empty: lexicon.site, else "
+    "dds.namespace)"};
+
+/// The schema fragment: the sections `publish` and `dds`.
+inline sdk::ParamSchema config_schema() {
+  sdk::ParamSchema s;
+  s.add_section("publish", "what the DDS front end publishes");
+  param::add(s, kPublishPlans);
+  s.add_section("dds", "Cyclone DDS (flipper dds; loopback-only by default)");
+  param::add(s, kDomain);
+  param::add(s, kInterfaces);
+  param::add(s, kConfig);
+  param::add(s, kNamespace);
+  param::add(s, kKeystore);
+  param::add(s, kIdentity);
+  return s;
+}
+
+}  // namespace flipper::dds::keys

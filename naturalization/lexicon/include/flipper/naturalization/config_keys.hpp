@@ -1,0 +1,93 @@
+#pragma once
+/// @file config_keys.hpp
+/// Naturalization's config keys (docs/config.md "Who declares a key"): the community lexicon
+/// (`lexicon.*`, docs/naturalization.md §5) and grammar induction (`induction.*`), declared here
+/// with the SDK's typed handles and nowhere else. config_schema() is this layer's schema fragment,
+/// which the host composes with the kernel's (and the other layers') before it loads a config;
+/// the readers (NaturalizeOptions::from_config, the studio's accounts file, the DDS replicator)
+/// read through these handles. Header-only.
+
+#include <cstdint>
+
+#include "flipper/sdk/config_handles.hpp"
+
+namespace flipper::naturalization {
+
+/// lexicon.sharing: whose rules serve a user (in the order of kSharing's names).
+enum class Sharing { shared, private_, core };
+/// lexicon.conflicts: what a definition that changes other users' readings gets.
+enum class ConflictPolicy { warn, refuse };
+
+namespace keys {
+
+namespace param = sdk::param;
+
+/// lexicon.weights
+enum class Weights { global, per_user };
+/// lexicon.durability
+enum class Durability { full, normal };
+/// lexicon.replication
+enum class Replication { none, dds };
+
+inline constexpr param::Path kLexiconPath{"lexicon.path", "~/.local/share/flipper/lexicon.sqlite",
+                                          "SQLite file (`:memory:`: none)"};
+inline constexpr param::Choice<Sharing, 3> kSharing{
+    "lexicon.sharing", Sharing::shared, {"shared", "private", "core"}, "whose rules serve a user"};
+inline constexpr param::Path kPreload{"lexicon.preload", "",
+                                      "definitions replayed at start (empty: none)"};
+inline constexpr param::Choice<Weights, 2> kWeights{
+    "lexicon.weights", Weights::global, {"global", "per_user"}, "scorer weights"};
+inline constexpr param::Int<std::int64_t> kBusyTimeoutMs{
+    "lexicon.busy_timeout_ms", 10000, 1, 600000,
+    "longest wait for other writers, then lexicon_busy"};
+inline constexpr param::Int<std::int64_t> kSnapshotMinRules{
+    "lexicon.snapshot_min_rules", 512, 0, 1000000000,
+    "keep a rule snapshot for fast start-up once the store holds this many live rules "
+    "(docs/naturalization.md §5); 0: never"};
+inline constexpr param::Choice<Durability, 2> kDurability{
+    "lexicon.durability",
+    Durability::full,
+    {"full", "normal"},
+    "full: each accept/define is on disk when answered; normal: survives any process crash, a "
+    "power loss may drop the last commits (docs/naturalization.md §5)"};
+inline constexpr param::Choice<Replication, 2> kReplication{
+    "lexicon.replication", Replication::none, {"none", "dds"}, "share rules between sites"};
+inline constexpr param::Text kSite{"lexicon.site", "",
+                                   "this site's name (replication; recorded in the history)"};
+inline constexpr param::Choice<ConflictPolicy, 2> kConflicts{
+    "lexicon.conflicts",
+    ConflictPolicy::warn,
+    {"warn", "refuse"},
+    "a definition that changes other users' readings: shown (warn) or refused (refuse, "
+    "definition_conflicts)"};
+
+inline constexpr param::Bool kAlignment{"induction.alignment", true,
+                                        "induce rules by aligning head and body"};
+inline constexpr param::Bool kGeneralize{"induction.generalize", true,
+                                         "generalize definitions by rewriting"};
+inline constexpr param::Int<std::int64_t> kPerturbedChecks{
+    "induction.perturbed_checks", 0, 0, 1000, "perturbed worlds a generalization is checked on"};
+
+/// Naturalization's schema fragment: the sections `lexicon` and `induction`.
+inline sdk::ParamSchema config_schema() {
+  sdk::ParamSchema s;
+  s.add_section("lexicon", "the store of induced rules (naturalization)");
+  param::add(s, kLexiconPath);
+  param::add(s, kSharing);
+  param::add(s, kPreload);
+  param::add(s, kWeights);
+  param::add(s, kBusyTimeoutMs);
+  param::add(s, kSnapshotMinRules);
+  param::add(s, kDurability);
+  param::add(s, kReplication);
+  param::add(s, kSite);
+  param::add(s, kConflicts);
+  s.add_section("induction", "grammar induction from definitions");
+  param::add(s, kAlignment);
+  param::add(s, kGeneralize);
+  param::add(s, kPerturbedChecks);
+  return s;
+}
+
+}  // namespace keys
+}  // namespace flipper::naturalization
