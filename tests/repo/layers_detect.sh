@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The layer check must catch what it is for: in a scratch tree of two plugins, `b` including a
 # header of `a` (by a relative path, or by name through a borrowed include directory) and `b`
-# linking a library of `a` must each fail layers.sh, and the clean tree must pass.
+# linking a library of `a` must each fail layers.sh, and the clean tree must pass; so must a layer
+# declaring another's config key, a key spelled twice, a string read of a key, and a kernel over
+# its line cap.
 # Usage: layers_detect.sh <doc>
 set -euo pipefail
 doc=$1
@@ -59,4 +61,34 @@ expect fail "b includes a naturalization header with angle brackets"
 clean
 echo '#include "flipper/toolkit/params.hpp"' >"$tmp/tree/kernel/k.cpp"
 expect fail "the kernel includes a toolkit header"
+# Each part declares its own config keys and reads them through handles (docs/config.md).
+clean
+printf 'inline constexpr Int kPort{"serve.port", 8410, 0, 65535, "port"};\n' >"$tmp/tree/kernel/keys.hpp"
+expect fail "the kernel declares a studio key"
+clean
+mkdir -p "$tmp/tree/apps/studio"
+printf 'inline constexpr Path kPath{\n    "lexicon.path", "", "store"};\n' \
+  >"$tmp/tree/apps/studio/keys.hpp"
+expect fail "the studio declares a naturalization key"
+clean
+mkdir -p "$tmp/tree/apps/cli"
+printf 'auto a = Path{"lexicon.path"};\n' >"$tmp/tree/naturalization/keys.hpp"
+printf 'bool b = x == "lexicon.path";  // "lexicon.path" in a comment is no spelling\n' \
+  >"$tmp/tree/apps/cli/b.cpp"
+expect fail "a key spelled in two places"
+clean
+printf 'auto a = Path{"lexicon.path"};  // "lexicon.path"\n' >"$tmp/tree/naturalization/keys.hpp"
+expect pass "a key spelled once, and again in a comment"
+clean
+printf 'int k = config.get_int("session.k");\n' >"$tmp/tree/kernel/k.cpp"
+expect fail "a string read of a config key"
+clean
+printf 'auto s = params.get_string(\n    "shape");\n' >"$tmp/tree/plugins/b/b.cpp"
+expect fail "a string read of a plugin param over two lines"
+clean
+for i in $(seq 5417); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
+expect fail "a kernel of 5,417 lines"
+clean
+for i in $(seq 5416); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
+expect pass "a kernel of 5,416 lines"
 echo "layer check detection OK"
