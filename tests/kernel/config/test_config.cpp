@@ -373,8 +373,9 @@ TEST_CASE("a bad kernel key is refused naming the file, the key and what is wron
   CHECK(load_error("named/top.yaml", "sesion: {k: 3}\n") ==
         "config " + tmp("named/top.yaml") +
             ": unknown config key 'sesion' (did you mean 'session'?); top-level keys: world, "
-            "planner, parser, scorer, rewriter, similarity, grammar, lexicon, publish, dds, "
-            "induction, execution, input, session, plugin_paths, serve");
+            "planner, parser, scorer, rewriter, similarity, grammar, execution, input, session, "
+            "plugin_paths, lexicon, induction, serve, publish, dds");  // the kernel's, then each
+                                                                       // layer's
   CHECK(load_error("named/numbers.yaml", "world: {origin: [1, x]}\n") ==
         "config " + tmp("named/numbers.yaml") +
             ": config key 'world.origin' must be a list of numbers, but an element is 'x'");
@@ -526,7 +527,7 @@ TEST_CASE("an overlay's paths resolve against its own file, the base's against t
   CHECK(c.get_path("grammar.file") == top_dir + "/top.grammar");
   CHECK(c.get_int("session.k") == 7);
   CHECK(c.base_dir() == top_dir);
-  CHECK_THAT(c.path_origin("world.file"),
+  CHECK_THAT(c.path_origin(kernel::keys::kWorldFile),
              Catch::Equals("world.file 'base-world.json' from " + base + " (extended by " +
                            overlay + "): relative to its directory " + base_dir));
   // Same plugin: params merge key by key, each path from its own file.
@@ -555,7 +556,7 @@ TEST_CASE("an overlay that swaps a plugin starts that plugin's params afresh",
       "extends/swap/overlay.yaml", "extends: base.yaml\nplanner: {plugin: ompl}\n");
   const Config c = Config::load(overlay, {});
   CHECK(c.plugin_name("planner") == "ompl");
-  CHECK_FALSE(c.has("planner.params.heuristic"));
+  CHECK_FALSE(c.has(std::string("planner.params.heuristic")));
   const std::string same = kerneltest::write_temp("extends/swap/same.yaml",
                                                   "extends: base.yaml\nplanner: {plugin: astar}\n");
   CHECK(Config::load(same, {}).get_string("planner.params.heuristic") == "manhattan");

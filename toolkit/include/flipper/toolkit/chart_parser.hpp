@@ -16,12 +16,12 @@ namespace flipper::toolkit {
 
 /// The parameters of ChartOptions, for a chart parser plugin's schema.
 namespace chart_params {
-inline constexpr param::Int<int> kBeam{
+inline constexpr sdk::param::Int<int> kBeam{
     "beam", 50, 1, 100000, "exact derivations kept per (category, span), best first by score"};
-inline constexpr param::Int<std::size_t> kMaxTokens{
+inline constexpr sdk::param::Int<std::size_t> kMaxTokens{
     "max_tokens", 4096, 1, 65534,
     "longest token sequence parsed (the chart has (n+1)^2 cells); longer: input_too_long"};
-inline constexpr param::Bool kRuleIndex{
+inline constexpr sdk::param::Bool kRuleIndex{
     "rule_index", true,
     "try only the rules the rule index selects for each position (docs/naturalization.md §2); "
     "false tries every rule whose first symbol fits: the same parses, slower with large "
@@ -34,14 +34,14 @@ struct ChartOptions {
   bool rule_index = chart_params::kRuleIndex.def;  ///< false: the unindexed matcher
 
   static ChartOptions from(const sdk::Params& p) {
-    return {param::get(p, chart_params::kBeam), param::get(p, chart_params::kMaxTokens),
-            param::get(p, chart_params::kRuleIndex)};
+    return {sdk::param::get(p, chart_params::kBeam), sdk::param::get(p, chart_params::kMaxTokens),
+            sdk::param::get(p, chart_params::kRuleIndex)};
   }
   /// Adds the three parameters to a schema.
   static void declare(sdk::ParamSchema& s) {
-    param::add(s, chart_params::kBeam);
-    param::add(s, chart_params::kMaxTokens);
-    param::add(s, chart_params::kRuleIndex);
+    sdk::param::add(s, chart_params::kBeam);
+    sdk::param::add(s, chart_params::kMaxTokens);
+    sdk::param::add(s, chart_params::kRuleIndex);
   }
 };
 
