@@ -14,7 +14,7 @@
 
 namespace flipper::naturalization {
 
-/// Installs the ops and hooks over an existing naturalizer (kept alive by the session).
+/// Installs a NaturalizationExtension over an existing naturalizer (kept alive by the session).
 void install_naturalization(kernel::Session& session,
                             const std::shared_ptr<Naturalizer>& naturalizer);
 /// Builds the naturalizer from the session runtime's config (lexicon.*, induction.*) and
@@ -43,16 +43,16 @@ std::vector<RuleListing> list_rules(Naturalizer& nat, kernel::Session& session,
 void delete_rule(Naturalizer& nat, kernel::Session& session, const std::string& id);
 
 /// Naturalization as a session extension over one naturalizer that several sessions share:
-/// install() wires the ops and hooks above; activate() selects the caller's weights
-/// (lexicon.weights: per_user) and picks up what other kernels committed (refresh) before one of
-/// the sessions handles a request. Front ends find it
+/// attach() adds the ops above and subscribes to the session's events: QueryBegins (refresh),
+/// VisibilityAsked (sharing modes), Accepting (persistence), UserChanged (per-user weights) and
+/// Activated (selects the caller's weights, lexicon.weights: per_user, and picks up what other
+/// kernels committed before one of the sessions handles a request). Front ends find it
 /// with `session.extension<NaturalizationExtension>()` and call the typed service through it.
 class NaturalizationExtension final : public kernel::SessionExtension {
  public:
   explicit NaturalizationExtension(std::shared_ptr<Naturalizer> naturalizer)
       : naturalizer_(std::move(naturalizer)) {}
-  void install(kernel::Session& session) override;
-  void activate(const kernel::Session& session) override;
+  void attach(kernel::Session& session) override;
   const std::shared_ptr<Naturalizer>& naturalizer() const { return naturalizer_; }
 
   DefineOutcome define(kernel::Session& session, const DefineCall& call) {
