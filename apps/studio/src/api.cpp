@@ -405,6 +405,7 @@ void Api::install_studio_ops(SessionEntry& entry, Kernel& k) {
   };
   ctx.charge = [this, raw, base](std::size_t bytes) { registry_.charge(*raw, base + bytes); };
   entry.session->install(std::make_shared<StudioOps>(std::move(ctx)));
+  if (recorder_) entry.session->install(std::make_shared<RecorderTap>());  // what it records
 }
 
 void Api::install_ops(SessionEntry& entry, Kernel& k) {

@@ -308,6 +308,7 @@ void Session::answer(const Json& request, std::string_view line, std::string& ou
     }
   } scope(*this);
   line_ = line;
+  std::string code;  // of a refusal
   try {
     JsonWriter w(out);
     w.begin_object().key("ok").boolean(true).key("op").string(name);
@@ -315,12 +316,13 @@ void Session::answer(const Json& request, std::string_view line, std::string& ou
     handler->second(*this, request, w);
     w.end_object();
   } catch (const sdk::Error& e) {
-    refuse(e.code(), e.what(), sdk::stop_cause_of(e));
+    refuse(code = e.code(), e.what(), sdk::stop_cause_of(e));
   } catch (const Json::exception& e) {
-    refuse(sdk::codes::kBadRequest, std::string("bad request: ") + e.what());
+    refuse(code = sdk::codes::kBadRequest, std::string("bad request: ") + e.what());
   } catch (const std::exception& e) {
-    refuse(sdk::codes::kInternal, std::string("internal error: ") + e.what());
+    refuse(code = sdk::codes::kInternal, std::string("internal error: ") + e.what());
   }
+  events_.emit(RequestAnswered{name, code});
 }
 
 void Session::op_hello(const Json& req, JsonWriter& a) {

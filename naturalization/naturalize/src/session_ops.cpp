@@ -78,7 +78,9 @@ DefineOutcome define(Naturalizer& nat, kernel::Session& s, const DefineCall& cal
   d.exec = &exec;
   d.stop = s.request_stop();
   d.dry_run = call.dry_run;
-  return nat.define(d);
+  DefineOutcome out = nat.define(d);
+  s.emit(RulesDefined{s, call, out});
+  return out;
 }
 
 std::vector<RuleListing> list_rules(Naturalizer& nat, kernel::Session& s,

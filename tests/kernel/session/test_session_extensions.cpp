@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "flipper/kernel/session_extension.hpp"
+#include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "session_fixture.hpp"
 
@@ -124,4 +125,31 @@ TEST_CASE(
   CHECK(accepted["ok"] == true);
   CHECK(plans == 1);  // told although the subscriber before it threw
   CHECK(ask(*s, R"({"op":"state"})")["world"] != before);
+}
+
+TEST_CASE("RequestAnswered tells each op's refusal code, RulesDefined what a define stored",
+          "[session][extensions]") {
+  auto s = flipper::wiring::open_session(std::nullopt, flipper::testsupport::test_overrides());
+  std::vector<std::string> heard;
+  s->install(k::make_extension([&heard](Session& session) {
+    session.on<k::RequestAnswered>([&heard](const k::RequestAnswered& e) {
+      heard.push_back(e.op + ":" + (e.code.empty() ? "ok" : e.code));
+    });
+    session.on<flipper::naturalization::RulesDefined>(
+        [&heard](const flipper::naturalization::RulesDefined& e) {
+          std::string ids;
+          for (const auto& r : e.outcome.rules) ids += r->id + " ";
+          heard.push_back("defined " + e.call.head + ": " + ids);
+        });
+  }));
+  CHECK(error_code(ask(*s, R"({"op":"accept","rank":0})")) == "no_query");
+  CHECK(error_code(ask(*s, R"({"op":"nope"})")) == "unknown_op");  // no op ran: not told
+  const Json defined =
+      ask(*s, R"({"op":"define","head":"go twice up","body":["move up","move up"]})");
+  REQUIRE(defined["ok"] == true);
+  std::string ids;
+  for (const auto& r : defined["rules"]) ids += r["id"].get<std::string>() + " ";
+  REQUIRE_FALSE(ids.empty());
+  CHECK(heard ==
+        std::vector<std::string>{"accept:no_query", "defined go twice up: " + ids, "define:ok"});
 }

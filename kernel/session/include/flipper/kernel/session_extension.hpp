@@ -82,6 +82,13 @@ struct PlanAccepted {
   const std::string& user;
   std::uint64_t sequence = 0;  ///< 1, 2, ... per session
 };
+/// A protocol request was answered after its op ran: the op and the error code of a refusal
+/// (empty when the answer is ok). A subscriber's failure is logged (the answer stands).
+struct RequestAnswered {
+  static constexpr const char* kContained = "answer observer";
+  const std::string& op;
+  const std::string& code;
+};
 /// Session::activate: a front end whose sessions share extensions (one host, interleaved
 /// callers) is about to handle a request of this session; per-user state must follow it.
 struct Activated {

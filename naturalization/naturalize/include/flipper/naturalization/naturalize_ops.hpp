@@ -34,6 +34,15 @@ struct DefineCall {
   bool dry_run = false;
 };
 
+/// Emitted through the session by define() after a definition succeeded (dry runs too:
+/// `outcome.stored` says whether it was stored), for subscribers such as DDS replication and the
+/// study recorder (docs/architecture.md §3).
+struct RulesDefined {
+  kernel::Session& session;
+  const DefineCall& call;
+  const DefineOutcome& outcome;
+};
+
 /// The typed naturalization service of one session (the define/rules/delete_rule ops call it,
 /// front ends call it directly): validation against input.* and the session's deadline here.
 /// Throws sdk::Error like the ops (input_too_long, naturalize_codes, deadline_exceeded).
