@@ -51,8 +51,11 @@ DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant
 
 std::unique_ptr<kernel::Session> DdsServices::open(const wiring::SessionHost& host) const {
   auto session = host.open();
-  if (plans) session->add_plan_observer(plans);
-  if (replicator) replicator->attach(*session);
+  if (plans) session->install(plans);
+  if (replicator)  // a weak reference: the replicator's thread stops before the sessions go
+    session->install(kernel::make_extension([weak = std::weak_ptr(replicator)](kernel::Session& s) {
+      if (auto r = weak.lock()) r->attach(s);
+    }));
   return session;
 }
 

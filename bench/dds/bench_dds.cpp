@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
         std::make_shared<dds::PlanPublisher>(p, dds::PlanFrame::from_config(h.runtime->config, 2));
     const auto accept_ms = [&](bool publish) {
       auto s = h.open();
-      if (publish) s->add_plan_observer(publisher);
+      if (publish) s->install(publisher);
       std::vector<double> v;
       for (int i = 0; i < 300; ++i) {
         s->handle_line(i % 2 ? R"({"op":"query","text":"visit room1"})"
@@ -121,8 +121,8 @@ int main(int argc, char** argv) {
     std::vector<double> call_us;
     for (int i = 0; i < 1000; ++i) {
       const auto t0 = Clock::now();
-      publisher->on_accepted_plan(
-          kernel::AcceptedPlan{q->world, q->shown[0].outcome, "visit room1", "bench", 1});
+      publisher->publish(
+          kernel::PlanAccepted{q->world, q->shown[0].outcome, "visit room1", "bench", 1});
       call_us.push_back(ms_since(t0) * 1000);
     }
     std::printf("plan publication (nav_msgs/Path + ActionList, %zu poses)\n",

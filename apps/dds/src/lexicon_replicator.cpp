@@ -444,14 +444,7 @@ void LexiconReplicator::attach(kernel::Session& session) {
   for (const auto& name : session.op_names()) {
     kernel::Session::OpHandler inner = *session.find_op(name);
     kernel::Session::OpHandler wrapped;
-    if (name == "define")
-      wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
-        auto self = weak.lock();
-        if (!self) return inner(s, r, a);
-        const auto lock = self->session_lock();
-        self->define_op(inner, s, r, a);
-      };
-    else if (name == "delete_rule")
+    if (name == "delete_rule")
       wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
@@ -467,30 +460,26 @@ void LexiconReplicator::attach(kernel::Session& session) {
       };
     session.set_op(name, std::move(wrapped));
   }
+  session.on<naturalization::RulesDefined>([weak](const naturalization::RulesDefined& e) {
+    if (auto self = weak.lock()) self->defined(e);
+  });
 }
 
-void LexiconReplicator::define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
-                                  const Json& req, kernel::JsonWriter& a) {
-  const std::string world = s.world_json(s.world()).dump();
-  // The op writes its members after "ok" and "op": read them back for the rule ids.
-  const std::size_t from = a.text().size();
-  inner(s, req, a);  // committed to the store when it returns
-  const Json answer = Json::parse("{" + a.text().substr(from + 1) + "}");
+void LexiconReplicator::defined(const naturalization::RulesDefined& e) {
+  const auto lock = session_lock();  // already held when the define came as an op
   LogRow row;
   row.event = next_local_event("define");
-  row.event.author = s.user();
-  row.event.head = req.at("head").get<std::string>();
-  row.event.body = req.at("body").get<std::vector<std::string>>();
-  if (req.contains("ranks") && req["ranks"].is_array())
-    row.event.ranks = req["ranks"].get<std::vector<int>>();
-  row.event.world = world;
+  row.event.author = e.session.user();
+  row.event.head = e.call.head;
+  row.event.body = e.call.body;
+  row.event.ranks = e.call.ranks;
+  row.event.world = e.session.world_json(e.session.world()).dump();  // a define keeps the world
   const auto definitions = host_.naturalizer->store().definitions();
   row.definition = definitions.empty() ? 0 : definitions.back().id;
-  for (const auto& r : answer.at("rules")) {
-    const std::string id = r.at("id").get<std::string>();
-    row.local_rules.push_back(id);
-    if (auto rule = host_.naturalizer->find_rule(id))
-      row.event.rules.push_back(rule_description(*rule));
+  for (const auto& rule : e.outcome.rules) {
+    row.local_rules.push_back(rule->id);
+    if (auto live = host_.naturalizer->find_rule(rule->id))
+      row.event.rules.push_back(rule_description(*live));
   }
   row.status = "applied";
   if (signer_) signer_->sign(row.event);

@@ -47,7 +47,11 @@ PlanPublisher::~PlanPublisher() {
   if (actions_writer_ > 0) dds_delete(actions_writer_);
 }
 
-void PlanPublisher::on_accepted_plan(const kernel::AcceptedPlan& plan) {
+void PlanPublisher::attach(kernel::Session& session) {
+  session.on<kernel::PlanAccepted>([this](const kernel::PlanAccepted& plan) { publish(plan); });
+}
+
+void PlanPublisher::publish(const kernel::PlanAccepted& plan) {
   std::lock_guard lock(mutex_);
   const auto stamp = now_stamp();
   char frame_id[] = "map";

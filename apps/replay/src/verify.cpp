@@ -111,7 +111,7 @@ VerifyResult verify_recording(const std::string& dir, const VerifyOptions& optio
       session = host.open();
       session->set_user(text(e, "user"));
     }
-    host.activate(*session);
+    session->activate();
     const std::string request = e["request"].get<std::string>();
     const std::string live = corpus::answer_for_digest(e["answer"].get<std::string>());
     const std::string ours = corpus::answer_for_digest(session->handle_line(request));

@@ -342,7 +342,7 @@ std::shared_ptr<SessionEntry> Api::open_session(const HttpRequest& r,
   if (recorder_) {
     std::lock_guard lock(at.mutex);
     recorder_->session_started(*entry, resumed);
-    if (resumed) resume_world(*entry, at);
+    if (resumed) resume_world(*entry);
   }
   return entry;
 }
@@ -382,12 +382,12 @@ bool Api::enroll(const HttpRequest& r, std::optional<Login>& login, SessionEntry
   return true;
 }
 
-void Api::resume_world(SessionEntry& entry, Kernel& k) {
+void Api::resume_world(SessionEntry& entry) {
   const Json world = recorder_->resume_world(entry.participant);
   if (!world.is_object()) return;
   const std::string request =
       Json{{"op", "world"}, {"world", world}, {"studio", {{"why", "resume"}}}}.dump();
-  k.host->activate(*entry.session);
+  entry.session->activate();
   if (auto* ops = entry.session->extension<StudioOps>()) ops->reset();
   const auto start = Clock::now();
   const std::string answer = entry.session->handle_line(request);
@@ -399,7 +399,6 @@ void Api::install_studio_ops(SessionEntry& entry, Kernel& k) {
   StudioOpsContext ctx;
   ctx.world_root = k.world_root;
   ctx.role = entry.role;
-  ctx.naturalizer = k.host->naturalizer;
   ctx.max_world_bytes = k.max_world_bytes;
   ctx.budget_bytes = options_.memory_budget_mb << 20;
   SessionEntry* raw = &entry;
@@ -409,12 +408,11 @@ void Api::install_studio_ops(SessionEntry& entry, Kernel& k) {
   };
   ctx.charge = [this, raw, base](std::size_t bytes) { registry_.charge(*raw, base + bytes); };
   entry.session->install(std::make_shared<StudioOps>(std::move(ctx)));
+  if (recorder_) entry.session->install(std::make_shared<RecorderTap>());  // what it records
 }
 
 void Api::install_ops(SessionEntry& entry, Kernel& k) {
-  entry.session->rebind(k.runtime);
-  for (const auto& extension : k.host->extensions) entry.session->install(extension);
-  install_studio_ops(entry, k);
+  entry.session->rebind(k.runtime, k.host->extensions);  // the studio's ops come along
   entry.kernel = &k;
 }
 
@@ -456,7 +454,7 @@ HttpReply Api::run(SessionEntry& entry, Kernel& free, const HttpRequest& r) {
     // docs/studio.md §5).
     if (entry.kernel != &k) install_ops(entry, k);
     ops = session.extension<StudioOps>();
-    k.host->activate(session);
+    session.activate();
     ops->reset();
     const auto start = Clock::now();
     answer = session.handle_line(r.body);

@@ -117,7 +117,7 @@ class Api {
   bool enroll(const HttpRequest& request, std::optional<Login>& login, SessionEntry& entry,
               bool& resumed, HttpReply& reply);
   /// A resumed participant's session gets the world it had (a request the server makes).
-  void resume_world(SessionEntry& entry, Kernel& k);
+  void resume_world(SessionEntry& entry);
   bool in_pool(const std::string& group, const Kernel& k);
   HttpReply login_reply(const HttpRequest& request);
   HttpReply info_reply(const HttpRequest& request);

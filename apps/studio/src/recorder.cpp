@@ -11,8 +11,10 @@
 #include <sstream>
 
 #include "flipper/corpus/answer_digest.hpp"
+#include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/record/checksum.hpp"
 #include "flipper/record/durable_file.hpp"
+#include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/version.hpp"
 #include "json_file.hpp"
@@ -348,16 +350,37 @@ bool Recorder::goal_reached(const SessionEntry& entry, int task) const {
   return goal_digest(entry.session->world_json(entry.session->world())) == goal_digest(goal);
 }
 
+void RecorderTap::attach(kernel::Session& session) {
+  session.on<kernel::RequestAnswered>([this](const kernel::RequestAnswered& e) {
+    heard_.answered = true;
+    heard_.code = e.code;
+  });
+  session.on<kernel::QueryAnswered>([this](const kernel::QueryAnswered& e) {
+    const kernel::LastQuery& q = *e.result.query;
+    heard_.status = e.result.status;
+    heard_.candidates.clear();
+    for (const auto& sc : q.shown) {
+      const sdk::Candidate& c = q.parse.candidates[sc.index];
+      heard_.candidates.push_back({sdk::render(c.program), !c.core_only});
+    }
+  });
+  session.on<naturalization::RulesDefined>(
+      [this](const naturalization::RulesDefined& e) { heard_.rules = e.outcome.rules; });
+}
+
 RecordOutcome Recorder::record(const SessionEntry& entry, const std::string& request,
                                const std::string& answer, double ms, const char* origin) {
   std::lock_guard lock(mutex_);
   RecordOutcome outcome;
   ParticipantState& p = state(entry);
   const std::int64_t n = ++exchange_;
-  const Json req = Json::parse(request, nullptr, false);
-  const Json a = Json::parse(answer, nullptr, false);
+  const Json req = Json::parse(request, nullptr, false);  // what the page asked
+  auto* tap = entry.session->extension<RecorderTap>();
   std::string qid;
-  if (req.is_object() && a.is_object()) qid = command(entry, p, req, a, ms, n, outcome);
+  if (req.is_object() && tap != nullptr) {
+    qid = command(entry, p, req, tap->heard(), ms, n, outcome);
+    tap->clear();
+  }
   // Ordered: the short members first, the request and answer texts last (docs/studio.md §7).
   using Ordered = nlohmann::ordered_json;
   append_line(exchanges_,
@@ -379,12 +402,13 @@ RecordOutcome Recorder::record(const SessionEntry& entry, const std::string& req
 }
 
 std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, const Json& req,
-                              const Json& a, double ms, std::int64_t exchange,
+                              const RecorderTap::Heard& heard, double ms, std::int64_t exchange,
                               RecordOutcome& outcome) {
   const std::string op = text_of(req, "op");
   const Json studio = req.value("studio", Json::object());
   const std::string why = studio.is_object() ? text_of(studio, "why") : std::string();
-  const bool ok = a.value("ok", false);
+  const bool ok = heard.answered && heard.code.empty();
+  const std::string status = ok ? std::string("ok") : heard.code.empty() ? "error" : heard.code;
   Live& live = live_[entry.participant];
   const std::string before = p.world_id;
   if (ok && (op == "world" || op == "accept")) p.world_id = world_id(entry);
@@ -392,17 +416,16 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
   if (op == "query" && ok) {
     c = line(entry, p, why == "live" || why == "rerun" ? why : "q", exchange);
     c["utterance"] = text_of(req, "text");
-    c["status"] = corpus_status(text_of(a, "status"));
+    c["status"] = corpus_status(heard.status);
     const kernel::LastQuery* q = entry.session->last_query();
     c["n_parses"] = q ? q->parse.candidates.size() : 0;
     c["walltime_s"] = ms / 1000.0;
     c["server_ms"] = ms;
     Json candidates = Json::array(), formulas = Json::array();
-    for (const auto& k : a.value("candidates", Json::array())) {
-      const std::string formula = text_of(k, "formula");
+    for (const auto& k : heard.candidates) {
       candidates.push_back(
-          {{"pretty", formula}, {"formula", formula}, {"core_only", !k.value("induced", false)}});
-      formulas.push_back(formula);
+          {{"pretty", k.formula}, {"formula", k.formula}, {"core_only", !k.induced}});
+      formulas.push_back(k.formula);
     }
     append_line(answers_, Json{{"qid", c["qid"]}, {"candidates", std::move(candidates)}});
     live.last_qid = c["qid"];
@@ -435,7 +458,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
     return c["qid"];
   } else if (op == "define") {
     c = line(entry, p, "def", exchange);
-    define(entry, p, req, a, c);
+    define(entry, p, req, heard, c);
   } else if (op == "delete_rule") {
     c = line(entry, p, "delete", exchange);
     const std::string rule = text_of(req, "rule");
@@ -444,7 +467,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
     c["def_id"] = it == rule_defs_.end() ? Json() : Json(it->second.first);
     c["rule_pos"] = it == rule_defs_.end() ? -1 : it->second.second;
     c["rule_index"] = -1;  // the 2018 grammar-log index: none here (docs/studio.md §7)
-    c["status"] = ok ? std::string("ok") : a["error"].value("code", std::string("error"));
+    c["status"] = status;
   } else if (op == "world" && ok) {
     if (why == "resume") return {};  // the `resume` line says it
     const std::string kind =
@@ -477,8 +500,8 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
 }
 
 void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json& req,
-                      const Json& a, Line& c) {
-  const bool ok = a.value("ok", false);
+                      const RecorderTap::Heard& heard, Line& c) {
+  const bool ok = heard.answered && heard.code.empty();
   const Json ranks = req.value("ranks", Json::array());
   const Json studio = req.value("studio", Json::object());
   const bool from_history = studio.is_object() && text_of(studio, "why") == "history";
@@ -512,21 +535,23 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
   c["head"] = text_of(req, "head");
   c["body"] = body;
   c["def_id"] = "d:" + c["qid"].get<std::string>();
-  c["status"] = ok ? std::string("ok") : a["error"].value("code", std::string("error"));
+  c["status"] = ok ? std::string("ok") : heard.code.empty() ? "error" : heard.code;
   c["from_history"] = from_history ? history_qids : Json();
   Json induced = Json::array();
   int pos = 0;
-  for (const auto& r : ok ? a.value("rules", Json::array()) : Json::array()) {
-    const std::string id = text_of(r, "id");
-    rule_defs_[id] = {c["def_id"], pos++};
-    induced.push_back({{"id", id},
+  for (const auto& r : ok ? heard.rules : std::vector<sdk::RulePtr>()) {
+    rule_defs_[r->id] = {c["def_id"], pos++};
+    Json rhs = Json::array();
+    for (const auto& symbol : r->rhs) rhs.push_back(symbol.text);
+    const std::string how = sdk::to_string(r->how);
+    induced.push_back({{"id", r->id},
                        {"line", ++rule_lines_[c["source"].get<std::string>()]},
-                       {"lhs", r.value("lhs", Json())},
-                       {"rhs", r.value("rhs", Json::array())},
-                       {"semantics", r.value("semantics", Json())},
-                       {"how", r.value("how", Json())},
-                       {"simple_packing", text_of(r, "how") == "simple"},
-                       {"align", text_of(r, "how") == "alignment"}});
+                       {"lhs", r->lhs},
+                       {"rhs", std::move(rhs)},
+                       {"semantics", sdk::render(r->sem)},
+                       {"how", how},
+                       {"simple_packing", how == "simple"},
+                       {"align", how == "alignment"}});
   }
   append_line(definitions_, Json{{"def_id", c["def_id"]},
                                  {"origin", "query_log"},

@@ -32,6 +32,30 @@ namespace flipper::studio {
 struct SessionEntry;
 class Study;
 
+/// What the session told about the exchange being handled, from its typed events
+/// (docs/architecture.md §3): the recorder learns what happened without parsing the answer.
+/// Installed on every session of a study; record() reads it and clears it.
+class RecorderTap : public kernel::SessionExtension {
+ public:
+  struct Candidate {
+    std::string formula;
+    bool induced = false;
+  };
+  struct Heard {
+    bool answered = false;  ///< an op ran (RequestAnswered)
+    std::string code;       ///< of a refusal ("" when ok)
+    std::string status;     ///< a query's: "core", "induced", "unparsable"
+    std::vector<Candidate> candidates;
+    std::vector<sdk::RulePtr> rules;  ///< a definition's
+  };
+  void attach(kernel::Session& session) override;
+  const Heard& heard() const { return heard_; }
+  void clear() { heard_ = Heard(); }
+
+ private:
+  Heard heard_;
+};
+
 /// What a recorded exchange means for the HTTP reply.
 struct RecordOutcome {
   bool goal_reached = false;  ///< an accept reached the task's goal (header Flipper-Goal)
@@ -94,10 +118,10 @@ class Recorder {
   bool goal_reached(const SessionEntry& entry, int task) const;
   /// Writes the queries.jsonl line(s) of one exchange; returns the qid of the main one ("").
   std::string command(const SessionEntry& entry, ParticipantState& p, const kernel::Json& request,
-                      const kernel::Json& answer, double ms, std::int64_t exchange,
+                      const RecorderTap::Heard& heard, double ms, std::int64_t exchange,
                       RecordOutcome& outcome);
   void define(const SessionEntry& entry, ParticipantState& p, const kernel::Json& request,
-              const kernel::Json& answer, Line& c);
+              const RecorderTap::Heard& heard, Line& c);
 
   std::mutex mutex_;
   std::shared_ptr<Study> study_;

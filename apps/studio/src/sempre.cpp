@@ -217,7 +217,7 @@ HttpReply SempreEndpoint::handle(const SempreRequest& request) {
       ~Idle() { registry.set_busy(entry, false); }
     } idle{registry, *slot->entry};
     SempreSession* s = &slot->state;
-    kernel.host->activate(*s->session);
+    s->session->activate();
     HttpReply reply;
     cors(reply, *allow);
     const auto start = std::chrono::steady_clock::now();

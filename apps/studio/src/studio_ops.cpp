@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "flipper/kernel/session_request.hpp"
-#include "flipper/naturalization/naturalizer.hpp"
+#include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "http_types.hpp"
 
@@ -45,7 +45,7 @@ sdk::Error client_error(const sdk::Error& e) {
 
 }  // namespace
 
-void StudioOps::install(Session& session) {
+void StudioOps::attach(Session& session) {
   // Every op reports whether it ran and what it threw (the HTTP status depends on the code).
   for (const auto& name : session.op_names()) {
     Session::OpHandler inner = *session.find_op(name);
@@ -128,14 +128,16 @@ void StudioOps::op_world(Session& s, const Json& req, JsonWriter& a,
 
 void StudioOps::op_delete_rule(Session& s, const Json& req, JsonWriter& a,
                                const Session::OpHandler& inner) {
-  if (context_.role == Role::admin && context_.naturalizer) {
+  const auto* ext = s.extension<naturalization::NaturalizationExtension>();
+  if (context_.role == Role::admin && ext != nullptr) {
+    naturalization::Naturalizer& nat = *ext->naturalizer();  // the current kernel's
     const std::string id = kernel::request::require_string(req, "rule", "a rule id");
     s.begin_call();
-    context_.naturalizer->refresh();
-    const sdk::RulePtr rule = context_.naturalizer->find_rule(id);
+    nat.refresh();
+    const sdk::RulePtr rule = nat.find_rule(id);
     if (rule && rule->author != s.user()) {
       // Moderation: deleted as its author would, the store's history keeps who wrote it.
-      context_.naturalizer->delete_rule(rule->author, id);
+      nat.delete_rule(rule->author, id);
       a.key("deleted").string(id);
       return;
     }

@@ -1,7 +1,8 @@
 #pragma once
 // What the HTTP front end changes in a session, through the session's op table like every other
 // front end (docs/architecture.md §3, kernel/session_extension.hpp): installed on each session
-// the studio opens, after naturalization.
+// the studio opens, after naturalization; the session attaches it again when it moves to another
+// kernel of the pool (Session::rebind).
 //   user         acts only as the session's own user (the account logged in, or the guest name);
 //                another name is `forbidden` (docs/accounts.md)
 //   world        a `file` must lie in the config's world directory (compared by path components,
@@ -20,10 +21,6 @@
 #include "flipper/kernel/session_extension.hpp"
 #include "flipper/studio/accounts.hpp"
 
-namespace flipper::naturalization {
-class Naturalizer;
-}
-
 namespace flipper::studio {
 
 /// Estimated bytes a world of `cells` cells holds in the server (docs/studio.md §4).
@@ -35,7 +32,6 @@ bool path_inside(const std::string& path, const std::string& root);
 struct StudioOpsContext {
   std::string world_root;
   Role role = Role::user;
-  std::shared_ptr<naturalization::Naturalizer> naturalizer;
   std::size_t max_world_bytes = 0;  ///< the most one world may take (world.max_cells)
   std::size_t budget_bytes = 0;     ///< for messages
   /// Reserves bytes from the memory budget (false: no room); charges the session's total.
@@ -46,7 +42,7 @@ struct StudioOpsContext {
 class StudioOps : public kernel::SessionExtension {
  public:
   explicit StudioOps(StudioOpsContext context) : context_(std::move(context)) {}
-  void install(kernel::Session& session) override;
+  void attach(kernel::Session& session) override;
 
   /// Call before each request; afterwards: whether an op handler ran and the code it threw.
   void reset() {

@@ -26,13 +26,7 @@ std::unique_ptr<Session> open_session(const std::optional<std::string>& config_f
 }
 
 std::unique_ptr<Session> SessionHost::open() const {
-  auto session = std::make_unique<Session>(runtime);
-  for (const auto& extension : extensions) session->install(extension);
-  return session;
-}
-
-void SessionHost::activate(const Session& session) const {
-  for (const auto& extension : extensions) extension->activate(session);
+  return std::make_unique<Session>(runtime, extensions);
 }
 
 SessionHost open_host(std::shared_ptr<Runtime> runtime) {

@@ -3,7 +3,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "flipper/kernel/plugin_checks.hpp"
@@ -66,7 +65,7 @@ void Session::check_length(std::string_view text) const {
 QueryResult Session::query(const QueryRequest& request) {
   const auto t0 = std::chrono::steady_clock::now();
   begin_call();
-  for (const auto& hook : query_hooks_) hook(*this);
+  events_.emit(QueryBegins{*this, request.text});
   const std::int64_t k = request.k.value_or(options_.k);
   if (k < 0) throw sdk::Error(sdk::codes::kBadRequest, "field 'k' must not be negative");
   check_length(request.text);
@@ -132,6 +131,7 @@ QueryResult Session::query(const QueryRequest& request) {
   result.query = std::move(q);
   result.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  events_.emit(QueryAnswered{*this, result});
   return result;
 }
 
@@ -178,20 +178,6 @@ void Session::op_query(const Json& req, JsonWriter& a) {
   write_world_version(a, q.world);
 }
 
-void Session::notify_plan_observers(const LastQuery& q, const ShownCandidate& sc,
-                                    const sdk::Outcome& outcome) {
-  if (plan_observers_.empty()) return;
-  const std::string formula = sdk::render(q.parse.candidates[sc.index].program);
-  const AcceptedPlan plan{q.world, outcome, formula, user_, ++accepted_plans_};
-  for (const auto& observer : plan_observers_) {
-    try {
-      observer->on_accepted_plan(plan);
-    } catch (const std::exception& e) {
-      std::cerr << "flipper: accepted-plan observer failed: " << e.what() << "\n";
-    }
-  }
-}
-
 AcceptResult Session::accept(const AcceptRequest& request,
                              const std::function<void(const sdk::Outcome&)>& before_commit) {
   begin_call();
@@ -225,8 +211,9 @@ AcceptResult Session::accept(const AcceptRequest& request,
   // A scorer that reports its changes (sdk::IncrementalScorer) undoes exactly those; any other
   // is saved whole beforehand.
   auto* incremental = dynamic_cast<sdk::IncrementalScorer*>(runtime_->scorer.borrow());
+  const bool persisted = events_.has<Accepting>();
   const std::string scorer_before =
-      on_accept_ && incremental == nullptr
+      persisted && incremental == nullptr
           ? runtime_->scorer.call("save_state", [](const sdk::Scorer& s) { return s.save_state(); })
           : std::string();
   UsageTable& usage = *runtime_->usage;
@@ -243,14 +230,13 @@ AcceptResult Session::accept(const AcceptRequest& request,
                           [&](sdk::Scorer& s) { s.learn(q.parse.candidates, sc.index, ctx); });
     count(+1);
     counted = true;
-    if (on_accept_)
-      on_accept_(*this, AcceptEvent{q, static_cast<std::size_t>(rank), sc, outcome, user_});
+    events_.emit(Accepting{*this, q, static_cast<std::size_t>(rank), sc, outcome, user_});
   } catch (...) {
     if (counted) count(-1);
     if (incremental != nullptr)
       runtime_->scorer.call("discard_changes",
                             [&](sdk::Scorer&) { incremental->discard_changes(); });
-    else if (on_accept_)
+    else if (persisted)
       runtime_->scorer.call("load_state", [&](sdk::Scorer& s) { s.load_state(scorer_before); });
     throw;
   }
@@ -258,7 +244,10 @@ AcceptResult Session::accept(const AcceptRequest& request,
     runtime_->scorer.call("commit_changes", [&](sdk::Scorer&) { incremental->commit_changes(); });
 
   world_ = outcome.world;
-  notify_plan_observers(q, sc, outcome);  // after the commit: the accept stands
+  if (events_.has<PlanAccepted>()) {  // after the commit: the accept stands
+    const std::string formula = sdk::render(q.parse.candidates[sc.index].program);
+    events_.emit(PlanAccepted{q.world, outcome, formula, user_, ++accepted_plans_});
+  }
   // The query is consumed: accepting again would apply it twice.
   last_query_.reset();
   return result;

@@ -57,10 +57,10 @@ bool is_blank(std::string_view s) {
 
 }  // namespace
 
-Session::Session(const std::shared_ptr<Runtime>& runtime)
-    : Session(runtime, SessionOptions::from_config(runtime->config)) {}
+Session::Session(const std::shared_ptr<Runtime>& runtime, Extensions extensions)
+    : Session(runtime, SessionOptions::from_config(runtime->config), std::move(extensions)) {}
 
-Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)
+Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options, Extensions extensions)
     : runtime_(std::move(runtime)),
       options_(options),
       executor_(runtime_->planner, options_.limits),
@@ -72,7 +72,8 @@ Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options)
         if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
         return text;
       })) {
-  install_default_ops();
+  runtime_extensions_ = std::move(extensions);
+  attach_all();
 }
 
 Session::~Session() = default;
@@ -107,27 +108,45 @@ std::vector<std::string> Session::op_names() const {
   return names;
 }
 
-void Session::rebind(std::shared_ptr<Runtime> runtime) {
+void Session::attach_all() {
+  ops_.clear();
+  events_.clear();
+  install_default_ops();
+  for (const auto* list : {&runtime_extensions_, &own_extensions_})
+    for (const auto& e : *list) e->attach(*this);
+}
+
+void Session::rebind(std::shared_ptr<Runtime> runtime, Extensions extensions) {
   runtime_ = std::move(runtime);
   executor_ = Executor(runtime_->planner, options_.limits);
-  ops_.clear();
-  extensions_.clear();
-  query_hooks_.clear();
-  user_hooks_.clear();
-  visibility_ = nullptr;
-  on_accept_ = nullptr;
-  plan_observers_.clear();
-  install_default_ops();
+  runtime_extensions_ = std::move(extensions);
+  attach_all();
 }
 
 void Session::install(std::shared_ptr<SessionExtension> extension) {
-  extension->install(*this);
-  extensions_.push_back(std::move(extension));
+  extension->attach(*this);
+  own_extensions_.push_back(std::move(extension));
 }
 
 std::function<bool(const sdk::Rule&)> Session::visible_rules() const {
-  if (!visibility_) return {};
-  return [hook = visibility_, user = user_](const sdk::Rule& r) { return hook(r, user); };
+  std::function<bool(const sdk::Rule&)> filter;
+  events_.emit(VisibilityAsked{user_, filter});
+  return filter;
+}
+
+namespace {
+class FunctionExtension final : public SessionExtension {
+ public:
+  explicit FunctionExtension(std::function<void(Session&)> attach) : attach_(std::move(attach)) {}
+  void attach(Session& session) override { attach_(session); }
+
+ private:
+  std::function<void(Session&)> attach_;
+};
+}  // namespace
+
+std::shared_ptr<SessionExtension> make_extension(std::function<void(Session&)> attach) {
+  return std::make_shared<FunctionExtension>(std::move(attach));
 }
 
 void Session::set_world(sdk::WorldState world) {
@@ -138,7 +157,7 @@ void Session::set_world(sdk::WorldState world) {
 void Session::set_user(std::string name) {
   if (name.empty()) throw sdk::Error(sdk::codes::kBadRequest, "field 'name' must not be empty");
   user_ = std::move(name);
-  for (const auto& hook : user_hooks_) hook(*this);
+  events_.emit(UserChanged{*this, user_});
 }
 
 Json Session::world_json(const sdk::WorldState& state) const {
@@ -289,6 +308,7 @@ void Session::answer(const Json& request, std::string_view line, std::string& ou
     }
   } scope(*this);
   line_ = line;
+  std::string code;  // of a refusal
   try {
     JsonWriter w(out);
     w.begin_object().key("ok").boolean(true).key("op").string(name);
@@ -296,12 +316,13 @@ void Session::answer(const Json& request, std::string_view line, std::string& ou
     handler->second(*this, request, w);
     w.end_object();
   } catch (const sdk::Error& e) {
-    refuse(e.code(), e.what(), sdk::stop_cause_of(e));
+    refuse(code = e.code(), e.what(), sdk::stop_cause_of(e));
   } catch (const Json::exception& e) {
-    refuse(sdk::codes::kBadRequest, std::string("bad request: ") + e.what());
+    refuse(code = sdk::codes::kBadRequest, std::string("bad request: ") + e.what());
   } catch (const std::exception& e) {
-    refuse(sdk::codes::kInternal, std::string("internal error: ") + e.what());
+    refuse(code = sdk::codes::kInternal, std::string("internal error: ") + e.what());
   }
+  events_.emit(RequestAnswered{name, code});
 }
 
 void Session::op_hello(const Json& req, JsonWriter& a) {

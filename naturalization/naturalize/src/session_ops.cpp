@@ -78,7 +78,9 @@ DefineOutcome define(Naturalizer& nat, kernel::Session& s, const DefineCall& cal
   d.exec = &exec;
   d.stop = s.request_stop();
   d.dry_run = call.dry_run;
-  return nat.define(d);
+  DefineOutcome out = nat.define(d);
+  s.emit(RulesDefined{s, call, out});
+  return out;
 }
 
 std::vector<RuleListing> list_rules(Naturalizer& nat, kernel::Session& s,
@@ -197,30 +199,7 @@ void op_rules(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
 }  // namespace
 
 void install_naturalization(kernel::Session& session, const std::shared_ptr<Naturalizer>& nat) {
-  session.set_op("define", [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
-    op_define(*nat, s, r, a);
-  });
-  session.set_op("rules", [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
-    op_rules(*nat, s, r, a);
-  });
-  session.set_op("delete_rule",
-                 [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
-                   const std::string id = kernel::request::require_string(r, "rule", "a rule id");
-                   delete_rule(*nat, s, id);
-                   a.key("deleted").string(id);
-                 });
-  // Every parse sees the rules and deletions other processes committed before it.
-  session.add_query_hook([nat](kernel::Session&) { nat->refresh(); });
-  if (nat->options().sharing != Sharing::shared)
-    session.set_visibility(
-        [nat](const sdk::Rule& rule, const std::string& user) { return nat->visible(rule, user); });
-  session.set_on_accept([nat](kernel::Session&, const kernel::AcceptEvent& e) {
-    nat->on_accept(e.user, e.candidate.induced_rules);
-  });
-  if (nat->options().per_user_weights) {
-    session.add_user_hook([nat](kernel::Session& s) { nat->select_user(s.user()); });
-    nat->select_user(session.user());
-  }
+  session.install(std::make_shared<NaturalizationExtension>(nat));
 }
 
 std::shared_ptr<Naturalizer> install_naturalization(kernel::Session& session,
@@ -231,15 +210,39 @@ std::shared_ptr<Naturalizer> install_naturalization(kernel::Session& session,
   return nat;
 }
 
-void NaturalizationExtension::install(kernel::Session& session) {
-  install_naturalization(session, naturalizer_);
-}
-
-void NaturalizationExtension::activate(const kernel::Session& session) {
-  if (naturalizer_->options().per_user_weights) naturalizer_->select_user(session.user());
+void NaturalizationExtension::attach(kernel::Session& session) {
+  auto nat = naturalizer_;
+  session.set_op("define", [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
+    op_define(*nat, s, r, a);
+  });
+  session.set_op("rules", [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
+    op_rules(*nat, s, r, a);
+  });
+  session.set_op("delete_rule",
+                 [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
+                   const std::string id = kernel::request::require_string(r, "rule", "a rule id");
+                   naturalization::delete_rule(*nat, s, id);
+                   a.key("deleted").string(id);
+                 });
+  // Every parse sees the rules and deletions other processes committed before it.
+  session.on<kernel::QueryBegins>([nat](const kernel::QueryBegins&) { nat->refresh(); });
+  if (nat->options().sharing != Sharing::shared)
+    session.on<kernel::VisibilityAsked>([nat](const kernel::VisibilityAsked& e) {
+      e.filter = [nat, user = e.user](const sdk::Rule& rule) { return nat->visible(rule, user); };
+    });
+  session.on<kernel::Accepting>(
+      [nat](const kernel::Accepting& e) { nat->on_accept(e.user, e.candidate.induced_rules); });
+  if (nat->options().per_user_weights) {
+    session.on<kernel::UserChanged>(
+        [nat](const kernel::UserChanged& e) { nat->select_user(e.user); });
+    nat->select_user(session.user());
+  }
   // A session may have asked on another kernel (a server's pool, docs/studio.md §5): an accept
   // must count and learn against everything committed so far, like a parse.
-  naturalizer_->refresh();
+  session.on<kernel::Activated>([nat](const kernel::Activated& e) {
+    if (nat->options().per_user_weights) nat->select_user(e.session.user());
+    nat->refresh();
+  });
 }
 
 }  // namespace flipper::naturalization

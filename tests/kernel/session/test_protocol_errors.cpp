@@ -209,15 +209,21 @@ TEST_CASE("a bare kernel session knows no naturalization op (the app layer wires
 
 TEST_CASE("a throwing plugin call is plugin_error and the session goes on", "[session][protocol]") {
   auto s = flipper::testsupport::bare_session();
-  // The visibility hook runs inside the parser plugin's parse call.
-  s->set_visibility([](const flipper::sdk::Rule&, const std::string&) -> bool {
-    throw std::runtime_error("lexicon unavailable");
-  });
+  // The visibility filter runs inside the parser plugin's parse call.
+  bool failing = true;
+  s->install(flipper::kernel::make_extension([&failing](flipper::kernel::Session& session) {
+    session.on<flipper::kernel::VisibilityAsked>([&failing](const auto& e) {
+      if (failing)
+        e.filter = [](const flipper::sdk::Rule&) -> bool {
+          throw std::runtime_error("lexicon unavailable");
+        };
+    });
+  }));
   Json a = ask(*s, R"({"op":"query","text":"move up"})");
   CHECK(a["ok"] == false);
   CHECK(error_code(a) == "plugin_error");
   CHECK_THAT(a["error"]["message"].get<std::string>(), Catch::Contains("lexicon unavailable"));
-  s->set_visibility({});
+  failing = false;
   CHECK(ask(*s, R"({"op":"query","text":"move up"})")["ok"] == true);
 }
 

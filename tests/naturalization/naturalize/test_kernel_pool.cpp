@@ -46,11 +46,11 @@ struct Kernels {
     Session& s = *sessions[static_cast<std::size_t>(step.session)];
     auto& where = at[static_cast<std::size_t>(step.session)];
     if (where != k) {
-      s.rebind(hosts[static_cast<std::size_t>(k)].runtime);
-      for (const auto& e : hosts[static_cast<std::size_t>(k)].extensions) s.install(e);
+      s.rebind(hosts[static_cast<std::size_t>(k)].runtime,
+               hosts[static_cast<std::size_t>(k)].extensions);
       where = k;
     }
-    hosts[static_cast<std::size_t>(k)].activate(s);
+    s.activate();
     Json answer = s.handle(step.request);
     answer.erase("ms");  // wall time
     return answer;

@@ -48,6 +48,7 @@
 #include "flipper/dds/replication_log.hpp"
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/session.hpp"
+#include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/wiring/session_factory.hpp"
 
 namespace flipper::dds {
@@ -66,8 +67,9 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   LexiconReplicator(const LexiconReplicator&) = delete;
   LexiconReplicator& operator=(const LexiconReplicator&) = delete;
 
-  /// Wraps the session's ops: every op under the replication mutex; define and delete_rule
-  /// publish what they did (delete_rule refuses other sites' rules).
+  /// Wraps the session's ops: every op under the replication mutex; delete_rule refuses other
+  /// sites' rules and publishes the deletion. Subscribes to the session's RulesDefined: each
+  /// definition is logged and published.
   void attach(kernel::Session& session);
   const std::string& site() const { return site_; }
   /// Received events applied, and samples dropped as malformed (for tests and benchmarks).
@@ -96,8 +98,7 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   LexiconEvent next_local_event(const std::string& kind) const;
   /// The mutex for a session's op; the reader thread lets waiting sessions go first.
   std::unique_lock<std::recursive_mutex> session_lock();
-  void define_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
-                 const kernel::Json& req, kernel::JsonWriter& answer);
+  void defined(const naturalization::RulesDefined& e);
   void delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
                  const kernel::Json& req, kernel::JsonWriter& answer);
 

@@ -16,7 +16,7 @@
 
 #include "flipper/dds/participant.hpp"
 #include "flipper/dds/plan_frame.hpp"
-#include "flipper/kernel/accepted_plan.hpp"
+#include "flipper/kernel/session.hpp"
 
 namespace flipper::dds {
 
@@ -24,12 +24,14 @@ inline constexpr const char* kPlanTopic = "rt/flipper/plan";
 inline constexpr const char* kActionsTopic = "rt/flipper/actions";
 inline constexpr const char* kMapFrame = "map";
 
-class PlanPublisher : public kernel::AcceptedPlanObserver {
+/// A session extension: installed on a session, it publishes the session's PlanAccepted events.
+class PlanPublisher : public kernel::SessionExtension {
  public:
   PlanPublisher(std::shared_ptr<Participant> participant, PlanFrame frame,
                 const std::string& ns = {});
   ~PlanPublisher() override;
-  void on_accepted_plan(const kernel::AcceptedPlan& plan) override;
+  void attach(kernel::Session& session) override;
+  void publish(const kernel::PlanAccepted& plan);
   /// Plans published so far.
   std::uint64_t published() const { return published_; }
   const std::string& plan_topic() const { return plan_topic_; }

@@ -35,13 +35,13 @@ std::unique_ptr<kernel::Session> open_session(std::shared_ptr<kernel::Runtime> r
 struct SessionHost {
   std::shared_ptr<kernel::Runtime> runtime;
   std::shared_ptr<naturalization::Naturalizer> naturalizer;
-  /// What every session of this host gets installed, in order (naturalization first).
-  std::vector<std::shared_ptr<kernel::SessionExtension>> extensions;
+  /// What every session of this host gets attached, in order (naturalization first); a session
+  /// moved to this host (Session::rebind) is given them too. Call Session::activate() before
+  /// handling a request of a session when sessions interleave: with per-user weights
+  /// (lexicon.weights: per_user) the scorer must hold this session's user's weights.
+  kernel::Session::Extensions extensions;
   /// A new session over the shared runtime and lexicon, with every module's ops installed.
   std::unique_ptr<kernel::Session> open() const;
-  /// Call before handling a request of `session` when sessions interleave: with per-user
-  /// weights (lexicon.weights: per_user) the scorer must hold this session's user's weights.
-  void activate(const kernel::Session& session) const;
 };
 /// Opens the lexicon (lexicon.*) once over `runtime`. Throws sdk::Error like open_session.
 SessionHost open_host(std::shared_ptr<kernel::Runtime> runtime);

@@ -8,15 +8,13 @@
 ///   `set_user`, `set_world`; `flipper run`, `repl` and `replay` call these directly;
 /// - the protocol: `handle_line` turns one request line into exactly one answer line. Ops are
 ///   looked up in a table; each JSON op is a thin adapter that reads the request's fields, calls
-///   the typed service and writes the result with a JsonWriter. Another module adds or wraps an
-///   op in one place:
+///   the typed service and writes the result with a JsonWriter.
+/// Modules above the kernel come in as extensions (session_extension.hpp): ops and typed events.
 /// @code
-///   session.set_op("define", [&](Session& s, const Json& req, JsonWriter& answer) {
-///     DefineOutcome out = ...;                        // the typed call
-///     answer.key("rules").begin_array(); ...; answer.end_array();  // the payload members
-///   });
-///   session.set_visibility([&](const sdk::Rule& r, const std::string& user) { ... });
-///   session.set_on_accept([&](Session& s, const AcceptEvent& e) { /* persist */ });
+///   session.install(kernel::make_extension([&](Session& s) {
+///     s.set_op("define", [&](Session& s, const Json& req, JsonWriter& answer) { ... });
+///     s.on<Accepting>([&](const Accepting& e) { /* persist */ });
+///   }));
 /// @endcode
 /// A handler writes the answer's payload members into the open answer object; the session has
 /// written `ok`, `op` and `id` before and closes it after. A handler reports a refusal by
@@ -34,7 +32,6 @@
 #include <string_view>
 #include <vector>
 
-#include "flipper/kernel/accepted_plan.hpp"
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/limits.hpp"
@@ -76,25 +73,15 @@ struct SessionOptions {
   static SessionOptions from_config(const Config& config);
 };
 
-/// What an accept did, for the naturalization module's persistence hook.
-struct AcceptEvent {
-  const LastQuery& query;
-  std::size_t rank;
-  const ShownCandidate& candidate;
-  const sdk::Outcome& outcome;
-  const std::string& user;
-};
-
 class Session {
  public:
   using OpHandler = std::function<void(Session&, const Json& request, JsonWriter& answer)>;
-  using VisibilityHook = std::function<bool(const sdk::Rule&, const std::string& user)>;
-  using AcceptHook = std::function<void(Session&, const AcceptEvent&)>;
-  using Hook = std::function<void(Session&)>;
+  using Extensions = std::vector<std::shared_ptr<SessionExtension>>;
 
-  /// Options from the runtime's config.
-  explicit Session(const std::shared_ptr<Runtime>& runtime);
-  Session(std::shared_ptr<Runtime> runtime, SessionOptions options);
+  /// Options from the runtime's config; `extensions` belong to the runtime (rebind replaces
+  /// them with the next runtime's) and are attached in order.
+  explicit Session(const std::shared_ptr<Runtime>& runtime, Extensions extensions = {});
+  Session(std::shared_ptr<Runtime> runtime, SessionOptions options, Extensions extensions = {});
   ~Session();
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
@@ -119,7 +106,7 @@ class Session {
   const sdk::WorldState& open_world_text(const std::string& text, const std::string& base);
   /// Replaces the current world (and forgets the last query, whose plans no longer apply).
   void set_world(sdk::WorldState world);
-  /// Makes `name` the current user (bad_request when empty) and runs the user hooks.
+  /// Makes `name` the current user (bad_request when empty) and emits UserChanged.
   void set_user(std::string name);
 
   // ---- the protocol (docs/protocol.md) ----
@@ -149,43 +136,42 @@ class Session {
   /// Throws sdk::Error(input_too_long) when `text` has more than input.max_chars code points.
   void check_length(std::string_view text) const;
 
-  /// Installs or replaces an op.
+  // ---- extensions (session_extension.hpp) ----
+
+  /// Installs or replaces an op (from an extension's attach: a direct call lasts until rebind).
   void set_op(const std::string& name, OpHandler handler);
   /// The current handler of an op (to wrap it), or null.
   const OpHandler* find_op(const std::string& name) const;
   std::vector<std::string> op_names() const;
-
-  // ---- extension points (session_extension.hpp) ----
-
-  /// Moves the session onto another runtime of the same config (another kernel over the same
-  /// lexicon store, as a server's kernel pool has: docs/studio.md §5). What the client sees stays:
-  /// the world, user, last query, protocol and the world versions sent. The op table goes back
-  /// to the defaults and the extensions, hooks and plan observers are dropped: the caller
-  /// installs the new runtime's extensions again, in the order it first did.
-  void rebind(std::shared_ptr<Runtime> runtime);
-  /// Installs an extension's ops and hooks and keeps it (find it again with extension<T>()).
+  /// Subscribes to an event (from an extension's attach, like set_op).
+  template <class Event>
+  void on(std::function<void(const Event&)> handler) {
+    events_.on<Event>(std::move(handler));
+  }
+  /// Tells the subscribers of an event (an extension's own events too).
+  template <class Event>
+  void emit(const Event& event) const {
+    events_.emit(event);
+  }
+  /// Attaches an extension of the session's own and keeps it across rebinds (after the
+  /// runtime's extensions); find it again with extension<T>().
   void install(std::shared_ptr<SessionExtension> extension);
-  /// The installed extension of type T, or null.
+  /// The extension of type T (the runtime's or the session's own), or null.
   template <class T>
   T* extension() const {
-    for (const auto& e : extensions_)
-      if (auto* t = dynamic_cast<T*>(e.get())) return t;
+    for (const auto* list : {&runtime_extensions_, &own_extensions_})
+      for (const auto& e : *list)
+        if (auto* t = dynamic_cast<T*>(e.get())) return t;
     return nullptr;
   }
-  /// Runs at the start of every query (typed or protocol), before the input is parsed.
-  void add_query_hook(Hook hook) { query_hooks_.push_back(std::move(hook)); }
-  /// Runs after the user changed (set_user, the user op).
-  void add_user_hook(Hook hook) { user_hooks_.push_back(std::move(hook)); }
-  /// Per-user rule visibility (sharing modes). Default: every rule is visible.
-  void set_visibility(VisibilityHook hook) { visibility_ = std::move(hook); }
-  /// Called during an accept after the scorer has learned and the use counters were counted,
-  /// before the world changes; when it throws, the accept is undone (scorer state, counters),
-  /// the world and the last query stay, and the error is the answer (a retry applies it once).
-  void set_on_accept(AcceptHook hook) { on_accept_ = std::move(hook); }
-  /// Adds an observer told about every accepted plan, after the accept hook.
-  void add_plan_observer(std::shared_ptr<AcceptedPlanObserver> observer) {
-    plan_observers_.push_back(std::move(observer));
-  }
+  /// Moves the session onto another runtime of the same config (another kernel over the same
+  /// lexicon store, as a server's kernel pool has: docs/studio.md §5) with that runtime's
+  /// extensions. What the client sees stays: the world, user, last query, protocol and the world
+  /// versions sent. The op table and subscriptions are built again: the defaults, the runtime's
+  /// extensions, then the session's own, each attached in the order it was installed.
+  void rebind(std::shared_ptr<Runtime> runtime, Extensions extensions);
+  /// Emits Activated: call before handling a request when sessions share extensions.
+  void activate() const { events_.emit(Activated{*this}); }
 
   Runtime& runtime() { return *runtime_; }
   const Runtime& runtime() const { return *runtime_; }
@@ -230,8 +216,7 @@ class Session {
   void op_world(const Json& request, JsonWriter& answer);
   void op_query(const Json& request, JsonWriter& answer);
   void op_accept(const Json& request, JsonWriter& answer);
-  void notify_plan_observers(const LastQuery& q, const ShownCandidate& sc,
-                             const sdk::Outcome& outcome);
+  void attach_all();
 
   std::shared_ptr<Runtime> runtime_;
   SessionOptions options_;
@@ -240,11 +225,8 @@ class Session {
   std::string user_ = "anonymous";
   std::shared_ptr<LastQuery> last_query_;
   std::map<std::string, OpHandler, std::less<>> ops_;
-  std::vector<std::shared_ptr<SessionExtension>> extensions_;
-  std::vector<Hook> query_hooks_, user_hooks_;
-  VisibilityHook visibility_;
-  AcceptHook on_accept_;
-  std::vector<std::shared_ptr<AcceptedPlanObserver>> plan_observers_;
+  Extensions runtime_extensions_, own_extensions_;
+  EventBus events_;
   std::uint64_t accepted_plans_ = 0;
   std::vector<CachedWorld> world_cache_;  // most recent first
   std::unique_ptr<WorldTexts> texts_;     // world texts by version (world_texts.hpp)

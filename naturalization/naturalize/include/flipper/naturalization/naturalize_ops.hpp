@@ -14,7 +14,7 @@
 
 namespace flipper::naturalization {
 
-/// Installs the ops and hooks over an existing naturalizer (kept alive by the session).
+/// Installs a NaturalizationExtension over an existing naturalizer (kept alive by the session).
 void install_naturalization(kernel::Session& session,
                             const std::shared_ptr<Naturalizer>& naturalizer);
 /// Builds the naturalizer from the session runtime's config (lexicon.*, induction.*) and
@@ -34,6 +34,15 @@ struct DefineCall {
   bool dry_run = false;
 };
 
+/// Emitted through the session by define() after a definition succeeded (dry runs too:
+/// `outcome.stored` says whether it was stored), for subscribers such as DDS replication and the
+/// study recorder (docs/architecture.md §3).
+struct RulesDefined {
+  kernel::Session& session;
+  const DefineCall& call;
+  const DefineOutcome& outcome;
+};
+
 /// The typed naturalization service of one session (the define/rules/delete_rule ops call it,
 /// front ends call it directly): validation against input.* and the session's deadline here.
 /// Throws sdk::Error like the ops (input_too_long, naturalize_codes, deadline_exceeded).
@@ -43,16 +52,16 @@ std::vector<RuleListing> list_rules(Naturalizer& nat, kernel::Session& session,
 void delete_rule(Naturalizer& nat, kernel::Session& session, const std::string& id);
 
 /// Naturalization as a session extension over one naturalizer that several sessions share:
-/// install() wires the ops and hooks above; activate() selects the caller's weights
-/// (lexicon.weights: per_user) and picks up what other kernels committed (refresh) before one of
-/// the sessions handles a request. Front ends find it
+/// attach() adds the ops above and subscribes to the session's events: QueryBegins (refresh),
+/// VisibilityAsked (sharing modes), Accepting (persistence), UserChanged (per-user weights) and
+/// Activated (selects the caller's weights, lexicon.weights: per_user, and picks up what other
+/// kernels committed before one of the sessions handles a request). Front ends find it
 /// with `session.extension<NaturalizationExtension>()` and call the typed service through it.
 class NaturalizationExtension final : public kernel::SessionExtension {
  public:
   explicit NaturalizationExtension(std::shared_ptr<Naturalizer> naturalizer)
       : naturalizer_(std::move(naturalizer)) {}
-  void install(kernel::Session& session) override;
-  void activate(const kernel::Session& session) override;
+  void attach(kernel::Session& session) override;
   const std::shared_ptr<Naturalizer>& naturalizer() const { return naturalizer_; }
 
   DefineOutcome define(kernel::Session& session, const DefineCall& call) {
