@@ -1,5 +1,5 @@
 # flipper_add_plugin(<name> KIND <kind> SOURCES <src>... [LIBRARIES <lib>...] [VERSION <v>]
-#                    [OUTPUT_DIRECTORY <dir>] [NAME <id>] [NO_INSTALL])
+#                    [DIMS <2|3>] [OUTPUT_DIRECTORY <dir>] [NAME <id>] [NO_INSTALL])
 #
 # Builds a Flipper plugin: a MODULE library linked against the SDK and the toolkit only (the
 # toolkit is a static library: a plugin takes from it only what it uses), with hidden visibility,
@@ -8,7 +8,9 @@
 # <name>.flipper.yaml that lets the kernel index plugins without loading their code.
 # Works in tree (target flipper_sdk) and out of tree (after find_package(FlipperSDK)).
 # NAME overrides the plugin id written to the sidecar (default: <name>; tests use it to build
-# two files declaring one id). Unless NO_INSTALL, `cmake --install` puts the plugin and its
+# two files declaring one id). DIMS (world plugins) writes the dimensions of the worlds the plugin
+# reads into the sidecar: the kernel names the plugins for a world of the other dimensions from
+# it without loading their code (docs/worlds.md). Unless NO_INSTALL, `cmake --install` puts the plugin and its
 # sidecar in <prefix>/lib/flipper/plugins, where an installed kernel looks.
 include_guard(GLOBAL)
 include(GNUInstallDirs)
@@ -16,13 +18,20 @@ set(FLIPPER_PLUGIN_INSTALL_DIR "lib/flipper/plugins" CACHE STRING
   "Plugin install directory, relative to the prefix (the kernel searches <exe>/../lib/flipper/plugins)")
 
 function(flipper_add_plugin name)
-  cmake_parse_arguments(FAP "NO_INSTALL" "KIND;VERSION;OUTPUT_DIRECTORY;NAME" "SOURCES;LIBRARIES" ${ARGN})
+  cmake_parse_arguments(FAP "NO_INSTALL" "KIND;VERSION;DIMS;OUTPUT_DIRECTORY;NAME" "SOURCES;LIBRARIES" ${ARGN})
   if(NOT FAP_KIND)
     message(FATAL_ERROR "flipper_add_plugin(${name}): KIND is required")
   endif()
   set(kinds world planner parser scorer rewriter similarity)
   if(NOT FAP_KIND IN_LIST kinds)
     message(FATAL_ERROR "flipper_add_plugin(${name}): KIND ${FAP_KIND} is not one of ${kinds}")
+  endif()
+  set(dims_line "")
+  if(FAP_DIMS)
+    if(NOT FAP_KIND STREQUAL "world" OR NOT FAP_DIMS MATCHES "^[23]$")
+      message(FATAL_ERROR "flipper_add_plugin(${name}): DIMS is 2 or 3, for world plugins only")
+    endif()
+    set(dims_line "dims: ${FAP_DIMS}\n")
   endif()
   if(NOT FAP_SOURCES)
     message(FATAL_ERROR "flipper_add_plugin(${name}): SOURCES is required")
@@ -104,7 +113,7 @@ function(flipper_add_plugin name)
 kind: ${FAP_KIND}
 version: ${FAP_VERSION}
 library: ${name}.so
-")
+${dims_line}")
   if(NOT FAP_NO_INSTALL)
     # Installed plugins find libflipper_sdk in <prefix>/<libdir> (3 levels up from the plugin).
     set_target_properties(${target} PROPERTIES INSTALL_RPATH "$ORIGIN/../../../${CMAKE_INSTALL_LIBDIR}")

@@ -29,20 +29,17 @@ class Grid2dWorld final : public sdk::World {
   static sdk::ParamSchema schema() { return {}; }
 
  protected:
-  sdk::WorldState do_load(std::string_view text, const std::string&) const override {
+  sdk::WorldState do_load(std::string_view text, const std::string&,
+                          const sdk::WorldLimits& limits) const override {
     wf::WorldDocument doc = wf::parse_world(text, 2);
     if (doc.octomap)
       throw sdk::Error(sdk::codes::kBadWorld,
                        "octomap: grid2d worlds list their walls; use a 3-D world plugin");
     const wf::Bounds box = wf::effective_bounds(doc);
-    // Cells counted in 64 bits: refuse boxes too large to allocate rather than crash.
+    // A 110-byte world can name a box of 16382^2 cells: refused before the mask is allocated.
+    wf::check_cells(wf::cell_count(box), limits);
     const auto sx = static_cast<std::uint64_t>(std::int64_t{box.max.x} - box.min.x + 1);
     const auto sy = static_cast<std::uint64_t>(std::int64_t{box.max.y} - box.min.y + 1);
-    constexpr std::uint64_t kMaxCells = std::uint64_t{1} << 28;
-    if (sx * sy > kMaxCells)
-      throw sdk::Error(sdk::codes::kBadWorld,
-                       "bounds: " + std::to_string(sx) + " x " + std::to_string(sy) +
-                           " cells is larger than the limit of " + std::to_string(kMaxCells));
     std::vector<std::uint8_t> mask(sx * sy, 1);
     for (const sdk::Cell& w : doc.walls) {
       if (w.x < box.min.x || w.x > box.max.x || w.y < box.min.y || w.y > box.max.y)

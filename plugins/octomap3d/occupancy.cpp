@@ -47,7 +47,7 @@ void fill_cells(octomap::OcTree& tree, const CellBox& b, double res) {
 }  // namespace
 
 std::shared_ptr<octomap::OcTree> build_octree(const Obstacles& spec, const std::string& base_dir,
-                                              double resolution, std::uint64_t max_file_bytes) {
+                                              double resolution, const FileLimit& limit) {
   auto tree = std::make_shared<octomap::OcTree>(resolution);
   if (spec.octomap) {
     std::filesystem::path path(*spec.octomap);
@@ -61,11 +61,11 @@ std::shared_ptr<octomap::OcTree> build_octree(const Obstacles& spec, const std::
       throw sdk::Error(sdk::codes::kNotARegularFile,
                        "octomap: " + path.string() + " is not a regular file");
     const std::uintmax_t size = std::filesystem::file_size(path, ec);
-    if (ec || size > max_file_bytes)
-      throw sdk::Error(
-          sdk::codes::kFileTooLarge,
-          "octomap: " + path.string() + " has " + std::to_string(size) +
-              " bytes; the limit is max_file_bytes = " + std::to_string(max_file_bytes));
+    if (ec || size > limit.bytes)
+      throw sdk::Error(sdk::codes::kFileTooLarge, "octomap: " + path.string() + " has " +
+                                                      std::to_string(size) +
+                                                      " bytes; the limit is " + limit.name + " = " +
+                                                      std::to_string(limit.bytes));
     std::ifstream probe(path, std::ios::binary);
     if (!probe)
       throw sdk::Error(sdk::codes::kBadWorld, "octomap: cannot read file " + path.string());

@@ -21,13 +21,19 @@ struct Body {
   double size = 0.5;  ///< box edge / sphere diameter, in metres (cells are `resolution` metres)
 };
 
+/// The largest .bt file read, and the name of the limit for the refusal.
+struct FileLimit {
+  std::uint64_t bytes = 0;
+  const char* name = "max_file_bytes";
+};
+
 /// Builds the octree at `resolution`: the .bt file (resolved against base_dir; its own
 /// resolution is kept) plus every box and wall cell marked occupied.
 /// Throws sdk::Error(bad_world) if the file cannot be read, not_a_regular_file for a FIFO,
-/// device or directory (which would hang or never end), file_too_large above `max_file_bytes`.
+/// device or directory (which would hang or never end), file_too_large above `limit`.
 std::shared_ptr<octomap::OcTree> build_octree(const Obstacles& obstacles,
                                               const std::string& base_dir, double resolution,
-                                              std::uint64_t max_file_bytes);
+                                              const FileLimit& limit);
 
 /// Cells covered by the octree's occupied voxels (empty box if none): used for default bounds.
 bool occupied_cell_box(const octomap::OcTree& tree, double resolution, CellBox& out);

@@ -48,10 +48,17 @@ class OctomapWorld final : public sdk::World {
   }
 
  protected:
-  sdk::WorldState do_load(std::string_view world_json, const std::string& base_dir) const override {
+  sdk::WorldState do_load(std::string_view world_json, const std::string& base_dir,
+                          const sdk::WorldLimits& limits) const override {
     wf::WorldDocument doc = wf::parse_world(world_json, 3);
+    // The box the text names (explicit or default) first: a few bytes can name billions of cells.
+    wf::check_cells(wf::cell_count(wf::effective_bounds(doc)), limits);
     Obstacles obstacles = take_obstacles(doc);
-    auto tree = build_octree(obstacles, base_dir, resolution_, max_file_bytes_);
+    // The smaller of this plugin's max_file_bytes and the host's limit, named in the refusal.
+    const FileLimit file_limit = limits.max_file_bytes < max_file_bytes_
+                                     ? FileLimit{limits.max_file_bytes, "input.max_file_bytes"}
+                                     : FileLimit{max_file_bytes_, "max_file_bytes"};
+    auto tree = build_octree(obstacles, base_dir, resolution_, file_limit);
 
     CellBox bounds;
     if (doc.bounds) {
@@ -70,6 +77,7 @@ class OctomapWorld final : public sdk::World {
       throw sdk::Error(sdk::codes::kBadWorld, "bounds: " + std::to_string(cells) +
                                                   " cells is larger than the limit of " +
                                                   std::to_string(kMaxCells));
+    wf::check_cells(cells, limits);  // grown by the obstacles: checked before FCL fills the mask
 
     auto space = std::make_shared<const FclSpace>(std::move(tree), body_, resolution_, bounds,
                                                   std::move(obstacles));

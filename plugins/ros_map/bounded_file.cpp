@@ -11,7 +11,7 @@ namespace sdk = flipper::sdk;
 namespace fs = std::filesystem;
 
 std::string read_bounded_file(const std::string& path, std::uint64_t max_bytes,
-                              const std::string& what) {
+                              const std::string& what, const char* limit_name) {
   // stat, not open: opening a FIFO without a writer blocks.
   std::error_code ec;
   const auto status = fs::status(path, ec);
@@ -21,9 +21,9 @@ std::string read_bounded_file(const std::string& path, std::uint64_t max_bytes,
     throw sdk::Error(sdk::codes::kNotARegularFile, what + ": " + path + " is not a regular file");
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec || size > max_bytes)
-    throw sdk::Error(sdk::codes::kFileTooLarge,
-                     what + ": " + path + " has " + std::to_string(size) +
-                         " bytes; the limit is max_file_bytes = " + std::to_string(max_bytes));
+    throw sdk::Error(sdk::codes::kFileTooLarge, what + ": " + path + " has " +
+                                                    std::to_string(size) + " bytes; the limit is " +
+                                                    limit_name + " = " + std::to_string(max_bytes));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw sdk::Error(sdk::codes::kBadWorld, what + ": cannot read file " + path);
   std::string bytes(static_cast<std::size_t>(size), '\0');

@@ -62,7 +62,8 @@ class Reader {
 
 }  // namespace
 
-GreyImage decode_pgm(std::string_view bytes, const std::string& name, std::uint64_t max_cells) {
+GreyImage decode_pgm(std::string_view bytes, const std::string& name, std::uint64_t max_cells,
+                     const char* limit_name) {
   Reader r(bytes, name);
   if (bytes.size() < 2 || bytes[0] != 'P' || (bytes[1] != '5' && bytes[1] != '2'))
     r.fail("not a PGM image (the file must start with P5 or P2)");
@@ -76,8 +77,8 @@ GreyImage decode_pgm(std::string_view bytes, const std::string& name, std::uint6
   if (width * height > max_cells)
     throw sdk::Error(sdk::codes::kWorldTooLarge,
                      name + ": " + std::to_string(width) + " x " + std::to_string(height) + " = " +
-                         std::to_string(width * height) +
-                         " cells; the limit is max_cells = " + std::to_string(max_cells));
+                         std::to_string(width * height) + " cells; the limit is " + limit_name +
+                         " = " + std::to_string(max_cells));
   const std::uint64_t maxval = r.number("maxval", 65535);
   if (maxval == 0) r.fail("maxval is 0");
   img.width = static_cast<std::uint32_t>(width);

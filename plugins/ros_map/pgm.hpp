@@ -25,6 +25,8 @@ struct GreyImage {
 /// pixels is refused from the header alone. Throws sdk::Error(bad_world): wrong magic, a bad
 /// header field, maxval 0 or above 65535, a truncated pixel array, a pixel above maxval,
 /// world_too_large for too many pixels.
-GreyImage decode_pgm(std::string_view bytes, const std::string& name, std::uint64_t max_cells);
+/// `limit_name` names the limit in that refusal (this plugin's param or the host's key).
+GreyImage decode_pgm(std::string_view bytes, const std::string& name, std::uint64_t max_cells,
+                     const char* limit_name = "max_cells");
 
 }  // namespace flipper::plugins::ros_map

@@ -103,7 +103,8 @@ class RosMapWorld final : public sdk::World {
   }
 
  protected:
-  sdk::WorldState do_load(std::string_view text, const std::string& base_dir) const override {
+  sdk::WorldState do_load(std::string_view text, const std::string& base_dir,
+                          const sdk::WorldLimits& limits) const override {
     json world;
     try {
       world = json::parse(text);
@@ -126,10 +127,17 @@ class RosMapWorld final : public sdk::World {
     yaml_path = std::filesystem::absolute(yaml_path).lexically_normal();
     const std::string yaml_file = yaml_path.string();
 
+    // This plugin's limits or the host's, whichever is smaller, named in the refusal.
+    const bool host_bytes = limits.max_file_bytes < max_file_bytes_;
+    const std::uint64_t max_bytes = host_bytes ? limits.max_file_bytes : max_file_bytes_;
+    const char* bytes_name = host_bytes ? "input.max_file_bytes" : "max_file_bytes";
+    const bool host_cells = limits.max_cells < max_cells_;
     const MapYaml map = parse_map_yaml(
-        read_bounded_file(yaml_file, std::min(kMaxYamlBytes, max_file_bytes_), "map"), yaml_file);
-    const GreyImage image = decode_pgm(read_bounded_file(map.image, max_file_bytes_, "map image"),
-                                       map.image, max_cells_);
+        read_bounded_file(yaml_file, std::min(kMaxYamlBytes, max_bytes), "map", bytes_name),
+        yaml_file);
+    const GreyImage image = decode_pgm(
+        read_bounded_file(map.image, max_bytes, "map image", bytes_name), map.image,
+        host_cells ? limits.max_cells : max_cells_, host_cells ? "world.max_cells" : "max_cells");
     const OccupancyGrid grid = occupancy_grid(image, map);
     const MapFrame frame{map.resolution, map.origin_x, map.origin_y, grid.width, grid.height};
     std::vector<std::uint8_t> mask =

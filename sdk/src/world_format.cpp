@@ -281,8 +281,43 @@ std::string describe(const Cell& c, int dims) {
   return s + ")";
 }
 
+namespace {
+WorldDocument parse_world_in(std::string_view text, int dims);
+}  // namespace
+
 WorldDocument parse_world(std::string_view text, int dims) {
   if (dims != 2 && dims != 3) throw Error(codes::kInternal, "parse_world: dims must be 2 or 3");
+  try {
+    return parse_world_in(text, dims);
+  } catch (const Error& e) {
+    // Only on the error path: does the text read as a world of the other dimensions?
+    const int other = 5 - dims;
+    try {
+      (void)parse_world_in(text, other);
+    } catch (const Error&) {
+      throw e;
+    }
+    throw OtherDimsError(other, e.what());
+  }
+}
+
+std::uint64_t cell_count(const Bounds& box) {
+  auto extent = [](std::int64_t lo, std::int64_t hi) {
+    return hi < lo ? std::uint64_t{0} : static_cast<std::uint64_t>(hi - lo) + 1;
+  };
+  return extent(box.min.x, box.max.x) * extent(box.min.y, box.max.y) * extent(box.min.z, box.max.z);
+}
+
+void check_cells(std::uint64_t cells, const WorldLimits& limits) {
+  if (cells > limits.max_cells)
+    throw Error(codes::kWorldTooLarge,
+                "the world has " + std::to_string(cells) +
+                    " cells; the limit is world.max_cells = " + std::to_string(limits.max_cells));
+}
+
+namespace {
+
+WorldDocument parse_world_in(std::string_view text, int dims) {
   json root;
   std::vector<Cell> fast_walls;
   bool have_fast_walls = false;
@@ -392,6 +427,8 @@ WorldDocument parse_world(std::string_view text, int dims) {
   areas::normalize(doc.walls);
   return doc;
 }
+
+}  // namespace
 
 Bounds default_bounds(const WorldDocument& doc) {
   Bounds b{doc.robot, doc.robot};
@@ -589,5 +626,18 @@ std::string write_world(const WorldState& state, const std::vector<RawField>& fi
 }
 
 }  // namespace world_format
+
+OtherDimsError::OtherDimsError(int world_dims, const std::string& message)
+    : Error(codes::kBadWorld, message), world_dims_(world_dims) {}
+OtherDimsError::~OtherDimsError() = default;
+
+void World::do_save_items(std::string& out, const WorldState& state) const {
+  world_format::append_items_json(out, state, state.geometry ? state.geometry->dims() : dims());
+}
+
+void World::do_save_robot(std::string& out, const WorldState& state) const {
+  world_format::append_robot_json(out, state, state.geometry ? state.geometry->dims() : dims());
+}
+
 }  // namespace v1
 }  // namespace flipper::sdk

@@ -31,7 +31,8 @@ class ExampleWorld : public sdk::World {
   static sdk::ParamSchema schema() { return param::schema(kDiagonal, kMaxCells); }
 
  protected:
-  sdk::WorldState do_load(std::string_view text, const std::string&) const override {
+  sdk::WorldState do_load(std::string_view text, const std::string&,
+                          const sdk::WorldLimits& limits) const override {
     wf::WorldDocument doc = wf::parse_world(text, 2);
     if (doc.has_walls || doc.octomap)
       throw sdk::Error(sdk::codes::kBadWorld,
@@ -47,6 +48,7 @@ class ExampleWorld : public sdk::World {
       throw sdk::Error(sdk::codes::kBadWorld,
                        "bounds: " + std::to_string(cells) +
                            " cells; the limit is max_cells = " + std::to_string(max_cells_));
+    wf::check_cells(cells, limits);  // and the host's limit (world.max_cells)
     std::vector<sdk::Cell> steps = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
     if (diagonal_) steps.insert(steps.end(), {{1, 1, 0}, {-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}});
     auto geometry = std::make_shared<const sdk::Geometry>(

@@ -36,6 +36,10 @@ PluginEntry read_sidecar(const fs::path& file, const std::string& dir) {
     if (y["name"]) e.name = y["name"].as<std::string>();
     if (y["kind"]) e.kind = y["kind"].as<std::string>();
     if (y["version"]) e.version = y["version"].as<std::string>();
+    if (y["dims"]) e.dims = y["dims"].as<int>();
+    if (e.dims != 0 && e.dims != 2 && e.dims != 3)
+      e.index_error = "sidecar '" + e.sidecar + "' says dims " + std::to_string(e.dims) +
+                      " (world plugins read 2- or 3-D worlds)";
     const std::string lib = y["library"] ? y["library"].as<std::string>() : e.name + ".so";
     e.library = (file.parent_path() / lib).lexically_normal().string();
     std::error_code ec;

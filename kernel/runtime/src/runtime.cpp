@@ -4,12 +4,10 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <optional>
 
 #include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/loader.hpp"
 #include "flipper/sdk/errors.hpp"
-#include "flipper/sdk/param_check.hpp"
 #include "flipper/sdk/world_format.hpp"
 
 namespace flipper::kernel {
@@ -20,49 +18,22 @@ namespace codes = sdk::codes;
 
 namespace {
 
-std::uint64_t cells_of(const sdk::Cell& lo, const sdk::Cell& hi) {
-  auto extent = [](std::int64_t a, std::int64_t b) {
-    return b < a ? std::uint64_t{0} : static_cast<std::uint64_t>(b - a) + 1;
-  };
-  return extent(lo.x, hi.x) * extent(lo.y, hi.y) * extent(lo.z, hi.z);
-}
-
-void refuse_large(std::uint64_t cells, std::uint64_t limit) {
-  if (cells > limit)
-    throw Error(codes::kWorldTooLarge,
-                "the world has " + std::to_string(cells) +
-                    " cells; the limit is world.max_cells = " + std::to_string(limit));
-}
-
-// The discoverable world plugins that read `dims`-D worlds (each instantiated with its default
-// params; one that needs params of its own is left out). Only asked on an error path.
+// The world plugins whose sidecars say they read `dims`-D worlds (no code loaded). Only asked on
+// an error path.
 std::vector<std::string> world_plugins_of(const Config& config, int dims) {
   std::vector<std::string> names;
   const PluginLoader loader(PluginLoader::search_path_for(config));
-  for (const auto& e : loader.entries()) {
-    if (!e.shadowed_by.empty() || (!e.kind.empty() && e.kind != "world")) continue;
-    try {
-      const LoadedPlugin p = loader.open_entry(e, sdk::PluginKind::world);
-      const auto object = loader.instantiate(p, sdk::validate_params(p.schema(), {}, ""));
-      const auto* w = dynamic_cast<const sdk::World*>(object.get());
-      if (w != nullptr && w->dims() == dims) names.push_back(e.name);
-    } catch (const std::exception&) {  // a hint: plugins that do not load are not offered
-    }
-  }
+  for (const auto& e : loader.entries())
+    if (e.shadowed_by.empty() && e.index_error.empty() && e.kind == "world" && e.dims == dims)
+      names.push_back(e.name);
   return names;
 }
 
-// A world of the other dimension (a 3-D world for a 2-D plugin, or the reverse) fails inside the
-// plugin with a message about one point; say what is wrong instead, and which plugin reads it.
-void refuse_other_dims(const Error& error, const Config& config, const std::string& text,
-                       int dims) {
-  if (error.code() != codes::kBadWorld) return;
-  const int other = dims == 2 ? 3 : 2;
-  try {
-    sdk::world_format::parse_world(text, other);
-  } catch (const std::exception&) {
-    return;  // not a world of the other dimension either: the plugin's message stands
-  }
+// A world of the other dimension (a 3-D world for a 2-D plugin, or the reverse): the plugin says
+// so (sdk::OtherDimsError); name the plugins that read it.
+[[noreturn]] void refuse_other_dims(const sdk::OtherDimsError& error, const Config& config,
+                                    int dims) {
+  const int other = error.world_dims();
   const auto plugins = world_plugins_of(config, other);
   std::string which;
   for (const auto& n : plugins) which += (which.empty() ? "" : " or ") + n;
@@ -76,29 +47,22 @@ void refuse_other_dims(const Error& error, const Config& config, const std::stri
           " (" + error.what() + ")");
 }
 
+// The plugin reads the world once, within the limits (docs/worlds.md § "Limits").
 sdk::WorldState load_world(const PluginRef<sdk::World>& world, const Config& config,
                            const std::string& text, const std::string& base_dir) {
-  const InputLimits limits = InputLimits::from_config(config);
-  // The shared part of the format gives the explicit or default bounds: a 110-byte world can
-  // name a box of 16382^2 cells, which the plugin would allocate before anything else.
-  // A world plugin with a format of its own may refuse what the shared reader cannot read: then
-  // only the check after loading applies.
-  const int dims = world.call("dims", [](const sdk::World& w) { return w.dims(); });
-  std::optional<sdk::world_format::Bounds> box;
-  try {
-    box = sdk::world_format::effective_bounds(sdk::world_format::parse_world(text, dims));
-  } catch (const Error&) {
-  }
-  if (box) refuse_large(cells_of(box->min, box->max), limits.max_world_cells);
+  const InputLimits input = InputLimits::from_config(config);
+  const sdk::WorldLimits limits{input.max_world_cells, input.max_file_bytes};
   sdk::WorldState state;
   try {
-    state = world.call("load", [&](const sdk::World& w) { return w.load(text, base_dir); });
-  } catch (const Error& e) {
-    refuse_other_dims(e, config, text, dims);
+    state = world.call("load", [&](const sdk::World& w) { return w.load(text, base_dir, limits); });
+  } catch (const sdk::OtherDimsError& e) {
+    if (e.world_dims() == 2 || e.world_dims() == 3)
+      refuse_other_dims(e, config,
+                        world.call("dims", [](const sdk::World& w) { return w.dims(); }));
     throw;
   }
-  // The plugin may grow the box (an octree's extent): check what it built as well.
-  if (state.geometry) refuse_large(state.geometry->cell_count(), limits.max_world_cells);
+  // A plugin is untrusted: what it built is checked against the limit as well.
+  if (state.geometry) sdk::world_format::check_cells(state.geometry->cell_count(), limits);
   return state;
 }
 
@@ -167,6 +131,12 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
   const std::string world_name = config.plugin_name("world");
   const std::string planner_name = config.plugin_name("planner");
   const int dims = rt->world.call("dims", [](const sdk::World& w) { return w.dims(); });
+  for (const auto& e : loader.entries())  // the sidecar's dims name this plugin in hints
+    if (e.name == world_name && e.shadowed_by.empty() && e.dims != 0 && e.dims != dims)
+      throw Error(codes::kPluginLoadFailed, "world plugin '" + world_name +
+                                                "': its sidecar says dims " +
+                                                std::to_string(e.dims) + " but it reads " +
+                                                std::to_string(dims) + "-D worlds");
   const sdk::PlannerTraits traits =
       rt->planner.call("traits", [](const sdk::Planner& p) { return p.traits(); });
   if ((dims == 3 && !traits.supports_3d) || (dims == 2 && !traits.supports_2d))

@@ -65,13 +65,8 @@ Session::Session(std::shared_ptr<Runtime> runtime, SessionOptions options, Exten
       options_(options),
       executor_(runtime_->planner, options_.limits),
       world_(runtime_->default_world),
-      texts_(std::make_unique<WorldTexts>([this](const sdk::WorldState& state) {
-        std::string text =
-            runtime_->world.call("save", [&](const sdk::World& w) { return w.save(state); });
-        // The answer is one line: normalise a plugin that writes multi-line text.
-        if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
-        return text;
-      })) {
+      texts_(std::make_unique<WorldTexts>(
+          [this]() -> const PluginRef<sdk::World>& { return runtime_->world; })) {
   runtime_extensions_ = std::move(extensions);
   attach_all();
 }
@@ -161,12 +156,10 @@ void Session::set_user(std::string name) {
 }
 
 Json Session::world_json(const sdk::WorldState& state) const {
-  std::string text =
-      runtime_->world.call("save", [&](const sdk::World& w) { return w.save(state); });
-  return Json::parse(text);
+  return Json::parse(world_text(state));
 }
 
-const std::string& Session::world_text(const sdk::WorldState& state) {
+const std::string& Session::world_text(const sdk::WorldState& state) const {
   for (std::size_t i = 0; i < world_cache_.size(); ++i)
     if (world_cache_[i].state.same_state(state)) {
       if (i != 0) std::swap(world_cache_[i], world_cache_[0]);

@@ -1,8 +1,6 @@
 // World texts by version: static text once, items and robot per state (world_texts.hpp).
 #include "world_texts.hpp"
 
-#include "flipper/sdk/world_format.hpp"
-
 #include <charconv>
 #include <nlohmann/json.hpp>
 
@@ -90,12 +88,11 @@ std::string_view top_level_value(std::string_view text, std::string_view key) {
   return found;
 }
 
-void WorldTexts::append_items(std::string& out, const sdk::WorldState& state) {
-  sdk::world_format::append_items_json(out, state, state.geometry ? state.geometry->dims() : 2);
-}
-
-void WorldTexts::append_robot(std::string& out, const sdk::WorldState& state) {
-  sdk::world_format::append_robot_json(out, state, state.geometry ? state.geometry->dims() : 2);
+std::string WorldTexts::save(const sdk::WorldState& state) const {
+  std::string text = world_().call("save", [&](const sdk::World& w) { return w.save(state); });
+  // The answer is one line: normalise a plugin that writes multi-line text.
+  if (text.find('\n') != std::string::npos) text = nlohmann::json::parse(text).dump();
+  return text;
 }
 
 namespace {
@@ -136,7 +133,7 @@ WorldTexts::Version& WorldTexts::find_or_make(const sdk::WorldState& state) {
   v->id = next_id_++;
   v->geometry = state.geometry;
   v->rooms = state.rooms;
-  const std::string text = save_(state);
+  const std::string text = save(state);
   // The geometry text: every member but items and robot, in the plugin's order.
   const auto members = top_level_members(text);
   std::string_view items, robot;
@@ -167,13 +164,14 @@ WorldTexts::Version& WorldTexts::find_or_make(const sdk::WorldState& state) {
   return *versions_.front();
 }
 
-std::string WorldTexts::assemble(const Version& v, const sdk::WorldState& state) {
+std::string WorldTexts::assemble(const Version& v, const sdk::WorldState& state) const {
   std::string out;
   out.reserve(v.before.size() + v.between.size() + v.after.size() + 64 * state.items.size() + 64);
+  const PluginRef<sdk::World>& world = world_();
   out += v.before;
-  append_items(out, state);
+  world.call("save_items", [&](const sdk::World& w) { w.save_items(out, state); });
   out += v.between;
-  append_robot(out, state);
+  world.call("save_robot", [&](const sdk::World& w) { w.save_robot(out, state); });
   out += v.after;
   return out;
 }
@@ -184,17 +182,18 @@ std::uint64_t WorldTexts::version(const sdk::WorldState& state) {
 
 std::string WorldTexts::full(const sdk::WorldState& state) {
   const Version& v = find_or_make(state);
-  return v.split ? assemble(v, state) : save_(state);
+  return v.split ? assemble(v, state) : save(state);
 }
 
 std::string WorldTexts::changes(const sdk::WorldState& state) {
   const Version& v = find_or_make(state);
-  if (!v.split) return save_(state);
+  if (!v.split) return save(state);
+  const PluginRef<sdk::World>& world = world_();
   std::string out = "{\"items\":";
   out.reserve(32 + 64 * state.items.size());
-  append_items(out, state);
+  world.call("save_items", [&](const sdk::World& w) { w.save_items(out, state); });
   out += ",\"robot\":";
-  append_robot(out, state);
+  world.call("save_robot", [&](const sdk::World& w) { w.save_robot(out, state); });
   out += '}';
   return out;
 }

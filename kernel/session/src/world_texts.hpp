@@ -8,9 +8,10 @@
 /// written by filling those two values in: the full form costs a copy of the static text, the
 /// change-only form (`{"items":...,"robot":...}`) does not depend on the wall count at all.
 ///
-/// The split is checked when a version is made: the reassembled text of the state it was made
-/// from must equal the plugin's text byte for byte; a plugin whose text does not split that way
-/// (items or robot written differently) keeps being asked for every state, in both forms.
+/// The two values come from the plugin too (sdk::World::save_items, save_robot: the plugin owns
+/// its format, docs/worlds.md). The split is checked when a version is made: the reassembled
+/// text of the state it was made from must equal the plugin's whole text byte for byte; a plugin
+/// whose parts do not reassemble keeps being asked for its whole text, in both forms.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -18,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::kernel {
@@ -36,9 +38,9 @@ std::string_view top_level_value(std::string_view text, std::string_view key);
 
 class WorldTexts {
  public:
-  using Save = std::function<std::string(const sdk::WorldState&)>;
-  /// `save` is the world plugin's writer (single-line JSON text).
-  explicit WorldTexts(Save save) : save_(std::move(save)) {}
+  using WorldPlugin = std::function<const PluginRef<sdk::World>&()>;
+  /// `world` gives the session's current world plugin (a rebind may change it).
+  explicit WorldTexts(WorldPlugin world) : world_(std::move(world)) {}
 
   /// Rebinds `state` to the geometry and rooms of a recent version with equal content, so a
   /// reloaded world (a client sending the same map again) keeps its version and its texts.
@@ -53,10 +55,6 @@ class WorldTexts {
   /// The version's world object without "items" and "robot" (walls, rooms, bounds, ...).
   const std::string& geometry(const sdk::WorldState& state);
 
-  /// The items and robot values as the SDK's world_format::write_world writes them.
-  static void append_items(std::string& out, const sdk::WorldState& state);
-  static void append_robot(std::string& out, const sdk::WorldState& state);
-
  private:
   struct Version {
     std::uint64_t id = 0;
@@ -69,9 +67,11 @@ class WorldTexts {
     std::string geometry_text;  ///< the object without items and robot
   };
   Version& find_or_make(const sdk::WorldState& state);
-  static std::string assemble(const Version& v, const sdk::WorldState& state);
+  std::string assemble(const Version& v, const sdk::WorldState& state) const;
+  /// The plugin's whole text, on one line (a multi-line text is normalised).
+  std::string save(const sdk::WorldState& state) const;
 
-  Save save_;
+  WorldPlugin world_;
   std::vector<std::unique_ptr<Version>> versions_;  // most recent first, a few kept
   std::uint64_t next_id_ = 1;
 };

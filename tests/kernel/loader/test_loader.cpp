@@ -2,6 +2,8 @@
 // broken plugin in tests/sdk/kits/bad refused with the exact code and the file named.
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <map>
 
 #include "flipper/kernel/loader.hpp"
 #include "flipper/sdk/param_check.hpp"
@@ -37,6 +39,40 @@ TEST_CASE("the index finds sidecars without loading code", "[loader]") {
   }
   CHECK(planner);
   CHECK(dup_one);
+}
+
+TEST_CASE("a world plugin's sidecar says the dims it reads, any other value is an index error",
+          "[loader][world]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(FLIPPER_BINARY_DIR) / "tests/tmp/world_dims";
+  fs::create_directories(dir);
+  fs::copy_file(fs::path(kerneltest::good_dir()) / "test_world.so", dir / "test_world.so",
+                fs::copy_options::overwrite_existing);
+  const std::vector<std::pair<std::string, std::string>> sidecars = {
+      {"w_none", ""}, {"w_two", "dims: 2\n"}, {"w_three", "dims: 3\n"}, {"w_four", "dims: 4\n"}};
+  for (const auto& [name, dims] : sidecars) {
+    std::ofstream(dir / (name + ".flipper.yaml"))
+        << "name: " << name << "\nkind: world\nlibrary: test_world.so\n"
+        << dims;
+  }
+  std::map<std::string, kernel::PluginEntry> found;
+  const PluginLoader loader({dir.string()});
+  for (const auto& e : loader.entries()) found[e.name] = e;
+  CHECK(found.at("w_none").dims == 0);
+  CHECK(found.at("w_two").dims == 2);
+  CHECK(found.at("w_three").dims == 3);
+  CHECK(found.at("w_three").index_error.empty());
+  CHECK(found.at("w_four").index_error ==
+        "sidecar '" + (dir / "w_four.flipper.yaml").string() +
+            "' says dims 4 (world plugins read 2- or 3-D worlds)");
+  // The in-tree world plugins declare theirs (flipper_add_plugin DIMS).
+  std::map<std::string, int> built;
+  const PluginLoader in_tree({FLIPPER_PLUGIN_DIR});
+  for (const auto& e : in_tree.entries())
+    if (e.kind == "world") built[e.name] = e.dims;
+  CHECK(built.at("grid2d") == 2);
+  CHECK(built.at("ros_map") == 2);
+  CHECK(built.at("octomap3d") == 3);
 }
 
 TEST_CASE("a plugin is created with validated params and keeps its library loaded", "[loader]") {

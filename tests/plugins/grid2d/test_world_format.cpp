@@ -81,3 +81,33 @@ TEST_CASE("world_format reads wall lists exactly, well-formed or not", "[world_f
   CHECK(parse("{\"a\": [1, 2]}") == "walls must be an array of points, not an object");
   CHECK(parse("[[0, 0], [\"1\", 2]]") == "walls[1]: x must be an integer, not a string");
 }
+
+TEST_CASE("world_format says when a world reads in the other dimensions", "[world_format]") {
+  auto dims_of_refusal = [](const std::string& text, int dims, std::string& message) {
+    try {
+      (void)wf::parse_world(text, dims);
+    } catch (const flipper::sdk::OtherDimsError& e) {
+      CHECK(e.code() == codes::kBadWorld);
+      message = e.what();
+      return e.world_dims();
+    } catch (const Error& e) {
+      CHECK(e.code() == codes::kBadWorld);
+      message = e.what();
+      return 0;
+    }
+    return -1;
+  };
+  std::string message;
+  // A 3-D world for a 2-D reader: the reader's own message, the world's dimensions.
+  CHECK(dims_of_refusal(R"({"robot": {"x": 0, "y": 0, "z": 0}, "walls": [[1, 2, 3]]})", 2,
+                        message) == 3);
+  CHECK(message == "walls[0]: a point must be an array of 2 integers");
+  CHECK(dims_of_refusal(R"({"robot": {"x": 0, "y": 0}, "walls": [[1, 2]]})", 3, message) == 2);
+  CHECK(message == "walls[0]: a point must be an array of 3 integers");  // walls are read first
+  // Malformed in both: a plain bad_world.
+  CHECK(dims_of_refusal(R"({"robot": {"x": 0, "y": 0}, "walls": [[1]]})", 3, message) == 0);
+  CHECK(message == "walls[0]: a point must be an array of 3 integers");
+  CHECK(dims_of_refusal(R"({"robot": {"x": 0, "y": 0}, "walls": [[1]]})", 2, message) == 0);
+  // Well-formed: accepted.
+  CHECK(dims_of_refusal(R"({"robot": {"x": 0, "y": 0}, "walls": [[1, 2]]})", 2, message) == -1);
+}

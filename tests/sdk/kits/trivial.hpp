@@ -37,7 +37,8 @@ class TestWorld : public sdk::World {
   }
 
  protected:
-  sdk::WorldState do_load(std::string_view text, const std::string&) const override {
+  sdk::WorldState do_load(std::string_view text, const std::string&,
+                          const sdk::WorldLimits&) const override {
     maybe_throw(throw_in_, "load");
     if (text.find("bad") != std::string_view::npos)
       throw sdk::Error(sdk::codes::kBadWorld, "test world: entry 'bad' is not allowed");

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/export.hpp"
 #include "flipper/sdk/geometry.hpp"
 #include "flipper/sdk/plugin.hpp"
@@ -121,27 +122,67 @@ struct FLIPPER_SDK_API WorldState {
   bool same_state(const WorldState& other) const;
 };
 
-/// World plugin: reads, validates and writes the protocol's world object for one kind of space.
+/// What the host lets one world cost (docs/worlds.md § "Limits"). A world plugin refuses a world
+/// beyond them before it allocates it: more cells than `max_cells` with Error(world_too_large)
+/// ("the world has N cells; the limit is world.max_cells = M", world_format::check_cells words
+/// it), a file the world names larger than `max_file_bytes` with Error(file_too_large). The
+/// defaults are the largest limits a host may set, for callers without a configuration.
+struct WorldLimits {
+  std::uint64_t max_cells = std::uint64_t{1} << 28;       ///< the host's world.max_cells
+  std::uint64_t max_file_bytes = std::uint64_t{1} << 40;  ///< the host's input.max_file_bytes
+};
+
+/// A world written for the other number of dimensions (a 3-D world given to a 2-D plugin): code
+/// bad_world, the message is the reader's own complaint; the host adds a hint naming the world
+/// plugins that read such worlds (docs/worlds.md § "Hints"). world_format::parse_world throws it.
+class FLIPPER_SDK_API OtherDimsError : public Error {
+ public:
+  OtherDimsError(int world_dims, const std::string& message);
+  ~OtherDimsError() override;
+  /// The dimensions of the world that was given (2 or 3).
+  int world_dims() const noexcept { return world_dims_; }
+
+ private:
+  int world_dims_;
+};
+
+/// World plugin: the owner of the protocol's world object for one kind of space. It reads and
+/// validates it (within the host's limits) and writes it, whole or in the two parts that change
+/// from state to state (items and robot), so the host never reads or writes the format itself.
 /// JSON crosses the boundary as text so no JSON library type is part of the ABI.
+/// world_format.hpp holds helpers for the common parts of the format that a plugin may use.
 class FLIPPER_SDK_API World : public Plugin {
  public:
   using Interface = World;
   ~World() override;
 
   /// Parses a world object (JSON text). Relative file references (e.g. "octomap") are resolved
-  /// against `base_dir`. Throws Error(bad_world) naming the offending entry.
-  WorldState load(std::string_view world_json, const std::string& base_dir) const {
-    return do_load(world_json, base_dir);
+  /// against `base_dir`. Throws Error(bad_world) naming the offending entry (OtherDimsError for
+  /// a world of the other dimensions), Error(world_too_large) or Error(file_too_large) for a
+  /// world beyond `limits`, checked before the plugin allocates the world's cells.
+  WorldState load(std::string_view world_json, const std::string& base_dir,
+                  const WorldLimits& limits = {}) const {
+    return do_load(world_json, base_dir, limits);
   }
-  /// The normalised world object (JSON text) for this state: walls (or octomap), items with ids,
-  /// robot with held items, rooms, bounds.
+  /// The normalised world object (JSON text, one line) for this state: walls (or octomap), items
+  /// with ids, robot with held items, rooms, bounds.
   std::string save(const WorldState& state) const { return do_save(state); }
-  /// 2 or 3.
+  /// The value of "items" in `save(state)`, appended to `out` byte for byte as `save` writes it.
+  /// Hosts write the states of one geometry as its static text plus these two parts.
+  void save_items(std::string& out, const WorldState& state) const { do_save_items(out, state); }
+  /// The value of "robot" in `save(state)`, appended to `out` byte for byte as `save` writes it.
+  void save_robot(std::string& out, const WorldState& state) const { do_save_robot(out, state); }
+  /// 2 or 3 (also declared in the plugin's sidecar: `DIMS` of flipper_add_plugin).
   int dims() const { return do_dims(); }
 
  protected:
-  virtual WorldState do_load(std::string_view world_json, const std::string& base_dir) const = 0;
+  virtual WorldState do_load(std::string_view world_json, const std::string& base_dir,
+                             const WorldLimits& limits) const = 0;
   virtual std::string do_save(const WorldState& state) const = 0;
+  /// Default: world_format::append_items_json (the common format).
+  virtual void do_save_items(std::string& out, const WorldState& state) const;
+  /// Default: world_format::append_robot_json (the common format).
+  virtual void do_save_robot(std::string& out, const WorldState& state) const;
   virtual int do_dims() const = 0;
 };
 

@@ -7,7 +7,8 @@
 ///
 /// A world plugin parses the text with `parse_world`, decides the bounds (`default_bounds` when
 /// absent), builds its `Geometry`, checks placement with `check_placement` and assembles the
-/// state with `make_state`. `write_world` renders a state back, with the plugin's own fields
+/// state with `make_state`, checking the box with `check_cells` before it allocates the mask.
+/// `write_world` renders a state back, with the plugin's own fields
 /// (e.g. "walls" or "octomap") passed as JSON text. No JSON library type appears here.
 
 #include <cstdint>
@@ -55,8 +56,10 @@ struct WorldDocument {
 /// Parses a world object for a space of `dims` (2 or 3) dimensions. Points are arrays of `dims`
 /// integers; item and robot positions are objects with "x", "y" (and "z" in 3-D). Rejects
 /// malformed text, wrong types, duplicate keys (in particular duplicate room names), duplicate
-/// item ids, a missing robot and empty bounds with Error(bad_world) naming the entry. Unknown
-/// top-level fields are kept in `extra`; unknown fields inside items and the robot are ignored.
+/// item ids, a missing robot and empty bounds with Error(bad_world) naming the entry, and a world
+/// that reads in the other dimensions with OtherDimsError (so the host can name the plugins that
+/// read it). Unknown top-level fields are kept in `extra`; unknown fields inside items and the
+/// robot are ignored.
 FLIPPER_SDK_API WorldDocument parse_world(std::string_view json, int dims);
 
 /// The smallest box holding every wall, item, room point and the robot (the protocol's default).
@@ -64,6 +67,13 @@ FLIPPER_SDK_API Bounds default_bounds(const WorldDocument& doc);
 
 /// The explicit bounds, or the default ones.
 FLIPPER_SDK_API Bounds effective_bounds(const WorldDocument& doc);
+
+/// Cells of the box, counted in 64 bits (0 for an empty box).
+FLIPPER_SDK_API std::uint64_t cell_count(const Bounds& box);
+
+/// Refuses more than `limits.max_cells` cells with Error(world_too_large): "the world has N
+/// cells; the limit is world.max_cells = M". Call it before allocating anything per cell.
+FLIPPER_SDK_API void check_cells(std::uint64_t cells, const WorldLimits& limits);
 
 /// Checks that walls and room points lie inside the bounds, and that the robot and every item
 /// lie on free cells of `geometry`: `robot (2,6) is on a wall`, `items[4] (id 4) at (20,3) is

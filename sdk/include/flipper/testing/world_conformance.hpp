@@ -3,8 +3,9 @@
 /// Conformance checks for world plugins (header-only, Catch2 v2; include <catch2/catch.hpp>
 /// first). In the spirit of OMPL's StateSpace::sanityChecks(): the save/load round trip is a
 /// fixpoint, malformed worlds are refused with `bad_world` naming the entry, copies are
-/// independent, and the free cells agree with the mask. Every failure names its scenario: the
-/// world asked for, what came back and what disagrees.
+/// independent, the free cells agree with the mask, `save_items`/`save_robot` are the parts of
+/// `save`, and `load` keeps the host's cell limit exactly (docs/worlds.md). Every failure names its
+/// scenario: the world asked for, what came back and what disagrees.
 ///
 /// @code
 ///   FLIPPER_WORLD_CONFORMANCE("grid2d", [] { return load_plugin<sdk::World>("grid2d"); },
@@ -12,6 +13,7 @@
 /// @endcode
 
 #include <algorithm>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -154,6 +156,78 @@ inline void check_world_copies(const sdk::World& world, const std::string& good)
   REQUIRE(c.items == a.items);
 }
 
+/// The value of the top-level member `"key":` in a compact world text (as `save` writes it).
+inline std::string saved_member(const std::string& text, const std::string& key, char open,
+                                char close) {
+  const std::string tag = "\"" + key + "\":";
+  const auto at = text.find(tag);
+  if (at == std::string::npos || at + tag.size() >= text.size() || text[at + tag.size()] != open)
+    return {};
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = at + tag.size(); i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == open) {
+      ++depth;
+    } else if (c == close && --depth == 0) {
+      return text.substr(at + tag.size(), i + 1 - at - tag.size());
+    }
+  }
+  return {};
+}
+
+/// `save_items` and `save_robot` append exactly the "items" and "robot" values `save` writes,
+/// for the loaded world and for a changed copy (the host writes later states from them).
+inline void check_world_parts(const sdk::World& world, const std::string& good) {
+  INFO("parts: save_items/save_robot must append the \"items\"/\"robot\" values of save()");
+  sdk::WorldState s = world.load(good, ".");
+  for (int round = 0; round < 2; ++round) {
+    const std::string whole = world.save(s);
+    INFO("save: " << whole);
+    std::string items = "prefix", robot = "prefix";
+    world.save_items(items, s);
+    world.save_robot(robot, s);
+    REQUIRE(items.rfind("prefix", 0) == 0);  // appended, not replaced
+    REQUIRE(robot.rfind("prefix", 0) == 0);
+    CHECK(items.substr(6) == saved_member(whole, "items", '[', ']'));
+    CHECK(robot.substr(6) == saved_member(whole, "robot", '{', '}'));
+    // A changed state: the first item picked up, or the robot's item dropped where it stands.
+    if (!s.items.empty()) {
+      s.held.push_back(s.items.front().item);
+      s.items.erase(s.items.begin());
+    } else if (!s.held.empty()) {
+      s.items.push_back({s.held.back(), s.robot});
+      s.held.pop_back();
+    }
+  }
+}
+
+/// `load` refuses a world of more cells than `limits.max_cells` with world_too_large and loads
+/// it at exactly its cell count (the boundary N / N - 1).
+inline void check_world_limits(const sdk::World& world, const std::string& good) {
+  const std::uint64_t cells = world.load(good, ".").geometry->cell_count();
+  INFO("limits: the good world has " << cells << " cells; it must load with max_cells = " << cells
+                                     << " and be refused with " << cells - 1);
+  sdk::WorldLimits limits;
+  limits.max_cells = cells;
+  REQUIRE(world.load(good, ".", limits).geometry->cell_count() == cells);
+  limits.max_cells = cells - 1;
+  try {
+    (void)world.load(good, ".", limits);
+    FAIL("loaded a world larger than max_cells");
+  } catch (const sdk::Error& e) {
+    INFO("message: " << e.what());
+    REQUIRE(e.code() == sdk::codes::kWorldTooLarge);
+  }
+}
+
 /// Malformed worlds every world plugin must refuse, whatever its space.
 inline std::vector<BadWorld> generic_bad_worlds() {
   return {
@@ -179,6 +253,8 @@ inline void check_world_conformance(const WorldFactory& factory, const std::stri
   REQUIRE(world != nullptr);
   check_world_round_trip(*world, good);
   check_world_copies(*world, good);
+  check_world_parts(*world, good);
+  check_world_limits(*world, good);
   for (const auto& b : generic_bad_worlds()) require_bad_world(*world, b);
   for (const auto& b : bad) require_bad_world(*world, b);
 }

@@ -27,6 +27,7 @@ struct PluginEntry {
   std::string name;          ///< sidecar name, or the file stem of a bare .so
   std::string kind;          ///< sidecar kind; empty for a bare .so (known after loading)
   std::string version;       ///< sidecar version; empty for a bare .so
+  int dims = 0;              ///< a world plugin's sidecar `dims` (2 or 3); 0 when not declared
   std::string library;       ///< absolute path of the .so
   std::string sidecar;       ///< absolute path of the sidecar; empty when none
   std::string dir;           ///< the search directory it was found in

@@ -49,9 +49,10 @@ std::unique_ptr<Runtime> make_runtime(const Config& config);
 /// file of at most input.max_file_bytes (not_a_regular_file, file_too_large).
 sdk::WorldState load_world_file(const Runtime& rt, const std::string& path);
 
-/// Loads world JSON text with the runtime's world plugin, refusing worlds of more than
-/// world.max_cells cells (their explicit or default bounds) with world_too_large before the
-/// plugin allocates them. `base_dir` resolves the world's own file references.
+/// Loads world JSON text with the runtime's world plugin, which reads it once within the limits
+/// world.max_cells and input.max_file_bytes (world_too_large before it allocates the cells; the
+/// result is checked again). A world of the other dimensions names the plugins that read it,
+/// from their sidecars (docs/worlds.md). `base_dir` resolves the world's own file references.
 sdk::WorldState load_world_text(const Runtime& rt, const std::string& text,
                                 const std::string& base_dir);
 

@@ -185,7 +185,11 @@ class Session {
   /// The rule filter for the current user (null when every rule is visible).
   std::function<bool(const sdk::Rule&)> visible_rules() const;
 
-  /// The world object of a state, as the world plugin writes it.
+  /// The world object of a state as answers carry it: the world plugin's text (one line), from
+  /// its static text per world version and the plugin's items and robot parts (world_texts.hpp).
+  /// The last few are cached (candidates often end in the same world).
+  const std::string& world_text(const sdk::WorldState& state) const;
+  /// world_text as a tree, for callers that inspect it (the text is parsed on each call).
   Json world_json(const sdk::WorldState& state) const;
   /// The protocol version the client asked for with `hello` (docs/protocol.md § "Protocol
   /// versions"); 1 by default.
@@ -203,9 +207,6 @@ class Session {
     sdk::WorldState state;
     std::string text;
   };
-  /// The full text for a state; the last few are cached (candidates often end in the same
-  /// world, and the current world is written again and again).
-  const std::string& world_text(const sdk::WorldState& state);
   /// The answer to a parsed request, written to `out`; `line` is its text (empty when the
   /// request did not come as a line): `op` and `id` are echoed from it.
   void answer(const Json& request, std::string_view line, std::string& out);
@@ -228,9 +229,9 @@ class Session {
   Extensions runtime_extensions_, own_extensions_;
   EventBus events_;
   std::uint64_t accepted_plans_ = 0;
-  std::vector<CachedWorld> world_cache_;  // most recent first
-  std::unique_ptr<WorldTexts> texts_;     // world texts by version (world_texts.hpp)
-  struct LoadedWorld {                    // a world op's input and what it loaded
+  mutable std::vector<CachedWorld> world_cache_;  // most recent first
+  std::unique_ptr<WorldTexts> texts_;             // world texts by version (world_texts.hpp)
+  struct LoadedWorld {                            // a world op's input and what it loaded
     std::string base, text;
     sdk::WorldState state;
   };
