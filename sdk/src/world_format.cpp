@@ -9,7 +9,7 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 namespace world_format {
 namespace {
 
@@ -589,5 +589,5 @@ std::string write_world(const WorldState& state, const std::vector<RawField>& fi
 }
 
 }  // namespace world_format
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

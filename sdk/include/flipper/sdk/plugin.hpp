@@ -24,7 +24,7 @@
 #include "flipper/sdk/version.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// The plugin kinds. Values are part of the ABI: never renumber, only add.
 enum class PluginKind : std::uint32_t {
@@ -60,7 +60,7 @@ class Similarity;
 template <class Interface>
 struct KindOf;
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk
 
 extern "C" {
