@@ -1,20 +1,23 @@
 # flipper_detect_fingerprint(<out-var> <sdk include dir>)
 #
-# The build fingerprint (flipper/sdk/version.hpp: FLIPPER_BUILD_FINGERPRINT — compiler family and
-# major version, libstdc++ ABI, Boost version, C++ standard) that this project's C++ compiler,
-# with its flags, would write into a plugin. The plugin loader refuses a plugin whose fingerprint
+# The build fingerprint (flipper/sdk/version.hpp: FLIPPER_BUILD_FINGERPRINT — the plugin ABI, the
+# C++ standard library and its ABI, the pointer size; no compiler name) that this project's C++
+# compiler, with its flags, would write into a plugin. The plugin loader refuses a plugin whose fingerprint
 # differs from the kernel's; the FlipperSDK package compares it at configure time, so a mismatch
 # is reported before anything is built. Compiles one file (a static library, nothing is run) and
-# reads the string back from it; cached per compiler and flags.
+# reads the string back from it; cached per compiler, flags and version.hpp.
 include_guard(GLOBAL)
 
 function(flipper_detect_fingerprint out sdk_include_dir)
   set(probe [=[
-#include "flipper/sdk/plugin.hpp"  // as a plugin includes it (the string ABI macro comes first)
+#include "flipper/sdk/plugin.hpp"  // as a plugin includes it
 extern const char flipper_fingerprint[];
 const char flipper_fingerprint[] = "FLIPPER_FINGERPRINT[" FLIPPER_BUILD_FINGERPRINT "]";
 ]=])
-  string(MD5 key "${CMAKE_CXX_COMPILER}|${CMAKE_CXX_FLAGS}|${sdk_include_dir}|${probe}")
+  # Cached per compiler, flags and version.hpp (which defines the fingerprint).
+  file(MD5 ${sdk_include_dir}/flipper/sdk/version.hpp version_hash)
+  string(MD5 key
+    "${CMAKE_CXX_COMPILER}|${CMAKE_CXX_FLAGS}|${sdk_include_dir}|${version_hash}|${probe}")
   if(DEFINED FLIPPER_FINGERPRINT_KEY AND FLIPPER_FINGERPRINT_KEY STREQUAL key)
     set(${out} "${FLIPPER_FINGERPRINT_VALUE}" PARENT_SCOPE)
     return()

@@ -130,8 +130,14 @@ std::string readme(const std::string& kind, const std::string& name) {
          name +
          ".cpp` creates the plugin with\n"
          "  `flipper::testing::load_plugin`, as the kernel would.\n"
-         "- CMake refuses a compiler other than the SDK's at configure time: the kernel would "
-         "refuse the plugin.\n";
+         "- Threads: the kernel calls an instance for one request at a time, but runs instances "
+         "concurrently\n"
+         "  (`flipper/sdk/plugin.hpp`): keep per-call scratch in the instance without a lock; "
+         "guard state\n"
+         "  shared between instances. The kit runs two instances at once to check it.\n"
+         "- CMake refuses, at configure time, a C++ standard library ABI other than the SDK's "
+         "(g++ and\n"
+         "  clang++ against the same libstdc++ both fit): the kernel would refuse the plugin.\n";
 }
 
 int scaffold(const std::string& kind, const std::string& name, std::string dir) {

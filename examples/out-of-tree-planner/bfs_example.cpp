@@ -2,6 +2,8 @@
 // among equally near goals the smallest (x, y, z) wins, and neighbours are expanded in the
 // geometry's tie order, as the planner contract asks. Tours are greedy nearest-neighbour.
 // Its one parameter is declared once, as a typed handle (flipper/sdk/config_handles.hpp).
+// Threads: the kernel calls an instance for one request at a time (flipper/sdk/plugin.hpp), so an
+// instance may keep scratch buffers between calls without a lock; this one allocates per call.
 #include <flipper/sdk/config_handles.hpp>
 #include <flipper/sdk/planner.hpp>
 #include <flipper/sdk/plugin.hpp>

@@ -4,7 +4,6 @@
 // Works on any Geometry: the neighbourhood comes from geometry.neighbour_offsets().
 #include <algorithm>
 #include <limits>
-#include <mutex>
 #include <numeric>
 
 #include "distance_cache.hpp"
@@ -59,8 +58,8 @@ class AStarPlanner final : public sdk::Planner {
                           const sdk::StopCondition& stop) const override {
     // Goals present, start in bounds, stop not yet fired: Planner::plan checked.
     sdk::PathResult r;
-    // The buffers are shared by every call on this instance: calls are serialised.
-    std::lock_guard<std::mutex> lock(mutex_);
+    // The buffers are this instance's, reused between calls: one request at a time per
+    // instance (flipper/sdk/plugin.hpp), so no lock.
     if (!search_.prepare(g)) {
       r.status = sdk::PlanStatus::invalid;
       r.message = "the world is too large for 32-bit cell indexes";
@@ -97,7 +96,6 @@ class AStarPlanner final : public sdk::Planner {
     }
     if (points.empty()) return r;
     if (stop.expired()) return stopped(r, by_cell);
-    std::lock_guard<std::mutex> lock(mutex_);
     if (!g.in_bounds(start) || !search_.prepare(g)) {
       r.status = sdk::PlanStatus::invalid;
       r.order = by_cell;
@@ -263,9 +261,9 @@ class AStarPlanner final : public sdk::Planner {
   bool or_opt_;
   bool manhattan_;
   std::int64_t max_tour_points_;
-  mutable std::mutex mutex_;
+  // Scratch state of this instance's calls (one at a time, flipper/sdk/plugin.hpp).
   mutable GridSearch search_;
-  mutable DistanceCache cache_;  // guarded by mutex_, like search_
+  mutable DistanceCache cache_;
 };
 
 }  // namespace

@@ -13,7 +13,7 @@
 #include "flipper/sdk/planner.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 namespace {
 
@@ -158,5 +158,5 @@ std::optional<Violation> parse_violation(const ParseRequest& req, const ParseRes
   return std::nullopt;
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -6,7 +6,7 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 namespace {
 
@@ -483,5 +483,5 @@ Program normal_form(const Program& p) {
   return make(p->kind, std::move(kids));
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

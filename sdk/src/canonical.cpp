@@ -16,7 +16,7 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 namespace {
 
@@ -760,5 +760,5 @@ Program read_template(std::string_view text, Sort sort, const std::vector<Sort>&
   return Reader(text, &hole_sorts).read(sort);
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -1,7 +1,7 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 Error::Error(std::string code, const std::string& message)
     : std::runtime_error(message), code_(std::move(code)) {}
 Error::~Error() = default;
@@ -14,5 +14,5 @@ StopCause stop_cause_of(const std::exception& e) noexcept {
   const auto* stopped = dynamic_cast<const StoppedError*>(&e);
   return stopped != nullptr ? stopped->cause() : StopCause::none;
 }
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -8,7 +8,7 @@
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 std::string to_string(const Cell& c, int dims) {
   std::string s = "[" + std::to_string(c.x) + "," + std::to_string(c.y);
@@ -103,5 +103,5 @@ bool WorldState::same_state(const WorldState& o) const {
   return true;
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

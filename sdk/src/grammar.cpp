@@ -10,7 +10,7 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 namespace {
 
@@ -286,5 +286,5 @@ std::string describe(const Rule& rule) {
   return out;
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

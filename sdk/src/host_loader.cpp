@@ -10,7 +10,9 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/version.hpp"
 
-namespace flipper::sdk::host {
+namespace flipper::sdk {
+inline namespace FLIPPER_ABI_NAMESPACE {
+namespace host {
 
 FlipperHandshake handshake() {
   return {FLIPPER_PLUGIN_ABI, static_cast<std::uint32_t>(sizeof(FlipperPluginDescriptor)),
@@ -85,4 +87,6 @@ const FlipperPluginDescriptor& checked_descriptor(const Library& library, const 
   return *d;
 }
 
-}  // namespace flipper::sdk::host
+}  // namespace host
+}  // namespace FLIPPER_ABI_NAMESPACE
+}  // namespace flipper::sdk

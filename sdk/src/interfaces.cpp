@@ -7,7 +7,7 @@
 #include "flipper/sdk/sdk.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 Plugin::~Plugin() = default;
 World::~World() = default;
@@ -136,5 +136,5 @@ std::size_t Rule::arity() const {
   return n;
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

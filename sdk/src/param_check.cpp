@@ -7,7 +7,7 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 namespace {
 
 // Optimal string alignment distance: insertions, deletions, substitutions and transpositions
@@ -258,5 +258,5 @@ Params validate_params(const ParamSchema& schema, const std::map<std::string, Pa
   return out;
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

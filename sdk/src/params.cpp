@@ -6,7 +6,7 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 ParamSchema& ParamSchema::add_bool(std::string name, bool def, std::string description) {
   params.push_back({std::move(name),
@@ -191,5 +191,5 @@ std::string to_string(const ParamValue& v) {
   return os.str();
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -9,7 +9,7 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 namespace world_format {
 namespace {
 
@@ -639,5 +639,5 @@ void World::do_save_robot(std::string& out, const WorldState& state) const {
   world_format::append_robot_json(out, state, state.geometry ? state.geometry->dims() : dims());
 }
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

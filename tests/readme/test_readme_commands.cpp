@@ -86,7 +86,7 @@ const std::map<std::string, Expected> kExpected = {
      {1, {"flipper lexicon delete: [forbidden] "}}},
     {R"(build/bin/flipper config check configs/grid-ompl.yaml)",
      {0, {"config ok: configs/grid-ompl.yaml", "plugin: ompl"}}},
-    {R"(build/bin/flipper --version)", {0, {"flipper 0.1.0 (plugin SDK 2."}}},
+    {R"(build/bin/flipper --version)", {0, {"flipper 0.1.0 (plugin SDK 3."}}},
 };
 
 std::vector<std::string> marked_commands(const std::string& readme_path) {

@@ -91,7 +91,8 @@ QueryResult Session::query(const QueryRequest& request) {
   pr.context.user = user_;
   pr.context.usage = runtime_->usage.get();
   pr.scorer = runtime_->scorer.borrow();  // the parser's call guards its scorer calls
-  pr.visible = visible_rules();
+  const auto visible = visible_rules();   // outlives the parse below
+  pr.visible = sdk::RuleFilter::of(visible);
   pr.beam = options_.beam;
   pr.stop = request_stop();
   q->parse = checked_parse(runtime_->parser, pr);  // docs/plugins-untrusted.md

@@ -47,7 +47,7 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
   req.scorer = scorer_.borrow();  // covered by the parse call that uses it
   req.context.user = def.author;
   req.context.usage = usage_;
-  req.visible = visible;
+  req.visible = sdk::RuleFilter::of(visible);  // `visible` outlives every parse below
   req.beam = options_.beam;
   req.stop = stop;
   auto refuse_if_stopped = [&](const sdk::ParseResult& r, const std::string& what) {

@@ -79,7 +79,8 @@ std::vector<DefineConflict> Naturalizer::find_conflicts(
     req.scorer = runtime_->scorer.borrow();  // covered by the parse call that uses it
     req.context.user = probe.user;
     req.context.usage = runtime_->usage.get();
-    req.visible = visibility_for(probe.user);
+    const auto visible = visibility_for(probe.user);  // outlives the parse below
+    req.visible = sdk::RuleFilter::of(visible);
     req.beam = options_.induction.beam;
     req.stop = stop;
     auto result = kernel::checked_parse(runtime_->parser, req);  // docs/plugins-untrusted.md

@@ -93,9 +93,9 @@ TEST_CASE("induced rules: incremental add and remove, core first, visibility, st
   CHECK(r.candidates[0].core_only);
   CHECK(sdk::render(r.candidates[1].program) == "{move right}");
   // Visibility (sharing modes).
-  r = parse_with(*parser, *scorer, "pick 3 items", [](sdk::ParseRequest& q) {
-    q.visible = [](const sdk::Rule& x) { return !x.induced; };
-  });
+  const auto core_only = [](const sdk::Rule& x) { return !x.induced; };
+  r = parse_with(*parser, *scorer, "pick 3 items",
+                 [&](sdk::ParseRequest& q) { q.visible = sdk::RuleFilter::of(core_only); });
   CHECK(r.candidates.empty());
   // Newer rule first on equal scores.
   parser->add_rule(

@@ -178,7 +178,8 @@ TEST_CASE("StartRules selects exactly the rules brute force says may start at ea
     for (int u = 0; u < 150; ++u) check_utterance(index, live, random_utterance(rng), {});
   }
   SECTION("with a visibility filter") {
-    const StartRules::Visible not_u2 = [](const sdk::Rule& r) { return r.author != "u2"; };
+    const auto not_u2_fn = [](const sdk::Rule& r) { return r.author != "u2"; };
+    const StartRules::Visible not_u2 = StartRules::Visible::of(not_u2_fn);
     for (int u = 0; u < 150; ++u) check_utterance(index, live, random_utterance(rng), not_u2);
   }
   // Not vacuous: the random utterances select rules (brute force's count, summed).

@@ -116,7 +116,7 @@ struct Pair {
       req.tokens = sdk::tokenize(utterances()[k]);
       req.scorer = scorer.get();
       req.context.user = "u1";
-      req.visible = visible;
+      req.visible = sdk::RuleFilter::of(visible);
       req.want_chart = want_chart;
       const auto a = indexed->parse(req);
       const auto b = oracle->parse(req);

@@ -14,7 +14,7 @@
 #include "flipper/sdk/export.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 // Declared only (flipper/sdk/planner.hpp and parser.hpp define them): this header may come
 // first (kernel/plugin_checks.hpp includes it for these declarations), and ast.hpp included
@@ -66,5 +66,5 @@ FLIPPER_SDK_API std::optional<std::string> tour_violation(std::size_t points,
 FLIPPER_SDK_API std::optional<Violation> parse_violation(const ParseRequest& request,
                                                          const ParseResult& result);
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

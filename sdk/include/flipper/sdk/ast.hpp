@@ -20,98 +20,101 @@
 #include "flipper/sdk/export.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// Sorts of the language; each corresponds to a grammar category (in parentheses).
+/// Values cross the plugin boundary: pinned in sdk/src/abi_pins.cpp; never renumber, only append.
 enum class Sort : std::uint8_t {
-  Action,       ///< statement ($Action / $Actions)
-  Condition,    ///< ($Situation / $Situations)
-  Point,        ///< ($Point)
-  Area,         ///< ($Area / $Areas)
-  Collection,   ///< ($AreaCollection / $AreaCollections)
-  Item,         ///< ($Item)
-  CountedItem,  ///< `every item ...` ($CountedItem); a plain Item is also accepted where counted
-  Filter,       ///< ($PropertySet / $PropertySets)
-  Number,       ///< ($Number / $Numbers)
-  Direction,    ///< ($Direction)
-  Color,        ///< ($Color)
-  Shape,        ///< ($Shape)
-  ItemAct,      ///< the verb of an item action, `pick` or `drop` ($ItemAct)
+  Action = 0,      ///< statement ($Action / $Actions)
+  Condition = 1,   ///< ($Situation / $Situations)
+  Point = 2,       ///< ($Point)
+  Area = 3,        ///< ($Area / $Areas)
+  Collection = 4,  ///< ($AreaCollection / $AreaCollections)
+  Item = 5,        ///< ($Item)
+  CountedItem =
+      6,          ///< `every item ...` ($CountedItem); a plain Item is also accepted where counted
+  Filter = 7,     ///< ($PropertySet / $PropertySets)
+  Number = 8,     ///< ($Number / $Numbers)
+  Direction = 9,  ///< ($Direction)
+  Color = 10,     ///< ($Color)
+  Shape = 11,     ///< ($Shape)
+  ItemAct = 12,   ///< the verb of an item action, `pick` or `drop` ($ItemAct)
   /// A colour or a shape word ($Property): the sort of template holes that either may fill
   /// (`is $1`), so an induced rule can abstract `red` and still take `triangle`. No program
   /// node has this sort; Color and Shape words fit it (see `sort_fits`).
-  Property,
+  Property = 13,
 };
 
+/// Values cross the plugin boundary: pinned in sdk/src/abi_pins.cpp; never renumber, only append.
 enum class Kind : std::uint8_t {
   // --- statements (Sort::Action)
-  Seq,              ///< kids: >= 2 statements
-  Strict,           ///< kids: [statement]
-  Move,             ///< kids: [Direction]
-  VisitPoint,       ///< kids: [point] or [point, avoid-area]
-  VisitArea,        ///< kids: [area] or [area, avoid-area]
-  VisitCollection,  ///< kids: [collection] or [collection, avoid-area]
-  Pick,             ///< kids: [Item or Every]
-  Drop,             ///< kids: [Item or Every]
-  ForeachPoint,     ///< kids: [area, body]
-  ForeachArea,      ///< kids: [collection, body]
-  Repeat,           ///< kids: [number, body]
-  If,               ///< kids: [condition, body]
-  While,            ///< kids: [condition, body]
+  Seq = 0,              ///< kids: >= 2 statements
+  Strict = 1,           ///< kids: [statement]
+  Move = 2,             ///< kids: [Direction]
+  VisitPoint = 3,       ///< kids: [point] or [point, avoid-area]
+  VisitArea = 4,        ///< kids: [area] or [area, avoid-area]
+  VisitCollection = 5,  ///< kids: [collection] or [collection, avoid-area]
+  Pick = 6,             ///< kids: [Item or Every]
+  Drop = 7,             ///< kids: [Item or Every]
+  ForeachPoint = 8,     ///< kids: [area, body]
+  ForeachArea = 9,      ///< kids: [collection, body]
+  Repeat = 10,          ///< kids: [number, body]
+  If = 11,              ///< kids: [condition, body]
+  While = 12,           ///< kids: [condition, body]
   // --- conditions (Sort::Condition)
-  CondAnd,       ///< kids: [c1, c2]
-  CondOr,        ///< kids: [c1, c2]
-  CondNot,       ///< kids: [c]
-  ItemAtPoint,   ///< kids: [item, point]
-  ItemAtArea,    ///< kids: [item, area]
-  RobotHas,      ///< kids: [item]
-  RobotAtPoint,  ///< kids: [point]
-  RobotAtArea,   ///< kids: [area]
-  Possible,      ///< kids: [statement]
+  CondAnd = 13,       ///< kids: [c1, c2]
+  CondOr = 14,        ///< kids: [c1, c2]
+  CondNot = 15,       ///< kids: [c]
+  ItemAtPoint = 16,   ///< kids: [item, point]
+  ItemAtArea = 17,    ///< kids: [item, area]
+  RobotHas = 18,      ///< kids: [item]
+  RobotAtPoint = 19,  ///< kids: [point]
+  RobotAtArea = 20,   ///< kids: [area]
+  Possible = 21,      ///< kids: [statement]
   // --- points (Sort::Point)
-  PointXY,   ///< kids: [number, number] (or three numbers in 3-D)
-  Current,   ///< the robot's cell
-  PointVar,  ///< loop variable `point`
+  PointXY = 22,   ///< kids: [number, number] (or three numbers in 3-D)
+  Current = 23,   ///< the robot's cell
+  PointVar = 24,  ///< loop variable `point`
   // --- areas (Sort::Area)
-  World,           ///< all free cells
-  Room,            ///< a named room: leaf, `text` = "room1"
-  AreaVar,         ///< loop variable `area`
-  PointList,       ///< kids: >= 1 points
-  Corners,         ///< kids: [point, point]
-  AreaOr,          ///< kids: [a, b]
-  AreaAnd,         ///< kids: [a, b]
-  AreaMinus,       ///< kids: [a, b]
-  AreaContaining,  ///< kids: [area, item]
+  World = 25,           ///< all free cells
+  Room = 26,            ///< a named room: leaf, `text` = "room1"
+  AreaVar = 27,         ///< loop variable `area`
+  PointList = 28,       ///< kids: >= 1 points
+  Corners = 29,         ///< kids: [point, point]
+  AreaOr = 30,          ///< kids: [a, b]
+  AreaAnd = 31,         ///< kids: [a, b]
+  AreaMinus = 32,       ///< kids: [a, b]
+  AreaContaining = 33,  ///< kids: [area, item]
   // --- collections (Sort::Collection)
-  Rooms,           ///< all rooms
-  AreaList,        ///< kids: >= 1 areas
-  CollOr,          ///< kids: [c, d]
-  CollAnd,         ///< kids: [c, d]
-  CollMinus,       ///< kids: [c, d]
-  CollContaining,  ///< kids: [collection, item]
+  Rooms = 34,           ///< all rooms
+  AreaList = 35,        ///< kids: >= 1 areas
+  CollOr = 36,          ///< kids: [c, d]
+  CollAnd = 37,         ///< kids: [c, d]
+  CollMinus = 38,       ///< kids: [c, d]
+  CollContaining = 39,  ///< kids: [collection, item]
   // --- items
-  Item,       ///< Sort::Item; kids: [] or [filter]
-  Every,      ///< Sort::CountedItem; kids: [item]
-  FilterIs,   ///< Sort::Filter; kids: [Color or Shape] (a template: a Property hole)
-  FilterAnd,  ///< kids: [f, g]
-  FilterOr,   ///< kids: [f, g]
-  FilterNot,  ///< kids: [f]
+  Item = 40,       ///< Sort::Item; kids: [] or [filter]
+  Every = 41,      ///< Sort::CountedItem; kids: [item]
+  FilterIs = 42,   ///< Sort::Filter; kids: [Color or Shape] (a template: a Property hole)
+  FilterAnd = 43,  ///< kids: [f, g]
+  FilterOr = 44,   ///< kids: [f, g]
+  FilterNot = 45,  ///< kids: [f]
   // --- numbers (Sort::Number)
-  Num,  ///< value in `number`
-  Add,  ///< kids: [a, b]
-  Sub,  ///< kids: [a, b]
+  Num = 46,  ///< value in `number`
+  Add = 47,  ///< kids: [a, b]
+  Sub = 48,  ///< kids: [a, b]
   // --- words (leaves with `text`)
-  Direction,  ///< Sort::Direction, e.g. "up"
-  Color,      ///< Sort::Color, e.g. "red" ("grey" is stored as "gray")
-  Shape,      ///< Sort::Shape, e.g. "triangle"
-  ItemAct,    ///< Sort::ItemAct, "pick" or "drop"
+  Direction = 49,  ///< Sort::Direction, e.g. "up"
+  Color = 50,      ///< Sort::Color, e.g. "red" ("grey" is stored as "gray")
+  Shape = 51,      ///< Sort::Shape, e.g. "triangle"
+  ItemAct = 52,    ///< Sort::ItemAct, "pick" or "drop"
   /// Sort::Action; kids: [ItemAct, CountedItem]. The grammar's view of pick/drop, where the verb
   /// is a node of its own (so an induced rule can abstract it: `$ItemAct $Number items`).
   /// `make` normalises it to Pick/Drop as soon as the verb is a word; it survives only with a
   /// Hole verb (templates) and in `full_form`.
-  ItemAction,
+  ItemAction = 53,
   // --- templates
-  Hole,  ///< a template hole: `index` (0-based), sort in `sort`
+  Hole = 54,  ///< a template hole: `index` (0-based), sort in `sort`
 };
 
 struct Node;
@@ -172,5 +175,5 @@ FLIPPER_SDK_API bool loop_variables_bound(const Program& p);
 FLIPPER_SDK_API Program full_form(const Program& p);
 FLIPPER_SDK_API Program normal_form(const Program& p);
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -14,7 +14,7 @@
 #include "flipper/sdk/export.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// Splits an utterance into tokens per core-language §2 (lower-cased).
 FLIPPER_SDK_API std::vector<std::string> tokenize(std::string_view text);
@@ -35,5 +35,5 @@ FLIPPER_SDK_API Program read_canonical(std::string_view text, Sort sort = Sort::
 FLIPPER_SDK_API Program read_template(std::string_view text, Sort sort,
                                       const std::vector<Sort>& hole_sorts);
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -11,7 +11,7 @@
 #include "flipper/sdk/grammar.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 struct Derivation;
 using DerivationPtr = std::shared_ptr<const Derivation>;
@@ -38,5 +38,5 @@ struct Candidate {
   std::int64_t newest_rule = 0;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -11,7 +11,7 @@
 #include "flipper/sdk/stop.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// Stable error codes. They appear in protocol answers (`error.code`) and CLI messages; never
 /// rename one, only add.
@@ -67,5 +67,5 @@ class FLIPPER_SDK_API StoppedError : public Error {
 /// The cause of a StoppedError, or none for any other exception.
 FLIPPER_SDK_API StopCause stop_cause_of(const std::exception& e) noexcept;
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

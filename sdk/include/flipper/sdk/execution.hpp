@@ -15,11 +15,12 @@
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// One trace step: a move into a cell, or an item picked/dropped at a cell.
 struct TraceStep {
-  enum class Act { move, pick, drop };
+  /// Values cross the plugin boundary: pinned in sdk/src/abi_pins.cpp; never renumber, only append.
+  enum class Act { move = 0, pick = 1, drop = 2 };
   Act act = Act::move;
   Cell cell;      ///< `to` for moves, `at` for pick/drop
   ItemInfo item;  ///< pick/drop only
@@ -46,5 +47,5 @@ class FLIPPER_SDK_API ExecutionService {
   virtual Outcome run(const Program& program, const WorldState& world) const = 0;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

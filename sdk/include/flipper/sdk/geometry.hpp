@@ -12,7 +12,7 @@
 #include "flipper/sdk/export.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 struct Cell {
   std::int32_t x = 0;
@@ -37,5 +37,5 @@ FLIPPER_SDK_API Area subtract(const Area& a, const Area& b);
 FLIPPER_SDK_API bool contains(const Area& a, const Cell& c);
 }  // namespace areas
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -39,17 +39,18 @@
 #include "flipper/sdk/export.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// One RHS symbol.
 struct Symbol {
+  /// Values cross the plugin boundary: pinned in sdk/src/abi_pins.cpp; never renumber, only append.
   enum class Type : std::uint8_t {
-    token,      ///< an exact token, e.g. "visit"
-    category,   ///< a category, e.g. "$Area"
-    number,     ///< any number token; semantics Num(value)
-    color,      ///< any colour word; semantics Color(word)
-    shape,      ///< any shape word; semantics Shape(word)
-    direction,  ///< any direction word; semantics Direction(word)
+    token = 0,      ///< an exact token, e.g. "visit"
+    category = 1,   ///< a category, e.g. "$Area"
+    number = 2,     ///< any number token; semantics Num(value)
+    color = 3,      ///< any colour word; semantics Color(word)
+    shape = 4,      ///< any shape word; semantics Shape(word)
+    direction = 5,  ///< any direction word; semantics Direction(word)
   };
   Type type = Type::token;
   std::string text;  ///< token text or category name ("$Area"); "@number" etc. for classes
@@ -57,7 +58,14 @@ struct Symbol {
 };
 
 /// How a rule came to be.
-enum class RuleOrigin : std::uint8_t { core, simple, best, alignment, rewriting };
+/// Values cross the plugin boundary: pinned in sdk/src/abi_pins.cpp; never renumber, only append.
+enum class RuleOrigin : std::uint8_t {
+  core = 0,
+  simple = 1,
+  best = 2,
+  alignment = 3,
+  rewriting = 4
+};
 FLIPPER_SDK_API const char* to_string(RuleOrigin o);  ///< "core", "simple", ...
 
 struct Rule {
@@ -126,5 +134,5 @@ FLIPPER_SDK_API Program apply_rule(const Rule& rule, const std::vector<Program>&
 /// "LHS -> rhs tokens => template" for listings.
 FLIPPER_SDK_API std::string describe(const Rule& rule);
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -12,7 +12,9 @@
 #include "flipper/sdk/params.hpp"
 #include "flipper/sdk/plugin.hpp"
 
-namespace flipper::sdk::host {
+namespace flipper::sdk {
+inline namespace FLIPPER_ABI_NAMESPACE {
+namespace host {
 
 /// The handshake this SDK build offers a plugin.
 FLIPPER_SDK_API FlipperHandshake handshake();
@@ -35,4 +37,6 @@ FLIPPER_SDK_API Library open_library(const std::string& path);
 FLIPPER_SDK_API const FlipperPluginDescriptor& checked_descriptor(const Library& library,
                                                                   const std::string& name);
 
-}  // namespace flipper::sdk::host
+}  // namespace host
+}  // namespace FLIPPER_ABI_NAMESPACE
+}  // namespace flipper::sdk

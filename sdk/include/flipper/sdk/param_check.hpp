@@ -12,7 +12,7 @@
 #include "flipper/sdk/params.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// Checks `given` against `schema` and returns the full parameter set (defaults filled in).
 /// Checks: unknown keys (with a hint among the key's siblings and the list of them), type (an Int
@@ -37,5 +37,5 @@ FLIPPER_SDK_API const char* to_string(ParamType type);
 /// The type as messages say it: "an integer", "a list of strings", ...
 FLIPPER_SDK_API const char* type_phrase(ParamType type);
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

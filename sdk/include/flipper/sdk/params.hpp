@@ -17,7 +17,7 @@
 #include "flipper/sdk/export.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// Values are only ever appended (PathList, DoubleList and Map came later): an older plugin never
 /// declares the new ones, so the values it knows keep their numbers (docs/sdk-migration.md).
@@ -140,5 +140,5 @@ class FLIPPER_SDK_API Params {
 /// Renders a value for listings and run records (`true`, `42`, `0.5`, `"text"`, `[a, b]`).
 FLIPPER_SDK_API std::string to_string(const ParamValue& v);
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -3,9 +3,9 @@
 /// Parser plugins: utterance tokens -> ranked candidates (docs/naturalization.md §2).
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "flipper/sdk/derivation.hpp"
@@ -16,14 +16,43 @@
 #include "flipper/sdk/scorer.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
+
+/// Which rules a parse may use (the lexicon's sharing modes): a plain callback, a function
+/// pointer and the context it is called with, so that no std::function (whose layout is the
+/// standard library's business) crosses the plugin boundary. An empty filter admits every rule.
+/// The caller owns what `context` points to and keeps it alive for the parse.
+struct RuleFilter {
+  bool (*admits)(const void* context, const Rule& rule) = nullptr;
+  const void* context = nullptr;
+
+  /// Whether a filter is set.
+  explicit operator bool() const { return admits != nullptr; }
+  /// Whether `rule` may be used: true without a filter.
+  bool operator()(const Rule& rule) const { return admits == nullptr || admits(context, rule); }
+  /// A filter that asks `predicate(rule)`, for a callable that outlives the filter (a lambda
+  /// variable, or a std::function the caller keeps: an empty one admits every rule).
+  template <class Predicate>
+  static RuleFilter of(const Predicate& predicate) {
+    if constexpr (std::is_constructible_v<bool, const Predicate&>) {
+      if (!static_cast<bool>(predicate)) return {};
+    }
+    return {[](const void* c, const Rule& rule) -> bool {
+              return (*static_cast<const Predicate*>(c))(rule);
+            },
+            &predicate};
+  }
+  /// A temporary would be gone before the parse: keep the callable in a variable.
+  template <class Predicate>
+  static RuleFilter of(const Predicate&& predicate) = delete;
+};
 
 struct ParseRequest {
   std::vector<std::string> tokens;  ///< from flipper::sdk::tokenize
   ScoreContext context;             ///< tokens pointer is set by the parser if null
   const Scorer* scorer = nullptr;   ///< required
-  /// Which rules may be used (sharing modes); null means every rule.
-  std::function<bool(const Rule&)> visible;
+  /// Which rules may be used (sharing modes); empty means every rule.
+  RuleFilter visible;
   int beam = 0;             ///< derivations kept per (category, span); 0 = plugin default
   bool want_chart = false;  ///< also return every derivation of every proper sub-span
   bool whole_span = true;   ///< false: no root candidates needed (head charts)
@@ -81,5 +110,5 @@ struct KindOf<Parser> {
   static constexpr PluginKind value = PluginKind::parser;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -19,13 +19,14 @@
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
+/// Values cross the plugin boundary: pinned in sdk/src/abi_pins.cpp; never renumber, only append.
 enum class PlanStatus {
-  found,    ///< a path / tour was produced
-  no_path,  ///< proven infeasible (or, for sampling planners, none found within the budget)
-  stopped,  ///< the stop condition fired first
-  invalid,  ///< bad request (e.g. empty goal set)
+  found = 0,    ///< a path / tour was produced
+  no_path = 1,  ///< proven infeasible (or, for sampling planners, none found within the budget)
+  stopped = 2,  ///< the stop condition fired first
+  invalid = 3,  ///< bad request (e.g. empty goal set)
 };
 FLIPPER_SDK_API const char* to_string(PlanStatus s);
 
@@ -103,5 +104,5 @@ struct KindOf<Planner> {
   static constexpr PluginKind value = PluginKind::planner;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -24,7 +24,7 @@
 #include "flipper/sdk/version.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// The plugin kinds. Values are part of the ABI: never renumber, only add.
 enum class PluginKind : std::uint32_t {
@@ -44,6 +44,15 @@ FLIPPER_SDK_API bool parse_kind(const char* name, PluginKind& out);
 /// Base of every plugin interface. Lifetime: created by the descriptor's `create`, destroyed by
 /// its `destroy` (so the allocating library also frees); the kernel keeps the library loaded
 /// while the object lives.
+///
+/// Threads: **one request at a time per instance.** A host never calls one instance from two
+/// threads at once (each kernel is used by one request at a time, docs/studio.md §5; a server
+/// runs a pool of kernels, each with its own instances), but it may call it from different
+/// threads one after the other, and it runs *different* instances, of the same plugin too,
+/// concurrently. So an instance may keep unguarded scratch state (buffers, caches) between calls,
+/// without a mutex; state shared between instances (statics, globals, a shared cache) must be
+/// thread-safe. The conformance kits check it: two instances answer the same requests at once on
+/// two threads, and must answer as one instance does alone (flipper/testing/*_conformance.hpp).
 class FLIPPER_SDK_API Plugin {
  public:
   virtual ~Plugin();
@@ -60,7 +69,7 @@ class Similarity;
 template <class Interface>
 struct KindOf;
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk
 
 extern "C" {

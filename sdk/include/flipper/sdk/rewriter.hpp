@@ -13,7 +13,7 @@
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 struct RewriteRequest {
   Program body;                            ///< the user's body (one program; lines form a sequence)
@@ -46,5 +46,5 @@ struct KindOf<Rewriter> {
   static constexpr PluginKind value = PluginKind::rewriter;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

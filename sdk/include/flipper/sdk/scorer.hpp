@@ -15,7 +15,7 @@
 #include "flipper/sdk/plugin.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// Sparse features: (name, value).
 using FeatureVector = std::vector<std::pair<std::string, double>>;
@@ -119,5 +119,5 @@ struct KindOf<Scorer> {
   static constexpr PluginKind value = PluginKind::scorer;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -10,7 +10,7 @@
 #include "flipper/sdk/plugin.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 class FLIPPER_SDK_API Similarity : public Plugin {
  public:
@@ -31,5 +31,5 @@ struct KindOf<Similarity> {
   static constexpr PluginKind value = PluginKind::similarity;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -17,14 +17,15 @@
 #include "flipper/sdk/export.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// What stopped work for time (protocol field `stopped`, docs/protocol.md "Errors").
+/// Values cross the plugin boundary: pinned in sdk/src/abi_pins.cpp; never renumber, only append.
 enum class StopCause {
-  none,           ///< nothing fired
-  cancelled,      ///< the cancel flag was set
-  cpu_budget,     ///< the request thread used its CPU-time budget
-  wall_backstop,  ///< the far wall-clock backstop passed (a runaway, or a starved thread)
+  none = 0,           ///< nothing fired
+  cancelled = 1,      ///< the cancel flag was set
+  cpu_budget = 2,     ///< the request thread used its CPU-time budget
+  wall_backstop = 3,  ///< the far wall-clock backstop passed (a runaway, or a starved thread)
 };
 /// "none", "cancelled", "cpu_budget", "wall_backstop".
 FLIPPER_SDK_API const char* to_string(StopCause c);
@@ -99,5 +100,5 @@ struct StopCondition {
   }
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -24,7 +24,7 @@
 #include "flipper/sdk/plugin.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// Optional continuous view of free space, for sampling planners (OMPL). Coordinates are in cell
 /// units: the centre of cell (i, j, k) is (i, j, k). Thread-safe for concurrent const calls.
@@ -191,5 +191,5 @@ struct KindOf<World> {
   static constexpr PluginKind value = PluginKind::world;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

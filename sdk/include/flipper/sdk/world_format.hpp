@@ -24,7 +24,7 @@
 #include "flipper/sdk/world.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 namespace world_format {
 
 /// Inclusive box; z = 0 for 2-D worlds.
@@ -108,5 +108,5 @@ FLIPPER_SDK_API std::string points_json(const std::vector<Cell>& points, int dim
 FLIPPER_SDK_API std::string describe(const Cell& c, int dims);
 
 }  // namespace world_format
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

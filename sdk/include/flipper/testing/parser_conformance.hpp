@@ -9,14 +9,17 @@
 ///   candidate's derivations yield its program and span the whole utterance;
 /// - unparsable input (gibberish, empty) gives no candidates and does not throw;
 /// - results depend on the inputs only: parsing twice gives the same programs in the same order
-///   with the same scores.
+///   with the same scores, and so do two instances parsing at once on two threads (the threading
+///   rule of flipper/sdk/plugin.hpp; `check_concurrent_parsers`).
 /// Candidates are also judged by the kernel's own check (flipper/sdk/answer_check.hpp), and
 /// every failure names its scenario: the utterance, the candidate and what is wrong.
 
 #include <catch2/catch.hpp>
+#include <latch>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "flipper/sdk/answer_check.hpp"
@@ -116,6 +119,61 @@ inline void check_parser_conformance(const sdk::Parser& parser, const sdk::Score
                      << (r.candidates.empty() ? "" : ", the first " + describe_candidate(r, 0))
                      << "; want none");
     CHECK(r.candidates.empty());
+  }
+}
+
+/// The threading rule (flipper/sdk/plugin.hpp: one request at a time per instance, instances
+/// concurrently): two parser instances, each with a scorer of its own and the same grammar,
+/// parse the utterances at once on two threads, started together; each must answer as `alone`
+/// answered them one by one (the same programs in the same order, the same scores).
+inline void check_concurrent_parsers(const sdk::Parser& alone, const sdk::Parser& first,
+                                     const sdk::Scorer& first_scorer, const sdk::Parser& second,
+                                     const sdk::Scorer& second_scorer,
+                                     const std::vector<std::string>& utterances) {
+  struct Answers {
+    std::vector<sdk::ParseResult> results;
+    std::string error;  // what a parse threw (Catch2's checks are not for other threads)
+  };
+  auto answer = [&](const sdk::Parser& parser, const sdk::Scorer& scorer, Answers& out) {
+    try {
+      for (int round = 0; round < 3; ++round)
+        for (const auto& u : utterances)
+          out.results.push_back(conformance_parse(parser, scorer, u));
+    } catch (const std::exception& e) {
+      out.error = e.what();
+    }
+  };
+  Answers reference;
+  answer(alone, first_scorer, reference);
+  REQUIRE(reference.error.empty());
+  Answers a;
+  Answers b;
+  std::latch start(2);
+  auto run = [&](const sdk::Parser& parser, const sdk::Scorer& scorer, Answers& out) {
+    start.arrive_and_wait();
+    answer(parser, scorer, out);
+  };
+  std::thread ta(run, std::cref(first), std::cref(first_scorer), std::ref(a));
+  std::thread tb(run, std::cref(second), std::cref(second_scorer), std::ref(b));
+  ta.join();
+  tb.join();
+  for (const Answers* got : {&a, &b}) {
+    INFO((got == &a ? "the first" : "the second")
+         << " of two instances parsing at once on two threads");
+    REQUIRE(got->error.empty());
+    REQUIRE(got->results.size() == reference.results.size());
+    for (std::size_t k = 0; k < got->results.size(); ++k) {
+      const auto& r = got->results[k];
+      const auto& want = reference.results[k];
+      INFO("utterance: " << utterances[k % utterances.size()] << "; " << r.candidates.size()
+                         << " candidates, alone " << want.candidates.size());
+      REQUIRE(r.candidates.size() == want.candidates.size());
+      for (std::size_t i = 0; i < r.candidates.size(); ++i) {
+        INFO(describe_candidate(r, i) << "; alone " << describe_candidate(want, i));
+        CHECK(sdk::equal(r.candidates[i].program, want.candidates[i].program));
+        CHECK(r.candidates[i].score == want.candidates[i].score);
+      }
+    }
   }
 }
 

@@ -11,9 +11,10 @@
 /// that are mirror images of one another, so they tie under any symmetric distance);
 /// `deterministic` planners answer the same twice and the same whatever they were asked before
 /// (a fresh instance asked in reverse order agrees); tours are permutations with unreachable
-/// points last in (x, y, z) order. Paths and tours are judged by the kernel's own check
-/// (flipper/sdk/answer_check.hpp), and every failure names its scenario: what was asked, what
-/// came back and what is wrong with it.
+/// points last in (x, y, z) order; two instances planning at once on two threads answer as one
+/// alone (the threading rule of flipper/sdk/plugin.hpp). Paths and tours are judged by the kernel's
+/// own check (flipper/sdk/answer_check.hpp), and every failure names its scenario: what was asked,
+/// what came back and what is wrong with it.
 ///
 /// @code
 ///   FLIPPER_PLANNER_CONFORMANCE("astar", [] { return load_plugin<sdk::Planner>("astar"); })
@@ -24,12 +25,14 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <latch>
 #include <memory>
 #include <numeric>
 #include <optional>
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "flipper/sdk/answer_check.hpp"
@@ -508,6 +511,88 @@ inline void check_history_independence(const PlannerFactory& factory, const sdk:
   }
 }
 
+/// The threading rule (flipper/sdk/plugin.hpp: one request at a time per instance, instances
+/// concurrently): two instances answer the same paths and a tour at once, each on a thread of its
+/// own, started together; each must answer as a third instance answers alone (deterministic
+/// planners: the same status, path and order; others: a valid path when one is found, a
+/// permutation). A plugin whose instances share unguarded state (a static buffer, a global
+/// generator) fails here.
+inline void check_concurrent_instances(const PlannerFactory& factory, const sdk::Geometry& g,
+                                       std::uint32_t seed, int requests) {
+  const auto alone = factory();
+  const auto first = factory();
+  const auto second = factory();
+  std::mt19937 rng(seed);
+  const sdk::Area& free = g.free_cells();
+  std::uniform_int_distribution<std::size_t> pick_free(0, free.size() - 1);
+  std::vector<std::pair<sdk::Cell, sdk::Area>> asked;
+  for (int k = 0; k < requests; ++k) {
+    sdk::Area goals{free[pick_free(rng)], free[pick_free(rng)]};
+    sdk::areas::normalize(goals);
+    asked.push_back({free[pick_free(rng)], std::move(goals)});
+  }
+  std::vector<sdk::Cell> points;
+  for (int k = 0; k < 10; ++k) points.push_back(free[pick_free(rng)]);
+  struct Answers {
+    std::vector<sdk::PathResult> paths;
+    sdk::TourResult tour;
+    std::string error;  // what a call threw (Catch2's checks are not for other threads)
+  };
+  auto answer = [&](const sdk::Planner& planner, Answers& out) {
+    try {
+      for (int round = 0; round < 3; ++round) {  // long enough for the two threads to overlap
+        for (const auto& [start, goals] : asked)
+          out.paths.push_back(planner.plan(g, {start, &goals, nullptr}, sdk::StopCondition{}));
+        out.tour = planner.tour(g, free.front(), points, sdk::StopCondition{});
+      }
+    } catch (const std::exception& e) {
+      out.error = e.what();
+    }
+  };
+  Answers reference;
+  answer(*alone, reference);
+  REQUIRE(reference.error.empty());
+  Answers a;
+  Answers b;
+  std::latch start(2);
+  auto run = [&](const sdk::Planner& planner, Answers& out) {
+    start.arrive_and_wait();
+    answer(planner, out);
+  };
+  std::thread ta(run, std::cref(*first), std::ref(a));
+  std::thread tb(run, std::cref(*second), std::ref(b));
+  ta.join();
+  tb.join();
+  const bool deterministic = alone->traits().deterministic;
+  for (const Answers* got : {&a, &b}) {
+    const char* which = got == &a ? "the first" : "the second";
+    INFO(which << " of two instances planning at once on two threads");
+    REQUIRE(got->error.empty());
+    REQUIRE(got->paths.size() == reference.paths.size());
+    for (std::size_t k = 0; k < got->paths.size(); ++k) {
+      const auto& [from, goals] = asked[k % asked.size()];
+      const sdk::PathRequest req{from, &goals, nullptr};
+      const sdk::PathResult& r = got->paths[k];
+      INFO("request " << k << ": a path " << describe_request(g, req) << "; answered "
+                      << describe_answer(g, r)
+                      << "; alone: " << describe_answer(g, reference.paths[k]));
+      if (r.status == sdk::PlanStatus::found) check_path_shape(g, req, r);
+      if (!deterministic) continue;
+      REQUIRE(r.status == reference.paths[k].status);
+      REQUIRE(r.path == reference.paths[k].path);
+    }
+    INFO("the tour over " << describe_cells(points, g.dims(), 10) << ": order "
+                          << describe_order(got->tour.order) << ", alone "
+                          << describe_order(reference.tour.order));
+    std::vector<std::size_t> sorted = got->tour.order;
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<std::size_t> identity(points.size());
+    std::iota(identity.begin(), identity.end(), std::size_t{0});
+    REQUIRE(sorted == identity);
+    if (deterministic) REQUIRE(got->tour.order == reference.tour.order);
+  }
+}
+
 /// Every check on the planner from `factory`.
 inline void check_planner_conformance(const PlannerFactory& factory) {
   auto planner = factory();
@@ -522,6 +607,7 @@ inline void check_planner_conformance(const PlannerFactory& factory) {
       check_tour(*planner, *g, seed);
     }
     check_history_independence(factory, *random_maze(2, 24, 17, 1, 0.3, 4), 4, 20);
+    check_concurrent_instances(factory, *random_maze(2, 160, 120, 1, 0.3, 5), 5, 40);
   }
   if (traits.supports_3d) {
     check_goal_ties(*planner, 3);
@@ -529,6 +615,7 @@ inline void check_planner_conformance(const PlannerFactory& factory) {
     check_random_requests(*planner, *g, 11, 60);
     check_tour(*planner, *g, 11);
     check_history_independence(factory, *g, 12, 20);
+    if (!traits.supports_2d) check_concurrent_instances(factory, *g, 13, 40);
   }
 }
 

@@ -9,15 +9,15 @@
 #if defined(BAD_ABI)  // a plugin from a future ABI
 #undef FLIPPER_PLUGIN_ABI
 #define FLIPPER_PLUGIN_ABI 4
-#elif defined(BAD_SDK_MAJOR)  // built against SDK 3.x
+#elif defined(BAD_SDK_MAJOR)  // built against SDK 4.x
 #undef FLIPPER_SDK_VERSION_MAJOR
-#define FLIPPER_SDK_VERSION_MAJOR 3
+#define FLIPPER_SDK_VERSION_MAJOR 4
 #elif defined(BAD_SDK_MINOR)  // built against a newer SDK minor than the kernel's
 #undef FLIPPER_SDK_VERSION_MINOR
 #define FLIPPER_SDK_VERSION_MINOR 99
-#elif defined(BAD_FINGERPRINT)  // another compiler / Boost
+#elif defined(BAD_FINGERPRINT)  // libstdc++'s old string ABI
 #undef FLIPPER_BUILD_FINGERPRINT
-#define FLIPPER_BUILD_FINGERPRINT "gcc3;cxx11abi=0;boost=105300;cxx=201103L"
+#define FLIPPER_BUILD_FINGERPRINT "abi=3;libstdc++;cxx11abi=0;ptrsize=8"
 #endif
 
 namespace {

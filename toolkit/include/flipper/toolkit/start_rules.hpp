@@ -9,19 +9,19 @@
 // their order and ties come out exactly as before. `exhaustive` scans every rule instead: the
 // unindexed matcher, kept as the oracle of the index tests.
 #include <cstdint>
-#include <functional>
 #include <span>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "flipper/sdk/parser.hpp"
 #include "flipper/toolkit/rule_index.hpp"
 
 namespace flipper::toolkit {
 
 class StartRules {
  public:
-  using Visible = std::function<bool(const sdk::Rule&)>;
+  using Visible = sdk::RuleFilter;
   /// `token_ids`/`classes`: per utterance token, as RuleIndex::token_id / classes_of.
   StartRules(const RuleIndex& index, const std::vector<int>& token_ids,
              const std::vector<std::uint8_t>& classes, const Visible& visible, bool exhaustive);
@@ -39,7 +39,7 @@ class StartRules {
   void scan_all();
 
   const RuleIndex& index_;
-  const Visible& visible_fn_;
+  const Visible visible_fn_;
   const bool exhaustive_;
   const int n_;
   struct List {
