@@ -1,4 +1,4 @@
-#include "dds_services.hpp"
+#include "dds_node_services.hpp"
 
 #include <iostream>
 
@@ -12,11 +12,11 @@
 
 namespace flipper::cli {
 
-DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant) {
+NodeServices NodeServices::start(wiring::SessionHost& host, bool force_participant) {
   const kernel::Config& config = host.runtime->config;
   const bool plans = config.get_string("publish.plans") == "dds";
   const bool replicate = config.get_string("lexicon.replication") == "dds";
-  DdsServices s;
+  NodeServices s;
   if (!wants_dds_services(config) && !force_participant) return s;
   const int dims =
       host.runtime->default_world.geometry ? host.runtime->default_world.geometry->dims() : 2;
@@ -47,14 +47,14 @@ DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant
   return s;
 }
 
-std::unique_ptr<kernel::Session> DdsServices::open(const wiring::SessionHost& host) const {
+std::unique_ptr<kernel::Session> NodeServices::open(const wiring::SessionHost& host) const {
   auto session = host.open();
   if (plans) session->add_plan_observer(plans);
   if (replicator) replicator->attach(*session);
   return session;
 }
 
-DdsServices::~DdsServices() {
+NodeServices::~NodeServices() {
   // The replicator's thread stops before the participant it reads from goes.
   replicator.reset();
   plans.reset();
