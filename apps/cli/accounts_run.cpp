@@ -1,5 +1,6 @@
-// flipper accounts (commands.hpp, docs/accounts.md), run by flipper-frontends: the accounts
-// store of the config (serve.accounts, or accounts.sqlite beside lexicon.path).
+// flipper accounts (commands.hpp, docs/accounts.md), in the serve front-end module
+// (frontend_module.hpp): the accounts store of the config (serve.accounts, or accounts.sqlite
+// beside lexicon.path).
 #include <termios.h>
 #include <unistd.h>
 
@@ -40,7 +41,7 @@ std::string read_password() {
 
 int accounts_action(studio::AccountStore&& store, const std::string& cmd, const AccountsArgs& args);
 
-int run_accounts(const CommonOptions& opts, const AccountsArgs& args) {
+int accounts_main(const CommonOptions& opts, const AccountsArgs& args) {
   const kernel::Config config = load_config(opts);
   const std::string cmd = "accounts " + args.action;
   try {

@@ -20,22 +20,24 @@ void add_lexicon_command(CLI::App& app);   // lexicon.cpp  (lexicon list|export|
 void add_serve_command(CLI::App& app);     // frontend_commands.cpp (apps/studio: HTTP, web page)
 void add_dds_command(CLI::App& app);       // frontend_commands.cpp (DDS node, dds security)
 void add_accounts_command(CLI::App& app);  // frontend_commands.cpp (the studio's accounts)
+void add_frontend_command(CLI::App& app);  // frontend_host.cpp (any front-end module)
 
 struct CommonOptions;
-/// The work of `serve` and `dds`: in flipper-frontends serve_run.cpp and dds_run.cpp; in flipper
-/// they exec flipper-frontends (frontend_launch.cpp, frontends.hpp).
+/// `serve`, `dds`, `dds security` and `accounts` load their front-end module and run there
+/// (frontend_host.cpp, frontend_module.hpp).
 int run_serve(const CommonOptions& opts);
 int run_dds_node(const CommonOptions& opts);
 
-/// `flipper dds security init DIR` / `add DIR NAME [--namespace NS]...` (dds_security.cpp).
+/// `flipper dds security init DIR` / `add DIR NAME [--namespace NS]...` (dds module,
+/// dds_security.cpp).
 struct DdsSecurityArgs {
   std::string dir;
   std::string name;
   std::vector<std::string> namespaces;
 };
 int run_dds_security(const std::string& action, const DdsSecurityArgs& args);
-/// `flipper accounts ACTION NAME`: the studio's accounts (docs/accounts.md); runs in
-/// flipper-frontends (accounts_run.cpp) beside the server that reads them.
+/// `flipper accounts ACTION NAME`: the studio's accounts (docs/accounts.md); runs in the serve
+/// module (accounts_run.cpp) beside the server that reads them.
 struct AccountsArgs {
   std::string action;  ///< add, passwd, list, remove, invite, revoke
   std::string name;

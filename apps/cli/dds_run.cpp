@@ -1,6 +1,7 @@
-// flipper dds, run by flipper-frontends (frontends.hpp): a DDS node answering session-protocol
-// requests from rt/<ns>/flipper/request on rt/<ns>/flipper/answer (apps/dds/request_node.hpp), with
-// the config's other DDS services (plans, lexicon replication). Runs until SIGINT/SIGTERM.
+// flipper dds, in the dds front-end module (frontend_module.hpp): a DDS node answering
+// session-protocol requests from rt/<ns>/flipper/request on rt/<ns>/flipper/answer
+// (apps/dds/request_node.hpp), with the config's other DDS services (plans, lexicon replication).
+// Runs until SIGINT/SIGTERM.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -13,7 +14,7 @@
 
 #include "commands.hpp"
 #include "common.hpp"
-#include "dds_services.hpp"
+#include "dds_node_services.hpp"
 #include "flipper/dds/config_keys.hpp"
 #include "flipper/dds/request_node.hpp"
 
@@ -63,11 +64,11 @@ class TeardownWatchdog {
 
 }  // namespace
 
-int run_dds_node(const CommonOptions& opts) {
+int dds_node_main(const CommonOptions& opts) {
   // Declared first, so destroyed last: armed after "stopped", it bounds the destructors below.
   std::optional<TeardownWatchdog> watchdog;
   wiring::SessionHost host = wiring::open_host(config_file(opts), opts.overrides);
-  const DdsServices services = DdsServices::start(host, /*force_participant=*/true);
+  const NodeServices services = NodeServices::start(host, /*force_participant=*/true);
   dds::RequestNode node(
       services.participant, [&] { return services.open(host); }, std::cerr,
       host.runtime->config.get(dds::keys::kNamespace));

@@ -1,5 +1,5 @@
-// flipper dds security init DIR | add DIR NAME [--namespace NS]..., run by flipper-frontends
-// (frontends.hpp): the DDS Security keystore of apps/dds/keystore.hpp.
+// flipper dds security init DIR | add DIR NAME [--namespace NS]..., in the dds front-end module
+// (frontend_module.hpp): the DDS Security keystore of apps/dds/keystore.hpp.
 #include <iostream>
 
 #include "commands.hpp"
@@ -9,7 +9,7 @@
 
 namespace flipper::cli {
 
-int run_dds_security(const std::string& action, const DdsSecurityArgs& args) {
+int dds_security_main(const std::string& action, const DdsSecurityArgs& args) {
   try {
     if (action == "init") {
       dds::init_keystore(args.dir, std::cout);

@@ -1,4 +1,4 @@
-#include "dds_services.hpp"
+#include "dds_node_services.hpp"
 
 #include <iostream>
 
@@ -13,12 +13,12 @@
 
 namespace flipper::cli {
 
-DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant) {
+NodeServices NodeServices::start(wiring::SessionHost& host, bool force_participant) {
   const kernel::Config& config = host.runtime->config;
   const bool plans = config.get(dds::keys::kPublishPlans) == dds::keys::Plans::dds;
   const bool replicate =
       config.get(naturalization::keys::kReplication) == naturalization::keys::Replication::dds;
-  DdsServices s;
+  NodeServices s;
   if (!wants_dds_services(config) && !force_participant) return s;
   const int dims =
       host.runtime->default_world.geometry ? host.runtime->default_world.geometry->dims() : 2;
@@ -49,7 +49,7 @@ DdsServices DdsServices::start(wiring::SessionHost& host, bool force_participant
   return s;
 }
 
-std::unique_ptr<kernel::Session> DdsServices::open(const wiring::SessionHost& host) const {
+std::unique_ptr<kernel::Session> NodeServices::open(const wiring::SessionHost& host) const {
   auto session = host.open();
   if (plans) session->install(plans);
   if (replicator)  // a weak reference: the replicator's thread stops before the sessions go
@@ -59,7 +59,7 @@ std::unique_ptr<kernel::Session> DdsServices::open(const wiring::SessionHost& ho
   return session;
 }
 
-DdsServices::~DdsServices() {
+NodeServices::~NodeServices() {
   // The replicator's thread stops before the participant it reads from goes.
   replicator.reset();
   plans.reset();

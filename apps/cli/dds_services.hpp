@@ -1,22 +1,16 @@
 #pragma once
-// The DDS services a front end runs when its config asks for them (apps/dds): plans out
-// (publish.plans: dds) and lexicon replication (lexicon.replication: dds). One participant per
-// process, created only when a service needs it (apps/dds/transport.hpp: loopback unless the
-// config names interfaces). Shared by `session`, `repl` and `dds`. In `flipper` itself start()
-// execs flipper-frontends when a service is asked for (frontends.hpp).
+// The DDS services a session runs when its config asks for them (apps/dds): plans out
+// (publish.plans: dds) and lexicon replication (lexicon.replication: dds). They live in the dds
+// front-end module (frontend_module.hpp), which start() loads only when a service is asked for,
+// so a study run never maps Cyclone DDS. Shared by `session` and `repl`.
+#include <functional>
 #include <memory>
 
 #include "flipper/dds/config_keys.hpp"
 #include "flipper/kernel/config.hpp"
+#include "flipper/kernel/session.hpp"
 #include "flipper/naturalization/config_keys.hpp"
-
 #include "flipper/wiring/session_factory.hpp"
-
-namespace flipper::dds {
-class Participant;
-class PlanPublisher;
-class LexiconReplicator;
-}  // namespace flipper::dds
 
 namespace flipper::cli {
 
@@ -27,15 +21,18 @@ inline bool wants_dds_services(const kernel::Config& config) {
 }
 
 struct DdsServices {
-  std::shared_ptr<dds::Participant> participant;  // null: no DDS service configured
-  std::shared_ptr<dds::PlanPublisher> plans;
-  std::shared_ptr<dds::LexiconReplicator> replicator;
+  /// The module's running services (participant, publisher, replicator); null: none configured.
+  std::shared_ptr<void> running;
+  /// Opens a session with the services attached (plan observer, replication guards); empty:
+  /// none configured. Declared after `running`, so destroyed before it.
+  std::function<std::unique_ptr<kernel::Session>(const wiring::SessionHost&)> opener;
 
-  /// Starts what `host`'s config asks for (`force_participant`: the dds node always needs one).
-  static DdsServices start(wiring::SessionHost& host, bool force_participant = false);
-  /// A session of `host` with the services attached (plan observer, replication guards).
-  std::unique_ptr<kernel::Session> open(const wiring::SessionHost& host) const;
-  ~DdsServices();
+  /// Starts what `host`'s config asks for, in the dds module (frontend_host.cpp).
+  static DdsServices start(wiring::SessionHost& host);
+  /// A session of `host` with the services attached.
+  std::unique_ptr<kernel::Session> open(const wiring::SessionHost& host) const {
+    return opener ? opener(host) : host.open();
+  }
 };
 
 }  // namespace flipper::cli

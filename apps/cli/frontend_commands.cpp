@@ -1,5 +1,5 @@
-// `flipper serve` and `flipper dds`: their options, shared by flipper and flipper-frontends so both
-// parse, help and fail alike; run_serve / run_dds_node differ (frontends.hpp).
+// `flipper serve`, `flipper dds` and `flipper accounts`: their options, parsed by flipper before
+// their front-end module is loaded (frontend_host.cpp), so misuse never loads it.
 #include "commands.hpp"
 #include "common.hpp"
 

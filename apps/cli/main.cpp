@@ -10,7 +10,6 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/param_check.hpp"
 #include "flipper/sdk/version.hpp"
-#include "frontends.hpp"
 
 namespace {
 
@@ -51,7 +50,6 @@ std::optional<std::string> unknown_command(const CLI::App& app, int argc, char**
 int main(int argc, char** argv) {
   for (int i = 1; i < argc && std::string(argv[i]) != "--"; ++i)
     if (std::string(argv[i]) == "--json") flipper::cli::json_output() = true;
-  flipper::cli::enter(argc, argv);
   CLI::App app{"Flipper: precise but natural specifications for robot tasks"};
   app.set_version_flag("--version", version_text(), "Print the version and exit");
   app.require_subcommand(1);
@@ -68,6 +66,7 @@ int main(int argc, char** argv) {
   flipper::cli::add_serve_command(app);
   flipper::cli::add_dds_command(app);
   flipper::cli::add_accounts_command(app);
+  flipper::cli::add_frontend_command(app);
   if (const auto unknown = unknown_command(app, argc, argv))
     return flipper::cli::report_error("", "usage", *unknown, 2);
   try {

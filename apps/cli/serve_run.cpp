@@ -1,6 +1,5 @@
-// flipper serve, run by flipper-frontends (frontends.hpp): the web front end (Flipper Studio) and
-// the session protocol over HTTP, until SIGINT/SIGTERM. See apps/studio and README "Flipper
-// Studio".
+// flipper serve, in the serve front-end module (frontend_module.hpp): the web front end (Flipper
+// Studio) and the session protocol over HTTP, until SIGINT/SIGTERM. See docs/studio.md.
 #include <csignal>
 #include <iostream>
 #include <thread>
@@ -11,7 +10,7 @@
 
 namespace flipper::cli {
 
-int run_serve(const CommonOptions& opts) {
+int serve_main(const CommonOptions& opts) {
   const kernel::Config config = load_config(opts);
   // Signals go to one waiting thread that stops the server (httplib's stop is not
   // async-signal-safe); block them before any server thread starts.

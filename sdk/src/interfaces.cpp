@@ -4,6 +4,7 @@
 #include <cstring>
 #include <numeric>
 
+#include "flipper/sdk/frontend.hpp"
 #include "flipper/sdk/sdk.hpp"
 
 namespace flipper::sdk {
@@ -30,6 +31,7 @@ constexpr KindEntry kKinds[] = {
     {PluginKind::world, "world"},       {PluginKind::planner, "planner"},
     {PluginKind::parser, "parser"},     {PluginKind::scorer, "scorer"},
     {PluginKind::rewriter, "rewriter"}, {PluginKind::similarity, "similarity"},
+    {kFrontendKind, "frontend"},
 };
 }  // namespace
 

@@ -13,12 +13,12 @@ trap 'rm -rf "$tmp"' EXIT
 
 cmake --install "$build" --prefix "$tmp/prefix" >/dev/null
 flipper=$tmp/prefix/bin/flipper
-frontends=$tmp/prefix/libexec/flipper-frontends  # runs serve and dds for flipper
+frontends=$tmp/prefix/lib/flipper/frontends  # the serve and dds modules flipper loads
 plugins=$tmp/prefix/lib/flipper/plugins
 cd "$tmp"
 
 # No path of this checkout or its build is compiled in.
-for bin in "$flipper" "$frontends"; do
+for bin in "$flipper" "$frontends/serve.so" "$frontends/dds.so"; do
   for dir in "$src" "$build"; do
     if grep -aFq "$dir" "$bin"; then
       echo "installed $bin contains the path $dir:"; grep -aoF "$dir[^\"]*" "$bin" | head -3
@@ -41,7 +41,7 @@ echo "$answer" | grep -q '"ok":true'
 "$flipper" plugin new planner my_planner "$tmp/my_planner" >/dev/null
 grep -qF -- "-DCMAKE_PREFIX_PATH=$tmp/prefix" "$tmp/my_planner/README.md"
 
-# serve runs in the installed flipper-frontends, which finds the installed page.
+# serve runs in the installed serve module, which finds the installed page.
 env -u FLIPPER_PLUGIN_PATH "$flipper" serve --set serve.port=0 >serve.log 2>&1 &
 serve_pid=$!
 for _ in $(seq 600); do grep -q "listening" serve.log && break; sleep 0.1; done

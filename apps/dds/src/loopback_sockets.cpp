@@ -1,10 +1,12 @@
 // LoopbackBinds and udp_sockets (loopback_sockets.hpp). bind() below replaces libc's in the
 // executables that link flipper_dds: the dynamic linker resolves libddsc's bind() to the
 // executable's definition first. Outside a LoopbackBinds, or for anything but a wildcard UDP
-// bind, it is the plain system call.
+// bind, it is the plain system call. In a module (flipper's dds front end) this bind() is not the
+// one libddsc calls: flipper defines it (loopback_bind.hpp) and exports the switch, found here.
 #include "flipper/dds/loopback_sockets.hpp"
 
 #include <arpa/inet.h>
+#include <dlfcn.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/syscall.h>
@@ -18,20 +20,20 @@
 #include <sstream>
 
 #include "flipper/dds/cyclone_config.hpp"
+#include "flipper/dds/loopback_bind.hpp"
 
 namespace flipper::dds {
 namespace {
 
 std::atomic<int> g_loopback_binds{0};
 
-int system_bind(int fd, const sockaddr* addr, socklen_t len) {
-  return static_cast<int>(syscall(SYS_bind, fd, addr, len));
-}
-
-bool datagram(int fd) {
-  int type = 0;
-  socklen_t size = sizeof type;
-  return getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &size) == 0 && type == SOCK_DGRAM;
+/// The executable's switch when it exports one (its bind() is the one libddsc calls), else ours.
+std::atomic<int>& loopback_binds() {
+  static std::atomic<int>* const on = [] {
+    void* exported = dlsym(RTLD_DEFAULT, kLoopbackBindsSymbol);
+    return exported != nullptr ? static_cast<std::atomic<int>*>(exported) : &g_loopback_binds;
+  }();
+  return *on;
 }
 
 // The socket inodes among a process's open files.
@@ -72,10 +74,10 @@ UdpSocket decode(const std::string& local, bool v6) {
 }  // namespace
 
 LoopbackBinds::LoopbackBinds() {
-  g_loopback_binds.fetch_add(1);
+  loopback_binds().fetch_add(1);
 }
 LoopbackBinds::~LoopbackBinds() {
-  g_loopback_binds.fetch_sub(1);
+  loopback_binds().fetch_sub(1);
 }
 
 bool UdpSocket::loopback() const {
@@ -106,23 +108,5 @@ std::vector<UdpSocket> udp_sockets(pid_t pid) {
 // to it (the build hides symbols by default).
 extern "C" __attribute__((visibility("default"))) int bind(int fd, const sockaddr* addr,
                                                            socklen_t len) noexcept {
-  using flipper::dds::g_loopback_binds;
-  if (g_loopback_binds.load() == 0 || addr == nullptr || !flipper::dds::datagram(fd))
-    return flipper::dds::system_bind(fd, addr, len);
-  if (addr->sa_family == AF_INET && len >= sizeof(sockaddr_in)) {
-    sockaddr_in a;
-    std::memcpy(&a, addr, sizeof a);
-    if (a.sin_addr.s_addr == htonl(INADDR_ANY)) {
-      a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-      return flipper::dds::system_bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
-    }
-  } else if (addr->sa_family == AF_INET6 && len >= sizeof(sockaddr_in6)) {
-    sockaddr_in6 a;
-    std::memcpy(&a, addr, sizeof a);
-    if (IN6_IS_ADDR_UNSPECIFIED(&a.sin6_addr)) {
-      a.sin6_addr = in6addr_loopback;
-      return flipper::dds::system_bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a);
-    }
-  }
-  return flipper::dds::system_bind(fd, addr, len);
+  return flipper::dds::loopback_bind(flipper::dds::loopback_binds().load() != 0, fd, addr, len);
 }

@@ -1,6 +1,6 @@
 #pragma once
-// The HTTP mapping of the session protocol and of logins (README "Flipper Studio",
-// docs/accounts.md, docs/studio.md), independent of the HTTP library: the routes take an
+// The HTTP mapping of the session protocol (README "Flipper Studio", docs/studio.md; logins are
+// auth_http.hpp), independent of the HTTP library: the routes take an
 // HttpRequest and answer through a callback. Protocol requests run on a kernel pool's workers,
 // one at a time per session; each kernel is used by one request at a time (its parser, scorer,
 // planner caches and naturalizer are not thread-safe), and a session moves to whichever kernel
@@ -65,10 +65,6 @@ class Api {
   void request(const HttpRequest& request, const Respond& respond);
   /// GET /api/v1/info[?session=TOKEN]: what the page needs besides the protocol.
   void info(const HttpRequest& request, const Respond& respond);
-  /// POST /api/v1/login {"name","password"} or {"code"}: a login cookie.
-  void login(const HttpRequest& request, const Respond& respond);
-  /// POST /api/v1/logout: ends the cookie's login.
-  void logout(const HttpRequest& request, const Respond& respond);
 
   /// Runs `f(kernel)` with the plain server's kernel under its lock (call on a worker, e.g. from
   /// a job of run_on_plain_kernel): the /sempre endpoint (sempre.hpp) keeps its own sessions over
@@ -119,10 +115,7 @@ class Api {
   /// A resumed participant's session gets the world it had (a request the server makes).
   void resume_world(SessionEntry& entry);
   bool in_pool(const std::string& group, const Kernel& k);
-  HttpReply login_reply(const HttpRequest& request);
   HttpReply info_reply(const HttpRequest& request);
-  /// 0: a login from `address` may go on; else the seconds until it may (Retry-After).
-  int login_wait_seconds(const std::string& address);
 
   ServeOptions options_;
   AccountStore& accounts_;
@@ -135,8 +128,6 @@ class Api {
   std::shared_ptr<Recorder> recorder_;
   std::shared_ptr<Study> study_;
   std::atomic<std::uint64_t> new_requests_{0};
-  std::mutex login_mutex_;
-  std::map<std::string, std::pair<double, Clock::time_point>> login_buckets_;
 };
 
 /// The login token in a Cookie header ("" when none).

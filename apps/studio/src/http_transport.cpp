@@ -63,6 +63,10 @@ void Router::add(const std::string& method, const std::string& path, Route route
   routes_[{method, path}] = std::move(route);
 }
 
+void Router::add_prefix(const std::string& method, const std::string& prefix, Route route) {
+  prefixes_[{method, prefix}] = std::move(route);
+}
+
 void Router::fallback(const std::string& method, Route route) {
   fallbacks_[method] = std::move(route);
 }
@@ -75,6 +79,21 @@ void Router::dispatch(const HttpRequest& request, Respond respond) const {
   for (const auto& [key, route] : routes_)
     if (key.second == request.path)
       return respond(error_reply(405, "method_not_allowed", "this path does not take that method"));
+  const Route* longest = nullptr;
+  std::size_t longest_size = 0;
+  bool other_method = false;
+  for (const auto& [key, route] : prefixes_) {
+    if (!request.path.starts_with(key.second) || key.second.size() < longest_size) continue;
+    if (key.first != request.method) {
+      other_method = true;
+      continue;
+    }
+    longest = &route;
+    longest_size = key.second.size();
+  }
+  if (longest != nullptr) return (*longest)(request, std::move(respond));
+  if (other_method)
+    return respond(error_reply(405, "method_not_allowed", "this path does not take that method"));
   if (auto it = fallbacks_.find(request.method); it != fallbacks_.end())
     return it->second(request, std::move(respond));
   respond(error_reply(404, "not_found", "no such page or API path"));

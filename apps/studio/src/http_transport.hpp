@@ -27,10 +27,14 @@ struct TransportOptions {
   std::size_t max_header_bytes = 16384;          ///< request line and headers
 };
 
-/// Method + path -> route; other paths of a method go to its fallback (the page's files).
+/// Method + path -> route; then method + path prefix -> route (the longest prefix wins); other
+/// paths of a method go to its fallback (the page's files). A path that a route or prefix takes
+/// with another method is 405.
 class Router {
  public:
   void add(const std::string& method, const std::string& path, Route route);
+  /// Every path that starts with `prefix` (which ends with '/'), e.g. one file of a folder.
+  void add_prefix(const std::string& method, const std::string& prefix, Route route);
   void fallback(const std::string& method, Route route);
   /// Runs before any route; a reply it returns is sent instead (host checks).
   void guard(std::function<bool(const HttpRequest&, HttpReply&)> refuse) {
@@ -40,6 +44,7 @@ class Router {
 
  private:
   std::map<std::pair<std::string, std::string>, Route> routes_;
+  std::map<std::pair<std::string, std::string>, Route> prefixes_;
   std::map<std::string, Route> fallbacks_;
   std::function<bool(const HttpRequest&, HttpReply&)> guard_;
 };

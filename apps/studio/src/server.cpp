@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "api.hpp"
+#include "auth_http.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/studio/server.hpp"
 #include "host_policy.hpp"
@@ -65,6 +66,7 @@ struct Server::Impl {
   std::unique_ptr<HttpTransport> transport;
   // Destroyed before the transport: no worker answers into a transport that is gone.
   std::unique_ptr<Api> api;
+  std::unique_ptr<AuthEndpoints> auth;     ///< logins and logouts (docs/accounts.md)
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
   std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §7)
   std::unique_ptr<Scheduler> scheduler;   // destroyed first: its workers use the api
@@ -76,10 +78,15 @@ struct Server::Impl {
                [a](const HttpRequest& r, const Respond& done) { a->request(r, done); });
     router.add("GET", "/api/v1/info",
                [a](const HttpRequest& r, const Respond& done) { a->info(r, done); });
+    AuthEndpoints* auth_endpoints = auth.get();
     router.add("POST", "/api/v1/login",
-               [a](const HttpRequest& r, const Respond& done) { a->login(r, done); });
+               [auth_endpoints](const HttpRequest& r, const Respond& done) {
+                 auth_endpoints->login(r, done);
+               });
     router.add("POST", "/api/v1/logout",
-               [a](const HttpRequest& r, const Respond& done) { a->logout(r, done); });
+               [auth_endpoints](const HttpRequest& r, const Respond& done) {
+                 auth_endpoints->logout(r, done);
+               });
     StudyEndpoints* s = study.get();
     router.add("POST", "/api/v1/study/event",
                [s](const HttpRequest& r, const Respond& done) { s->event(r, done); });
@@ -89,6 +96,8 @@ struct Server::Impl {
                [s](const HttpRequest& r, const Respond& done) { s->close(r, done); });
     router.add("POST", "/api/v1/study/invite",
                [s](const HttpRequest& r, const Respond& done) { s->invite(r, done); });
+    router.add_prefix("GET", "/api/v1/study/recording/",
+                      [s](const HttpRequest& r, const Respond& done) { s->recording(r, done); });
     if (sempre) {
       // On the plain kernel's worker, one request at a time per sessionId, never on the I/O
       // thread (docs/sempre.md, docs/studio.md §5).
@@ -104,10 +113,8 @@ struct Server::Impl {
       router.add("OPTIONS", "/sempre", answer);
     }
     const StaticFiles* f = files.get();
-    router.fallback("GET", [f, s](const HttpRequest& r, const Respond& done) {
-      if (r.path.starts_with("/api/v1/study/recording/")) return s->recording(r, done);
-      done(static_reply(*f, r));
-    });
+    router.fallback("GET",
+                    [f](const HttpRequest& r, const Respond& done) { done(static_reply(*f, r)); });
     router.guard([this](const HttpRequest& r, HttpReply& reply) { return hosts.refuse(r, reply); });
   }
 };
@@ -135,6 +142,8 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   so.cpu_burst_ms = m.options.cpu_burst_ms;
   m.scheduler = std::make_unique<Scheduler>(so);
   m.api = std::make_unique<Api>(kernels, m.options, *m.accounts, *m.scheduler, m.hosts);
+  m.auth =
+      std::make_unique<AuthEndpoints>(m.options.login_days, *m.accounts, *m.scheduler, m.hosts);
   if (study) {
     m.api->set_study(study);
     m.api->set_recorder(std::make_shared<Recorder>(study, kernels));

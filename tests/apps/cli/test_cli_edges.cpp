@@ -126,9 +126,7 @@ TEST_CASE("an unknown command is named, with a suggestion only within a typo's d
   CHECK(runn.out ==
         "flipper: [usage] unknown command 'runn' (did you mean 'run'?); the commands are "
         "plugins, plugin, config, run, session, repl, replay, bench, runs, lexicon, serve, dds, "
-        "accounts "
-        "(see "
-        "--help)\n");
+        "accounts, frontend (see --help)\n");
   const Run far = run_flipper("zzz");
   CHECK(far.status == 2);
   CHECK(contains(far.out, "unknown command 'zzz'; the commands are"));

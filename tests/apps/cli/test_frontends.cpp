@@ -1,6 +1,7 @@
-// flipper execs <exe>/../libexec/flipper-frontends for `serve`, `dds` and DDS services
-// (apps/cli/frontends.hpp): flipper itself maps no network library, the two binaries fail alike,
-// and a missing, broken or mismatched front-end program is named in a clear error.
+// `serve`, `dds`, `accounts` and a session's DDS services run in the front-end modules of
+// <exe>/../lib/flipper/frontends (apps/cli/frontend_module.hpp): flipper itself maps no network
+// library, the commands fail in the one error format, and a missing, broken or foreign module is
+// named in a clear error.
 #include <sys/stat.h>
 
 #include <filesystem>
@@ -33,11 +34,13 @@ std::set<std::string> needed(const std::string& file) {
   return out;
 }
 
-/// A copy of build/bin/flipper in <dir>/bin with the build's lib/ and share/ (plugins, configs)
-/// but no libexec/.
+/// A copy of build/bin/flipper in <dir>/bin with the build's plugins and share/ (configs) but no
+/// front-end modules (<dir>/lib/flipper/frontends).
 std::string copied_flipper(const std::string& dir) {
   fs::create_directories(fs::path(dir) / "bin");
-  fs::create_directory_symlink(kBuild + "/lib", fs::path(dir) / "lib");
+  fs::create_directories(fs::path(dir) / "lib" / "flipper");
+  fs::create_directory_symlink(kBuild + "/lib/flipper/plugins",
+                               fs::path(dir) / "lib" / "flipper" / "plugins");
   fs::create_directory_symlink(kBuild + "/share", fs::path(dir) / "share");
   const auto to = fs::path(dir) / "bin" / "flipper";
   fs::copy_file(kBuild + "/bin/flipper", to);
@@ -51,22 +54,26 @@ Run run_command(const std::string& cmd) {
 
 }  // namespace
 
-TEST_CASE("flipper links no network library and flipper-frontends links them", "[cli][frontends]") {
+TEST_CASE("flipper links no network library and its front-end modules link them",
+          "[cli][frontends]") {
   const auto lite = needed(kBuild + "/bin/flipper");
-  for (const char* lib : {"libddsc", "libcpp-httplib", "libssl", "libcrypto"}) {
+  for (const char* lib : {"libddsc", "libcpp-httplib", "libssl", "libcrypto", "libsodium"}) {
     INFO(lib);
     CHECK(lite.count(lib) == 0);
   }
   // serve (Boost.Beast: header-only, no library of its own; libsodium for accounts) and DDS
-  // (libddsc; OpenSSL for DDS Security keystores) live in flipper-frontends.
-  const auto full = needed(kBuild + "/libexec/flipper-frontends");
-  CHECK(full.count("libddsc") == 1);
-  CHECK(full.count("libsodium") == 1);
-  CHECK(full.count("libcpp-httplib") == 0);
+  // (libddsc; OpenSSL for DDS Security keystores) are modules of their own.
+  const std::string modules = kBuild + "/lib/flipper/frontends/";
+  const auto serve = needed(modules + "serve.so");
+  CHECK(serve.count("libsodium") == 1);
+  CHECK(serve.count("libddsc") == 0);
+  CHECK(serve.count("libcpp-httplib") == 0);
+  const auto dds = needed(modules + "dds.so");
+  CHECK(dds.count("libddsc") == 1);
+  CHECK(dds.count("libsodium") == 0);
 }
 
-TEST_CASE("serve and dds fail through flipper-frontends in the one error format",
-          "[cli][frontends]") {
+TEST_CASE("serve and dds fail through their modules in the one error format", "[cli][frontends]") {
   const Run dds = run_flipper("dds --set publish.plans=xx");
   CHECK(dds.status == 2);
   CHECK(dds.out ==
@@ -76,7 +83,7 @@ TEST_CASE("serve and dds fail through flipper-frontends in the one error format"
   CHECK(serve.status == 2);
   CHECK(serve.out ==
         "flipper serve: [bad_config] serve.web_dir '/nonexistent/web' has no index.html\n");
-  // Misuse is caught by flipper itself, before any exec.
+  // Misuse is caught by flipper itself, before any module is loaded.
   const Run usage = run_flipper("serve --bogus");
   CHECK(usage.status == 2);
   CHECK(usage.out ==
@@ -91,49 +98,49 @@ TEST_CASE("serve and dds fail through flipper-frontends in the one error format"
         "lexicon.site\n");
 }
 
-TEST_CASE("a missing or broken flipper-frontends is named in the error", "[cli][frontends]") {
+TEST_CASE("a missing or broken front-end module is named in the error", "[cli][frontends]") {
   const std::string dir = scratch_dir("frontends-missing");
   const std::string flipper = copied_flipper(dir);
-  const std::string program = dir + "/libexec/flipper-frontends";
+  const std::string modules = dir + "/lib/flipper/frontends";
   const Run version = run_command(flipper + " --version");
-  CHECK(version.status == 0);  // everything else works without it
+  CHECK(version.status == 0);  // everything else works without them
 
   const Run serve = run_command(flipper + " serve");
   CHECK(serve.status == 1);
-  CHECK(serve.out == "flipper serve: [frontend_missing] cannot run the front-end program '" +
-                         program +
-                         "': No such file or directory (`flipper serve` runs there; it is "
-                         "installed with flipper)\n");
+  CHECK(serve.out ==
+        "flipper serve: [frontend_missing] cannot load the front-end module 'serve' "
+        "from " +
+            modules +
+            ": no frontend plugin named 'serve'; available frontend plugins: none; "
+            "searched: no existing directory (it is installed with flipper)\n");
   const Run session = run_command(flipper +
                                   " session --set publish.plans=dds --set lexicon.path=:memory: "
                                   "</dev/null");
   CHECK(session.status == 1);
   CHECK(contains(session.out,
-                 "flipper session: [frontend_missing] cannot run the front-end "
-                 "program '" +
-                     program + "'"));
+                 "flipper session: [frontend_missing] cannot load the front-end "
+                 "module 'dds' from " +
+                     modules + ": no frontend plugin named 'dds'"));
 
-  fs::create_directories(dir + "/libexec");
-  std::ofstream(program) << "not a program\n";
-  fs::permissions(program, fs::perms::owner_all);
+  fs::create_directories(modules);
+  std::ofstream(modules + "/dds.so") << "not a program\n";
   const Run broken = run_command(flipper + " dds");
   CHECK(broken.status == 1);
-  CHECK(broken.out == "flipper dds: [frontend_missing] cannot run the front-end program '" +
-                          program +
-                          "': Exec format error (`flipper dds` runs there; it is installed with "
-                          "flipper)\n");
+  CHECK(broken.out ==
+        "flipper dds: [frontend_missing] cannot load the front-end module 'dds' "
+        "from " +
+            modules + ": cannot load plugin library '" + modules +
+            "/dds.so': not an ELF shared library (14 bytes, truncated) (it is "
+            "installed with flipper)\n");
 }
 
-TEST_CASE("flipper-frontends refuses to run under another flipper's tag", "[cli][frontends]") {
-  const std::string program = fs::canonical(kBuild + "/libexec/flipper-frontends").string();
+TEST_CASE("an in-tree module runs only under the flipper command of its build",
+          "[cli][frontends]") {
   // (timeout: without the check, serve would run until stopped.)
-  const Run r = run_command("timeout 20 env FLIPPER_FRONTENDS_TAG='flipper 0.0.9 frontends/1' " +
-                            program + " serve");
+  const Run r = run_command("timeout 20 " + kBuild + "/bin/flipper frontend serve");
   CHECK(r.status == 1);
-  CHECK(r.out == "flipper serve: [frontend_mismatch] the front-end program '" + program +
-                     "' is 'flipper 0.1.0 frontends/1' but was started by 'flipper 0.0.9 "
-                     "frontends/1' (a mixed install; reinstall flipper)\n");
-  // Run directly, without a tag, it is the whole of flipper.
-  const Run direct = run_command(program + " --version");
-  CHECK(direct.status == 0);
+  CHECK(r.out ==
+        "flipper frontend: [frontend_mismatch] the front-end module 'serve' ('flipper 0.1.0 "
+        "frontends/2') runs only under `flipper serve` of the same build (a mixed install? "
+        "reinstall flipper)\n");
 }
