@@ -15,6 +15,7 @@
 #include "common.hpp"
 #include "dds_services.hpp"
 #include "flipper/dds/request_node.hpp"
+#include "flipper/kernel/runtime.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -65,6 +66,7 @@ class TeardownWatchdog {
 int run_dds_node(const CommonOptions& opts) {
   // Declared first, so destroyed last: armed after "stopped", it bounds the destructors below.
   std::optional<TeardownWatchdog> watchdog;
+  kernel::set_auto_isolation(kernel::Isolation::process);  // docs/plugins-untrusted.md §6
   wiring::SessionHost host = wiring::open_host(config_file(opts), opts.overrides);
   const DdsServices services = DdsServices::start(host, /*force_participant=*/true);
   dds::RequestNode node(

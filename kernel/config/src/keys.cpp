@@ -122,6 +122,9 @@ ParamSchema build() {
   add(s, keys::kCpuBudgetMs);
   add(s, keys::kDeadlineMs);
   s.add_path_list("plugin_paths", {}, "more directories to find plugins in");
+  s.add_section("plugins", "how plugin calls run");
+  s.add_string(std::string(keys::kPluginIsolation.path), std::string(keys::kPluginIsolation.def),
+               std::string(keys::kPluginIsolation.doc), {"auto", "in_process", "process"});
 
   s.add_section("serve", "flipper serve (Flipper Studio)");
   s.add_string(std::string(keys::kServeHost.path), std::string(keys::kServeHost.def),

@@ -77,6 +77,13 @@ inline constexpr Int kMaxBodyLines{"input.max_body_lines", 100, 1, 100000,
                                    "lines of a definition's body"};
 inline constexpr Int kMaxFileBytes{"input.max_file_bytes", 67108864, 1, 1099511627776,
                                    "world, grammar and preload files"};
+// docs/plugins-untrusted.md §6: a planner's plan and tour calls each in a child process, so a
+// crash or hang costs one answer; `auto` is `process` in the servers (serve, dds), where a crash
+// would lose other users' work, and `in_process` elsewhere.
+inline constexpr Text kPluginIsolation{"plugins.isolation", "auto",
+                                       "where a planner's plan and tour calls run: in_process, "
+                                       "process (a child process each: a crash costs one answer, "
+                                       "plugin_crashed), auto (process in serve and dds)"};
 inline constexpr Int kMaxWorldCells{"world.max_cells", 4194304, 1, 268435456, "cells of a world"};
 inline constexpr Int kBusyTimeoutMs{"lexicon.busy_timeout_ms", 10000, 1, 600000,
                                     "longest wait for other writers, then lexicon_busy"};

@@ -36,6 +36,7 @@
 
 #include "flipper/kernel/accepted_plan.hpp"
 #include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/isolation.hpp"
 #include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/query_service.hpp"
@@ -258,6 +259,7 @@ class Session {
   std::string_view line_;                     // the request line being handled (handle_line)
   bool in_request_ = false;                   // a protocol request is being handled
   sdk::StopCondition request_stop_;  // begin_call: the request's CPU budget and wall backstop
+  CpuCharge request_charge_;         // isolated plugin calls' CPU time counts against request_stop_
 };
 
 }  // namespace flipper::kernel
