@@ -15,6 +15,7 @@
 #include <cstring>
 #include <ctime>
 #include <mutex>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -211,23 +212,17 @@ void charge_cpu(nanoseconds cpu) {
 
 namespace detail {
 
-std::string call_in_child(const PluginId& plugin, std::string_view op,
-                          const sdk::StopCondition& stop,
-                          const std::function<std::string(const sdk::StopCondition&)>& work) {
+std::optional<std::string> call_in_child(
+    const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
+    const std::function<std::string(const sdk::StopCondition&)>& work) {
   const nanoseconds cpu_left = stop.cpu_left();
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0)
-    throw sdk::Error(sdk::codes::kInternal, "cannot isolate " + plugin.label() + ": " +
-                                                std::string(op) +
-                                                ": pipe: " + std::strerror(errno));
+  if (::pipe2(fds, O_CLOEXEC) != 0) return std::nullopt;
   const pid_t pid = ::fork();
   if (pid < 0) {
-    const int error = errno;
     ::close(fds[0]);
     ::close(fds[1]);
-    throw sdk::Error(sdk::codes::kInternal, "cannot isolate " + plugin.label() + ": " +
-                                                std::string(op) +
-                                                ": fork: " + std::strerror(error));
+    return std::nullopt;
   }
   if (pid == 0) {
     ::close(fds[0]);

@@ -4,6 +4,7 @@
 #include "flipper/kernel/plugin_checks.hpp"
 
 #include <cstring>
+#include <optional>
 #include <string_view>
 
 #include "flipper/kernel/isolation.hpp"
@@ -133,14 +134,20 @@ template <class Result, class Call, class ToBytes, class FromBytes>
 Result planner_call(const PluginRef<const sdk::Planner>& planner, const char* op,
                     const sdk::StopCondition& stop, Call call, ToBytes to_bytes,
                     FromBytes from_bytes) {
-  if (planner.isolation() != Isolation::process)
+  auto in_process = [&] {
     return planner.call(op, [&](const sdk::Planner& p) { return call(p, stop); });
-  const detail::CallTimer timer(planner.id(), op);
-  const sdk::Planner& object = *planner.borrow();
-  return from_bytes(planner.id(), detail::call_in_child(planner.id(), op, stop,
-                                                        [&](const sdk::StopCondition& child_stop) {
-                                                          return to_bytes(call(object, child_stop));
-                                                        }));
+  };
+  if (planner.isolation() != Isolation::process) return in_process();
+  std::optional<std::string> bytes;
+  {
+    const detail::CallTimer timer(planner.id(), op);
+    const sdk::Planner& object = *planner.borrow();
+    bytes = detail::call_in_child(
+        planner.id(), op, stop,
+        [&](const sdk::StopCondition& child_stop) { return to_bytes(call(object, child_stop)); });
+  }
+  // No child could be started (descriptors or processes exhausted): in process, as documented.
+  return bytes ? from_bytes(planner.id(), *bytes) : in_process();
 }
 
 }  // namespace

@@ -143,7 +143,7 @@ TEST_CASE("an isolated call that crashes is plugin_crashed naming plugin, call a
         std::pair<std::string, std::string>{"plugin_crashed", label + "plan: SIGSEGV"});
   f.planner->tour_does = []() -> sdk::TourResult { std::abort(); };
   CHECK(error_of([&] {
-          (void)kernel::checked_tour(f.ref, *kOpenRow, {0, 0, 0}, {}, {});
+          (void)kernel::checked_tour(f.ref, *kOpenRow, {0, 0, 0}, {{2, 0, 0}}, {});
         }) == std::pair<std::string, std::string>{"plugin_crashed", label + "tour: SIGABRT"});
   f.planner->plan_does = [](const sdk::StopCondition&) -> sdk::PathResult { std::_Exit(7); };
   CHECK(error_of([&] { (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, {}); }) ==

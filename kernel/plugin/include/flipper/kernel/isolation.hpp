@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -62,9 +63,11 @@ namespace detail {
 /// with its cause, anything else as plugin_error). Returns the answer's bytes. Throws
 /// sdk::Error(plugin_crashed, "plugin 'NAME' (FILE): OP: SIGNAL ...") when the child dies,
 /// StoppedError(cancelled) when `stop`'s cancel flag is set meanwhile (the child is killed).
-std::string call_in_child(const PluginId& plugin, std::string_view op,
-                          const sdk::StopCondition& stop,
-                          const std::function<std::string(const sdk::StopCondition&)>& work);
+/// Returns nullopt, having run nothing, when no child can be started (no descriptor left for
+/// the pipe, no process left): the caller then makes the call in process.
+std::optional<std::string> call_in_child(
+    const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
+    const std::function<std::string(const sdk::StopCondition&)>& work);
 
 /// How much more CPU time than its budget a child may use before it is killed (SIGXCPU): a
 /// plugin that honours its stop condition answers `stopped` well within it.
