@@ -17,6 +17,7 @@
 #include "dds_node_services.hpp"
 #include "flipper/dds/config_keys.hpp"
 #include "flipper/dds/request_node.hpp"
+#include "flipper/kernel/runtime.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -67,6 +68,7 @@ class TeardownWatchdog {
 int dds_node_main(const CommonOptions& opts) {
   // Declared first, so destroyed last: armed after "stopped", it bounds the destructors below.
   std::optional<TeardownWatchdog> watchdog;
+  kernel::set_auto_isolation(kernel::Isolation::process);  // docs/plugins-untrusted.md §6
   wiring::SessionHost host = wiring::open_host(config_file(opts), opts.overrides);
   const NodeServices services = NodeServices::start(host, /*force_participant=*/true);
   dds::RequestNode node(

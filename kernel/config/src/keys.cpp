@@ -81,6 +81,8 @@ ParamSchema build() {
   add(s, keys::kCpuBudgetMs);
   add(s, keys::kDeadlineMs);
   add(s, keys::kPluginPaths);
+  s.add_section("plugins", "how plugin calls run");
+  add(s, keys::kPluginIsolation);
   return s;
 }
 

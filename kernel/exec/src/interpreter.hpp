@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/isolation.hpp"
 #include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/execution.hpp"
@@ -46,6 +47,7 @@ class Interpreter {
   const sdk::RoomMap& rooms_;
   ExecLimits limits_;
   sdk::StopCondition stop_;
+  CpuCharge charge_;  // isolated plugin calls' CPU time counts against stop_ (isolation.hpp)
   bool request_cpu_binds_ = false;   // less of session.cpu_budget_ms is left than execution's
   bool request_wall_binds_ = false;  // the request's backstop comes before execution.deadline_ms
   std::uint64_t actions_ = 0;

@@ -47,6 +47,7 @@ Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const Exe
     stop_.deadline = request.deadline;
     request_wall_binds_ = true;
   }
+  charge_.attach(stop_);
 }
 
 void Interpreter::count_step() {

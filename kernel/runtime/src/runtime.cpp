@@ -3,8 +3,11 @@
 #include "flipper/kernel/runtime.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 
+#include "flipper/kernel/isolation.hpp"
+#include "flipper/kernel/keys.hpp"
 #include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/loader.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -116,11 +119,25 @@ std::vector<std::string> direction_words(const Config& config, const std::string
 
 }  // namespace
 
+namespace {
+std::atomic<Isolation> g_auto_isolation{Isolation::in_process};
+}  // namespace
+
+void set_auto_isolation(Isolation isolation) {
+  g_auto_isolation.store(isolation);
+}
+
 std::unique_ptr<Runtime> make_runtime(const Config& config) {
   const PluginLoader loader(PluginLoader::search_path_for(config));
   auto rt = std::make_unique<Runtime>(config);
   rt->world = loader.create<sdk::World>(config, "world");
   rt->planner = loader.create<sdk::Planner>(config, "planner");
+  // docs/plugins-untrusted.md §6: plan and tour in a child process each, when so configured.
+  const keys::PluginIsolation isolation = config.get(keys::kPluginIsolation);
+  rt->planner = rt->planner.with_isolation(
+      isolation == keys::PluginIsolation::automatic ? g_auto_isolation.load()
+      : isolation == keys::PluginIsolation::process ? Isolation::process
+                                                    : Isolation::in_process);
   rt->parser = loader.create<sdk::Parser>(config, "parser");
   rt->scorer = loader.create<sdk::Scorer>(config, "scorer");
   if (config.has_section("rewriter"))

@@ -200,6 +200,7 @@ void Session::begin_call() {
   if (in_request_) return;
   request_stop_ =
       sdk::StopCondition::within_cpu(options_.input.cpu_budget, options_.input.deadline);
+  request_charge_.attach(request_stop_);  // on the thread of this request
 }
 
 void Session::check_deadline(const char* stage) const {

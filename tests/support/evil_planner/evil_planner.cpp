@@ -12,6 +12,9 @@
 //   abort   calls std::abort()
 //   hang    spins (on the CPU) until the process is killed
 //   tour    tour() returns an order that is not a permutation
+// `on_target_x=X` (-1: any) limits the misbehaviour to requests whose correct path ends in
+// column X, so one user's request can crash while another's is answered (in a child process each
+// call sees the count of calls before isolation began: `on_call` counts in-process calls only).
 // Tests build it with flipper_add_plugin (tests/support/evil_planner/CMakeLists.txt) and select
 // it with --set plugin_paths=[build/tests/plugins/evil] --set planner.plugin=evil_planner.
 #include <atomic>
@@ -41,6 +44,9 @@ constexpr param::Choice<Mode, 10> kMode{
     "how to misbehave (tests/support/evil_planner/evil_planner.cpp)"};
 constexpr param::Int<std::int64_t> kOnCall{"on_call", 0, 0, std::nullopt,
                                            "misbehave on this call to plan() only (0: every call)"};
+constexpr param::Int<std::int64_t> kOnTargetX{
+    "on_target_x", -1, -1, std::nullopt,
+    "misbehave only when the correct path ends in this column (-1: any)"};
 
 // Breadth-first search from start to the nearest goal, neighbours in the geometry's order.
 sdk::PathResult bfs(const Geometry& g, const sdk::PathRequest& req) {
@@ -87,8 +93,10 @@ std::vector<Cell> straight(Cell from, Cell to) {
 class EvilPlanner final : public sdk::Planner {
  public:
   explicit EvilPlanner(const sdk::Params& p)
-      : mode_(param::get(p, kMode)), on_call_(param::get(p, kOnCall)) {}
-  static sdk::ParamSchema schema() { return param::schema(kMode, kOnCall); }
+      : mode_(param::get(p, kMode)),
+        on_call_(param::get(p, kOnCall)),
+        on_target_x_(param::get(p, kOnTargetX)) {}
+  static sdk::ParamSchema schema() { return param::schema(kMode, kOnCall, kOnTargetX); }
 
  protected:
   sdk::PathResult do_plan(const Geometry& g, const sdk::PathRequest& req,
@@ -96,6 +104,8 @@ class EvilPlanner final : public sdk::Planner {
     const std::int64_t call = ++calls_;
     sdk::PathResult r = bfs(g, req);
     if (mode_ == Mode::ok || (on_call_ != 0 && call != on_call_)) return r;
+    if (on_target_x_ >= 0 && (r.status != sdk::PlanStatus::found || r.target.x != on_target_x_))
+      return r;
     switch (mode_) {
       case Mode::throws:
         throw std::runtime_error("evil_planner: thrown on purpose");
@@ -151,6 +161,7 @@ class EvilPlanner final : public sdk::Planner {
  private:
   Mode mode_;
   std::int64_t on_call_;
+  std::int64_t on_target_x_;
   mutable std::atomic<std::int64_t> calls_{0};
 };
 

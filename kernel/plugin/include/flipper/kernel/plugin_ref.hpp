@@ -36,6 +36,10 @@ struct PluginId {
   std::string label() const;
 };
 
+/// Where a plugin's calls run (plugins.isolation, docs/plugins-untrusted.md §6): on the calling
+/// thread, or (the calls that change nothing the kernel keeps) in a child process each.
+enum class Isolation { in_process, process };
+
 /// How long one plugin call took: wall-clock time, and the CPU time of the thread that made it
 /// (what a planner's "plan CPU time" is, unaffected by other processes on a busy machine).
 struct PluginCallTime {
@@ -127,10 +131,18 @@ class PluginRef {
   /// The same plugin seen through a const (or base) interface.
   template <class U, class = std::enable_if_t<std::is_convertible_v<U*, T*>>>
   PluginRef(const PluginRef<U>& other)  // NOLINT(google-explicit-constructor)
-      : object_(other.shared()), id_(other.id_ptr()) {}
+      : object_(other.shared()), id_(other.id_ptr()), isolation_(other.isolation()) {}
 
   explicit operator bool() const { return object_ != nullptr; }
   const PluginId& id() const { return *id_; }
+  /// Where the calls that may be isolated run (checked_plan, checked_tour; isolation.hpp).
+  Isolation isolation() const { return isolation_; }
+  /// The same plugin, its isolable calls run as `isolation` says.
+  PluginRef with_isolation(Isolation isolation) const {
+    PluginRef r = *this;
+    r.isolation_ = isolation;
+    return r;
+  }
 
   /// Runs `f(object)` as the plugin call `op` (see the file comment).
   template <class F>
@@ -152,6 +164,7 @@ class PluginRef {
  private:
   std::shared_ptr<T> object_;
   std::shared_ptr<const PluginId> id_ = std::make_shared<const PluginId>();
+  Isolation isolation_ = Isolation::in_process;
 };
 
 }  // namespace flipper::kernel

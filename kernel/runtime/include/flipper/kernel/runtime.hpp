@@ -40,6 +40,12 @@ struct Runtime {
   std::shared_ptr<UsageTable> usage = std::make_shared<UsageTable>();
 };
 
+/// What `plugins.isolation: auto` means for the runtimes this process builds from now on:
+/// `process` in the servers (serve, dds: each calls this before building its runtimes, since a
+/// crash there would lose other users' work), `in_process` (the initial value) elsewhere
+/// (docs/plugins-untrusted.md §6).
+void set_auto_isolation(Isolation isolation);
+
 /// Loads every plugin the config selects and builds the runtime. Throws sdk::Error with codes
 /// bad_config, plugin_not_found, plugin_abi_mismatch, plugin_load_failed, plugin_error,
 /// bad_world, bad_grammar; messages name the plugin, file and what was expected.

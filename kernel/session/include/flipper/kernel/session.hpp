@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/isolation.hpp"
 #include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/query_service.hpp"
@@ -241,6 +242,7 @@ class Session {
   std::string_view line_;                     // the request line being handled (handle_line)
   bool in_request_ = false;                   // a protocol request is being handled
   sdk::StopCondition request_stop_;  // begin_call: the request's CPU budget and wall backstop
+  CpuCharge request_charge_;         // isolated plugin calls' CPU time counts against request_stop_
 };
 
 }  // namespace flipper::kernel

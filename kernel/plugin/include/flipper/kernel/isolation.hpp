@@ -1,0 +1,80 @@
+#pragma once
+/// @file isolation.hpp
+/// Plugin calls run in a child process (`plugins.isolation: process`, docs/plugins-untrusted.md
+/// §6), so that a plugin that crashes or hangs spoils only the answer it was computing: the
+/// request that made the call gets `plugin_crashed` naming plugin, operation and signal, and the
+/// process (a server with other users' sessions) carries on.
+///
+/// A call is isolated by fork(): the child inherits the request as it is in memory (the world,
+/// the request, the plugin object), makes the call on its only thread with the CPU budget the
+/// request has left, writes the answer to a pipe and _exits; the parent reads the answer with a
+/// bound, reaps the child and charges the child's CPU time to the request's budgets
+/// (`CpuCharge`), so that budgets still count work, never wall time. What the call changes in
+/// the plugin object stays in the child: only calls that change nothing the kernel keeps
+/// (const calls of stateless plugins: a planner's plan and tour) are isolated.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "flipper/kernel/plugin_ref.hpp"
+#include "flipper/sdk/stop.hpp"
+
+namespace flipper::kernel {
+
+/// The stable error code of a call whose child process died (a signal, or killed for running
+/// past its CPU budget or the wall-clock backstop).
+inline constexpr const char* kPluginCrashed = "plugin_crashed";
+
+/// "in_process" or "process" (config key plugins.isolation; "auto" is resolved by the caller).
+Isolation isolation_from_name(std::string_view name);
+
+/// While alive, CPU time that isolated plugin calls made on this thread spend in their child
+/// processes is charged to `budget`: its cpu_deadline moves earlier by that much, exactly as if
+/// the calling thread had done the work. Register every budget on the calling thread's CPU
+/// clock that outlives a plugin call (a request's, an execution's). Not copyable.
+class CpuCharge {
+ public:
+  CpuCharge() = default;
+  explicit CpuCharge(sdk::StopCondition& budget) { attach(budget); }
+  ~CpuCharge() { detach(); }
+  CpuCharge(const CpuCharge&) = delete;
+  CpuCharge& operator=(const CpuCharge&) = delete;
+  /// Charges `budget` from now on, for the calling thread (replaces an earlier attach).
+  void attach(sdk::StopCondition& budget);
+  void detach();
+
+ private:
+  sdk::StopCondition* budget_ = nullptr;
+};
+
+/// Charges `cpu` to every budget attached on the calling thread (see CpuCharge).
+void charge_cpu(std::chrono::nanoseconds cpu);
+
+namespace detail {
+
+/// Runs `work` in a forked child as the call `op` of `plugin` (see the file comment). `work`
+/// gets the child's stop condition (the budget `stop` has left, on the child's own CPU clock,
+/// and `stop`'s wall backstop) and returns the answer's bytes; whatever it throws is carried to
+/// the parent and rethrown there as PluginRef::call would (sdk::Error as is, a StoppedError
+/// with its cause, anything else as plugin_error). Returns the answer's bytes. Throws
+/// sdk::Error(plugin_crashed, "plugin 'NAME' (FILE): OP: SIGNAL ...") when the child dies,
+/// StoppedError(cancelled) when `stop`'s cancel flag is set meanwhile (the child is killed).
+/// Returns nullopt, having run nothing, when no child can be started (no descriptor left for
+/// the pipe, no process left): the caller then makes the call in process.
+std::optional<std::string> call_in_child(
+    const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
+    const std::function<std::string(const sdk::StopCondition&)>& work);
+
+/// How much more CPU time than its budget a child may use before it is killed (SIGXCPU): a
+/// plugin that honours its stop condition answers `stopped` well within it.
+inline constexpr std::chrono::milliseconds kCpuGrace{1000};
+
+/// Bytes of an answer a child may send (more is plugin_crashed: a bounded read).
+inline constexpr std::size_t kMaxAnswerBytes = std::size_t{256} << 20;
+
+}  // namespace detail
+}  // namespace flipper::kernel

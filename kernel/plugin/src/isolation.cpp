@@ -1,0 +1,308 @@
+// Plugin calls in a forked child process (isolation.hpp, docs/plugins-untrusted.md §6).
+#include "flipper/kernel/isolation.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pthread.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <ctime>
+#include <mutex>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "flipper/sdk/errors.hpp"
+
+namespace flipper::kernel {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::nanoseconds;
+
+// --- CPU charges: budgets attached per thread --------------------------------------------
+
+struct Attached {
+  sdk::StopCondition* budget;
+  pthread_t owner;
+};
+std::mutex g_charges_mutex;
+std::vector<Attached>& charges() {
+  static std::vector<Attached> list;
+  return list;
+}
+
+// --- the envelope a child sends: 'A' + answer bytes, or 'E' + cause + code + message ------
+
+void put_u64(std::string& out, std::uint64_t v) {
+  for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
+}
+std::uint64_t get_u64(std::string_view& in) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < 8; ++i)
+    v |= static_cast<std::uint64_t>(static_cast<unsigned char>(in[static_cast<std::size_t>(i)]))
+         << (8 * i);
+  in.remove_prefix(8);
+  return v;
+}
+void put_text(std::string& out, std::string_view s) {
+  put_u64(out, s.size());
+  out.append(s);
+}
+// False when `in` holds no whole text.
+bool get_text(std::string_view& in, std::string& s) {
+  if (in.size() < 8) return false;
+  const std::uint64_t n = get_u64(in);
+  if (n > in.size()) return false;
+  s.assign(in.substr(0, n));
+  in.remove_prefix(n);
+  return true;
+}
+
+std::string signal_text(int signal) {
+  const char* abbrev = sigabbrev_np(signal);
+  return abbrev != nullptr ? std::string("SIG") + abbrev : "signal " + std::to_string(signal);
+}
+
+nanoseconds cpu_of(const rusage& ru) {
+  return std::chrono::seconds(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+         std::chrono::microseconds(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+
+// In the child, before the call: the default action for the signals a crash raises (the
+// parent's handlers write to the parent's files), no signal blocked (the request thread may
+// block some), dead with the thread that forked it, none of the parent's descriptors but the
+// answer's pipe, and a CPU-time limit that ends a call running past its budget (SIGXCPU).
+void prepare_child(int answer_fd, nanoseconds cpu_limit) {
+  for (const int s : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGXCPU, SIGTERM, SIGINT, SIGHUP})
+    ::signal(s, SIG_DFL);
+  ::signal(SIGPIPE, SIG_IGN);  // a parent gone: the write fails, the child exits
+  sigset_t none;
+  sigemptyset(&none);
+  ::pthread_sigmask(SIG_SETMASK, &none, nullptr);
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (answer_fd > 3) ::close_range(3, static_cast<unsigned>(answer_fd) - 1, 0);
+  ::close_range(static_cast<unsigned>(answer_fd) + 1, ~0u, 0);
+  if (cpu_limit != nanoseconds::max()) {
+    sigevent event{};
+    event.sigev_notify = SIGEV_SIGNAL;
+    event.sigev_signo = SIGXCPU;
+    timer_t timer{};
+    if (::timer_create(CLOCK_PROCESS_CPUTIME_ID, &event, &timer) == 0) {
+      itimerspec when{};
+      const auto s = std::chrono::duration_cast<std::chrono::seconds>(cpu_limit);
+      when.it_value.tv_sec = static_cast<time_t>(s.count());
+      when.it_value.tv_nsec = static_cast<long>((cpu_limit - s).count());
+      if (when.it_value.tv_sec == 0 && when.it_value.tv_nsec == 0) when.it_value.tv_nsec = 1;
+      ::timer_settime(timer, 0, &when, nullptr);
+    }
+  }
+}
+
+void write_all(int fd, const std::string& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) ::_exit(3);  // the parent stopped reading: nothing to tell it
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+[[noreturn]] void run_child(const PluginId& plugin, std::string_view op, int answer_fd,
+                            const sdk::StopCondition& parent_stop, nanoseconds cpu_left,
+                            const std::function<std::string(const sdk::StopCondition&)>& work) {
+  prepare_child(answer_fd,
+                cpu_left == nanoseconds::max() ? cpu_left : cpu_left + detail::kCpuGrace);
+  sdk::StopCondition stop;  // the parent's limits, its CPU budget on this process's one thread
+  stop.deadline = parent_stop.deadline;
+  stop.max_expansions = parent_stop.max_expansions;
+  stop.cpu_clock = CLOCK_THREAD_CPUTIME_ID;
+  if (cpu_left != nanoseconds::max()) stop.cpu_deadline = sdk::cpu_time() + cpu_left;
+  std::string out;
+  try {
+    std::string answer = work(stop);
+    out.reserve(answer.size() + 1);
+    out.push_back('A');
+    out += answer;
+  } catch (...) {
+    out = "E";
+    try {
+      detail::rethrow_plugin_failure(plugin, op);
+    } catch (const sdk::Error& e) {
+      put_u64(out, static_cast<std::uint64_t>(sdk::stop_cause_of(e)));
+      put_text(out, e.code());
+      put_text(out, e.what());
+    } catch (...) {
+      ::_exit(4);
+    }
+  }
+  write_all(answer_fd, out);
+  ::_exit(0);
+}
+
+// The parent's side of a child that ended or was killed: reaped, its CPU time charged.
+struct Reaped {
+  int signal = 0;  // the signal that ended it (0: it exited)
+  int status = 0;  // its exit status when it exited
+};
+Reaped reap(pid_t pid) {
+  int raw = 0;
+  rusage ru{};
+  pid_t got;
+  do got = ::wait4(pid, &raw, 0, &ru);
+  while (got < 0 && errno == EINTR);
+  Reaped r;
+  if (got != pid) return r;
+  charge_cpu(cpu_of(ru));
+  if (WIFSIGNALED(raw)) r.signal = WTERMSIG(raw);
+  if (WIFEXITED(raw)) r.status = WEXITSTATUS(raw);
+  return r;
+}
+
+[[noreturn]] void crashed(const PluginId& plugin, std::string_view op, const std::string& what) {
+  throw sdk::Error(kPluginCrashed, plugin.label() + ": " + std::string(op) + ": " + what);
+}
+
+}  // namespace
+
+Isolation isolation_from_name(std::string_view name) {
+  return name == "process" ? Isolation::process : Isolation::in_process;
+}
+
+void CpuCharge::attach(sdk::StopCondition& budget) {
+  const std::lock_guard<std::mutex> lock(g_charges_mutex);
+  auto& list = charges();
+  if (budget_ != nullptr)
+    list.erase(std::remove_if(list.begin(), list.end(),
+                              [&](const Attached& a) { return a.budget == budget_; }),
+               list.end());
+  budget_ = &budget;
+  list.push_back(Attached{budget_, ::pthread_self()});
+}
+
+void CpuCharge::detach() {
+  if (budget_ == nullptr) return;
+  const std::lock_guard<std::mutex> lock(g_charges_mutex);
+  auto& list = charges();
+  list.erase(std::remove_if(list.begin(), list.end(),
+                            [&](const Attached& a) { return a.budget == budget_; }),
+             list.end());
+  budget_ = nullptr;
+}
+
+void charge_cpu(nanoseconds cpu) {
+  if (cpu <= nanoseconds::zero()) return;
+  const std::lock_guard<std::mutex> lock(g_charges_mutex);
+  const pthread_t self = ::pthread_self();
+  for (const Attached& a : charges()) {
+    if (::pthread_equal(a.owner, self) == 0) continue;
+    nanoseconds& deadline = a.budget->cpu_deadline;
+    if (deadline == nanoseconds::max()) continue;
+    deadline = deadline > cpu ? deadline - cpu : nanoseconds::zero();
+  }
+}
+
+namespace detail {
+
+std::optional<std::string> call_in_child(
+    const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
+    const std::function<std::string(const sdk::StopCondition&)>& work) {
+  const nanoseconds cpu_left = stop.cpu_left();
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) return std::nullopt;
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return std::nullopt;
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    run_child(plugin, op, fds[1], stop, cpu_left, work);
+  }
+  ::close(fds[1]);
+  const int in = fds[0];
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{in};
+
+  // The answer, read as it comes (it may be larger than a pipe holds), until the child closes
+  // its end. A wall backstop (with the grace a planner gets to notice it) and the cancel flag
+  // end the wait; a child that sends more than kMaxAnswerBytes is ended too.
+  const auto kill_by = stop.deadline == std::chrono::steady_clock::time_point::max()
+                           ? stop.deadline
+                           : stop.deadline + std::chrono::duration_cast<milliseconds>(kCpuGrace);
+  std::string bytes;
+  char buffer[65536];
+  for (;;) {
+    int timeout_ms = -1;
+    if (stop.cancel != nullptr) timeout_ms = 50;
+    if (kill_by != std::chrono::steady_clock::time_point::max()) {
+      const auto left =
+          std::chrono::duration_cast<milliseconds>(kill_by - std::chrono::steady_clock::now());
+      const int ms = static_cast<int>(std::clamp<std::int64_t>(left.count() + 1, 0, 60000));
+      timeout_ms = timeout_ms < 0 ? ms : std::min(timeout_ms, ms);
+    }
+    pollfd p{in, POLLIN, 0};
+    const int ready = ::poll(&p, 1, timeout_ms);
+    if (ready < 0 && errno == EINTR) continue;
+    if (stop.cancel != nullptr && stop.cancel->load(std::memory_order_relaxed)) {
+      ::kill(pid, SIGKILL);
+      reap(pid);
+      throw sdk::StoppedError(sdk::StopCause::cancelled, "deadline exceeded: cancelled");
+    }
+    if (ready == 0) {
+      if (std::chrono::steady_clock::now() < kill_by) continue;
+      ::kill(pid, SIGKILL);
+      reap(pid);
+      throw sdk::StoppedError(sdk::StopCause::wall_backstop,
+                              "deadline exceeded: " + plugin.label() + ": " + std::string(op) +
+                                  ": still running past the wall-clock backstop, its process "
+                                  "killed (stopped: wall_backstop)");
+    }
+    const ssize_t n = ::read(in, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // end of the answer (or an error reading it: judged below)
+    if (bytes.size() + static_cast<std::size_t>(n) > kMaxAnswerBytes) {
+      ::kill(pid, SIGKILL);
+      reap(pid);
+      crashed(plugin, op,
+              "its answer is larger than " + std::to_string(kMaxAnswerBytes) +
+                  " bytes, its process killed");
+    }
+    bytes.append(buffer, static_cast<std::size_t>(n));
+  }
+  const Reaped r = reap(pid);
+  if (r.signal == SIGXCPU && cpu_left != nanoseconds::max())
+    crashed(plugin, op,
+            "SIGXCPU (still running " + std::to_string(kCpuGrace.count()) +
+                " ms of CPU time after its budget was spent)");
+  if (r.signal != 0) crashed(plugin, op, signal_text(r.signal));
+  if (r.status != 0 || bytes.empty())
+    crashed(plugin, op,
+            "its process exited with status " + std::to_string(r.status) + " and no answer");
+  std::string_view in_view(bytes);
+  const char tag = in_view.front();
+  in_view.remove_prefix(1);
+  if (tag == 'A') return std::string(in_view);
+  std::string code, message;
+  if (tag != 'E' || in_view.size() < 8) crashed(plugin, op, "its process sent a malformed answer");
+  const std::uint64_t cause = get_u64(in_view);
+  if (!get_text(in_view, code) || !get_text(in_view, message) ||
+      cause > static_cast<std::uint64_t>(sdk::StopCause::wall_backstop))
+    crashed(plugin, op, "its process sent a malformed answer");
+  if (cause != 0) throw sdk::StoppedError(static_cast<sdk::StopCause>(cause), message);
+  throw sdk::Error(code, message);
+}
+
+}  // namespace detail
+}  // namespace flipper::kernel

@@ -1,0 +1,170 @@
+// plugins.isolation: process (docs/plugins-untrusted.md §6). A planner that segfaults, aborts,
+// runs past its CPU budget or is killed (SIGKILL, from this test) costs the one answer it was
+// computing: in `flipper serve` (isolation `auto` is `process` there) user A's candidate carries
+// plugin_crashed naming plugin, call and signal, the server stays up, user B's session answers as
+// before, and A's next request is answered. The evil planner (tests/support/evil_planner)
+// misbehaves only when its correct path ends in column 9 (`on_target_x=9`): "visit room1" from
+// the robot's [2,4] on the study map ends at room1's [9,0]; "visit room4" ends at [2,7]
+// (hand-checked: room4 spans columns 0-5 of rows 7-8, straight up from the robot).
+#include <signal.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "apps/studio/studio_server.hpp"
+#include "cli_test_support.hpp"
+
+using namespace flipper;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kEvilDir = std::string(FLIPPER_BINARY_DIR) + "/tests/plugins/evil";
+const std::string kLabel = "plugin 'evil_planner' (" + kEvilDir + "/evil_planner.so)";
+const std::string kCrashing = R"({"op":"query","text":"visit room1"})";
+const std::string kFine = R"({"op":"query","text":"visit room4"})";
+
+std::vector<std::string> evil_sets(const std::string& mode) {
+  return {"plugin_paths=[" + kEvilDir + "]", "planner.plugin=evil_planner",
+          "planner.params.mode=" + mode, "planner.params.on_target_x=9"};
+}
+
+json without_ms(json a) {
+  a.erase("ms");
+  return a;
+}
+
+// The answer to `request` of a fresh `flipper session` with the evil planner in mode ok, in
+// process: the reference for user B's answers and A's next one.
+json reference(const std::string& request) {
+  const std::string in = clitest::write_file("isolation-reference.jsonl", request + "\n");
+  std::string sets;
+  for (const auto& s : evil_sets("ok")) sets += " --set " + s;
+  const auto r =
+      clitest::run_flipper("session --set lexicon.path=:memory: --set lexicon.preload=" + sets +
+                               " --set plugins.isolation=in_process " + in,
+                           false);
+  REQUIRE(r.status == 0);
+  return json::parse(r.out);
+}
+
+// The one candidate of a "visit room1" answer.
+json only_candidate(const json& answer) {
+  REQUIRE(answer["candidates"].size() == 1u);
+  return answer["candidates"][0];
+}
+
+// The pids of the children of process `pid` (/proc/PID/task/*/children).
+std::vector<int> children_of(int pid) {
+  std::vector<int> out;
+  for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
+    std::ifstream f(task.path() / "children");
+    for (int c = 0; f >> c;) out.push_back(c);
+  }
+  return out;
+}
+
+// Two users of one server: B answered, A's crashing request, B again, A again.
+void crash_costs_one_answer(studiotest::StudioServer& server, const json& expected_error,
+                            const std::function<void()>& meanwhile = {}) {
+  const json fine = without_ms(reference(kFine));
+  auto http_a = server.client();
+  auto http_b = server.client();
+  const auto a = studiotest::post(http_a, "", R"({"op":"state"})");
+  const auto b = studiotest::post(http_b, "", R"({"op":"state"})");
+  REQUIRE(a.status == 200);
+  REQUIRE(b.status == 200);
+  REQUIRE(a.session != b.session);
+  CHECK(without_ms(studiotest::post(http_b, b.session, kFine).body) == fine);
+
+  auto crashing = std::async(std::launch::async,
+                             [&] { return studiotest::post(http_a, a.session, kCrashing); });
+  if (meanwhile) meanwhile();
+  const auto crashed = crashing.get();
+  CHECK(crashed.status == 200);
+  const json c = only_candidate(crashed.body);
+  CHECK(c["formula"] == "{visit room1}");
+  CHECK(c["error"] == expected_error);
+  CHECK(c["realizable"] == false);
+  CHECK(c["trace"] == json::array());
+  CHECK(c["world"]["robot"] == json{{"x", 2}, {"y", 4}, {"holding", json::array()}});
+  // Accepting it is refused with the message quoted; nothing was applied.
+  const auto accept = studiotest::post(http_a, a.session, R"({"op":"accept","rank":0})");
+  CHECK(accept.body["ok"] == false);
+  CHECK(accept.body["error"]["code"] == "not_acceptable");
+
+  CHECK(without_ms(studiotest::post(http_b, b.session, kFine).body) == fine);
+  CHECK(without_ms(studiotest::post(http_a, a.session, kFine).body) == fine);
+  CHECK(server.stop() == 0);
+}
+
+json crash_error(const std::string& what) {
+  return json{{"code", "plugin_crashed"}, {"message", kLabel + ": plan: " + what}};
+}
+
+}  // namespace
+
+TEST_CASE("serve: a planner that segfaults costs user A one answer, user B nothing",
+          "[isolation]") {
+  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), evil_sets("segv"));
+  crash_costs_one_answer(server, crash_error("SIGSEGV"));
+}
+
+TEST_CASE("serve: a planner that aborts costs user A one answer, user B nothing", "[isolation]") {
+  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), evil_sets("abort"));
+  crash_costs_one_answer(server, crash_error("SIGABRT"));
+}
+
+TEST_CASE("serve: a planner that spins past its CPU budget is ended by it (SIGXCPU)",
+          "[isolation]") {
+  // execution.cpu_budget_ms = 100: the child is ended after at most 100 ms + 1 s of CPU time.
+  auto sets = evil_sets("hang");
+  sets.push_back("execution.cpu_budget_ms=100");
+  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), sets);
+  crash_costs_one_answer(
+      server,
+      crash_error("SIGXCPU (still running 1000 ms of CPU time after its budget was spent)"));
+}
+
+TEST_CASE("serve: the plan's process killed from outside (SIGKILL) costs one answer",
+          "[isolation]") {
+  // The planner spins (its CPU limit, 2 s + 1 s, is far); this test finds the server's child,
+  // the plan call's process, and kills it.
+  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), evil_sets("hang"));
+  const int pid = server.pid();
+  crash_costs_one_answer(server, crash_error("SIGKILL"), [pid] {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    std::vector<int> kids;
+    while ((kids = children_of(pid)).empty() && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    REQUIRE(kids.size() == 1u);
+    REQUIRE(::kill(kids[0], SIGKILL) == 0);
+  });
+}
+
+TEST_CASE("run: process isolation answers plugin_crashed and exits 1, in_process dies as before",
+          "[isolation]") {
+  std::string sets;
+  for (const auto& s : evil_sets("segv")) sets += " --set " + s;
+  const auto isolated = clitest::run_flipper("run" + sets +
+                                             " --set plugins.isolation=process "
+                                             "\"visit room1\"");
+  CHECK(isolated.status == 1);
+  CHECK(isolated.out == "flipper run: [plugin_crashed] " + kLabel + ": plan: SIGSEGV\n");
+  // `auto` is in_process outside the servers: the crash ends the process, as it always did.
+  const auto in_process = clitest::run_flipper("run" + sets + " \"visit room1\"");
+  CHECK(in_process.status == 128 + SIGSEGV);
+  const auto fine = clitest::run_flipper("run" + sets +
+                                         " --set plugins.isolation=process "
+                                         "\"visit room4\"");
+  CHECK(fine.status == 0);
+}
