@@ -1,7 +1,8 @@
 #pragma once
 // The bad-input table: every class of hostile input, the stable code it gets and an
 // excerpt of the message. The tests in test_bad_input.cpp drive build/bin/flipper with each row;
-// the "Bad input" table of docs/bad-input.md is rendered from these rows (test_readme_table.cpp compares it).
+// the "Bad input" table of docs/bad-input.md is rendered from these rows (test_readme_table.cpp
+// compares it).
 #include <functional>
 #include <string>
 #include <vector>
