@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Out-of-tree plugins against an installed SDK, as a plugin author works (README "Plugins"):
+# Out-of-tree plugins against an installed SDK, as a plugin author works (docs/plugins.md):
 # 1. install the SDK (component "sdk") into a temp prefix: headers, libflipper_sdk, the toolkit,
 #    the CMake package with the conformance kits, the example under share/flipper/examples;
-# 2. the README's CMake snippet is the installed example's CMakeLists.txt, byte for byte;
+# 2. docs/plugins.md's CMake snippet is the installed example's CMakeLists.txt, byte for byte;
 # 3. build a copy of the installed example against that prefix alone, run its ctest (loader kit,
 #    planner kit, its own test) and load it with build/bin/flipper;
 # 4. the build fingerprint names the standard library's ABI, not the compiler: the example built
@@ -35,13 +35,13 @@ for f in lib/libflipper_toolkit.a lib/cmake/FlipperSDK/core.grammar \
   test -f "$prefix/$f" || fail "the SDK install lacks $f"
 done
 
-step "2. the README's CMake snippet is the installed example's CMakeLists.txt"
+step "2. docs/plugins.md's CMake snippet is the installed example's CMakeLists.txt"
 awk '/<!-- readme-cmake: examples\/out-of-tree-planner\/CMakeLists.txt/ {marked = 1; next}
      marked && /^```/ {if (inside) exit; inside = 1; next}
-     inside {print}' "$src/README.md" >"$tmp/readme-snippet.cmake"
-test -s "$tmp/readme-snippet.cmake" || fail "no marked CMake snippet in README.md"
+     inside {print}' "$src/docs/plugins.md" >"$tmp/readme-snippet.cmake"
+test -s "$tmp/readme-snippet.cmake" || fail "no marked CMake snippet in docs/plugins.md"
 diff -u "$tmp/readme-snippet.cmake" "$example/CMakeLists.txt" ||
-  fail "README.md's snippet differs from examples/out-of-tree-planner/CMakeLists.txt"
+  fail "docs/plugins.md's snippet differs from examples/out-of-tree-planner/CMakeLists.txt"
 
 step "3. build the installed example against the prefix alone, test it, load it"
 cp -r "$example" "$tmp/example"

@@ -1,14 +1,16 @@
-// The README's commands run as written and print what the README says they do.
+// The commands of the README and the docs run as written and print what the pages say they do.
 //
 // Which commands: every line of a fenced code block that directly follows the marker line
-// `<!-- readme-test -->` in README.md (text after "  # " is the README's comment, not part of the
-// command). Blocks without the marker are not run, so a new README section does not break this
-// test by accident; marking a block makes each of its commands need an entry in kExpected below.
+// `<!-- readme-test -->` in README.md, then in the pages of docs/ in name order (text after "  # "
+// is the page's comment, not part of the command). Blocks without the marker are not run, so a new
+// section does not break this test by accident; marking a block makes each of its commands need an
+// entry in kExpected below.
 // The commands run in order, in one scratch directory that looks like the repository root
 // (build/, configs/, examples/, docs/ linked), with HOME there too, so files they write and the
 // default lexicon stay out of the tree.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
 #include <cstdio>
@@ -27,7 +29,7 @@ struct Expected {
   std::vector<std::string> output;  ///< substrings of stdout+stderr, each required
 };
 
-// One entry per marked README command (exact text).
+// One entry per marked command of the README and docs/ (exact text).
 const std::map<std::string, Expected> kExpected = {
     // Your first ten minutes. room1 is x 9..11, y 0..2; its nearest cell by path from [2,4] is
     // [9,0], 13 moves: down the x=1 corridor to y=0 (5), then right along y=0 to x=9 (8).
@@ -47,7 +49,7 @@ const std::map<std::string, Expected> kExpected = {
       {"plain: status agreement ", "/3950, accepts matched ", "/807",
        "run: out/first-replay/dev-replay-", "report: out/first-replay/dev-replay-"}}},
 
-    // Using it
+    // Using it (docs/usage.md)
     {R"(build/bin/flipper run "visit world containing item is red; pick item is red")",
      // The nearest red item from [2,4] is the red circle 5 cells right at [7,4] (the red
      // triangle at [4,0] is 6+ away around the wall at [2,2]).
@@ -134,12 +136,26 @@ Result run_in(const fs::path& dir, const std::string& command) {
   return r;
 }
 
+// README.md, then every page of docs/ in name order: the order the commands run in.
+std::vector<std::string> marked_commands_of_pages(const fs::path& src) {
+  std::vector<fs::path> docs;
+  for (const auto& e : fs::directory_iterator(src / "docs"))
+    if (e.path().extension() == ".md") docs.push_back(e.path());
+  std::sort(docs.begin(), docs.end());
+  std::vector<std::string> out = marked_commands((src / "README.md").string());
+  for (const auto& page : docs) {
+    auto more = marked_commands(page.string());
+    out.insert(out.end(), more.begin(), more.end());
+  }
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE("every command of the README's marked blocks runs and prints what it should",
           "[readme]") {
   const fs::path src = FLIPPER_SOURCE_DIR;
-  const auto commands = marked_commands((src / "README.md").string());
+  const auto commands = marked_commands_of_pages(src);
   REQUIRE(commands.size() >= kExpected.size());
 
   const fs::path dir = fs::path(FLIPPER_BINARY_DIR) / "tests" / "tmp" / "readme";
@@ -150,11 +166,11 @@ TEST_CASE("every command of the README's marked blocks runs and prints what it s
     fs::create_directory_symlink(src / d, dir / d);
 
   for (const auto& cmd : commands) {
-    INFO("README command: " << cmd);
+    INFO("README/docs command: " << cmd);
     const auto it = kExpected.find(cmd);
     if (it == kExpected.end())
       FAIL(
-          "README command in a <!-- readme-test --> block has no expected output in "
+          "command in a <!-- readme-test --> block has no expected output in "
           "tests/readme/test_readme_commands.cpp: "
           << cmd);
     REQUIRE(cmd.find('\'') == std::string::npos);

@@ -1,8 +1,8 @@
-// SHA-256 with GNU Nettle (nettle-dev): streamed in 64 KiB blocks, so large corpus files cost no
-// more memory than small ones.
+// SHA-256 with libsodium (libsodium-dev, crypto_hash_sha256): streamed in 64 KiB blocks, so large
+// corpus files cost no more memory than small ones.
 #include "flipper/record/checksum.hpp"
 
-#include <nettle/sha2.h>
+#include <sodium.h>
 
 #include <array>
 #include <cerrno>
@@ -14,15 +14,24 @@
 namespace flipper::record {
 namespace {
 
-std::string hex(const std::array<std::uint8_t, SHA256_DIGEST_SIZE>& digest) {
+using Digest = std::array<unsigned char, crypto_hash_sha256_BYTES>;
+
+std::string hex(const Digest& digest) {
   static const char* digits = "0123456789abcdef";
   std::string out;
   out.reserve(2 * digest.size());
-  for (std::uint8_t b : digest) {
+  for (const unsigned char b : digest) {
     out += digits[b >> 4];
     out += digits[b & 15];
   }
   return out;
+}
+
+// libsodium's functions may be called only after sodium_init (thread-safe, idempotent); -1 means
+// the library could not initialise (no randomness source), which the hash itself does not need.
+void init_sodium() {
+  static const int once = sodium_init();
+  (void)once;
 }
 
 }  // namespace
@@ -32,26 +41,27 @@ std::string sha256_file(const std::string& path) {
   if (!in)
     throw sdk::Error(sdk::codes::kBadRequest,
                      "cannot read '" + path + "' to checksum it: " + std::strerror(errno));
-  sha256_ctx ctx;
-  sha256_init(&ctx);
+  init_sodium();
+  crypto_hash_sha256_state state;
+  crypto_hash_sha256_init(&state);
   std::array<char, 65536> buffer{};
   while (in) {
     in.read(buffer.data(), buffer.size());
     const auto n = static_cast<std::size_t>(in.gcount());
-    if (n > 0) sha256_update(&ctx, n, reinterpret_cast<const std::uint8_t*>(buffer.data()));
+    if (n > 0)
+      crypto_hash_sha256_update(&state, reinterpret_cast<const unsigned char*>(buffer.data()), n);
   }
   if (in.bad()) throw sdk::Error(sdk::codes::kBadRequest, "cannot read '" + path + "'");
-  std::array<std::uint8_t, SHA256_DIGEST_SIZE> digest{};
-  sha256_digest(&ctx, digest.size(), digest.data());
+  Digest digest{};
+  crypto_hash_sha256_final(&state, digest.data());
   return hex(digest);
 }
 
 std::string sha256_text(const std::string& text) {
-  sha256_ctx ctx;
-  sha256_init(&ctx);
-  sha256_update(&ctx, text.size(), reinterpret_cast<const std::uint8_t*>(text.data()));
-  std::array<std::uint8_t, SHA256_DIGEST_SIZE> digest{};
-  sha256_digest(&ctx, digest.size(), digest.data());
+  init_sodium();
+  Digest digest{};
+  crypto_hash_sha256(digest.data(), reinterpret_cast<const unsigned char*>(text.data()),
+                     text.size());
   return hex(digest);
 }
 

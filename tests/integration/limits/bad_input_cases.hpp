@@ -1,7 +1,8 @@
 #pragma once
 // The bad-input table: every class of hostile input, the stable code it gets and an
 // excerpt of the message. The tests in test_bad_input.cpp drive build/bin/flipper with each row;
-// the README's "Bad input" table is rendered from these rows (test_readme_table.cpp compares it).
+// the "Bad input" table of docs/bad-input.md is rendered from these rows (test_readme_table.cpp
+// compares it).
 #include <functional>
 #include <string>
 #include <vector>
@@ -32,7 +33,7 @@ struct Scratch {
 /// ok); the answer must be ok:false with `code` and a message containing `message`, and the
 /// session must go on answering.
 struct SessionRow {
-  const char* input;  ///< the README's "Bad input" cell
+  const char* input;  ///< the cell of docs/bad-input.md's table
   const char* code;
   const char* message;  ///< an excerpt of the answer's error message
   std::function<std::vector<std::string>(const Scratch&)> setup;
@@ -56,7 +57,7 @@ std::vector<std::string> session_settings();
 const std::vector<SessionRow>& session_rows();
 const std::vector<CliRow>& cli_rows();
 
-/// The README table (Markdown) rendered from the rows.
+/// The table of docs/bad-input.md (Markdown) rendered from the rows.
 std::string render_table();
 
 }  // namespace flipper::limitstest

@@ -1,5 +1,6 @@
-// The README's "Bad input" table is generated from the test table (bad_input_cases.cpp): this test
-// fails when they differ. FLIPPER_UPDATE_README=1 build/tests/test_limits "[readme]" rewrites it.
+// The bad-input table of docs/bad-input.md is generated from the test table (bad_input_cases.cpp):
+// this test fails when they differ. FLIPPER_UPDATE_README=1 build/tests/test_limits "[readme]"
+// rewrites it.
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <fstream>
@@ -17,7 +18,7 @@ const std::string kEnd = "<!-- end of bad-input-table -->\n";
 }  // namespace
 
 TEST_CASE("the README's bad-input table is the test table", "[readme]") {
-  const std::string path = std::string(FLIPPER_SOURCE_DIR) + "/README.md";
+  const std::string path = std::string(FLIPPER_SOURCE_DIR) + "/docs/bad-input.md";
   std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();

@@ -3,8 +3,8 @@
 # limits that can change an answer count work or the request thread's CPU time; the wall clock
 # is only a far backstop). Runs, once quietly and once at nice 19 while one busy loop per core
 # (at least 2) spins at normal priority:
-#   - every `build/bin/flipper run ...` line of the README's tested blocks (README "Using it",
-#     the 3-D octomap-ompl example included);
+#   - every `build/bin/flipper run ...` line of the tested blocks of README.md and docs/usage.md
+#     (the 3-D octomap-ompl example included);
 #   - a small `flipper bench planners` experiment (small-planners.yaml), its results table;
 # and requires byte-identical answers (stdout, exit status) and results tables. The quiet run
 # must succeed (exit 0), so two equal failures do not pass.
@@ -42,16 +42,16 @@ mkdir "$tmp/root"
 ln -s "$build" "$tmp/root/build"
 for d in configs data examples docs; do ln -s "$src/$d" "$tmp/root/$d"; done
 
-# The README's `run` examples: lines of its tested blocks (a fence after `<!-- readme-test -->`),
-# the comment after "  # " dropped.
+# The `run` examples of README.md and docs/usage.md: lines of their tested blocks (a fence after
+# `<!-- readme-test -->`), the comment after "  # " dropped.
 mapfile -t commands < <(awk '
   /^<!-- readme-test -->$/ { armed = 1; next }
   armed && /^```/ { if (inside) { inside = 0; armed = 0 } else inside = 1; next }
   inside && /^build\/bin\/flipper run / { sub(/  # .*$/, ""); print }
-' "$src/README.md")
-((${#commands[@]} >= 3)) || fail "found ${#commands[@]} 'flipper run' lines in the README's tested blocks"
+' "$src/README.md" "$src/docs/usage.md")
+((${#commands[@]} >= 3)) || fail "found ${#commands[@]} 'flipper run' lines in the tested blocks"
 printf '%s\n' "${commands[@]}" | grep -q 'configs/octomap-ompl.yaml' ||
-  fail "the README's octomap-ompl example is not among its tested run lines"
+  fail "docs/usage.md's octomap-ompl example is not among the tested run lines"
 
 run_phase() {  # run_phase NAME [PREFIX...]: every command, outputs in $tmp/NAME
   local out=$tmp/$1

@@ -1,6 +1,6 @@
 #pragma once
 /// @file checksum.hpp
-/// SHA-256 of files and texts (GNU Nettle), as lowercase hex: how a run's manifest names the exact
+/// SHA-256 of files and texts (libsodium), as lowercase hex: how a run's manifest names the exact
 /// plugins, corpus and input files it used (docs/experiments.md §2).
 
 #include <string>
