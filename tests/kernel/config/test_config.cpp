@@ -659,7 +659,7 @@ TEST_CASE("sixteen configs may extend one another, seventeen are a config error"
 
 // docs/config.md "Who declares a key": the kernel's fragment holds its own sections only, each
 // layer's fragment its own, and the installed schema is their composition in that order.
-TEST_CASE("each layer declares its own keys; the host composes them", "[config][schema][layers]") {
+TEST_CASE("each layer declares its own keys, the host composes them", "[config][schema][layers]") {
   const auto sections_of = [](const sdk::ParamSchema& s) {
     std::vector<std::string> out;
     for (const auto& spec : s.params) {
