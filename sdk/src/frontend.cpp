@@ -3,9 +3,9 @@
 #include "flipper/sdk/frontend.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 FrontendHost::~FrontendHost() = default;
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -25,7 +25,7 @@
 #include "flipper/sdk/plugin.hpp"
 
 namespace flipper::sdk {
-inline namespace v1 {
+inline namespace FLIPPER_ABI_NAMESPACE {
 
 /// The plugin kind of a front end (PluginKind's next value: part of the ABI, never renumbered).
 inline constexpr PluginKind kFrontendKind = static_cast<PluginKind>(7);
@@ -72,7 +72,7 @@ struct KindOf<Frontend> {
   static constexpr PluginKind value = kFrontendKind;
 };
 
-}  // namespace v1
+}  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk
 
 /// FLIPPER_PLUGIN for a front end (`Class` derives from flipper::sdk::Frontend and provides
