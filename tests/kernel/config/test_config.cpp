@@ -371,7 +371,7 @@ TEST_CASE("a bad kernel key is refused naming the file, the key and what is wron
         "config " + tmp("named/top.yaml") +
             ": unknown config key 'sesion' (did you mean 'session'?); top-level keys: world, "
             "planner, parser, scorer, rewriter, similarity, grammar, lexicon, publish, dds, "
-            "induction, execution, input, session, plugin_paths, serve");
+            "induction, execution, input, session, plugin_paths, plugins, serve");
   CHECK(load_error("named/numbers.yaml", "world: {origin: [1, x]}\n") ==
         "config " + tmp("named/numbers.yaml") +
             ": config key 'world.origin' must be a list of numbers, but an element is 'x'");
