@@ -18,8 +18,11 @@ TEST_CASE("a cheap request is answered while another session's expensive one run
   // takes seconds of CPU in the sanitizer build, past the 5 s default of session.cpu_budget_ms).
   StudioServer server(
       fresh_dir("pool-cheap"),
+      // In process: the pool is tested here, and a fork per plan call (plugins.isolation: process,
+      // serve's default; docs/plugins-untrusted.md §6) makes this query of ~10^5 plans minutes.
       {"serve.kernels=2", "session.deadline_ms=120000", "execution.deadline_ms=120000",
-       "session.cpu_budget_ms=120000", "execution.cpu_budget_ms=120000"});
+       "session.cpu_budget_ms=120000", "execution.cpu_budget_ms=120000",
+       "plugins.isolation=in_process"});
   auto heavy_http = server.client();
   heavy_http.set_read_timeout(120);
   const std::string heavy = new_session(heavy_http);
