@@ -226,7 +226,10 @@ void add_frontend_command(CLI::App& app) {
   static std::string name;
   static std::vector<std::string> params;
   add_common_options(*cmd, opts);
-  cmd->add_option("name", name, "The front end's name (see `flipper plugins`)")->required();
+  cmd->add_option(
+         "name", name,
+         "The front end's name: lib/flipper/frontends beside flipper, then the plugin path")
+      ->required();
   cmd->add_option("--param", params,
                   "A parameter of the front end: --param key=value (repeatable)");
   on_run(*cmd, [] {
