@@ -91,7 +91,7 @@ class ModuleHost final : public sdk::FrontendHost {
       throw sdk::Error(sdk::codes::kBadRequest,
                        "there is no session " + std::to_string(session) + " on this host");
     kernel::Session& s = *it->second;
-    host_->activate(s);
+    s.activate();
     if (request.size() > s.options().input.max_line_bytes) return s.line_too_long(request.size());
     return s.handle_line(request);
   }
