@@ -5,6 +5,7 @@
 #include "common.hpp"
 #include "dds_node_services.hpp"
 #include "flipper/sdk/frontend.hpp"
+#include "flipper/wiring/config_schema.hpp"
 #include "frontend_module.hpp"
 
 namespace flipper::cli {
@@ -21,6 +22,9 @@ class DdsModule final : public sdk::Frontend {
   static sdk::ParamSchema schema() { return {}; }
 
   int run(sdk::FrontendHost& host) override {
+    // A module holds its own copy of the kernel's config code, so it installs the composed
+    // schema too (docs/config.md "Who declares a key").
+    wiring::install_config_schema();
     auto* call = static_cast<InTreeCall*>(host.internals(kInTreeTag));
     if (call == nullptr) refuse_foreign_host("dds");
     if (call->command == "dds security") return dds_security_main(call->action, *call->security);

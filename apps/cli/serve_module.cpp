@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "flipper/sdk/frontend.hpp"
+#include "flipper/wiring/config_schema.hpp"
 #include "frontend_module.hpp"
 
 namespace flipper::cli {
@@ -19,6 +20,9 @@ class ServeModule final : public sdk::Frontend {
   static sdk::ParamSchema schema() { return {}; }
 
   int run(sdk::FrontendHost& host) override {
+    // A module holds its own copy of the kernel's config code, so it installs the composed
+    // schema too (docs/config.md "Who declares a key").
+    wiring::install_config_schema();
     auto* call = static_cast<InTreeCall*>(host.internals(kInTreeTag));
     if (call == nullptr) refuse_foreign_host("serve");
     if (call->command == "accounts") return accounts_main(*call->opts, *call->accounts);

@@ -73,7 +73,7 @@ TEST_CASE("this binary knows its versions and its commit", "[record][build]") {
     if (line.rfind("project(flipper VERSION ", 0) == 0)
       version = line.substr(24, line.find(' ', 24) - 24);
   CHECK(b.version == version);
-  CHECK(b.sdk.rfind("2.", 0) == 0);
+  CHECK(b.sdk.rfind("3.", 0) == 0);
   // A source tree that is a git checkout (a developer's clone, CI's fresh clone) must give the real
   // commit: HEAD, or an ancestor of it when commits were made after this binary was built. Only
   // a tree without git (a tarball) may say unknown.

@@ -670,7 +670,8 @@ TEST_CASE("each layer declares its own keys, the host composes them", "[config][
   };
   CHECK(sections_of(Config::kernel_schema()) ==
         std::vector<std::string>{"world", "planner", "parser", "scorer", "rewriter", "similarity",
-                                 "grammar", "execution", "input", "session", "plugin_paths"});
+                                 "grammar", "execution", "input", "session", "plugin_paths",
+                                 "plugins"});
   CHECK(sections_of(naturalization::keys::config_schema()) ==
         std::vector<std::string>{"lexicon", "induction"});
   CHECK(sections_of(studio::keys::config_schema()) == std::vector<std::string>{"serve"});
@@ -680,9 +681,10 @@ TEST_CASE("each layer declares its own keys, the host composes them", "[config][
                                        naturalization::keys::config_schema().params.size() +
                                        studio::keys::config_schema().params.size() +
                                        dds::keys::config_schema().params.size());
-  CHECK(installed.params.size() == 88);  // the rows of docs/config.md's table before the split
+  // The keys of docs/config.md's table: 88 before the split, then `plugins.isolation`.
+  CHECK(installed.params.size() == 89);
   CHECK(Config::kernel_schema().params.size() ==
-        37);  // 6 world, 2 x 5 plugins, 4 grammar, 6 + 7 + 3, 1
+        38);  // 6 world, 2 x 5 plugins, 4 grammar, 6 + 7 + 3, 1, 1 plugins
   // A lexicon key is the naturalization's: a config reads it through its handle...
   const Config c =
       Config::load(std::nullopt, {"lexicon.path=:memory:", "lexicon.weights=per_user"});
