@@ -124,6 +124,26 @@ bool same_content(const StoredRule& a, const StoredRule& b) {
          a.decode_error == b.decode_error;
 }
 
+// One entry of a revert (docs/naturalization.md §5 "History"): `rule` removed or added, as `from`
+// was written; an added copy names the rule it restores.
+HistoryEntry revert_entry(std::int64_t time, const HistoryContext& who, const std::string& site,
+                          const char* effect, const std::string& rule, const StoredRule& from) {
+  HistoryEntry e;
+  e.time = time;
+  e.author = who.author;
+  e.action = history_action::kRevert;
+  e.effect = effect;
+  e.rule = rule;
+  if (rule != from.id) e.source_rule = from.id;
+  e.definition = from.definition;
+  e.head = from.head;
+  e.body = from.body;
+  e.study = who.study;
+  e.site = site;
+  e.note = who.note;
+  return e;
+}
+
 }  // namespace
 
 std::string lexicon_checksum(const std::vector<StoredRule>& live) {
@@ -262,19 +282,8 @@ RevertOutcome LexiconStore::revert_to(std::int64_t seq, const HistoryContext& wh
     ++keep;
   for (std::size_t i = keep; i < live.size(); ++i) {
     flag_rule_deleted(db, live[i].id, time);
-    HistoryEntry e;
-    e.time = time;
-    e.author = who.author;
-    e.action = history_action::kRevert;
-    e.effect = history_effect::kRemove;
-    e.rule = live[i].id;
-    e.definition = live[i].definition;
-    e.head = live[i].head;
-    e.body = live[i].body;
-    e.study = who.study;
-    e.site = impl_->site;
-    e.note = who.note;
-    append_history(db, e);
+    append_history(
+        db, revert_entry(time, who, impl_->site, history_effect::kRemove, live[i].id, live[i]));
     out.removed.push_back(live[i].id);
   }
   std::int64_t created = 0;
@@ -296,20 +305,7 @@ RevertOutcome LexiconStore::revert_to(std::int64_t seq, const HistoryContext& wh
                       "INSERT INTO rule_uses(rule, by_author, by_others) SELECT ?, by_author, "
                       "by_others FROM rule_uses WHERE rule = ?");
     uses.bind(1, id).bind(2, target[i].id).run();
-    HistoryEntry e;
-    e.time = time;
-    e.author = who.author;
-    e.action = history_action::kRevert;
-    e.effect = history_effect::kAdd;
-    e.rule = id;
-    e.source_rule = target[i].id;
-    e.definition = target[i].definition;
-    e.head = target[i].head;
-    e.body = target[i].body;
-    e.study = who.study;
-    e.site = impl_->site;
-    e.note = who.note;
-    append_history(db, e);
+    append_history(db, revert_entry(time, who, impl_->site, history_effect::kAdd, id, target[i]));
     out.restored.emplace_back(id, target[i].id);
   }
   tx.commit();
