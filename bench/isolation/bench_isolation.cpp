@@ -25,39 +25,16 @@
 #include <thread>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "child_process.hpp"
 
 namespace {
 
+using flipper::bench::kStudyQueries;
+using flipper::bench::percentile;
+
 using Clock = std::chrono::steady_clock;
 using flipper::testsupport::ChildProcess;
-
-// Study-map utterances of the core language, as in bench/studio.
-const std::vector<std::string> kQueries = {
-    "move left",
-    "move up; move up",
-    "visit room1",
-    "visit world containing item is red",
-    "visit world containing item is red; pick item is red",
-    "visit [3, 8]",
-    "visit room5 while avoiding room3",
-    "repeat 3 times move right",
-    "foreach area in [room1, room2] { visit area; drop item }",
-    "if robot has item is blue drop item is blue",
-    "visit room4; pick every item",
-    "strict { move up; move up }",
-    "while possible move down",
-    "visit area with corners [0, 0] and [3, 1]",
-    "move lfet",
-    "foreach point in world containing item is green { visit point; pick every item }",
-};
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
-  return v[std::min(i, v.size() - 1)];
-}
 
 // A /proc/PID/<file> field in kB ("VmRSS:  1234 kB"), 0 when absent.
 long proc_kb(int pid, const std::string& file, const std::string& field) {
@@ -122,15 +99,16 @@ int main(int argc, char** argv) {
   auto in_process = session(flipper, "in_process");
   auto process = session(flipper, "process");
   std::vector<double> ms_in, ms_proc, diff;
-  std::vector<std::vector<double>> by_query_in(kQueries.size()), by_query_proc(kQueries.size());
+  std::vector<std::vector<double>> by_query_in(kStudyQueries.size()),
+      by_query_proc(kStudyQueries.size());
   int errors = 0;
-  const auto n = static_cast<int>(kQueries.size());
+  const auto n = static_cast<int>(kStudyQueries.size());
   for (int i = 0; i < n; ++i) {  // warm-up: the first answers load what later ones reuse
-    errors += ask(*in_process, kQueries[static_cast<std::size_t>(i)]) < 0;
-    errors += ask(*process, kQueries[static_cast<std::size_t>(i)]) < 0;
+    errors += ask(*in_process, kStudyQueries[static_cast<std::size_t>(i)]) < 0;
+    errors += ask(*process, kStudyQueries[static_cast<std::size_t>(i)]) < 0;
   }
   for (int i = 0; i < queries; ++i) {
-    const std::string& q = kQueries[static_cast<std::size_t>(i % n)];
+    const std::string& q = kStudyQueries[static_cast<std::size_t>(i % n)];
     // Alternate which goes first, so neither always follows the other.
     const bool first_in = i % 2 == 0;
     const double a = first_in ? ask(*in_process, q) : ask(*process, q);
@@ -188,9 +166,9 @@ int main(int argc, char** argv) {
       "median of per-query differences %+.3f ms\n",
       p50_proc - p50_in, p99_proc - p99_in, p50_diff);
   std::printf("per utterance, median in_process / process (ms):\n");
-  for (std::size_t q = 0; q < kQueries.size(); ++q)
+  for (std::size_t q = 0; q < kStudyQueries.size(); ++q)
     std::printf("  %7.3f / %7.3f  %s\n", percentile(by_query_in[q], 0.5),
-                percentile(by_query_proc[q], 0.5), kQueries[q].c_str());
+                percentile(by_query_proc[q], 0.5), kStudyQueries[q].c_str());
   std::printf(
       "session RSS in_process %ld kB (peak %ld kB), process %ld kB (peak %ld kB): "
       "%+ld kB (target <= 1024 kB)\n",

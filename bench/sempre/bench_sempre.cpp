@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "child_process.hpp"
 #include "flipper/replay/corpus.hpp"
 #include "flipper/replay/replayer.hpp"
@@ -28,16 +29,11 @@
 
 namespace {
 
+using flipper::bench::percentile;
+
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 namespace replay = flipper::replay;
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
-  return v[std::min(i, v.size() - 1)];
-}
 
 struct Run {
   std::vector<double> query_ms, context_ms, original_ms;

@@ -23,10 +23,13 @@
 #include <thread>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "child_process.hpp"
 #include "raw_socket.hpp"
 
 namespace {
+
+using flipper::bench::percentile;
 
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
@@ -38,13 +41,6 @@ const char* kHeavy =
 
 double ms_since(Clock::time_point t) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1,
-                    static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5))];
 }
 
 std::string load_average() {

@@ -28,7 +28,11 @@
 using flipper::kernel::Json;
 using Clock = std::chrono::steady_clock;
 
+#include "bench_common.hpp"
+
 namespace {
+
+using flipper::bench::percentile;
 
 struct Query {
   std::string text;
@@ -54,13 +58,6 @@ double cpu_ms() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) / 1e6;
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  std::size_t i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
-  return v[std::min(i, v.size() - 1)];
 }
 
 // A child `flipper session` with pipes.

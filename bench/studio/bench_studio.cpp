@@ -20,31 +20,15 @@
 #include <thread>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "child_process.hpp"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using flipper::bench::kStudyQueries;
+using flipper::bench::percentile;
 
-// Study-map utterances of the core language (docs/core-language.md §10 and the dev corpus).
-const std::vector<std::string> kQueries = {
-    "move left",
-    "move up; move up",
-    "visit room1",
-    "visit world containing item is red",
-    "visit world containing item is red; pick item is red",
-    "visit [3, 8]",
-    "visit room5 while avoiding room3",
-    "repeat 3 times move right",
-    "foreach area in [room1, room2] { visit area; drop item }",
-    "if robot has item is blue drop item is blue",
-    "visit room4; pick every item",
-    "strict { move up; move up }",
-    "while possible move down",
-    "visit area with corners [0, 0] and [3, 1]",
-    "move lfet",
-    "foreach point in world containing item is green { visit point; pick every item }",
-};
+using Clock = std::chrono::steady_clock;
 
 struct Options {
   std::string flipper;
@@ -59,13 +43,6 @@ struct Result {
   long errors = 0;
   double seconds = 0;
 };
-
-double percentile(std::vector<double>& v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
-  return v[std::min(i, v.size() - 1)];
-}
 
 Result load(int port, const Options& o, bool paced) {
   std::vector<std::vector<double>> per_user(static_cast<std::size_t>(o.users));
@@ -95,7 +72,8 @@ Result load(int port, const Options& o, bool paced) {
           std::this_thread::sleep_until(next);
           next += std::chrono::milliseconds(o.interval_ms);
         }
-        const std::string& text = kQueries[static_cast<std::size_t>(u + i) % kQueries.size()];
+        const std::string& text =
+            kStudyQueries[static_cast<std::size_t>(u + i) % kStudyQueries.size()];
         const std::string body = nlohmann::json{{"op", "query"}, {"text", text}}.dump();
         const auto t0 = Clock::now();
         auto res = c.Post(path.c_str(), body, "application/json");
@@ -116,7 +94,7 @@ Result load(int port, const Options& o, bool paced) {
 
 void report(const char* name, Result r, const Options& o, bool target) {
   const double p50 = percentile(r.ms, 0.50), p99 = percentile(r.ms, 0.99);
-  const double max = r.ms.empty() ? 0 : r.ms.back();
+  const double max = r.ms.empty() ? 0 : *std::max_element(r.ms.begin(), r.ms.end());
   std::printf("%-6s %d users x %d queries%s: %zu answers, %ld errors (target 0), %.0f queries/s\n",
               name, o.users, o.queries,
               target ? (" (one every " + std::to_string(o.interval_ms) + " ms each)").c_str() : "",
