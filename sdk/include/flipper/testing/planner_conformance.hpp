@@ -468,6 +468,27 @@ inline void check_goal_ties(const sdk::Planner& planner, int dims) {
   }
 }
 
+/// `requests` random path requests (a start and two goals, free cells) and `points` random tour
+/// points on `g`, drawn in that order from `seed`: the same set for the same seed.
+struct RandomAsks {
+  std::vector<std::pair<sdk::Cell, sdk::Area>> paths;
+  std::vector<sdk::Cell> points;
+};
+inline RandomAsks random_asks(const sdk::Geometry& g, std::uint32_t seed, int requests,
+                              int points) {
+  std::mt19937 rng(seed);
+  const sdk::Area& free = g.free_cells();
+  std::uniform_int_distribution<std::size_t> pick_free(0, free.size() - 1);
+  RandomAsks out;
+  for (int k = 0; k < requests; ++k) {
+    sdk::Area goals{free[pick_free(rng)], free[pick_free(rng)]};
+    sdk::areas::normalize(goals);
+    out.paths.push_back({free[pick_free(rng)], std::move(goals)});
+  }
+  for (int k = 0; k < points; ++k) out.points.push_back(free[pick_free(rng)]);
+  return out;
+}
+
 /// Deterministic planners answer a request the same whatever they were asked before: `factory`
 /// makes a second instance that answers the same requests (and tours) in reverse order.
 inline void check_history_independence(const PlannerFactory& factory, const sdk::Geometry& g,
@@ -475,17 +496,10 @@ inline void check_history_independence(const PlannerFactory& factory, const sdk:
   const auto first = factory();
   if (!first->traits().deterministic) return;
   const auto second = factory();
-  std::mt19937 rng(seed);
   const sdk::Area& free = g.free_cells();
-  std::uniform_int_distribution<std::size_t> pick_free(0, free.size() - 1);
-  std::vector<std::pair<sdk::Cell, sdk::Area>> asked;
-  for (int k = 0; k < requests; ++k) {
-    sdk::Area goals{free[pick_free(rng)], free[pick_free(rng)]};
-    sdk::areas::normalize(goals);
-    asked.push_back({free[pick_free(rng)], std::move(goals)});
-  }
-  std::vector<sdk::Cell> points;
-  for (int k = 0; k < 12; ++k) points.push_back(free[pick_free(rng)]);
+  const RandomAsks asks = random_asks(g, seed, requests, 12);
+  const auto& asked = asks.paths;
+  const auto& points = asks.points;
   std::vector<sdk::PathResult> forward;
   for (const auto& [start, goals] : asked)
     forward.push_back(first->plan(g, {start, &goals, nullptr}, sdk::StopCondition{}));
@@ -522,17 +536,10 @@ inline void check_concurrent_instances(const PlannerFactory& factory, const sdk:
   const auto alone = factory();
   const auto first = factory();
   const auto second = factory();
-  std::mt19937 rng(seed);
   const sdk::Area& free = g.free_cells();
-  std::uniform_int_distribution<std::size_t> pick_free(0, free.size() - 1);
-  std::vector<std::pair<sdk::Cell, sdk::Area>> asked;
-  for (int k = 0; k < requests; ++k) {
-    sdk::Area goals{free[pick_free(rng)], free[pick_free(rng)]};
-    sdk::areas::normalize(goals);
-    asked.push_back({free[pick_free(rng)], std::move(goals)});
-  }
-  std::vector<sdk::Cell> points;
-  for (int k = 0; k < 10; ++k) points.push_back(free[pick_free(rng)]);
+  const RandomAsks asks = random_asks(g, seed, requests, 10);
+  const auto& asked = asks.paths;
+  const auto& points = asks.points;
   struct Answers {
     std::vector<sdk::PathResult> paths;
     sdk::TourResult tour;
