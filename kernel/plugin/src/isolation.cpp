@@ -173,10 +173,6 @@ Reaped reap(pid_t pid) {
 
 }  // namespace
 
-Isolation isolation_from_name(std::string_view name) {
-  return name == "process" ? Isolation::process : Isolation::in_process;
-}
-
 void CpuCharge::attach(sdk::StopCondition& budget) {
   const std::lock_guard<std::mutex> lock(g_charges_mutex);
   auto& list = charges();

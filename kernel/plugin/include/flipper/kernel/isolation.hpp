@@ -29,9 +29,6 @@ namespace flipper::kernel {
 /// past its CPU budget or the wall-clock backstop).
 inline constexpr const char* kPluginCrashed = "plugin_crashed";
 
-/// "in_process" or "process" (config key plugins.isolation; "auto" is resolved by the caller).
-Isolation isolation_from_name(std::string_view name);
-
 /// While alive, CPU time that isolated plugin calls made on this thread spend in their child
 /// processes is charged to `budget`: its cpu_deadline moves earlier by that much, exactly as if
 /// the calling thread had done the work. Register every budget on the calling thread's CPU
