@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -36,6 +37,10 @@ struct CrowdOptions {
   int users = 10;
   int defines = 10;                     ///< rounds per user
   std::vector<std::string> extra_sets;  ///< more --set k=v for every session
+  /// When >= 0, only users 0 .. early_users-1 start at once; the others start their process once
+  /// some definition is acknowledged, so each of them opens a store that already has rules (how
+  /// many processes start that way does not depend on how fast the first ones are).
+  int early_users = -1;
 };
 
 struct CrowdReport {
@@ -85,6 +90,7 @@ struct Ack {
 
 struct Shared {
   std::mutex mu;
+  std::condition_variable first_ack;  ///< notified when acks gets its first entry
   std::vector<Ack> acks;
   std::set<std::string> deleted_by_author;  ///< rule ids whose author's delete was answered ok
   CrowdReport report;
@@ -117,6 +123,13 @@ inline std::string describe(const std::string& user, const Json& request, const 
 
 inline void run_user(const CrowdOptions& o, int k, Shared& shared) {
   const std::string name = "u" + std::to_string(k);
+  if (o.early_users >= 0 && k >= o.early_users) {
+    std::unique_lock<std::mutex> lock(shared.mu);
+    // Bounded: with no definition acknowledged in 300 s the late users start anyway, and the
+    // test's own checks report what went wrong.
+    shared.first_ack.wait_for(lock, std::chrono::seconds(300),
+                              [&shared] { return !shared.acks.empty(); });
+  }
   std::vector<std::string> args = {o.flipper, "session", "--set", "lexicon.path=" + o.store};
   for (const auto& s : o.extra_sets) {
     args.push_back("--set");
@@ -148,6 +161,7 @@ inline void run_user(const CrowdOptions& o, int k, Shared& shared) {
         ++shared.report.acknowledged_defines;
         shared.report.acknowledged_rules += static_cast<long>(ack.rules.size());
         shared.acks.push_back(ack);
+        shared.first_ack.notify_all();
       }
     }
     if (!ok(a) || ack.rules.empty()) continue;

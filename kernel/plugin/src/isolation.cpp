@@ -34,9 +34,11 @@ struct Attached {
   pthread_t owner;
 };
 std::mutex g_charges_mutex;
+// Never destroyed: a CpuCharge in an object of static storage (a global session) detaches in
+// its destructor at exit, which may run after a function-local static list was destroyed.
 std::vector<Attached>& charges() {
-  static std::vector<Attached> list;
-  return list;
+  static auto* const list = new std::vector<Attached>();  // NOLINT(cppcoreguidelines-owning-memory)
+  return *list;
 }
 
 // --- the envelope a child sends: 'A' + answer bytes, or 'E' + cause + code + message ------
