@@ -1,4 +1,4 @@
-# Sanitizer and fuzzing builds (README "Fuzzing and sanitizers").
+# Sanitizer and fuzzing builds (docs/testing.md "Fuzzing and sanitizers").
 #
 #   FLIPPER_SANITIZE=ON  ASan + UBSan (-fno-sanitize-recover=undefined) on every target: the SDK,
 #                        the kernel, the plugins and the tests get the same flags, so the plugins

@@ -27,7 +27,7 @@ extern "C" void on_signal(int) {
   g_stop.store(true);
 }
 
-// How long the DDS teardown after "stopped" may take (README "Flipper with ROS 2").
+// How long the DDS teardown after "stopped" may take (docs/ros2.md).
 constexpr std::chrono::seconds kTeardownLimit{5};
 
 // Bounds the teardown: Cyclone's participant deletion joins its receive threads, and a thread

@@ -1,5 +1,5 @@
 #pragma once
-// The HTTP mapping of the session protocol (README "Flipper Studio", docs/studio.md; logins are
+// The HTTP mapping of the session protocol (docs/serve.md, docs/studio.md; logins are
 // auth_http.hpp), independent of the HTTP library: the routes take an
 // HttpRequest and answer through a callback. Protocol requests run on a kernel pool's workers,
 // one at a time per session; each kernel is used by one request at a time (its parser, scorer,

@@ -21,7 +21,7 @@ namespace {
   throw sdk::Error(sdk::codes::kBadConfig, "study " + file + ": " + what);
 }
 
-// A task's world file, read with the default input.max_file_bytes bound (README "Bad input"): the
+// A task's world file, read with the default input.max_file_bytes bound (docs/bad-input.md): the
 // study file names it, the server's operator wrote both.
 Json read_world(const std::string& study, const fs::path& path, const std::string& key) {
   std::string text;

@@ -1,7 +1,7 @@
 #pragma once
 // Study mode (serve.study: FILE): a study description drives the page through its tasks, and
 // every participant is put in a group whose lexicon mode the study names (A: core, B: private,
-// C: shared with the preloaded definitions), as in the 2018 study. README "Study mode".
+// C: shared with the preloaded definitions), as in the 2018 study. docs/serve.md "Study mode".
 //
 //   name: pilot                      # names the recording's runs: studio/<name>/<group>
 //   tutorial: "Tell the robot ..."   # shown before the first task

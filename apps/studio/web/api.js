@@ -1,4 +1,4 @@
-// The session protocol over HTTP (README "Flipper Studio"): one request object per POST, the
+// The session protocol over HTTP (docs/serve.md): one request object per POST, the
 // session named by the token the server issued. The token lives in sessionStorage, so a reload
 // keeps the session and another tab is another session. Who the session's user is comes from
 // the login cookie (HttpOnly: this code never sees it; docs/accounts.md), or the server names a

@@ -156,7 +156,7 @@ YAML::Node assignment_value(const std::vector<std::string>& segs, const std::str
 
 // `--set SECTION.plugin=NAME` that selects another plugin than the files did: the files' params
 // belong to the other plugin, so they go, as they do when an `extends` overlay switches the
-// plugin (README "Configuration"). Params given by an earlier --set stay: the user asked for them.
+// plugin (docs/configuration.md). Params given by an earlier --set stay: the user asked for them.
 void drop_other_plugin_params(YAML::Node& root, const std::string& section,
                               const YAML::Node& plugin, const std::set<std::string>& cli_keys) {
   const auto& sections = Config::plugin_sections();
@@ -446,7 +446,7 @@ std::string resolve_against(const std::string& base, const std::string& path) {
   return (fs::path(base) / p).lexically_normal().string();
 }
 
-// --- extends: a config overlays another (README "Configuration") ----------------------------
+// --- extends: a config overlays another (docs/configuration.md) ----------------------------
 
 constexpr std::size_t kMaxExtendsDepth = 16;
 
@@ -614,7 +614,7 @@ std::string Config::resolve_path(const std::string& path) const {
 }
 
 // A path nobody wrote (the schema's default) resolves against the directory of the embedded
-// default config, wherever the config that left it out lives (README "Configuration").
+// default config, wherever the config that left it out lives (docs/configuration.md).
 bool Config::written(const std::string& key) const {
   return impl_->cli_keys.count(key) || lookup(impl_->given, split_key(key)).has_value();
 }

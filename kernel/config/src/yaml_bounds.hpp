@@ -1,5 +1,5 @@
 #pragma once
-// Bounds on a config document before anything walks it (README "Bad input"): its size in bytes,
+// Bounds on a config document before anything walks it (docs/bad-input.md): its size in bytes,
 // and its size in YAML nodes with every alias counted as the nodes it repeats. yaml-cpp keeps an
 // alias as a second handle on the node it names, so a few hundred bytes of aliases to aliases
 // (a "billion laughs" document) load at once but expand to billions of nodes for any code that

@@ -93,7 +93,7 @@ PluginId LoadedPlugin::id() const {
 }
 
 // describe and create wrap every exception, sdk::Error included: a plugin that cannot even be
-// built is the plugin's failure, whatever code it chose (README "Plugins").
+// built is the plugin's failure, whatever code it chose (docs/plugins.md).
 sdk::ParamSchema LoadedPlugin::schema() const {
   sdk::ParamSchema schema;
   try {

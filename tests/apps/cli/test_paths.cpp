@@ -1,6 +1,7 @@
-// The one path rule (README "Paths"): relative paths given on the command line (--set) resolve
-// against the current directory, relative paths written in a config file against that file's
-// directory; a missing file is named with the path it resolved to and where the value came from.
+// The one path rule (docs/configuration.md): relative paths given on the command line (--set)
+// resolve against the current directory, relative paths written in a config file against that
+// file's directory; a missing file is named with the path it resolved to and where the value came
+// from.
 #include "cli_test_support.hpp"
 
 using namespace flipper::clitest;

@@ -2,7 +2,7 @@
 // With a user config that turns multicast on for `lo` (accepted by the loopback check), Cyclone's
 // participant deletion waited forever for its multicast receive thread: the node printed
 // "stopped" and never exited (gdb: dds_delete -> join_thread on "recvMC", blocked in recvmsg).
-// The node now bounds its teardown (apps/cli/dds_run.cpp, README "Flipper with ROS 2").
+// The node now bounds its teardown (apps/cli/dds_run.cpp, docs/ros2.md).
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>

@@ -1,8 +1,8 @@
 // The loopback rule (apps/dds/transport.hpp, cyclone_config.hpp): no participant unless the
 // Cyclone config, resolved as Cyclone resolves it, is loopback only, or the Flipper config names
 // the interfaces. Each way around the check that Cyclone 0.10.2 would honour is a case below
-// (what Cyclone does with each was read from its own `config` trace, README "Flipper with
-// ROS 2"). No participant is created here except in the last two cases.
+// (what Cyclone does with each was read from its own `config` trace, docs/ros2.md). No participant
+// is created here except in the last two cases.
 #include <fstream>
 
 #include "dds_test_support.hpp"

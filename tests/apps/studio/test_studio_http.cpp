@@ -1,5 +1,5 @@
 // The HTTP transport answers exactly what `flipper session` answers (docs/protocol.md), with the
-// HTTP statuses of README "Flipper Studio"; the page's files are served from memory.
+// HTTP statuses of docs/serve.md; the page's files are served from memory.
 #include "studio_server.hpp"
 
 namespace flipper::studiotest {

@@ -1,4 +1,4 @@
-// The session's input limits at their boundaries (README "Bad input"): a request line of exactly
+// The session's input limits at their boundaries (docs/bad-input.md): a request line of exactly
 // input.max_line_bytes bytes and an utterance of exactly input.max_tokens tokens are served, one
 // byte or one token more is input_too_long. (The bad-input table's rows are far past the limits,
 // so a limit off by one passed them.)

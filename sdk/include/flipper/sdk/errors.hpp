@@ -30,7 +30,7 @@ inline constexpr const char* kExecution = "execution_error";
 inline constexpr const char* kBudgetExceeded = "budget_exceeded";
 inline constexpr const char* kInputTooLong = "input_too_long";
 inline constexpr const char* kInternal = "internal";
-// Limits on hostile input (README "Bad input"):
+// Limits on hostile input (docs/bad-input.md):
 inline constexpr const char* kTooDeep = "too_deep";               ///< JSON nested too deep
 inline constexpr const char* kWorldTooLarge = "world_too_large";  ///< more cells than allowed
 inline constexpr const char* kFileTooLarge = "file_too_large";

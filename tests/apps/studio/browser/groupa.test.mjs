@@ -1,4 +1,4 @@
-// A study participant of group A (the core lexicon; README "Study mode") sees no way to
+// A study participant of group A (the core lexicon; docs/serve.md "Study mode") sees no way to
 // teach and is told why, instead of a define panel that leads nowhere; no participant sees their
 // condition; a reload keeps the task and the history, without the tutorial. A group-B participant
 // in the same study can teach.

@@ -1,6 +1,6 @@
 #pragma once
 /// @file cyclone_config.hpp
-/// A Cyclone DDS configuration as Cyclone 0.10.2 itself reads it (README "Flipper with ROS 2",
+/// A Cyclone DDS configuration as Cyclone 0.10.2 itself reads it (docs/ros2.md,
 /// "Loopback by default"), so the loopback rule checks what Cyclone will use, not what the text
 /// seems to say:
 ///   - the text is a list of items, as in CYCLONEDDS_URI: an XML item (starting with `<`) runs to

@@ -1,6 +1,6 @@
 #pragma once
 /// @file event_signature.hpp
-/// Site identity in the replication itself (README "Flipper with ROS 2", "Secured sites"): with
+/// Site identity in the replication itself (docs/ros2.md, "Secured sites"): with
 /// DDS Security on, every lexicon event carries the certificate of the site that made it and
 /// that site's signature (ECDSA P-256, SHA-256) over the event's content (signed_text), so any
 /// site may relay it (catch-up) and every site can tell who made it. An event is accepted only

@@ -1,6 +1,6 @@
 #pragma once
 /// @file keystore.hpp
-/// DDS Security for sites and robots (README "Flipper with ROS 2", "Secured sites"): a keystore
+/// DDS Security for sites and robots (docs/ros2.md, "Secured sites"): a keystore
 /// folder in the layout of ROS 2's SROS2, made with OpenSSL (libcrypto), read by Cyclone's OMG
 /// DDS Security plugins (libdds_security_auth, _ac, _crypto) and by the lexicon replication:
 ///

@@ -1,6 +1,6 @@
 #pragma once
 /// @file loopback_sockets.hpp
-/// Loopback that is loopback (README "Flipper with ROS 2", "Loopback by default"). Cyclone DDS
+/// Loopback that is loopback (docs/ros2.md, "Loopback by default"). Cyclone DDS
 /// 0.10.2 binds its unicast receive sockets (discovery and data) to the wildcard address whatever
 /// interfaces its configuration selects; no setting changes that. While a LoopbackBinds is alive,
 /// this process binds such a socket to the loopback address of the same family instead

@@ -1,7 +1,7 @@
 #pragma once
 /// @file names.hpp
-/// Topic names under a node namespace, as ROS 2 names topics per robot (README "Flipper with
-/// ROS 2", "Topics and types"): the node of namespace `robot1` uses rt/robot1/flipper/plan,
+/// Topic names under a node namespace, as ROS 2 names topics per robot (docs/ros2.md, "Topics and
+/// types"): the node of namespace `robot1` uses rt/robot1/flipper/plan,
 /// .../actions, .../request, .../answer (ROS 2: /robot1/flipper/plan, ...); the root namespace
 /// (empty) uses rt/flipper/plan, ... The lexicon topic is one for all sites: rt/flipper/lexicon.
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file plan_frame.hpp
-/// Cells to metres for plans leaving Flipper (README "Flipper with ROS 2", frame `map`):
+/// Cells to metres for plans leaving Flipper (docs/ros2.md, frame `map`):
 ///   2-D grid:  p = origin + resolution * (x, y, 0)     world.resolution (m), world.origin (m)
 ///   3-D world: p = origin + r * (x + ½, y + ½, z + ½)  r = world.params.resolution: the octree's
 ///              own metric coordinates (cell centres), so the plan lands where the map's

@@ -1,6 +1,6 @@
 #pragma once
 /// @file transport.hpp
-/// Which network a Cyclone DDS participant may use. The rule (README "Flipper with ROS 2"):
+/// Which network a Cyclone DDS participant may use. The rule (docs/ros2.md):
 /// Flipper never creates a participant unless the effective Cyclone configuration is loopback
 /// only, or the Flipper config names the interfaces explicitly (`dds.interfaces`).
 ///   - `dds.interfaces: []` (default) and no `dds.config`: Flipper generates the loopback XML

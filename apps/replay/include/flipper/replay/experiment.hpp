@@ -65,7 +65,7 @@ struct Experiment {
 };
 
 /// Resolves `path`, written in `file`, against the directory `file` is in (the path rule,
-/// README "Using it"); absolute and empty paths stay.
+/// docs/usage.md); absolute and empty paths stay.
 std::string resolve_in_file(const std::string& file, const std::string& path);
 /// Reads an experiment file. Throws sdk::Error(bad_config) naming the file and key.
 Experiment load_experiment(const std::string& path);

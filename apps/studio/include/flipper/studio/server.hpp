@@ -3,7 +3,7 @@
 /// `flipper serve`: one process, one kernel, many users. The session protocol over HTTP
 /// (`POST /api/v1/request?session=TOKEN` takes one request object and answers exactly what
 /// `flipper session` answers), logins (docs/accounts.md), the page's static files, and study
-/// mode. README "Flipper Studio" documents the HTTP mapping, docs/studio.md the transport,
+/// mode. docs/serve.md documents the HTTP mapping, docs/studio.md the transport,
 /// limits and fairness.
 
 #include <cstdint>

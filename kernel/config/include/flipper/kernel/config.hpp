@@ -21,9 +21,10 @@
 ///   session:  {k, cpu_budget_ms, deadline_ms}
 ///   plugin_paths: [dirs]
 /// and the layers' sections (lexicon, induction: naturalization; serve: studio; dds, publish: dds).
-/// Paths, one rule (README "Paths"): a relative path written in a config file resolves against
-/// that file's directory (for a key from an extended file, that file's) (the embedded default
-/// behaves as if it lived in the source tree's configs/); a relative path given on the command line
+/// Paths, one rule (docs/configuration.md): a relative path written in a config file resolves
+/// against that file's directory (for a key from an extended file, that file's) (the embedded
+/// default behaves as if it lived in the source tree's configs/); a relative path given on the
+/// command line
 /// (`--set key=path`) resolves against the current directory.
 
 #include <cstdint>

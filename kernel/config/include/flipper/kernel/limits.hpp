@@ -1,6 +1,6 @@
 #pragma once
 /// @file limits.hpp
-/// Limits on what a user or a file may make the kernel do (README "Bad input"): every limit is a
+/// Limits on what a user or a file may make the kernel do (docs/bad-input.md): every limit is a
 /// config key with a documented default, and every refusal has a stable code (sdk::codes).
 
 #include <chrono>

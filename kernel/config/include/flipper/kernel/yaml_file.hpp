@@ -1,7 +1,7 @@
 #pragma once
 /// @file yaml_file.hpp
 /// Reading a YAML file that is not a config (an experiment, a planner task list) with a config's
-/// bounds (README "Bad input"): a regular file of at most 1 MiB whose document expands to at most
+/// bounds (docs/bad-input.md): a regular file of at most 1 MiB whose document expands to at most
 /// 100,000 nodes, aliases counted, so /dev/zero, a FIFO or an alias bomb is an error, not a hang.
 #include <yaml-cpp/yaml.h>
 

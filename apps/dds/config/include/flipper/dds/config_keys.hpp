@@ -1,9 +1,9 @@
 #pragma once
 /// @file config_keys.hpp
-/// The DDS front end's config keys (docs/config.md "Who declares a key"; README "Flipper with
-/// ROS 2"): the participant (`dds.*`) and what it publishes (`publish.*`), declared here with the
-/// SDK's typed handles and nowhere else. config_schema() is this layer's schema fragment, which
-/// the host composes with the kernel's before it loads a config. Header-only.
+/// The DDS front end's config keys (docs/config.md "Who declares a key"; docs/ros2.md): the
+/// participant (`dds.*`) and what it publishes (`publish.*`), declared here with the SDK's typed
+/// handles and nowhere else. config_schema() is this layer's schema fragment, which the host
+/// composes with the kernel's before it loads a config. Header-only.
 
 #include <cstdint>
 
