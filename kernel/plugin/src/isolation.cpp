@@ -34,8 +34,7 @@ struct Attached {
   pthread_t owner;
 };
 std::mutex g_charges_mutex;
-// Never destroyed: a CpuCharge in an object of static storage (a global session) detaches in
-// its destructor at exit, which may run after a function-local static list was destroyed.
+// Never destroyed: a static session's CpuCharge may detach at exit after a static list's end.
 std::vector<Attached>& charges() {
   static auto* const list = new std::vector<Attached>();  // NOLINT(cppcoreguidelines-owning-memory)
   return *list;
