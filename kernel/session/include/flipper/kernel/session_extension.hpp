@@ -82,6 +82,13 @@ struct PlanAccepted {
   const std::string& user;
   std::uint64_t sequence = 0;  ///< 1, 2, ... per session
 };
+/// The session's world was replaced (a `world` request, an undo, a front end's set_world): the
+/// plans of the world before no longer apply (an executor stops the robot's). A subscriber's
+/// failure is logged (the world stands).
+struct WorldReplaced {
+  static constexpr const char* kContained = "world observer";
+  Session& session;
+};
 /// A protocol request was answered after its op ran: the op and the error code of a refusal
 /// (empty when the answer is ok). A subscriber's failure is logged (the answer stands).
 struct RequestAnswered {
