@@ -72,8 +72,7 @@ struct Accepting {
   const sdk::Outcome& outcome;
   const std::string& user;
 };
-/// A plan was accepted and committed. A subscriber's failure is its own to report: the session
-/// logs what one throws and tells the others (the accept stands).
+/// A plan was accepted and committed; what a subscriber throws is logged (the accept stands).
 struct PlanAccepted {
   static constexpr const char* kContained = "accepted-plan observer";
   const sdk::WorldState& before;  ///< the world the candidate was executed on
@@ -82,9 +81,7 @@ struct PlanAccepted {
   const std::string& user;
   std::uint64_t sequence = 0;  ///< 1, 2, ... per session
 };
-/// The session's world was replaced (a `world` request, an undo, a front end's set_world): the
-/// plans of the world before no longer apply (an executor stops the robot's). A subscriber's
-/// failure is logged (the world stands).
+/// The world was replaced (a `world` request, an undo): earlier plans no longer apply.
 struct WorldReplaced {
   static constexpr const char* kContained = "world observer";
   Session& session;
@@ -96,8 +93,7 @@ struct RequestAnswered {
   const std::string& op;
   const std::string& code;
 };
-/// Session::activate: a front end whose sessions share extensions (one host, interleaved
-/// callers) is about to handle a request of this session; per-user state must follow it.
+/// Session::activate: a request of this session comes next (sessions sharing extensions).
 struct Activated {
   const Session& session;
 };
