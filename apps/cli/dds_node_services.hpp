@@ -10,6 +10,7 @@
 namespace flipper::dds {
 class Participant;
 class PlanPublisher;
+class Nav2Executor;
 class LexiconReplicator;
 }  // namespace flipper::dds
 
@@ -18,6 +19,7 @@ namespace flipper::cli {
 struct NodeServices {
   std::shared_ptr<dds::Participant> participant;  // null: no DDS service configured
   std::shared_ptr<dds::PlanPublisher> plans;
+  std::shared_ptr<dds::Nav2Executor> nav2;  // nav2.execute: Nav2 drives accepted plans
   std::shared_ptr<dds::LexiconReplicator> replicator;
 
   /// Starts what `host`'s config asks for (`force_participant`: the dds node always needs one).

@@ -14,9 +14,11 @@
 
 namespace flipper::cli {
 
-/// The config asks for a DDS service: plans published on DDS or lexicon replication over DDS.
+/// The config asks for a DDS service: plans published on DDS or sent to Nav2, or lexicon
+/// replication over DDS.
 inline bool wants_dds_services(const kernel::Config& config) {
   return config.get(dds::keys::kPublishPlans) == dds::keys::Plans::dds ||
+         config.get(dds::keys::kNav2Execute) ||
          config.get(naturalization::keys::kReplication) == naturalization::keys::Replication::dds;
 }
 

@@ -147,6 +147,7 @@ std::shared_ptr<SessionExtension> make_extension(std::function<void(Session&)> a
 void Session::set_world(sdk::WorldState world) {
   world_ = std::move(world);
   last_query_.reset();
+  events_.emit(WorldReplaced{*this});
 }
 
 void Session::set_user(std::string name) {

@@ -72,8 +72,7 @@ struct Accepting {
   const sdk::Outcome& outcome;
   const std::string& user;
 };
-/// A plan was accepted and committed. A subscriber's failure is its own to report: the session
-/// logs what one throws and tells the others (the accept stands).
+/// A plan was accepted and committed; what a subscriber throws is logged (the accept stands).
 struct PlanAccepted {
   static constexpr const char* kContained = "accepted-plan observer";
   const sdk::WorldState& before;  ///< the world the candidate was executed on
@@ -82,6 +81,11 @@ struct PlanAccepted {
   const std::string& user;
   std::uint64_t sequence = 0;  ///< 1, 2, ... per session
 };
+/// The world was replaced (a `world` request, an undo): earlier plans no longer apply.
+struct WorldReplaced {
+  static constexpr const char* kContained = "world observer";
+  Session& session;
+};
 /// A protocol request was answered after its op ran: the op and the error code of a refusal
 /// (empty when the answer is ok). A subscriber's failure is logged (the answer stands).
 struct RequestAnswered {
@@ -89,8 +93,7 @@ struct RequestAnswered {
   const std::string& op;
   const std::string& code;
 };
-/// Session::activate: a front end whose sessions share extensions (one host, interleaved
-/// callers) is about to handle a request of this session; per-user state must follow it.
+/// Session::activate: a request of this session comes next (sessions sharing extensions).
 struct Activated {
   const Session& session;
 };

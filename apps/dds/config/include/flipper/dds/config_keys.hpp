@@ -34,7 +34,24 @@ inline constexpr param::Text kIdentity{
     "DDS Security: this participant's identity in the keystore (empty: lexicon.site, else "
     "dds.namespace)"};
 
-/// The schema fragment: the sections `publish` and `dds`.
+/// nav2.distro: which ROS 2 distribution's NavigateThroughPoses result the Nav2 stack speaks.
+enum class Nav2Distro { humble, jazzy };
+
+inline constexpr param::Bool kNav2Execute{
+    "nav2.execute", false,
+    "send each accepted plan to Nav2 as a NavigateThroughPoses goal (docs/ros2.md)"};
+inline constexpr param::Choice<Nav2Distro, 2> kNav2Distro{
+    "nav2.distro",
+    Nav2Distro::humble,
+    {"humble", "jazzy"},
+    "the Nav2 stack's ROS 2 distribution (result layout: humble empty, jazzy error_code)"};
+inline constexpr param::Text kNav2Action{
+    "nav2.action", "navigate_through_poses",
+    "the action's name under dds.namespace: rq/<namespace>/<action>/_action/..."};
+inline constexpr param::Text kNav2BehaviorTree{
+    "nav2.behavior_tree", "", "the goal's behavior_tree (empty: the navigator's default)"};
+
+/// The schema fragment: the sections `publish`, `dds` and `nav2`.
 inline sdk::ParamSchema config_schema() {
   sdk::ParamSchema s;
   s.add_section("publish", "what the DDS front end publishes");
@@ -46,6 +63,11 @@ inline sdk::ParamSchema config_schema() {
   param::add(s, kNamespace);
   param::add(s, kKeystore);
   param::add(s, kIdentity);
+  s.add_section("nav2", "Nav2 as the executor of accepted plans (NavigateThroughPoses over DDS)");
+  param::add(s, kNav2Execute);
+  param::add(s, kNav2Distro);
+  param::add(s, kNav2Action);
+  param::add(s, kNav2BehaviorTree);
   return s;
 }
 
