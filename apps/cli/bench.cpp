@@ -37,7 +37,8 @@ int guarded(const char* name, const std::function<int()>& f) {
   }
 }
 
-// The --print tables (what a README block generates): results, timing, comma-separated.
+// The --print tables (what a README block generates): results, intervals, timing,
+// comma-separated.
 std::string print_tables(const std::string& names, const std::string& run_dir) {
   std::string out;
   std::size_t from = 0;
@@ -46,12 +47,14 @@ std::string print_tables(const std::string& names, const std::string& run_dir) {
     const std::string name = names.substr(from, comma - from);
     from = comma + 1;
     if (name.empty()) continue;
-    if (name != "results" && name != "timing")
+    if (name != "results" && name != "intervals" && name != "timing")
       throw sdk::Error(sdk::codes::kBadRequest,
-                       "--print '" + name + "': no such table (results, timing)");
+                       "--print '" + name + "': no such table (results, intervals, timing)");
     if (run_dir.empty()) continue;  // checking the names only
     const auto runs = record::read_csv(run_dir + "/runs.csv");
-    out += name == "results" ? planbench::results_table(runs) : planbench::timing_table(runs);
+    out += name == "results"     ? planbench::results_table(runs)
+           : name == "intervals" ? planbench::intervals_table(runs)
+                                 : planbench::timing_table(runs);
   }
   return out;
 }
@@ -143,7 +146,8 @@ void add_planners(CLI::App& bench) {
   cmd->add_option("--jobs", args.jobs,
                   "Cells (world x planner x seed) in parallel processes (default: the cores)");
   cmd->add_option("--print", args.print,
-                  "Print only these tables to standard output: results (deterministic), timing");
+                  "Print only these tables to standard output: results, intervals (deterministic), "
+                  "timing");
   cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
   cmd->require_subcommand(0, 1);
   auto* plot = cmd->add_subcommand("plot", "Draw (again) a benchmark run's plots from runs.csv");

@@ -365,7 +365,12 @@ void write_report(const std::string& run_dir, const BenchExperiment& e,
          "for time\": plans a time limit ended, not planning failures: `cpu_budget` (the "
          "experiment's cpu_budget_ms of the planning thread's CPU time) or `wall_backstop` (its "
          "deadline_ms of wall time, a runaway guard).\n\n"
-      << results_table(runs) << "\n## Timing (measured)\n\n"
+      << results_table(runs) << "\n## Over seeds: 95 % confidence intervals\n\n"
+      << "Success over all plans (tasks × seeds) with its Wilson score interval; length / "
+         "shortest and length: the mean over seeds of each seed's mean over its successful "
+         "plans, with Student's t interval over the seeds (`[–]`: one seed, no interval). "
+         "Method: docs/planners.md §5, \"Intervals\".\n\n"
+      << intervals_table(runs) << "\n## Timing (measured)\n\n"
       << "Measured on " << host.value("name", std::string("?")) << " (" << host.value("cores", 0)
       << " cores, load " << load
       << " at the start): plan CPU time is the planning thread's CPU time, the median of "

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 
+#include "flipper/planbench/intervals.hpp"
 #include "stats.hpp"
 
 namespace flipper::planbench {
@@ -128,7 +129,53 @@ std::string variant_name(const std::string& world, const std::string& planner,
   return "world=" + world + ",planner=" + planner + (seed.empty() ? "" : ",seed=" + seed);
 }
 
+// "70.0 % [39.7, 89.2]": a success rate and its Wilson interval, in percent.
+std::string rate_text(std::size_t solved, std::size_t runs) {
+  const auto ci = wilson_interval(solved, runs);
+  if (!ci) return "–";
+  return fixed(100.0 * static_cast<double>(solved) / static_cast<double>(runs), 1) + " % [" +
+         fixed(100 * ci->low, 1) + ", " + fixed(100 * ci->high, 1) + "]";
+}
+
+// "1.023 [0.998, 1.048]": the mean of per-seed values and its t interval ("[–]" for one seed,
+// "–" for none).
+std::string mean_text(const std::vector<double>& per_seed, int decimals) {
+  if (per_seed.empty()) return "–";
+  const auto ci = t_interval(per_seed);
+  return fixed(mean(per_seed), decimals) +
+         (ci ? " [" + fixed(ci->low, decimals) + ", " + fixed(ci->high, decimals) + "]" : " [–]");
+}
+
+// "[1.20 ms, 1.31 ms]": the t interval of the seeds' median CPU times, or "–".
+std::string duration_interval(const std::vector<double>& per_seed) {
+  const auto ci = t_interval(per_seed);
+  if (!ci) return "–";
+  return "[" + duration(std::max(0.0, ci->low)) + ", " + duration(ci->high) + "]";
+}
+
 }  // namespace
+
+std::string intervals_table(const record::CsvTable& runs) {
+  std::string out =
+      "| world | planner | seeds | plans | success [95 % Wilson] | length / shortest: mean "
+      "over seeds [95 % t] | length: mean over seeds [95 % t] |\n"
+      "|---|---|---|---|---|---|---|\n";
+  for (const auto& g : groups_of(runs)) {
+    const Stats s = stats_of(g.runs);
+    std::vector<double> ratios, lengths;  // per seed, over its successful plans
+    for (const auto& seed : g.seeds) {
+      const Stats one = stats_of(g.runs, &seed);
+      if (!one.ratios.empty()) ratios.push_back(mean(one.ratios));
+      if (!one.lengths.empty()) lengths.push_back(mean(one.lengths));
+    }
+    const bool seeded = !(g.seeds.size() == 1 && g.seeds.front().empty());
+    out += "| " + g.world + " | " + g.planner + " | " +
+           (seeded ? std::to_string(g.seeds.size()) : "–") + " | " + std::to_string(s.runs) +
+           " | " + rate_text(s.solved, s.runs) + " | " + mean_text(ratios, 3) + " | " +
+           mean_text(lengths, 2) + " |\n";
+  }
+  return out;
+}
 
 std::string results_table(const record::CsvTable& runs) {
   std::string out =
@@ -154,16 +201,17 @@ std::string results_table(const record::CsvTable& runs) {
 
 std::string timing_table(const record::CsvTable& runs) {
   std::string out =
-      "| world | planner | plan CPU (median) | over seeds: mean ± sd of medians | CPU (max) | "
-      "wall (median) | memory growth (max) | peak RSS (max) |\n"
-      "|---|---|---|---|---|---|---|---|\n";
+      "| world | planner | plan CPU (median) | over seeds: mean ± sd of medians | [95 % t] | "
+      "CPU (max) | wall (median) | memory growth (max) | peak RSS (max) |\n"
+      "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& g : groups_of(runs)) {
     const Stats s = stats_of(g.runs);
     std::vector<double> medians;
     for (const auto& seed : g.seeds) medians.push_back(median(stats_of(g.runs, &seed).cpu));
     out += "| " + g.world + " | " + g.planner + " | " + duration(median(s.cpu)) + " | " +
            (medians.size() > 1 ? duration(mean(medians)) + " ± " + duration(sd(medians)) : "–") +
-           " | " + duration(max_of(s.cpu)) + " | " + duration(median(s.wall)) + " | " +
+           " | " + duration_interval(medians) + " | " + duration(max_of(s.cpu)) + " | " +
+           duration(median(s.wall)) + " | " +
            (s.memory.empty() ? "–" : fixed(max_of(s.memory), 0) + " KiB") + " | " +
            (s.peak.empty() ? "–" : fixed(max_of(s.peak) / 1024, 1) + " MiB") + " |\n";
   }

@@ -15,7 +15,13 @@ namespace flipper::planbench {
 /// success, length / shortest (mean, worst), turns, expansions, and the runs a time limit
 /// stopped (`cpu_budget`, `wall_backstop`: not planning failures), per world × planner.
 std::string results_table(const record::CsvTable& runs);
-/// plan CPU time (median, spread of the seeds' medians), wall time, peak memory.
+/// Per world × planner over its seeds (docs/planners.md §5, "Intervals"): the success rate
+/// over all its plans with its 95 % Wilson score interval, and the mean over seeds of each
+/// seed's mean length / shortest and length (its successful plans) with its 95 % Student's t
+/// interval ("[–]" with one seed). Deterministic columns only.
+std::string intervals_table(const record::CsvTable& runs);
+/// plan CPU time (median, spread of the seeds' medians and their 95 % t
+/// interval), wall time, peak memory.
 std::string timing_table(const record::CsvTable& runs);
 
 /// One variant per cell (`world=W,planner=P[,seed=S]`, its condition without the seed) and
