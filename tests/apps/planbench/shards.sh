@@ -10,7 +10,9 @@
 # 2. `--shard` values that are not I/N with 0 <= I < N exit 2 with a message, no run folder;
 # 3. merges that cannot be one run exit 2 naming why: a shard missing or given twice, a run
 #    that is no shard, shards of different N, a shard still running; no merged folder is left;
-# 4. `bench planners check` re-runs a shard as a shard (exit 0).
+# 4. `bench planners check` re-runs a shard as a shard (exit 0);
+# 5. with a planner that segfaults on every call (tests/support/evil_planner): the 3 shards
+#    merged equal the whole run, its lost tasks in the same order (report, manifest), exit 1.
 # Usage: shards.sh <source dir> <build dir>
 set -euo pipefail
 src=$(cd "$1" && pwd -P)
@@ -137,4 +139,44 @@ refuse "has not finished (status running)" "${s3[0]}" "${s3[1]}" "$tmp/running"
 echo "== 4. check re-runs a shard as a shard"
 "$flipper" bench planners check "${s3[1]}" --jobs 2 >"$tmp/check.out" ||
   fail "check of a shard: $(cat "$tmp/check.out")"
+echo "== 5. lost tasks merged in the whole run's order"
+evil=$build/tests/plugins/evil
+test -f "$evil/evil_planner.so" || fail "build the fixture: --target flipper_plugin_evil_planner"
+cat >"$tmp/crash.yaml" <<YAML
+name: crashing
+plugin_paths: [$evil]
+worlds:
+  - {name: maze, plugin: grid2d, file: $data/maze.json, tasks: {file: $data/maze-tasks.yaml}}
+planners:
+  - {plugin: astar}
+  - {name: segv, plugin: evil_planner, params: {mode: segv}}
+YAML
+crash() {
+  local status=0
+  "$flipper" bench planners --experiment "$tmp/crash.yaml" --no-plots --jobs 2 "$@" >/dev/null \
+    2>&1 || status=$?
+  echo $status
+}
+[[ $(crash --out "$tmp/cwhole") == 1 ]] || fail "the crashing run did not exit 1"
+for i in 0 1 2; do crash --out "$tmp/cshards" --shard "$i/3" >/dev/null; done
+status=0
+"$flipper" bench planners merge "$tmp"/cshards/crash-shard* --out "$tmp/cmerged" --no-plots \
+  >/dev/null 2>"$tmp/cmerge.err" || status=$?
+[[ $status == 1 ]] || fail "the merge of crashing shards exited $status, not 1"
+grep -q "^flipper bench planners: 5 task(s) lost their process (run partial" "$tmp/cmerge.err" ||
+  fail "merge: $(cat "$tmp/cmerge.err")"
+python3 - "$(readlink -f "$tmp/cwhole/latest")" "$(readlink -f "$tmp/cmerged/latest")" <<'PY'
+import json, os, sys
+whole, merged = sys.argv[1:3]
+def fail(msg):
+    print("FAILED: crashing: " + msg); sys.exit(1)
+def report(run):
+    r = open(os.path.join(run, "report.md"), "rb").read(); return r[:r.index(b"## Timing (measured)")]
+if b"## Failed tasks" not in report(whole): fail("no failed tasks in the whole run")
+if report(whole) != report(merged): fail("report.md differs before its timing section")
+a, b = (json.load(open(os.path.join(r, "manifest.json"))) for r in (whole, merged))
+if a["status"] != "partial" or b["status"] != "partial": fail("status %s, %s" % (a["status"], b["status"]))
+if [f["task"] for f in a["failed"]] != ["corner", "around", "back", "pocket", "cut_off"]: fail("whole's failed list")
+if a["failed"] != b["failed"]: fail("failed lists differ: %s vs %s" % (a["failed"], b["failed"]))
+PY
 echo "shards: ok"
