@@ -55,6 +55,7 @@ std::string print_tables(const std::string& names, const std::string& run_dir) {
                        "--print '" + name + "': no such table (results, intervals, timing)");
     if (run_dir.empty()) continue;  // checking the names only
     const auto runs = record::read_csv(run_dir + "/runs.csv");
+    if (!out.empty()) out += "\n";  // Markdown: a blank line ends a table
     out += name == "results"     ? planbench::results_table(runs)
            : name == "intervals" ? planbench::intervals_table(runs)
                                  : planbench::timing_table(runs);

@@ -137,13 +137,15 @@ std::string rate_text(std::size_t solved, std::size_t runs) {
          fixed(100 * ci->low, 1) + ", " + fixed(100 * ci->high, 1) + "]";
 }
 
-// "1.023 [0.998, 1.048]": the mean of per-seed values and its t interval ("[–]" for one seed,
-// "–" for none).
-std::string mean_text(const std::vector<double>& per_seed, int decimals) {
+// "1.023 [1.000, 1.048]": the mean of per-seed values and its t interval, its low end no
+// lower than `floor` (a length / shortest is at least 1, a length at least 0); "[–]" for one
+// seed, "–" for none.
+std::string mean_text(const std::vector<double>& per_seed, int decimals, double floor) {
   if (per_seed.empty()) return "–";
   const auto ci = t_interval(per_seed);
-  return fixed(mean(per_seed), decimals) +
-         (ci ? " [" + fixed(ci->low, decimals) + ", " + fixed(ci->high, decimals) + "]" : " [–]");
+  return fixed(mean(per_seed), decimals) + (ci ? " [" + fixed(std::max(floor, ci->low), decimals) +
+                                                     ", " + fixed(ci->high, decimals) + "]"
+                                               : " [–]");
 }
 
 // "[1.20 ms, 1.31 ms]": the t interval of the seeds' median CPU times, or "–".
@@ -171,8 +173,8 @@ std::string intervals_table(const record::CsvTable& runs) {
     const bool seeded = !(g.seeds.size() == 1 && g.seeds.front().empty());
     out += "| " + g.world + " | " + g.planner + " | " +
            (seeded ? std::to_string(g.seeds.size()) : "–") + " | " + std::to_string(s.runs) +
-           " | " + rate_text(s.solved, s.runs) + " | " + mean_text(ratios, 3) + " | " +
-           mean_text(lengths, 2) + " |\n";
+           " | " + rate_text(s.solved, s.runs) + " | " + mean_text(ratios, 3, 1.0) + " | " +
+           mean_text(lengths, 2, 0.0) + " |\n";
   }
   return out;
 }

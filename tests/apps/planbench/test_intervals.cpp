@@ -105,11 +105,12 @@ TEST_CASE("intervals: the report's table, per world × planner over its seeds") 
                 row("q", "", "a", true, 3, 3)};
   // p: 3 of 4 solved, Wilson [0.3006, 0.9544]; ratio per seed 1.25 and 1, mean 1.125, sd
   // 0.125·sqrt(2), t(0.975; 1) = 12.706205: 1.125 ± 1.588276 = [-0.463, 2.713]; length per seed
-  // 5 and 4: 4.5 ± 6.353102 = [-1.85, 10.85]. q: one plan, one seed: Wilson of 1 of 1, no t.
+  // 5 and 4: 4.5 ± 6.353102 = [-1.85, 10.85]. The low ends are cut at what a ratio (1) and a
+  // length (0) can be. q: one plan, one seed: Wilson of 1 of 1, no t.
   CHECK(intervals_table(table) ==
         "| world | planner | seeds | plans | success [95 % Wilson] | length / shortest: mean over "
         "seeds [95 % t] | length: mean over seeds [95 % t] |\n"
         "|---|---|---|---|---|---|---|\n"
-        "| w | p | 2 | 4 | 75.0 % [30.1, 95.4] | 1.125 [-0.463, 2.713] | 4.50 [-1.85, 10.85] |\n"
+        "| w | p | 2 | 4 | 75.0 % [30.1, 95.4] | 1.125 [1.000, 2.713] | 4.50 [0.00, 10.85] |\n"
         "| w | q | – | 1 | 100.0 % [20.7, 100.0] | 1.000 [–] | 3.00 [–] |\n");
 }
