@@ -366,6 +366,7 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
                                           : std::string());
   // The plans this process runs: every task of every cell, or a shard's (shard.hpp).
   std::vector<std::size_t> tasks_per_cell;
+  tasks_per_cell.reserve(cells.size());
   for (const auto& c : cells) tasks_per_cell.push_back(worlds[c.world].tasks.size());
   const auto tasks = shard_tasks(tasks_per_cell, options.shard.value_or(record::Shard{}));
   const nlohmann::json shard_json = options.shard ? nlohmann::json{{"index", options.shard->index},

@@ -133,6 +133,7 @@ std::vector<ShardRun> read_shards(const std::vector<std::string>& dirs,
   if (!missing.empty())
     throw refused("shard(s) " + missing + " of " + std::to_string(first.shard.count) + " missing");
   std::vector<ShardRun> out;
+  out.reserve(by_index.size());
   for (auto& [index, s] : by_index) out.push_back(std::move(s));
   return out;
 }
@@ -169,6 +170,7 @@ BenchResult merge_bench(const std::vector<std::string>& runs, const std::string&
   const std::vector<ShardRun> shards = read_shards(runs, warnings);
   const Grid grid = grid_of(shards.front());
   std::vector<std::size_t> per_cell;
+  per_cell.reserve(grid.tasks.size());
   for (const auto& t : grid.tasks) per_cell.push_back(t.size());
 
   // Every shard's rows are its share of the grid, in grid order: check them, then interleave.
@@ -210,6 +212,7 @@ BenchResult merge_bench(const std::vector<std::string>& runs, const std::string&
   json failures = json::array();
   std::vector<std::size_t> taken(shards.size(), 0);
   std::vector<json> lists;
+  lists.reserve(shards.size());
   for (const auto& s : shards) lists.push_back(s.manifest.value("failed", json::array()));
   for (const auto& [k, r] : lost_rows)
     if (taken[k] < lists[k].size()) failures.push_back(lists[k][taken[k]++]);
