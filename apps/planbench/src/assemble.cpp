@@ -7,6 +7,7 @@
 
 #include "flipper/planbench/summary.hpp"
 #include "flipper/record/csv.hpp"
+#include "flipper/record/durable_file.hpp"
 #include "flipper/record/out_file.hpp"
 
 namespace flipper::planbench::detail {
@@ -89,6 +90,7 @@ BenchResult assemble_bench(const std::string& run_dir, const ReportHead& head,
   const BenchFigures figures = bench_figures(runs);
   record::write_figures(run_dir + "/figures.csv", figures.figures);
   record::write_variants(run_dir, figures.variants);
+  record::write_file_atomically(run_dir + "/intervals.csv", intervals_csv(figures));
   write_report(run_dir, head, runs, failures);
   result.status = run_status(failures.size(), runs.rows.size());
   if (plots) result.plots = record::draw_plots("planner_bench_plots.py", run_dir);

@@ -420,8 +420,7 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
   if (options.shard)
     head.shard_note = "Shard " + std::to_string(options.shard->index) + " of " +
                       std::to_string(options.shard->count) +
-                      ": the plans whose row in the whole run's runs.csv has an index I with I "
-                      "mod " +
+                      ": the plans whose row r of the whole run's runs.csv has r mod " +
                       std::to_string(options.shard->count) + " = " +
                       std::to_string(options.shard->index) +
                       "; `flipper bench planners merge` joins the shards (docs/planners.md §5, "

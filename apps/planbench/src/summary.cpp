@@ -253,4 +253,48 @@ BenchFigures bench_figures(const record::CsvTable& runs) {
   return out;
 }
 
+std::string intervals_csv(const BenchFigures& f) {
+  const record::FigureTable table(f.figures);
+  std::vector<std::pair<std::string, std::vector<std::string>>> conditions;  // in run order
+  for (const auto& v : f.variants) {
+    auto c = std::find_if(conditions.begin(), conditions.end(),
+                          [&](const auto& x) { return x.first == v.condition; });
+    if (c == conditions.end()) c = conditions.insert(conditions.end(), {v.condition, {}});
+    c->second.push_back(v.name);
+  }
+  std::string out = "condition,metric,seeds,mean,low,high,method,timing\n";
+  auto line = [&](const std::string& condition, const std::string& metric, std::size_t seeds,
+                  double mean_value, const std::optional<Interval>& ci, const char* method,
+                  bool timing) {
+    out +=
+        record::csv_line({condition, metric, std::to_string(seeds),
+                          record::exact_number(mean_value), ci ? record::exact_number(ci->low) : "",
+                          ci ? record::exact_number(ci->high) : "", method, timing ? "1" : "0"}) +
+        "\n";
+  };
+  for (const auto& [condition, names] : conditions) {
+    double solved = 0, tasks = 0;
+    for (const auto& n : names) {
+      solved += table.get(n, "ours", "all", "solved");
+      tasks += table.get(n, "ours", "all", "tasks");
+    }
+    auto ci = wilson_interval(static_cast<std::size_t>(solved), static_cast<std::size_t>(tasks));
+    if (ci) ci = Interval{100 * ci->low, 100 * ci->high};
+    line(condition, "success", names.size(), tasks > 0 ? 100 * solved / tasks : 0.0, ci, "wilson",
+         false);
+    // The low end no lower than the figure can be: a length / shortest 1, turns and time 0.
+    for (const auto& [metric, floor] : {std::pair<std::string, double>{"length_ratio_mean", 1.0},
+                                        {"turns_mean", 0.0},
+                                        {"cpu_us_median", 0.0}}) {
+      std::vector<double> values;
+      values.reserve(names.size());
+      for (const auto& n : names) values.push_back(table.get(n, "ours", "all", metric));
+      auto t = t_interval(values);
+      if (t) t->low = std::max(floor, t->low);
+      line(condition, metric, names.size(), mean(values), t, "t", metric == "cpu_us_median");
+    }
+  }
+  return out;
+}
+
 }  // namespace flipper::planbench

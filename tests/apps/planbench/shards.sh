@@ -4,9 +4,9 @@
 # with hand-drawn tasks and one with random ones: 6 cells, 24 plans.
 # 1. for N = 1, 2, 3, 24 (the number of plans) and 25: every shard run holds exactly the rows
 #    r of the whole run with r mod N = I, and the merge of the N shards equals one unsharded run
-#    byte for byte: tasks.csv, variants.csv, settings.csv, runs.csv and figures.csv (measured
-#    columns and timing figures blanked in both), report.md up to its timing section; the
-#    merged runs.csv takes each shard's lines unchanged, measured columns included;
+#    byte for byte: tasks.csv, variants.csv, settings.csv, runs.csv, figures.csv and
+#    intervals.csv (measured columns, timing figures and rows left out in both), report.md up
+#    to its timing section; the merged runs.csv takes each shard's lines unchanged;
 # 2. `--shard` values that are not I/N with 0 <= I < N exit 2 with a message, no run folder;
 # 3. merges that cannot be one run exit 2 naming why: a shard missing or given twice, a run
 #    that is no shard, shards of different N, a shard still running; no merged folder is left;
@@ -74,6 +74,9 @@ if blank_measured(text(whole, "runs.csv")) != blank_measured(text(merged, "runs.
 def deterministic_figures(run):
     return b"".join(l for l in text(run, "figures.csv").splitlines(True) if not l.rstrip().endswith(b",1"))
 if deterministic_figures(whole) != deterministic_figures(merged): fail("figures.csv differs")
+def deterministic_intervals(run):
+    return b"".join(l for l in text(run, "intervals.csv").splitlines(True) if not l.rstrip().endswith(b",1"))
+if deterministic_intervals(whole) != deterministic_intervals(merged): fail("intervals.csv differs")
 def before_timing(run):
     r = text(run, "report.md"); return r[:r.index(b"## Timing (measured)")]
 if before_timing(whole) != before_timing(merged): fail("report.md differs before its timing section")

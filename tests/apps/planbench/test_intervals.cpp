@@ -114,3 +114,44 @@ TEST_CASE("intervals: the report's table, per world × planner over its seeds") 
         "| w | p | 2 | 4 | 75.0 % [30.1, 95.4] | 1.125 [1.000, 2.713] | 4.50 [0.00, 10.85] |\n"
         "| w | q | – | 1 | 100.0 % [20.7, 100.0] | 1.000 [–] | 3.00 [–] |\n");
 }
+
+TEST_CASE("intervals: intervals.csv, the plots' error bars, from the seeds' figures") {
+  record::CsvTable table;
+  table.header = run_columns();
+  table.rows = {row("p", "1", "a", true, 4, 4), row("p", "1", "b", true, 6, 4),
+                row("p", "2", "a", true, 4, 4), row("p", "2", "b", false, 0, 4),
+                row("q", "", "a", true, 3, 3)};
+  const auto csv = record::parse_csv(intervals_csv(bench_figures(table)), "intervals.csv");
+  REQUIRE(csv.header == std::vector<std::string>{"condition", "metric", "seeds", "mean", "low",
+                                                 "high", "method", "timing"});
+  REQUIRE(csv.rows.size() == 8);  // 2 conditions × success, ratio, turns, CPU
+  auto at = [&](std::size_t r, std::size_t c) { return std::stod(csv.rows[r][c]); };
+  // p's success: 3 of 4 plans, Wilson in % [30.0642, 95.4413].
+  CHECK(csv.rows[0][0] == "world=w,planner=p");
+  CHECK(csv.rows[0][1] == "success");
+  CHECK(csv.rows[0][2] == "2");
+  CHECK(at(0, 3) == 75);
+  CHECK(at(0, 4) == Approx(30.0641842582402).margin(1e-9));
+  CHECK(at(0, 5) == Approx(95.44127391902995).margin(1e-9));
+  CHECK(csv.rows[0][6] == "wilson");
+  // p's length / shortest: the seeds' figures 1.25 and 1, 1.125 ± 1.588276, the low end cut at 1.
+  CHECK(csv.rows[1][1] == "length_ratio_mean");
+  CHECK(at(1, 3) == 1.125);
+  CHECK(at(1, 4) == 1.0);
+  CHECK(at(1, 5) == Approx(2.713275592021837).margin(1e-9));
+  CHECK(csv.rows[1][6] == "t");
+  // Turns and CPU time are 0 in every row here: the interval is [0, 0]; CPU time is timing.
+  CHECK(csv.rows[2][1] == "turns_mean");
+  CHECK((at(2, 4) == 0 && at(2, 5) == 0));
+  CHECK(csv.rows[3][1] == "cpu_us_median");
+  CHECK(csv.rows[3][7] == "1");
+  CHECK(csv.rows[2][7] == "0");
+  // q: one seed: Wilson of 1 of 1 in %, no t interval (low and high empty).
+  CHECK(csv.rows[4][0] == "world=w,planner=q");
+  CHECK(at(4, 4) == Approx(20.654931437723745).margin(1e-9));
+  CHECK(at(4, 5) == 100);
+  CHECK(csv.rows[5][1] == "length_ratio_mean");
+  CHECK(csv.rows[5][2] == "1");
+  CHECK(csv.rows[5][4].empty());
+  CHECK(csv.rows[5][5].empty());
+}

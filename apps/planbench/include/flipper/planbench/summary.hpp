@@ -33,4 +33,11 @@ struct BenchFigures {
 };
 BenchFigures bench_figures(const record::CsvTable& runs);
 
+/// The error bars of the plots (intervals.csv, docs/planners.md §5 "Intervals"): per condition
+/// (world × planner) and plotted figure, `condition,metric,seeds,mean,low,high,method,timing`.
+/// `success`: the Wilson interval of all its plans (method `wilson`, in %); `length_ratio_mean`,
+/// `turns_mean`, `cpu_us_median`: the mean of the seeds' figures (figures.csv) and its t interval
+/// (method `t`; low and high empty with one seed; the low end cut at 1 for the ratio, 0 else).
+std::string intervals_csv(const BenchFigures& figures);
+
 }  // namespace flipper::planbench
