@@ -10,7 +10,7 @@
 # 2. `--shard` values that are not I/N with 0 <= I < N exit 2 with a message, no run folder;
 # 3. merges that cannot be one run exit 2 naming why: a shard missing or given twice, a run
 #    that is no shard, shards of different N, a shard still running; no merged folder is left;
-# 4. `bench planners check` re-runs a shard as a shard (exit 0);
+# 4. `bench planners check` re-runs a shard as a shard, a merged run as a whole one (exit 0);
 # 5. with a planner that segfaults on every call (tests/support/evil_planner): the 3 shards
 #    merged equal the whole run, its lost tasks in the same order (report, manifest), exit 1.
 # Usage: shards.sh <source dir> <build dir>
@@ -139,9 +139,13 @@ m = json.load(open(sys.argv[1])); m["status"] = "running"; json.dump(m, open(sys
 PY
 refuse "has not finished (status running)" "${s3[0]}" "${s3[1]}" "$tmp/running"
 
-echo "== 4. check re-runs a shard as a shard"
+echo "== 4. check re-runs a shard as a shard, a merged run whole"
 "$flipper" bench planners check "${s3[1]}" --jobs 2 >"$tmp/check.out" ||
   fail "check of a shard: $(cat "$tmp/check.out")"
+grep -q "^re-run: .*/grid-shard1of3-" <("$flipper" bench planners check "${s3[1]}" --jobs 2 \
+  --out "$tmp/rerun") || fail "the check of shard 1 of 3 did not re-run it as a shard"
+"$flipper" bench planners check "$(readlink -f "$tmp/m3/latest")" --jobs 2 >"$tmp/check.out" ||
+  fail "check of a merged run: $(cat "$tmp/check.out")"
 echo "== 5. lost tasks merged in the whole run's order"
 evil=$build/tests/plugins/evil
 test -f "$evil/evil_planner.so" || fail "build the fixture: --target flipper_plugin_evil_planner"
