@@ -1,5 +1,6 @@
 // flipper bench planners --experiment FILE --out PARENT [--config F] [--set k=v]... [--jobs N]
-//                        [--print results|timing] [--no-plots]
+//                        [--shard I/N] [--print results|intervals|timing] [--no-plots]
+// flipper bench planners merge RUN... --out PARENT [--no-plots]
 // flipper bench planners plot RUN
 // The planner benchmark (docs/planners.md §5): tasks × worlds × planners × seeds, any planner
 // plugin by name (in-tree, or out-of-tree through plugin_paths), one row per plan in runs.csv of
@@ -9,11 +10,13 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "commands.hpp"
 #include "common.hpp"
 #include "flipper/planbench/bench.hpp"
 #include "flipper/planbench/experiment.hpp"
+#include "flipper/planbench/shard.hpp"
 #include "flipper/planbench/summary.hpp"
 #include "flipper/record/compare.hpp"
 #include "flipper/record/processes.hpp"
@@ -24,7 +27,7 @@ namespace flipper::cli {
 namespace {
 
 struct PlannerBenchArgs {
-  std::string experiment, out, print;
+  std::string experiment, out, print, shard;
   int jobs = -1;  ///< -1 (not given): the cores available
   bool no_plots = false;
 };
@@ -37,7 +40,8 @@ int guarded(const char* name, const std::function<int()>& f) {
   }
 }
 
-// The --print tables (what a README block generates): results, timing, comma-separated.
+// The --print tables (what a README block generates): results, intervals, timing,
+// comma-separated.
 std::string print_tables(const std::string& names, const std::string& run_dir) {
   std::string out;
   std::size_t from = 0;
@@ -46,12 +50,15 @@ std::string print_tables(const std::string& names, const std::string& run_dir) {
     const std::string name = names.substr(from, comma - from);
     from = comma + 1;
     if (name.empty()) continue;
-    if (name != "results" && name != "timing")
+    if (name != "results" && name != "intervals" && name != "timing")
       throw sdk::Error(sdk::codes::kBadRequest,
-                       "--print '" + name + "': no such table (results, timing)");
+                       "--print '" + name + "': no such table (results, intervals, timing)");
     if (run_dir.empty()) continue;  // checking the names only
     const auto runs = record::read_csv(run_dir + "/runs.csv");
-    out += name == "results" ? planbench::results_table(runs) : planbench::timing_table(runs);
+    if (!out.empty()) out += "\n";  // Markdown: a blank line ends a table
+    out += name == "results"     ? planbench::results_table(runs)
+           : name == "intervals" ? planbench::intervals_table(runs)
+                                 : planbench::timing_table(runs);
   }
   return out;
 }
@@ -118,6 +125,8 @@ int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args)
                         "--jobs must be at least 1 (got " + std::to_string(args.jobs) + ")",
                         kExitUsage);
   print_tables(args.print, "");
+  const std::optional<record::Shard> shard =
+      args.shard.empty() ? std::nullopt : std::optional(record::parse_shard(args.shard));
   const auto experiment = planbench::load_bench_experiment(args.experiment);
   planbench::BenchOptions options;
   options.config = common.config_file;
@@ -126,7 +135,31 @@ int run_planner_bench(const CommonOptions& common, const PlannerBenchArgs& args)
   options.jobs = args.jobs > 0 ? args.jobs : record::available_cores();
   options.plots = !args.no_plots;
   options.progress = CellProgress();
+  options.shard = shard;
   return finish_run(planbench::run_bench(experiment, options), options.plots, args.print);
+}
+
+// flipper bench planners merge RUN... --out PARENT: the N shard runs of one benchmark joined
+// into one run, the files of a run made in one piece (docs/planners.md §5, "Shards").
+void add_merge(CLI::App& planners) {
+  auto* cmd = planners.add_subcommand(
+      "merge", "Merge the shard runs (--shard I/N) of one benchmark into one new run");
+  static std::vector<std::string> runs;
+  static std::string out;
+  static bool no_plots = false;
+  cmd->add_option("runs", runs, "The shard run folders, every I of 0..N-1 once")->required();
+  cmd->add_option("--out", out, "Parent folder of the merged run")->required();
+  cmd->add_flag("--no-plots", no_plots, "Do not draw the plots");
+  on_run(*cmd, [] {
+    return guarded("bench planners merge", [] {
+      std::vector<std::string> warnings;
+      const auto result = planbench::merge_bench(runs, out, !no_plots, warnings);
+      for (const auto& w : warnings)
+        std::cerr << "flipper bench planners merge: warning: " << w << "\n";
+      std::cout << "merged " << runs.size() << " shards\n";
+      return finish_run(result, !no_plots, "");
+    });
+  });
 }
 
 void add_planners(CLI::App& bench) {
@@ -143,9 +176,14 @@ void add_planners(CLI::App& bench) {
   cmd->add_option("--jobs", args.jobs,
                   "Cells (world x planner x seed) in parallel processes (default: the cores)");
   cmd->add_option("--print", args.print,
-                  "Print only these tables to standard output: results (deterministic), timing");
+                  "Print only these tables to standard output: results, intervals (deterministic), "
+                  "timing");
+  cmd->add_option("--shard", args.shard,
+                  "Run only shard I of N (I from 0): the plans whose row index r in the whole "
+                  "run has r mod N = I; join the shards with `merge`");
   cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
   cmd->require_subcommand(0, 1);
+  add_merge(*cmd);
   auto* plot = cmd->add_subcommand("plot", "Draw (again) a benchmark run's plots from runs.csv");
   static std::string run;
   plot->add_option("run", run, "The run folder")->required();
@@ -215,7 +253,7 @@ void add_planners(CLI::App& bench) {
     });
   });
   on_run(*cmd, [cmd] {
-    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot, resume, check, compare
+    if (!cmd->get_subcommands().empty()) return kExitOk;  // plot, resume, check, compare, merge
     return guarded("bench planners", [] { return run_planner_bench(opts, args); });
   });
 }

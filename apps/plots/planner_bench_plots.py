@@ -4,10 +4,14 @@ Reads the run's figures.csv and variants.csv (one variant per world × planner �
 condition the world × planner) and draws `planners` (PDF, SVG, .plotdata.json): per planner and
 world the success rate, the path length relative to the oracle's shortest, the turns and the
 plan CPU time (median per seed; µs where small, a log axis where planners differ by orders of
-magnitude), each the mean over the seeds with the seeds' standard deviation as error bars.
+magnitude), each the mean over the seeds with its 95 % confidence interval as error bars, read
+from the run's intervals.csv (Wilson for success, Student's t over the seeds for the rest;
+docs/planners.md §5 "Intervals"); a run without intervals.csv (older) gets the seeds' standard
+deviation.
 Usage: planner_bench_plots.py RUN_DIR
 """
 
+import csv
 import os
 import sys
 
@@ -17,6 +21,17 @@ import flipper_plot as fp
 def parse_condition(condition):
     parts = dict(p.split("=", 1) for p in condition.split(","))
     return parts["world"], parts["planner"]
+
+
+def read_intervals(run_dir):
+    """intervals.csv as {(condition, metric): (low, high) or None}, or None when absent."""
+    path = os.path.join(run_dir, "intervals.csv")
+    if not os.path.exists(path):
+        return None
+    with open(path, newline="", encoding="utf-8") as f:
+        return {(r["condition"], r["metric"]):
+                (float(r["low"]), float(r["high"])) if r["low"] != "" else None
+                for r in csv.DictReader(f)}
 
 
 def main():
@@ -35,31 +50,44 @@ def main():
             planners.append(planner)
         cells[(world, planner)] = names
     seeded = any(len(names) > 1 for _, names in conds)
+    intervals = read_intervals(run_dir)
+    condition_of = {parse_condition(c): c for c, _ in conds}
 
     def series(metric, scale=1.0):
         out = []
         for world in worlds:
-            values, errors = [], []
+            values, below, above = [], [], []
             for planner in planners:
                 names = cells.get((world, planner))
                 if not names:
                     values.append(0.0)
-                    errors.append(0.0)
+                    below.append(0.0)
+                    above.append(0.0)
                     continue
                 mean, sd, _, _ = fp.over_seeds(
                     [figures.get(n, "ours", "all", metric) * scale for n in names])
                 values.append(mean)
-                errors.append(sd)
+                if intervals is None:
+                    below.append(sd)
+                    above.append(sd)
+                    continue
+                ci = intervals.get((condition_of[(world, planner)], metric))
+                below.append(max(0.0, mean - ci[0] * scale) if ci else 0.0)
+                above.append(max(0.0, ci[1] * scale - mean) if ci else 0.0)
+            bars = seeded or (intervals is not None and metric == "success")
             out.append({"label": world, "values": values,
-                        "errors": [errors, errors] if seeded else None})
+                        "errors": [below, above] if bars else None})
         return out
 
     cpu_ms = [figures.get(n, "ours", "all", "cpu_us_median") / 1000.0
               for _, names in conds for n in names]
     unit, scale = fp.time_unit(cpu_ms)
-    note = " (mean over seeds, error bars: sd)" if seeded else ""
+    what = "sd" if intervals is None else "95 % CI"
+    note = " (mean over seeds, error bars: %s)" % what if seeded else ""
+    # Success has an interval with one seed too: its Wilson interval over the tasks.
+    success_note = note if note or intervals is None else " (error bars: 95 % Wilson)"
     spec = [
-        ("Success rate" + note, "success", "%", "% of tasks", 1.0, False),
+        ("Success rate" + success_note, "success", "%", "% of tasks", 1.0, False),
         ("Path length / shortest (oracle)" + note, "length_ratio_mean", "", "ratio (mean)", 1.0,
          False),
         ("Turns per path" + note, "turns_mean", "turns", "turns (mean)", 1.0, False),

@@ -11,9 +11,11 @@
 #include <set>
 #include <sstream>
 
+#include "assemble.hpp"
 #include "flipper/kernel/loader.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/planbench/measure.hpp"
+#include "flipper/planbench/shard.hpp"
 #include "flipper/planbench/summary.hpp"
 #include "flipper/planbench/tasks.hpp"
 #include "flipper/record/compare.hpp"
@@ -165,16 +167,16 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-// A cell in its child process, from task `first` on: each task's row appended to
-// cells/<i>.csv as soon as it is measured, so a crash or a hang loses that task only. Each task
-// gets the whole wall-clock backstop (processes.hpp).
+// A cell in its child process, its tasks `tasks` (all, or a shard's) from position `first` on:
+// each task's row appended to cells/<i>.csv as soon as it is measured, so a crash or a hang
+// loses that task only. Each task gets the whole wall-clock backstop (processes.hpp).
 int run_cell(const std::string& dir, std::size_t i, std::size_t first, const Cell& cell,
-             const LoadedWorld& world) {
+             const LoadedWorld& world, const std::vector<std::size_t>& tasks) {
   std::ofstream out(dir + "/" + std::to_string(i) + ".csv", std::ios::app);
-  for (std::size_t t = first; t < world.tasks.size(); ++t) {
+  for (std::size_t k = first; k < tasks.size(); ++k) {
     record::restart_backstop();
     const auto rows =
-        measure_cell(cell.spec, *world.state.geometry, cell.planner, {world.tasks[t]});
+        measure_cell(cell.spec, *world.state.geometry, cell.planner, {world.tasks[tasks[k]]});
     for (const auto& row : rows) out << record::csv_line(row_fields(row)) << "\n";
     out.flush();
     if (!out)
@@ -236,17 +238,20 @@ std::string unmeasured_line(const RunRow& row) {
   return record::csv_line(fields);
 }
 
-// Runs every cell in its own process, `jobs` at once. A cell whose process dies gets a row for
-// the task it died in (its cause), and its later tasks run in a new process (as a microkernel
-// restarts a crashed driver): one crash costs one task. Returns the failures for the manifest.
+// Runs every cell in its own process, `jobs` at once: cell i's tasks `tasks[i]` (all, or a
+// shard's) from position start[i] on. A cell whose process dies gets a row for the task it died
+// in (its cause), and its later tasks run in a new process (as a microkernel restarts a crashed
+// driver): one crash costs one task. Returns the failures for the manifest.
 nlohmann::json run_cells(const std::string& cell_dir, const std::vector<Cell>& cells,
-                         const std::vector<LoadedWorld>& worlds, const BenchOptions& options,
-                         int kill_after_s, const std::vector<std::size_t>& start) {
+                         const std::vector<LoadedWorld>& worlds,
+                         const std::vector<std::vector<std::size_t>>& tasks,
+                         const BenchOptions& options, int kill_after_s,
+                         const std::vector<std::size_t>& start) {
   std::vector<std::pair<std::pair<std::size_t, std::size_t>, nlohmann::json>> lost;
   std::vector<std::pair<std::size_t, std::size_t>> work;  // (cell, first task)
   std::size_t done = 0;
   for (std::size_t i = 0; i < cells.size(); ++i)
-    if (start[i] < worlds[cells[i].world].tasks.size())
+    if (start[i] < tasks[i].size())
       work.emplace_back(i, start[i]);
     else
       ++done;  // finished before an interruption (resume)
@@ -258,12 +263,12 @@ nlohmann::json run_cells(const std::string& cell_dir, const std::vector<Cell>& c
       const std::size_t i = work[k].first;
       // A cell is done when its process ends well or dies on its last task.
       const bool more = !exit.ok() && count_lines(cell_dir + "/" + std::to_string(i) + ".csv") + 1 <
-                                          worlds[cells[i].world].tasks.size();
+                                          tasks[i].size();
       if (!more && options.progress) options.progress(++done, cells.size());
     };
     const auto exits = record::run_isolated(work.size(), isolation, [&](std::size_t k) {
       const auto [i, first] = work[k];
-      return run_cell(cell_dir, i, first, cells[i], worlds[cells[i].world]);
+      return run_cell(cell_dir, i, first, cells[i], worlds[cells[i].world], tasks[i]);
     });
     std::vector<std::pair<std::size_t, std::size_t>> again;
     for (std::size_t k = 0; k < exits.size(); ++k) {
@@ -272,7 +277,8 @@ nlohmann::json run_cells(const std::string& cell_dir, const std::vector<Cell>& c
       const Cell& cell = cells[i];
       const LoadedWorld& world = worlds[cell.world];
       const std::string rows_file = cell_dir + "/" + std::to_string(i) + ".csv";
-      const std::size_t t = count_lines(rows_file);  // the task it died in
+      const std::size_t k_died = count_lines(rows_file);  // the position of the task it died in
+      const std::size_t t = k_died < tasks[i].size() ? tasks[i][k_died] : world.tasks.size();
       nlohmann::json failure = {{"world", cell.spec.world},   {"planner", cell.spec.planner},
                                 {"plugin", cell.spec.plugin}, {"seed", cell.spec.seed},
                                 {"status", exits[k].kind()},  {"cause", exits[k].describe()}};
@@ -282,7 +288,7 @@ nlohmann::json run_cells(const std::string& cell_dir, const std::vector<Cell>& c
         out << unmeasured_line(failed_row(cell, world, t, exits[k])) << "\n";
         out.flush();
         if (!out) throw sdk::Error(sdk::codes::kWriteFailed, "cannot write '" + rows_file + "'");
-        if (t + 1 < world.tasks.size()) again.emplace_back(i, t + 1);
+        if (k_died + 1 < tasks[i].size()) again.emplace_back(i, k_died + 1);
       }
       // Kept on disk at once, so a resumed run still names it.
       std::ofstream log(cell_dir + "/failed.jsonl", std::ios::app);
@@ -323,66 +329,13 @@ void write_tasks(const std::string& path, const std::vector<LoadedWorld>& worlds
   out.close();
 }
 
-std::string load_text() {
-  double load[3] = {0, 0, 0};
-  if (getloadavg(load, 3) < 1) return "unknown";
-  std::ostringstream s;
-  s.precision(2);
-  s << std::fixed << load[0];
-  return s.str();
-}
-
-// The tasks whose process died, first in the report: no figure of theirs is in the tables but
-// their row (status plugin_crashed, crashed, wall_backstop or failed).
-std::string failures_text(const nlohmann::json& failures) {
-  if (failures.empty()) return "";
-  std::string out =
-      "## Failed tasks\n\n" + std::to_string(failures.size()) +
-      " task(s) lost their process; the cell's other tasks ran in a new one "
-      "(docs/planners.md §5). The rest of the run is complete.\n\n"
-      "| world | planner | seed | task | status | cause |\n|---|---|---|---|---|---|\n";
-  for (const auto& f : failures)
-    out += "| " + f.value("world", "") + " | " + f.value("planner", "") + " | " +
-           f.value("seed", "") + " | " + f.value("task", "") + " | " + f.value("status", "") +
-           " | " + f.value("cause", "") + " |\n";
-  return out + "\n";
-}
-
-void write_report(const std::string& run_dir, const BenchExperiment& e,
-                  const record::CsvTable& runs, const nlohmann::json& host, const std::string& load,
-                  std::size_t cells, const nlohmann::json& failures) {
-  record::OutFile out(run_dir + "/report.md");
-  out << "# Planner benchmark: " << e.name << "\n\n"
-      << "Experiment `" << e.file << "`; " << e.worlds.size() << " worlds × " << e.planners.size()
-      << " planners, " << cells << " cells (world × planner × seed), " << runs.rows.size()
-      << " plans. Files: `manifest.json` (build, plugins with SHA-256, each cell's config, "
-         "inputs), `tasks.csv` (each world's tasks with the oracle's shortest length), "
-         "`runs.csv` (one row per plan), `figures.csv`, `variants.csv`, the plots "
-         "(`planners.pdf`, `.svg`).\n\n"
-      << failures_text(failures) << "## Results (deterministic)\n\n"
-      << "Length in steps; length / shortest against a breadth-first oracle over the world's "
-         "cells; means over the successful plans, success over all (tasks × seeds). \"Stopped "
-         "for time\": plans a time limit ended, not planning failures: `cpu_budget` (the "
-         "experiment's cpu_budget_ms of the planning thread's CPU time) or `wall_backstop` (its "
-         "deadline_ms of wall time, a runaway guard).\n\n"
-      << results_table(runs) << "\n## Timing (measured)\n\n"
-      << "Measured on " << host.value("name", std::string("?")) << " (" << host.value("cores", 0)
-      << " cores, load " << load
-      << " at the start): plan CPU time is the planning thread's CPU time, the median of "
-      << e.repetitions
-      << " repetition(s) per task; memory is the peak resident set during the plan "
-         "(VmHWM, reset before it) and its growth over the resident set before it.\n\n"
-      << timing_table(runs);
-  out.close();
-}
-
 }  // namespace
 
 BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
   if (options.out.empty()) throw sdk::Error(sdk::codes::kBadRequest, "--out PARENT is required");
   const Settings settings(e, options);
   std::string started = record::utc_now();
-  const std::string load = load_text();
+  const std::string load = detail::load_text();
   // Everything loads and is checked before a run folder exists.
   std::vector<LoadedWorld> worlds;
   for (const auto& w : e.worlds) worlds.push_back(load_world(settings, e, w));
@@ -407,7 +360,18 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
     if (!t.file.empty()) inputs.push_back(record::file_json("tasks " + w.spec->name, t.file));
   }
 
-  const std::string stem = e.file.empty() ? "planners" : fs::path(e.file).stem().string();
+  const std::string stem = (e.file.empty() ? "planners" : fs::path(e.file).stem().string()) +
+                           (options.shard ? "-shard" + std::to_string(options.shard->index) + "of" +
+                                                std::to_string(options.shard->count)
+                                          : std::string());
+  // The plans this process runs: every task of every cell, or a shard's (shard.hpp).
+  std::vector<std::size_t> tasks_per_cell;
+  tasks_per_cell.reserve(cells.size());
+  for (const auto& c : cells) tasks_per_cell.push_back(worlds[c.world].tasks.size());
+  const auto tasks = shard_tasks(tasks_per_cell, options.shard.value_or(record::Shard{}));
+  const nlohmann::json shard_json = options.shard ? nlohmann::json{{"index", options.shard->index},
+                                                                   {"count", options.shard->count}}
+                                                  : nlohmann::json();
   BenchResult result;
   result.cells = cells.size();
   std::vector<std::size_t> start(cells.size(), 0);
@@ -419,6 +383,7 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
         result.run_dir,
         {{"kind", "planner-benchmark"},
          {"status", "running"},
+         {"shard", shard_json},
          {"started", started},
          {"options",
           {{"config", options.config}, {"overrides", options.overrides}, {"plots", options.plots}}},
@@ -432,7 +397,7 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
   }
   const std::string cell_dir = result.run_dir + "/cells";
   const nlohmann::json failures =
-      run_cells(cell_dir, cells, worlds, options, e.kill_after_s, start);
+      run_cells(cell_dir, cells, worlds, tasks, options, e.kill_after_s, start);
   result.failures = failures.size();
 
   record::OutFile runs_out(result.run_dir + "/runs.csv");
@@ -443,25 +408,35 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
   fs::remove_all(cell_dir);
   write_tasks(result.run_dir + "/tasks.csv", worlds);
 
-  const record::CsvTable runs = record::read_csv(result.run_dir + "/runs.csv");
-  result.runs = runs.rows.size();
-  const BenchFigures figures = bench_figures(runs);
-  record::write_figures(result.run_dir + "/figures.csv", figures.figures);
-  record::write_variants(result.run_dir, figures.variants);
   const nlohmann::json host = record::host_json();
-  write_report(result.run_dir, e, runs, host, load, cells.size(), failures);
-
-  // complete: every task answered; partial: some tasks' processes died; failed: all did.
-  const std::string status = failures.empty()                      ? "complete"
-                             : failures.size() >= runs.rows.size() ? "failed"
-                                                                   : "partial";
+  detail::ReportHead head{e.name,
+                          e.file,
+                          e.worlds.size(),
+                          e.planners.size(),
+                          cells.size(),
+                          e.repetitions,
+                          detail::measured_on(host, load),
+                          ""};
+  if (options.shard)
+    head.shard_note = "Shard " + std::to_string(options.shard->index) + " of " +
+                      std::to_string(options.shard->count) +
+                      ": the plans whose row r of the whole run's runs.csv has r mod " +
+                      std::to_string(options.shard->count) + " = " +
+                      std::to_string(options.shard->index) +
+                      "; `flipper bench planners merge` joins the shards (docs/planners.md §5, "
+                      "\"Shards\").\n\n";
+  const BenchResult assembled =
+      detail::assemble_bench(result.run_dir, head, failures, options.plots);
+  result.runs = assembled.runs;
+  result.plots = assembled.plots;
+  const std::string status = assembled.status;
   result.status = status;
-  if (options.plots) result.plots = record::draw_plots("planner_bench_plots.py", result.run_dir);
   const char* plot_status[] = {"drawn", "skipped", "failed"};
   record::write_manifest(
       result.run_dir,
       {{"kind", "planner-benchmark"},
        {"status", status},
+       {"shard", shard_json},
        {"failed", failures},
        {"build", record::build_json()},
        {"source", record::source_json()},
@@ -519,6 +494,9 @@ BenchOptions recorded_options(const nlohmann::json& m, const std::string& out, i
   options.out = out;
   options.jobs = jobs;
   options.plots = plots;
+  const nlohmann::json shard = m.value("shard", nlohmann::json());
+  if (shard.is_object())
+    options.shard = record::Shard{shard.at("index").get<int>(), shard.at("count").get<int>()};
   return options;
 }
 

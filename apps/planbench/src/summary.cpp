@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 
+#include "flipper/planbench/intervals.hpp"
 #include "stats.hpp"
 
 namespace flipper::planbench {
@@ -128,7 +129,55 @@ std::string variant_name(const std::string& world, const std::string& planner,
   return "world=" + world + ",planner=" + planner + (seed.empty() ? "" : ",seed=" + seed);
 }
 
+// "70.0 % [39.7, 89.2]": a success rate and its Wilson interval, in percent.
+std::string rate_text(std::size_t solved, std::size_t runs) {
+  const auto ci = wilson_interval(solved, runs);
+  if (!ci) return "–";
+  return fixed(100.0 * static_cast<double>(solved) / static_cast<double>(runs), 1) + " % [" +
+         fixed(100 * ci->low, 1) + ", " + fixed(100 * ci->high, 1) + "]";
+}
+
+// "1.023 [1.000, 1.048]": the mean of per-seed values and its t interval, its low end no
+// lower than `floor` (a length / shortest is at least 1, a length at least 0); "[–]" for one
+// seed, "–" for none.
+std::string mean_text(const std::vector<double>& per_seed, int decimals, double floor) {
+  if (per_seed.empty()) return "–";
+  const auto ci = t_interval(per_seed);
+  return fixed(mean(per_seed), decimals) + (ci ? " [" + fixed(std::max(floor, ci->low), decimals) +
+                                                     ", " + fixed(ci->high, decimals) + "]"
+                                               : " [–]");
+}
+
+// "[1.20 ms, 1.31 ms]": the t interval of the seeds' median CPU times, or "–".
+std::string duration_interval(const std::vector<double>& per_seed) {
+  const auto ci = t_interval(per_seed);
+  if (!ci) return "–";
+  return "[" + duration(std::max(0.0, ci->low)) + ", " + duration(ci->high) + "]";
+}
+
 }  // namespace
+
+std::string intervals_table(const record::CsvTable& runs) {
+  std::string out =
+      "| world | planner | seeds | plans | success [95 % Wilson] | length / shortest: mean "
+      "over seeds [95 % t] | length: mean over seeds [95 % t] |\n"
+      "|---|---|---|---|---|---|---|\n";
+  for (const auto& g : groups_of(runs)) {
+    const Stats s = stats_of(g.runs);
+    std::vector<double> ratios, lengths;  // per seed, over its successful plans
+    for (const auto& seed : g.seeds) {
+      const Stats one = stats_of(g.runs, &seed);
+      if (!one.ratios.empty()) ratios.push_back(mean(one.ratios));
+      if (!one.lengths.empty()) lengths.push_back(mean(one.lengths));
+    }
+    const bool seeded = !(g.seeds.size() == 1 && g.seeds.front().empty());
+    out += "| " + g.world + " | " + g.planner + " | " +
+           (seeded ? std::to_string(g.seeds.size()) : "–") + " | " + std::to_string(s.runs) +
+           " | " + rate_text(s.solved, s.runs) + " | " + mean_text(ratios, 3, 1.0) + " | " +
+           mean_text(lengths, 2, 0.0) + " |\n";
+  }
+  return out;
+}
 
 std::string results_table(const record::CsvTable& runs) {
   std::string out =
@@ -154,16 +203,17 @@ std::string results_table(const record::CsvTable& runs) {
 
 std::string timing_table(const record::CsvTable& runs) {
   std::string out =
-      "| world | planner | plan CPU (median) | over seeds: mean ± sd of medians | CPU (max) | "
-      "wall (median) | memory growth (max) | peak RSS (max) |\n"
-      "|---|---|---|---|---|---|---|---|\n";
+      "| world | planner | plan CPU (median) | over seeds: mean ± sd of medians | [95 % t] | "
+      "CPU (max) | wall (median) | memory growth (max) | peak RSS (max) |\n"
+      "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& g : groups_of(runs)) {
     const Stats s = stats_of(g.runs);
     std::vector<double> medians;
     for (const auto& seed : g.seeds) medians.push_back(median(stats_of(g.runs, &seed).cpu));
     out += "| " + g.world + " | " + g.planner + " | " + duration(median(s.cpu)) + " | " +
            (medians.size() > 1 ? duration(mean(medians)) + " ± " + duration(sd(medians)) : "–") +
-           " | " + duration(max_of(s.cpu)) + " | " + duration(median(s.wall)) + " | " +
+           " | " + duration_interval(medians) + " | " + duration(max_of(s.cpu)) + " | " +
+           duration(median(s.wall)) + " | " +
            (s.memory.empty() ? "–" : fixed(max_of(s.memory), 0) + " KiB") + " | " +
            (s.peak.empty() ? "–" : fixed(max_of(s.peak) / 1024, 1) + " MiB") + " |\n";
   }
@@ -200,6 +250,50 @@ BenchFigures bench_figures(const record::CsvTable& runs) {
       if (!s.peak.empty()) add("peak_rss_kib_max", max_of(s.peak), "KiB", true);
       if (!s.memory.empty()) add("memory_kib_max", max_of(s.memory), "KiB", true);
     }
+  return out;
+}
+
+std::string intervals_csv(const BenchFigures& f) {
+  const record::FigureTable table(f.figures);
+  std::vector<std::pair<std::string, std::vector<std::string>>> conditions;  // in run order
+  for (const auto& v : f.variants) {
+    auto c = std::find_if(conditions.begin(), conditions.end(),
+                          [&](const auto& x) { return x.first == v.condition; });
+    if (c == conditions.end()) c = conditions.insert(conditions.end(), {v.condition, {}});
+    c->second.push_back(v.name);
+  }
+  std::string out = "condition,metric,seeds,mean,low,high,method,timing\n";
+  auto line = [&](const std::string& condition, const std::string& metric, std::size_t seeds,
+                  double mean_value, const std::optional<Interval>& ci, const char* method,
+                  bool timing) {
+    out +=
+        record::csv_line({condition, metric, std::to_string(seeds),
+                          record::exact_number(mean_value), ci ? record::exact_number(ci->low) : "",
+                          ci ? record::exact_number(ci->high) : "", method, timing ? "1" : "0"}) +
+        "\n";
+  };
+  for (const auto& [condition, names] : conditions) {
+    double solved = 0, tasks = 0;
+    for (const auto& n : names) {
+      solved += table.get(n, "ours", "all", "solved");
+      tasks += table.get(n, "ours", "all", "tasks");
+    }
+    auto ci = wilson_interval(static_cast<std::size_t>(solved), static_cast<std::size_t>(tasks));
+    if (ci) ci = Interval{100 * ci->low, 100 * ci->high};
+    line(condition, "success", names.size(), tasks > 0 ? 100 * solved / tasks : 0.0, ci, "wilson",
+         false);
+    // The low end no lower than the figure can be: a length / shortest 1, turns and time 0.
+    for (const auto& [metric, floor] : {std::pair<std::string, double>{"length_ratio_mean", 1.0},
+                                        {"turns_mean", 0.0},
+                                        {"cpu_us_median", 0.0}}) {
+      std::vector<double> values;
+      values.reserve(names.size());
+      for (const auto& n : names) values.push_back(table.get(n, "ours", "all", metric));
+      auto t = t_interval(values);
+      if (t) t->low = std::max(floor, t->low);
+      line(condition, metric, names.size(), mean(values), t, "t", metric == "cpu_us_median");
+    }
+  }
   return out;
 }
 

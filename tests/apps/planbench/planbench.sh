@@ -169,6 +169,29 @@ if os.path.exists(plot):
     want = (figs[("world=maze,planner=rrtconnect,seed=1", "length_ratio_mean")] +
             figs[("world=maze,planner=rrtconnect,seed=2", "length_ratio_mean")]) / 2
     if ratio[:2] != [1.0, 1.0] or abs(ratio[2] - want) > 1e-12: fail("ratio panel %s" % ratio)
+    # Error bars: 95 % intervals from intervals.csv, recomputed here: success is Wilson's for
+    # 5 of 5 (unseeded) and 10 of 10 plans (z = NormalDist's 97.5 % point); rrtconnect's ratio
+    # is t over its two seeds' figures (t(0.975; 1) = tan(0.475 π)), the low end cut at 1.
+    import math
+    from statistics import NormalDist
+    z = NormalDist().inv_cdf(0.975)
+    def wilson_low(k, n):
+        p_ = k / n
+        return ((p_ + z * z / (2 * n)) - z * math.sqrt(p_ * (1 - p_) / n + z * z / (4 * n * n))) / (1 + z * z / n)
+    errors = panel["series"][0]["errors"]
+    want_below = [100 * (1 - wilson_low(5, 5))] * 2 + [100 * (1 - wilson_low(10, 10))]
+    if any(abs(a - b) > 1e-9 for a, b in zip(errors[0], want_below)) or errors[1] != [0.0] * 3:
+        fail("success error bars %s, want below %s" % (errors, want_below))
+    r1 = figs[("world=maze,planner=rrtconnect,seed=1", "length_ratio_mean")]
+    r2 = figs[("world=maze,planner=rrtconnect,seed=2", "length_ratio_mean")]
+    half = math.tan(0.475 * math.pi) * abs(r1 - r2) / math.sqrt(2) / math.sqrt(2)
+    ratio_errors = p["panels"][1]["series"][0]["errors"]
+    if ratio_errors[0][:2] != [0.0, 0.0] or ratio_errors[1][:2] != [0.0, 0.0]:
+        fail("unseeded ratio error bars %s" % ratio_errors)
+    if (abs(ratio_errors[1][2] - half) > 1e-9 or
+            abs(ratio_errors[0][2] - (want - max(1.0, want - half))) > 1e-9):
+        fail("rrtconnect ratio error bars %s, want +%s" % (ratio_errors, half))
+    if "95 % CI" not in p["panels"][1]["title"]: fail("ratio panel title %s" % p["panels"][1]["title"])
     for ext in ("pdf", "svg"):
         if not os.path.getsize(os.path.join(run1, "planners." + ext)): fail("no planners." + ext)
     print("plots checked")

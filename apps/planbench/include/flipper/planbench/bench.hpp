@@ -11,11 +11,13 @@
 /// `latest` moves to the run once its manifest is written.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "flipper/planbench/experiment.hpp"
 #include "flipper/record/plots.hpp"
+#include "flipper/record/sweep.hpp"
 
 namespace flipper::planbench {
 
@@ -28,6 +30,9 @@ struct BenchOptions {
   /// A run folder to resume (`bench planners resume`): its cells' rows are kept, each cell goes
   /// on from its first task without a row. "" : a new run under `out`.
   std::string resume;
+  /// Run only this shard's plans (`--shard I/N`, shard.hpp); the run folder is
+  /// `<stem>-shardIofN-...` and its manifest records `shard`. None: the whole grid.
+  std::optional<record::Shard> shard;
   /// Called as cells finish (done, total); a cell that lost a task counts when its last process
   /// ends. Nothing when unset.
   std::function<void(std::size_t, std::size_t)> progress;

@@ -15,7 +15,13 @@ namespace flipper::planbench {
 /// success, length / shortest (mean, worst), turns, expansions, and the runs a time limit
 /// stopped (`cpu_budget`, `wall_backstop`: not planning failures), per world × planner.
 std::string results_table(const record::CsvTable& runs);
-/// plan CPU time (median, spread of the seeds' medians), wall time, peak memory.
+/// Per world × planner over its seeds (docs/planners.md §5, "Intervals"): the success rate
+/// over all its plans with its 95 % Wilson score interval, and the mean over seeds of each
+/// seed's mean length / shortest and length (its successful plans) with its 95 % Student's t
+/// interval ("[–]" with one seed). Deterministic columns only.
+std::string intervals_table(const record::CsvTable& runs);
+/// plan CPU time (median, spread of the seeds' medians and their 95 % t
+/// interval), wall time, peak memory.
 std::string timing_table(const record::CsvTable& runs);
 
 /// One variant per cell (`world=W,planner=P[,seed=S]`, its condition without the seed) and
@@ -26,5 +32,12 @@ struct BenchFigures {
   std::vector<record::VariantInfo> variants;
 };
 BenchFigures bench_figures(const record::CsvTable& runs);
+
+/// The error bars of the plots (intervals.csv, docs/planners.md §5 "Intervals"): per condition
+/// (world × planner) and plotted figure, `condition,metric,seeds,mean,low,high,method,timing`.
+/// `success`: the Wilson interval of all its plans (method `wilson`, in %); `length_ratio_mean`,
+/// `turns_mean`, `cpu_us_median`: the mean of the seeds' figures (figures.csv) and its t interval
+/// (method `t`; low and high empty with one seed; the low end cut at 1 for the ratio, 0 else).
+std::string intervals_csv(const BenchFigures& figures);
 
 }  // namespace flipper::planbench
