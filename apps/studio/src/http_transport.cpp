@@ -535,7 +535,7 @@ void HttpTransport::Impl::admit(tcp::socket socket) {
 }
 
 HttpTransport::HttpTransport(TransportOptions options, const Router& router)
-    : impl_(std::make_unique<Impl>(options, router)) {}
+    : impl_(std::make_unique<Impl>(std::move(options), router)) {}
 
 HttpTransport::~HttpTransport() = default;
 

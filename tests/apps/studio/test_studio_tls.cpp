@@ -17,7 +17,7 @@ using namespace std::chrono_literals;
 
 /// The test PKI in a fresh directory (tests/apps/studio/make-test-pki).
 std::string make_pki(const std::string& name) {
-  const std::string dir = fresh_dir(name);
+  std::string dir = fresh_dir(name);
   const CliRun made = run_shell("bash " + std::string(FLIPPER_SOURCE_DIR) +
                                 "/tests/apps/studio/make-test-pki " + dir + " 2>&1");
   INFO(made.out);
