@@ -52,11 +52,13 @@ struct RawAnswer {
   json body;
 };
 RawAnswer raw_post(int port, const std::string& source, const std::string& path,
-                   const std::string& body, const std::string& extra_headers) {
+                   const std::string& body, const std::string& extra_headers,
+                   const std::string& host = "") {
   RawSocket s(port, source);
   REQUIRE(s.connected());
   REQUIRE(s.send(
-      "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) +
+      "POST " + path +
+      " HTTP/1.1\r\nHost: " + (host.empty() ? "127.0.0.1:" + std::to_string(port) : host) +
       "\r\nContent-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) +
       "\r\nConnection: close\r\n" + extra_headers + "\r\n" + body));
   // Bound: one request (an Argon2id check for a login, ~1 s on a loaded machine).
@@ -305,6 +307,21 @@ TEST_CASE("X-Forwarded-Proto: https from a listed proxy makes cookies Secure, fr
   const std::string origin = "Origin: https://127.0.0.1:" + std::to_string(server.port()) + "\r\n";
   CHECK(raw_post(server.port(), "127.0.0.1", "/api/v1/logout", "", https + origin).status == 200);
   CHECK(raw_post(server.port(), "127.0.0.2", "/api/v1/logout", "", https + origin).status == 403);
+}
+
+TEST_CASE("a Host without a port means 443 on a page a listed proxy says is HTTPS",
+          "[tls][proxy]") {
+  StudioServer server(fresh_dir("proxy-host"), {"serve.behind_proxy=[127.0.0.1]",
+                                                "serve.allowed_hosts=[study.example:443]"});
+  const auto status = [&](const std::string& source, const std::string& headers) {
+    return raw_post(server.port(), source, "/api/v1/request", R"({"op":"state"})", headers,
+                    "study.example")
+        .status;
+  };
+  CHECK(status("127.0.0.1", "X-Forwarded-Proto: https\r\n") == 200);
+  CHECK(status("127.0.0.1", "X-Forwarded-Proto: http\r\n") == 421);
+  CHECK(status("127.0.0.1", "") == 421);
+  CHECK(status("127.0.0.2", "X-Forwarded-Proto: https\r\n") == 421);
 }
 
 TEST_CASE("a listed proxy's connections are not capped per address", "[tls][proxy]") {
