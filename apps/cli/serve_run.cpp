@@ -38,9 +38,11 @@ int serve_main(const CommonOptions& opts) {
               << " connections at once (serve.max_connections is " << o.max_connections
               << "; the descriptor limit, ulimit -n, allows no more)" << std::endl;
   const int port = server.bind();
-  std::cout << "flipper serve: listening on http://" << o.host << ":" << port << "/" << std::endl;
+  const char* scheme = o.tls_cert.empty() ? "http://" : "https://";  // docs/serve.md "HTTPS"
+  std::cout << "flipper serve: listening on " << scheme << o.host << ":" << port << "/"
+            << std::endl;
   if (o.sempre)
-    std::cout << "flipper serve: the 2018 server's API at http://" << o.host << ":" << port
+    std::cout << "flipper serve: the 2018 server's API at " << scheme << o.host << ":" << port
               << "/sempre, for this page and serve.sempre_origins (docs/sempre.md)" << std::endl;
   std::thread waiter([&server, signals] {
     int sig = 0;

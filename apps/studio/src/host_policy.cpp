@@ -37,10 +37,10 @@ HostPolicy::HostPolicy(const std::string& bound_host, int port,
   for (const auto& name : allowed) hosts_.insert(lower(with_port(name, port)));
 }
 
-bool HostPolicy::allows_host(const std::string& host) const {
+bool HostPolicy::allows_host(const std::string& host, bool https) const {
   if (host.empty()) return false;
   // No port in the header: the scheme's default.
-  return hosts_.count(lower(with_port(host, 80))) > 0;
+  return hosts_.count(lower(with_port(host, https ? 443 : 80))) > 0;
 }
 
 bool HostPolicy::allows_origin(const HttpRequest& r) const {
@@ -48,15 +48,16 @@ bool HostPolicy::allows_origin(const HttpRequest& r) const {
   if (!r.sec_fetch_site.empty() && r.sec_fetch_site != "same-origin" && r.sec_fetch_site != "none")
     return false;
   if (r.origin.empty()) return true;  // not a browser (curl, programs, the benchmark)
-  const std::string scheme = "http://";
+  // An HTTPS page's origin is https:// (docs/serve.md "HTTPS"), a plain page's http://.
+  const std::string scheme = r.secure ? "https://" : "http://";
   if (lower(r.origin.substr(0, scheme.size())) != scheme) return false;
   const std::string host = r.origin.substr(scheme.size());
   if (host.find('/') != std::string::npos) return false;
-  return allows_host(host);
+  return allows_host(host, r.secure);
 }
 
 bool HostPolicy::refuse(const HttpRequest& r, HttpReply& reply) const {
-  if (allows_host(r.host)) return false;
+  if (allows_host(r.host, r.secure)) return false;
   reply = error_reply(421, "wrong_host",
                       "this server does not answer to Host '" + r.host.substr(0, 200) +
                           "' (it answers to its own address, localhost and serve.allowed_hosts)");

@@ -1,9 +1,12 @@
 // Boost.Beast/Asio HTTP/1.1 server of the studio (http_transport.hpp, docs/studio.md §2).
 #include "http_transport.hpp"
 
+#include <openssl/err.h>
+#include <openssl/ssl.h>
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 
 #include <fcntl.h>
 #include <sys/socket.h>
@@ -14,14 +17,18 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <type_traits>
 
 #include "flipper/sdk/errors.hpp"
+#include "proxy_policy.hpp"
 #include "registry.hpp"
+#include "tls_context.hpp"
 
 namespace flipper::studio {
 namespace beast = boost::beast;
 namespace http = beast::http;
 namespace net = boost::asio;
+namespace ssl = boost::asio::ssl;
 using tcp = net::ip::tcp;
 
 const std::vector<std::pair<std::string, std::string>>& security_headers() {
@@ -148,13 +155,16 @@ void split_target(std::string_view target, HttpRequest& r) {
   }
 }
 
-// A whole 503 too_many_connections answer, written to a socket that is closed after it.
-std::string refusal_text(const std::string& message) {
-  const std::string body = error_body("too_many_connections", message);
-  std::string text =
-      "HTTP/1.1 503 Service Unavailable\r\nContent-Type: "
-      "application/json\r\nConnection: close\r\nContent-Length: " +
-      std::to_string(body.size()) + "\r\n";
+// A whole refusal (503 too_many_connections, or 400 https_required), written to a socket
+// that is closed after it.
+std::string refusal_text(const std::string& message,
+                         const std::string& status_line = "503 Service Unavailable",
+                         const std::string& code = "too_many_connections") {
+  const std::string body = error_body(code, message);
+  std::string text = "HTTP/1.1 " + status_line +
+                     "\r\nContent-Type: "
+                     "application/json\r\nConnection: close\r\nContent-Length: " +
+                     std::to_string(body.size()) + "\r\n";
   for (const auto& [k, v] : security_headers()) text += k + ": " + v + "\r\n";
   return text + "\r\n" + body;
 }
@@ -168,12 +178,46 @@ bool is_chunked_only(std::string_view te) {
   return true;
 }
 
+// Set-Cookie values without a Secure attribute get one (an HTTPS page's cookies never travel
+// over plain HTTP; docs/serve.md "HTTPS").
+void make_cookies_secure(http::response<http::string_body>& res) {
+  std::vector<std::string> cookies;
+  for (const auto& field : res) {
+    if (field.name() != http::field::set_cookie) continue;
+    std::string value(sv(field.value()));
+    std::string lower = value;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (lower.find("; secure") == std::string::npos) value += "; Secure";
+    cookies.push_back(std::move(value));
+  }
+  if (cookies.empty()) return;
+  res.erase(http::field::set_cookie);
+  for (auto& cookie : cookies) res.insert(http::field::set_cookie, cookie);
+}
+
+// Every value of a header that may be repeated, joined by commas (RFC 9110 §5.3).
+std::string joined(const http::request<http::string_body>& req, beast::string_view name) {
+  std::string all;
+  for (auto [it, end] = req.equal_range(name); it != end; ++it) {
+    if (!all.empty()) all += ", ";
+    all += sv(it->value());
+  }
+  return all;
+}
+
 }  // namespace
 
 struct HttpTransport::Impl {
-  Impl(TransportOptions o, const Router& r) : options(o), router(r) {}
+  Impl(TransportOptions o, const Router& r)
+      : options(std::move(o)), router(r), proxies(options.behind_proxy) {
+    if (!options.tls_cert.empty() || !options.tls_key.empty())
+      tls = make_tls_context(options.tls_cert, options.tls_key);
+  }
   TransportOptions options;
   const Router& router;
+  ProxyPolicy proxies;
+  std::unique_ptr<ssl::context> tls;  ///< null: plain HTTP
   // Before io: destroying io destroys the connections still pending, which release here.
   std::mutex mutex;  // the connection counts (a connection may end on a worker thread)
   std::map<std::string, std::size_t> per_address;
@@ -204,23 +248,58 @@ struct HttpTransport::Impl {
 
 namespace {
 
-class Connection : public std::enable_shared_from_this<Connection> {
+// One connection over a plain TCP stream or TLS over it (Stream: beast::tcp_stream or
+// beast::ssl_stream<beast::tcp_stream>).
+template <class Stream>
+class Connection : public std::enable_shared_from_this<Connection<Stream>> {
+  static constexpr bool kTls = !std::is_same_v<Stream, beast::tcp_stream>;
+
  public:
-  Connection(HttpTransport::Impl* server, tcp::socket socket, std::string peer)
-      : server_(server), stream_(std::move(socket)), peer_(std::move(peer)) {}
+  Connection(HttpTransport::Impl* server, Stream stream, std::string peer)
+      : server_(server), stream_(std::move(stream)), peer_(std::move(peer)) {}
   ~Connection() { server_->release(peer_); }
 
-  void start() { wait_for_request(); }
+  void start() {
+    if constexpr (!kTls) {
+      wait_for_request();
+    } else {
+      // The handshake falls under the request deadline: a client that never finishes it
+      // holds a socket for serve.request_timeout_ms at most.
+      lowest().expires_after(std::chrono::milliseconds(options().request_timeout_ms));
+      stream_.async_handshake(ssl::stream_base::server,
+                              [self = this->shared_from_this()](beast::error_code ec) {
+                                if (ec) return self->handshake_failed(ec);
+                                self->wait_for_request();
+                              });
+    }
+  }
 
  private:
   const TransportOptions& options() const { return server_->options; }
+  beast::tcp_stream& lowest() { return beast::get_lowest_layer(stream_); }
+
+  // Plain HTTP sent to the HTTPS port is told so in plain HTTP (OpenSSL recognises the
+  // request line); any other failed handshake is closed without a word.
+  void handshake_failed(beast::error_code ec) {
+    if (ec.category() == net::error::get_ssl_category() &&
+        ERR_GET_REASON(static_cast<unsigned long>(ec.value())) == SSL_R_HTTP_REQUEST) {
+      const std::string text = refusal_text("this port speaks HTTPS: use https:// (serve.tls.cert)",
+                                            "400 Bad Request", "https_required");
+      beast::error_code ignored;
+      lowest().socket().non_blocking(true, ignored);
+      lowest().socket().write_some(net::buffer(text), ignored);
+    }
+    beast::error_code ignored;
+    lowest().socket().shutdown(tcp::socket::shutdown_both, ignored);
+    lowest().close();
+  }
 
   // Idle until the next request's first byte (or pipelined bytes are already buffered).
   void wait_for_request() {
     if (buffer_.size() > 0) return read_request();
-    stream_.expires_after(std::chrono::milliseconds(options().idle_timeout_ms));
+    lowest().expires_after(std::chrono::milliseconds(options().idle_timeout_ms));
     stream_.async_read_some(buffer_.prepare(4096),
-                            [self = shared_from_this()](beast::error_code ec, std::size_t n) {
+                            [self = this->shared_from_this()](beast::error_code ec, std::size_t n) {
                               if (ec) return self->close();
                               self->buffer_.commit(n);
                               self->read_request();
@@ -232,10 +311,11 @@ class Connection : public std::enable_shared_from_this<Connection> {
     parser_.emplace();
     parser_->header_limit(static_cast<std::uint32_t>(options().max_header_bytes));
     parser_->body_limit(options().max_request_bytes);
-    stream_.expires_after(std::chrono::milliseconds(options().request_timeout_ms));
-    http::async_read_header(
-        stream_, buffer_, *parser_,
-        [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_header(ec); });
+    lowest().expires_after(std::chrono::milliseconds(options().request_timeout_ms));
+    http::async_read_header(stream_, buffer_, *parser_,
+                            [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
+                              self->on_header(ec);
+                            });
   }
 
   void on_header(beast::error_code ec) {
@@ -252,7 +332,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
                     "Content-Length");
     http::async_read(
         stream_, buffer_, *parser_,
-        [self = shared_from_this()](beast::error_code e, std::size_t) { self->on_body(e); });
+        [self = this->shared_from_this()](beast::error_code e, std::size_t) { self->on_body(e); });
   }
 
   void on_body(beast::error_code ec) {
@@ -267,11 +347,17 @@ class Connection : public std::enable_shared_from_this<Connection> {
     r.sec_fetch_site = std::string(sv(req["Sec-Fetch-Site"]));
     r.cookie = std::string(sv(req[http::field::cookie]));
     r.body = std::move(req.body());
-    r.peer = peer_;
     close_after_ = !req.keep_alive();
+    std::string bad_forwarding;
+    const auto client = server_->proxies.client(peer_, kTls, joined(req, "X-Forwarded-For"),
+                                                joined(req, "X-Forwarded-Proto"), bad_forwarding);
+    if (!client) return refuse(400, "bad_forwarded_for", bad_forwarding);
+    r.peer = client->address;
+    r.secure = client->https;
+    secure_ = client->https;
     // The route's own limits bound its work; the connection waits without a deadline.
-    stream_.expires_never();
-    auto self = shared_from_this();
+    lowest().expires_never();
+    auto self = this->shared_from_this();
     server_->router.dispatch(r, [self](HttpReply reply) {
       net::post(self->stream_.get_executor(), [self, reply = std::move(reply)]() mutable {
         self->write(std::move(reply), self->close_after_);
@@ -285,14 +371,15 @@ class Connection : public std::enable_shared_from_this<Connection> {
     for (auto& [k, v] : reply.headers) res->set(k, v);
     for (const auto& [k, v] : security_headers())
       if (res->find(k) == res->end()) res->set(k, v);
+    if (secure_) make_cookies_secure(*res);
     res->set(http::field::content_type, reply.content_type);
     res->body() = std::move(reply.body);
     res->keep_alive(!close_after);
     res->prepare_payload();
-    stream_.expires_after(std::chrono::milliseconds(options().write_timeout_ms));
+    lowest().expires_after(std::chrono::milliseconds(options().write_timeout_ms));
     http::async_write(
         stream_, *res,
-        [self = shared_from_this(), res, close_after](beast::error_code ec, std::size_t) {
+        [self = this->shared_from_this(), res, close_after](beast::error_code ec, std::size_t) {
           if (ec || close_after) return self->close();
           self->wait_for_request();
         });
@@ -329,17 +416,33 @@ class Connection : public std::enable_shared_from_this<Connection> {
   }
 
   void close() {
+    if constexpr (kTls) {
+      // close_notify, bounded: a client that does not answer it is cut off.
+      if (!shutting_down_) {
+        shutting_down_ = true;
+        lowest().expires_after(std::chrono::milliseconds(options().write_timeout_ms));
+        stream_.async_shutdown(
+            [self = this->shared_from_this()](beast::error_code) { self->close_socket(); });
+        return;
+      }
+    }
+    close_socket();
+  }
+
+  void close_socket() {
     beast::error_code ignored;
-    stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
-    stream_.close();
+    lowest().socket().shutdown(tcp::socket::shutdown_both, ignored);
+    lowest().close();
   }
 
   HttpTransport::Impl* server_;
-  beast::tcp_stream stream_;
+  Stream stream_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::string peer_;
   bool close_after_ = false;
+  bool secure_ = false;  ///< the current request's page is HTTPS (its cookies get Secure)
+  bool shutting_down_ = false;
 };
 
 }  // namespace
@@ -389,7 +492,13 @@ void HttpTransport::Impl::admit(tcp::socket socket) {
     std::lock_guard lock(mutex);
     const std::string subnet = subnet_of(peer);
     const std::size_t mine = per_address[peer], ours = per_subnet[subnet];
-    if (mine >= options.max_connections_per_address)
+    // A listed proxy carries many clients: only the total caps it (docs/serve.md).
+    const bool proxy = proxies.trusts(peer);
+    if (proxy) {
+      if (total >= options.max_connections)
+        refusal =
+            "the server has " + std::to_string(total) + " open connections (serve.max_connections)";
+    } else if (mine >= options.max_connections_per_address)
       refusal = "this address has " + std::to_string(mine) +
                 " open connections (serve.max_connections_per_address)";
     else if (ours >= options.max_connections_per_subnet)
@@ -415,11 +524,18 @@ void HttpTransport::Impl::admit(tcp::socket socket) {
     socket.close(ec);
     return;
   }
-  std::make_shared<Connection>(this, std::move(socket), std::move(peer))->start();
+  if (tls)
+    std::make_shared<Connection<beast::ssl_stream<beast::tcp_stream>>>(
+        this, beast::ssl_stream<beast::tcp_stream>(std::move(socket), *tls), std::move(peer))
+        ->start();
+  else
+    std::make_shared<Connection<beast::tcp_stream>>(this, beast::tcp_stream(std::move(socket)),
+                                                    std::move(peer))
+        ->start();
 }
 
 HttpTransport::HttpTransport(TransportOptions options, const Router& router)
-    : impl_(std::make_unique<Impl>(options, router)) {}
+    : impl_(std::make_unique<Impl>(std::move(options), router)) {}
 
 HttpTransport::~HttpTransport() = default;
 

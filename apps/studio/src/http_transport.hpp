@@ -5,12 +5,15 @@
 // closed after its own limit; connections are capped per client address and in total; framing is
 // strict (conflicting or invalid Content-Length: 400, a Transfer-Encoding other than chunked:
 // 501), and pipelined requests are answered one after another, in order. Routes answer through
-// a callback, so the work behind one can run on another thread (scheduler.hpp).
+// a callback, so the work behind one can run on another thread (scheduler.hpp). With
+// serve.tls.* every connection is TLS (Beast's ssl_stream over OpenSSL); a plain HTTP request
+// to it is answered 400 `https_required` and closed (docs/serve.md "HTTPS").
 #include <cstddef>
 #include <map>
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "http_types.hpp"
 
@@ -25,6 +28,12 @@ struct TransportOptions {
   std::size_t max_connections_per_subnet = 256;  ///< per /24 (IPv4) or /64 (IPv6)
   std::size_t max_request_bytes = 65536;         ///< the body
   std::size_t max_header_bytes = 16384;          ///< request line and headers
+  /// HTTPS (docs/serve.md "HTTPS"): the certificate chain and its key, PEM; both empty: HTTP.
+  std::string tls_cert;
+  std::string tls_key;
+  /// Proxies whose X-Forwarded-For/-Proto are trusted (proxy_policy.hpp); their own
+  /// connections are not capped per address or subnet (they carry many clients).
+  std::vector<std::string> behind_proxy;
 };
 
 /// Method + path -> route; then method + path prefix -> route (the longest prefix wins); other
@@ -51,6 +60,7 @@ class Router {
 
 class HttpTransport {
  public:
+  /// Throws sdk::Error(bad_config) for bad TLS files or proxy addresses.
   HttpTransport(TransportOptions options, const Router& router);
   ~HttpTransport();
   HttpTransport(const HttpTransport&) = delete;

@@ -21,7 +21,12 @@ struct HttpRequest {
   std::string sec_fetch_site;                ///< the Sec-Fetch-Site header
   std::string cookie;                        ///< the Cookie header
   std::string body;
-  std::string peer;  ///< the client's address (no port)
+  /// The client's address (no port): the socket's peer, or the client a trusted proxy names
+  /// in X-Forwarded-For (docs/serve.md "Behind a proxy"). Per-address limits count on it.
+  std::string peer;
+  /// Whether the client's page is HTTPS: a TLS connection, or a trusted proxy's
+  /// X-Forwarded-Proto: https. Its cookies are then Secure and its Origin https://.
+  bool secure = false;
 
   /// A query parameter, or "" when absent.
   std::string param(const std::string& name) const {

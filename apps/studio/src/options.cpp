@@ -48,6 +48,9 @@ ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   if (!c.text(keys::kServeStudy).empty()) o.study = c.get(keys::kServeStudy);
   o.sempre = c.get(keys::kServeSempre);
   o.sempre_origins = c.get(keys::kServeSempreOrigins);
+  if (!c.text(keys::kServeTlsCert).empty()) o.tls_cert = c.get(keys::kServeTlsCert);
+  if (!c.text(keys::kServeTlsKey).empty()) o.tls_key = c.get(keys::kServeTlsKey);
+  o.behind_proxy = c.get(keys::kServeBehindProxy);
   return o;
 }
 

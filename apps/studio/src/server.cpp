@@ -165,6 +165,9 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   t.max_connections_per_address = m.options.max_connections_per_address;
   t.max_connections_per_subnet = m.options.max_connections_per_subnet;
   t.max_request_bytes = m.options.max_request_bytes;
+  t.tls_cert = m.options.tls_cert;
+  t.tls_key = m.options.tls_key;
+  t.behind_proxy = m.options.behind_proxy;
   m.transport = std::make_unique<HttpTransport>(t, m.router);
   if (m.options.sempre) m.sempre = std::make_unique<SempreEndpoint>(*m.api, m.options);
   m.add_routes();

@@ -62,11 +62,14 @@ TEST_CASE("flipper links no network library and its front-end modules link them"
     INFO(lib);
     CHECK(lite.count(lib) == 0);
   }
-  // serve (Boost.Beast: header-only, no library of its own; libsodium for accounts) and DDS
-  // (libddsc; OpenSSL for DDS Security keystores) are modules of their own.
+  // serve (Boost.Beast: header-only, no library of its own; libsodium for accounts; OpenSSL
+  // for HTTPS, serve.tls.*) and DDS (libddsc; OpenSSL for DDS Security keystores) are modules
+  // of their own.
   const std::string modules = kBuild + "/lib/flipper/frontends/";
   const auto serve = needed(modules + "serve.so");
   CHECK(serve.count("libsodium") == 1);
+  CHECK(serve.count("libssl") == 1);
+  CHECK(serve.count("libcrypto") == 1);
   CHECK(serve.count("libddsc") == 0);
   CHECK(serve.count("libcpp-httplib") == 0);
   const auto dds = needed(modules + "dds.so");

@@ -681,8 +681,9 @@ TEST_CASE("each layer declares its own keys, the host composes them", "[config][
                                        naturalization::keys::config_schema().params.size() +
                                        studio::keys::config_schema().params.size() +
                                        dds::keys::config_schema().params.size());
-  // The keys of docs/config.md's table: 88 before the split, then `plugins.isolation`.
-  CHECK(installed.params.size() == 89);
+  // The keys of docs/config.md's table: 88 before the split, then `plugins.isolation`, then
+  // serve.tls.cert, serve.tls.key and serve.behind_proxy.
+  CHECK(installed.params.size() == 92);
   CHECK(Config::kernel_schema().params.size() ==
         38);  // 6 world, 2 x 5 plugins, 4 grammar, 6 + 7 + 3, 1, 1 plugins
   // A lexicon key is the naturalization's: a config reads it through its handle...

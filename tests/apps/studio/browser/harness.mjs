@@ -51,7 +51,7 @@ export async function startServer(flipper, sets = [], { dir, cwd, config } = {})
     const timer = setTimeout(() => reject(new Error(`server did not start in 20 s:\n${output}`)), 20000);
     const onData = (d) => {
       output += d;
-      const m = output.match(/listening on (http:\/\/127\.0\.0\.1:\d+\/)/);
+      const m = output.match(/listening on (https?:\/\/127\.0\.0\.1:\d+\/)/);
       if (m) {
         clearTimeout(timer);
         resolve(m[1]);
@@ -91,7 +91,8 @@ export const CHROMIUM_FLAGS = ['--headless', '--no-sandbox', '--disable-gpu', '-
   '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'];
 
 // A fresh chromium profile per browser; the caller closes it (profile removed then).
-export async function launchBrowser() {
+// `extraArgs`: more chromium flags (the HTTPS test's certificate pin).
+export async function launchBrowser({ extraArgs = [] } = {}) {
   let playwright;
   try {
     playwright = require('playwright-core');
@@ -102,7 +103,7 @@ export async function launchBrowser() {
   const context = await playwright.chromium.launchPersistentContext(profile, {
     executablePath: '/usr/bin/chromium',
     headless: true,
-    args: CHROMIUM_FLAGS,
+    args: [...CHROMIUM_FLAGS, ...extraArgs],
     viewport: { width: 1400, height: 900 },
   });
   const close = async () => {

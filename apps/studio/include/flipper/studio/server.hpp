@@ -60,6 +60,10 @@ struct ServeOptions {
   /// Kernels per lexicon mode answering at once (serve.kernels; 0: the cores + 1), each
   /// charged to the memory budget (docs/studio.md §5).
   int kernels = static_cast<int>(keys::kServeKernels.def);
+  // HTTPS and proxies (docs/serve.md "HTTPS", "Behind a proxy").
+  std::string tls_cert;                   ///< PEM certificate chain (empty: plain HTTP)
+  std::string tls_key;                    ///< its PEM private key
+  std::vector<std::string> behind_proxy;  ///< proxies whose X-Forwarded-* are trusted
   static ServeOptions from_config(const kernel::Config& config);
 };
 

@@ -84,6 +84,17 @@ inline constexpr Int kServeReservedSessionsPercent{
 inline constexpr Int kServeMaxConnectionsPerSubnet{
     "serve.max_connections_per_subnet", 256, 1, 1000000,
     "open connections per /24 (IPv4) or /64 (IPv6) subnet: 503 beyond"};
+// HTTPS and proxies (docs/serve.md "HTTPS").
+inline constexpr Path kServeTlsCert{"serve.tls.cert", "",
+                                    "HTTPS: the certificate chain, PEM (empty: plain HTTP; needs "
+                                    "serve.tls.key)"};
+inline constexpr Path kServeTlsKey{"serve.tls.key", "",
+                                   "HTTPS: the certificate's private key, PEM (unencrypted)"};
+inline constexpr TextList<0> kServeBehindProxy{
+    "serve.behind_proxy",
+    {},
+    "addresses of proxies whose X-Forwarded-For and X-Forwarded-Proto are trusted (from other "
+    "peers both are ignored)"};
 
 /// The studio's schema fragment: the section `serve`, in the order `flipper config explain`
 /// lists it.
@@ -125,6 +136,9 @@ inline sdk::ParamSchema config_schema() {
   param::add(s, kServeCpuMsPerS);
   param::add(s, kServeCpuBurstMs);
   param::add(s, kServeKernels);
+  param::add(s, kServeTlsCert);
+  param::add(s, kServeTlsKey);
+  param::add(s, kServeBehindProxy);
   return s;
 }
 
