@@ -675,15 +675,17 @@ TEST_CASE("each layer declares its own keys, the host composes them", "[config][
   CHECK(sections_of(naturalization::keys::config_schema()) ==
         std::vector<std::string>{"lexicon", "induction"});
   CHECK(sections_of(studio::keys::config_schema()) == std::vector<std::string>{"serve"});
-  CHECK(sections_of(dds::keys::config_schema()) == std::vector<std::string>{"publish", "dds"});
+  CHECK(sections_of(dds::keys::config_schema()) ==
+        std::vector<std::string>{"publish", "dds", "nav2"});
   const sdk::ParamSchema& installed = Config::schema();
   CHECK(installed.params.size() == Config::kernel_schema().params.size() +
                                        naturalization::keys::config_schema().params.size() +
                                        studio::keys::config_schema().params.size() +
                                        dds::keys::config_schema().params.size());
   // The keys of docs/config.md's table: 88 before the split, then `plugins.isolation`, then
-  // serve.tls.cert, serve.tls.key and serve.behind_proxy.
-  CHECK(installed.params.size() == 92);
+  // serve.tls.cert, serve.tls.key and serve.behind_proxy, then nav2.execute, nav2.distro,
+  // nav2.action and nav2.behavior_tree.
+  CHECK(installed.params.size() == 96);
   CHECK(Config::kernel_schema().params.size() ==
         38);  // 6 world, 2 x 5 plugins, 4 grammar, 6 + 7 + 3, 1, 1 plugins
   // A lexicon key is the naturalization's: a config reads it through its handle...
