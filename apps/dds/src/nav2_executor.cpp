@@ -13,6 +13,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "nav2_msgs/action/NavigateThroughPoses.h"
 #include "nav2_msgs/action/NavigateThroughPosesJazzy.h"
+#include "ros_time.hpp"
 
 namespace flipper::dds {
 namespace {
@@ -36,16 +37,6 @@ const dds_topic_descriptor_t& jazzy_result_reply() {
       kResultReplyType, d.m_keys,           d.m_nops,       d.m_ops,
       d.m_meta,         d.type_information, d.type_mapping, d.restrict_data_representation};
   return renamed;
-}
-
-builtin_interfaces_msg_dds__Time_ now_stamp() {
-  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                      std::chrono::system_clock::now().time_since_epoch())
-                      .count();
-  builtin_interfaces_msg_dds__Time_ t{};
-  t.sec_ = static_cast<int32_t>(ns / 1000000000);
-  t.nanosec_ = static_cast<uint32_t>(ns % 1000000000);
-  return t;
 }
 
 std::array<std::uint8_t, 16> random_uuid() {

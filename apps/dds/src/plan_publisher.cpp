@@ -6,19 +6,10 @@
 #include "flipper/dds/names.hpp"
 #include "flipper/msg/Actions.h"
 #include "nav_msgs/msg/Path.h"
+#include "ros_time.hpp"
 
 namespace flipper::dds {
 namespace {
-
-builtin_interfaces_msg_dds__Time_ now_stamp() {
-  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                      std::chrono::system_clock::now().time_since_epoch())
-                      .count();
-  builtin_interfaces_msg_dds__Time_ t{};
-  t.sec_ = static_cast<int32_t>(ns / 1000000000);
-  t.nanosec_ = static_cast<uint32_t>(ns % 1000000000);
-  return t;
-}
 
 dds_entity_t latched_writer(Participant& p, const dds_topic_descriptor_t* desc, const char* name) {
   Qos qos;

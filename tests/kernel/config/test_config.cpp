@@ -370,12 +370,12 @@ TEST_CASE("a bad kernel key is refused naming the file, the key and what is wron
         "config " + tmp("named/enum.yaml") +
             ": config key 'lexicon.weights' = 'per-user' must be one of: global, per_user (did you "
             "mean 'per_user'?)");
+  // The top-level keys: the kernel's, then each layer's.
   CHECK(load_error("named/top.yaml", "sesion: {k: 3}\n") ==
         "config " + tmp("named/top.yaml") +
             ": unknown config key 'sesion' (did you mean 'session'?); top-level keys: world, "
             "planner, parser, scorer, rewriter, similarity, grammar, execution, input, session, "
-            "plugin_paths, plugins, lexicon, induction, serve, publish, dds");  // the kernel's,
-                                                                                // then each layer's
+            "plugin_paths, plugins, lexicon, induction, serve, publish, dds, nav2");
   CHECK(load_error("named/numbers.yaml", "world: {origin: [1, x]}\n") ==
         "config " + tmp("named/numbers.yaml") +
             ": config key 'world.origin' must be a list of numbers, but an element is 'x'");
