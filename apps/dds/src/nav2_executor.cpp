@@ -131,9 +131,7 @@ Nav2Executor::Nav2Executor(std::shared_ptr<Participant> participant, PlanFrame f
   Qos service;  // rmw's services: reliable, volatile, keep-last 10
   ros_default_qos(service, 10);
   Qos status;  // rcl_action's status: reliable, transient-local
-  dds_qset_reliability(status.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_durability(status.q, DDS_DURABILITY_TRANSIENT_LOCAL);
-  dds_qset_history(status.q, DDS_HISTORY_KEEP_LAST, 1);
+  latched_qos(status);
   const std::string rq = "rq/" + prefix_, rr = "rr/" + prefix_, rt = "rt/" + prefix_;
   goal_writer_ = make_writer(p, &nav2_msgs_action_dds__NavigateThroughPoses_SendGoal_Request__desc,
                              rq + "send_goalRequest", service);

@@ -97,6 +97,12 @@ void ros_default_qos(Qos& qos, int depth) {
   dds_qset_history(qos.q, DDS_HISTORY_KEEP_LAST, depth);
 }
 
+void latched_qos(Qos& qos) {
+  dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_durability(qos.q, DDS_DURABILITY_TRANSIENT_LOCAL);
+  dds_qset_history(qos.q, DDS_HISTORY_KEEP_LAST, 1);
+}
+
 void history_qos(Qos& qos) {
   dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(10));
   dds_qset_durability(qos.q, DDS_DURABILITY_TRANSIENT_LOCAL);

@@ -13,9 +13,7 @@ namespace {
 
 dds_entity_t latched_writer(Participant& p, const dds_topic_descriptor_t* desc, const char* name) {
   Qos qos;
-  dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_durability(qos.q, DDS_DURABILITY_TRANSIENT_LOCAL);
-  dds_qset_history(qos.q, DDS_HISTORY_KEEP_LAST, 1);
+  latched_qos(qos);
   return check(dds_create_writer(p.handle(), p.topic(desc, name), qos.q, nullptr),
                std::string("creating a writer on ") + name);
 }

@@ -69,6 +69,8 @@ struct Qos {
 
 /// Reliable, volatile, keep-last `depth`: ROS 2's default QoS profile.
 void ros_default_qos(Qos& qos, int depth = 10);
+/// Reliable, TRANSIENT_LOCAL, keep-last 1: a latched topic (the last plan, an action's status).
+void latched_qos(Qos& qos);
 /// Reliable, TRANSIENT_LOCAL, keep-all: the lexicon history.
 void history_qos(Qos& qos);
 
