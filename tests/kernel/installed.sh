@@ -44,7 +44,7 @@ grep -qF -- "-DCMAKE_PREFIX_PATH=$tmp/prefix" "$tmp/my_planner/README.md"
 # serve runs in the installed serve module, which finds the installed page.
 env -u FLIPPER_PLUGIN_PATH "$flipper" serve --set serve.port=0 >serve.log 2>&1 &
 serve_pid=$!
-for _ in $(seq 600); do grep -q "listening" serve.log && break; sleep 0.1; done
+for _ in $(seq 600); do grep -qs "listening" serve.log && break; sleep 0.1; done
 kill "$serve_pid"; wait "$serve_pid" || true
 cat serve.log
 grep -q "^flipper serve: listening on http://127.0.0.1:[0-9]*/$" serve.log

@@ -45,6 +45,10 @@ grep -qx "kind: frontend" "$plugins/lines.flipper.yaml" || fail "the sidecar's k
 
 echo "== 3. flipper serves it; its answers are flipper session's"
 common=(--set "plugin_paths=[$plugins]" --set lexicon.path=:memory:)
+# The logs exist before the server starts: the background job opens its redirections after the fork,
+# so the first poll below could otherwise run before err.log exists (seen under load).
+: >"$tmp/out.log"
+: >"$tmp/err.log"
 "$flipper" frontend lines "${common[@]}" --param port=0 >"$tmp/out.log" 2>"$tmp/err.log" &
 server_pid=$!
 port=
