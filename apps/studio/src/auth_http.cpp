@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api.hpp"
+#include "cookies.hpp"
 
 namespace flipper::studio {
 using Json = nlohmann::json;

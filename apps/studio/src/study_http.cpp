@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "flipper/sdk/errors.hpp"
+#include "cookies.hpp"
 #include "recorder.hpp"
 #include "study.hpp"
 
