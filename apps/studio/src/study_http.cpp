@@ -4,8 +4,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "flipper/sdk/errors.hpp"
 #include "cookies.hpp"
+#include "flipper/sdk/errors.hpp"
 #include "recorder.hpp"
 #include "study.hpp"
 
