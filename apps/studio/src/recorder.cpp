@@ -107,9 +107,9 @@ const std::vector<std::string> kCounted = {"q",   "live",   "accept", "reject",
 
 const std::vector<std::string>& Recorder::files() {
   static const std::vector<std::string> kFiles = {
-      "queries.jsonl",          "worlds.jsonl",  "definitions.jsonl",
-      "original-answers.jsonl", "sessions.json", "exchanges.jsonl",
-      "participants.json",      "study.json",    "preload-C.jsonl"};
+      "queries.jsonl",   "worlds.jsonl",    "definitions.jsonl", "original-answers.jsonl",
+      "sessions.json",   "exchanges.jsonl", "participants.json", "study.json",
+      "preload-C.jsonl", "audit.jsonl"};
   return kFiles;
 }
 
@@ -130,6 +130,7 @@ Recorder::Recorder(std::shared_ptr<Study> study,
   definitions_ = open_append(dir / "definitions.jsonl");
   answers_ = open_append(dir / "original-answers.jsonl");
   exchanges_ = open_append(dir / "exchanges.jsonl");
+  audit_ = open_append(dir / "audit.jsonl");
   if (!fs::exists(dir / "study.json")) write_study_json(kernels);
   participants_.save();
 }
@@ -629,6 +630,16 @@ Json Recorder::page_state(const std::string& participant) {
           {"task", p->task},
           {"goal_reached", p->goal_reached},
           {"history", std::move(history)}};
+}
+
+void Recorder::audit(const std::string& account, const std::string& peer, const std::string& action,
+                     const Json& details) {
+  nlohmann::ordered_json line{
+      {"time", now_iso()}, {"account", account}, {"peer", peer}, {"action", action}};
+  for (const auto& [key, value] : details.items()) line[key] = value;
+  std::lock_guard lock(mutex_);
+  append_line(audit_, line);
+  audit_.sync();
 }
 
 Json Recorder::overview() {

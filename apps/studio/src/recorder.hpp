@@ -99,6 +99,13 @@ class Recorder {
   /// The recording's files a researcher may download.
   static const std::vector<std::string>& files();
 
+  // -- the researcher's own actions (audit.jsonl, docs/studio.md §7 "Audit") --
+  /// Appends one action of a researcher's account (close, reopen, invite, download) with the
+  /// time and the peer address, synced before it returns: an acknowledged action is on record.
+  /// `details` never holds a secret (an invitation's code is not written).
+  void audit(const std::string& account, const std::string& peer, const std::string& action,
+             const kernel::Json& details);
+
  private:
   struct Live {  ///< what a participant's session showed last (not kept across restarts)
     std::string last_qid, last_text;
@@ -126,7 +133,7 @@ class Recorder {
   std::mutex mutex_;
   std::shared_ptr<Study> study_;
   std::string dir_;
-  record::AppendFile queries_, worlds_, definitions_, answers_, exchanges_;
+  record::AppendFile queries_, worlds_, definitions_, answers_, exchanges_, audit_;
   std::map<std::string, kernel::Json> worlds_by_id_;
   std::map<std::string, Live> live_;  ///< by participant
   kernel::Json sessions_ = kernel::Json::array();

@@ -9,7 +9,8 @@
 //   POST /api/v1/study/invite {"participant":P}  (admin) a one-time login code for P: a known
 //                                        participant resumes on another device, a new name joins
 // The researcher's endpoints answer 401 login_required without a login, 403 forbidden for a
-// login that is not an administrator; a server without a study answers 404 no_study.
+// login that is not an administrator; a server without a study answers 404 no_study. Each close,
+// reopen, invitation and download is a line of the recording's audit.jsonl (§7 "Audit").
 #include "api.hpp"
 #include "http_types.hpp"
 
@@ -27,8 +28,12 @@ class StudyEndpoints {
   void invite(const HttpRequest& request, const Respond& respond);
 
  private:
-  /// nullopt when the request is a researcher's; else the refusal.
-  std::optional<HttpReply> refuse_researcher(const HttpRequest& request) const;
+  /// The researcher's account name, or the refusal.
+  struct Researcher {
+    std::optional<HttpReply> refusal;
+    std::string account;
+  };
+  Researcher researcher(const HttpRequest& request) const;
   void later(const std::string& key, std::function<HttpReply()> job, const Respond& respond);
 
   Api& api_;

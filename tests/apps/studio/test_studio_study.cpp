@@ -409,6 +409,23 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
     REQUIRE(http.Post("/api/v1/study/close", mod, R"({"open":true})", "application/json")->status ==
             200);
   }
+  // The researcher's own actions, in order, each by its account and address (docs/studio.md §7
+  // "Audit"): refusals (ana's 403s, the 404 downloads, the 409 invitation) are not actions; the
+  // invitation's code, a secret, is not written.
+  const auto audit = read_jsonl(fs::path(dir) / "rec" / "audit.jsonl");
+  REQUIRE(audit.size() == 4);
+  const std::vector<std::string> actions{"download", "close", "invite", "reopen"};
+  for (std::size_t i = 0; i < audit.size(); ++i) {
+    CHECK(audit[i]["action"] == actions[i]);
+    CHECK(audit[i]["account"] == "mod");
+    CHECK(audit[i]["peer"] == "127.0.0.1");
+    const std::string time = audit[i]["time"].get<std::string>();  // 2026-11-29T12:00:00.000 (UTC)
+    CHECK((time.size() == 23 && time[10] == 'T' && time[19] == '.'));
+    CHECK_FALSE(audit[i].contains("code"));
+  }
+  CHECK(audit[0]["file"] == "queries.jsonl");
+  CHECK(audit[2]["participant"] == "P1");
+  CHECK(audit[2]["known"] == true);
   // A restart: qids, participant ids and the preload continue; the cookie still resumes.
   const auto before = read_jsonl(fs::path(dir) / "rec" / "queries.jsonl");
   {
