@@ -11,6 +11,7 @@
 // Thread-safe: one mutex. The server calls record() inside the kernel's lock, so a group's
 // records are in the order its kernel answered (docs/studio.md §5). Restart-safe: line and
 // exchange numbers, participant ids, the rule map and the preload continue from the files.
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -111,6 +112,9 @@ class Recorder {
     std::string last_qid, last_text;
     kernel::Json last_formulas = kernel::Json::array();
     int seq = 0;
+    /// When the current task's task_start was recorded (this server run only): the goal and
+    /// task_skip lines' task_ms (docs/studio.md §7 "Goals").
+    std::optional<std::chrono::steady_clock::time_point> task_started;
   };
   /// A queries.jsonl line, its members in the order they are set (who, what, when first).
   using Line = nlohmann::ordered_json;
