@@ -736,6 +736,14 @@ function restorePlace(world) {
     state.history = saved.history;
 }
 
+// The page a visitor sees when the study no longer takes participants.
+function showStudyClosed(study) {
+  document.querySelector('main').hidden = true;
+  $('study-closed-name').textContent = study?.name ? `"${study.name}"` : 'This study';
+  $('study-closed').hidden = false;
+  document.body.dataset.ready = 'closed';
+}
+
 async function main() {
   wire();
   renderHelp();
@@ -753,6 +761,12 @@ async function main() {
   }
   // The first request makes (or resumes) the session; its answer is the current world.
   const st = await api.request({ op: 'state' });
+  if (st.error?.code === 'study_closed') {
+    // A closed study takes no new participants (docs/studio.md §7): say so instead of an app
+    // that cannot answer; a participant comes back through their own link or login.
+    showStudyClosed(state.info.study);
+    return;
+  }
   state.info = await api.info();
   const who = await api.request({ op: 'rules' });
   const study = state.info.study;

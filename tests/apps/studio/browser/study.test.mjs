@@ -242,6 +242,14 @@ run(async () => {
     await r.waitForFunction(() => document.getElementById('study-state').textContent.includes('closed'));
     const late = await fetch(`${server.url}api/v1/request`, { method: 'POST', body: '{"op":"state"}' });
     equal([late.status, (await late.json()).error?.code], [403, 'study_closed'], 'a closed study takes no new participant');
+    // A new visitor (here the researcher's own browser, not a participant) gets the closed page.
+    const visitor = await b3.context.newPage();
+    await visitor.goto(`${server.url}`);
+    await visitor.waitForSelector('body[data-ready=closed]', { state: 'attached', timeout: 15000 });
+    check(await visitor.isVisible('[data-testid=study-closed]'), 'a new visitor sees that the study is closed');
+    check(!(await visitor.isVisible('main')), 'and no app that could not answer');
+    equal(await visitor.textContent('#study-closed-name'), '"pilot"', 'the closed page names the study');
+    await shot(visitor, opt.artifacts, 'study-closed');
     const back = await openPage(b2.context, `${server.url}`);
     equal(await back.evaluate(() => window.flipperStudio.api.user), 'P2', 'a participant who reopens the page is still P2');
     await shot(r, opt.artifacts, 'researcher-closed');
