@@ -29,6 +29,10 @@ std::string login_cookie_header(const std::string& token, std::chrono::seconds v
          "; Path=/; HttpOnly; SameSite=Strict; Max-Age=" + std::to_string(valid_for.count());
 }
 
+std::string login_cookie_cleared() {
+  return std::string(kCookie) + "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0";
+}
+
 std::string header_safe(const std::string& name) {
   static constexpr char kHex[] = "0123456789ABCDEF";
   std::string out;

@@ -155,4 +155,41 @@ void StudyEndpoints::invite(const HttpRequest& r, const Respond& respond) {
   later("study:" + r.peer, std::move(job), respond);
 }
 
+void StudyEndpoints::end(const HttpRequest& r, const Respond& respond) {
+  auto who = researcher(r);
+  if (who.refusal) return respond(std::move(*who.refusal));
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
+  const Json body = Json::parse(r.body, nullptr, false);
+  if (!body.is_object() || !body.contains("participant") || !body["participant"].is_string())
+    return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
+  const std::string name = body["participant"].get<std::string>();
+  auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
+    if (!api_.recorder()->participant_of(name))
+      return error_reply(404, "not_a_participant",
+                         "'" + name.substr(0, 100) + "' is not a participant of this study");
+    const int logins = api_.accounts().revoke(name);
+    api_.recorder()->audit(account, peer, "end", Json{{"participant", name}, {"logins", logins}});
+    return json_reply(200, Json{{"ok", true}, {"participant", name}, {"logins", logins}});
+  };
+  later("study:" + r.peer, std::move(job), respond);
+}
+
+void StudyEndpoints::next(const HttpRequest& r, const Respond& respond) {
+  if (!api_.recorder()) return respond(no_study());
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
+  auto job = [this, r]() -> HttpReply {
+    const std::string token = login_cookie(r.cookie);
+    const std::optional<Login> login = api_.accounts().resume(token);
+    if (!login || !api_.recorder()->participant_of(login->name))
+      return error_reply(401, "login_required", "only a participant's own page ends its login");
+    api_.accounts().logout(token);
+    HttpReply reply = json_reply(200, Json{{"ok", true}, {"participant", login->name}});
+    reply.set_header("Set-Cookie", login_cookie_cleared());
+    return reply;
+  };
+  later("next:" + r.peer, std::move(job), respond);
+}
+
 }  // namespace flipper::studio

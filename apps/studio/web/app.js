@@ -656,6 +656,7 @@ function wire() {
   $('reject').onclick = reject;
   $('teach').onclick = () => definePanel.open($('query-input').value.trim() || state.query?.text);
   $('undo').onclick = undo;
+  $('kiosk-next').onclick = nextParticipant;
   $('reset').onclick = reset;
   $('rules-search').oninput = renderRules;
   $('rules-search').onfocus = refreshRules;
@@ -736,6 +737,14 @@ function restorePlace(world) {
     state.history = saved.history;
 }
 
+// Kiosk mode (`?kiosk`, a computer participants share; docs/studio.md §7 "Shared computers"):
+// this participant's login ends and the page starts over as the next participant.
+async function nextParticipant() {
+  await fetch('/api/v1/study/next', { method: 'POST' });
+  sessionStorage.clear();
+  location.reload();
+}
+
 // The page a visitor sees when the study no longer takes participants.
 function showStudyClosed(study) {
   document.querySelector('main').hidden = true;
@@ -810,6 +819,7 @@ async function main() {
     $('study-tutorial-text').textContent = study.tutorial || 'Follow the tasks shown at the top.';
     $('study-tutorial').hidden = state.taskIndex >= 0;
     renderStudy();
+    $('kiosk-next').hidden = !new URLSearchParams(location.search).has('kiosk');
     api.event('page_load', { reloaded: api.reloaded });
   }
   renderHistory();

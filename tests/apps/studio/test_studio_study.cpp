@@ -451,6 +451,49 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
   CHECK(ok.status == 0);
 }
 
+TEST_CASE("a shared computer takes the next participant: the page's next, the researcher's end") {
+  // docs/studio.md §7 "Shared computers".
+  const std::string dir = fresh_dir("study-next");
+  StudioServer server(dir, {make_study(dir)});
+  server.add_account("mod", "moderator password", "admin");
+  auto http = server.client();
+  Participant p1{http, {}, "", "B"};
+  REQUIRE(p1.send({{"op", "state"}}).user == "P1");
+  // Without a participant's login, nothing to end.
+  auto res = http.Post("/api/v1/study/next", httplib::Headers{}, "", "application/json");
+  CHECK(res->status == 401);
+  CHECK(json::parse(res->body)["error"]["code"] == "login_required");
+  // The page's "next participant": this login ends, the browser's cookie with it.
+  res = http.Post("/api/v1/study/next", p1.headers, "", "application/json");
+  REQUIRE(res->status == 200);
+  CHECK(json::parse(res->body) == json{{"ok", true}, {"participant", "P1"}});
+  CHECK(res->get_header_value("Set-Cookie") ==
+        "flipper_login=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+  CHECK(p1.send({{"op", "state"}}).status == 401);  // P1's old session is P1's no more
+  Participant p2{http, {}, "", "B"};                // the same computer, reloaded
+  REQUIRE(p2.send({{"op", "state"}}).user == "P2");
+  // The researcher ends P2's logins from the researcher's view.
+  const auto mod = cookie(login(http, json{{"name", "mod"}, {"password", "moderator password"}}));
+  res = http.Post("/api/v1/study/end", p2.headers, R"({"participant":"P2"})", "application/json");
+  CHECK(res->status == 403);  // a participant is no researcher
+  res = http.Post("/api/v1/study/end", mod, R"({"participant":"P9"})", "application/json");
+  CHECK(res->status == 404);
+  CHECK(json::parse(res->body)["error"]["code"] == "not_a_participant");
+  res = http.Post("/api/v1/study/end", mod, R"({"participant":"P2"})", "application/json");
+  REQUIRE(res->status == 200);
+  CHECK(json::parse(res->body) == json{{"ok", true}, {"participant", "P2"}, {"logins", 1}});
+  Reply r = p2.send({{"op", "state"}});
+  CHECK(r.status == 401);
+  CHECK(r.body["error"]["code"] == "login_required");
+  Participant p3{http, {}, "", "B"};
+  CHECK(p3.send({{"op", "state"}}).user == "P3");
+  const auto audit = read_jsonl(fs::path(dir) / "rec" / "audit.jsonl");
+  REQUIRE(audit.size() == 1);
+  CHECK(audit[0]["action"] == "end");
+  CHECK(audit[0]["participant"] == "P2");
+  CHECK(audit[0]["logins"] == 1);
+}
+
 TEST_CASE("participants of one group teaching at once are recorded in the order they ran") {
   // docs/studio.md §5: one kernel per study group, recorded inside its lock. Two participants of
   // shared group C each teach words and query the other's: a record written after the kernel
