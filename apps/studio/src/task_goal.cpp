@@ -87,7 +87,7 @@ void check_keys(const YAML::Node& map, const std::set<std::string>& known, const
 
 std::string room_of(const YAML::Node& n, const Json& start, const std::string& study,
                     const std::string& key) {
-  const std::string room = scalar(n, study, key);
+  std::string room = scalar(n, study, key);
   if (room_cells(start, room).empty())
     fail(study, key, "the task's start world has no room '" + room + "'");
   return room;
