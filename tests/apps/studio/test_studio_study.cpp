@@ -451,6 +451,40 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
   CHECK(ok.status == 0);
 }
 
+TEST_CASE("a study owns its accounts: a second study starts at P1, the first's login is nobody") {
+  // docs/studio.md §7 "A study's accounts": accounts.sqlite in each study's recording folder.
+  const std::string dir = fresh_dir("study-accounts");
+  make_study(dir);
+  for (const char* n : {"1", "2"})
+    std::ofstream(dir + "/s" + n + ".yaml")
+        << "name: s" << n << "\ngroups: [B]\nrecord: rec" << n
+        << "\ntasks:\n  - {name: one, text: right, start: start.json}\n";
+  httplib::Headers first_login;
+  {
+    StudioServer server(dir, {"serve.study=" + dir + "/s1.yaml"});
+    auto http = server.client();
+    Participant p{http, {}, "", ""};
+    REQUIRE(p.send({{"op", "state"}}).user == "P1");
+    first_login = p.headers;
+    server.add_account("mod", "moderator password", "admin");  // `flipper accounts` agrees
+    CHECK(login(http, json{{"name", "mod"}, {"password", "moderator password"}})
+              .find("flipper_login=") == 0);
+  }
+  CHECK(fs::is_regular_file(fs::path(dir) / "rec1" / "accounts.sqlite"));
+  CHECK_FALSE(fs::exists(fs::path(dir) / "accounts.sqlite"));  // not beside the lexicon
+  StudioServer server(dir, {"serve.study=" + dir + "/s2.yaml"});
+  auto http = server.client();
+  Participant fresh{http, {}, "", ""};
+  CHECK(fresh.send({{"op", "state"}}).user == "P1");      // numbered in its own study
+  Participant returning{http, first_login, "", ""};       // the same browser as study 1's P1
+  CHECK(returning.send({{"op", "state"}}).user == "P2");  // a new participant here
+  CHECK(fs::is_regular_file(fs::path(dir) / "rec2" / "accounts.sqlite"));
+  // Study 1's researcher is no account of study 2.
+  int status = 0;
+  CHECK(login(http, json{{"name", "mod"}, {"password", "moderator password"}}, &status).empty());
+  CHECK(status == 401);
+}
+
 TEST_CASE("a shared computer takes the next participant: the page's next, the researcher's end") {
   // docs/studio.md §7 "Shared computers".
   const std::string dir = fresh_dir("study-next");
