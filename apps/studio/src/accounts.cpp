@@ -16,6 +16,7 @@
 #include "flipper/naturalization/config_keys.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/studio/config_keys.hpp"
+#include "study.hpp"
 
 namespace flipper::studio {
 namespace {
@@ -178,6 +179,11 @@ std::optional<std::string> name_problem(std::string_view name) {
 
 std::string accounts_path(const kernel::Config& config) {
   if (!config.text(keys::kServeAccounts).empty()) return config.get(keys::kServeAccounts);
+  // A study owns its accounts (docs/studio.md §7 "A study's accounts"): beside its recording, so a
+  // second study starts at P1 and a browser's login of one study is nobody in another.
+  if (!config.text(keys::kServeStudy).empty())
+    return (fs::path(Study::load(config.get(keys::kServeStudy))->record_dir()) / "accounts.sqlite")
+        .string();
   // The raw value decides "in memory": a resolved path would make ":memory:" a file in a folder.
   const std::string given = config.text(naturalization::keys::kLexiconPath);
   if (given.empty() || given == ":memory:") return ":memory:";

@@ -1,15 +1,14 @@
 #pragma once
-// The HTTP mapping of the session protocol (docs/serve.md, docs/studio.md; logins are
-// auth_http.hpp), independent of the HTTP library: the routes take an
-// HttpRequest and answer through a callback. Protocol requests run on a kernel pool's workers,
-// one at a time per session; each kernel is used by one request at a time (its parser, scorer,
-// planner caches and naturalizer are not thread-safe), and a session moves to whichever kernel
-// of its pool is free (docs/studio.md §5).
+// The HTTP mapping of the session protocol (docs/serve.md, docs/studio.md): protocol dispatch and
+// sessions, independent of the HTTP library: the routes take an HttpRequest and answer through a
+// callback. Its parts: the kernel pools (kernel_pools.hpp), study enrolment (enrolment.hpp), the
+// login cookie (cookies.hpp); logins are auth_http.hpp, the study's endpoints study_http.hpp.
+// Protocol requests run on a kernel pool's workers, one at a time per session; each kernel is
+// used by one request at a time (its parser, scorer, planner caches and naturalizer are not
+// thread-safe), and a session moves to whichever kernel of its pool is free (docs/studio.md §5).
 #include <atomic>
 #include <functional>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -17,9 +16,9 @@
 
 #include "flipper/studio/accounts.hpp"
 #include "flipper/studio/server.hpp"
-#include "flipper/wiring/session_factory.hpp"
 #include "host_policy.hpp"
 #include "http_types.hpp"
+#include "kernel_pools.hpp"
 #include "registry.hpp"
 #include "scheduler.hpp"
 
@@ -27,31 +26,6 @@ namespace flipper::studio {
 
 class Study;
 class Recorder;
-
-/// One runtime and lexicon connection; the kernels of one pool share a config and a store.
-struct Kernel {
-  std::shared_ptr<kernel::Runtime> runtime;
-  std::unique_ptr<wiring::SessionHost> host;
-  std::string world_root;  ///< `world` requests may name files under this directory only
-  std::size_t max_world_bytes = 0;
-  kernel::Json vocabulary;  ///< for "did you mean" (computed once)
-  kernel::Json worlds;      ///< the world menu: files of world_root this runtime loads
-  std::mutex mutex;         ///< one request at a time
-};
-
-/// The kernels of one lexicon mode (a plain server has one pool, "" group; a study one per
-/// group) and their scheduler: worker i runs on kernel i, so the fair choice is made when a
-/// kernel is free, not before a worker then waits for it (docs/studio.md §5).
-struct KernelPool {
-  std::vector<std::unique_ptr<Kernel>> kernels;
-  std::unique_ptr<Scheduler> scheduler;
-};
-
-/// What a kernel is charged of serve.memory_budget_mb (docs/studio.md §5): measured, one more
-/// kernel over an empty store adds ~0.7 MiB of resident memory and each stored rule ~1 KiB
-/// (the 100k-rule store: 104 MiB against 11.5 MiB without rules); 4 MiB covers the runtime with
-/// its caches' slack.
-std::size_t kernel_bytes(std::size_t rules);
 
 class Api {
  public:
@@ -71,7 +45,7 @@ class Api {
   /// that kernel.
   template <class F>
   decltype(auto) with_kernel(F&& f) {
-    Kernel& k = *pool_for(std::string()).kernels.front();
+    Kernel& k = *pools_.pool_for(std::string()).kernels.front();
     std::lock_guard lock(k.mutex);
     return f(k);
   }
@@ -90,13 +64,12 @@ class Api {
 
   SessionRegistry& registry() { return registry_; }
   /// The kernels of every pool.
-  std::size_t kernel_count() const;
+  std::size_t kernel_count() const { return pools_.kernel_count(); }
   /// Destroys evicted sessions under their kernel's lock; a session whose kernel is busy waits
   /// for a later call (never for the kernel). Call without holding a kernel's lock.
   void bury_evicted();
 
  private:
-  KernelPool& pool_for(const std::string& group);
   /// The job of one protocol request, on the worker of kernel `k`.
   HttpReply serve(const HttpRequest& request, Kernel& k);
   std::shared_ptr<SessionEntry> open_session(const HttpRequest& request,
@@ -108,20 +81,13 @@ class Api {
   /// studio's ops, as when it was opened.
   void install_ops(SessionEntry& entry, Kernel& k);
   HttpReply run(SessionEntry& entry, Kernel& free, const HttpRequest& request);
-  /// Study mode: who the new session's participant is (resumed or enrolled; a guest becomes
-  /// an account with a login cookie in `reply`); false with `reply` set when refused.
-  bool enroll(const HttpRequest& request, std::optional<Login>& login, SessionEntry& entry,
-              bool& resumed, HttpReply& reply);
-  /// A resumed participant's session gets the world it had (a request the server makes).
-  void resume_world(SessionEntry& entry);
-  bool in_pool(const std::string& group, const Kernel& k);
   HttpReply info_reply(const HttpRequest& request);
 
   ServeOptions options_;
   AccountStore& accounts_;
   Scheduler& scheduler_;
   const HostPolicy& hosts_;
-  std::map<std::string, KernelPool> pools_;
+  KernelPools pools_;  ///< before the registry: its sessions go first
   std::mutex graves_mutex_;
   std::vector<std::shared_ptr<SessionEntry>> graves_;  ///< evicted, their kernel was busy
   SessionRegistry registry_;
@@ -129,12 +95,5 @@ class Api {
   std::shared_ptr<Study> study_;
   std::atomic<std::uint64_t> new_requests_{0};
 };
-
-/// The login token in a Cookie header ("" when none).
-std::string login_cookie(const std::string& cookie_header);
-/// The Set-Cookie value of a login.
-std::string login_cookie_header(const std::string& token, std::chrono::seconds valid_for);
-/// A header-safe form of a name: anything but letters, digits, '.', '_' and '-' as %XX.
-std::string header_safe(const std::string& name);
 
 }  // namespace flipper::studio

@@ -7,13 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "api.hpp"
+#include "cookies.hpp"
 
 namespace flipper::studio {
 using Json = nlohmann::json;
-
-namespace {
-constexpr const char* kCookie = "flipper_login";
-}  // namespace
 
 int AuthEndpoints::login_wait_seconds(const std::string& address) {
   // Ten attempts per address per minute (each costs an Argon2id check: ~64 MiB, tens of ms).
@@ -79,8 +76,7 @@ void AuthEndpoints::logout(const HttpRequest& r, const Respond& respond) {
       const std::string token = login_cookie(r.cookie);
       if (!token.empty()) accounts_.logout(token);
       HttpReply reply = json_reply(200, Json{{"ok", true}});
-      reply.set_header("Set-Cookie",
-                       std::string(kCookie) + "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+      reply.set_header("Set-Cookie", login_cookie_cleared());
       return reply;
     }));
   };

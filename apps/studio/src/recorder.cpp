@@ -77,27 +77,11 @@ std::string text_of(const Json& j, const char* key) {
   return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
-// A world's robot cell, held items and lying items, ids and order ignored: what a goal compares
-// (docs/studio.md §7).
-struct GoalDigest {
-  std::vector<std::int64_t> robot;
-  std::vector<std::string> held, lying;
-  bool operator==(const GoalDigest&) const = default;
-};
-
-GoalDigest goal_digest(const Json& w) {
-  GoalDigest d;
-  const Json robot = w.value("robot", Json::object());
-  for (const char* k : {"x", "y", "z"}) d.robot.push_back(robot.value(k, std::int64_t{0}));
-  for (const auto& h : robot.value("holding", Json::array()))
-    d.held.push_back(text_of(h, "color") + "/" + text_of(h, "shape"));
-  for (const auto& i : w.value("items", Json::array()))
-    d.lying.push_back(std::to_string(i.value("x", 0)) + "," + std::to_string(i.value("y", 0)) +
-                      "," + std::to_string(i.value("z", 0)) + "/" + text_of(i, "color") + "/" +
-                      text_of(i, "shape"));
-  std::sort(d.held.begin(), d.held.end());
-  std::sort(d.lying.begin(), d.lying.end());
-  return d;
+// Milliseconds since `start`, whole (a participant's time on a task, not a budget).
+std::int64_t since_ms(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() -
+                                                               start)
+      .count();
 }
 
 const std::vector<std::string> kCounted = {"q",   "live",   "accept", "reject",
@@ -107,9 +91,9 @@ const std::vector<std::string> kCounted = {"q",   "live",   "accept", "reject",
 
 const std::vector<std::string>& Recorder::files() {
   static const std::vector<std::string> kFiles = {
-      "queries.jsonl",          "worlds.jsonl",  "definitions.jsonl",
-      "original-answers.jsonl", "sessions.json", "exchanges.jsonl",
-      "participants.json",      "study.json",    "preload-C.jsonl"};
+      "queries.jsonl",   "worlds.jsonl",    "definitions.jsonl", "original-answers.jsonl",
+      "sessions.json",   "exchanges.jsonl", "participants.json", "study.json",
+      "preload-C.jsonl", "audit.jsonl"};
   return kFiles;
 }
 
@@ -130,6 +114,7 @@ Recorder::Recorder(std::shared_ptr<Study> study,
   definitions_ = open_append(dir / "definitions.jsonl");
   answers_ = open_append(dir / "original-answers.jsonl");
   exchanges_ = open_append(dir / "exchanges.jsonl");
+  audit_ = open_append(dir / "audit.jsonl");
   if (!fs::exists(dir / "study.json")) write_study_json(kernels);
   participants_.save();
 }
@@ -345,9 +330,8 @@ void Recorder::preloaded(const std::string& group) {
 bool Recorder::goal_reached(const SessionEntry& entry, int task) const {
   const auto& tasks = study_->tasks();
   if (task < 0 || task >= static_cast<int>(tasks.size())) return false;
-  const Json& goal = tasks[static_cast<std::size_t>(task)].goal;
-  if (!goal.is_object()) return false;
-  return goal_digest(entry.session->world_json(entry.session->world())) == goal_digest(goal);
+  const TaskGoal& goal = tasks[static_cast<std::size_t>(task)].goal;
+  return !goal.empty() && goal.reached(entry.session->world_json(entry.session->world()));
 }
 
 void RecorderTap::attach(kernel::Session& session) {
@@ -453,6 +437,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
       p.goal_reached = outcome.goal_reached = true;
       Line g = line(entry, p, "goal", exchange);
       g["for_qid"] = c["qid"];
+      if (live.task_started) g["task_ms"] = since_ms(*live.task_started);
       append_line(queries_, g);
     }
     return c["qid"];
@@ -476,13 +461,15 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
       const int task = studio.value("task", p.task + 1);
       const auto& tasks = study_->tasks();
       const bool had_goal = p.task >= 0 && p.task < static_cast<int>(tasks.size()) &&
-                            tasks[static_cast<std::size_t>(p.task)].goal.is_object();
+                            !tasks[static_cast<std::size_t>(p.task)].goal.empty();
       if (had_goal && !p.goal_reached && task != p.task) {
         Line skip = line(entry, p, "task_skip", exchange);
+        if (live.task_started) skip["task_ms"] = since_ms(*live.task_started);
         append_line(queries_, skip);
       }
       p.task = task;
       p.goal_reached = false;
+      live.task_started = std::chrono::steady_clock::now();
       p.history = Json::array();
     } else if (kind == "undo" && !p.history.empty()) {
       p.history.erase(p.history.size() - 1);
@@ -629,6 +616,16 @@ Json Recorder::page_state(const std::string& participant) {
           {"task", p->task},
           {"goal_reached", p->goal_reached},
           {"history", std::move(history)}};
+}
+
+void Recorder::audit(const std::string& account, const std::string& peer, const std::string& action,
+                     const Json& details) {
+  nlohmann::ordered_json line{
+      {"time", now_iso()}, {"account", account}, {"peer", peer}, {"action", action}};
+  for (const auto& [key, value] : details.items()) line[key] = value;
+  std::lock_guard lock(mutex_);
+  append_line(audit_, line);
+  audit_.sync();
 }
 
 Json Recorder::overview() {

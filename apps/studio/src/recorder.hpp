@@ -11,6 +11,7 @@
 // Thread-safe: one mutex. The server calls record() inside the kernel's lock, so a group's
 // records are in the order its kernel answered (docs/studio.md §5). Restart-safe: line and
 // exchange numbers, participant ids, the rule map and the preload continue from the files.
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -99,11 +100,21 @@ class Recorder {
   /// The recording's files a researcher may download.
   static const std::vector<std::string>& files();
 
+  // -- the researcher's own actions (audit.jsonl, docs/studio.md §7 "Audit") --
+  /// Appends one action of a researcher's account (close, reopen, invite, download) with the
+  /// time and the peer address, synced before it returns: an acknowledged action is on record.
+  /// `details` never holds a secret (an invitation's code is not written).
+  void audit(const std::string& account, const std::string& peer, const std::string& action,
+             const kernel::Json& details);
+
  private:
   struct Live {  ///< what a participant's session showed last (not kept across restarts)
     std::string last_qid, last_text;
     kernel::Json last_formulas = kernel::Json::array();
     int seq = 0;
+    /// When the current task's task_start was recorded (this server run only): the goal and
+    /// task_skip lines' task_ms (docs/studio.md §7 "Goals").
+    std::optional<std::chrono::steady_clock::time_point> task_started;
   };
   /// A queries.jsonl line, its members in the order they are set (who, what, when first).
   using Line = nlohmann::ordered_json;
@@ -126,7 +137,7 @@ class Recorder {
   std::mutex mutex_;
   std::shared_ptr<Study> study_;
   std::string dir_;
-  record::AppendFile queries_, worlds_, definitions_, answers_, exchanges_;
+  record::AppendFile queries_, worlds_, definitions_, answers_, exchanges_, audit_;
   std::map<std::string, kernel::Json> worlds_by_id_;
   std::map<std::string, Live> live_;  ///< by participant
   kernel::Json sessions_ = kernel::Json::array();

@@ -96,6 +96,10 @@ struct Server::Impl {
                [s](const HttpRequest& r, const Respond& done) { s->close(r, done); });
     router.add("POST", "/api/v1/study/invite",
                [s](const HttpRequest& r, const Respond& done) { s->invite(r, done); });
+    router.add("POST", "/api/v1/study/end",
+               [s](const HttpRequest& r, const Respond& done) { s->end(r, done); });
+    router.add("POST", "/api/v1/study/next",
+               [s](const HttpRequest& r, const Respond& done) { s->next(r, done); });
     router.add_prefix("GET", "/api/v1/study/recording/",
                       [s](const HttpRequest& r, const Respond& done) { s->recording(r, done); });
     if (sempre) {

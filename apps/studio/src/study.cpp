@@ -96,8 +96,11 @@ std::shared_ptr<Study> Study::load(const std::string& path) {
     t.text = text_of(tasks[i]["text"], path, key + ".text", true);
     t.start = read_world(path, dir / text_of(tasks[i]["start"], path, key + ".start", true),
                          key + ".start");
-    if (auto goal = text_of(tasks[i]["goal"], path, key + ".goal", false); !goal.empty())
-      t.goal = read_world(path, dir / goal, key + ".goal");
+    // A world file, or a predicate over the world (docs/studio.md §7 "Goals").
+    if (const YAML::Node goal = tasks[i]["goal"]; goal && goal.IsMap())
+      t.goal = TaskGoal::of_predicate(goal, t.start, path, key + ".goal");
+    else if (auto file = text_of(goal, path, key + ".goal", false); !file.empty())
+      t.goal = TaskGoal::of_world(read_world(path, dir / file, key + ".goal"));
     study->tasks_.push_back(std::move(t));
   }
   return study;
@@ -122,7 +125,11 @@ std::vector<std::pair<std::string, kernel::Config>> Study::kernels(
 Json Study::page_json() const {
   Json tasks = Json::array();
   for (const auto& t : tasks_)
-    tasks.push_back({{"name", t.name}, {"text", t.text}, {"start", t.start}, {"goal", t.goal}});
+    tasks.push_back({{"name", t.name},
+                     {"text", t.text},
+                     {"start", t.start},
+                     {"goal", t.goal.world()},
+                     {"goal_predicate", t.goal.predicate()}});
   return Json{{"name", name_}, {"tutorial", tutorial_}, {"tasks", std::move(tasks)}};
 }
 

@@ -10,6 +10,7 @@
 //   record: recording                # where the corpus is written (default: <name>-recording)
 //   tasks:
 //     - {name: warm-up, text: "Move the robot up.", start: worlds/a.json, goal: worlds/b.json}
+//     - {name: red, text: "...", start: worlds/a.json, goal: {items: [{color: red, in: room4}]}}
 // Relative paths resolve against the study file's directory.
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -19,6 +20,7 @@
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/session.hpp"
+#include "task_goal.hpp"
 
 namespace flipper::studio {
 
@@ -26,7 +28,7 @@ struct StudyTask {
   std::string name;
   std::string text;
   kernel::Json start;  ///< world object
-  kernel::Json goal;   ///< world object (null: none)
+  TaskGoal goal;       ///< a world or a predicate (docs/studio.md §7 "Goals"); empty: none
 };
 
 class Study {

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cookies.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "recorder.hpp"
 #include "study.hpp"
@@ -28,14 +29,14 @@ void StudyEndpoints::later(const std::string& key, std::function<HttpReply()> jo
     respond(error_reply(429, "session_busy", "too many requests waiting"));
 }
 
-std::optional<HttpReply> StudyEndpoints::refuse_researcher(const HttpRequest& r) const {
-  if (!api_.recorder()) return no_study();
+StudyEndpoints::Researcher StudyEndpoints::researcher(const HttpRequest& r) const {
+  if (!api_.recorder()) return {no_study(), {}};
   const std::optional<Login> login = api_.accounts().resume(login_cookie(r.cookie));
   if (!login)
-    return error_reply(401, "login_required", "log in as the study's researcher (an admin)");
+    return {error_reply(401, "login_required", "log in as the study's researcher (an admin)"), {}};
   if (login->role != Role::admin)
-    return error_reply(403, "forbidden", "only an administrator sees the study's recording");
-  return std::nullopt;
+    return {error_reply(403, "forbidden", "only an administrator sees the study's recording"), {}};
+  return {std::nullopt, login->name};
 }
 
 void StudyEndpoints::event(const HttpRequest& r, const Respond& respond) {
@@ -74,24 +75,27 @@ void StudyEndpoints::event(const HttpRequest& r, const Respond& respond) {
 }
 
 void StudyEndpoints::overview(const HttpRequest& r, const Respond& respond) {
-  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  auto who = researcher(r);
+  if (who.refusal) return respond(std::move(*who.refusal));
   later(
       "study:" + r.peer, [this] { return json_reply(200, api_.recorder()->overview()); }, respond);
 }
 
 void StudyEndpoints::recording(const HttpRequest& r, const Respond& respond) {
-  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  auto who = researcher(r);
+  if (who.refusal) return respond(std::move(*who.refusal));
   const std::string prefix = "/api/v1/study/recording/";
   const std::string name = r.path.substr(std::min(r.path.size(), prefix.size()));
   const auto& files = Recorder::files();
   if (std::find(files.begin(), files.end(), name) == files.end())
     return respond(
         error_reply(404, "not_found", "the recording has no file '" + name.substr(0, 100) + "'"));
-  auto job = [this, name]() -> HttpReply {
+  auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
     std::ifstream in(std::filesystem::path(api_.study()->record_dir()) / name, std::ios::binary);
     if (!in) return error_reply(404, "not_found", "'" + name + "' is not written yet");
     std::ostringstream text;
     text << in.rdbuf();
+    api_.recorder()->audit(account, peer, "download", Json{{"file", name}});
     HttpReply reply;
     reply.body = text.str();
     reply.content_type = name.ends_with(".jsonl") ? "application/x-ndjson" : "application/json";
@@ -103,47 +107,89 @@ void StudyEndpoints::recording(const HttpRequest& r, const Respond& respond) {
 }
 
 void StudyEndpoints::close(const HttpRequest& r, const Respond& respond) {
-  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  auto who = researcher(r);
+  if (who.refusal) return respond(std::move(*who.refusal));
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "must come from this server's page"));
   const Json body = Json::parse(r.body, nullptr, false);
   if (!body.is_object() || !body.contains("open") || !body["open"].is_boolean())
     return respond(error_reply(400, "bad_request", "send {\"open\": false} or {\"open\": true}"));
   const bool open = body["open"].get<bool>();
-  auto job = [this, open] {
+  auto job = [this, open, account = who.account, peer = r.peer] {
     api_.recorder()->set_open(open);
+    api_.recorder()->audit(account, peer, open ? "reopen" : "close", Json::object());
     return json_reply(200, api_.recorder()->overview());
   };
   later("study:" + r.peer, std::move(job), respond);
 }
 
 void StudyEndpoints::invite(const HttpRequest& r, const Respond& respond) {
-  if (auto refused = refuse_researcher(r)) return respond(std::move(*refused));
+  auto who = researcher(r);
+  if (who.refusal) return respond(std::move(*who.refusal));
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "must come from this server's page"));
   const Json body = Json::parse(r.body, nullptr, false);
   if (!body.is_object() || !body.contains("participant") || !body["participant"].is_string())
     return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
   const std::string name = body["participant"].get<std::string>();
-  auto job = [this, name]() -> HttpReply {
+  auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
     // Only a participant's account, or a new one: never a code for another account (an admin's).
-    const auto account = api_.accounts().find(name);
-    if (account && !api_.recorder()->participant_of(name))
+    const bool account_known = api_.accounts().find(name).has_value();
+    if (account_known && !api_.recorder()->participant_of(name))
       return error_reply(409, "not_a_participant",
                          "'" + name + "' is an account that is not a participant of this study");
     try {
       const std::string code =
           api_.accounts().invite(name, Role::participant, std::chrono::hours(24) * 7);
+      api_.recorder()->audit(account, peer, "invite",
+                             Json{{"participant", name}, {"known", account_known}});
       return json_reply(200, Json{{"ok", true},
                                   {"participant", name},
                                   {"code", code},
                                   {"url", "/?code=" + code},
-                                  {"known", account.has_value()}});
+                                  {"known", account_known}});
     } catch (const sdk::Error& e) {
       return error_reply(400, e.code(), e.what());
     }
   };
   later("study:" + r.peer, std::move(job), respond);
+}
+
+void StudyEndpoints::end(const HttpRequest& r, const Respond& respond) {
+  auto who = researcher(r);
+  if (who.refusal) return respond(std::move(*who.refusal));
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
+  const Json body = Json::parse(r.body, nullptr, false);
+  if (!body.is_object() || !body.contains("participant") || !body["participant"].is_string())
+    return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
+  const std::string name = body["participant"].get<std::string>();
+  auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
+    if (!api_.recorder()->participant_of(name))
+      return error_reply(404, "not_a_participant",
+                         "'" + name.substr(0, 100) + "' is not a participant of this study");
+    const int logins = api_.accounts().revoke(name);
+    api_.recorder()->audit(account, peer, "end", Json{{"participant", name}, {"logins", logins}});
+    return json_reply(200, Json{{"ok", true}, {"participant", name}, {"logins", logins}});
+  };
+  later("study:" + r.peer, std::move(job), respond);
+}
+
+void StudyEndpoints::next(const HttpRequest& r, const Respond& respond) {
+  if (!api_.recorder()) return respond(no_study());
+  if (!hosts_.allows_origin(r))
+    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
+  auto job = [this, r]() -> HttpReply {
+    const std::string token = login_cookie(r.cookie);
+    const std::optional<Login> login = api_.accounts().resume(token);
+    if (!login || !api_.recorder()->participant_of(login->name))
+      return error_reply(401, "login_required", "only a participant's own page ends its login");
+    api_.accounts().logout(token);
+    HttpReply reply = json_reply(200, Json{{"ok", true}, {"participant", login->name}});
+    reply.set_header("Set-Cookie", login_cookie_cleared());
+    return reply;
+  };
+  later("next:" + r.peer, std::move(job), respond);
 }
 
 }  // namespace flipper::studio

@@ -8,8 +8,13 @@
 //   POST /api/v1/study/close {"open":b}  (admin) stop (or resume) taking new participants
 //   POST /api/v1/study/invite {"participant":P}  (admin) a one-time login code for P: a known
 //                                        participant resumes on another device, a new name joins
+//   POST /api/v1/study/end {"participant":P}     (admin) ends every login of P: the computer P
+//                                        used takes the next participant at its next request
+//   POST /api/v1/study/next              (the participant's page, kiosk mode) ends this login:
+//                                        the page reloads as the next participant
 // The researcher's endpoints answer 401 login_required without a login, 403 forbidden for a
-// login that is not an administrator; a server without a study answers 404 no_study.
+// login that is not an administrator; a server without a study answers 404 no_study. Each close,
+// reopen, invitation, end and download is a line of the recording's audit.jsonl (§7 "Audit").
 #include "api.hpp"
 #include "http_types.hpp"
 
@@ -25,10 +30,16 @@ class StudyEndpoints {
   void recording(const HttpRequest& request, const Respond& respond);
   void close(const HttpRequest& request, const Respond& respond);
   void invite(const HttpRequest& request, const Respond& respond);
+  void end(const HttpRequest& request, const Respond& respond);
+  void next(const HttpRequest& request, const Respond& respond);
 
  private:
-  /// nullopt when the request is a researcher's; else the refusal.
-  std::optional<HttpReply> refuse_researcher(const HttpRequest& request) const;
+  /// The researcher's account name, or the refusal.
+  struct Researcher {
+    std::optional<HttpReply> refusal;
+    std::string account;
+  };
+  Researcher researcher(const HttpRequest& request) const;
   void later(const std::string& key, std::function<HttpReply()> job, const Respond& respond);
 
   Api& api_;

@@ -656,6 +656,7 @@ function wire() {
   $('reject').onclick = reject;
   $('teach').onclick = () => definePanel.open($('query-input').value.trim() || state.query?.text);
   $('undo').onclick = undo;
+  $('kiosk-next').onclick = nextParticipant;
   $('reset').onclick = reset;
   $('rules-search').oninput = renderRules;
   $('rules-search').onfocus = refreshRules;
@@ -736,6 +737,22 @@ function restorePlace(world) {
     state.history = saved.history;
 }
 
+// Kiosk mode (`?kiosk`, a computer participants share; docs/studio.md §7 "Shared computers"):
+// this participant's login ends and the page starts over as the next participant.
+async function nextParticipant() {
+  await fetch('/api/v1/study/next', { method: 'POST' });
+  sessionStorage.clear();
+  location.reload();
+}
+
+// The page a visitor sees when the study no longer takes participants.
+function showStudyClosed(study) {
+  document.querySelector('main').hidden = true;
+  $('study-closed-name').textContent = study?.name ? `"${study.name}"` : 'This study';
+  $('study-closed').hidden = false;
+  document.body.dataset.ready = 'closed';
+}
+
 async function main() {
   wire();
   renderHelp();
@@ -753,6 +770,12 @@ async function main() {
   }
   // The first request makes (or resumes) the session; its answer is the current world.
   const st = await api.request({ op: 'state' });
+  if (st.error?.code === 'study_closed') {
+    // A closed study takes no new participants (docs/studio.md §7): say so instead of an app
+    // that cannot answer; a participant comes back through their own link or login.
+    showStudyClosed(state.info.study);
+    return;
+  }
   state.info = await api.info();
   const who = await api.request({ op: 'rules' });
   const study = state.info.study;
@@ -796,6 +819,7 @@ async function main() {
     $('study-tutorial-text').textContent = study.tutorial || 'Follow the tasks shown at the top.';
     $('study-tutorial').hidden = state.taskIndex >= 0;
     renderStudy();
+    $('kiosk-next').hidden = !new URLSearchParams(location.search).has('kiosk');
     api.event('page_load', { reloaded: api.reloaded });
   }
   renderHistory();

@@ -17,6 +17,29 @@ function cell(row, text, cls) {
   row.append(td);
 }
 
+// Ends every login of a participant (docs/studio.md §7 "Shared computers"): the computer they
+// used takes the next participant at its next request.
+function endButton(participant) {
+  const td = document.createElement('td');
+  const b = document.createElement('button');
+  b.type = 'button';
+  b.textContent = 'Next participant';
+  b.title = `End ${participant}'s logins: their computer starts the next participant`;
+  b.dataset.testid = `researcher-end-${participant}`;
+  b.addEventListener('click', async () => {
+    const res = await fetch('/api/v1/study/end', {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ participant }),
+    });
+    const a = await res.json().catch(() => ({}));
+    if (a.ok) b.textContent = 'ended';
+    else showError(a.error?.message ?? `HTTP ${res.status}`);
+  });
+  td.append(b);
+  return td;
+}
+
 function render(o) {
   open = o.study.open;
   $('study-name').textContent = o.study.name;
@@ -36,6 +59,7 @@ function render(o) {
     cell(tr, p.online ? 'online' : '', p.online ? 'online' : '');
     cell(tr, p.last_seen.replace('T', ' '));
     for (const k of COUNTS) cell(tr, String(p.counts[k] ?? 0), 'num');
+    tr.append(endButton(p.participant));
     body.append(tr);
   }
   const files = $('files');

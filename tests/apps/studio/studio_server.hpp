@@ -70,6 +70,9 @@ class StudioServer {
     for (const auto& s : sets) {
       args.push_back("--set");
       args.push_back(s);
+      // The keys that choose the accounts store: `flipper accounts` must open the same one.
+      if (s.rfind("serve.study=", 0) == 0 || s.rfind("serve.accounts=", 0) == 0)
+        account_sets_ += " --set '" + s + "'";
     }
     child_ = std::make_unique<testsupport::ChildProcess>(args);
     const std::string line = child_->read_line(std::chrono::seconds(30));
@@ -87,7 +90,8 @@ class StudioServer {
   }
   /// `flipper accounts ARGS` with `input` on standard input: status and output.
   CliRun run_accounts(const std::string& args, const std::string& input = "") const {
-    return run_flipper("accounts " + args + " --set lexicon.path=" + lexicon(), dir_, input);
+    return run_flipper("accounts " + args + " --set lexicon.path=" + lexicon() + account_sets_,
+                       dir_, input);
   }
   std::string lexicon() const { return dir_ + "/lexicon.sqlite"; }
   std::string origin() const { return "http://127.0.0.1:" + std::to_string(port_); }
@@ -110,6 +114,7 @@ class StudioServer {
   std::string dir_;
   std::unique_ptr<testsupport::ChildProcess> child_;
   int port_ = 0;
+  std::string account_sets_;  ///< --set of serve.study / serve.accounts: the server's store
 };
 
 /// POST one request; the reply's status, body and session token.

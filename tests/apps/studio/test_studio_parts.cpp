@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "api.hpp"
+#include "cookies.hpp"
 #include "flipper/kernel/config.hpp"
 #include "flipper/studio/accounts.hpp"
 #include "host_policy.hpp"

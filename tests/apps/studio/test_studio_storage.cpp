@@ -24,10 +24,13 @@ std::string read_file(const fs::path& path) {
   return s.str();
 }
 
+// The recording's files, byte for byte; the study's accounts store beside them (SQLite: its
+// shared-memory index changes on every read) is not part of the recording.
 std::map<std::string, std::string> folder_contents(const fs::path& dir) {
   std::map<std::string, std::string> out;
   for (const auto& e : fs::directory_iterator(dir))
-    out[e.path().filename().string()] = read_file(e.path());
+    if (e.path().filename().string().rfind("accounts.sqlite", 0) != 0)
+      out[e.path().filename().string()] = read_file(e.path());
   return out;
 }
 

@@ -409,6 +409,23 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
     REQUIRE(http.Post("/api/v1/study/close", mod, R"({"open":true})", "application/json")->status ==
             200);
   }
+  // The researcher's own actions, in order, each by its account and address (docs/studio.md §7
+  // "Audit"): refusals (ana's 403s, the 404 downloads, the 409 invitation) are not actions; the
+  // invitation's code, a secret, is not written.
+  const auto audit = read_jsonl(fs::path(dir) / "rec" / "audit.jsonl");
+  REQUIRE(audit.size() == 4);
+  const std::vector<std::string> actions{"download", "close", "invite", "reopen"};
+  for (std::size_t i = 0; i < audit.size(); ++i) {
+    CHECK(audit[i]["action"] == actions[i]);
+    CHECK(audit[i]["account"] == "mod");
+    CHECK(audit[i]["peer"] == "127.0.0.1");
+    const std::string time = audit[i]["time"].get<std::string>();  // 2026-11-29T12:00:00.000 (UTC)
+    CHECK((time.size() == 23 && time[10] == 'T' && time[19] == '.'));
+    CHECK_FALSE(audit[i].contains("code"));
+  }
+  CHECK(audit[0]["file"] == "queries.jsonl");
+  CHECK(audit[2]["participant"] == "P1");
+  CHECK(audit[2]["known"] == true);
   // A restart: qids, participant ids and the preload continue; the cookie still resumes.
   const auto before = read_jsonl(fs::path(dir) / "rec" / "queries.jsonl");
   {
@@ -432,6 +449,83 @@ TEST_CASE("participants resume by their login, and the researcher sees and close
   const CliRun ok = run_flipper("replay verify " + (fs::path(dir) / "rec").string(), dir);
   INFO(ok.out);
   CHECK(ok.status == 0);
+}
+
+TEST_CASE("a study owns its accounts: a second study starts at P1, the first's login is nobody") {
+  // docs/studio.md §7 "A study's accounts": accounts.sqlite in each study's recording folder.
+  const std::string dir = fresh_dir("study-accounts");
+  make_study(dir);
+  for (const char* n : {"1", "2"})
+    std::ofstream(dir + "/s" + n + ".yaml")
+        << "name: s" << n << "\ngroups: [B]\nrecord: rec" << n
+        << "\ntasks:\n  - {name: one, text: right, start: start.json}\n";
+  httplib::Headers first_login;
+  {
+    StudioServer server(dir, {"serve.study=" + dir + "/s1.yaml"});
+    auto http = server.client();
+    Participant p{http, {}, "", ""};
+    REQUIRE(p.send({{"op", "state"}}).user == "P1");
+    first_login = p.headers;
+    server.add_account("mod", "moderator password", "admin");  // `flipper accounts` agrees
+    CHECK(login(http, json{{"name", "mod"}, {"password", "moderator password"}})
+              .find("flipper_login=") == 0);
+  }
+  CHECK(fs::is_regular_file(fs::path(dir) / "rec1" / "accounts.sqlite"));
+  CHECK_FALSE(fs::exists(fs::path(dir) / "accounts.sqlite"));  // not beside the lexicon
+  StudioServer server(dir, {"serve.study=" + dir + "/s2.yaml"});
+  auto http = server.client();
+  Participant fresh{http, {}, "", ""};
+  CHECK(fresh.send({{"op", "state"}}).user == "P1");      // numbered in its own study
+  Participant returning{http, first_login, "", ""};       // the same browser as study 1's P1
+  CHECK(returning.send({{"op", "state"}}).user == "P2");  // a new participant here
+  CHECK(fs::is_regular_file(fs::path(dir) / "rec2" / "accounts.sqlite"));
+  // Study 1's researcher is no account of study 2.
+  int status = 0;
+  CHECK(login(http, json{{"name", "mod"}, {"password", "moderator password"}}, &status).empty());
+  CHECK(status == 401);
+}
+
+TEST_CASE("a shared computer takes the next participant: the page's next, the researcher's end") {
+  // docs/studio.md §7 "Shared computers".
+  const std::string dir = fresh_dir("study-next");
+  StudioServer server(dir, {make_study(dir)});
+  server.add_account("mod", "moderator password", "admin");
+  auto http = server.client();
+  Participant p1{http, {}, "", "B"};
+  REQUIRE(p1.send({{"op", "state"}}).user == "P1");
+  // Without a participant's login, nothing to end.
+  auto res = http.Post("/api/v1/study/next", httplib::Headers{}, "", "application/json");
+  CHECK(res->status == 401);
+  CHECK(json::parse(res->body)["error"]["code"] == "login_required");
+  // The page's "next participant": this login ends, the browser's cookie with it.
+  res = http.Post("/api/v1/study/next", p1.headers, "", "application/json");
+  REQUIRE(res->status == 200);
+  CHECK(json::parse(res->body) == json{{"ok", true}, {"participant", "P1"}});
+  CHECK(res->get_header_value("Set-Cookie") ==
+        "flipper_login=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0");
+  CHECK(p1.send({{"op", "state"}}).status == 401);  // P1's old session is P1's no more
+  Participant p2{http, {}, "", "B"};                // the same computer, reloaded
+  REQUIRE(p2.send({{"op", "state"}}).user == "P2");
+  // The researcher ends P2's logins from the researcher's view.
+  const auto mod = cookie(login(http, json{{"name", "mod"}, {"password", "moderator password"}}));
+  res = http.Post("/api/v1/study/end", p2.headers, R"({"participant":"P2"})", "application/json");
+  CHECK(res->status == 403);  // a participant is no researcher
+  res = http.Post("/api/v1/study/end", mod, R"({"participant":"P9"})", "application/json");
+  CHECK(res->status == 404);
+  CHECK(json::parse(res->body)["error"]["code"] == "not_a_participant");
+  res = http.Post("/api/v1/study/end", mod, R"({"participant":"P2"})", "application/json");
+  REQUIRE(res->status == 200);
+  CHECK(json::parse(res->body) == json{{"ok", true}, {"participant", "P2"}, {"logins", 1}});
+  Reply r = p2.send({{"op", "state"}});
+  CHECK(r.status == 401);
+  CHECK(r.body["error"]["code"] == "login_required");
+  Participant p3{http, {}, "", "B"};
+  CHECK(p3.send({{"op", "state"}}).user == "P3");
+  const auto audit = read_jsonl(fs::path(dir) / "rec" / "audit.jsonl");
+  REQUIRE(audit.size() == 1);
+  CHECK(audit[0]["action"] == "end");
+  CHECK(audit[0]["participant"] == "P2");
+  CHECK(audit[0]["logins"] == 1);
 }
 
 TEST_CASE("participants of one group teaching at once are recorded in the order they ran") {

@@ -67,13 +67,16 @@ export async function startServer(flipper, sets = [], { dir, cwd, config } = {})
     proc.kill(signal);
     await done;
   };
-  return { url, stop, dir, proc, output: () => output };
+  // The sets that choose the accounts store, for `flipper accounts` on the same one.
+  const accountSets = sets.filter((s) => s.startsWith('serve.study=') || s.startsWith('serve.accounts='));
+  return { url, stop, dir, proc, output: () => output, accountSets };
 }
 
 // `flipper accounts add NAME` on a server's store (the password on standard input).
 export function addAccount(flipper, server, name, password, role = 'user') {
   const r = spawnSync(flipper, ['accounts', 'add', name, '--role', role, '--set',
-    `lexicon.path=${join(server.dir, 'lexicon.sqlite')}`], { input: `${password}\n`, encoding: 'utf8' });
+    `lexicon.path=${join(server.dir, 'lexicon.sqlite')}`, ...server.accountSets.flatMap((s) => ['--set', s])],
+  { input: `${password}\n`, encoding: 'utf8' });
   if (r.status !== 0) throw new Error(`flipper accounts add ${name}: ${r.stdout}${r.stderr}`);
 }
 

@@ -242,9 +242,44 @@ run(async () => {
     await r.waitForFunction(() => document.getElementById('study-state').textContent.includes('closed'));
     const late = await fetch(`${server.url}api/v1/request`, { method: 'POST', body: '{"op":"state"}' });
     equal([late.status, (await late.json()).error?.code], [403, 'study_closed'], 'a closed study takes no new participant');
+    // A new visitor (here the researcher's own browser, not a participant) gets the closed page.
+    const visitor = await b3.context.newPage();
+    await visitor.goto(`${server.url}`);
+    await visitor.waitForSelector('body[data-ready=closed]', { state: 'attached', timeout: 15000 });
+    check(await visitor.isVisible('[data-testid=study-closed]'), 'a new visitor sees that the study is closed');
+    check(!(await visitor.isVisible('main')), 'and no app that could not answer');
+    equal(await visitor.textContent('#study-closed-name'), '"pilot"', 'the closed page names the study');
+    await shot(visitor, opt.artifacts, 'study-closed');
     const back = await openPage(b2.context, `${server.url}`);
     equal(await back.evaluate(() => window.flipperStudio.api.user), 'P2', 'a participant who reopens the page is still P2');
     await shot(r, opt.artifacts, 'researcher-closed');
+    // A computer participants share (docs/studio.md §7 "Shared computers"): the study reopened, a
+    // kiosk page takes P3; its "Next participant" starts the page over as P4; the researcher's
+    // "Next participant" on P4's row makes the kiosk's next request a new participant, P5.
+    await r.click('[data-testid=researcher-close]');
+    await r.waitForFunction(() => document.getElementById('study-state').textContent.includes('open to'));
+    const b4 = await launchBrowser();
+    try {
+      const kiosk = await openPage(b4.context, `${server.url}?kiosk`);
+      equal(await kiosk.evaluate(() => window.flipperStudio.api.user), 'P3', 'the kiosk page takes a new participant');
+      check(await kiosk.isVisible('[data-testid=kiosk-next]'), 'the kiosk page offers the next participant');
+      check(!(await back.isVisible('[data-testid=kiosk-next]')), 'a page without ?kiosk does not');
+      await kiosk.click('[data-testid=kiosk-next]');
+      await kiosk.waitForFunction(() => window.flipperStudio?.api.user === 'P4' && document.body.dataset.ready === 'true');
+      check(true, 'the kiosk\'s next participant: the page starts over as P4');
+      await r.waitForSelector('[data-testid=researcher-end-P4]', { timeout: 15000 });
+      const [ended] = await Promise.all([
+        r.waitForResponse((res) => res.url().endsWith('/api/v1/study/end')),
+        r.click('[data-testid=researcher-end-P4]'),
+      ]);
+      equal((await ended.json()).logins, 1, 'the researcher ends P4\'s login');
+      equal(await kiosk.evaluate(async () => {
+        await window.flipperStudio.api.request({ op: 'state' });
+        return window.flipperStudio.api.user;
+      }), 'P5', 'the kiosk\'s next request is the next participant');
+    } finally {
+      await b4.close();
+    }
   } finally {
     await b1.close();
     await b2.close();

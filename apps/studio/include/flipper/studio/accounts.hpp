@@ -49,8 +49,9 @@ inline constexpr std::size_t kMaxNameLength = 32;
 inline constexpr std::size_t kMinPasswordLength = 8;
 inline constexpr std::size_t kMaxPasswordLength = 1024;
 
-/// The accounts file of a config: serve.accounts, or accounts.sqlite beside lexicon.path
-/// (":memory:" when the lexicon is in memory).
+/// The accounts file of a config: serve.accounts; else, with serve.study, accounts.sqlite in the
+/// study's recording folder (the study file is read: bad_config when it is bad); else
+/// accounts.sqlite beside lexicon.path (":memory:" when the lexicon is in memory).
 std::string accounts_path(const kernel::Config& config);
 
 class AccountStore {

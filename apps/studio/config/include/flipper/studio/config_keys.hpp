@@ -70,7 +70,8 @@ inline constexpr TextList<0> kServeSempreOrigins{
 inline constexpr TextList<0> kServeAllowedHosts{
     "serve.allowed_hosts", {}, "more Host names the server answers to ('name' or 'name:port')"};
 inline constexpr Path kServeAccounts{"serve.accounts", "",
-                                     "the accounts store (empty: accounts.sqlite beside "
+                                     "the accounts store (empty: accounts.sqlite in the study's "
+                                     "recording folder with serve.study, else beside "
                                      "lexicon.path)"};
 inline constexpr Int kServeSessionsPerSubnet{
     "serve.sessions_per_subnet", 128, 1, 1000000,
