@@ -12,7 +12,10 @@
 ///                                topic's readers and writers are access-controlled, discovery,
 ///                                liveliness, metadata and data encrypted, RTPS messages signed
 ///   DIR/identities/NAME/         one per site or robot: cert.pem (subject CN=NAME), key.pem,
-///                                permissions.xml and its signed permissions.p7s
+///                                permissions.xml and its signed permissions.p7s; at a CA that
+///                                signed a lab's request, no key.pem (the lab keeps it) but
+///                                NAME.csr, and previous/ (renewed certificates)
+///   DIR/outbox/NAME/             at the CA: what lab NAME installs (lab_keys.hpp)
 ///
 /// Permissions of identity NAME serving namespaces NS (default: NAME itself):
 ///   publish   rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}, rt/*/flipper/request
@@ -46,6 +49,13 @@ struct Keystore {
   std::string permissions(const std::string& name) const {
     return identity_dir(name) + "/permissions.p7s";
   }
+  /// A lab's certificate signing request (lab_keys.hpp request_identity).
+  std::string request(const std::string& name) const {
+    return identity_dir(name) + "/" + name + ".csr";
+  }
+  /// What the CA sends back to lab NAME (sign, renew): ca.pem, governance.p7s, cert.pem,
+  /// permissions.p7s (and crl.pem when there is one).
+  std::string outbox(const std::string& name) const { return dir + "/outbox/" + name; }
 };
 
 /// Highest DDS domain the governance and permissions cover (Cyclone's limit for them).
@@ -57,10 +67,11 @@ inline constexpr int kMaxSecureDomain = 230;
 void init_keystore(const std::string& dir, std::ostream& out);
 
 /// Adds identity `name` (a ROS 2 name token: names.hpp) with its certificate, key and signed
-/// permissions for `namespaces` (empty: {name}). Throws sdk::Error(bad_request) when the
-/// keystore is missing or already has `name`.
+/// permissions for `namespaces` (empty: {name}), valid `days` days. Throws
+/// sdk::Error(bad_request) when the keystore is missing or already has `name`. (A lab that keeps
+/// its own key uses request_identity and the CA sign_request instead: lab_keys.hpp.)
 void add_identity(const std::string& dir, const std::string& name,
-                  const std::vector<std::string>& namespaces, std::ostream& out);
+                  const std::vector<std::string>& namespaces, long days, std::ostream& out);
 
 /// The DDS Security participant QoS properties (dds.sec.*) for identity `name` of `keystore`:
 /// plugins, CA, certificate, key, governance, permissions. Throws sdk::Error(bad_config) naming
