@@ -34,6 +34,11 @@ int dds_security_main(const std::string& action, const DdsSecurityArgs& args) {
       dds::renew_identity(args.dir, args.name, args.days, std::cout);
       std::cout << "next, at the lab: flipper dds security install LAB_DIR " << args.name
                 << " OUTBOX, then restart its flipper\n";
+    } else if (action == "revoke") {
+      const std::string crl = dds::revoke_identity(args.dir, args.name, std::cout);
+      std::cout << "next: copy " << crl
+                << " into every lab's keystore folder (or point dds.security.crl at it) and "
+                   "restart their flipper\n";
     } else {
       dds::install_identity(args.dir, args.name, args.file, std::cout);
       std::cout << use << " --set dds.security.identity=" << args.name << "\n";

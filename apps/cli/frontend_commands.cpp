@@ -17,8 +17,8 @@ void add_serve_command(CLI::App& app) {
 // flipper dds [--config F] [--set k=v]: answers rt/<ns>/flipper/request on .../answer, with the
 // config's other DDS services (plans, lexicon replication), until SIGINT/SIGTERM.
 // flipper dds security init DIR | add DIR NAME [--namespace NS]... [--days N] | request DIR NAME
-// | sign DIR CSR [--namespace NS]... [--days N] | renew DIR NAME [--days N] | install DIR NAME
-// FROM: the DDS Security keystore (apps/dds/keystore.hpp, lab_keys.hpp).
+// | sign DIR CSR [--namespace NS]... [--days N] | renew DIR NAME [--days N] | revoke DIR NAME |
+// install DIR NAME FROM: the DDS Security keystore (apps/dds/keystore.hpp, lab_keys.hpp).
 void add_dds_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "dds",
@@ -28,8 +28,10 @@ void add_dds_command(CLI::App& app) {
   auto* security = cmd->add_subcommand(
       "security", "Make the DDS Security keystore: a project CA, identities, permissions");
   security->require_subcommand(1);
-  static CommonOptions init_opts, add_opts, request_opts, sign_opts, renew_opts, install_opts;
-  static DdsSecurityArgs init_args, add_args, request_args, sign_args, renew_args, install_args;
+  static CommonOptions init_opts, add_opts, request_opts, sign_opts, renew_opts, install_opts,
+      revoke_opts;
+  static DdsSecurityArgs init_args, add_args, request_args, sign_args, renew_args, install_args,
+      revoke_args;
   const auto days = [](CLI::App& sub, DdsSecurityArgs& args) {
     sub.add_option("--days", args.days,
                    "Days the certificate and permissions are valid (default 365)")
@@ -74,6 +76,12 @@ void add_dds_command(CLI::App& app) {
   renew->add_option("name", renew_args.name, "The identity")->required();
   days(*renew, renew_args);
   on_run(*renew, [] { return run_dds_security("renew", renew_args); });
+  auto* revoke = security->add_subcommand(
+      "revoke", "At the CA: revoke identity NAME's certificates (the CA's crl.pem)");
+  add_common_options(*revoke, revoke_opts);
+  revoke->add_option("dir", revoke_args.dir, "The CA's keystore folder")->required();
+  revoke->add_option("name", revoke_args.name, "The identity")->required();
+  on_run(*revoke, [] { return run_dds_security("revoke", revoke_args); });
   auto* install = security->add_subcommand(
       "install", "At a lab: check and install what the CA sent (its outbox/NAME folder)");
   add_common_options(*install, install_opts);

@@ -35,7 +35,7 @@ struct InTreeCall {
   const CommonOptions* opts = nullptr;        ///< serve, accounts, dds
   const AccountsArgs* accounts = nullptr;     ///< accounts
   const DdsSecurityArgs* security = nullptr;  ///< dds security
-  std::string action;  ///< dds security: init | add | request | sign | renew | install
+  std::string action;  ///< dds security: init | add | request | sign | renew | revoke | install
   wiring::SessionHost* host = nullptr;  ///< dds services: the session's host
   DdsServices* services = nullptr;      ///< dds services: filled in
 };

@@ -90,6 +90,12 @@ void add_identity(const std::string& dir, const std::string& name,
                   false, out);
 }
 
+std::string Keystore::revocation_list() const {
+  if (!crl.empty()) return crl;
+  std::error_code ec;
+  return fs::exists(crl_file(), ec) ? crl_file() : std::string();
+}
+
 std::vector<std::pair<std::string, std::string>> security_properties(const Keystore& ks,
                                                                      const std::string& name) {
   const std::string hint = "flipper dds security init DIR; flipper dds security add DIR " + name;
@@ -115,13 +121,30 @@ std::vector<std::pair<std::string, std::string>> security_properties(const Keyst
       {"dds.sec.access.permissions_ca", file(ks.ca_certificate())},
       {"dds.sec.access.governance", file(ks.governance())},
       {"dds.sec.access.permissions", file(ks.permissions(name))}};
+  if (const std::string crl = ks.revocation_list(); !crl.empty()) {
+    const ossl::Cert ca = pki::read_cert(ks.ca_certificate());
+    const ossl::Crl list = pki::read_crl(crl, ca.get());
+    X509_REVOKED* entry = nullptr;
+    if (X509_CRL_get0_by_cert(list.get(), &entry, pki::read_cert(ks.certificate(name)).get()) == 1)
+      refuse(sdk::codes::kBadConfig, "DDS Security: the certificate of identity '" + name +
+                                         "' is revoked by '" + crl +
+                                         "' (the lab requests a new one)");
+    // Cyclone 0.10's name for the CRL property (dds_security_api_defs.h,
+    // ORG_ECLIPSE_CYCLONEDDS_SEC_AUTH_CRL): read at participant creation, so a new list takes
+    // effect when the participant restarts.
+    properties.emplace_back("org.eclipse.cyclonedds.sec.auth.crl", file(crl));
+  }
   return properties;
 }
 
 std::optional<SecurityConfig> security_config(const kernel::Config& config) {
   const std::string dir = config.get(keys::kKeystore);
   if (dir.empty()) return std::nullopt;
-  SecurityConfig sc{Keystore{dir}, config.get(keys::kIdentity)};
+  SecurityConfig sc{Keystore{dir, config.get(keys::kCrl)}, config.get(keys::kIdentity)};
+  if (!sc.keystore.crl.empty())
+    require_file(sc.keystore.crl,
+                 "dds.security.crl; the CA's `flipper dds security revoke` "
+                 "writes its crl.pem");
   if (sc.identity.empty()) sc.identity = config.get(naturalization::keys::kSite);
   if (sc.identity.empty()) sc.identity = config.get(keys::kNamespace);
   if (sc.identity.empty())

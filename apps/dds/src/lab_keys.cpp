@@ -129,6 +129,7 @@ void issue(const Keystore& ks, const std::string& name, X509* cert, const std::s
   copy_file(ks.governance(), box + "/governance.p7s", out);
   copy_file(ks.certificate(name), box + "/cert.pem", out);
   copy_file(ks.permissions(name), box + "/permissions.p7s", out);
+  if (exists(ks.crl_file())) copy_file(ks.crl_file(), box + "/crl.pem", out);
 }
 
 struct Authority {
@@ -291,11 +292,79 @@ void install_identity(const std::string& dir, const std::string& name, const std
   if (permissions.find("<subject_name>CN=" + name + "</subject_name>") == std::string::npos)
     refuse(sdk::codes::kBadRequest, "'" + from + "/permissions.p7s' does not grant CN=" + name);
   verified_document(from + "/governance.p7s", ca.get());
+  const bool has_crl = exists(from + "/crl.pem");
+  if (has_crl) {
+    const ossl::Crl crl = pki::read_crl(from + "/crl.pem", ca.get());
+    X509_REVOKED* entry = nullptr;
+    if (X509_CRL_get0_by_cert(crl.get(), &entry, cert.get()) == 1)
+      refuse(sdk::codes::kBadRequest,
+             "'" + from + "/cert.pem' is revoked by '" + from + "/crl.pem'");
+  }
   out << "flipper dds security: identity '" << name << "' installed in " << dir << ":\n";
   copy_file(from + "/ca.pem", ks.ca_certificate(), out);
   copy_file(from + "/governance.p7s", ks.governance(), out);
   copy_file(from + "/cert.pem", ks.certificate(name), out);
   copy_file(from + "/permissions.p7s", ks.permissions(name), out);
+  if (has_crl) copy_file(from + "/crl.pem", ks.crl_file(), out);
+}
+
+std::string revoke_identity(const std::string& ca_dir, const std::string& name, std::ostream& out) {
+  const Keystore ks{ca_dir};
+  check_namespace(name, "identity name");
+  const Authority authority = open_authority(ks);
+  if (name.empty() || !exists(ks.certificate(name)))
+    refuse(
+        sdk::codes::kBadRequest,
+        "the keystore has no identity '" + name + "'" +
+            (exists(ks.dir + "/revoked") ? " (revoked ones are in " + ks.dir + "/revoked)" : ""));
+  std::vector<ossl::Cert> certs;
+  certs.push_back(pki::read_cert(ks.certificate(name)));
+  std::error_code ec;
+  const std::string previous = ks.identity_dir(name) + "/previous";
+  if (exists(previous))
+    for (const auto& entry : fs::directory_iterator(previous, ec))
+      certs.push_back(pki::read_cert(entry.path().string()));
+  if (ec) refuse("io_error", "cannot read '" + previous + "': " + ec.message());
+  // The list so far (checked: the CA's), or a new one; the same entries, and NAME's added.
+  ossl::Crl crl(exists(ks.crl_file()) ? pki::read_crl(ks.crl_file(), authority.ca.get())
+                                      : ossl::Crl(X509_CRL_new()));
+  X509_CRL* c = crl.get();
+  using Time = std::unique_ptr<ASN1_TIME, ossl::Deleter<ASN1_TIME, ASN1_TIME_free>>;
+  const Time now(X509_gmtime_adj(nullptr, 0));
+  if (c == nullptr || !now || X509_CRL_set_version(c, 1) != 1 ||
+      X509_CRL_set_issuer_name(c, X509_get_subject_name(authority.ca.get())) != 1 ||
+      X509_CRL_set1_lastUpdate(c, now.get()) != 1 ||
+      // Valid as long as the CA: a list that expired would stop every participant.
+      X509_CRL_set1_nextUpdate(c, X509_get0_notAfter(authority.ca.get())) != 1)
+    ossl::fail("internal", "making the revocation list");
+  for (const auto& cert : certs) {
+    X509_REVOKED* listed = nullptr;
+    if (X509_CRL_get0_by_cert(c, &listed, cert.get()) == 1) continue;
+    X509_REVOKED* r = X509_REVOKED_new();
+    if (r == nullptr || X509_REVOKED_set_serialNumber(r, X509_get_serialNumber(cert.get())) != 1 ||
+        X509_REVOKED_set_revocationDate(r, now.get()) != 1 || X509_CRL_add0_revoked(c, r) != 1) {
+      X509_REVOKED_free(r);
+      ossl::fail("internal", "adding to the revocation list");
+    }
+  }
+  if (X509_CRL_sort(c) != 1 || X509_CRL_sign(c, authority.key.get(), EVP_sha256()) == 0)
+    ossl::fail("internal", "signing the revocation list");
+  ossl::Bio bio(BIO_new(BIO_s_mem()));
+  if (!bio || PEM_write_bio_X509_CRL(bio.get(), c) != 1)
+    ossl::fail("internal", "writing the revocation list");
+  char* data = nullptr;
+  const long n = BIO_get_mem_data(bio.get(), &data);
+  out << "flipper dds security: identity '" << name << "' revoked (" << certs.size()
+      << " certificate" << (certs.size() == 1 ? "" : "s") << ") in " << ca_dir << ":\n";
+  pki::write_text(ks.crl_file(), std::string(data, static_cast<std::size_t>(n)), false, out);
+  const std::string moved =
+      ks.dir + "/revoked/" + name + "-" + pki::serial_hex(certs.front().get());
+  make_dir(ks.dir + "/revoked", false);
+  fs::rename(ks.identity_dir(name), moved, ec);
+  if (ec) refuse("io_error", "cannot move '" + ks.identity_dir(name) + "': " + ec.message());
+  out << "  " << ks.identity_dir(name) << " -> " << moved << "\n";
+  fs::remove_all(ks.outbox(name), ec);
+  return ks.crl_file();
 }
 
 }  // namespace flipper::dds

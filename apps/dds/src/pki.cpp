@@ -231,6 +231,23 @@ std::string with_validity(const std::string& permissions, long days) {
   return permissions.substr(0, from) + validity_xml(days) + permissions.substr(to + close.size());
 }
 
+ossl::Crl read_crl(const std::string& path, X509* ca) {
+  const std::string pem = read_text(path);
+  ossl::Bio bio(BIO_new_mem_buf(pem.data(), static_cast<int>(pem.size())));
+  ossl::Crl crl(bio ? PEM_read_bio_X509_CRL(bio.get(), nullptr, nullptr, nullptr) : nullptr);
+  ERR_clear_error();
+  if (!crl)
+    refuse(sdk::codes::kBadConfig, "DDS Security: '" + path +
+                                       "' is not a certificate revocation list (PEM, from "
+                                       "`flipper dds security revoke`)");
+  const int signed_by_ca = X509_CRL_verify(crl.get(), X509_get0_pubkey(ca));
+  ERR_clear_error();
+  if (signed_by_ca != 1)
+    refuse(sdk::codes::kBadConfig,
+           "DDS Security: the revocation list '" + path + "' is not signed by the keystore's CA");
+  return crl;
+}
+
 std::string serial_hex(X509* cert) {
   BIGNUM* bn = ASN1_INTEGER_to_BN(X509_get_serialNumber(cert), nullptr);
   char* hex = bn != nullptr ? BN_bn2hex(bn) : nullptr;

@@ -44,6 +44,10 @@ std::string permissions_xml(const std::string& name, const std::vector<std::stri
 /// `permissions` with its <validity> replaced: from a day ago for `days` (renew).
 std::string with_validity(const std::string& permissions, long days);
 
+/// The certificate revocation list at `path`, checked: PEM, signed by `ca` (else
+/// sdk::Error(bad_config) naming the file).
+ossl::Crl read_crl(const std::string& path, X509* ca);
+
 /// The certificate's serial number in hexadecimal (as `openssl x509 -serial` prints it).
 std::string serial_hex(X509* cert);
 

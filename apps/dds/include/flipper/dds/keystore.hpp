@@ -16,6 +16,8 @@
 ///                                signed a lab's request, no key.pem (the lab keeps it) but
 ///                                NAME.csr, and previous/ (renewed certificates)
 ///   DIR/outbox/NAME/             at the CA: what lab NAME installs (lab_keys.hpp)
+///   DIR/crl.pem                  the CA's revocation list (revoke); DIR/revoked/ at the CA
+///                                holds the revoked identities' folders
 ///
 /// Permissions of identity NAME serving namespaces NS (default: NAME itself):
 ///   publish   rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}, rt/*/flipper/request
@@ -37,6 +39,8 @@ namespace flipper::dds {
 
 struct Keystore {
   std::string dir;
+  /// dds.security.crl: the revocation list to honour ("": crl_file() when it exists).
+  std::string crl = {};
 
   std::string ca_certificate() const { return dir + "/ca.pem"; }
   std::string ca_key() const { return dir + "/private/ca.key"; }
@@ -56,6 +60,11 @@ struct Keystore {
   /// What the CA sends back to lab NAME (sign, renew): ca.pem, governance.p7s, cert.pem,
   /// permissions.p7s (and crl.pem when there is one).
   std::string outbox(const std::string& name) const { return dir + "/outbox/" + name; }
+  /// The CA's certificate revocation list (lab_keys.hpp revoke_identity); at a lab, its copy.
+  std::string crl_file() const { return dir + "/crl.pem"; }
+  /// The CRL participants and the event check honour: `crl`, else crl_file() when it exists,
+  /// else "" (nothing revoked).
+  std::string revocation_list() const;
 };
 
 /// Highest DDS domain the governance and permissions cover (Cyclone's limit for them).
@@ -74,8 +83,9 @@ void add_identity(const std::string& dir, const std::string& name,
                   const std::vector<std::string>& namespaces, long days, std::ostream& out);
 
 /// The DDS Security participant QoS properties (dds.sec.*) for identity `name` of `keystore`:
-/// plugins, CA, certificate, key, governance, permissions. Throws sdk::Error(bad_config) naming
-/// a missing file.
+/// plugins, CA, certificate, key, governance, permissions, and the CRL when there is one
+/// (Cyclone 0.10's org.eclipse.cyclonedds.sec.auth.crl). Throws sdk::Error(bad_config) naming a
+/// missing file, a CRL the CA did not sign, or `name`'s own certificate revoked.
 std::vector<std::pair<std::string, std::string>> security_properties(const Keystore& keystore,
                                                                      const std::string& name);
 

@@ -10,6 +10,8 @@
 ///   lab: install_identity(LAB, NAME, OUTBOX) -> LAB/ca.pem, governance.p7s,
 ///                                              identities/NAME/cert.pem, permissions.p7s
 ///   CA:  renew_identity(CA, NAME)           -> a new certificate for the same key
+///   CA:  revoke_identity(CA, NAME)          -> CA/crl.pem, signed by the CA, names every
+///                                              certificate NAME was issued; CA/revoked/
 ///
 /// Every refusal is sdk::Error(bad_request) (bad_config for a name that is not a ROS 2 name
 /// token) naming what is wrong; nothing is written before every check passed.
@@ -37,6 +39,12 @@ std::string sign_request(const std::string& ca_dir, const std::string& csr_path,
 /// an identity whose certificate has expired (the lab requests again).
 void renew_identity(const std::string& ca_dir, const std::string& name, long days,
                     std::ostream& out);
+
+/// The CA's side: adds every certificate identity `name` holds (cert.pem and previous/) to the
+/// CA's revocation list (crl.pem, kept with the entries it had, signed anew, valid until the CA
+/// expires) and moves the identity's folder to revoked/NAME-SERIAL, so NAME may be signed again
+/// (a new key). Returns the CRL's path.
+std::string revoke_identity(const std::string& ca_dir, const std::string& name, std::ostream& out);
 
 /// The lab's side: checks what the CA sent (folder `from`: cert.pem issued by from/ca.pem for
 /// CN=`name` and this lab's key, permissions.p7s and governance.p7s signed by that CA, crl.pem
