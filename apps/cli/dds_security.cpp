@@ -19,7 +19,7 @@ int dds_security_main(const std::string& action, const DdsSecurityArgs& args) {
                 << " NAME (one per site or robot), or sign " << args.dir
                 << " NAME.csr (a lab's request)\n";
     } else if (action == "add") {
-      dds::add_identity(args.dir, args.name, args.namespaces, args.days, std::cout);
+      dds::add_identity(args.dir, args.name, args.role, args.namespaces, args.days, std::cout);
       std::cout << use << " --set dds.security.identity=" << args.name << "\n";
     } else if (action == "request") {
       const std::string csr = dds::request_identity(args.dir, args.name, std::cout);
@@ -27,7 +27,7 @@ int dds_security_main(const std::string& action, const DdsSecurityArgs& args) {
                 << "); the key stays here\n";
     } else if (action == "sign") {
       const std::string name =
-          dds::sign_request(args.dir, args.file, args.namespaces, args.days, std::cout);
+          dds::sign_request(args.dir, args.file, args.role, args.namespaces, args.days, std::cout);
       std::cout << "next, at the lab: flipper dds security install LAB_DIR " << name
                 << " OUTBOX (this outbox/" << name << " folder, copied there)\n";
     } else if (action == "renew") {

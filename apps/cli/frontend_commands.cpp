@@ -32,6 +32,12 @@ void add_dds_command(CLI::App& app) {
       revoke_opts;
   static DdsSecurityArgs init_args, add_args, request_args, sign_args, renew_args, install_args,
       revoke_args;
+  const auto role = [](CLI::App& sub, DdsSecurityArgs& args) {
+    sub.add_option("--role", args.role,
+                   "site (lexicon, its namespaces), robot (its namespaces) or operator (requests "
+                   "to the namespaces; default every robot)")
+        ->check(CLI::IsMember({"site", "robot", "operator"}));
+  };
   const auto days = [](CLI::App& sub, DdsSecurityArgs& args) {
     sub.add_option("--days", args.days,
                    "Days the certificate and permissions are valid (default 365)")
@@ -48,9 +54,11 @@ void add_dds_command(CLI::App& app) {
   add->add_option("dir", add_args.dir, "The keystore folder (from init)")->required();
   add->add_option("name", add_args.name, "The identity: a site's lexicon.site or a robot's name")
       ->required();
-  add->add_option("--namespace", add_args.namespaces,
-                  "A dds.namespace this identity may serve (repeatable; default: NAME)");
+  add->add_option(
+      "--namespace", add_args.namespaces,
+      "A dds.namespace this identity may serve, or operate (repeatable; default: NAME)");
   days(*add, add_args);
+  role(*add, add_args);
   on_run(*add, [] { return run_dds_security("add", add_args); });
   // A lab that keeps its key (docs/ros2.md, "Labs that keep their keys").
   auto* request = security->add_subcommand(
@@ -65,9 +73,11 @@ void add_dds_command(CLI::App& app) {
   add_common_options(*sign, sign_opts);
   sign->add_option("dir", sign_args.dir, "The CA's keystore folder (from init)")->required();
   sign->add_option("csr", sign_args.file, "The lab's request (NAME.csr)")->required();
-  sign->add_option("--namespace", sign_args.namespaces,
-                   "A dds.namespace this identity may serve (repeatable; default: NAME)");
+  sign->add_option(
+      "--namespace", sign_args.namespaces,
+      "A dds.namespace this identity may serve, or operate (repeatable; default: NAME)");
   days(*sign, sign_args);
+  role(*sign, sign_args);
   on_run(*sign, [] { return run_dds_security("sign", sign_args); });
   auto* renew = security->add_subcommand(
       "renew", "At the CA: a new certificate and permissions for identity NAME's same key");

@@ -62,9 +62,10 @@ void init_keystore(const std::string& dir, std::ostream& out) {
   pki::write_text(ks.governance(), pki::smime_signed(governance, ca.get(), key.get()), false, out);
 }
 
-void add_identity(const std::string& dir, const std::string& name,
+void add_identity(const std::string& dir, const std::string& name, const std::string& role,
                   const std::vector<std::string>& namespaces, long days, std::ostream& out) {
   const Keystore ks{dir};
+  pki::check_role(role);
   check_namespace(name, "identity name");
   for (const auto& ns : namespaces) check_namespace(ns, "namespace");
   std::error_code ec;
@@ -79,8 +80,7 @@ void add_identity(const std::string& dir, const std::string& name,
   if (ec) refuse("io_error", "cannot create '" + ks.identity_dir(name) + "': " + ec.message());
   const ossl::Key key = pki::new_key();
   const ossl::Cert cert = pki::make_cert(name, key.get(), ca.get(), ca_key.get(), days);
-  const std::string permissions = pki::permissions_xml(
-      name, namespaces.empty() ? std::vector<std::string>{name} : namespaces, days);
+  const std::string permissions = pki::permissions_xml(name, role, namespaces, days);
   out << "flipper dds security: identity '" << name << "' in " << dir << ", valid " << days
       << " days:\n";
   pki::write_text(ks.private_key(name), pki::key_pem(key.get()), true, out);

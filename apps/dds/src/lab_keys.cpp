@@ -209,9 +209,11 @@ std::string request_identity(const std::string& dir, const std::string& name, st
 }
 
 std::string sign_request(const std::string& ca_dir, const std::string& csr_path,
-                         const std::vector<std::string>& namespaces, long days, std::ostream& out) {
+                         const std::string& role, const std::vector<std::string>& namespaces,
+                         long days, std::ostream& out) {
   const Keystore ks{ca_dir};
   check_days(days);
+  pki::check_role(role);
   for (const auto& ns : namespaces) check_namespace(ns, "namespace");
   const Authority authority = open_authority(ks);
   const Req req = read_request(csr_path);
@@ -225,9 +227,7 @@ std::string sign_request(const std::string& ca_dir, const std::string& csr_path,
   out << "flipper dds security: identity '" << name << "' signed in " << ca_dir << ", valid "
       << days << " days:\n";
   copy_file(csr_path, ks.request(name), out);
-  issue(ks, name, cert.get(),
-        pki::permissions_xml(name, namespaces.empty() ? std::vector<std::string>{name} : namespaces,
-                             days),
+  issue(ks, name, cert.get(), pki::permissions_xml(name, role, namespaces, days),
         authority.ca.get(), authority.key.get(), out);
   return name;
 }

@@ -187,14 +187,30 @@ std::string governance_xml() {
 )";
 }
 
-std::string permissions_xml(const std::string& name, const std::vector<std::string>& namespaces,
-                            long days) {
-  std::vector<std::string> publish = {"rt/flipper/lexicon", "rt/*/flipper/request"};
-  std::vector<std::string> subscribe = {"rt/flipper/lexicon", "rt/*/flipper/plan",
-                                        "rt/*/flipper/actions", "rt/*/flipper/answer"};
-  for (const auto& ns : namespaces) {
-    for (const char* leaf : {"plan", "actions", "answer"}) publish.push_back(node_topic(ns, leaf));
-    subscribe.push_back(node_topic(ns, "request"));
+void check_role(const std::string& role) {
+  if (role != "site" && role != "robot" && role != "operator")
+    refuse(sdk::codes::kBadRequest, "--role '" + role + "' is not one of site, robot, operator");
+}
+
+std::string permissions_xml(const std::string& name, const std::string& role,
+                            const std::vector<std::string>& namespaces, long days) {
+  // The roles' grants (docs/ros2.md, "Roles"): a site replicates the lexicon and serves its
+  // namespaces; a robot serves its namespaces only; an operator sends requests to the robots of
+  // its namespaces (every robot when none is named) and reads their answers, plans and actions.
+  check_role(role);
+  std::vector<std::string> publish, subscribe;
+  if (role == "site") {
+    publish.emplace_back("rt/flipper/lexicon");
+    subscribe.emplace_back("rt/flipper/lexicon");
+  }
+  const std::vector<std::string> served =
+      !namespaces.empty() ? namespaces
+                          : std::vector<std::string>{role == "operator" ? std::string("*") : name};
+  for (const auto& ns : served) {
+    const bool serves = role != "operator";
+    for (const char* leaf : {"plan", "actions", "answer"})
+      (serves ? publish : subscribe).push_back(node_topic(ns, leaf));
+    (serves ? subscribe : publish).push_back(node_topic(ns, "request"));
   }
   return R"(<?xml version="1.0" encoding="UTF-8"?>
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">

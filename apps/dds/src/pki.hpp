@@ -38,9 +38,14 @@ ossl::Cert make_cert(const std::string& subject_cn, EVP_PKEY* key, X509* issuer,
 std::string smime_signed(const std::string& document, X509* ca, EVP_PKEY* ca_key);
 
 std::string governance_xml();
-/// The permissions of identity `name` serving `namespaces`, valid from a day ago for `days`.
-std::string permissions_xml(const std::string& name, const std::vector<std::string>& namespaces,
-                            long days);
+/// Throws sdk::Error(bad_request) unless `role` is site, robot or operator.
+void check_role(const std::string& role);
+
+/// The permissions of identity `name` in `role` (site, robot or operator; else
+/// sdk::Error(bad_request)) for `namespaces` (empty: {name}, an operator's {"*"}), valid from a
+/// day ago for `days`.
+std::string permissions_xml(const std::string& name, const std::string& role,
+                            const std::vector<std::string>& namespaces, long days);
 /// `permissions` with its <validity> replaced: from a day ago for `days` (renew).
 std::string with_validity(const std::string& permissions, long days);
 

@@ -6,6 +6,7 @@
 #include <openssl/x509.h>
 
 #include "dds_test_support.hpp"
+#include "flipper/dds/keystore.hpp"
 
 using namespace flipper;
 using namespace flipper::ddstest;
@@ -227,5 +228,109 @@ TEST_CASE("a lab with its own key joins and replicates with a site the CA made",
   CHECK(wait_until([&] { return lab1.top("fetch 4 items") == "{repeat 4 times {pick item }}"; },
                    std::chrono::seconds(60)));
   for (Site* s : {&lab1, &lab2}) CHECK(s->child->finish() == 0);
+  std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// Whether a participant of identity `name` (keystore `ks`) may create a writer (`publish`) or a
+// reader on `topic`: Cyclone's access control decides locally, from the signed permissions.
+bool allowed(dds::Participant& p, const std::string& topic, bool publish) {
+  dds::Qos qos;
+  dds::ros_default_qos(qos);
+  // A topic no rule names is refused at its creation; one the other direction names, at the
+  // writer's or the reader's.
+  const dds_entity_t t = dds_create_topic(p.handle(), &flipper_msg_dds__LexiconEvent__desc,
+                                          topic.c_str(), nullptr, nullptr);
+  const dds_entity_t e = t < 0     ? t
+                         : publish ? dds_create_writer(p.handle(), t, qos.q, nullptr)
+                                   : dds_create_reader(p.handle(), t, qos.q, nullptr);
+  if (e > 0) return true;
+  REQUIRE(e == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY);  // nothing else may fail here
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("each role is granted only what it needs (docs/ros2.md, Roles)",
+          "[dds][security][lab_keys]") {
+  const auto dir = scratch_dir("roles");
+  const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
+  REQUIRE(flipper_security({"init", ca}).status == 0);
+  REQUIRE(flipper_security({"add", ca, "lab1"}).status == 0);  // site, the default
+  REQUIRE(flipper_security({"add", ca, "robo", "--role", "robot", "--namespace", "r1"}).status ==
+          0);
+  REQUIRE(flipper_security({"add", ca, "op", "--role", "operator", "--namespace", "r1"}).status ==
+          0);
+  REQUIRE(flipper_security({"add", ca, "op_all", "--role", "operator"}).status == 0);
+  // sign takes --role too: a lab's operator with its own key.
+  REQUIRE(flipper_security({"request", lab, "op_lab"}).status == 0);
+  REQUIRE(flipper_security({"sign", ca, lab + "/identities/op_lab/op_lab.csr", "--role", "operator",
+                            "--namespace", "r2"})
+              .status == 0);
+  const Ran bad = flipper_security({"add", ca, "x", "--role", "admin"});
+  CHECK(bad.status == 2);
+  CHECK(bad.out.find("--role: admin not in {site,robot,operator}") != std::string::npos);
+
+  const std::string lexicon = "rt/flipper/lexicon";
+  const auto topic = [](const std::string& ns, const std::string& leaf) {
+    return "rt/" + ns + "/flipper/" + leaf;
+  };
+  // {identity, topic, publish?, allowed?}: the table of docs/ros2.md, both sides of each line.
+  struct Case {
+    std::string identity, topic;
+    bool publish, allowed;
+  };
+  const std::vector<Case> cases = {
+      {"lab1", lexicon, true, true},
+      {"lab1", lexicon, false, true},
+      {"lab1", topic("lab1", "answer"), true, true},
+      {"lab1", topic("lab1", "plan"), true, true},
+      {"lab1", topic("lab1", "request"), false, true},
+      {"lab1", topic("r1", "request"), true, false},  // a site sends no requests
+      {"lab1", topic("r1", "answer"), false, false},  // nor reads other namespaces' answers
+      {"lab1", topic("r1", "plan"), true, false},
+      {"robo", topic("r1", "plan"), true, true},
+      {"robo", topic("r1", "actions"), true, true},
+      {"robo", topic("r1", "answer"), true, true},
+      {"robo", topic("r1", "request"), false, true},
+      {"robo", lexicon, true, false},  // a robot does not replicate the lexicon
+      {"robo", lexicon, false, false},
+      {"robo", topic("r1", "request"), true, false},
+      {"robo", topic("robo", "plan"), true, false},  // only the namespaces named
+      {"op", topic("r1", "request"), true, true},
+      {"op", topic("r1", "answer"), false, true},
+      {"op", topic("r1", "plan"), false, true},
+      {"op", topic("r1", "actions"), false, true},
+      {"op", topic("r2", "request"), true, false},
+      {"op", topic("r2", "answer"), false, false},
+      {"op", topic("r1", "answer"), true, false},  // it never answers
+      {"op", lexicon, true, false},
+      {"op", lexicon, false, false},
+      {"op_all", topic("r2", "request"), true, true},
+      {"op_all", topic("r9", "answer"), false, true},
+      {"op_all", topic("r2", "answer"), true, false},
+      {"op_all", lexicon, true, false},
+      {"op_lab", topic("r2", "request"), true, true},
+      {"op_lab", topic("r1", "request"), true, false},
+  };
+  ensure_loopback_env();
+  dds::Transport t;
+  t.xml = dds::loopback_xml();
+  t.interfaces = {"lo"};
+  t.source = "test";
+  std::ostringstream sink;
+  const int domain = test_domain();
+  for (const std::string name : {"lab1", "robo", "op", "op_all", "op_lab"}) {
+    const dds::Keystore ks{name == "op_lab" ? lab : ca};
+    if (name == "op_lab")
+      REQUIRE(flipper_security({"install", lab, "op_lab", ca + "/outbox/op_lab"}).status == 0);
+    dds::Participant p(domain, t, sink, dds::security_properties(ks, name));
+    for (const auto& c : cases) {
+      if (c.identity != name) continue;
+      INFO(c.identity << (c.publish ? " publishes " : " subscribes ") << c.topic);
+      CHECK(allowed(p, c.topic, c.publish) == c.allowed);
+    }
+  }
   std::filesystem::remove_all(dir);
 }

@@ -19,12 +19,15 @@
 ///   DIR/crl.pem                  the CA's revocation list (revoke); DIR/revoked/ at the CA
 ///                                holds the revoked identities' folders
 ///
-/// Permissions of identity NAME serving namespaces NS (default: NAME itself):
-///   publish   rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}, rt/*/flipper/request
-///   subscribe rt/flipper/lexicon, rt/NS/flipper/request, rt/*/flipper/{plan,actions,answer}
-/// so only NAME may serve NAME's robot (answer its requests, publish its plans), any identity may
-/// send requests and read plans, and every site may replicate the lexicon (whose events carry
-/// their site's signature: event_signature.hpp).
+/// Permissions by role (docs/ros2.md, "Roles"), for namespaces NS (default: NAME; an
+/// operator's default: every namespace, `*`):
+///   site      publish rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}
+///             subscribe rt/flipper/lexicon, rt/NS/flipper/request
+///   robot     publish rt/NS/flipper/{plan,actions,answer}; subscribe rt/NS/flipper/request
+///   operator  publish rt/NS/flipper/request; subscribe rt/NS/flipper/{plan,actions,answer}
+/// so only NAME may serve NAME's robot (answer its requests, publish its plans), only sites
+/// replicate the lexicon (whose events carry their site's signature: event_signature.hpp), and
+/// only operators send requests. Every reader of rt/NS/flipper/answer sees every answer there.
 
 #include <optional>
 #include <string>
@@ -76,10 +79,11 @@ inline constexpr int kMaxSecureDomain = 230;
 void init_keystore(const std::string& dir, std::ostream& out);
 
 /// Adds identity `name` (a ROS 2 name token: names.hpp) with its certificate, key and signed
-/// permissions for `namespaces` (empty: {name}), valid `days` days. Throws
+/// permissions of `role` (site, robot or operator, below) for `namespaces` (empty: {name}; an
+/// operator's: every robot), valid `days` days. Throws
 /// sdk::Error(bad_request) when the keystore is missing or already has `name`. (A lab that keeps
 /// its own key uses request_identity and the CA sign_request instead: lab_keys.hpp.)
-void add_identity(const std::string& dir, const std::string& name,
+void add_identity(const std::string& dir, const std::string& name, const std::string& role,
                   const std::vector<std::string>& namespaces, long days, std::ostream& out);
 
 /// The DDS Security participant QoS properties (dds.sec.*) for identity `name` of `keystore`:

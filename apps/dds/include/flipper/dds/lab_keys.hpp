@@ -29,10 +29,12 @@ std::string request_identity(const std::string& dir, const std::string& name, st
 
 /// The CA's side: checks the CSR at `csr_path` (a PEM CSR; its signature verifies with its own
 /// key; a P-256 EC or 2048-bit RSA key; its subject exactly one CN, a ROS 2 name token, not yet
-/// an identity of the keystore `ca_dir`), then issues its certificate and permissions for
-/// `namespaces` (empty: {name}), valid `days` days, and fills the outbox. Returns the name.
+/// an identity of the keystore `ca_dir`), then issues its certificate and the permissions of
+/// `role` for `namespaces` (as add_identity: keystore.hpp), valid `days` days, and fills the
+/// outbox. Returns the name.
 std::string sign_request(const std::string& ca_dir, const std::string& csr_path,
-                         const std::vector<std::string>& namespaces, long days, std::ostream& out);
+                         const std::string& role, const std::vector<std::string>& namespaces,
+                         long days, std::ostream& out);
 
 /// The CA's side: a new certificate (new serial) for identity `name`'s key, and its permissions
 /// with a new validity, `days` days from now; the old certificate moves to previous/. Refuses
