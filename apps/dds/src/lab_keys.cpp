@@ -110,7 +110,7 @@ std::string checked_request_name(X509_REQ* req, const std::string& path) {
   const unsigned char* data =
       ASN1_STRING_get0_data(X509_NAME_ENTRY_get_data(const_cast<X509_NAME_ENTRY*>(only)));
   const int size = ASN1_STRING_length(X509_NAME_ENTRY_get_data(const_cast<X509_NAME_ENTRY*>(only)));
-  const std::string name(reinterpret_cast<const char*>(data), static_cast<std::size_t>(size));
+  std::string name(reinterpret_cast<const char*>(data), static_cast<std::size_t>(size));
   if (name.empty()) refuse(sdk::codes::kBadRequest, "the request '" + path + "' names no one");
   check_namespace(name, "the request's identity name");
   return name;
@@ -217,7 +217,7 @@ std::string sign_request(const std::string& ca_dir, const std::string& csr_path,
   for (const auto& ns : namespaces) check_namespace(ns, "namespace");
   const Authority authority = open_authority(ks);
   const Req req = read_request(csr_path);
-  const std::string name = checked_request_name(req.get(), csr_path);
+  std::string name = checked_request_name(req.get(), csr_path);
   if (exists(ks.certificate(name)))
     refuse(sdk::codes::kBadRequest, "the keystore already has identity '" + name +
                                         "' (renew it, or revoke it before signing a new key)");
