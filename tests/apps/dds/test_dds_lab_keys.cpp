@@ -334,3 +334,44 @@ TEST_CASE("each role is granted only what it needs (docs/ros2.md, Roles)",
   }
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("renew takes a certificate an hour before it expires, not an hour after",
+          "[dds][security][lab_keys]") {
+  const auto dir = scratch_dir("renew-expiry");
+  const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
+  REQUIRE(flipper_security({"init", ca}).status == 0);
+  REQUIRE(flipper_security({"request", lab, "lab9"}).status == 0);
+  REQUIRE(flipper_security({"sign", ca, lab + "/identities/lab9/lab9.csr"}).status == 0);
+  const std::string cert_path = ca + "/identities/lab9/cert.pem";
+  // The CA's certificate of lab9 re-dated to end `hours` from now and signed again by the CA.
+  const auto end_in = [&](long hours) {
+    const std::string pem = read_text(cert_path), key_pem = read_text(ca + "/private/ca.key");
+    BIO* bio = BIO_new_mem_buf(pem.data(), static_cast<int>(pem.size()));
+    X509* cert = PEM_read_bio_X509(bio, nullptr, nullptr, nullptr);
+    BIO_free(bio);
+    bio = BIO_new_mem_buf(key_pem.data(), static_cast<int>(key_pem.size()));
+    EVP_PKEY* key = PEM_read_bio_PrivateKey(bio, nullptr, nullptr, nullptr);
+    BIO_free(bio);
+    REQUIRE((cert != nullptr && key != nullptr));
+    X509_gmtime_adj(X509_getm_notAfter(cert), hours * 3600);
+    REQUIRE(X509_sign(cert, key, EVP_sha256()) > 0);
+    FILE* out = std::fopen(cert_path.c_str(), "w");
+    REQUIRE(out != nullptr);
+    REQUIRE(PEM_write_X509(out, cert) == 1);
+    std::fclose(out);
+    X509_free(cert);
+    EVP_PKEY_free(key);
+  };
+  end_in(-1);
+  const Ran expired = flipper_security({"renew", ca, "lab9"});
+  CHECK(expired.status == 2);
+  CHECK(expired.out ==
+        "flipper dds security renew: [bad_request] the certificate of 'lab9' has "
+        "expired: the lab makes a new request (revoke 'lab9' first)\n");
+  end_in(1);
+  const Ran renewed = flipper_security({"renew", ca, "lab9"});
+  INFO(renewed.out);
+  CHECK(renewed.status == 0);
+  CHECK(lifetime(cert_path).first == 366);
+  std::filesystem::remove_all(dir);
+}
