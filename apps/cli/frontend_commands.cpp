@@ -16,8 +16,9 @@ void add_serve_command(CLI::App& app) {
 
 // flipper dds [--config F] [--set k=v]: answers rt/<ns>/flipper/request on .../answer, with the
 // config's other DDS services (plans, lexicon replication), until SIGINT/SIGTERM.
-// flipper dds security init DIR | add DIR NAME [--namespace NS]...: the DDS Security keystore
-// (apps/dds/keystore.hpp).
+// flipper dds security init DIR | add DIR NAME [--namespace NS]... [--days N] | request DIR NAME
+// | sign DIR CSR [--namespace NS]... [--days N] | renew DIR NAME [--days N] | revoke DIR NAME |
+// install DIR NAME FROM: the DDS Security keystore (apps/dds/keystore.hpp, lab_keys.hpp).
 void add_dds_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "dds",
@@ -27,8 +28,21 @@ void add_dds_command(CLI::App& app) {
   auto* security = cmd->add_subcommand(
       "security", "Make the DDS Security keystore: a project CA, identities, permissions");
   security->require_subcommand(1);
-  static CommonOptions init_opts, add_opts;
-  static DdsSecurityArgs init_args, add_args;
+  static CommonOptions init_opts, add_opts, request_opts, sign_opts, renew_opts, install_opts,
+      revoke_opts;
+  static DdsSecurityArgs init_args, add_args, request_args, sign_args, renew_args, install_args,
+      revoke_args;
+  const auto role = [](CLI::App& sub, DdsSecurityArgs& args) {
+    sub.add_option("--role", args.role,
+                   "site (lexicon, its namespaces), robot (its namespaces) or operator (requests "
+                   "to the namespaces; default every robot)")
+        ->check(CLI::IsMember({"site", "robot", "operator"}));
+  };
+  const auto days = [](CLI::App& sub, DdsSecurityArgs& args) {
+    sub.add_option("--days", args.days,
+                   "Days the certificate and permissions are valid (default 365)")
+        ->check(CLI::Range(1, 3650));
+  };
   auto* init = security->add_subcommand(
       "init", "Create a keystore: the project CA and the signed governance document");
   add_common_options(*init, init_opts);
@@ -40,13 +54,56 @@ void add_dds_command(CLI::App& app) {
   add->add_option("dir", add_args.dir, "The keystore folder (from init)")->required();
   add->add_option("name", add_args.name, "The identity: a site's lexicon.site or a robot's name")
       ->required();
-  add->add_option("--namespace", add_args.namespaces,
-                  "A dds.namespace this identity may serve (repeatable; default: NAME)");
+  add->add_option(
+      "--namespace", add_args.namespaces,
+      "A dds.namespace this identity may serve, or operate (repeatable; default: NAME)");
+  days(*add, add_args);
+  role(*add, add_args);
+  on_run(*add, [] { return run_dds_security("add", add_args); });
+  // A lab that keeps its key (docs/ros2.md, "Labs that keep their keys").
+  auto* request = security->add_subcommand(
+      "request", "At a lab: make identity NAME's key (kept here) and a signing request for the CA");
+  add_common_options(*request, request_opts);
+  request->add_option("dir", request_args.dir, "The lab's keystore folder (created)")->required();
+  request->add_option("name", request_args.name, "The identity: the lab's lexicon.site")
+      ->required();
+  on_run(*request, [] { return run_dds_security("request", request_args); });
+  auto* sign = security->add_subcommand(
+      "sign", "At the CA: check a lab's request, issue its certificate and signed permissions");
+  add_common_options(*sign, sign_opts);
+  sign->add_option("dir", sign_args.dir, "The CA's keystore folder (from init)")->required();
+  sign->add_option("csr", sign_args.file, "The lab's request (NAME.csr)")->required();
+  sign->add_option(
+      "--namespace", sign_args.namespaces,
+      "A dds.namespace this identity may serve, or operate (repeatable; default: NAME)");
+  days(*sign, sign_args);
+  role(*sign, sign_args);
+  on_run(*sign, [] { return run_dds_security("sign", sign_args); });
+  auto* renew = security->add_subcommand(
+      "renew", "At the CA: a new certificate and permissions for identity NAME's same key");
+  add_common_options(*renew, renew_opts);
+  renew->add_option("dir", renew_args.dir, "The CA's keystore folder")->required();
+  renew->add_option("name", renew_args.name, "The identity")->required();
+  days(*renew, renew_args);
+  on_run(*renew, [] { return run_dds_security("renew", renew_args); });
+  auto* revoke = security->add_subcommand(
+      "revoke", "At the CA: revoke identity NAME's certificates (the CA's crl.pem)");
+  add_common_options(*revoke, revoke_opts);
+  revoke->add_option("dir", revoke_args.dir, "The CA's keystore folder")->required();
+  revoke->add_option("name", revoke_args.name, "The identity")->required();
+  on_run(*revoke, [] { return run_dds_security("revoke", revoke_args); });
+  auto* install = security->add_subcommand(
+      "install", "At a lab: check and install what the CA sent (its outbox/NAME folder)");
+  add_common_options(*install, install_opts);
+  install->add_option("dir", install_args.dir, "The lab's keystore folder (from request)")
+      ->required();
+  install->add_option("name", install_args.name, "The identity")->required();
+  install->add_option("from", install_args.file, "The folder the CA sent")->required();
+  on_run(*install, [] { return run_dds_security("install", install_args); });
   on_run(*cmd, [cmd] {
     if (!cmd->get_subcommands().empty()) return kExitOk;  // `dds security ...` ran instead
     return run_dds_node(opts);
   });
-  on_run(*add, [] { return run_dds_security("add", add_args); });
 }
 
 // flipper accounts add|passwd|list|remove|invite|revoke [NAME] [--config F] [--set k=v]: the

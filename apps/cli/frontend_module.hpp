@@ -26,7 +26,7 @@ struct DdsSecurityArgs;
 struct DdsServices;
 
 /// The hand-over's version: bump the number when InTreeCall changes.
-inline constexpr const char* kInTreeTag = "flipper " FLIPPER_VERSION " frontends/2";
+inline constexpr const char* kInTreeTag = "flipper " FLIPPER_VERSION " frontends/3";
 
 /// What flipper asks of an in-tree module. Pointers are flipper's, valid during the call.
 struct InTreeCall {
@@ -35,9 +35,9 @@ struct InTreeCall {
   const CommonOptions* opts = nullptr;        ///< serve, accounts, dds
   const AccountsArgs* accounts = nullptr;     ///< accounts
   const DdsSecurityArgs* security = nullptr;  ///< dds security
-  std::string action;                         ///< dds security: init | add
-  wiring::SessionHost* host = nullptr;        ///< dds services: the session's host
-  DdsServices* services = nullptr;            ///< dds services: filled in
+  std::string action;  ///< dds security: init | add | request | sign | renew | revoke | install
+  wiring::SessionHost* host = nullptr;  ///< dds services: the session's host
+  DdsServices* services = nullptr;      ///< dds services: filled in
 };
 
 /// Loads the in-tree module `module` and runs `call` on it; returns the command's exit status.

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "openssl_util.hpp"
+#include "pki.hpp"
 
 namespace flipper::dds {
 namespace {
@@ -69,6 +69,7 @@ void EventSigner::sign(LexiconEvent& e) const {
 
 struct EventVerifier::Impl {
   Store store;
+  std::string crl;  // the revocation list's path, "" for none
   struct Known {
     std::string error;  // empty: issued by the CA
     std::string cn;
@@ -87,9 +88,14 @@ struct EventVerifier::Impl {
     } else {
       StoreCtx ctx(X509_STORE_CTX_new());
       if (!ctx || X509_STORE_CTX_init(ctx.get(), store.get(), cert.get(), nullptr) != 1 ||
-          X509_verify_cert(ctx.get()) != 1)
-        k.error = std::string("its certificate was not issued by the keystore's CA (") +
-                  X509_verify_cert_error_string(X509_STORE_CTX_get_error(ctx.get())) + ")";
+          X509_verify_cert(ctx.get()) != 1) {
+        const int error = ctx ? X509_STORE_CTX_get_error(ctx.get()) : X509_V_ERR_UNSPECIFIED;
+        k.error = error == X509_V_ERR_CERT_REVOKED
+                      ? "its certificate (serial " + pki::serial_hex(cert.get()) +
+                            ") was revoked by the CA (" + crl + ")"
+                      : std::string("its certificate was not issued by the keystore's CA (") +
+                            X509_verify_cert_error_string(error) + ")";
+      }
       k.cn = ossl::common_name(cert.get());
       k.key.reset(X509_get_pubkey(cert.get()));
     }
@@ -103,6 +109,15 @@ EventVerifier::EventVerifier(const Keystore& ks) : impl_(std::make_unique<Impl>(
   const ossl::Cert ca = ossl::cert_from_pem(read_file(ks.ca_certificate()));
   if (!ca || !impl_->store || X509_STORE_add_cert(impl_->store.get(), ca.get()) != 1)
     ossl::fail(sdk::codes::kBadConfig, "DDS Security: reading '" + ks.ca_certificate() + "'");
+  // The revocation list (dds.security.crl), read once: a new one takes effect on restart, as it
+  // does for Cyclone's handshake (keystore.cpp security_properties).
+  impl_->crl = ks.revocation_list();
+  if (!impl_->crl.empty()) {
+    const ossl::Crl list = pki::read_crl(impl_->crl, ca.get());
+    if (X509_STORE_add_crl(impl_->store.get(), list.get()) != 1 ||
+        X509_STORE_set_flags(impl_->store.get(), X509_V_FLAG_CRL_CHECK) != 1)
+      ossl::fail("internal", "the revocation list '" + impl_->crl + "'");
+  }
 }
 
 EventVerifier::~EventVerifier() = default;

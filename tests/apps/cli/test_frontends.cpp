@@ -145,6 +145,6 @@ TEST_CASE("an in-tree module runs only under the flipper command of its build",
   CHECK(r.status == 1);
   CHECK(r.out ==
         "flipper frontend: [frontend_mismatch] the front-end module 'serve' ('flipper 0.1.0 "
-        "frontends/2') runs only under `flipper serve` of the same build (a mixed install? "
+        "frontends/3') runs only under `flipper serve` of the same build (a mixed install? "
         "reinstall flipper)\n");
 }

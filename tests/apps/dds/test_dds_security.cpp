@@ -168,10 +168,10 @@ TEST_CASE("secured sites replicate while forged deletions and unsigned participa
   // Permissions: mallory may serve its own robot's topics, not lab1's.
   dds::Qos qos;
   dds::ros_default_qos(qos);
-  const auto writer_on = [&](const std::string& topic) {
-    return dds_create_writer(mallory->handle(),
-                             mallory->topic(&flipper_msg_dds__LexiconEvent__desc, topic), qos.q,
-                             nullptr);
+  const auto writer_on = [&](const std::string& topic) {  // a topic no rule names: refused
+    const dds_entity_t t = dds_create_topic(mallory->handle(), &flipper_msg_dds__LexiconEvent__desc,
+                                            topic.c_str(), nullptr, nullptr);
+    return t < 0 ? t : dds_create_writer(mallory->handle(), t, qos.q, nullptr);
   };
   CHECK(writer_on(dds::node_topic("mallory", "answer")) > 0);
   CHECK(writer_on(dds::node_topic("lab1", "answer")) == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY);

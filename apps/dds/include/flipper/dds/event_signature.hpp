@@ -4,8 +4,9 @@
 /// DDS Security on, every lexicon event carries the certificate of the site that made it and
 /// that site's signature (ECDSA P-256, SHA-256) over the event's content (signed_text), so any
 /// site may relay it (catch-up) and every site can tell who made it. An event is accepted only
-/// when its certificate was issued by the keystore's CA, the certificate's subject CN is the
-/// event's site, and the signature verifies.
+/// when its certificate was issued by the keystore's CA and is not on its revocation list
+/// (Keystore::revocation_list, dds.security.crl), the certificate's subject CN is the event's
+/// site, and the signature verifies.
 
 #include <map>
 #include <memory>
@@ -37,6 +38,8 @@ class EventSigner {
 /// Checks received events against the keystore's CA (certificates verified once, then cached).
 class EventVerifier {
  public:
+  /// Throws sdk::Error(bad_config) when the CA or the revocation list cannot be read, or the
+  /// list is not signed by the CA.
   explicit EventVerifier(const Keystore& keystore);
   ~EventVerifier();
   EventVerifier(const EventVerifier&) = delete;

@@ -12,14 +12,22 @@
 ///                                topic's readers and writers are access-controlled, discovery,
 ///                                liveliness, metadata and data encrypted, RTPS messages signed
 ///   DIR/identities/NAME/         one per site or robot: cert.pem (subject CN=NAME), key.pem,
-///                                permissions.xml and its signed permissions.p7s
+///                                permissions.xml and its signed permissions.p7s; at a CA that
+///                                signed a lab's request, no key.pem (the lab keeps it) but
+///                                NAME.csr, and previous/ (renewed certificates)
+///   DIR/outbox/NAME/             at the CA: what lab NAME installs (lab_keys.hpp)
+///   DIR/crl.pem                  the CA's revocation list (revoke); DIR/revoked/ at the CA
+///                                holds the revoked identities' folders
 ///
-/// Permissions of identity NAME serving namespaces NS (default: NAME itself):
-///   publish   rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}, rt/*/flipper/request
-///   subscribe rt/flipper/lexicon, rt/NS/flipper/request, rt/*/flipper/{plan,actions,answer}
-/// so only NAME may serve NAME's robot (answer its requests, publish its plans), any identity may
-/// send requests and read plans, and every site may replicate the lexicon (whose events carry
-/// their site's signature: event_signature.hpp).
+/// Permissions by role (docs/ros2.md, "Roles"), for namespaces NS (default: NAME; an
+/// operator's default: every namespace, `*`):
+///   site      publish rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}
+///             subscribe rt/flipper/lexicon, rt/NS/flipper/request
+///   robot     publish rt/NS/flipper/{plan,actions,answer}; subscribe rt/NS/flipper/request
+///   operator  publish rt/NS/flipper/request; subscribe rt/NS/flipper/{plan,actions,answer}
+/// so only NAME may serve NAME's robot (answer its requests, publish its plans), only sites
+/// replicate the lexicon (whose events carry their site's signature: event_signature.hpp), and
+/// only operators send requests. Every reader of rt/NS/flipper/answer sees every answer there.
 
 #include <optional>
 #include <string>
@@ -34,6 +42,8 @@ namespace flipper::dds {
 
 struct Keystore {
   std::string dir;
+  /// dds.security.crl: the revocation list to honour ("": crl_file() when it exists).
+  std::string crl = {};
 
   std::string ca_certificate() const { return dir + "/ca.pem"; }
   std::string ca_key() const { return dir + "/private/ca.key"; }
@@ -46,6 +56,18 @@ struct Keystore {
   std::string permissions(const std::string& name) const {
     return identity_dir(name) + "/permissions.p7s";
   }
+  /// A lab's certificate signing request (lab_keys.hpp request_identity).
+  std::string request(const std::string& name) const {
+    return identity_dir(name) + "/" + name + ".csr";
+  }
+  /// What the CA sends back to lab NAME (sign, renew): ca.pem, governance.p7s, cert.pem,
+  /// permissions.p7s (and crl.pem when there is one).
+  std::string outbox(const std::string& name) const { return dir + "/outbox/" + name; }
+  /// The CA's certificate revocation list (lab_keys.hpp revoke_identity); at a lab, its copy.
+  std::string crl_file() const { return dir + "/crl.pem"; }
+  /// The CRL participants and the event check honour: `crl`, else crl_file() when it exists,
+  /// else "" (nothing revoked).
+  std::string revocation_list() const;
 };
 
 /// Highest DDS domain the governance and permissions cover (Cyclone's limit for them).
@@ -57,14 +79,17 @@ inline constexpr int kMaxSecureDomain = 230;
 void init_keystore(const std::string& dir, std::ostream& out);
 
 /// Adds identity `name` (a ROS 2 name token: names.hpp) with its certificate, key and signed
-/// permissions for `namespaces` (empty: {name}). Throws sdk::Error(bad_request) when the
-/// keystore is missing or already has `name`.
-void add_identity(const std::string& dir, const std::string& name,
-                  const std::vector<std::string>& namespaces, std::ostream& out);
+/// permissions of `role` (site, robot or operator, below) for `namespaces` (empty: {name}; an
+/// operator's: every robot), valid `days` days. Throws
+/// sdk::Error(bad_request) when the keystore is missing or already has `name`. (A lab that keeps
+/// its own key uses request_identity and the CA sign_request instead: lab_keys.hpp.)
+void add_identity(const std::string& dir, const std::string& name, const std::string& role,
+                  const std::vector<std::string>& namespaces, long days, std::ostream& out);
 
 /// The DDS Security participant QoS properties (dds.sec.*) for identity `name` of `keystore`:
-/// plugins, CA, certificate, key, governance, permissions. Throws sdk::Error(bad_config) naming
-/// a missing file.
+/// plugins, CA, certificate, key, governance, permissions, and the CRL when there is one
+/// (Cyclone 0.10's org.eclipse.cyclonedds.sec.auth.crl). Throws sdk::Error(bad_config) naming a
+/// missing file, a CRL the CA did not sign, or `name`'s own certificate revoked.
 std::vector<std::pair<std::string, std::string>> security_properties(const Keystore& keystore,
                                                                      const std::string& name);
 

@@ -33,6 +33,10 @@ inline constexpr param::Text kIdentity{
     "dds.security.identity", "",
     "DDS Security: this participant's identity in the keystore (empty: lexicon.site, else "
     "dds.namespace)"};
+inline constexpr param::Path kCrl{
+    "dds.security.crl", "",
+    "DDS Security: the CA's revocation list (`flipper dds security revoke`), honoured by the "
+    "handshake and the lexicon event check (empty: <keystore>/crl.pem when it exists)"};
 
 /// nav2.distro: which ROS 2 distribution's NavigateThroughPoses result the Nav2 stack speaks.
 enum class Nav2Distro { humble, jazzy };
@@ -63,6 +67,7 @@ inline sdk::ParamSchema config_schema() {
   param::add(s, kNamespace);
   param::add(s, kKeystore);
   param::add(s, kIdentity);
+  param::add(s, kCrl);
   s.add_section("nav2", "Nav2 as the executor of accepted plans (NavigateThroughPoses over DDS)");
   param::add(s, kNav2Execute);
   param::add(s, kNav2Distro);
