@@ -1,11 +1,21 @@
 #include "flipper/kernel/json_writer.hpp"
 
+#include <array>
+#include <charconv>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace flipper::kernel {
 namespace {
 
 using nlohmann::json;
+
+template <typename Int>
+void append_int(std::string& out, Int value) {
+  std::array<char, 24> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), value);
+  out.append(buf.data(), r.ptr);
+}
 
 // Printable ASCII other than '"' and '\\' is written as is; anything else (control characters,
 // UTF-8 sequences that may be invalid) goes through nlohmann's escaping, so the bytes stay
@@ -122,20 +132,40 @@ JsonWriter& JsonWriter::boolean(bool value) {
 
 JsonWriter& JsonWriter::integer(std::int64_t value) {
   separate();
-  out_ += std::to_string(value);
+  append_int(out_, value);
   return *this;
 }
 
 JsonWriter& JsonWriter::unsigned_integer(std::uint64_t value) {
   separate();
-  out_ += std::to_string(value);
+  append_int(out_, value);
   return *this;
 }
 
 JsonWriter& JsonWriter::number(double value) {
   separate();
-  out_ += json(value).dump();  // nlohmann's shortest round-trip form (and null for NaN/inf)
+  append_number(out_, value);
   return *this;
+}
+
+void JsonWriter::append_number(std::string& out, double value) {
+  // What nlohmann's serializer does for a double (dump_float): null for NaN and infinities, else
+  // its shortest round-trip form (Grisu2, "1.0" for integral values), without a tree or a string.
+  if (!std::isfinite(value)) {
+    out += "null";
+    return;
+  }
+  std::array<char, 64> buf{};
+  char* end = nlohmann::detail::to_chars(buf.data(), buf.data() + buf.size(), value);
+  out.append(buf.data(), end);
+}
+
+void JsonWriter::append_string(std::string& out, std::string_view value) {
+  append_escaped(out, value);
+}
+
+void JsonWriter::append_integer(std::string& out, std::int64_t value) {
+  append_int(out, value);
 }
 
 JsonWriter& JsonWriter::null() {
