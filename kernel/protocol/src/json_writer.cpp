@@ -17,25 +17,59 @@ void append_int(std::string& out, Int value) {
   out.append(buf.data(), r.ptr);
 }
 
-// Printable ASCII other than '"' and '\\' is written as is; anything else (control characters,
-// UTF-8 sequences that may be invalid) goes through nlohmann's escaping, so the bytes stay
-// nlohmann's.
-bool plain(std::string_view s) {
-  for (char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u >= 0x80 || c == '"' || c == '\\') return false;
-  }
+// ASCII is escaped here as nlohmann escapes it (ensure_ascii off: '"', '\\', the short escapes,
+// other control characters as \u00xx in lower case, everything else as is); a string with a byte
+// of 0x80 or more (UTF-8 sequences that may be invalid) goes through nlohmann's escaping, so the
+// bytes stay nlohmann's.
+bool ascii(std::string_view s) {
+  for (char c : s)
+    if (static_cast<unsigned char>(c) >= 0x80) return false;
   return true;
 }
 
 void append_escaped(std::string& out, std::string_view s) {
-  if (plain(s)) {
-    out += '"';
-    out += s;
-    out += '"';
+  if (!ascii(s)) {
+    out += json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
     return;
   }
-  out += json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
+  static constexpr char kHex[] = "0123456789abcdef";
+  out += '"';
+  std::size_t plain_from = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const auto u = static_cast<unsigned char>(s[i]);
+    if (u >= 0x20 && u != '"' && u != '\\') continue;
+    out.append(s.data() + plain_from, i - plain_from);
+    plain_from = i + 1;
+    switch (u) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\b':
+        out += "\\b";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\f':
+        out += "\\f";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      default:
+        out += "\\u00";
+        out += kHex[u >> 4];
+        out += kHex[u & 0xF];
+    }
+  }
+  out.append(s.data() + plain_from, s.size() - plain_from);
+  out += '"';
 }
 
 // Writes the events of a SAX parse through a JsonWriter: the text again, compact, in order.
