@@ -17,25 +17,43 @@ void append_int(std::string& out, Int value) {
   out.append(buf.data(), r.ptr);
 }
 
-// ASCII is escaped here as nlohmann escapes it (ensure_ascii off: '"', '\\', the short escapes,
-// other control characters as \u00xx in lower case, everything else as is); a string with a byte
-// of 0x80 or more (UTF-8 sequences that may be invalid) goes through nlohmann's escaping, so the
-// bytes stay nlohmann's.
+// The index of the first byte that is not printable ASCII other than '"' and '\\' (s.size() if
+// none: the string is written as it is).
+std::size_t first_special(std::string_view s) {
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const auto u = static_cast<unsigned char>(s[i]);
+    if (u < 0x20 || u >= 0x80 || u == '"' || u == '\\') return i;
+  }
+  return s.size();
+}
+
 bool ascii(std::string_view s) {
   for (char c : s)
     if (static_cast<unsigned char>(c) >= 0x80) return false;
   return true;
 }
 
+// ASCII is escaped here as nlohmann escapes it (ensure_ascii off: '"', '\\', the short escapes,
+// other control characters as \u00xx in lower case, everything else as is); a string with a byte
+// of 0x80 or more (UTF-8 sequences that may be invalid) goes through nlohmann's escaping, so the
+// bytes stay nlohmann's.
 void append_escaped(std::string& out, std::string_view s) {
-  if (!ascii(s)) {
+  const std::size_t special = first_special(s);
+  if (special == s.size()) {  // most keys and strings: nothing to escape
+    out += '"';
+    out.append(s);
+    out += '"';
+    return;
+  }
+  if (!ascii(s.substr(special))) {
     out += json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
     return;
   }
   static constexpr char kHex[] = "0123456789abcdef";
   out += '"';
-  std::size_t plain_from = 0;
-  for (std::size_t i = 0; i < s.size(); ++i) {
+  out.append(s.substr(0, special));
+  std::size_t plain_from = special;
+  for (std::size_t i = special; i < s.size(); ++i) {
     const auto u = static_cast<unsigned char>(s[i]);
     if (u >= 0x20 && u != '"' && u != '\\') continue;
     out.append(s.data() + plain_from, i - plain_from);
@@ -112,8 +130,8 @@ void JsonWriter::separate() {
     return;
   }
   if (first_.empty()) return;
-  if (first_.back())
-    first_.back() = false;
+  if (first_.back() != 0)
+    first_.back() = 0;
   else
     out_ += ',';
 }
@@ -121,7 +139,7 @@ void JsonWriter::separate() {
 JsonWriter& JsonWriter::begin_object() {
   separate();
   out_ += '{';
-  first_.push_back(true);
+  first_.push_back(1);
   return *this;
 }
 
@@ -134,7 +152,7 @@ JsonWriter& JsonWriter::end_object() {
 JsonWriter& JsonWriter::begin_array() {
   separate();
   out_ += '[';
-  first_.push_back(true);
+  first_.push_back(1);
   return *this;
 }
 

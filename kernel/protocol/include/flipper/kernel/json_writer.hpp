@@ -69,7 +69,9 @@ class JsonWriter {
   void separate();
 
   std::string& out_;
-  std::vector<bool> first_;  // per open container: no member written yet
+  // Per open container: 1 while no member is written yet (a string: no allocation for the few
+  // levels an answer has).
+  std::string first_;
   bool after_key_ = false;
 };
 
