@@ -145,13 +145,6 @@ void Session::op_query(const Json& req, JsonWriter& a) {
   const QueryResult result = query(request);
   const LastQuery& q = *result.query;
   const int dims = q.world.geometry ? q.world.geometry->dims() : 2;
-  // Room for the candidates at once (a guess; the bytes do not depend on it): in protocol 1 each
-  // carries a whole world, about the size of the last one written.
-  const std::size_t world_bytes =
-      protocol_ < 2 && !world_cache_.empty() ? world_cache_.front().text.size() : 64;
-  std::size_t room = 64;
-  for (const ShownCandidate& sc : q.shown) room += 256 + world_bytes + 24 * sc.outcome.trace.size();
-  a.text().reserve(a.text().size() + room);
   a.key("status").string(result.status).key("candidates").begin_array();
   for (const ShownCandidate& sc : q.shown) {
     const sdk::Candidate& c = q.parse.candidates[sc.index];
