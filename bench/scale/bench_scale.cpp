@@ -11,9 +11,12 @@
 //   rules     synthetic lexicon stores of 0 / 1k / 10k / 100k rules: start-up, RSS, parse p99
 //   long      a 5,000-request session (query + accept): accept p50 early vs late
 //   disk      accept/define p50/p99 while another process fsyncs in a loop (disk contention)
+//   k50       the same stream with every query asking for k = 50 candidates: server time per
+//             query (thread CPU in process; candidate serialisation, docs/protocol.md), and the
+//             round trip of a query through `flipper session`'s pipes at the default k and at 50
 //
 // Usage: bench_scale [--flipper BIN] [--corpus DIR] [--runs N] [--only
-// stream,worlds,rules,long,disk]
+// stream,worlds,rules,long,disk,k50]
 //                    [--rules 0,1000,10000,100000]
 #include <poll.h>
 #include <sys/resource.h>
@@ -179,7 +182,8 @@ std::vector<json> read_jsonl(const std::string& path) {
 }
 
 // The dev corpus as the protocol requests a client would have sent, session by session.
-std::vector<Request> corpus_stream() {
+// shown: the "k" of every query request (0: none, the session's default).
+std::vector<Request> corpus_stream(int shown = 0) {
   std::map<std::string, json> worlds;
   for (auto& w : read_jsonl(kCorpus + "worlds.jsonl")) {
     json obj;
@@ -207,7 +211,9 @@ std::vector<Request> corpus_stream() {
         auto w = worlds.find(q.value("world_id", ""));
         if (w != worlds.end())
           out.push_back({"world", json{{"op", "world"}, {"world", w->second}}.dump()});
-        out.push_back({"query", json{{"op", "query"}, {"text", q["utterance"]}}.dump()});
+        json request{{"op", "query"}, {"text", q["utterance"]}};
+        if (shown > 0) request["k"] = shown;
+        out.push_back({"query", request.dump()});
       } else if (kind == "accept") {
         out.push_back({"accept", R"({"op":"accept","rank":0})"});
       } else if (kind == "def" || kind == "def_ret" || kind == "def_iso") {
@@ -327,6 +333,49 @@ void bench_stream() {
     if (!v2)
       row("peak RSS of one study run (flipper session)", fmt("%.1f MiB", t.rss_mib), "<= 12 MiB",
           t.rss_mib <= 12);
+  }
+}
+
+// ---- k = 50 ----------------------------------------------------------------------------------
+// Server time of a query showing 50 candidates (each executed and written in full) on the study
+// stream, and the session protocol's round trip (client clock, pipes) at the default k and at 50.
+void bench_k50() {
+  constexpr int kShown = 50;
+  std::printf("== the study stream at k = %d (candidate serialisation)\n", kShown);
+  const auto stream = corpus_stream(kShown);
+  std::vector<double> p50s, p99s;
+  std::size_t bytes = 0, answers = 0;
+  for (int run = 0; run < g_runs; ++run) {
+    OpTimes t = replay_in_process(stream, false, (g_tmp / ("k50-" + std::to_string(run))).string());
+    p50s.push_back(pct(t.ms["query"], 0.5));
+    p99s.push_back(pct(t.ms["query"], 0.99));
+    bytes = t.bytes;
+    answers = t.answers;
+  }
+  std::printf(
+      "    in process, k = %d, query p50 %8.4f ms  p99 %8.4f ms  (thread CPU, median of %d)\n",
+      kShown, median(p50s), median(p99s), g_runs);
+  std::printf("    answer bytes: %.0f per answer\n",
+              static_cast<double>(bytes) / static_cast<double>(std::max<std::size_t>(1, answers)));
+  row("query server time p50 at k = 50, in process",
+      fmt("%.4f ms (p99 %.3f)", median(p50s), median(p99s)), "<= 0.020 ms", median(p50s) <= 0.020);
+  for (int k : {0, kShown}) {
+    std::vector<double> r50, r99;
+    for (int run = 0; run < g_runs; ++run) {
+      OpTimes t = replay_child(
+          k == 0 ? corpus_stream() : stream, false,
+          (g_tmp / ("k50-child-" + std::to_string(k) + "-" + std::to_string(run))).string());
+      r50.push_back(pct(t.ms["query"], 0.5));
+      r99.push_back(pct(t.ms["query"], 0.99));
+    }
+    const std::string label = k == 0 ? std::string("default k") : "k = " + std::to_string(k);
+    std::printf(
+        "    flipper session, %s, query round trip p50 %8.3f ms  p99 %8.3f ms  (wall, pipe, "
+        "median of %d)\n",
+        label.c_str(), median(r50), median(r99), g_runs);
+    row("query round trip p99, flipper session pipe, " + label,
+        fmt("%.3f ms (p50 %.3f)", median(r99), median(r50)), "<= 1 ms (quiet machine)",
+        median(r99) <= 1.0);
   }
 }
 
@@ -660,7 +709,7 @@ void bench_disk() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string only = "stream,worlds,rules,long,disk";
+  std::string only = "stream,worlds,rules,long,disk,k50";
   std::vector<int> sizes = {0, 1000, 10000, 100000};
   for (int i = 1; i + 1 < argc; i += 2) {
     std::string a = argv[i];
@@ -700,6 +749,7 @@ int main(int argc, char** argv) {
     if (want("rules")) bench_rules(sizes);
     if (want("long")) bench_long();
     if (want("disk")) bench_disk();
+    if (want("k50")) bench_k50();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_scale: %s\n", e.what());
     rc = 1;

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <nlohmann/json.hpp>
 
+#include "flipper/kernel/json_writer.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "studio_ops.hpp"
 
@@ -63,17 +64,34 @@ std::string lower(std::string text) {
   return text;
 }
 
-std::string body(const std::string& type, std::uint64_t count, double seconds,
-                 const SempreAnswer& a, const std::string& error_code = {}) {
+}  // namespace
+
+// The members in nlohmann's (sorted) key order: the bytes dumping the answer's tree wrote.
+std::string sempre_body(const std::string& type, std::uint64_t count, double seconds,
+                        const SempreAnswer& a, const std::string& error_code) {
   Json stats = a.stats;
   stats["type"] = type;
   stats["count"] = count;
   stats["walltime"] = seconds;
-  Json out{{"stats", std::move(stats)}, {"lines", a.lines}, {"candidates", a.candidates}};
-  if (!error_code.empty())
-    out["error"] = Json{{"code", error_code}, {"message", a.lines.empty() ? "" : a.lines[0]}};
-  return out.dump(-1, ' ', false, Json::error_handler_t::replace);
+  std::size_t size = 64;
+  for (const auto& c : a.candidates) size += c.size() + 1;
+  std::string out;
+  out.reserve(size);
+  kernel::JsonWriter w(out);
+  w.begin_object().key("candidates").begin_array();
+  for (const auto& c : a.candidates) w.raw(c);
+  w.end_array();
+  if (!error_code.empty()) {
+    w.key("error").begin_object().key("code").string(error_code);
+    w.key("message").string(a.lines.empty() ? "" : a.lines[0]).end_object();
+  }
+  w.key("lines").begin_array();
+  for (const auto& l : a.lines) w.string(l);
+  w.end_array().key("stats").value(stats).end_object();
+  return out;
 }
+
+namespace {
 
 HttpReply refused(int status, const std::string& code, const std::string& message,
                   std::uint64_t count, const std::string& allow) {
@@ -82,7 +100,7 @@ HttpReply refused(int status, const std::string& code, const std::string& messag
   reply.status = status;
   SempreAnswer a;
   a.lines.push_back(message);
-  reply.body = body("error", count, 0.0, a, code);
+  reply.body = sempre_body("error", count, 0.0, a, code);
   return reply;
 }
 
@@ -236,7 +254,7 @@ HttpReply SempreEndpoint::handle(const SempreRequest& request) {
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    reply.body = body(command.name, count, seconds, answer, code);
+    reply.body = sempre_body(command.name, count, seconds, answer, code);
     return reply;
   });
 }

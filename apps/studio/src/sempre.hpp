@@ -56,6 +56,12 @@ class SempreEndpoint {
   std::atomic<std::uint64_t> count_{0};   ///< requests answered (stats.count)
 };
 
+/// An answer's body: {"candidates": [...], ["error": {"code", "message"},] "lines": [...],
+/// "stats": {..., "type", "count", "walltime"}} (docs/sempre.md), compact, invalid UTF-8 replaced.
+/// `error_code` "" gives no "error" member.
+std::string sempre_body(const std::string& type, std::uint64_t count, double seconds,
+                        const SempreAnswer& answer, const std::string& error_code = {});
+
 /// The query string's parameters, percent-decoded ('+' is a space, as in the original's
 /// form decoding). Throws sdk::Error(bad_request) for a malformed escape.
 std::map<std::string, std::string> decode_query_string(std::string_view query);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "flipper/corpus/original_formula.hpp"
+#include "flipper/kernel/json_writer.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -43,16 +44,11 @@ double finite(double v) {
   return std::isfinite(v) ? v : 0.0;
 }
 
-Json candidate(const kernel::LastQuery& q, const kernel::ShownCandidate& sc,
-               const sdk::ExecutionService& exec) {
+std::string candidate(const kernel::LastQuery& q, const kernel::ShownCandidate& sc,
+                      const sdk::ExecutionService& exec) {
   const sdk::Candidate& c = q.parse.candidates[sc.index];
-  const std::string formula = sdk::render(c.program);
-  return Json{{"formula", formula},
-              {"prettyString", formula},
-              {"score", finite(c.score)},
-              {"prob", finite(q.probs[sc.index])},
-              {"value", sempre_value(c.program, q.world, sc.outcome, exec)},
-              {"anchored", true}};
+  return candidate_text(sdk::render(c.program), finite(c.score), finite(q.probs[sc.index]),
+                        sempre_value(c.program, q.world, sc.outcome, exec));
 }
 
 const char* original_status(const std::string& ours) {
@@ -155,12 +151,7 @@ SempreAnswer define(SempreSession& s, const SempreCommand& c) {
   const std::string formula = sdk::render(out.body);
   const Json value{{"status", ""}, {"path", Json::array()}};
   SempreAnswer a;
-  a.candidates.push_back(Json{{"formula", formula},
-                              {"prettyString", formula},
-                              {"score", 0.0},
-                              {"prob", 1.0},
-                              {"value", value.dump()},
-                              {"anchored", true}});
+  a.candidates.push_back(candidate_text(formula, 0.0, 1.0, value.dump()));
   a.stats["rules"] = out.rules.size();
   return a;
 }
@@ -208,6 +199,17 @@ std::string sempre_user(const std::string& session_id) {
 
 std::string sempre_uid(const std::string& author) {
   return author.rfind(kUserPrefix, 0) == 0 ? author.substr(kUserPrefix.size()) : author;
+}
+
+std::string candidate_text(const std::string& formula, double score, double prob,
+                           const std::string& value) {
+  std::string out;
+  out.reserve(64 + 2 * formula.size() + value.size() + value.size() / 4);
+  kernel::JsonWriter w(out);
+  w.begin_object().key("anchored").boolean(true).key("formula").string(formula);
+  w.key("prettyString").string(formula).key("prob").number(prob).key("score").number(score);
+  w.key("value").string(value).end_object();
+  return out;
 }
 
 SempreAnswer run_sempre_command(SempreSession& s, const SempreCommand& c) {

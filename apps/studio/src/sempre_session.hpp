@@ -27,12 +27,20 @@ std::string sempre_user(const std::string& session_id);
 std::string sempre_uid(const std::string& author);
 
 /// One answer: `stats` (the command's own members; the endpoint adds type, count, walltime),
-/// `lines` (messages; the client shows a non-empty list as an alert) and `candidates`.
+/// `lines` (messages; the client shows a non-empty list as an alert) and `candidates`, each
+/// already written as its JSON object (candidate_text): a candidate is written once, where it is
+/// made, and the answer is assembled from the texts (docs/sempre.md § "Answers").
 struct SempreAnswer {
   nlohmann::json stats = nlohmann::json::object();
   std::vector<std::string> lines;
-  nlohmann::json candidates = nlohmann::json::array();
+  std::vector<std::string> candidates;
 };
+
+/// A candidate's JSON object, the bytes nlohmann's dump (invalid UTF-8 replaced) writes for
+/// {"formula": formula, "prettyString": formula, "score": score, "prob": prob, "value": value,
+/// "anchored": true}: members in its (sorted) key order, NaN and infinities as null.
+std::string candidate_text(const std::string& formula, double score, double prob,
+                           const std::string& value);
 
 struct SempreSession {
   kernel::Session* session = nullptr;  ///< owned by the server's session table (SessionEntry)

@@ -4,11 +4,28 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "flipper/kernel/json_writer.hpp"
+
 namespace flipper::studio {
 namespace {
 
 using Kind = sdk::Kind;
 using Step = sdk::TraceStep;
+
+// A string as nlohmann's dump() writes it with its default (strict) error handler: invalid UTF-8
+// throws its type_error, as dumping the value's tree did.
+void append_strict(std::string& out, const std::string& s) {
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u >= 0x80 || c == '"' || c == '\\') {
+      out += nlohmann::json(s).dump();
+      return;
+    }
+  }
+  out += '"';
+  out += s;
+  out += '"';
+}
 
 bool is_movement(Kind k) {
   return k == Kind::Move || k == Kind::VisitPoint || k == Kind::VisitArea ||
@@ -64,23 +81,41 @@ class PathWriter {
     }
   }
 
-  nlohmann::json take() { return std::move(path_); }
+  /// The path's entries, written: `[e1,e2,...]` without the brackets.
+  const std::string& entries() const { return path_; }
 
  private:
+  // Each entry is written as nlohmann dumps the array [x, y, action, color, shape, possible]
+  // (the value used to be that tree, dumped).
+  void begin(sdk::Cell c, const char* action) {
+    if (!path_.empty()) path_ += ',';
+    path_ += '[';
+    kernel::JsonWriter::append_integer(path_, c.x);
+    path_ += ',';
+    kernel::JsonWriter::append_integer(path_, c.y);
+    path_ += ",\"";
+    path_ += action;
+    path_ += "\",";
+  }
   void entry(sdk::Cell c, const char* action) {
-    path_.push_back({c.x, c.y, action, "null", "null", true});
+    begin(c, action);
+    path_ += R"("null","null",true])";
   }
   void item(const Step& st) {
-    path_.push_back({st.cell.x, st.cell.y, st.act == Step::Act::pick ? "pickitem" : "dropitem",
-                     st.item.color, st.item.shape, true});
+    begin(st.cell, st.act == Step::Act::pick ? "pickitem" : "dropitem");
+    append_strict(path_, st.item.color);
+    path_ += ',';
+    append_strict(path_, st.item.shape);
+    path_ += ",true]";
   }
   void failed_item_action(const char* action) {
-    path_.push_back({at_.x, at_.y, action, "null", "null", false});
+    begin(at_, action);
+    path_ += R"("null","null",false])";
   }
 
   sdk::Cell at_;
   bool moved_ = false;
-  nlohmann::json path_ = nlohmann::json::array();
+  std::string path_;
 };
 
 // The statements a program runs one after the other: a sequence's statements and the copies of
@@ -106,10 +141,16 @@ bool split(const sdk::Program& p, std::vector<sdk::Program>& out, std::size_t li
 // Most statements one program is split into for its value (beyond: one compound statement).
 constexpr std::size_t kMaxStatements = 1000;
 
-std::string value_text(const sdk::Outcome& whole, PathWriter& writer) {
-  const nlohmann::json value{{"status", whole.warnings.empty() ? "" : whole.warnings.back()},
-                             {"path", writer.take()}};
-  return value.dump();
+// {"path": [...], "status": "<the last warning or empty>"}, as nlohmann dumps that object.
+std::string value_text(const sdk::Outcome& whole, const PathWriter& writer) {
+  std::string out;
+  out.reserve(writer.entries().size() + 32);
+  out += R"({"path":[)";
+  out += writer.entries();
+  out += R"(],"status":)";
+  append_strict(out, whole.warnings.empty() ? std::string() : whole.warnings.back());
+  out += '}';
+  return out;
 }
 
 }  // namespace

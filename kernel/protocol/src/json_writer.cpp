@@ -1,5 +1,8 @@
 #include "flipper/kernel/json_writer.hpp"
 
+#include <array>
+#include <charconv>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace flipper::kernel {
@@ -7,25 +10,84 @@ namespace {
 
 using nlohmann::json;
 
-// Printable ASCII other than '"' and '\\' is written as is; anything else (control characters,
-// UTF-8 sequences that may be invalid) goes through nlohmann's escaping, so the bytes stay
-// nlohmann's.
-bool plain(std::string_view s) {
-  for (char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u >= 0x80 || c == '"' || c == '\\') return false;
+template <typename Int>
+void append_int(std::string& out, Int value) {
+  std::array<char, 24> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), value);
+  out.append(buf.data(), r.ptr);
+}
+
+// The index of the first byte that is not printable ASCII other than '"' and '\\' (s.size() if
+// none: the string is written as it is).
+std::size_t first_special(std::string_view s) {
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const auto u = static_cast<unsigned char>(s[i]);
+    if (u < 0x20 || u >= 0x80 || u == '"' || u == '\\') return i;
   }
+  return s.size();
+}
+
+bool ascii(std::string_view s) {
+  for (char c : s)
+    if (static_cast<unsigned char>(c) >= 0x80) return false;
   return true;
 }
 
+// ASCII is escaped here as nlohmann escapes it (ensure_ascii off: '"', '\\', the short escapes,
+// other control characters as \u00xx in lower case, everything else as is); a string with a byte
+// of 0x80 or more (UTF-8 sequences that may be invalid) goes through nlohmann's escaping, so the
+// bytes stay nlohmann's.
 void append_escaped(std::string& out, std::string_view s) {
-  if (plain(s)) {
+  const std::size_t special = first_special(s);
+  if (special == s.size()) {  // most keys and strings: nothing to escape
     out += '"';
-    out += s;
+    out.append(s);
     out += '"';
     return;
   }
-  out += json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
+  if (!ascii(s.substr(special))) {
+    out += json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
+    return;
+  }
+  static constexpr char kHex[] = "0123456789abcdef";
+  out += '"';
+  out.append(s.substr(0, special));
+  std::size_t plain_from = special;
+  for (std::size_t i = special; i < s.size(); ++i) {
+    const auto u = static_cast<unsigned char>(s[i]);
+    if (u >= 0x20 && u != '"' && u != '\\') continue;
+    out.append(s.data() + plain_from, i - plain_from);
+    plain_from = i + 1;
+    switch (u) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\b':
+        out += "\\b";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\f':
+        out += "\\f";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      default:
+        out += "\\u00";
+        out += kHex[u >> 4];
+        out += kHex[u & 0xF];
+    }
+  }
+  out.append(s.data() + plain_from, s.size() - plain_from);
+  out += '"';
 }
 
 // Writes the events of a SAX parse through a JsonWriter: the text again, compact, in order.
@@ -68,8 +130,8 @@ void JsonWriter::separate() {
     return;
   }
   if (first_.empty()) return;
-  if (first_.back())
-    first_.back() = false;
+  if (first_.back() != 0)
+    first_.back() = 0;
   else
     out_ += ',';
 }
@@ -77,7 +139,7 @@ void JsonWriter::separate() {
 JsonWriter& JsonWriter::begin_object() {
   separate();
   out_ += '{';
-  first_.push_back(true);
+  first_.push_back(1);
   return *this;
 }
 
@@ -90,7 +152,7 @@ JsonWriter& JsonWriter::end_object() {
 JsonWriter& JsonWriter::begin_array() {
   separate();
   out_ += '[';
-  first_.push_back(true);
+  first_.push_back(1);
   return *this;
 }
 
@@ -122,20 +184,40 @@ JsonWriter& JsonWriter::boolean(bool value) {
 
 JsonWriter& JsonWriter::integer(std::int64_t value) {
   separate();
-  out_ += std::to_string(value);
+  append_int(out_, value);
   return *this;
 }
 
 JsonWriter& JsonWriter::unsigned_integer(std::uint64_t value) {
   separate();
-  out_ += std::to_string(value);
+  append_int(out_, value);
   return *this;
 }
 
 JsonWriter& JsonWriter::number(double value) {
   separate();
-  out_ += json(value).dump();  // nlohmann's shortest round-trip form (and null for NaN/inf)
+  append_number(out_, value);
   return *this;
+}
+
+void JsonWriter::append_number(std::string& out, double value) {
+  // What nlohmann's serializer does for a double (dump_float): null for NaN and infinities, else
+  // its shortest round-trip form (Grisu2, "1.0" for integral values), without a tree or a string.
+  if (!std::isfinite(value)) {
+    out += "null";
+    return;
+  }
+  std::array<char, 64> buf{};
+  char* end = nlohmann::detail::to_chars(buf.data(), buf.data() + buf.size(), value);
+  out.append(buf.data(), end);
+}
+
+void JsonWriter::append_string(std::string& out, std::string_view value) {
+  append_escaped(out, value);
+}
+
+void JsonWriter::append_integer(std::string& out, std::int64_t value) {
+  append_int(out, value);
 }
 
 JsonWriter& JsonWriter::null() {

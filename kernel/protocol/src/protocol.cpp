@@ -1,5 +1,6 @@
 #include <nlohmann/json.hpp>
 
+#include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/protocol.hpp"
 
 namespace flipper::kernel::protocol {
@@ -46,24 +47,39 @@ Json trace_json(const std::vector<sdk::TraceStep>& trace, int dims) {
   return out;
 }
 
+// The bytes of step_json(...).dump() without the tree: members in the tree's (sorted) key order,
+// strings escaped by the writer (nlohmann's escaping), integers as nlohmann writes them.
 void append_trace_text(std::string& out, const std::vector<sdk::TraceStep>& trace, int dims) {
+  const auto cell = [&](const sdk::Cell& c) {
+    out += '[';
+    JsonWriter::append_integer(out, c.x);
+    out += ',';
+    JsonWriter::append_integer(out, c.y);
+    if (dims == 3) {
+      out += ',';
+      JsonWriter::append_integer(out, c.z);
+    }
+    out += ']';
+  };
   out += '[';
   for (std::size_t i = 0; i < trace.size(); ++i) {
     const sdk::TraceStep& s = trace[i];
     if (i != 0) out += ',';
-    if (s.act != sdk::TraceStep::Act::move) {  // items carry strings: let nlohmann escape them
-      out += step_json(s, dims).dump(-1, ' ', false, Json::error_handler_t::replace);
+    if (s.act == sdk::TraceStep::Act::move) {
+      out += R"({"act":"move","to":)";
+      cell(s.cell);
+      out += '}';
       continue;
     }
-    out += R"({"act":"move","to":[)";
-    out += std::to_string(s.cell.x);
-    out += ',';
-    out += std::to_string(s.cell.y);
-    if (dims == 3) {
-      out += ',';
-      out += std::to_string(s.cell.z);
-    }
-    out += "]}";
+    out += s.act == sdk::TraceStep::Act::pick ? R"({"act":"pick","at":)" : R"({"act":"drop","at":)";
+    cell(s.cell);
+    out += R"(,"item":{"color":)";
+    JsonWriter::append_string(out, s.item.color);
+    out += R"(,"id":)";
+    JsonWriter::append_integer(out, s.item.id);
+    out += R"(,"shape":)";
+    JsonWriter::append_string(out, s.item.shape);
+    out += "}}";
   }
   out += ']';
 }

@@ -2,7 +2,7 @@
 // The dev corpus (FLIPPER_STUDY_DIR/dev, i.e. data/study2018/dev) as protocol request lines,
 // session by session (as bench/scale replays it): user, then world + query per logged query, accept
 // rank 0, define, and a state at the end of each. Shared by the protocol-2 oracle and the
-// byte-identity golden test.
+// byte-identity golden test. `shown` > 0 asks every query for that many candidates ("k").
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -21,7 +21,7 @@ inline std::vector<nlohmann::json> read_jsonl(const std::string& path) {
   return out;
 }
 
-inline std::vector<std::string> dev_stream() {
+inline std::vector<std::string> dev_stream(int shown = 0) {
   std::map<std::string, nlohmann::json> worlds, defs;
   for (auto& w : read_jsonl(kDev + "worlds.jsonl")) {
     nlohmann::json obj;
@@ -46,7 +46,9 @@ inline std::vector<std::string> dev_stream() {
       if (kind == "q" && q["utterance"].is_string()) {
         if (auto w = worlds.find(q.value("world_id", "")); w != worlds.end())
           out.push_back(nlohmann::json{{"op", "world"}, {"world", w->second}}.dump());
-        out.push_back(nlohmann::json{{"op", "query"}, {"text", q["utterance"]}}.dump());
+        nlohmann::json query{{"op", "query"}, {"text", q["utterance"]}};
+        if (shown > 0) query["k"] = shown;
+        out.push_back(query.dump());
       } else if (kind == "accept") {
         out.push_back(R"({"op":"accept","rank":0})");
       } else if (kind == "def" || kind == "def_ret" || kind == "def_iso") {

@@ -8,6 +8,9 @@
 // intended change of what the stream's definitions induce (last: the best-packing tie rule of
 // docs/naturalization.md §4.6, which changed the best rules of 7 of its definitions, the readings
 // of 496 later queries and the rule ids in 418 more answers).
+// golden/dev_answers_k50.txt holds the same stream with every query asking for k = 50 candidates
+// (every reading written in full: the candidate writer's bytes), recorded with main's binary before
+// the candidate writer wrote numbers, ids and trace steps itself (FLIPPER_WRITE_GOLDEN_K50=<path>).
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstdlib>
@@ -21,6 +24,8 @@ namespace {
 
 const std::string kGolden =
     std::string(FLIPPER_SOURCE_DIR) + "/tests/kernel/session/golden/dev_answers.txt";
+const std::string kGoldenK50 =
+    std::string(FLIPPER_SOURCE_DIR) + "/tests/kernel/session/golden/dev_answers_k50.txt";
 
 // Requests the dev corpus does not send: what the answer writer must escape and echo exactly.
 std::vector<std::string> edge_lines() {
@@ -96,10 +101,10 @@ std::string mask_ms(const std::string& answer) {
 }
 
 // Every answer of one session over the stream, protocol 1 or 2.
-std::vector<std::string> answers(int protocol) {
+std::vector<std::string> answers(int protocol, int shown = 0) {
   auto session = flipper::wiring::open_session(
       std::nullopt, flipper::testsupport::test_overrides({"session.deadline_ms=86400000"}));
-  std::vector<std::string> lines = flipper::testsupport::dev_stream();
+  std::vector<std::string> lines = flipper::testsupport::dev_stream(shown);
   if (protocol == 2) lines.insert(lines.begin(), R"({"op":"hello","protocol":2})");
   for (auto& e : edge_lines()) lines.push_back(std::move(e));
   std::vector<std::string> out;
@@ -116,18 +121,20 @@ TEST_CASE("masking the query time leaves every other byte", "[session][golden]")
   CHECK(mask_ms(R"({"text":"\"ms\":12"})") == R"({"text":"\"ms\":12"})");
 }
 
-TEST_CASE("answers are byte-identical to the recorded ones over the dev corpus stream",
-          "[session][golden][corpus]") {
-  if (const char* path = std::getenv("FLIPPER_WRITE_GOLDEN")) {
+namespace {
+
+// Writes the fixture when `env` names a path, else compares every answer with it.
+void compare_with_golden(const char* env, const std::string& fixture, int shown) {
+  if (const char* path = std::getenv(env)) {
     std::ofstream f(path);
     for (int protocol : {1, 2})
-      for (const auto& a : answers(protocol))
+      for (const auto& a : answers(protocol, shown))
         f << protocol << ' ' << std::hex << fnv1a(a) << std::dec << '\n';
     REQUIRE(f.good());
     WARN("golden answers written to " << path);
     return;
   }
-  std::ifstream f(kGolden);
+  std::ifstream f(fixture);
   REQUIRE(f.good());
   std::vector<std::pair<int, std::string>> golden;
   int p = 0;
@@ -135,7 +142,7 @@ TEST_CASE("answers are byte-identical to the recorded ones over the dev corpus s
   while (f >> p >> h) golden.emplace_back(p, h);
   std::size_t at = 0, compared = 0;
   for (int protocol : {1, 2}) {
-    const auto got = answers(protocol);
+    const auto got = answers(protocol, shown);
     for (std::size_t i = 0; i < got.size(); ++i, ++at) {
       REQUIRE(at < golden.size());
       REQUIRE(golden[at].first == protocol);
@@ -148,4 +155,16 @@ TEST_CASE("answers are byte-identical to the recorded ones over the dev corpus s
   }
   CHECK(at == golden.size());
   CHECK(compared > 18000);
+}
+
+}  // namespace
+
+TEST_CASE("answers are byte-identical to the recorded ones over the dev corpus stream",
+          "[session][golden][corpus]") {
+  compare_with_golden("FLIPPER_WRITE_GOLDEN", kGolden, 0);
+}
+
+TEST_CASE("answers at k = 50 are byte-identical to the recorded ones over the dev corpus stream",
+          "[session][golden][corpus]") {
+  compare_with_golden("FLIPPER_WRITE_GOLDEN_K50", kGoldenK50, 50);
 }

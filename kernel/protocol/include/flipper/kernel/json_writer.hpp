@@ -58,11 +58,20 @@ class JsonWriter {
 
   std::string& text() { return out_; }
 
+  /// The writer's value texts, appended to `out` (for writers of a known shape, after
+  /// raw_begin()): a string escaped as nlohmann escapes it, a double as nlohmann writes it (null
+  /// for NaN and infinities), an integer.
+  static void append_string(std::string& out, std::string_view value);
+  static void append_number(std::string& out, double value);
+  static void append_integer(std::string& out, std::int64_t value);
+
  private:
   void separate();
 
   std::string& out_;
-  std::vector<bool> first_;  // per open container: no member written yet
+  // Per open container: 1 while no member is written yet (a string: no allocation for the few
+  // levels an answer has).
+  std::string first_;
   bool after_key_ = false;
 };
 
