@@ -235,3 +235,17 @@ TEST_CASE("pick green item := pick item is green keeps the phrase whole, as the 
   REQUIRE(lex.parses_to("get all", lex.core(all)));
   CHECK(lex.parses_to("get all item", lex.core(all)));
 }
+
+TEST_CASE("a plain item is a $CountedItem only where the body picks or drops one of it",
+          "[induction][examples]") {
+  // sep2018/SundayMorning#319 in data/study2018/dev/definitions.jsonl: the original induced
+  // `$ItemActionFragment all $Item` (its counted `item` is one item, no node of this body).
+  Lexicon lex(false);
+  const std::string all = "foreach point in world containing item {visit point; pick every item}";
+  const auto rules = lex.define("pick all item", {all});
+  CHECK(has_rule(rules, sdk::RuleOrigin::best, "$ItemAct all $Item"));
+  CHECK_FALSE(has_rule(rules, sdk::RuleOrigin::best, "$ItemAct all $CountedItem"));
+  // Where the body picks one item, the head's `item` may still be the counted one.
+  const auto one = lex.define("grab one item", {"pick item"});
+  CHECK(has_rule(one, sdk::RuleOrigin::best, "grab one $CountedItem"));
+}
