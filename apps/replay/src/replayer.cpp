@@ -359,7 +359,7 @@ class RunReplay {
   }
 
   static RuleShape shape_of(const sdk::Rule& r) {
-    RuleShape shape{r.lhs, {}, sdk::render(r.sem)};
+    RuleShape shape{r.lhs, {}, sdk::render(r.sem), r.how == sdk::RuleOrigin::alignment};
     for (const auto& symbol : r.rhs) shape.rhs.push_back(symbol.text);
     return shape;
   }

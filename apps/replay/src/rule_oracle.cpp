@@ -64,11 +64,13 @@ RuleIdentity classify_rules(const std::vector<LoggedRule>& original,
   if (theirs.empty()) return {};
   bool our_action_hole = false;
   for (const auto& r : ours) {
+    if (r.alignment) continue;  // as the original's alignment rules
     mine.insert(our_shape(r));
     our_action_hole =
         our_action_hole || std::find(r.rhs.begin(), r.rhs.end(), "$Action") != r.rhs.end();
   }
-  for (const auto& r : present) before.insert(our_shape(r));
+  for (const auto& r : present)
+    if (!r.alignment) before.insert(our_shape(r));
   auto contains = [](const std::set<std::string>& a, const std::set<std::string>& b) {
     return std::includes(a.begin(), a.end(), b.begin(), b.end());
   };

@@ -128,6 +128,9 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
   for (const auto& d : chart) {
     if (!d || !d->sem || (d->start == 0 && d->end == head_length)) continue;
     if (!nodes.count(d->sem)) continue;
+    // The loop variables `point` and `area` are words of the loop, not a point or area a rule
+    // could take in their place (docs/naturalization.md §4.4).
+    if (d->sem->kind == sdk::Kind::PointVar || d->sem->kind == sdk::Kind::AreaVar) continue;
     std::string cat = matching_category(*d);
     if (cat.empty()) continue;
     if (cat == "$CountedItem" && d->sem->sort == sdk::Sort::Item && !counted.count(d->sem))

@@ -198,6 +198,9 @@ TEST_CASE("rule identity: identical, present, subset, superset, overlap, disjoin
   CHECK(cls({simple, hole}, {our_simple, our_hole, our_verb}) == "superset");
   CHECK(cls({hole}, {our_verb}) == "disjoint+hole");
   CHECK(cls({simple}, {our_verb}) == "disjoint");
+  // Our alignment rules are left out as the original's are.
+  const RuleShape our_aligned{"$ItemAct", {"grab"}, "", true};
+  CHECK(cls({simple}, {our_simple, our_aligned}) == "identical");
   CHECK(cls({keyword, aligned}, {our_simple}).empty());
   CHECK(cls({}, {our_simple}).empty());
 }

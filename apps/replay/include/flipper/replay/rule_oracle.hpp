@@ -20,6 +20,7 @@ struct RuleShape {
   std::string lhs;
   std::vector<std::string> rhs;
   std::string semantics = {};  ///< the rule's template (canonical text)
+  bool alignment = false;      ///< induced by alignment (docs/naturalization.md §4.8)
 };
 
 /// "identical" (same set of shapes), "subset" (ours a proper, non-empty subset of the
