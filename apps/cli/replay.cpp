@@ -97,12 +97,13 @@ std::string one_table(const std::string& name, const RunSummary& s) {
   const record::FigureTable t(s.figures);
   if (name == "headline") return replay::headline_text(t, s.variants);
   if (name == "oracles") return replay::oracles_text(t, s.variants);
+  if (name == "rules") return replay::rules_text(t, s.variants);
   if (name == "variants") return replay::variants_table(t, s.variants);
   if (name == "planner") return replay::planner_table(t, s.variants);
   if (name == "seeds") return replay::seeds_table(s.figures, s.variants);
   throw sdk::Error(
       sdk::codes::kBadRequest,
-      "--print '" + name + "': no such table (headline, variants, oracles, planner, seeds)");
+      "--print '" + name + "': no such table (headline, variants, oracles, rules, planner, seeds)");
 }
 
 // The --print tables: what README blocks generate (scripts/readme-figures). `names` is one
@@ -340,7 +341,7 @@ void add_replay_command(CLI::App& app) {
                   "Run only shard I of N of the variants (I from 0), for merge");
   cmd->add_option("--print", args.print,
                   "Print only these tables (comma-separated) to standard output: headline, "
-                  "variants, oracles, planner, seeds");
+                  "variants, oracles, rules, planner, seeds");
   cmd->add_flag("--json", args.json, "Print the per-variant summary as one JSON object");
   cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
   cmd->add_flag("--progress", args.progress,

@@ -154,6 +154,13 @@ std::vector<record::Figure> replay_figures(const std::string& variant, const Met
     compared += n;
   }
   r.add("ours", "all", "rule_match_compared", compared, "definitions");
+  int identity_compared = 0;
+  for (const auto& [cls, n] : m.rule_identity) {
+    r.add("ours", cls, "rule_identity", n, "definitions");
+    identity_compared += n;
+  }
+  r.add("ours", "all", "rule_identity_compared", identity_compared, "definitions");
+  r.add("ours", "all", "rule_action_hole", m.rule_action_hole, "definitions");
   r.add("ours", "all", "deletes", m.deletes, "deletions");
   r.add("ours", "all", "deletes_mapped", m.deletes_mapped, "deletions");
   r.add("ours", "all", "rules_deleted", m.rules_deleted, "rules");

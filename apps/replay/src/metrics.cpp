@@ -196,6 +196,8 @@ Metrics compute_metrics(const ReplayResult& result) {
     (d.preloaded ? m.preloaded_ok : m.defines_ok) += d.ok;
     if (!d.ok) ++m.define_errors[d.error_code.empty() ? "unknown" : d.error_code];
     if (!d.rule_match.empty()) ++m.rule_match[d.rule_match];
+    if (!d.rule_identity.empty()) ++m.rule_identity[d.rule_identity];
+    m.rule_action_hole += d.action_hole;
   }
   for (const auto& a : result.accepts) {
     m.accepted_top1 += a.matched && a.rank == 0;

@@ -178,10 +178,11 @@ void write_metrics(const std::string& dir, const ReplayResult& result, const Met
         << r.plan_cpu_ms << "\n";
 
   OutFile d(dir + "/definitions.csv");
-  d << "qid,run,user,preloaded,ok,error,rules,rule_match,head\n";
+  d << "qid,run,user,preloaded,ok,error,rules,rule_match,rule_identity,action_hole,head\n";
   for (const auto& r : result.defines)
     d << csv(r.qid) << ',' << csv(r.run) << ',' << csv(r.user) << ',' << r.preloaded << ',' << r.ok
-      << ',' << r.error_code << ',' << r.rules << ',' << r.rule_match << ',' << csv(r.head) << "\n";
+      << ',' << r.error_code << ',' << r.rules << ',' << r.rule_match << ',' << r.rule_identity
+      << ',' << r.action_hole << ',' << csv(r.head) << "\n";
   OutFile del(dir + "/deletions.csv");
   del << "qid,run,user,rule_index,definition,deleted,note\n";
   for (const auto& r : result.deletes) {

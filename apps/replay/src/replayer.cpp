@@ -158,7 +158,8 @@ class RunReplay {
   void preload() {
     if (run_.group != "C") return;
     for (const Definition* d : corpus_.preloaded(run_.source)) {
-      DefineRow row{d->def_id, run_.source, d->author(), d->head, true, false, "", 0, ""};
+      DefineRow row{d->def_id, run_.source, d->author(), d->head, true, false,
+                    "",        0,           "",          "",      false};
       set_user(d->author());
       define(*d, d->head, d->body, row);
     }
@@ -357,8 +358,14 @@ class RunReplay {
                                  session_->runtime().planner.borrow()}));
   }
 
+  static RuleShape shape_of(const sdk::Rule& r) {
+    RuleShape shape{r.lhs, {}, sdk::render(r.sem), r.how == sdk::RuleOrigin::alignment};
+    for (const auto& symbol : r.rhs) shape.rhs.push_back(symbol.text);
+    return shape;
+  }
+
   void define_command(const Command& c) {
-    DefineRow row{c.qid, c.source, c.user, c.head, false, false, "", 0, ""};
+    DefineRow row{c.qid, c.source, c.user, c.head, false, false, "", 0, "", "", false};
     auto it = corpus_.definition_index.find(c.def_id);
     if (it != corpus_.definition_index.end())
       define(corpus_.definitions[it->second], c.head, c.body, row);
@@ -375,6 +382,15 @@ class RunReplay {
     if (std::any_of(body.begin(), body.end(), [](const BodyLine& b) { return b.rank > 0; }))
       for (const auto& b : body) call.ranks.push_back(std::max(0, b.rank));
     naturalization::DefineOutcome defined;
+    // The rules the author sees before the definition: the original's rules we do not induce
+    // again may already be there (rule_oracle.hpp classify_rules, "present").
+    std::vector<RuleShape> present;
+    if (!def.def_id.empty()) {
+      (void)attempt([&] {
+        for (const auto& l : naturalization_->rules(*session_, std::nullopt))
+          present.push_back(shape_of(*l.rule));
+      });
+    }
     row.error_code = attempt([&] {
       // The program the user accepted for each line, as the 2018 server induced from it
       // (ReplayOptions::reparse_bodies); a line without one is parsed.
@@ -390,12 +406,13 @@ class RunReplay {
     if (row.ok)
       for (const auto& r : defined.rules) {
         ours.push_back({r->id, sdk::to_string(r->how)});
-        RuleShape shape{r->lhs, {}, sdk::render(r->sem)};
-        for (const auto& symbol : r->rhs) shape.rhs.push_back(symbol.text);
-        shapes.push_back(std::move(shape));
+        shapes.push_back(shape_of(*r));
       }
     row.rules = static_cast<int>(ours.size());
     row.rule_match = compare_rules(def.rules, shapes);
+    const RuleIdentity identity = classify_rules(def.rules, shapes, present);
+    row.rule_identity = identity.cls;
+    row.action_hole = identity.action_hole;
     // Definitions not in definitions.jsonl have no logged rules: they only take part in the
     // deletion model as empty entries.
     if (!def.def_id.empty()) {

@@ -50,4 +50,49 @@ std::string compare_rules(const std::vector<LoggedRule>& original,
   return inside ? "subset" : "overlap";
 }
 
+RuleIdentity classify_rules(const std::vector<LoggedRule>& original,
+                            const std::vector<RuleShape>& ours,
+                            const std::vector<RuleShape>& present) {
+  std::set<std::string> theirs, mine, before;
+  bool their_action_hole = false;
+  for (const auto& r : original) {
+    if (r.alignment || r.lhs == "KEYWORD_TOKEN") continue;
+    theirs.insert(original_shape(r));
+    their_action_hole =
+        their_action_hole || std::find(r.rhs.begin(), r.rhs.end(), "$Action") != r.rhs.end();
+  }
+  if (theirs.empty()) return {};
+  bool our_action_hole = false;
+  for (const auto& r : ours) {
+    if (r.alignment) continue;  // as the original's alignment rules
+    mine.insert(our_shape(r));
+    our_action_hole =
+        our_action_hole || std::find(r.rhs.begin(), r.rhs.end(), "$Action") != r.rhs.end();
+  }
+  for (const auto& r : present)
+    if (!r.alignment) before.insert(our_shape(r));
+  auto contains = [](const std::set<std::string>& a, const std::set<std::string>& b) {
+    return std::includes(a.begin(), a.end(), b.begin(), b.end());
+  };
+  RuleIdentity out;
+  if (mine == theirs) {
+    out.cls = "identical";
+    return out;
+  }
+  const bool common = std::any_of(mine.begin(), mine.end(),
+                                  [&](const std::string& s) { return theirs.count(s) != 0; });
+  if (contains(theirs, mine)) {
+    const bool earlier = std::all_of(theirs.begin(), theirs.end(), [&](const std::string& s) {
+      return mine.count(s) != 0 || before.count(s) != 0;
+    });
+    out.cls = earlier ? "present" : "subset";
+  } else if (contains(mine, theirs)) {
+    out.cls = "superset";
+  } else {
+    out.cls = common ? "overlap" : "disjoint";
+  }
+  out.action_hole = out.cls != "present" && their_action_hole && !our_action_hole;
+  return out;
+}
+
 }  // namespace flipper::replay

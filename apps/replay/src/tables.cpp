@@ -122,6 +122,23 @@ std::string oracles_text(const record::FigureTable& t,
   });
 }
 
+std::string rules_text(const record::FigureTable& t,
+                       const std::vector<record::VariantInfo>& variants) {
+  return per_variant(t, variants, [&](std::ostream& o, const record::VariantInfo& v, auto f) {
+    auto n = [&](const char* cls) { return or_zero(t, v.name, "ours", cls, "rule_identity"); };
+    const double all = or_zero(t, v.name, "ours", "all", "rule_identity_compared");
+    const double equal = n("identical") + n("present");
+    o << "induced rules equal to the original's (identical or already present), per definition: "
+      << record::show_value(equal) << " / " << record::show_value(all) << " ("
+      << pct(all > 0 ? 100 * equal / all : 0) << " %): " << f("identical", "rule_identity")
+      << " identical, " << f("present", "rule_identity") << " already present; differing "
+      << f("subset", "rule_identity") << " subset, " << f("superset", "rule_identity")
+      << " superset, " << f("overlap", "rule_identity") << " overlap, "
+      << f("disjoint", "rule_identity") << " disjoint; the original's $Action hole missing in "
+      << f("all", "rule_action_hole") << ".\n";
+  });
+}
+
 std::string planner_table(const record::FigureTable& t,
                           const std::vector<record::VariantInfo>& variants) {
   std::ostringstream o;

@@ -94,6 +94,27 @@ std::vector<ProgramSet> statement_subtrees(const sdk::Program& body) {
   return out;
 }
 
+/// The plain items the body picks or drops one of (the object of a pick/drop without `every`):
+/// the only places where a $CountedItem reading of a plain item is a node of the body. The
+/// original's $CountedItem of `item` was a formula of its own (one item, `setLimit 1`), so a head
+/// `item` matched as $CountedItem only there and as $Item elsewhere (docs/naturalization.md §4.4).
+void collect_counted_objects(const sdk::Program& p, ProgramSet& out) {
+  if (!p) return;
+  const bool takes_object =
+      p->kind == sdk::Kind::Pick || p->kind == sdk::Kind::Drop || p->kind == sdk::Kind::ItemAction;
+  for (const auto& k : p->kids) {
+    if (takes_object && k && k->sort == sdk::Sort::Item) out.insert(k);
+    collect_counted_objects(k, out);
+  }
+}
+
+ProgramSet counted_objects(const sdk::Program& body) {
+  ProgramSet out;
+  collect_counted_objects(body, out);
+  collect_counted_objects(sdk::full_form(body), out);
+  return out;
+}
+
 }  // namespace
 
 std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
@@ -102,12 +123,18 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
   // node only in the full form (ItemAction(ItemAct, item)), so both forms' subtrees count.
   const ProgramSet nodes = subtrees_of(body);
   const std::vector<ProgramSet> statements = statement_subtrees(body);
+  const ProgramSet counted = counted_objects(body);
   std::vector<Match> out;
   for (const auto& d : chart) {
     if (!d || !d->sem || (d->start == 0 && d->end == head_length)) continue;
     if (!nodes.count(d->sem)) continue;
+    // The loop variables `point` and `area` are words of the loop, not a point or area a rule
+    // could take in their place (docs/naturalization.md §4.4).
+    if (d->sem->kind == sdk::Kind::PointVar || d->sem->kind == sdk::Kind::AreaVar) continue;
     std::string cat = matching_category(*d);
     if (cat.empty()) continue;
+    if (cat == "$CountedItem" && d->sem->sort == sdk::Sort::Item && !counted.count(d->sem))
+      continue;
     // Keep one match per (span, category, program): the best-scoring derivation.
     auto same = std::find_if(out.begin(), out.end(), [&](const Match& m) {
       return m.start == d->start && m.end == d->end && m.category == cat &&

@@ -59,11 +59,13 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
   struct Total {
     double score = -std::numeric_limits<double>::infinity();
     int shared = 0;
+    int covered = 0;  // head tokens inside packed spans
     bool valid() const { return score != -std::numeric_limits<double>::infinity(); }
     bool beats(const Total& o) const {
       if (!o.valid()) return valid();
       if (std::abs(score - o.score) > kScoreTolerance) return score > o.score;
-      return shared > o.shared;
+      if (shared != o.shared) return shared > o.shared;
+      return covered > o.covered;
     }
   };
   std::vector<Total> best(m);
@@ -71,7 +73,7 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
   for (std::size_t j = 0; j < m; ++j) {  // matches are ordered by start
     const Match& x = matches[j];
     Total base;
-    if (gap_free(0, x.start)) base = {0.0, 0};
+    if (gap_free(0, x.start)) base = {0.0, 0, 0};
     int from = -1;
     for (std::size_t k = 0; k < j; ++k) {
       const Match& y = matches[k];
@@ -82,7 +84,8 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
       }
     }
     if (!base.valid()) continue;
-    best[j] = {base.score + x.score, base.shared + (x.statements > 1 ? 1 : 0)};
+    best[j] = {base.score + x.score, base.shared + (x.statements > 1 ? 1 : 0),
+               base.covered + (x.end - x.start)};
     prev[j] = from;
   }
   int last = -1;

@@ -169,3 +169,38 @@ TEST_CASE("rule oracle: a studio recording's rules are compared with their seman
   CHECK(compare_rules({zig, grab}, {ours, our_grab}) == "identical");
   CHECK(compare_rules({zig, grab}, {ours}) == "subset");  // the alignment rule is compared too
 }
+
+TEST_CASE("rule identity: identical, present, subset, superset, overlap, disjoint, $Action hole",
+          "[replay][defects]") {
+  using flipper::replay::classify_rules;
+  using flipper::replay::LoggedRule;
+  using flipper::replay::RuleShape;
+  const LoggedRule simple{1, true, false, "$Action", {"pick", "all", "items"}};
+  const LoggedRule hole{2, false, false, "$Action", {"$Action", "items"}};
+  const LoggedRule keyword{3, false, false, "KEYWORD_TOKEN", {"pick"}};
+  const LoggedRule aligned{4, false, true, "$ItemActionFragment", {"grab"}};
+  const RuleShape our_simple{"$Action", {"pick", "all", "items"}};
+  const RuleShape our_hole{"$Action", {"$Action", "items"}};
+  const RuleShape our_verb{"$Action", {"$ItemAct", "all", "items"}};
+  auto cls = [](const std::vector<LoggedRule>& o, const std::vector<RuleShape>& ours,
+                const std::vector<RuleShape>& present = {}) {
+    const auto r = classify_rules(o, ours, present);
+    return r.cls + (r.action_hole ? "+hole" : "");
+  };
+  // Keyword and alignment rules of the original are not compared.
+  CHECK(cls({simple, hole, keyword, aligned}, {our_hole, our_simple}) == "identical");
+  CHECK(cls({simple, hole}, {our_simple}, {our_hole}) == "present");
+  CHECK(cls({simple, hole}, {}, {our_simple, our_hole}) == "present");
+  CHECK(cls({simple, hole}, {our_simple}, {our_verb}) == "subset+hole");
+  CHECK(cls({simple, hole}, {}) == "subset+hole");
+  CHECK(cls({simple}, {our_simple, our_verb}) == "superset");
+  CHECK(cls({simple, hole}, {our_simple, our_verb}) == "overlap+hole");
+  CHECK(cls({simple, hole}, {our_simple, our_hole, our_verb}) == "superset");
+  CHECK(cls({hole}, {our_verb}) == "disjoint+hole");
+  CHECK(cls({simple}, {our_verb}) == "disjoint");
+  // Our alignment rules are left out as the original's are.
+  const RuleShape our_aligned{"$ItemAct", {"grab"}, "", true};
+  CHECK(cls({simple}, {our_simple, our_aligned}) == "identical");
+  CHECK(cls({keyword, aligned}, {our_simple}).empty());
+  CHECK(cls({}, {our_simple}).empty());
+}

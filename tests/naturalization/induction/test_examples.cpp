@@ -235,3 +235,43 @@ TEST_CASE("pick green item := pick item is green keeps the phrase whole, as the 
   REQUIRE(lex.parses_to("get all", lex.core(all)));
   CHECK(lex.parses_to("get all item", lex.core(all)));
 }
+
+TEST_CASE("a plain item is a $CountedItem only where the body picks or drops one of it",
+          "[induction][examples]") {
+  // sep2018/SundayMorning#319 in data/study2018/dev/definitions.jsonl: the original induced
+  // `$ItemActionFragment all $Item` (its counted `item` is one item, no node of this body).
+  Lexicon lex(false);
+  const std::string all = "foreach point in world containing item {visit point; pick every item}";
+  const auto rules = lex.define("pick all item", {all});
+  CHECK(has_rule(rules, sdk::RuleOrigin::best, "$ItemAct all $Item"));
+  CHECK_FALSE(has_rule(rules, sdk::RuleOrigin::best, "$ItemAct all $CountedItem"));
+  // Where the body picks one item, the head's `item` may still be the counted one.
+  const auto one = lex.define("grab one item", {"pick item"});
+  CHECK(has_rule(one, sdk::RuleOrigin::best, "grab one $CountedItem"));
+}
+
+TEST_CASE("pick all items := pick all packs the defined phrase whole: $Action items",
+          "[induction][examples]") {
+  // pre:feb2018/groupC#10 and #11 in data/study2018/dev/definitions.jsonl: after `pick all` :=
+  // `pick every item` the original induced `$Action items` from `pick all items` := `pick all`.
+  // `pick all` (through `$ItemAct all`) and `pick` alone score alike; on equal totals the
+  // packing that covers more of the head wins (docs/naturalization.md §4.6).
+  Lexicon lex(false);
+  const auto all = lex.define("pick all", {"pick every item"});
+  REQUIRE(has_rule(all, sdk::RuleOrigin::best, "$ItemAct all"));
+  const auto items = lex.define("pick all items", {"pick all"});
+  CHECK(has_rule(items, sdk::RuleOrigin::best, "$Action items"));
+  CHECK_FALSE(has_rule(items, sdk::RuleOrigin::best, "$ItemAct all items"));
+  CHECK(lex.parses_to("drop all items", lex.core("drop every item")));
+}
+
+TEST_CASE("the loop variable point is a word of the loop, never a $Point match",
+          "[induction][examples]") {
+  // feb2018/groupC#608 in data/study2018/dev/definitions.jsonl: the original packed no loop
+  // variable of a `foreach point in … {visit point}` head.
+  Lexicon lex(false);
+  const auto rules = lex.define("visit each point", {"foreach point in world {visit point}"});
+  REQUIRE_FALSE(rules.empty());
+  for (const auto& r : rules)
+    for (const auto& s : r->rhs) CHECK(s.text != "$Point");
+}

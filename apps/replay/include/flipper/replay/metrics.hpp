@@ -103,6 +103,10 @@ struct Metrics {
   std::map<std::string, int> define_errors;
   /// Definitions (users' and preloaded) by DefineRow::rule_match, compared ones only.
   std::map<std::string, int> rule_match;
+  /// Definitions by DefineRow::rule_identity (compared ones only), and how many of the differing
+  /// ones miss the original's $Action hole.
+  std::map<std::string, int> rule_identity;
+  int rule_action_hole = 0;
   int deletes = 0, deletes_mapped = 0, rules_deleted = 0;
   /// Queries whose top reading floats (QueryRow::floating), overall and by group.
   int floating = 0;

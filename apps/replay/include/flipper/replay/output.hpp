@@ -43,6 +43,11 @@ std::string headline_text(const record::FigureTable& figures,
 /// execution differences nothing explains.
 std::string oracles_text(const record::FigureTable& figures,
                          const std::vector<record::VariantInfo>& variants);
+/// The rule-identity oracle per variant (Markdown lines): definitions whose induced rules equal
+/// the original's (identical or already present) and the differing ones by class
+/// (rule_oracle.hpp classify_rules).
+std::string rules_text(const record::FigureTable& figures,
+                       const std::vector<record::VariantInfo>& variants);
 /// The planner on the accepted programs per variant (Markdown table): runs, success, path
 /// length and turns (mean per executed program), planner calls, plan CPU time (timing).
 std::string planner_table(const record::FigureTable& figures,

@@ -59,6 +59,10 @@ struct DefineRow {
   /// Our rules against the original's logged ones (rule_oracle.hpp): identical, subset,
   /// overlap, missing; "" when the original logged no comparable rule.
   std::string rule_match;
+  /// The rule-identity class (rule_oracle.hpp classify_rules): identical, present, subset,
+  /// superset, overlap, disjoint; "" when the original logged no comparable rule.
+  std::string rule_identity;
+  bool action_hole = false;  ///< the original's rule has an $Action hole, none of ours has
 };
 
 /// A `:delete`, mapped to the rules of one definition (see deletion_map.hpp).
