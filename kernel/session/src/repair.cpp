@@ -155,11 +155,25 @@ Repair find_repair(const RepairInput& in) {
   // Single-word edits at the uncovered words: drop, replace by the closest known word, merge
   // with a neighbour ("room 3" -> "room3").
   std::vector<WordEdit> singles;
+  auto known = [&](const std::string& word) {
+    return sdk::number_value(word).has_value() ||
+           std::binary_search(in.vocabulary.begin(), in.vocabulary.end(), word);
+  };
   for (const RepairWord& w : r.words) {
     singles.push_back({w.at, 1, {}, "drop '" + w.word + "'"});
     if (!w.did_you_mean.empty())
       singles.push_back(
           {w.at, 1, {w.did_you_mean}, "replace '" + w.word + "' by '" + w.did_you_mean + "'"});
+    // Two known words typed without a space ("itemis" -> "item is"): the first split that
+    // makes both halves known.
+    if (!w.known)
+      for (std::size_t cut = 1; cut < w.word.size(); ++cut) {
+        const std::string left = w.word.substr(0, cut), right = w.word.substr(cut);
+        if (known(left) && known(right)) {
+          singles.push_back({w.at, 1, {left, right}, "split '" + w.word + "'"});
+          break;
+        }
+      }
   }
   for (int i = 0; i + 1 < n; ++i) {
     const auto a = static_cast<std::size_t>(i);
@@ -181,6 +195,17 @@ Repair find_repair(const RepairInput& in) {
         t.insert(t.begin() + a.end, ";");
         variants.push_back({std::move(t), 1, "insert ';' after '" + a.text + "'"});
       }
+  // A count after an understood phrase ("move right 3", "move right 3 times"): repeat it.
+  for (const auto& p : r.understood) {
+    const auto at = static_cast<std::size_t>(p.end);
+    if (at >= tokens.size() || !sdk::number_value(tokens[at])) continue;
+    const std::size_t after = at + 1 < tokens.size() && tokens[at + 1] == "times" ? at + 2 : at + 1;
+    std::vector<std::string> t(tokens.begin(), tokens.begin() + p.start);
+    t.insert(t.end(), {"repeat", tokens[at], "times"});
+    t.insert(t.end(), tokens.begin() + p.start, tokens.begin() + p.end);
+    t.insert(t.end(), tokens.begin() + static_cast<std::ptrdiff_t>(after), tokens.end());
+    variants.push_back({std::move(t), 2, "repeat '" + p.text + "' " + tokens[at] + " times"});
+  }
   // Every uncovered word dropped; each understood phrase alone.
   if (uncovered.size() > 1) {
     std::vector<std::string> t;

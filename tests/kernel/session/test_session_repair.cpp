@@ -114,6 +114,24 @@ TEST_CASE("an edit in the middle: the misplaced word is dropped", "[session][rep
   CHECK(r["nearest"][1]["text"] == "pick item is green");
 }
 
+TEST_CASE("glued words are split, a trailing count repeats the phrase", "[session][repair]") {
+  auto s = flipper::testsupport::bare_session();
+  const Json glued = query(*s, "pick itemis red")["repair"]["nearest"];
+  REQUIRE(glued.size() == 2);
+  CHECK(glued[0]["text"] == "pick item is red");
+  CHECK(glued[0]["edit"] == "split 'itemis'");
+  CHECK(glued[0]["formula"] == "{pick item {is red}}");
+  // "3" alone could be dropped (1 edit) or make a repeat (2 edits); "3 times" only repeats.
+  const Json count = query(*s, "move right 3")["repair"]["nearest"];
+  REQUIRE(count.size() == 2);
+  CHECK(count[0]["text"] == "move right");
+  CHECK(count[1]["text"] == "repeat 3 times move right");
+  CHECK(count[1]["edit"] == "repeat 'move right' 3 times");
+  const Json times = query(*s, "move right 3 times")["repair"]["nearest"];
+  REQUIRE(times.size() == 2);
+  CHECK(times[0]["formula"] == "{repeat 3 times {move right}}");
+}
+
 TEST_CASE("answers with candidates, and queries without repair, are unchanged",
           "[session][repair]") {
   auto s = flipper::testsupport::bare_session();
