@@ -94,8 +94,9 @@ Repair find_repair(const RepairInput& in) {
 
   // Understood phrases: root spans no other root span contains.
   const auto roots = root_spans(in);
-  for (const auto& [span, d] : roots) {
-    const bool inside = std::any_of(roots.begin(), roots.end(), [&](const auto& other) {
+  for (const auto& root : roots) {
+    const std::pair<int, int>& span = root.first;
+    const bool inside = std::any_of(roots.begin(), roots.end(), [&span](const auto& other) {
       return other.first != span && other.first.first <= span.first &&
              span.second <= other.first.second;
     });
@@ -103,7 +104,7 @@ Repair find_repair(const RepairInput& in) {
       r.understood.push_back({span.first, span.second,
                               join(tokens, static_cast<std::size_t>(span.first),
                                    static_cast<std::size_t>(span.second)),
-                              d->sem});
+                              root.second->sem});
   }
   std::stable_sort(r.understood.begin(), r.understood.end(), [](const auto& a, const auto& b) {
     return a.end - a.start != b.end - b.start ? a.end - a.start > b.end - b.start
@@ -186,6 +187,8 @@ Repair find_repair(const RepairInput& in) {
                    [](const WordEdit& a, const WordEdit& b) { return a.at < b.at; });
 
   std::vector<Variant> variants;
+  variants.reserve(singles.size() + kMaxPairedEdits * kMaxPairedEdits / 2 +
+                   2 * r.understood.size() + 1);
   for (const auto& e : singles) variants.push_back({apply(tokens, {&e}), 1, e.what});
   // Understood phrases next to each other: a ';' between them makes a sequence.
   for (const auto& a : r.understood)
