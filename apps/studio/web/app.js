@@ -146,9 +146,11 @@ async function runQuery(text, { why = '' } = {}) {
   $('did-you-mean').hidden = true;
   renderRepair(text, null);
   showPreview(null);
-  // A failure says how to repair it (docs/protocol.md "Repairs"); other answers are unchanged.
-  const request = { op: 'query', text, repair: true };
+  // A participant's failure says how to repair it (docs/protocol.md "Repairs"; other answers are
+  // unchanged); the page's own re-runs need none.
+  const request = { op: 'query', text };
   if (why) request.studio = { why };
+  else request.repair = true;
   const answer = await api.request(request);
   if (!answer.ok) {
     state.query = null;

@@ -176,6 +176,23 @@ Repair find_repair(const RepairInput& in) {
         }
       }
   }
+  // A colour or shape word before "item(s)" said as the core language says it ("red item" ->
+  // "item is red", core-language.md §3.4); the chart's one-word derivations name such words.
+  std::vector<bool> property(static_cast<std::size_t>(n), false);
+  for (const auto& d : in.chart)
+    if (d && d->end == d->start + 1 &&
+        (d->rule->lhs.rfind("$Color", 0) == 0 || d->rule->lhs.rfind("$Shape", 0) == 0))
+      property[static_cast<std::size_t>(d->start)] = true;
+  for (int i = 0; i + 1 < n; ++i) {
+    const auto a = static_cast<std::size_t>(i);
+    if (property[a] && !(covered[a] && covered[a + 1]) &&
+        (tokens[a + 1] == "item" || tokens[a + 1] == "items"))
+      singles.push_back(
+          {i,
+           2,
+           {"item", "is", tokens[a]},
+           "say '" + tokens[a] + " " + tokens[a + 1] + "' as 'item is " + tokens[a] + "'"});
+  }
   for (int i = 0; i + 1 < n; ++i) {
     const auto a = static_cast<std::size_t>(i);
     if ((covered[a] && covered[a + 1]) || !alphanumeric(tokens[a]) || !alphanumeric(tokens[a + 1]))

@@ -132,6 +132,15 @@ TEST_CASE("glued words are split, a trailing count repeats the phrase", "[sessio
   CHECK(times[0]["formula"] == "{repeat 3 times {move right}}");
 }
 
+TEST_CASE("a colour before 'item' is said as the core language says it", "[session][repair]") {
+  auto s = flipper::testsupport::bare_session();
+  const Json r = query(*s, "drop red item")["repair"];
+  REQUIRE(r["nearest"].size() >= 1);
+  CHECK(r["nearest"][0]["text"] == "drop item is red");
+  CHECK(r["nearest"][0]["formula"] == "{drop item {is red}}");
+  CHECK(r["nearest"][0]["edit"] == "say 'red item' as 'item is red'");
+}
+
 TEST_CASE("answers with candidates, and queries without repair, are unchanged",
           "[session][repair]") {
   auto s = flipper::testsupport::bare_session();
