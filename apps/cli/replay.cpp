@@ -6,6 +6,7 @@
 // flipper replay compare RUN_A RUN_B [--all]
 // flipper replay plot RUN
 // flipper replay verify REC [--config F] [--set k=v]...
+// flipper replay repair --corpus DIR [--runs a,b] [--config F] [--set k=v]...
 // Replays a corpus split through kernel sessions into a new run folder under --out: manifest,
 // figures (tidy CSV), metrics, report.md and plots (docs/experiments.md). Command-line options
 // override the experiment file; --set applies to every variant.
@@ -25,6 +26,8 @@
 #include "flipper/replay/corpus.hpp"
 #include "flipper/replay/experiment.hpp"
 #include "flipper/replay/output.hpp"
+#include "flipper/replay/repair_hits.hpp"
+#include "flipper/replay/replayer.hpp"
 #include "flipper/replay/verify.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -320,6 +323,32 @@ void add_verify(CLI::App& replay) {
   });
 }
 
+// The repair suggestions' hit rate on a corpus split (repair_hits.hpp, docs/replay.md).
+void add_repair(CLI::App& replay) {
+  auto* cmd = replay.add_subcommand(
+      "repair",
+      "Replay a corpus split asking repairs for the queries the original could not parse, and "
+      "count how often the top 3 suggestions hold the sentence the user accepted next");
+  static CommonOptions opts;
+  static std::string corpus, runs;
+  cmd->add_option("--corpus", corpus, "Corpus split directory")->required();
+  cmd->add_option("--runs", runs, "Runs to replay, comma-separated (default: all)");
+  add_common_options(*cmd, opts);
+  on_run(*cmd, [] {
+    return guarded("replay repair", [] {
+      const replay::Corpus c = replay::load_corpus(corpus);
+      replay::ReplayOptions o;
+      o.config_file = config_file(opts);
+      o.sets = opts.overrides;
+      o.runs = split_commas(runs);
+      o.repair = true;
+      const replay::ReplayResult r = replay::replay(c, o);
+      std::cout << replay::repair_hits_text(replay::repair_hits(c, r));
+      return kExitOk;
+    });
+  });
+}
+
 }  // namespace
 
 void add_replay_command(CLI::App& app) {
@@ -352,8 +381,10 @@ void add_replay_command(CLI::App& app) {
   add_compare(*cmd);
   add_plot(*cmd);
   add_verify(*cmd);
+  add_repair(*cmd);
   on_run(*cmd, [cmd] {
-    if (!cmd->get_subcommands().empty()) return kExitOk;  // check, merge, compare, plot, verify
+    if (!cmd->get_subcommands().empty())
+      return kExitOk;  // check, merge, compare, plot, verify, repair
     return guarded("replay", [] { return run_replay(opts, args); });
   });
 }

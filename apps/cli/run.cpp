@@ -52,6 +52,7 @@ Reading interpret(kernel::Session& session, const std::string& text) {
   kernel::QueryRequest request;
   request.text = text;
   request.k = 1;
+  request.repair = true;  // a failure says how to repair it (docs/protocol.md "Repairs")
   const kernel::QueryResult result = session.query(request);  // the session's checks and codes
   if (result.query->shown.empty()) {
     const std::string note = repl::unknown_words_note(session, text);
@@ -60,6 +61,7 @@ Reading interpret(kernel::Session& session, const std::string& text) {
                          "': it is neither canonical text nor core language, nor a phrase of the "
                          "lexicon visible to this user" +
                          (note.empty() ? "" : ". " + note.substr(0, note.size() - 1)) +
+                         (result.repair ? repl::repair_summary(*result.repair) : "") +
                          " (teach a phrase in `flipper repl`)");
   }
   const kernel::LastQuery& q = *result.query;

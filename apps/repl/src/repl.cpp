@@ -187,7 +187,9 @@ class Repl {
     shown_ = 0;
     query_world_ = world_view(session_.world());  // the paths start here
     kernel::QueryResult result;
-    const bool ok = call([&] { result = session_.query(kernel::QueryRequest{text, kKeep}); });
+    kernel::QueryRequest request{text, kKeep};
+    request.repair = true;  // a failure says how to repair it (docs/protocol.md "Repairs")
+    const bool ok = call([&] { result = session_.query(request); });
     // The session cannot be stopped mid-query (session.deadline_ms bounds it); Ctrl-C while it
     // ran drops its answer.
     if (reader_.take_interrupt()) {
@@ -200,6 +202,7 @@ class Repl {
       out_ << "I did not understand that. " << note
            << (note.empty() ? "" : "Fix the spelling, or teach the phrase with `:define`.\n")
            << (note.empty() ? "Teach me with `:define` (then the steps, one per line).\n" : "");
+      if (result.repair) out_ << repair_lines(*result.repair);
       return;
     }
     for (const kernel::ShownCandidate& sc : result.query->shown)

@@ -146,7 +146,11 @@ bool is_observation(const std::string& kind) {
 class RunReplay {
  public:
   RunReplay(const Corpus& corpus, const Run& run, const ReplayOptions& options, ReplayResult& out)
-      : corpus_(corpus), run_(run), out_(out), reparse_bodies_(options.reparse_bodies) {
+      : corpus_(corpus),
+        run_(run),
+        out_(out),
+        reparse_bodies_(options.reparse_bodies),
+        repair_(options.repair) {
     std::vector<std::string> sets = mode_overrides(run.group);
     sets.insert(sets.end(), options.sets.begin(), options.sets.end());
     session_ = wiring::open_session(options.config_file, sets);
@@ -223,9 +227,9 @@ class RunReplay {
     row.original_parses = c.n_parses;
     row.original_ms = c.walltime_s * 1000.0;
     kernel::QueryResult result;
-    const bool ok = attempt([&] {
-                      result = session_->query(kernel::QueryRequest{c.utterance, {}});
-                    }).empty();
+    kernel::QueryRequest request{c.utterance, {}};
+    request.repair = repair_ && c.status == "Nothing";
+    const bool ok = attempt([&] { result = session_->query(request); }).empty();
     last_qid_ = c.qid;
     if (ok) {
       const kernel::LastQuery& q = *result.query;
@@ -242,6 +246,11 @@ class RunReplay {
       const auto& top = q.parse.candidates;
       row.floating =
           !top.empty() && !top[0].derivations.empty() && words_left_out(*top[0].derivations[0]) > 0;
+      if (result.repair)
+        for (const auto& near : result.repair->nearest) {
+          row.suggestions.push_back(near.text);
+          row.suggestion_formulas.push_back(sdk::render(near.program));
+        }
     } else {
       row.ours = "error";
     }
@@ -463,6 +472,7 @@ class RunReplay {
   naturalization::NaturalizationExtension* naturalization_ =
       nullptr;  ///< the session's define/delete service
   bool reparse_bodies_;
+  bool repair_;
   std::string last_qid_;  ///< the `q` the session's last query answers
   std::string world_id_;  ///< the logged world the session holds ("" after our own accept)
   std::unordered_map<std::string, sdk::WorldState> world_cache_;

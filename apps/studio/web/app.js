@@ -144,9 +144,13 @@ function currentCandidate() {
 async function runQuery(text, { why = '' } = {}) {
   showError($('query-error'), null);
   $('did-you-mean').hidden = true;
+  renderRepair(text, null);
   showPreview(null);
+  // A participant's failure says how to repair it (docs/protocol.md "Repairs"; other answers are
+  // unchanged); the page's own re-runs need none.
   const request = { op: 'query', text };
   if (why) request.studio = { why };
+  else request.repair = true;
   const answer = await api.request(request);
   if (!answer.ok) {
     state.query = null;
@@ -167,6 +171,7 @@ async function runQuery(text, { why = '' } = {}) {
       : `Flipper does not understand "${text}". ${NO_TEACHING}`;
     showError($('query-error'), { code: 'unparsable', message: points3d ? `${message} ${POINTS_3D}` : message });
     if (state.teaching) definePanel.open(text);
+    renderRepair(text, answer.repair);
   } else {
     // A finished definition (or an empty panel) gives way to the new query's readings.
     if (!why && definePanel.isOpen && !definePanel.hasWork()) definePanel.close();
@@ -408,6 +413,66 @@ function collapseHistory([from, to], head) {
   });
   historyPanel.range = null;
   renderHistory();
+}
+
+// ---- repairs (docs/protocol.md "Repairs") -------------------------------------------------------
+
+// What Flipper understood of an unparsable sentence, the words it did not, the nearest sentences
+// it understands (a click runs one) and, when the page teaches, the definition that teaches it
+// (a click fills the define panel's steps).
+function renderRepair(text, repair) {
+  const el = $('repair');
+  el.innerHTML = '';
+  el.hidden = !repair;
+  if (!repair) return;
+  const row = (label, testid) => {
+    const div = document.createElement('div');
+    div.dataset.testid = testid;
+    div.append(label);
+    el.append(div);
+    return div;
+  };
+  if (repair.understood.length) {
+    const d = row('Understood: ', 'repair-understood');
+    repair.understood.forEach((p, i) => {
+      const c = document.createElement('code');
+      c.textContent = p.text;
+      c.title = p.formula;
+      d.append(i ? ', ' : '', c);
+    });
+  }
+  if (repair.words.length) {
+    const d = row('Not understood: ', 'repair-words');
+    repair.words.forEach((w, i) => {
+      const b = document.createElement('strong');
+      b.textContent = w.word;
+      d.append(i ? ', ' : '', b, ` (${w.kind}${w.did_you_mean ? `, did you mean ${w.did_you_mean}?` : ''})`);
+    });
+  }
+  if (repair.nearest.length) {
+    const d = row('Nearest sentences Flipper understands: ', 'repair-nearest');
+    repair.nearest.forEach((s, i) => {
+      const b = document.createElement('button');
+      b.type = 'button';
+      b.className = 'link';
+      b.textContent = s.text;
+      b.title = `${s.edit} ⇒ ${s.formula}`;
+      b.onclick = () => {
+        $('query-input').value = s.text;
+        runQuery(s.text);
+      };
+      d.append(i ? ' · ' : '', b);
+    });
+  }
+  if (repair.teach && state.teaching) {
+    const d = row('Teach it as: ', 'repair-teach');
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.className = 'link';
+    b.textContent = repair.teach.body.join('; ');
+    b.onclick = () => definePanel.open(text, null, repair.teach.body);
+    d.append(b);
+  }
 }
 
 // ---- "did you mean" ----------------------------------------------------------------------------

@@ -46,8 +46,9 @@ export class DefinePanel {
     return !this.history && !taught && this.lines.some((l) => l.input.value.trim());
   }
 
-  // Typed mode (history absent), or history mode with {steps, range: [from, to]}.
-  open(head, history = null) {
+  // Typed mode (history absent), or history mode with {steps, range: [from, to]}. `lines`: typed
+  // steps to start with (a repair's "teach it as"), each read at once.
+  open(head, history = null, lines = []) {
     clearTimeout(this.closeTimer);
     this.history = history;
     $('define-panel').hidden = false;
@@ -72,6 +73,9 @@ export class DefinePanel {
         li.append(`${step.utterance} ⇒ `, code);
         $('define-steps').append(li);
       }
+      $('define-head').focus();
+    } else if (lines.length) {
+      for (const text of lines) this.parse(this.addLine(text));
       $('define-head').focus();
     } else this.addLine('').input.focus();
   }

@@ -230,6 +230,16 @@ void NaturalizationExtension::attach(kernel::Session& session) {
     session.on<kernel::VisibilityAsked>([nat](const kernel::VisibilityAsked& e) {
       e.filter = [nat, user = e.user](const sdk::Rule& rule) { return nat->visible(rule, user); };
     });
+  // A repair's known words include the words of the rules this user sees.
+  // The words are a hint: a lexicon that cannot be listed now adds none (the query stands).
+  session.on<kernel::VocabularyAsked>([nat, &session](const kernel::VocabularyAsked& e) {
+    try {
+      for (const auto& l : list_rules(*nat, session, std::nullopt))
+        for (const auto& symbol : l.rule->rhs)
+          if (symbol.type == sdk::Symbol::Type::token) e.words.push_back(symbol.text);
+    } catch (const sdk::Error&) {
+    }
+  });
   session.on<kernel::Accepting>(
       [nat](const kernel::Accepting& e) { nat->on_accept(e.user, e.candidate.induced_rules); });
   if (nat->options().per_user_weights) {

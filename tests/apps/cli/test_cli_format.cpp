@@ -25,6 +25,12 @@ TEST_CASE("errors have one format and the documented exit status", "[cli][format
   const Run bad_program = run_flipper("run --set lexicon.path=:memory: 'zorp blah'");
   CHECK(bad_program.status == 1);
   CHECK(contains(bad_program.out, "flipper run: [bad_program] cannot understand 'zorp blah'"));
+  // The repair (docs/protocol.md "Repairs") on the same line: what it understood instead.
+  const Run repaired = run_flipper("run --set lexicon.path=:memory: 'move up xyzzy'");
+  CHECK(repaired.status == 1);
+  CHECK(contains(repaired.out,
+                 "; nearest understood: 'move up' (drop 'xyzzy'); understood: "
+                 "'move up'; not understood: 'xyzzy' (unknown) (teach a phrase"));
   const Run bad_key = run_flipper("config check --set session.kk=3");
   CHECK(bad_key.status == 2);
   CHECK(contains(bad_key.out,

@@ -53,6 +53,21 @@ TEST_CASE("repl: reject, unparsable, commands and errors", "[repl][loop]") {
   CHECK_THAT(out, Catch::Contains("error (bad_world)"));
 }
 
+TEST_CASE("repl: a sentence it does not understand gets its repair", "[repl][loop][repair]") {
+  auto s = flipper::testsupport::bare_session();
+  const std::string out = run_script(*s, "move up xyzzy\nmove up move left\n");
+  CHECK_THAT(out, Catch::Contains("I did not understand that. Unknown word: 'xyzzy'."));
+  CHECK_THAT(out, Catch::Contains("Understood: \"move up\" = {move up}.\n"
+                                  "Not understood: 'xyzzy' (unknown).\n"
+                                  "Nearest sentences I understand:\n"
+                                  "  1. move up   (drop 'xyzzy')\n"
+                                  "Teach it: `:define`, then the steps: \"move up\".\n"));
+  CHECK_THAT(out, Catch::Contains("  1. move up ; move left   (insert ';' after 'move up')\n"
+                                  "  2. move up   (keep only 'move up')\n"));
+  CHECK_THAT(out,
+             Catch::Contains("Teach it: `:define`, then the steps: \"move up\" \"move left\"."));
+}
+
 TEST_CASE("repl: :floor in a 2-D world says the world is flat", "[repl][loop]") {
   auto s = flipper::testsupport::bare_session();
   const std::string out = run_script(*s, ":floor 1\n");

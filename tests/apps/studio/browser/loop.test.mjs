@@ -57,6 +57,15 @@ run(async () => {
       await page.textContent('[data-testid=did-you-mean]'));
     check(await page.isVisible('[data-testid=define-panel]'), 'an unparsable command opens the define panel');
     equal(await page.inputValue('[data-testid=define-head]'), 'move lfet', 'the define panel has the head pre-filled');
+    // Its repair (docs/protocol.md "Repairs"): the nearest sentence is one click away.
+    check((await page.textContent('[data-testid=repair-nearest]')).includes('move left'), 'the repair offers "move left"',
+      await page.textContent('[data-testid=repair]'));
+    check((await page.textContent('[data-testid=repair-words]')).includes('lfet (unknown, did you mean left?)'),
+      'the repair names the unknown word', await page.textContent('[data-testid=repair]'));
+    await page.click('[data-testid=repair-teach] button');
+    await page.waitForFunction(() => document.querySelectorAll('[data-testid=define-line]').length === 1
+      && document.querySelector('[data-testid=define-line]').value === 'move left');
+    check(true, '"teach it as" fills the define panel with the nearest sentence');
     await shot(page, opt.artifacts, 'loop-4-unparsable');
 
     a = await query(page, 'move ' + 'left '.repeat(500));

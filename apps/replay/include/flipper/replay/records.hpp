@@ -24,6 +24,9 @@ struct QueryRow {
   int our_candidates = 0;
   double ms = 0;           ///< our query answer's `ms`
   double original_ms = 0;  ///< the original's walltime_s * 1000
+  /// With ReplayOptions::repair, for an original "Nothing" we cannot parse either: the repair's
+  /// nearest sentences, best first (their token text and canonical formula).
+  std::vector<std::string> suggestions, suggestion_formulas;
 };
 
 /// A `:accept`: whether we had the accepted program, and what executing it did.

@@ -37,6 +37,9 @@ struct ReplayOptions {
   /// formula, as the 2018 server induced from it; a line without one is parsed); true, every
   /// line is parsed from its text.
   bool reparse_bodies = false;
+  /// Queries the original answered with no parse ask for a repair (docs/protocol.md "Repairs");
+  /// its nearest sentences go into QueryRow::suggestions (repair_hits.hpp measures them).
+  bool repair = false;
   /// Progress: commands done, commands total, the current run.
   std::function<void(std::size_t, std::size_t, const std::string&)> progress;
 };

@@ -62,6 +62,12 @@ struct VisibilityAsked {
   const std::string& user;
   std::function<bool(const sdk::Rule&)>& filter;
 };
+/// A repair asks which words `user`'s parses may know beyond the core grammar's: a subscriber
+/// appends the words of the rules visible to that user (docs/protocol.md § "Repairs").
+struct VocabularyAsked {
+  const std::string& user;
+  std::vector<std::string>& words;
+};
 /// An accept, after the scorer learned and the use counters counted, before the world changes.
 /// A throw undoes the accept (scorer state, counters); the error is the answer.
 struct Accepting {
