@@ -130,7 +130,6 @@ TourResult tour_of(std::string_view bytes) {
   return t;
 }
 
-
 // Writes each distinct object once, kids first; a reference is 0 (null) or 1 + the index.
 class Writer {
  public:
