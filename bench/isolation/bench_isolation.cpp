@@ -4,7 +4,9 @@
 //            bench_studio: visits, loops over rooms and points, an error) with in_process and
 //            with process isolation, alternating blocks of queries between the two sessions so
 //            that both see the same machine load: per-query p50 and p99 of each, and the
-//            difference of the two per-query medians
+//            difference of the two per-query medians; then the same mix with k = 0 (the
+//            query is parsed, no candidate executed: no plan call), which is the cost of the
+//            parse's own child process
 //   memory   the sessions' resident memory (VmRSS, VmHWM) after the queries: isolation must not
 //            grow the long-lived process; and one plan call's process (a planner that plans, then
 //            spins: tests/support/evil_planner mode hang) while it runs: its private dirty
@@ -67,8 +69,10 @@ std::unique_ptr<ChildProcess> session(const std::string& flipper, const std::str
 }
 
 // One query and its answer line; the round trip in ms (negative: no answer).
-double ask(ChildProcess& s, const std::string& text) {
-  const std::string line = nlohmann::json{{"op", "query"}, {"text", text}}.dump();
+double ask(ChildProcess& s, const std::string& text, int k = -1) {
+  nlohmann::json request{{"op", "query"}, {"text", text}};
+  if (k >= 0) request["k"] = k;
+  const std::string line = request.dump();
   const auto t0 = Clock::now();
   if (!s.write_line(line)) return -1;
   const std::string answer = s.read_line(std::chrono::seconds(60));
@@ -124,6 +128,20 @@ int main(int argc, char** argv) {
     by_query_in[static_cast<std::size_t>(i % n)].push_back(t_in);
     by_query_proc[static_cast<std::size_t>(i % n)].push_back(t_proc);
   }
+  // Parse only (k = 0): one child process per query with process isolation, for the parse.
+  std::vector<double> parse_in, parse_proc;
+  for (int i = 0; i < queries; ++i) {
+    const std::string& q = kStudyQueries[static_cast<std::size_t>(i % n)];
+    const bool first_in = i % 2 == 0;
+    const double a = first_in ? ask(*in_process, q, 0) : ask(*process, q, 0);
+    const double b = first_in ? ask(*process, q, 0) : ask(*in_process, q, 0);
+    if (a < 0 || b < 0) {
+      ++errors;
+      continue;
+    }
+    parse_in.push_back(first_in ? a : b);
+    parse_proc.push_back(first_in ? b : a);
+  }
   const long rss_in = proc_kb(in_process->pid(), "status", "VmRSS");
   const long rss_proc = proc_kb(process->pid(), "status", "VmRSS");
   const long hwm_in = proc_kb(in_process->pid(), "status", "VmHWM");
@@ -141,8 +159,11 @@ int main(int argc, char** argv) {
   while ((kids = children_of(spinning->pid())).empty() && Clock::now() < until)
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   long child_rss = 0, child_private = 0, child_pte = 0, parent_rss = 0;
+  // The query's parse has a child of its own first (a few ms): the one still there after
+  // 100 ms is the plan's, past the planning, spinning.
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  kids = children_of(spinning->pid());
   if (kids.size() == 1) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // past the planning, spinning
     child_rss = proc_kb(kids[0], "smaps_rollup", "Rss");
     child_private = proc_kb(kids[0], "smaps_rollup", "Private_Dirty");
     child_pte = proc_kb(kids[0], "status", "VmPTE");
@@ -165,6 +186,13 @@ int main(int argc, char** argv) {
       "overhead    p50 %+.3f ms (target <= 2 ms), p99 %+.3f ms (target <= 25 ms); "
       "median of per-query differences %+.3f ms\n",
       p50_proc - p50_in, p99_proc - p99_in, p50_diff);
+  const double parse_p50_in = percentile(parse_in, 0.5), parse_p99_in = percentile(parse_in, 0.99);
+  const double parse_p50 = percentile(parse_proc, 0.5), parse_p99 = percentile(parse_proc, 0.99);
+  std::printf(
+      "parse only (k = 0): in_process p50 %.3f ms, p99 %.3f ms; process p50 %.3f ms, p99 %.3f "
+      "ms; overhead p50 %+.3f ms (target <= 2 ms), p99 %+.3f ms (target <= 25 ms)\n",
+      parse_p50_in, parse_p99_in, parse_p50, parse_p99, parse_p50 - parse_p50_in,
+      parse_p99 - parse_p99_in);
   std::printf("per utterance, median in_process / process (ms):\n");
   for (std::size_t q = 0; q < kStudyQueries.size(); ++q)
     std::printf("  %7.3f / %7.3f  %s\n", percentile(by_query_in[q], 0.5),
@@ -178,6 +206,7 @@ int main(int argc, char** argv) {
       "dirty %ld kB + page tables %ld kB (target <= 8192 kB)\n",
       child_rss, parent_rss, child_private, child_pte);
   const bool ok = errors == 0 && p50_proc - p50_in <= 2.0 && p99_proc - p99_in <= 25.0 &&
+                  parse_p50 - parse_p50_in <= 2.0 && parse_p99 - parse_p99_in <= 25.0 &&
                   rss_proc - rss_in <= 1024 && child_private + child_pte <= 8192;
   return ok ? 0 : 1;
 }

@@ -40,6 +40,23 @@ std::vector<Attached>& charges() {
   return *list;
 }
 
+// --- locks held shared across each fork (ReadAcrossFork) ----------------------------------
+
+std::mutex g_fork_reads_mutex;
+std::vector<std::shared_mutex*>& fork_reads() {
+  static auto* const list = new std::vector<std::shared_mutex*>();  // NOLINT: never destroyed
+  return *list;
+}
+
+pid_t fork_holding_reads() {
+  const std::lock_guard<std::mutex> registry(g_fork_reads_mutex);
+  for (std::shared_mutex* m : fork_reads()) m->lock_shared();
+  const pid_t pid = ::fork();
+  if (pid != 0)
+    for (std::shared_mutex* m : fork_reads()) m->unlock_shared();
+  return pid;  // the child keeps them shared: it only reads, then _exits
+}
+
 // --- the envelope a child sends: 'A' + answer bytes, or 'E' + cause + code + message ------
 
 void put_u64(std::string& out, std::uint64_t v) {
@@ -195,6 +212,17 @@ void CpuCharge::detach() {
   budget_ = nullptr;
 }
 
+ReadAcrossFork::ReadAcrossFork(std::shared_mutex& mutex) : mutex_(&mutex) {
+  const std::lock_guard<std::mutex> lock(g_fork_reads_mutex);
+  fork_reads().push_back(mutex_);
+}
+
+ReadAcrossFork::~ReadAcrossFork() {
+  const std::lock_guard<std::mutex> lock(g_fork_reads_mutex);
+  auto& list = fork_reads();
+  list.erase(std::remove(list.begin(), list.end(), mutex_), list.end());
+}
+
 void charge_cpu(nanoseconds cpu) {
   if (cpu <= nanoseconds::zero()) return;
   const std::lock_guard<std::mutex> lock(g_charges_mutex);
@@ -215,7 +243,7 @@ std::optional<std::string> call_in_child(
   const nanoseconds cpu_left = stop.cpu_left();
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) return std::nullopt;
-  const pid_t pid = ::fork();
+  const pid_t pid = fork_holding_reads();
   if (pid < 0) {
     ::close(fds[0]);
     ::close(fds[1]);

@@ -83,16 +83,18 @@ inline constexpr Int kMaxBodyLines{"input.max_body_lines", 100, 1, 100000,
                                    "lines of a definition's body"};
 inline constexpr Int kMaxFileBytes{"input.max_file_bytes", 67108864, 1, 1099511627776,
                                    "world, grammar and preload files"};
-// docs/plugins-untrusted.md §6: a planner's plan and tour calls each in a child process, so a
-// crash or hang costs one answer; `auto` is `process` in the servers (serve, dds), where a crash
-// would lose other users' work, and `in_process` elsewhere.
+// docs/plugins-untrusted.md §6: a planner's plan and tour calls and a parser's parse (with the
+// scorer calls it makes) each in a child process, so a crash or hang costs one answer; `auto` is
+// `process` in the servers (serve, dds), where a crash would lose other users' work, and
+// `in_process` elsewhere.
 /// plugins.isolation, in the order of its names (`automatic` is the name "auto").
 enum class PluginIsolation { automatic, in_process, process };
 inline constexpr sdk::param::Choice<PluginIsolation, 3> kPluginIsolation{
     "plugins.isolation",
     PluginIsolation::automatic,
     {"auto", "in_process", "process"},
-    "where a planner's plan and tour calls run: in_process, process (a child process each: a "
-    "crash costs one answer, plugin_crashed), auto (process in serve and dds)"};
+    "where a planner's plan and tour and a parser's parse (its scorer calls with it) run: "
+    "in_process, process (a child process each: a crash costs one answer, plugin_crashed), auto "
+    "(process in serve and dds)"};
 inline constexpr Int kMaxWorldCells{"world.max_cells", 4194304, 1, 268435456, "cells of a world"};
 }  // namespace flipper::kernel::keys

@@ -11,12 +11,14 @@
 /// bound, reaps the child and charges the child's CPU time to the request's budgets
 /// (`CpuCharge`), so that budgets still count work, never wall time. What the call changes in
 /// the plugin object stays in the child: only calls that change nothing the kernel keeps
-/// (const calls of stateless plugins: a planner's plan and tour) are isolated.
+/// (const calls: a planner's plan and tour, a parser's parse with the scorer's score_node calls
+/// it makes) are isolated; a scorer's learn, which changes its weights, stays in process.
 
 #include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <shared_mutex>
 #include <string>
 #include <string_view>
 
@@ -46,6 +48,20 @@ class CpuCharge {
 
  private:
   sdk::StopCondition* budget_ = nullptr;
+};
+
+/// A reader-writer lock of data an isolated call may read (the usage counters a scorer reads
+/// while the parser scores): while alive, every fork for an isolated call holds it shared, so
+/// that no child inherits it locked by a writer of another thread (it would wait for ever).
+class ReadAcrossFork {
+ public:
+  explicit ReadAcrossFork(std::shared_mutex& mutex);
+  ~ReadAcrossFork();
+  ReadAcrossFork(const ReadAcrossFork&) = delete;
+  ReadAcrossFork& operator=(const ReadAcrossFork&) = delete;
+
+ private:
+  std::shared_mutex* mutex_;
 };
 
 /// Charges `cpu` to every budget attached on the calling thread (see CpuCharge).

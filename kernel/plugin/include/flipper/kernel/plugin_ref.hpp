@@ -135,7 +135,8 @@ class PluginRef {
 
   explicit operator bool() const { return object_ != nullptr; }
   const PluginId& id() const { return *id_; }
-  /// Where the calls that may be isolated run (checked_plan, checked_tour; isolation.hpp).
+  /// Where the calls that may be isolated run (checked_plan, checked_tour, checked_parse;
+  /// isolation.hpp).
   Isolation isolation() const { return isolation_; }
   /// The same plugin, its isolable calls run as `isolation` says.
   PluginRef with_isolation(Isolation isolation) const {

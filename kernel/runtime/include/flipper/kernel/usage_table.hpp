@@ -11,6 +11,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "flipper/kernel/isolation.hpp"
 #include "flipper/sdk/scorer.hpp"
 
 namespace flipper::kernel {
@@ -26,6 +27,7 @@ class UsageTable final : public sdk::UsageCounters {
 
  private:
   mutable std::shared_mutex mutex_;
+  ReadAcrossFork fork_guard_{mutex_};  // parses in a child read the table (isolation.hpp)
   std::unordered_map<std::string, sdk::RuleUses> uses_;
 };
 
