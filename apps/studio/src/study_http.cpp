@@ -16,6 +16,14 @@ namespace {
 
 constexpr std::size_t kMaxEventBytes = 4096;
 
+// The participant a researcher's request body names: {"participant": NAME}.
+std::optional<std::string> participant_named(const HttpRequest& r) {
+  const Json body = Json::parse(r.body, nullptr, false);
+  if (!body.is_object() || !body.contains("participant") || !body["participant"].is_string())
+    return std::nullopt;
+  return body["participant"].get<std::string>();
+}
+
 HttpReply no_study() {
   return error_reply(404, "no_study", "this server runs no study (serve.study)");
 }
@@ -37,6 +45,13 @@ StudyEndpoints::Researcher StudyEndpoints::researcher(const HttpRequest& r) cons
   if (login->role != Role::admin)
     return {error_reply(403, "forbidden", "only an administrator sees the study's recording"), {}};
   return {std::nullopt, login->name};
+}
+
+StudyEndpoints::Researcher StudyEndpoints::researcher_change(const HttpRequest& r) const {
+  Researcher who = researcher(r);
+  if (!who.refusal && !hosts_.allows_origin(r))
+    who.refusal = error_reply(403, "cross_origin", "must come from this server's page");
+  return who;
 }
 
 void StudyEndpoints::event(const HttpRequest& r, const Respond& respond) {
@@ -107,10 +122,8 @@ void StudyEndpoints::recording(const HttpRequest& r, const Respond& respond) {
 }
 
 void StudyEndpoints::close(const HttpRequest& r, const Respond& respond) {
-  auto who = researcher(r);
+  auto who = researcher_change(r);
   if (who.refusal) return respond(std::move(*who.refusal));
-  if (!hosts_.allows_origin(r))
-    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
   const Json body = Json::parse(r.body, nullptr, false);
   if (!body.is_object() || !body.contains("open") || !body["open"].is_boolean())
     return respond(error_reply(400, "bad_request", "send {\"open\": false} or {\"open\": true}"));
@@ -124,14 +137,11 @@ void StudyEndpoints::close(const HttpRequest& r, const Respond& respond) {
 }
 
 void StudyEndpoints::invite(const HttpRequest& r, const Respond& respond) {
-  auto who = researcher(r);
+  auto who = researcher_change(r);
   if (who.refusal) return respond(std::move(*who.refusal));
-  if (!hosts_.allows_origin(r))
-    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
-  const Json body = Json::parse(r.body, nullptr, false);
-  if (!body.is_object() || !body.contains("participant") || !body["participant"].is_string())
-    return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
-  const std::string name = body["participant"].get<std::string>();
+  const std::optional<std::string> named = participant_named(r);
+  if (!named) return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
+  const std::string& name = *named;
   auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
     // Only a participant's account, or a new one: never a code for another account (an admin's).
     const bool account_known = api_.accounts().find(name).has_value();
@@ -156,14 +166,11 @@ void StudyEndpoints::invite(const HttpRequest& r, const Respond& respond) {
 }
 
 void StudyEndpoints::end(const HttpRequest& r, const Respond& respond) {
-  auto who = researcher(r);
+  auto who = researcher_change(r);
   if (who.refusal) return respond(std::move(*who.refusal));
-  if (!hosts_.allows_origin(r))
-    return respond(error_reply(403, "cross_origin", "must come from this server's page"));
-  const Json body = Json::parse(r.body, nullptr, false);
-  if (!body.is_object() || !body.contains("participant") || !body["participant"].is_string())
-    return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
-  const std::string name = body["participant"].get<std::string>();
+  const std::optional<std::string> named = participant_named(r);
+  if (!named) return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
+  const std::string& name = *named;
   auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
     if (!api_.recorder()->participant_of(name))
       return error_reply(404, "not_a_participant",

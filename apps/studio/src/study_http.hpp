@@ -40,6 +40,8 @@ class StudyEndpoints {
     std::string account;
   };
   Researcher researcher(const HttpRequest& request) const;
+  /// researcher(), and a change of the study comes from this server's own page (else 403).
+  Researcher researcher_change(const HttpRequest& request) const;
   void later(const std::string& key, std::function<HttpReply()> job, const Respond& respond);
 
   Api& api_;
