@@ -215,4 +215,36 @@ inline void write_event(dds_entity_t w, const dds::LexiconEvent& e) {
   REQUIRE(dds_write(w, &s) == DDS_RETCODE_OK);
 }
 
+/// A command's exit status and what it printed (standard output and error together).
+struct CommandRun {
+  int status;
+  std::string out;
+};
+
+/// Runs `args` through /bin/sh's exec, each one word (single-quoted), and collects its output.
+inline CommandRun run_command(const std::vector<std::string>& args) {
+  std::string command = "exec";
+  for (const auto& a : args) command += " '" + a + "'";
+  testsupport::ChildProcess p({"/bin/sh", "-c", command + " 2>&1"});
+  std::string out = p.read_all();
+  return {p.finish(), std::move(out)};
+}
+
+/// `flipper dds security ARGS...`.
+inline CommandRun security_command(std::vector<std::string> args) {
+  args.insert(args.begin(), {flipper_bin(), "dds", "security"});
+  return run_command(args);
+}
+
+/// What a shell command prints (the openssl command line: the independent reader).
+inline std::string shell_output(const std::string& command) {
+  return run_command({"/bin/sh", "-c", command}).out;
+}
+
+/// A file's bytes ("" when it cannot be read).
+inline std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
 }  // namespace flipper::ddstest

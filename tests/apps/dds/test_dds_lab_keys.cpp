@@ -13,40 +13,13 @@ using namespace flipper::ddstest;
 
 namespace {
 
-struct Ran {
-  int status;
-  std::string out;  // stdout and stderr
-};
-
-Ran run(const std::vector<std::string>& args) {
-  std::string command = "exec";
-  for (const auto& a : args) command += " '" + a + "'";
-  testsupport::ChildProcess p({"/bin/sh", "-c", command + " 2>&1"});
-  std::string out = p.read_all();
-  return {p.finish(), std::move(out)};
-}
-
-Ran flipper_security(std::vector<std::string> args) {
-  args.insert(args.begin(), {flipper_bin(), "dds", "security"});
-  return run(args);
-}
-
-std::string shell(const std::string& command) {
-  return run({"/bin/sh", "-c", command}).out;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
 bool exists(const std::string& path) {
   return std::filesystem::exists(path);
 }
 
 // Days and seconds from notBefore to notAfter of a PEM certificate (ASN1_TIME_diff).
 std::pair<int, int> lifetime(const std::string& pem_path) {
-  const std::string pem = read_text(pem_path);
+  const std::string pem = file_text(pem_path);
   BIO* bio = BIO_new_mem_buf(pem.data(), static_cast<int>(pem.size()));
   X509* cert = PEM_read_bio_X509(bio, nullptr, nullptr, nullptr);
   BIO_free(bio);
@@ -62,8 +35,8 @@ std::string openssl_request(const std::filesystem::path& dir, const std::string&
                             const std::string& subject,
                             const std::string& key_spec = "ec -pkeyopt ec_paramgen_curve:P-256") {
   const std::string csr = (dir / file).string();
-  shell("openssl req -new -newkey " + key_spec + " -nodes -keyout " + csr + ".key -subj '" +
-        subject + "' -out " + csr);
+  shell_output("openssl req -new -newkey " + key_spec + " -nodes -keyout " + csr + ".key -subj '" +
+               subject + "' -out " + csr);
   REQUIRE(exists(csr));
   return csr;
 }
@@ -74,66 +47,70 @@ TEST_CASE("a lab's request, signed at the CA, installs at the lab, the key never
           "[dds][security][lab_keys]") {
   const auto dir = scratch_dir("lab-keys");
   const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
-  REQUIRE(flipper_security({"init", ca}).status == 0);
-  const Ran req = flipper_security({"request", lab, "lab3"});
+  REQUIRE(security_command({"init", ca}).status == 0);
+  const CommandRun req = security_command({"request", lab, "lab3"});
   INFO(req.out);
   REQUIRE(req.status == 0);
   const std::string key = lab + "/identities/lab3/key.pem", csr = lab + "/identities/lab3/lab3.csr";
-  CHECK(shell("stat -c %a " + key + " " + lab + "/identities/lab3") == "600\n700\n");
+  CHECK(shell_output("stat -c %a " + key + " " + lab + "/identities/lab3") == "600\n700\n");
   // The request as openssl reads it: its own signature verifies, its subject is CN=lab3.
-  CHECK(shell("openssl req -in " + csr + " -noout -verify -subject -nameopt RFC2253 2>&1") ==
+  CHECK(shell_output("openssl req -in " + csr + " -noout -verify -subject -nameopt RFC2253 2>&1") ==
         "Certificate request self-signature verify OK\nsubject=CN=lab3\n");
 
-  const Ran signed_ = flipper_security({"sign", ca, csr});
+  const CommandRun signed_ = security_command({"sign", ca, csr});
   INFO(signed_.out);
   REQUIRE(signed_.status == 0);
   const std::string outbox = ca + "/outbox/lab3";
   // The CA never had the key: not in its identity folder, not in the outbox.
   CHECK_FALSE(exists(ca + "/identities/lab3/key.pem"));
   CHECK_FALSE(exists(outbox + "/key.pem"));
-  CHECK(shell("ls " + outbox) == "ca.pem\ncert.pem\ngovernance.p7s\npermissions.p7s\n");
-  CHECK(shell("openssl verify -CAfile " + ca + "/ca.pem " + outbox + "/cert.pem") ==
+  CHECK(shell_output("ls " + outbox) == "ca.pem\ncert.pem\ngovernance.p7s\npermissions.p7s\n");
+  CHECK(shell_output("openssl verify -CAfile " + ca + "/ca.pem " + outbox + "/cert.pem") ==
         outbox + "/cert.pem: OK\n");
   // The certificate holds the lab's public key.
-  CHECK(shell("openssl x509 -in " + outbox + "/cert.pem -noout -pubkey") ==
-        shell("openssl pkey -in " + key + " -pubout"));
+  CHECK(shell_output("openssl x509 -in " + outbox + "/cert.pem -noout -pubkey") ==
+        shell_output("openssl pkey -in " + key + " -pubout"));
   // Default lifetime: 365 days from a day ago (clocks of other machines may lag).
   const auto [days, secs] = lifetime(outbox + "/cert.pem");
   CHECK(days == 366);
   CHECK(secs <= 1);  // the two times are set one call apart
-  const std::string perms = read_text(ca + "/identities/lab3/permissions.xml");
+  const std::string perms = file_text(ca + "/identities/lab3/permissions.xml");
   CHECK(perms.find("<subject_name>CN=lab3</subject_name>") != std::string::npos);
   CHECK(perms.find("<topic>rt/lab3/flipper/plan</topic>") != std::string::npos);
 
-  const Ran installed = flipper_security({"install", lab, "lab3", outbox});
+  const CommandRun installed = security_command({"install", lab, "lab3", outbox});
   INFO(installed.out);
   REQUIRE(installed.status == 0);
   for (const char* f :
        {"ca.pem", "governance.p7s", "identities/lab3/cert.pem", "identities/lab3/permissions.p7s"})
     CHECK(exists(lab + "/" + f));
-  CHECK(shell("openssl smime -verify -in " + lab + "/identities/lab3/permissions.p7s -CAfile " +
-              lab + "/ca.pem -text -out /dev/null 2>&1") == "Verification successful\n");
+  CHECK(shell_output("openssl smime -verify -in " + lab +
+                     "/identities/lab3/permissions.p7s -CAfile " + lab +
+                     "/ca.pem -text -out /dev/null 2>&1") == "Verification successful\n");
   CHECK_FALSE(exists(lab + "/private/ca.key"));
 
   // Renew: a new certificate (new serial) for the same key, the old one kept in previous/.
-  const std::string serial1 = shell("openssl x509 -in " + outbox + "/cert.pem -noout -serial");
-  const Ran renewed = flipper_security({"renew", ca, "lab3", "--days", "30"});
+  const std::string serial1 =
+      shell_output("openssl x509 -in " + outbox + "/cert.pem -noout -serial");
+  const CommandRun renewed = security_command({"renew", ca, "lab3", "--days", "30"});
   INFO(renewed.out);
   REQUIRE(renewed.status == 0);
-  const std::string serial2 = shell("openssl x509 -in " + outbox + "/cert.pem -noout -serial");
+  const std::string serial2 =
+      shell_output("openssl x509 -in " + outbox + "/cert.pem -noout -serial");
   CHECK(serial2 != serial1);
   CHECK(exists(ca + "/identities/lab3/previous/" + serial1.substr(7, serial1.size() - 8) + ".pem"));
-  CHECK(shell("openssl x509 -in " + outbox + "/cert.pem -noout -pubkey") ==
-        shell("openssl pkey -in " + key + " -pubout"));
+  CHECK(shell_output("openssl x509 -in " + outbox + "/cert.pem -noout -pubkey") ==
+        shell_output("openssl pkey -in " + key + " -pubout"));
   CHECK(lifetime(outbox + "/cert.pem").first == 31);
-  const std::string renewed_perms = read_text(ca + "/identities/lab3/permissions.xml");
+  const std::string renewed_perms = file_text(ca + "/identities/lab3/permissions.xml");
   CHECK(renewed_perms != perms);  // a new validity, the same grants
   CHECK(renewed_perms.substr(renewed_perms.find("<allow_rule>")) ==
         perms.substr(perms.find("<allow_rule>")));
-  REQUIRE(flipper_security({"install", lab, "lab3", outbox}).status == 0);
-  CHECK(shell("openssl x509 -in " + lab + "/identities/lab3/cert.pem -noout -serial") == serial2);
+  REQUIRE(security_command({"install", lab, "lab3", outbox}).status == 0);
+  CHECK(shell_output("openssl x509 -in " + lab + "/identities/lab3/cert.pem -noout -serial") ==
+        serial2);
   // `add` takes --days too; its default is the same year.
-  REQUIRE(flipper_security({"add", ca, "robot1", "--days", "7"}).status == 0);
+  REQUIRE(security_command({"add", ca, "robot1", "--days", "7"}).status == 0);
   CHECK(lifetime(ca + "/identities/robot1/cert.pem").first == 8);
   std::filesystem::remove_all(dir);
 }
@@ -142,11 +119,11 @@ TEST_CASE("bad requests and installs are refused with exit 2 and the reason, wri
           "[dds][security][lab_keys]") {
   const auto dir = scratch_dir("lab-keys-bad");
   const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
-  REQUIRE(flipper_security({"init", ca}).status == 0);
-  REQUIRE(flipper_security({"request", lab, "lab6"}).status == 0);
+  REQUIRE(security_command({"init", ca}).status == 0);
+  REQUIRE(security_command({"request", lab, "lab6"}).status == 0);
   const std::string csr = lab + "/identities/lab6/lab6.csr";
   const auto refused = [&](const std::vector<std::string>& args, const std::string& reason) {
-    const Ran r = flipper_security(args);
+    const CommandRun r = security_command(args);
     INFO(r.out);
     CHECK(r.status == 2);
     CHECK(r.out.find(reason) != std::string::npos);
@@ -154,9 +131,10 @@ TEST_CASE("bad requests and installs are refused with exit 2 and the reason, wri
 
   // Tampered: the name in the signed content changed from lab6 to lab7 (same length, DER intact).
   const std::string tampered = (dir / "tampered.csr").string();
-  shell("openssl req -in " + csr +
-        " -outform DER | sed 's/lab6/lab7/' | openssl req -inform DER -out " + tampered);
-  REQUIRE(shell("openssl req -in " + tampered + " -noout -subject") == "subject=CN = lab7\n");
+  shell_output("openssl req -in " + csr +
+               " -outform DER | sed 's/lab6/lab7/' | openssl req -inform DER -out " + tampered);
+  REQUIRE(shell_output("openssl req -in " + tampered + " -noout -subject") ==
+          "subject=CN = lab7\n");
   refused({"sign", ca, tampered}, "[bad_request] the request '" + tampered +
                                       "' is not signed by its own key (its content was changed "
                                       "after it was made)");
@@ -179,22 +157,22 @@ TEST_CASE("bad requests and installs are refused with exit 2 and the reason, wri
   refused({"request", lab, "lab/6"}, "identity name 'lab/6' is not a ROS 2 name token");
   CHECK_FALSE(exists(ca + "/identities"));  // nothing signed so far
   // The boundary: a one-letter name (the shortest) and 3650 days (the longest) are taken.
-  REQUIRE(flipper_security({"sign", ca, openssl_request(dir, "x.csr", "/CN=x"), "--days", "3650"})
+  REQUIRE(security_command({"sign", ca, openssl_request(dir, "x.csr", "/CN=x"), "--days", "3650"})
               .status == 0);
-  REQUIRE(flipper_security({"sign", ca, csr}).status == 0);
+  REQUIRE(security_command({"sign", ca, csr}).status == 0);
   refused({"sign", ca, csr}, "the keystore already has identity 'lab6'");
 
   // Installs: another lab's certificate; another CA's; for a name with no key here.
   refused({"install", lab, "lab6", ca + "/outbox/x"}, "cert.pem' is for 'x', not 'lab6'");
   const std::string other = (dir / "other").string();
-  REQUIRE(flipper_security({"init", other}).status == 0);
-  REQUIRE(flipper_security({"sign", other, csr}).status == 0);
-  REQUIRE(flipper_security({"install", lab, "lab6", ca + "/outbox/lab6"}).status == 0);
+  REQUIRE(security_command({"init", other}).status == 0);
+  REQUIRE(security_command({"sign", other, csr}).status == 0);
+  REQUIRE(security_command({"install", lab, "lab6", ca + "/outbox/lab6"}).status == 0);
   // A lab bound to one CA (its ca.pem) refuses another CA's certificate.
   refused({"install", lab, "lab6", other + "/outbox/lab6"},
           "'" + lab + "/ca.pem' is another CA's than '" + other + "/outbox/lab6/ca.pem'");
   const std::string renewed_key = (dir / "second").string();
-  REQUIRE(flipper_security({"request", renewed_key, "lab6"}).status == 0);
+  REQUIRE(security_command({"request", renewed_key, "lab6"}).status == 0);
   refused({"install", renewed_key, "lab6", ca + "/outbox/lab6"},
           "cert.pem' is not for this lab's key");
   refused({"install", lab, "nobody", ca + "/outbox/lab6"}, "identities/nobody/key.pem' is missing");
@@ -206,11 +184,11 @@ TEST_CASE("a lab with its own key joins and replicates with a site the CA made",
           "[dds][security][lab_keys]") {
   const auto dir = scratch_dir("lab-keys-join");
   const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
-  REQUIRE(flipper_security({"init", ca}).status == 0);
-  REQUIRE(flipper_security({"add", ca, "lab1"}).status == 0);
-  REQUIRE(flipper_security({"request", lab, "lab2"}).status == 0);
-  REQUIRE(flipper_security({"sign", ca, lab + "/identities/lab2/lab2.csr"}).status == 0);
-  REQUIRE(flipper_security({"install", lab, "lab2", ca + "/outbox/lab2"}).status == 0);
+  REQUIRE(security_command({"init", ca}).status == 0);
+  REQUIRE(security_command({"add", ca, "lab1"}).status == 0);
+  REQUIRE(security_command({"request", lab, "lab2"}).status == 0);
+  REQUIRE(security_command({"sign", ca, lab + "/identities/lab2/lab2.csr"}).status == 0);
+  REQUIRE(security_command({"install", lab, "lab2", ca + "/outbox/lab2"}).status == 0);
 
   const int domain = test_domain();
   Site lab1("lab1", dir, domain, {"--set", "dds.security.keystore=" + ca});
@@ -256,19 +234,19 @@ TEST_CASE("each role is granted only what it needs (docs/ros2.md, Roles)",
           "[dds][security][lab_keys]") {
   const auto dir = scratch_dir("roles");
   const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
-  REQUIRE(flipper_security({"init", ca}).status == 0);
-  REQUIRE(flipper_security({"add", ca, "lab1"}).status == 0);  // site, the default
-  REQUIRE(flipper_security({"add", ca, "robo", "--role", "robot", "--namespace", "r1"}).status ==
+  REQUIRE(security_command({"init", ca}).status == 0);
+  REQUIRE(security_command({"add", ca, "lab1"}).status == 0);  // site, the default
+  REQUIRE(security_command({"add", ca, "robo", "--role", "robot", "--namespace", "r1"}).status ==
           0);
-  REQUIRE(flipper_security({"add", ca, "op", "--role", "operator", "--namespace", "r1"}).status ==
+  REQUIRE(security_command({"add", ca, "op", "--role", "operator", "--namespace", "r1"}).status ==
           0);
-  REQUIRE(flipper_security({"add", ca, "op_all", "--role", "operator"}).status == 0);
+  REQUIRE(security_command({"add", ca, "op_all", "--role", "operator"}).status == 0);
   // sign takes --role too: a lab's operator with its own key.
-  REQUIRE(flipper_security({"request", lab, "op_lab"}).status == 0);
-  REQUIRE(flipper_security({"sign", ca, lab + "/identities/op_lab/op_lab.csr", "--role", "operator",
+  REQUIRE(security_command({"request", lab, "op_lab"}).status == 0);
+  REQUIRE(security_command({"sign", ca, lab + "/identities/op_lab/op_lab.csr", "--role", "operator",
                             "--namespace", "r2"})
               .status == 0);
-  const Ran bad = flipper_security({"add", ca, "x", "--role", "admin"});
+  const CommandRun bad = security_command({"add", ca, "x", "--role", "admin"});
   CHECK(bad.status == 2);
   CHECK(bad.out.find("--role: admin not in {site,robot,operator}") != std::string::npos);
 
@@ -324,7 +302,7 @@ TEST_CASE("each role is granted only what it needs (docs/ros2.md, Roles)",
   for (const std::string name : {"lab1", "robo", "op", "op_all", "op_lab"}) {
     const dds::Keystore ks{name == "op_lab" ? lab : ca};
     if (name == "op_lab")
-      REQUIRE(flipper_security({"install", lab, "op_lab", ca + "/outbox/op_lab"}).status == 0);
+      REQUIRE(security_command({"install", lab, "op_lab", ca + "/outbox/op_lab"}).status == 0);
     dds::Participant p(domain, t, sink, dds::security_properties(ks, name));
     for (const auto& c : cases) {
       if (c.identity != name) continue;
@@ -339,13 +317,13 @@ TEST_CASE("renew takes a certificate an hour before it expires, not an hour afte
           "[dds][security][lab_keys]") {
   const auto dir = scratch_dir("renew-expiry");
   const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
-  REQUIRE(flipper_security({"init", ca}).status == 0);
-  REQUIRE(flipper_security({"request", lab, "lab9"}).status == 0);
-  REQUIRE(flipper_security({"sign", ca, lab + "/identities/lab9/lab9.csr"}).status == 0);
+  REQUIRE(security_command({"init", ca}).status == 0);
+  REQUIRE(security_command({"request", lab, "lab9"}).status == 0);
+  REQUIRE(security_command({"sign", ca, lab + "/identities/lab9/lab9.csr"}).status == 0);
   const std::string cert_path = ca + "/identities/lab9/cert.pem";
   // The CA's certificate of lab9 re-dated to end `hours` from now and signed again by the CA.
   const auto end_in = [&](long hours) {
-    const std::string pem = read_text(cert_path), key_pem = read_text(ca + "/private/ca.key");
+    const std::string pem = file_text(cert_path), key_pem = file_text(ca + "/private/ca.key");
     BIO* bio = BIO_new_mem_buf(pem.data(), static_cast<int>(pem.size()));
     X509* cert = PEM_read_bio_X509(bio, nullptr, nullptr, nullptr);
     BIO_free(bio);
@@ -363,13 +341,13 @@ TEST_CASE("renew takes a certificate an hour before it expires, not an hour afte
     EVP_PKEY_free(key);
   };
   end_in(-1);
-  const Ran expired = flipper_security({"renew", ca, "lab9"});
+  const CommandRun expired = security_command({"renew", ca, "lab9"});
   CHECK(expired.status == 2);
   CHECK(expired.out ==
         "flipper dds security renew: [bad_request] the certificate of 'lab9' has "
         "expired: the lab makes a new request (revoke 'lab9' first)\n");
   end_in(1);
-  const Ran renewed = flipper_security({"renew", ca, "lab9"});
+  const CommandRun renewed = security_command({"renew", ca, "lab9"});
   INFO(renewed.out);
   CHECK(renewed.status == 0);
   CHECK(lifetime(cert_path).first == 366);

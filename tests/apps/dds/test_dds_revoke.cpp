@@ -13,36 +13,9 @@ using namespace flipper::ddstest;
 
 namespace {
 
-struct Ran {
-  int status;
-  std::string out;  // stdout and stderr
-};
-
-Ran run(const std::vector<std::string>& args) {
-  std::string command = "exec";
-  for (const auto& a : args) command += " '" + a + "'";
-  testsupport::ChildProcess p({"/bin/sh", "-c", command + " 2>&1"});
-  std::string out = p.read_all();
-  return {p.finish(), std::move(out)};
-}
-
-Ran security(std::vector<std::string> args) {
-  args.insert(args.begin(), {flipper_bin(), "dds", "security"});
-  return run(args);
-}
-
-std::string shell(const std::string& command) {
-  return run({"/bin/sh", "-c", command}).out;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
 // The serial as `openssl x509 -serial` prints it, without "serial=" and the line end.
 std::string serial_of(const std::string& cert) {
-  const std::string line = shell("openssl x509 -noout -serial -in " + cert);
+  const std::string line = shell_output("openssl x509 -noout -serial -in " + cert);
   REQUIRE(line.rfind("serial=", 0) == 0);
   return line.substr(7, line.size() - 8);
 }
@@ -76,11 +49,12 @@ TEST_CASE("revoke writes a CRL openssl honours, and EventVerifier refuses the re
           "[dds][security][revoke]") {
   const auto dir = scratch_dir("revoke");
   const std::string ks = (dir / "ks").string();
-  REQUIRE(security({"init", ks}).status == 0);
-  for (const char* name : {"lab1", "lab2"}) REQUIRE(security({"add", ks, name}).status == 0);
+  REQUIRE(security_command({"init", ks}).status == 0);
+  for (const char* name : {"lab1", "lab2"})
+    REQUIRE(security_command({"add", ks, name}).status == 0);
   // lab1 renewed once: both of its certificates must be revoked.
   const std::string first = serial_of(ks + "/identities/lab1/cert.pem");
-  REQUIRE(security({"renew", ks, "lab1"}).status == 0);
+  REQUIRE(security_command({"renew", ks, "lab1"}).status == 0);
   const std::string current = serial_of(ks + "/identities/lab1/cert.pem");
   REQUIRE(first != current);
 
@@ -90,21 +64,21 @@ TEST_CASE("revoke writes a CRL openssl honours, and EventVerifier refuses the re
   dds::EventSigner(dds::Keystore{ks}, "lab2").sign(by_lab2);
   CHECK_FALSE(dds::EventVerifier(dds::Keystore{ks}).why_not(by_lab1).has_value());  // control
 
-  const Ran revoked = security({"revoke", ks, "lab1"});
+  const CommandRun revoked = security_command({"revoke", ks, "lab1"});
   INFO(revoked.out);
   REQUIRE(revoked.status == 0);
   const std::string crl = ks + "/crl.pem";
   const std::string moved = ks + "/revoked/lab1-" + current;
   // openssl, the independent reader: the CA signed the list, both serials are on it, and
   // certificate checks with the list refuse lab1's certificates and accept lab2's.
-  CHECK(shell("openssl crl -in " + crl + " -noout -CAfile " + ks + "/ca.pem 2>&1") ==
+  CHECK(shell_output("openssl crl -in " + crl + " -noout -CAfile " + ks + "/ca.pem 2>&1") ==
         "verify OK\n");
-  const std::string text = shell("openssl crl -in " + crl + " -noout -text");
+  const std::string text = shell_output("openssl crl -in " + crl + " -noout -text");
   CHECK(text.find("Serial Number: " + first) != std::string::npos);
   CHECK(text.find("Serial Number: " + current) != std::string::npos);
   const auto verify = [&](const std::string& cert) {
-    return shell("openssl verify -crl_check -CRLfile " + crl + " -CAfile " + ks + "/ca.pem " +
-                 cert + " 2>&1");
+    return shell_output("openssl verify -crl_check -CRLfile " + crl + " -CAfile " + ks +
+                        "/ca.pem " + cert + " 2>&1");
   };
   CHECK(verify(moved + "/cert.pem").find("certificate revoked") != std::string::npos);
   CHECK(verify(moved + "/previous/" + first + ".pem").find("certificate revoked") !=
@@ -122,8 +96,8 @@ TEST_CASE("revoke writes a CRL openssl honours, and EventVerifier refuses the re
   CHECK(dds::EventVerifier(dds::Keystore{bare, crl}).why_not(by_lab1) ==
         revoked_reason(current, crl));
   // Revoking again: every entry kept, nothing doubled.
-  REQUIRE(security({"revoke", ks, "lab2"}).status == 0);
-  const std::string twice = shell("openssl crl -in " + crl + " -noout -text");
+  REQUIRE(security_command({"revoke", ks, "lab2"}).status == 0);
+  const std::string twice = shell_output("openssl crl -in " + crl + " -noout -text");
   std::size_t entries = 0;
   for (auto at = twice.find("Serial Number:"); at != std::string::npos;
        at = twice.find("Serial Number:", at + 1))
@@ -133,9 +107,9 @@ TEST_CASE("revoke writes a CRL openssl honours, and EventVerifier refuses the re
 
   // A list another CA signed is refused before anything starts.
   const std::string other = (dir / "other").string();
-  REQUIRE(security({"init", other}).status == 0);
-  REQUIRE(security({"add", other, "x"}).status == 0);
-  REQUIRE(security({"revoke", other, "x"}).status == 0);
+  REQUIRE(security_command({"init", other}).status == 0);
+  REQUIRE(security_command({"add", other, "x"}).status == 0);
+  REQUIRE(security_command({"revoke", other, "x"}).status == 0);
   try {
     dds::EventVerifier bad(dds::Keystore{ks, other + "/crl.pem"});
     FAIL("a foreign CRL was taken");
@@ -144,7 +118,7 @@ TEST_CASE("revoke writes a CRL openssl honours, and EventVerifier refuses the re
     CHECK(std::string(e.what()) == "DDS Security: the revocation list '" + other +
                                        "/crl.pem' is not signed by the keystore's CA");
   }
-  const Ran misuse = security({"revoke", ks, "lab1"});
+  const CommandRun misuse = security_command({"revoke", ks, "lab1"});
   CHECK(misuse.status == 2);
   CHECK(misuse.out ==
         "flipper dds security revoke: [bad_request] the keystore has no identity "
@@ -157,21 +131,21 @@ TEST_CASE("a site whose own certificate is revoked, or whose CRL is missing, doe
           "[dds][security][revoke]") {
   const auto dir = scratch_dir("revoke-self");
   const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
-  REQUIRE(security({"init", ca}).status == 0);
-  REQUIRE(security({"request", lab, "lab3"}).status == 0);
-  REQUIRE(security({"sign", ca, lab + "/identities/lab3/lab3.csr"}).status == 0);
-  REQUIRE(security({"install", lab, "lab3", ca + "/outbox/lab3"}).status == 0);
+  REQUIRE(security_command({"init", ca}).status == 0);
+  REQUIRE(security_command({"request", lab, "lab3"}).status == 0);
+  REQUIRE(security_command({"sign", ca, lab + "/identities/lab3/lab3.csr"}).status == 0);
+  REQUIRE(security_command({"install", lab, "lab3", ca + "/outbox/lab3"}).status == 0);
   const auto session = [&](const std::string& extra) {
-    return run({flipper_bin(), "session", "--set", "lexicon.path=:memory:", "--set",
-                "lexicon.replication=dds", "--set", "lexicon.site=lab3", "--set",
-                "dds.security.keystore=" + lab, "--set", extra});
+    return run_command({flipper_bin(), "session", "--set", "lexicon.path=:memory:", "--set",
+                        "lexicon.replication=dds", "--set", "lexicon.site=lab3", "--set",
+                        "dds.security.keystore=" + lab, "--set", extra});
   };
-  const Ran missing = session("dds.security.crl=" + lab + "/none.pem");
+  const CommandRun missing = session("dds.security.crl=" + lab + "/none.pem");
   CHECK(missing.status == 2);
   CHECK(missing.out.find("[bad_config] DDS Security: '" + lab +
                          "/none.pem' is missing (dds.security.crl;") != std::string::npos);
-  REQUIRE(security({"revoke", ca, "lab3"}).status == 0);
-  const Ran own = session("dds.security.crl=" + ca + "/crl.pem");
+  REQUIRE(security_command({"revoke", ca, "lab3"}).status == 0);
+  const CommandRun own = session("dds.security.crl=" + ca + "/crl.pem");
   CHECK(own.status == 2);
   CHECK(own.out.find("[bad_config] DDS Security: the certificate of identity 'lab3' is revoked "
                      "by '" +
@@ -185,14 +159,14 @@ TEST_CASE(
     "[dds][security][revoke]") {
   const auto dir = scratch_dir("revoke-relay");
   const std::string ks = (dir / "ks").string();
-  REQUIRE(security({"init", ks}).status == 0);
+  REQUIRE(security_command({"init", ks}).status == 0);
   for (const char* name : {"lab1", "lab2", "mallory"})
-    REQUIRE(security({"add", ks, name}).status == 0);
+    REQUIRE(security_command({"add", ks, name}).status == 0);
   const std::string serial = serial_of(ks + "/identities/lab1/cert.pem");
   // Made with lab1's key before the revocation (or by whoever holds that key after it).
   dds::LexiconEvent stale = definition("lab1", "stale task", 50);
   dds::EventSigner(dds::Keystore{ks}, "lab1").sign(stale);
-  REQUIRE(security({"revoke", ks, "lab1"}).status == 0);
+  REQUIRE(security_command({"revoke", ks, "lab1"}).status == 0);
 
   const int domain = test_domain();
   ensure_loopback_env();
@@ -235,7 +209,7 @@ TEST_CASE(
   CHECK(
       wait_until([&] { return top("mallory task") == "{move right}"; }, std::chrono::seconds(60)));
   CHECK(top("stale task").empty());
-  const std::string logged = read_text(log);
+  const std::string logged = file_text(log);
   INFO(logged);
   CHECK(logged.find("flipper: lexicon replication: refused event lab1#1: " +
                     revoked_reason(serial, ks + "/crl.pem") + "\n") != std::string::npos);
@@ -247,12 +221,13 @@ TEST_CASE("once the CRL is set, Cyclone's handshake keeps a revoked site out",
           "[dds][security][revoke]") {
   const auto dir = scratch_dir("revoke-cyclone");
   const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
-  REQUIRE(security({"init", ca}).status == 0);
-  for (const char* name : {"lab2", "lab3"}) REQUIRE(security({"add", ca, name}).status == 0);
+  REQUIRE(security_command({"init", ca}).status == 0);
+  for (const char* name : {"lab2", "lab3"})
+    REQUIRE(security_command({"add", ca, name}).status == 0);
   // lab1 keeps its key and never installs the CRL (as a lab that was cut off would).
-  REQUIRE(security({"request", lab, "lab1"}).status == 0);
-  REQUIRE(security({"sign", ca, lab + "/identities/lab1/lab1.csr"}).status == 0);
-  REQUIRE(security({"install", lab, "lab1", ca + "/outbox/lab1"}).status == 0);
+  REQUIRE(security_command({"request", lab, "lab1"}).status == 0);
+  REQUIRE(security_command({"sign", ca, lab + "/identities/lab1/lab1.csr"}).status == 0);
+  REQUIRE(security_command({"install", lab, "lab1", ca + "/outbox/lab1"}).status == 0);
 
   const int domain = test_domain();
   std::filesystem::create_directories(dir / "s1");
@@ -268,7 +243,7 @@ TEST_CASE("once the CRL is set, Cyclone's handshake keeps a revoked site out",
                      std::chrono::seconds(60)));
 
   const auto t0 = std::chrono::steady_clock::now();
-  REQUIRE(security({"revoke", ca, "lab1"}).status == 0);
+  REQUIRE(security_command({"revoke", ca, "lab1"}).status == 0);
   // lab2 reads <keystore>/crl.pem when its participant starts.
   REQUIRE(lab2.child->finish() == 0);
   lab2.start();
