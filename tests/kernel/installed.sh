@@ -17,14 +17,19 @@ frontends=$tmp/prefix/lib/flipper/frontends  # the serve and dds modules flipper
 plugins=$tmp/prefix/lib/flipper/plugins
 cd "$tmp"
 
-# No path of this checkout or its build is compiled in.
-for bin in "$flipper" "$frontends/serve.so" "$frontends/dds.so"; do
+# No path of this checkout or its build is compiled in, absolute or (as __FILE__ is under a
+# compiler cache with a base folder) relative to the build tree.
+for bin in "$flipper" "$frontends"/*.so "$plugins"/*.so; do
   for dir in "$src" "$build"; do
     if grep -aFq "$dir" "$bin"; then
-      echo "installed $bin contains the path $dir:"; grep -aoF "$dir[^\"]*" "$bin" | head -3
+      echo "installed $bin contains the path $dir:"; grep -aoF "$dir" "$bin" | head -3
       exit 1
     fi
   done
+  if source_file=$(grep -m1 -aoE '(^|[^A-Za-z0-9_])[.][.]/[A-Za-z0-9_./-]+[.](cpp|hpp|cc|h)' "$bin" | tr -d '\000'); then
+    echo "installed $bin contains the source path $source_file (a __FILE__ of ours?)"
+    exit 1
+  fi
 done
 
 # Every listed plugin comes from the prefix.

@@ -2,6 +2,7 @@
 // OpenSSL (libcrypto) handles with their free functions, and the few reads and writes the
 // keystore and the event signatures share. Internal to apps/dds.
 #include <openssl/bio.h>
+#include <openssl/crypto.h>
 #include <openssl/err.h>
 #include <openssl/evp.h>
 #include <openssl/pem.h>
@@ -23,6 +24,11 @@ using Key = std::unique_ptr<EVP_PKEY, Deleter<EVP_PKEY, EVP_PKEY_free>>;
 using Cert = std::unique_ptr<X509, Deleter<X509, X509_free>>;
 using Crl = std::unique_ptr<X509_CRL, Deleter<X509_CRL, X509_CRL_free>>;
 using MdCtx = std::unique_ptr<EVP_MD_CTX, Deleter<EVP_MD_CTX, EVP_MD_CTX_free>>;
+
+/// Frees memory OpenSSL allocated for us. OPENSSL_free would pass __FILE__ and so compile this
+/// checkout's path into the binary, which an installed flipper must not hold
+/// (docs/architecture.md, "installed binary").
+inline void free_memory(void* memory) { CRYPTO_free(memory, "", 0); }
 
 /// OpenSSL's last error as text (and the queue cleared).
 inline std::string last_error() {

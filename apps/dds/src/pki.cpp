@@ -268,7 +268,7 @@ std::string serial_hex(X509* cert) {
   BIGNUM* bn = ASN1_INTEGER_to_BN(X509_get_serialNumber(cert), nullptr);
   char* hex = bn != nullptr ? BN_bn2hex(bn) : nullptr;
   std::string out = hex != nullptr ? hex : "";
-  OPENSSL_free(hex);
+  ossl::free_memory(hex);
   BN_free(bn);
   return out;
 }
