@@ -28,7 +28,9 @@ using MdCtx = std::unique_ptr<EVP_MD_CTX, Deleter<EVP_MD_CTX, EVP_MD_CTX_free>>;
 /// Frees memory OpenSSL allocated for us. OPENSSL_free would pass __FILE__ and so compile this
 /// checkout's path into the binary, which an installed flipper must not hold
 /// (docs/architecture.md, "installed binary").
-inline void free_memory(void* memory) { CRYPTO_free(memory, "", 0); }
+inline void free_memory(void* memory) {
+  CRYPTO_free(memory, "", 0);
+}
 
 /// OpenSSL's last error as text (and the queue cleared).
 inline std::string last_error() {
