@@ -7,6 +7,8 @@
 
 #include "dds_test_support.hpp"
 #include "flipper/dds/keystore.hpp"
+#include "flipper/dds/lab_keys.hpp"
+#include "flipper/sdk/errors.hpp"
 
 using namespace flipper;
 using namespace flipper::ddstest;
@@ -177,6 +179,36 @@ TEST_CASE("bad requests and installs are refused with exit 2 and the reason, wri
           "cert.pem' is not for this lab's key");
   refused({"install", lab, "nobody", ca + "/outbox/lab6"}, "identities/nobody/key.pem' is missing");
   refused({"renew", ca, "nobody"}, "the keystore has no identity 'nobody'");
+  std::filesystem::remove_all(dir);
+}
+
+// The command line's range check (CLI11) stands in front of the library's own; a caller of the
+// library (a tool, a test) meets the same bounds: 1 and 3,650 days are taken, 0 and 3,651 not.
+TEST_CASE("the library refuses a lifetime outside [1, 3650] days as the command does",
+          "[dds][security][lab_keys]") {
+  const auto dir = scratch_dir("lab-keys-days");
+  const std::string ca = (dir / "ca").string(), lab = (dir / "lab").string();
+  REQUIRE(security_command({"init", ca}).status == 0);
+  std::ostringstream out;
+  const auto refusal = [&](const std::function<void()>& call) -> std::string {
+    try {
+      call();
+    } catch (const sdk::Error& e) {
+      CHECK(e.code() == "bad_request");
+      return e.what();
+    }
+    return "(taken)";
+  };
+  const std::string csr = dds::request_identity(lab, "lab8", out);
+  CHECK(refusal([&] { dds::sign_request(ca, csr, "site", {}, 0, out); }) ==
+        "--days 0 is not in [1, 3650]");
+  CHECK(refusal([&] { dds::sign_request(ca, csr, "site", {}, 3651, out); }) ==
+        "--days 3651 is not in [1, 3650]");
+  CHECK_FALSE(exists(ca + "/identities/lab8"));  // nothing written by a refusal
+  CHECK(refusal([&] { dds::sign_request(ca, csr, "site", {}, 1, out); }) == "(taken)");
+  CHECK(refusal([&] { dds::renew_identity(ca, "lab8", 0, out); }) ==
+        "--days 0 is not in [1, 3650]");
+  CHECK(refusal([&] { dds::renew_identity(ca, "lab8", 3650, out); }) == "(taken)");
   std::filesystem::remove_all(dir);
 }
 

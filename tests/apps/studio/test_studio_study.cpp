@@ -508,6 +508,10 @@ TEST_CASE("a shared computer takes the next participant: the page's next, the re
   REQUIRE(p2.send({{"op", "state"}}).user == "P2");
   // The researcher ends P2's logins from the researcher's view.
   const auto mod = cookie(login(http, json{{"name", "mod"}, {"password", "moderator password"}}));
+  // "next" ends only a participant's own login: the researcher's page keeps its login (used below).
+  res = http.Post("/api/v1/study/next", mod, "", "application/json");
+  CHECK(res->status == 401);
+  CHECK(json::parse(res->body)["error"]["code"] == "login_required");
   res = http.Post("/api/v1/study/end", p2.headers, R"({"participant":"P2"})", "application/json");
   CHECK(res->status == 403);  // a participant is no researcher
   res = http.Post("/api/v1/study/end", mod, R"({"participant":"P9"})", "application/json");

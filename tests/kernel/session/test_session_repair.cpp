@@ -89,6 +89,19 @@ TEST_CASE("two understood phrases side by side: a sequence, taught as two lines"
   CHECK(query(*s, "move up move left")["status"] == "induced");
 }
 
+TEST_CASE("at most three nearest sentences: four understood phrases give the first three",
+          "[session][repair]") {
+  // docs/protocol.md, repair: `nearest` holds up to three sentences. Four phrases side by side
+  // have four one-phrase readings (the whole sequence is more than two edits away).
+  auto s = flipper::wiring::open_session(std::nullopt, flipper::testsupport::test_overrides());
+  const Json r = query(*s, "move up move left move down move right")["repair"];
+  REQUIRE(r["understood"].size() == 4);
+  REQUIRE(r["nearest"].size() == 3);
+  CHECK(r["nearest"][0]["text"] == "move up");
+  CHECK(r["nearest"][1]["text"] == "move left");
+  CHECK(r["nearest"][2]["text"] == "move down");
+}
+
 TEST_CASE("words of the user's lexicon rules are known, so misplaced", "[session][repair]") {
   auto s = flipper::wiring::open_session(std::nullopt, flipper::testsupport::test_overrides());
   REQUIRE(ask(*s, R"({"op":"define","head":"zig zag","body":["move up","move right"]})")["ok"] ==
