@@ -6,7 +6,10 @@
 //            that both see the same machine load: per-query p50 and p99 of each, and the
 //            difference of the two per-query medians; then the same mix with k = 0 (the
 //            query is parsed, no candidate executed: no plan call), which is the cost of the
-//            parse's own child process
+//            parse's own child process; then accepts: each query of the mix answered, then
+//            its first reading accepted, the accept's round trip timed (it executes the reading,
+//            its plan calls in children too, and the scorer's learn, in a child with process
+//            isolation: the learnt weights cross as values)
 //   memory   the sessions' resident memory (VmRSS, VmHWM) after the queries: isolation must not
 //            grow the long-lived process; and one plan call's process (a planner that plans, then
 //            spins: tests/support/evil_planner mode hang) while it runs: its private dirty
@@ -80,6 +83,16 @@ double ask(ChildProcess& s, const std::string& text, int k = -1) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+// Accepts the last query's reading 0: the round trip in ms, or negative when it was not
+// accepted (no reading, or its execution failed: the same in both sessions).
+double accept(ChildProcess& s) {
+  const auto t0 = Clock::now();
+  if (!s.write_line(R"({"op":"accept","rank":0})")) return -1;
+  const std::string answer = s.read_line(std::chrono::seconds(60));
+  if (answer.rfind(R"({"ok":true,"op":"accept")", 0) != 0) return -1;
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -142,6 +155,26 @@ int main(int argc, char** argv) {
     parse_in.push_back(first_in ? a : b);
     parse_proc.push_back(first_in ? b : a);
   }
+  // Accepts: both sessions learn the same, so both keep answering the same.
+  std::vector<double> accept_in, accept_proc;
+  int accept_refused = 0;
+  for (int i = 0; i < queries; ++i) {
+    const std::string& q = kStudyQueries[static_cast<std::size_t>(i % n)];
+    if (ask(*in_process, q) < 0 || ask(*process, q) < 0) {
+      ++errors;
+      continue;
+    }
+    const bool first_in = i % 2 == 0;
+    const double a = first_in ? accept(*in_process) : accept(*process);
+    const double b = first_in ? accept(*process) : accept(*in_process);
+    if ((a < 0) != (b < 0)) ++errors;  // one session accepted, the other did not
+    if (a < 0 || b < 0) {
+      ++accept_refused;
+      continue;
+    }
+    accept_in.push_back(first_in ? a : b);
+    accept_proc.push_back(first_in ? b : a);
+  }
   const long rss_in = proc_kb(in_process->pid(), "status", "VmRSS");
   const long rss_proc = proc_kb(process->pid(), "status", "VmRSS");
   const long hwm_in = proc_kb(in_process->pid(), "status", "VmHWM");
@@ -193,6 +226,14 @@ int main(int argc, char** argv) {
       "ms; overhead p50 %+.3f ms (target <= 2 ms), p99 %+.3f ms (target <= 25 ms)\n",
       parse_p50_in, parse_p99_in, parse_p50, parse_p99, parse_p50 - parse_p50_in,
       parse_p99 - parse_p99_in);
+  const double acc_p50_in = percentile(accept_in, 0.5), acc_p99_in = percentile(accept_in, 0.99);
+  const double acc_p50 = percentile(accept_proc, 0.5), acc_p99 = percentile(accept_proc, 0.99);
+  std::printf(
+      "accept (%zu accepted, %d not acceptable in both): in_process p50 %.3f ms, p99 %.3f ms; "
+      "process p50 %.3f ms, p99 %.3f ms; overhead p50 %+.3f ms (target <= 2 ms), p99 %+.3f ms "
+      "(target <= 25 ms)\n",
+      accept_in.size(), accept_refused, acc_p50_in, acc_p99_in, acc_p50, acc_p99,
+      acc_p50 - acc_p50_in, acc_p99 - acc_p99_in);
   std::printf("per utterance, median in_process / process (ms):\n");
   for (std::size_t q = 0; q < kStudyQueries.size(); ++q)
     std::printf("  %7.3f / %7.3f  %s\n", percentile(by_query_in[q], 0.5),
@@ -207,6 +248,7 @@ int main(int argc, char** argv) {
       child_rss, parent_rss, child_private, child_pte);
   const bool ok = errors == 0 && p50_proc - p50_in <= 2.0 && p99_proc - p99_in <= 25.0 &&
                   parse_p50 - parse_p50_in <= 2.0 && parse_p99 - parse_p99_in <= 25.0 &&
+                  acc_p50 - acc_p50_in <= 2.0 && acc_p99 - acc_p99_in <= 25.0 &&
                   rss_proc - rss_in <= 1024 && child_private + child_pte <= 8192;
   return ok ? 0 : 1;
 }

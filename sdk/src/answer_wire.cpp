@@ -5,6 +5,7 @@
 #include "flipper/sdk/answer_wire.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
@@ -356,6 +357,35 @@ std::optional<PathResult> path_result_of(std::string_view bytes) {
 std::optional<TourResult> tour_result_of(std::string_view bytes) {
   return decoded<TourResult>(bytes, tour_of);
 }
+std::string to_bytes(const std::vector<WeightChange>& values) {
+  Bytes b;
+  b.put<std::uint64_t>(values.size());
+  for (const WeightChange& v : values) {
+    b.put_text(v.model);
+    b.put_text(v.feature);
+    b.put(v.weight);
+    b.put(v.aux);
+  }
+  return b.take();
+}
+
+std::optional<std::vector<WeightChange>> weight_values_of(std::string_view bytes) {
+  return decoded<std::vector<WeightChange>>(bytes, [](std::string_view whole) {
+    Reader in(whole);
+    // Each value is at least two empty texts' lengths and two doubles.
+    std::vector<WeightChange> values(in.count(4 * 8));
+    for (WeightChange& v : values) {
+      v.model = in.text();
+      v.feature = in.text();
+      v.weight = in.get<double>();
+      v.aux = in.get<double>();
+      if (!std::isfinite(v.weight) || !std::isfinite(v.aux)) throw Malformed{};
+    }
+    in.done();
+    return values;
+  });
+}
+
 std::optional<ParseResult> parse_result_of(std::string_view bytes) {
   return decoded<ParseResult>(bytes, parse_of);
 }

@@ -16,6 +16,7 @@ Planner::~Planner() = default;
 Parser::~Parser() = default;
 Scorer::~Scorer() = default;
 IncrementalScorer::~IncrementalScorer() = default;
+WeightValues::~WeightValues() = default;
 Rewriter::~Rewriter() = default;
 Similarity::~Similarity() = default;
 ContinuousSpace::~ContinuousSpace() = default;

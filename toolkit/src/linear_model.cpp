@@ -32,7 +32,10 @@ void LinearModel::add_tree_features(const sdk::Derivation& d, const sdk::ScoreCo
 }
 
 LinearWeight& LinearModel::change(const sdk::ScoreContext& ctx, std::uint64_t key) {
-  std::string name = partition_name(ctx);
+  return change(partition_name(ctx), key);
+}
+
+LinearWeight& LinearModel::change(std::string name, std::uint64_t key) {
   LinearPartition& m = partitions_[name];
   auto found = m.weights.find(key);
   if (found == m.weights.end()) {
@@ -66,6 +69,27 @@ std::vector<sdk::WeightChange> LinearModel::pending_changes() const {
     if (dw != 0 || daux != 0) out.push_back({k.partition, name->second, dw, daux});
   }
   return out;
+}
+
+std::vector<sdk::WeightChange> LinearModel::pending_values() const {
+  std::vector<sdk::WeightChange> out;
+  for (const auto& [k, before] : pending_) {
+    auto m = partitions_.find(k.partition);
+    if (m == partitions_.end()) continue;
+    auto w = m->second.weights.find(k.key);
+    auto name = m->second.names.find(k.key);
+    if (w == m->second.weights.end() || name == m->second.names.end()) continue;
+    out.push_back({k.partition, name->second, w->second.w, w->second.aux});
+  }
+  return out;
+}
+
+void LinearModel::set_values(const std::vector<sdk::WeightChange>& values) {
+  for (const auto& v : values) {
+    const auto key = features::feature_key(v.feature);
+    partitions_[v.model].names[key] = v.feature;
+    change(v.model, key) = {v.weight, v.aux};
+  }
 }
 
 void LinearModel::discard_changes() {

@@ -42,5 +42,11 @@ void LinearScorer::do_discard_changes() {
 void LinearScorer::do_apply_changes(const std::vector<sdk::WeightChange>& changes) {
   model_.apply_changes(changes);
 }
+std::vector<sdk::WeightChange> LinearScorer::do_pending_values() const {
+  return model_.pending_values();
+}
+void LinearScorer::do_set_values(const std::vector<sdk::WeightChange>& values) {
+  model_.set_values(values);
+}
 
 }  // namespace flipper::toolkit

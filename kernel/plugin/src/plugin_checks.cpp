@@ -12,6 +12,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/planner.hpp"
+#include "flipper/sdk/scorer.hpp"
 
 namespace flipper::kernel {
 
@@ -95,6 +96,34 @@ sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
   if (auto v = sdk::parse_violation(request, r))
     throw_invalid_output(parser.id(), v->code, v->what);
   return r;
+}
+
+// The child sends the learnt weights as values (sdk::WeightValues; a change added here could
+// differ in the last bit), or a scorer without changes to report its whole state; an incremental
+// scorer without values learns in process (docs/plugins-untrusted.md §6).
+void checked_learn(const PluginRef<sdk::Scorer>& scorer, const std::vector<sdk::Candidate>& all,
+                   std::size_t accepted, const sdk::ScoreContext& ctx,
+                   const sdk::StopCondition& stop) {
+  auto learn = [&](sdk::Scorer& s) { s.learn(all, accepted, ctx); };
+  sdk::Scorer& object = *scorer.borrow();
+  auto* values = dynamic_cast<sdk::WeightValues*>(&object);
+  if (scorer.isolation() != Isolation::process ||
+      (values == nullptr && dynamic_cast<sdk::IncrementalScorer*>(&object) != nullptr))
+    return scorer.call("learn", learn);
+  std::optional<std::string> bytes;
+  {
+    const detail::CallTimer timer(scorer.id(), "learn");
+    bytes = detail::call_in_child(scorer.id(), "learn", stop, [&](const sdk::StopCondition&) {
+      learn(object);
+      return values != nullptr ? sdk::host::to_bytes(values->pending_values())
+                               : object.save_state();
+    });
+  }
+  if (!bytes) return scorer.call("learn", learn);
+  if (values == nullptr)
+    return scorer.call("load_state", [&](sdk::Scorer& s) { s.load_state(*bytes); });
+  const auto learnt = whole(scorer.id(), "learn", sdk::host::weight_values_of(*bytes));
+  scorer.call("set_values", [&](sdk::Scorer&) { values->set_values(learnt); });
 }
 
 }  // namespace flipper::kernel

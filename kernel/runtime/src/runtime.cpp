@@ -132,15 +132,15 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
   auto rt = std::make_unique<Runtime>(config);
   rt->world = loader.create<sdk::World>(config, "world");
   rt->planner = loader.create<sdk::Planner>(config, "planner");
-  // docs/plugins-untrusted.md §6: plan, tour and parse (its scorer calls with it) in a child
-  // process each, when so configured.
+  // docs/plugins-untrusted.md §6: plan, tour, parse (its scorer calls with it) and learn in a
+  // child process each, when so configured.
   const keys::PluginIsolation setting = config.get(keys::kPluginIsolation);
   const Isolation isolation = setting == keys::PluginIsolation::automatic ? g_auto_isolation.load()
                               : setting == keys::PluginIsolation::process ? Isolation::process
                                                                           : Isolation::in_process;
   rt->planner = rt->planner.with_isolation(isolation);
   rt->parser = loader.create<sdk::Parser>(config, "parser").with_isolation(isolation);
-  rt->scorer = loader.create<sdk::Scorer>(config, "scorer");
+  rt->scorer = loader.create<sdk::Scorer>(config, "scorer").with_isolation(isolation);
   if (config.has_section("rewriter"))
     rt->rewriter = loader.create<sdk::Rewriter>(config, "rewriter");
   if (config.has_section("similarity"))

@@ -308,8 +308,7 @@ AcceptResult Session::accept(const AcceptRequest& request,
     ctx.tokens = &q.tokens;
     ctx.user = user_;
     ctx.usage = &usage;
-    runtime_->scorer.call("learn",
-                          [&](sdk::Scorer& s) { s.learn(q.parse.candidates, sc.index, ctx); });
+    checked_learn(runtime_->scorer, q.parse.candidates, sc.index, ctx, request_stop());
     count(+1);
     counted = true;
     events_.emit(Accepting{*this, q, static_cast<std::size_t>(rank), sc, outcome, user_});

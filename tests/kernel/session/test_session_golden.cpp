@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "dev_stream.hpp"
+#include "flipper/kernel/session.hpp"
 #include "session_fixture.hpp"
 
 namespace {
@@ -99,6 +100,26 @@ std::string mask_ms(const std::string& answer) {
     if (from == std::string::npos) from = answer.size();
   }
   out.append(answer, from, std::string::npos);
+  return out;
+}
+
+// Every answer (ms masked) of a session with the session module's own ops only (no lexicon: the
+// scorer's learnt weights are what it holds, not stored sums) to `rounds` rounds of three
+// ambiguous queries, each followed by accepting its reading 0 or 1 in turn; then the scorer's
+// saved state.
+std::vector<std::string> learning_answers(const std::vector<std::string>& sets, int rounds) {
+  auto runtime = flipper::testsupport::test_runtime(sets);
+  flipper::kernel::Session session(runtime);
+  std::vector<std::string> out;
+  for (int r = 0; r < rounds; ++r)
+    for (const char* text :
+         {"visit room1 or room2 containing item", "visit room3 or room4 containing item",
+          "visit room1 and room2 containing item is red"}) {
+      out.push_back(mask_ms(
+          session.handle_line(std::string(R"({"op":"query","k":5,"text":")") + text + "\"}")));
+      out.push_back(session.handle_line(R"({"op":"accept","rank":)" + std::to_string(r % 2) + "}"));
+    }
+  out.push_back(runtime->scorer.borrow()->save_state());
   return out;
 }
 
@@ -207,5 +228,34 @@ TEST_CASE("answers are byte-identical with every parse in a child process (plugi
     hex << std::hex << fnv1a(got[i]);
     INFO("answer " << i << ": " << got[i].substr(0, 400));
     REQUIRE(hex.str() == golden[i].second);
+  }
+}
+
+TEST_CASE("a learning session answers and learns byte-identically with learn in a child process",
+          "[session][isolation]") {
+  // Each accept's learn ran in a child and its weights crossed a pipe as values
+  // (sdk::WeightValues, docs/plugins-untrusted.md §6): every answer and the scorer's whole saved
+  // state at the end (every weight, to the last bit) equal the in-process session's; the
+  // accepts taught it (the state holds weights).
+  const int rounds = 20;
+  for (const char* scorer : {"loglinear", "perceptron"}) {
+    INFO("scorer " << scorer);
+    std::vector<std::string> sets = {
+        "session.deadline_ms=86400000", "execution.cpu_budget_ms=86400000",
+        "session.cpu_budget_ms=86400000", std::string("scorer.plugin=") + scorer,
+        "plugins.isolation=in_process"};
+    const auto in_process = learning_answers(sets, rounds);
+    sets.back() = "plugins.isolation=process";
+    const auto isolated = learning_answers(sets, rounds);
+    REQUIRE(isolated.size() == in_process.size());
+    std::size_t accepted = 0;
+    for (std::size_t i = 0; i + 1 < isolated.size(); ++i) {
+      INFO("answer " << i << ": " << isolated[i].substr(0, 400));
+      REQUIRE(isolated[i] == in_process[i]);
+      accepted += isolated[i].rfind(R"({"ok":true,"op":"accept")", 0) == 0 ? 1 : 0;
+    }
+    CHECK(accepted == 3 * rounds);
+    CHECK(isolated.back() == in_process.back());
+    CHECK(isolated.back().size() > 1000);
   }
 }

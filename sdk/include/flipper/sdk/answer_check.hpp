@@ -16,8 +16,8 @@
 namespace flipper::sdk {
 inline namespace FLIPPER_ABI_NAMESPACE {
 
-// Declared only (flipper/sdk/planner.hpp and parser.hpp define them): this header may come
-// first (kernel/plugin_checks.hpp includes it for these declarations), and ast.hpp included
+// Declared only (flipper/sdk/planner.hpp, parser.hpp and scorer.hpp define them): this header may
+// come first (kernel/plugin_checks.hpp includes it for these declarations), and ast.hpp included
 // after geometry.hpp trips GCC's -Wshadow on Sort::Area.
 struct Cell;
 class Geometry;
@@ -29,6 +29,9 @@ struct TourResult;
 class Parser;
 struct ParseRequest;
 struct ParseResult;
+struct Candidate;
+class Scorer;
+struct ScoreContext;
 
 namespace codes {
 /// A planner's path or tour that is not an answer to the request.

@@ -114,6 +114,26 @@ class FLIPPER_SDK_API IncrementalScorer {
   virtual void do_apply_changes(const std::vector<WeightChange>& changes) = 0;
 };
 
+/// Optional extension of an IncrementalScorer, found with dynamic_cast: the pending weights as
+/// values, not changes, for a host that runs learn() in a child process (the kernel's
+/// plugins.isolation, docs/plugins-untrusted.md §6). A change added to the parent's weight may
+/// differ from the child's weight in the last bit (w + (w' - w) need not be w'); a value set is
+/// exactly the child's. A WeightChange here holds a weight's value and its aux, not a change.
+class FLIPPER_SDK_API WeightValues {
+ public:
+  virtual ~WeightValues();
+  /// The value now of every weight changed since the last commit (one that came back to its
+  /// value before too), in any order.
+  std::vector<WeightChange> pending_values() const { return do_pending_values(); }
+  /// Sets each named weight to its value, as learn() changes it: pending, its value before kept,
+  /// so that pending_changes() and discard_changes() work as after the learn() that made them.
+  void set_values(const std::vector<WeightChange>& values) { do_set_values(values); }
+
+ protected:
+  virtual std::vector<WeightChange> do_pending_values() const = 0;
+  virtual void do_set_values(const std::vector<WeightChange>& values) = 0;
+};
+
 template <>
 struct KindOf<Scorer> {
   static constexpr PluginKind value = PluginKind::scorer;

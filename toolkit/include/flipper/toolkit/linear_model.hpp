@@ -107,6 +107,9 @@ class LinearModel {
   void commit_changes() { pending_.clear(); }
   void discard_changes();
   void apply_changes(const std::vector<sdk::WeightChange>& changes);
+  // sdk::WeightValues: the same, as values (a plugin run in a child process sends them).
+  std::vector<sdk::WeightChange> pending_values() const;
+  void set_values(const std::vector<sdk::WeightChange>& values);
 
   /// The whole state (Scorer::save_state), partitions and weights by name.
   std::string save_state(const LinearStateFormat& format) const;
@@ -115,6 +118,8 @@ class LinearModel {
   void load_state(std::string_view state, const LinearStateFormat& format);
 
  private:
+  LinearWeight& change(std::string partition, std::uint64_t key);
+
   struct PendingKey {
     std::string partition;
     std::uint64_t key;

@@ -1,9 +1,9 @@
 #pragma once
 /// @file linear_scorer.hpp
 /// A scorer plugin over the toolkit's LinearModel (linear_model.hpp): features, scores, per-user
-/// partitions, saved state and sdk::IncrementalScorer are done here; a plugin derives from it and
-/// writes its update rule (`update`) and, when it scores with something else than the weights
-/// themselves (e.g. their average), `do_score_node`.
+/// partitions, saved state, sdk::IncrementalScorer and sdk::WeightValues are done here; a plugin
+/// derives from it and writes its update rule (`update`) and, when it scores with something else
+/// than the weights themselves (e.g. their average), `do_score_node`.
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,7 +13,7 @@
 
 namespace flipper::toolkit {
 
-class LinearScorer : public sdk::Scorer, public sdk::IncrementalScorer {
+class LinearScorer : public sdk::Scorer, public sdk::IncrementalScorer, public sdk::WeightValues {
  protected:
   LinearScorer(bool per_user, LinearStateFormat format) : format_(format), model_(per_user) {}
 
@@ -38,6 +38,8 @@ class LinearScorer : public sdk::Scorer, public sdk::IncrementalScorer {
   void do_commit_changes() override;
   void do_discard_changes() override;
   void do_apply_changes(const std::vector<sdk::WeightChange>& changes) override;
+  std::vector<sdk::WeightChange> do_pending_values() const override;
+  void do_set_values(const std::vector<sdk::WeightChange>& values) override;
 
  private:
   const LinearStateFormat format_;

@@ -1,0 +1,111 @@
+// plugins.isolation: process for a scorer's learn (docs/plugins-untrusted.md §6): an accept whose
+// learn segfaults, aborts or throws costs the one answer. In `flipper serve` (isolation `auto` is
+// `process` there) user A's accept is answered plugin_crashed naming plugin, call and signal, the
+// model is unchanged (user B's answers before and after are exactly a fresh in-process session's),
+// and A's next query and accept are answered. The evil scorer (tests/support/evil_scorer)
+// misbehaves only on accepts of utterances with the token `room1` (`on_token=room1`).
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "apps/studio/studio_server.hpp"
+#include "cli_test_support.hpp"
+
+using namespace flipper;
+using nlohmann::json;
+
+namespace {
+
+const std::string kEvilDir = std::string(FLIPPER_BINARY_DIR) + "/tests/plugins/evil";
+// Servers name a plugin's library by its file name only (no paths to a remote client).
+const std::string kServeLabel = "plugin 'evil_scorer' (evil_scorer.so)";
+const std::string kCrashing = R"({"op":"query","text":"visit room1"})";
+const std::string kFine = R"({"op":"query","text":"visit room4 and room2","k":3})";
+const std::string kAccept = R"({"op":"accept","rank":0})";
+
+std::vector<std::string> evil_sets(const std::string& mode) {
+  return {"plugin_paths=[" + kEvilDir + "]", "scorer.plugin=evil_scorer",
+          "scorer.params.mode=" + mode, "scorer.params.on_token=room1"};
+}
+
+std::string set_args(const std::vector<std::string>& sets) {
+  std::string out;
+  for (const auto& s : sets) out += " --set " + s;
+  return out;
+}
+
+json without_ms(json a) {
+  a.erase("ms");
+  return a;
+}
+
+// The answers of a fresh `flipper session`, the evil scorer in mode ok, in process, to `lines`.
+std::vector<json> reference(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const auto& l : lines) text += l + "\n";
+  const std::string in = clitest::write_file("scorer-isolation-reference.jsonl", text);
+  const auto r = clitest::run_flipper(
+      "session --set lexicon.path=:memory: --set lexicon.preload=" + set_args(evil_sets("ok")) +
+          " --set plugins.isolation=in_process " + in,
+      false);
+  REQUIRE(r.status == 0);
+  std::vector<json> out;
+  std::size_t from = 0;
+  for (std::size_t at = r.out.find('\n'); at != std::string::npos; at = r.out.find('\n', from)) {
+    out.push_back(without_ms(json::parse(r.out.substr(from, at - from))));
+    from = at + 1;
+  }
+  REQUIRE(out.size() == lines.size());
+  return out;
+}
+
+// Two users of one server: B queries, A accepts a query whose learn misbehaves, B queries again,
+// A queries and accepts again.
+void bad_learn_costs_one_answer(const std::string& mode, const json& expected) {
+  studiotest::StudioServer server(studiotest::fresh_dir("scorer-isolation"), evil_sets(mode));
+  const auto fine = reference({kFine, kAccept, kFine});
+  // The accept taught the model: the same query scores higher after it.
+  REQUIRE(fine[0]["candidates"][0]["score"] == 7.0);
+  REQUIRE(fine[2]["candidates"][0]["score"] == 47.5);
+  auto http_a = server.client();
+  auto http_b = server.client();
+  const auto a = studiotest::post(http_a, "", R"({"op":"state"})");
+  const auto b = studiotest::post(http_b, "", R"({"op":"state"})");
+  REQUIRE(a.status == 200);
+  REQUIRE(b.status == 200);
+  REQUIRE(a.session != b.session);
+  CHECK(without_ms(studiotest::post(http_b, b.session, kFine).body) == fine[0]);
+  REQUIRE(studiotest::post(http_a, a.session, kCrashing).body["ok"] == true);
+  const auto bad = studiotest::post(http_a, a.session, kAccept);
+  CHECK(bad.body == expected);
+  CHECK(without_ms(studiotest::post(http_b, b.session, kFine).body) == fine[0]);
+  CHECK(without_ms(studiotest::post(http_a, a.session, kFine).body) == fine[0]);
+  CHECK(without_ms(studiotest::post(http_a, a.session, kAccept).body) == fine[1]);
+  CHECK(without_ms(studiotest::post(http_a, a.session, kFine).body) == fine[2]);
+  CHECK(server.stop() == 0);
+}
+
+json accept_error(const std::string& code, const std::string& message) {
+  return json{{"ok", false},
+              {"op", "accept"},
+              {"error", {{"code", code}, {"message", kServeLabel + ": " + message}}}};
+}
+
+}  // namespace
+
+TEST_CASE("serve: a scorer whose learn segfaults costs user A one answer, user B nothing",
+          "[isolation][scorer]") {
+  bad_learn_costs_one_answer("segv", accept_error("plugin_crashed", "learn: SIGSEGV"));
+}
+
+TEST_CASE("serve: a scorer whose learn aborts costs user A one answer, user B nothing",
+          "[isolation][scorer]") {
+  bad_learn_costs_one_answer("abort", accept_error("plugin_crashed", "learn: SIGABRT"));
+}
+
+TEST_CASE("serve: an isolated learn's exception arrives as in process (plugin_error)",
+          "[isolation][scorer]") {
+  bad_learn_costs_one_answer("throw",
+                             accept_error("plugin_error", "learn: evil_scorer: thrown on purpose"));
+}
