@@ -127,7 +127,6 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.options = ServeOptions::from_config(config);
   m.files = std::make_unique<StaticFiles>(find_web_dir(m.options.web_dir));
-  m.accounts = std::make_unique<AccountStore>(m.options.accounts);
   std::shared_ptr<Study> study;
   std::vector<std::pair<std::string, kernel::Config>> kernels{{"", config}};
   if (!m.options.study.empty()) {
@@ -135,7 +134,12 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
       throw sdk::Error(sdk::codes::kBadConfig,
                        "serve.sempre cannot be combined with serve.study: /sempre sessions belong "
                        "to no study group");
+    // One read of the study file: its accounts are found from the study loaded here.
     study = Study::load(m.options.study);
+    m.options.accounts = accounts_path(config, study->record_dir());
+  }
+  m.accounts = std::make_unique<AccountStore>(m.options.accounts);
+  if (study) {
     std::error_code ec;
     std::filesystem::create_directories(study->record_dir(), ec);
     kernels = study->kernels(config);
