@@ -70,7 +70,10 @@ struct Server::Impl {
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
   std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §7)
   std::unique_ptr<Scheduler> scheduler;   // destroyed first: its workers use the api
-  std::size_t connection_cap = 0;         ///< serve.max_connections, lowered to fit the descriptors
+  /// Logins and logouts on a worker of their own: a password check (Argon2id, tens of ms of CPU)
+  /// never holds a worker another request waits for (docs/accounts.md §2).
+  std::unique_ptr<Scheduler> login_scheduler;
+  std::size_t connection_cap = 0;  ///< serve.max_connections, lowered to fit the descriptors
 
   void add_routes() {
     Api* a = api.get();
@@ -149,9 +152,12 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   so.cpu_ms_per_s = m.options.cpu_ms_per_s;
   so.cpu_burst_ms = m.options.cpu_burst_ms;
   m.scheduler = std::make_unique<Scheduler>(so);
+  SchedulerOptions logins = so;
+  logins.workers = 1;
+  m.login_scheduler = std::make_unique<Scheduler>(logins);
   m.api = std::make_unique<Api>(kernels, m.options, *m.accounts, *m.scheduler, m.hosts);
-  m.auth =
-      std::make_unique<AuthEndpoints>(m.options.login_days, *m.accounts, *m.scheduler, m.hosts);
+  m.auth = std::make_unique<AuthEndpoints>(m.options.login_days, *m.accounts, *m.login_scheduler,
+                                           m.hosts);
   if (study) {
     m.api->set_study(study);
     m.api->set_recorder(std::make_shared<Recorder>(study, kernels));
@@ -184,6 +190,7 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
 Server::~Server() {
   // Workers first (they answer into the transport), then the api they use.
   impl_->scheduler.reset();
+  impl_->login_scheduler.reset();
   impl_->sempre.reset();
   impl_->study.reset();
   impl_->api.reset();
