@@ -6,8 +6,10 @@
 //   memory    resident memory before / after 20 expensive queries (target: back near the
 //             baseline), and 40 sessions each loading a maximal world against a 1024 MiB budget
 //             (target: refused before the budget; peak RSS)
-// Usage: bench_serve --flipper BIN [--part trickle|fairness|memory|all]; BENCH_SERVE_SET=k=v adds
-// one --set value to every server (e.g. serve.kernels=2).
+//   fairness  also per heavy client: answered queries, p50/p99, and max/min between the 16
+//   login, session   floods from 60 / 40 addresses: new users admitted, per cent (floods.cpp)
+// Usage: bench_serve --flipper BIN [--part trickle|fairness|memory|login|session|all];
+// BENCH_SERVE_SET=k=v adds one --set value to every server (e.g. serve.kernels=2).
 #include <httplib.h>
 #include <unistd.h>
 
@@ -26,96 +28,13 @@
 #include "bench_common.hpp"
 #include "child_process.hpp"
 #include "raw_socket.hpp"
+#include "serve_support.hpp"
 
 namespace {
 
 using flipper::bench::percentile;
-
-using Clock = std::chrono::steady_clock;
-using namespace std::chrono_literals;
 using flipper::studiotest::RawSocket;
-
-// ~0.4 s of CPU on the default world (measured with flipper run: docs/studio.md §5).
-const char* kHeavy =
-    "repeat 13 times { foreach point in world { foreach point in world { visit point } } }";
-
-double ms_since(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string a, b, c;
-  in >> a >> b >> c;
-  return a + " " + b + " " + c;
-}
-
-long rss_kib(int pid, const char* field = "VmRSS:") {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind(field, 0) == 0) return std::stol(line.substr(std::string(field).size()));
-  return -1;
-}
-
-struct Server {
-  std::unique_ptr<flipper::testsupport::ChildProcess> child;
-  int port = 0;
-  std::string dir;
-  Server(const std::string& flipper, const std::vector<std::string>& sets) {
-    char tmpl[] = "/tmp/flipper-bench-serve-XXXXXX";
-    dir = ::mkdtemp(tmpl);
-    std::vector<std::string> args{flipper, "serve",
-                                  "--set", "serve.port=0",
-                                  "--set", "lexicon.path=" + dir + "/lexicon.sqlite",
-                                  "--set", "lexicon.preload="};
-    for (const auto& s : sets) {
-      args.push_back("--set");
-      args.push_back(s);
-    }
-    // More --set values for every server, e.g. BENCH_SERVE_SET=serve.kernels=2 (one value).
-    if (const char* extra = std::getenv("BENCH_SERVE_SET")) {
-      args.push_back("--set");
-      args.push_back(extra);
-    }
-    child = std::make_unique<flipper::testsupport::ChildProcess>(args);
-    const std::string line = child->read_line(30s);
-    port = std::stoi(line.substr(line.find("127.0.0.1:") + 10));
-  }
-  ~Server() {
-    child->kill_now();
-    std::filesystem::remove_all(dir);
-  }
-  httplib::Client client() const {
-    httplib::Client c("127.0.0.1", port);
-    c.set_tcp_nodelay(true);
-    c.set_read_timeout(60);
-    c.set_keep_alive(true);
-    return c;
-  }
-};
-
-std::string session_of(httplib::Client& c) {
-  auto r = c.Post("/api/v1/request", R"({"op":"state"})", "application/json");
-  return r ? r->get_header_value("Flipper-Session") : "";
-}
-
-// The round trip in ms; `kernel_ms` gets the query's own time in the kernel (the answer's "ms").
-double query_ms(httplib::Client& c, const std::string& session, const std::string& text, bool* ok,
-                double* kernel_ms = nullptr) {
-  const auto t0 = Clock::now();
-  auto r = c.Post(("/api/v1/request?session=" + session).c_str(),
-                  nlohmann::json{{"op", "query"}, {"text", text}}.dump(), "application/json");
-  if (ok) *ok = r && r->status == 200 && r->body.rfind("{\"ok\":true", 0) == 0;
-  if (kernel_ms && r) {
-    const auto a = nlohmann::json::parse(r->body, nullptr, false);
-    *kernel_ms = a.is_object() ? a.value("ms", 0.0) : 0.0;
-  }
-  if (ok && !*ok && std::getenv("BENCH_SERVE_DEBUG"))
-    std::cerr << (r ? std::to_string(r->status) + " " + r->body.substr(0, 200) : "no answer")
-              << "\n";
-  return ms_since(t0);
-}
+using namespace flipper::bench::serve;
 
 void trickle(const std::string& flipper) {
   Server s(flipper, {"serve.max_connections_per_address=1000", "serve.max_connections=2000"});
@@ -152,15 +71,18 @@ void fairness(const std::string& flipper) {
   Server s(flipper, {"serve.sessions_per_address=100", "serve.rate_per_second=1000"});
   std::atomic<bool> done{false};
   std::atomic<long> heavy_done{0}, heavy_failed{0};
+  // Each heavy client's own round trips (its thread only writes its own vector).
+  std::vector<std::vector<double>> per_client(16);
   std::vector<std::thread> heavy;
-  for (int i = 0; i < 16; ++i)
-    heavy.emplace_back([&] {
+  for (std::size_t i = 0; i < per_client.size(); ++i)
+    heavy.emplace_back([&, i] {
       auto c = s.client();
       const std::string session = session_of(c);
       while (!done) {
         bool ok = false;
-        query_ms(c, session, kHeavy, &ok);
+        const double ms = query_ms(c, session, kHeavy, &ok);
         ++(ok ? heavy_done : heavy_failed);
+        if (ok) per_client[i].push_back(ms);
       }
     });
   std::this_thread::sleep_for(2s);  // the heavy clients are looping
@@ -182,6 +104,24 @@ void fairness(const std::string& flipper) {
       "%s]\n",
       percentile(ms, 0.5), percentile(ms, 0.99), percentile(in_kernel, 0.5),
       percentile(in_kernel, 0.99), heavy_done.load(), heavy_failed.load(), load_average().c_str());
+  // Between the 16 (docs/studio.md §5): each one's answered queries and round trips, and the
+  // spread between the best and the worst served (max/min; 1.0 is perfectly even).
+  std::vector<double> answered, p50, p99;
+  std::printf("fairness  per heavy client (answered, p50 ms, p99 ms):");
+  for (const auto& v : per_client) {
+    answered.push_back(static_cast<double>(v.size()));
+    p50.push_back(percentile(v, 0.5));
+    p99.push_back(percentile(v, 0.99));
+    std::printf(" %zu/%.0f/%.0f", v.size(), p50.back(), p99.back());
+  }
+  const auto ratio = [](const std::vector<double>& v) {
+    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+    return *lo > 0 ? *hi / *lo : 0.0;
+  };
+  std::printf(
+      "\nfairness  max/min between the 16: answered %.2f, p50 %.2f, p99 %.2f (even: 1.00)   "
+      "[load %s]\n",
+      ratio(answered), ratio(p50), ratio(p99), load_average().c_str());
 }
 
 void memory(const std::string& flipper) {
@@ -229,11 +169,14 @@ int main(int argc, char** argv) {
       part = argv[i + 1];
   }
   if (flipper.empty()) {
-    std::cerr << "usage: bench_serve --flipper BIN [--part trickle|fairness|memory|all]\n";
+    std::cerr
+        << "usage: bench_serve --flipper BIN [--part trickle|fairness|memory|login|session|all]\n";
     return 2;
   }
   if (part == "trickle" || part == "all") trickle(flipper);
   if (part == "memory" || part == "all") memory(flipper);
   if (part == "fairness" || part == "all") fairness(flipper);
+  if (part == "login" || part == "all") login_flood(flipper);
+  if (part == "session" || part == "all") session_flood(flipper);
   return 0;
 }

@@ -178,12 +178,16 @@ std::optional<std::string> name_problem(std::string_view name) {
 }
 
 std::string accounts_path(const kernel::Config& config) {
+  if (!config.text(keys::kServeAccounts).empty() || config.text(keys::kServeStudy).empty())
+    return accounts_path(config, std::string());
+  return accounts_path(config, Study::load(config.get(keys::kServeStudy))->record_dir());
+}
+
+std::string accounts_path(const kernel::Config& config, const std::string& study_record_dir) {
   if (!config.text(keys::kServeAccounts).empty()) return config.get(keys::kServeAccounts);
   // A study owns its accounts (docs/studio.md §7 "A study's accounts"): beside its recording, so a
   // second study starts at P1 and a browser's login of one study is nobody in another.
-  if (!config.text(keys::kServeStudy).empty())
-    return (fs::path(Study::load(config.get(keys::kServeStudy))->record_dir()) / "accounts.sqlite")
-        .string();
+  if (!study_record_dir.empty()) return (fs::path(study_record_dir) / "accounts.sqlite").string();
   // The raw value decides "in memory": a resolved path would make ":memory:" a file in a folder.
   const std::string given = config.text(naturalization::keys::kLexiconPath);
   if (given.empty() || given == ":memory:") return ":memory:";

@@ -23,7 +23,9 @@ ServeOptions ServeOptions::from_config(const kernel::Config& c) {
   o.max_sessions = static_cast<std::size_t>(c.get(keys::kServeMaxSessions));
   o.session_idle_s = static_cast<int>(c.get(keys::kServeSessionIdleS));
   o.allowed_hosts = c.get(keys::kServeAllowedHosts);
-  o.accounts = accounts_path(c);
+  // With a study the server resolves it from the loaded study's folder (Server::Server): the
+  // study file is read once.
+  if (c.text(keys::kServeStudy).empty()) o.accounts = accounts_path(c);
   o.guests = c.get(keys::kServeGuests);
   o.login_days = static_cast<int>(c.get(keys::kServeLoginDays));
   o.request_timeout_ms = static_cast<int>(c.get(keys::kServeRequestTimeoutMs));

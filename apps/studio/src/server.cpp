@@ -70,7 +70,10 @@ struct Server::Impl {
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
   std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §7)
   std::unique_ptr<Scheduler> scheduler;   // destroyed first: its workers use the api
-  std::size_t connection_cap = 0;         ///< serve.max_connections, lowered to fit the descriptors
+  /// Logins and logouts on a worker of their own: a password check (Argon2id, tens of ms of CPU)
+  /// never holds a worker another request waits for (docs/accounts.md §2).
+  std::unique_ptr<Scheduler> login_scheduler;
+  std::size_t connection_cap = 0;  ///< serve.max_connections, lowered to fit the descriptors
 
   void add_routes() {
     Api* a = api.get();
@@ -127,7 +130,6 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.options = ServeOptions::from_config(config);
   m.files = std::make_unique<StaticFiles>(find_web_dir(m.options.web_dir));
-  m.accounts = std::make_unique<AccountStore>(m.options.accounts);
   std::shared_ptr<Study> study;
   std::vector<std::pair<std::string, kernel::Config>> kernels{{"", config}};
   if (!m.options.study.empty()) {
@@ -135,7 +137,12 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
       throw sdk::Error(sdk::codes::kBadConfig,
                        "serve.sempre cannot be combined with serve.study: /sempre sessions belong "
                        "to no study group");
+    // One read of the study file: its accounts are found from the study loaded here.
     study = Study::load(m.options.study);
+    m.options.accounts = accounts_path(config, study->record_dir());
+  }
+  m.accounts = std::make_unique<AccountStore>(m.options.accounts);
+  if (study) {
     std::error_code ec;
     std::filesystem::create_directories(study->record_dir(), ec);
     kernels = study->kernels(config);
@@ -145,9 +152,12 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   so.cpu_ms_per_s = m.options.cpu_ms_per_s;
   so.cpu_burst_ms = m.options.cpu_burst_ms;
   m.scheduler = std::make_unique<Scheduler>(so);
+  SchedulerOptions logins = so;
+  logins.workers = 1;
+  m.login_scheduler = std::make_unique<Scheduler>(logins);
   m.api = std::make_unique<Api>(kernels, m.options, *m.accounts, *m.scheduler, m.hosts);
-  m.auth =
-      std::make_unique<AuthEndpoints>(m.options.login_days, *m.accounts, *m.scheduler, m.hosts);
+  m.auth = std::make_unique<AuthEndpoints>(m.options.login_days, *m.accounts, *m.login_scheduler,
+                                           m.hosts);
   if (study) {
     m.api->set_study(study);
     m.api->set_recorder(std::make_shared<Recorder>(study, kernels));
@@ -180,6 +190,7 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
 Server::~Server() {
   // Workers first (they answer into the transport), then the api they use.
   impl_->scheduler.reset();
+  impl_->login_scheduler.reset();
   impl_->sempre.reset();
   impl_->study.reset();
   impl_->api.reset();

@@ -3,6 +3,9 @@
 // endpoints (401/403/200, downloads, close), page events, a restart that continues the
 // numbering, one kernel per group under concurrent participants, and `flipper replay verify` on
 // the recording (equal, one byte changed, a bad folder).
+#include <sys/inotify.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -483,6 +486,38 @@ TEST_CASE("a study owns its accounts: a second study starts at P1, the first's l
   int status = 0;
   CHECK(login(http, json{{"name", "mod"}, {"password", "moderator password"}}, &status).empty());
   CHECK(status == 401);
+}
+
+TEST_CASE("the server reads the study file once at start: its accounts come from that read") {
+  // docs/studio.md §7 "A study's accounts": the accounts store is found from the study the server
+  // loaded, not from a second read of the file. The oracle is the kernel's count of the file's
+  // opens (inotify); IN_CLOSE_NOWRITE is watched too, so two opens are never coalesced into one
+  // event (inotify merges identical events that follow each other unread).
+  const std::string dir = fresh_dir("study-read-once");
+  make_study(dir);
+  const std::string study = dir + "/once.yaml";
+  std::ofstream(study) << "name: once\ngroups: [B]\nrecord: rec\ntasks:\n"
+                          "  - {name: one, text: right, start: start.json}\n";
+  const int watch = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  REQUIRE(watch >= 0);
+  REQUIRE(::inotify_add_watch(watch, study.c_str(), IN_OPEN | IN_CLOSE_NOWRITE) >= 0);
+  {
+    StudioServer server(dir, {"serve.study=" + study});
+    auto http = server.client();
+    Participant p{http, {}, "", ""};
+    REQUIRE(p.send({{"op", "state"}}).user == "P1");  // enrolled: the study's accounts work
+  }
+  int opens = 0;
+  alignas(inotify_event) char buffer[4096];
+  for (ssize_t n; (n = ::read(watch, buffer, sizeof buffer)) > 0;)
+    for (ssize_t at = 0; at < n;) {
+      const auto* e = reinterpret_cast<const inotify_event*>(buffer + at);
+      opens += (e->mask & IN_OPEN) != 0;
+      at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+    }
+  ::close(watch);
+  CHECK(opens == 1);
+  CHECK(fs::is_regular_file(fs::path(dir) / "rec" / "accounts.sqlite"));
 }
 
 TEST_CASE("a shared computer takes the next participant: the page's next, the researcher's end") {

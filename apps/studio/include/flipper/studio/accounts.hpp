@@ -53,6 +53,9 @@ inline constexpr std::size_t kMaxPasswordLength = 1024;
 /// study's recording folder (the study file is read: bad_config when it is bad); else
 /// accounts.sqlite beside lexicon.path (":memory:" when the lexicon is in memory).
 std::string accounts_path(const kernel::Config& config);
+/// The same for a study already loaded: `study_record_dir` is its recording folder (empty: no
+/// study), so the study file is read once (the server, docs/studio.md §7 "A study's accounts").
+std::string accounts_path(const kernel::Config& config, const std::string& study_record_dir);
 
 class AccountStore {
  public:

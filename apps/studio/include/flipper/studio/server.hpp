@@ -35,7 +35,8 @@ struct ServeOptions {
   std::vector<std::string> sempre_origins;
   // Names and accounts (docs/accounts.md, docs/studio.md §3).
   std::vector<std::string> allowed_hosts;
-  std::string accounts;  ///< the accounts store (accounts_path())
+  /// the accounts store (accounts_path()); with a study, set by the Server once it has loaded it
+  std::string accounts;
   bool guests = keys::kServeGuests.def;
   int login_days = static_cast<int>(keys::kServeLoginDays.def);
   // Transport (docs/studio.md §2).
