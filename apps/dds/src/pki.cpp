@@ -211,6 +211,17 @@ std::string permissions_xml(const std::string& name, const std::string& role,
     for (const char* leaf : {"plan", "actions", "answer"})
       (serves ? publish : subscribe).push_back(node_topic(ns, leaf));
     (serves ? subscribe : publish).push_back(node_topic(ns, "request"));
+    // Nav2's NavigateThroughPoses action (nav2.action's default name): a robot's node is its
+    // client (nav2.execute), sending goals, results and cancels and reading the replies,
+    // feedback and status; an operator may watch feedback and status; a site has no part in it.
+    const std::string action = action_prefix(ns, std::string(keys::kNav2Action.def));
+    if (role == "robot")
+      for (const char* service : {"send_goal", "get_result", "cancel_goal"}) {
+        publish.push_back("rq/" + action + service + "Request");
+        subscribe.push_back("rr/" + action + service + "Reply");
+      }
+    if (role != "site")
+      for (const char* topic : {"feedback", "status"}) subscribe.push_back("rt/" + action + topic);
   }
   return R"(<?xml version="1.0" encoding="UTF-8"?>
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">

@@ -23,8 +23,12 @@
 /// operator's default: every namespace, `*`):
 ///   site      publish rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}
 ///             subscribe rt/flipper/lexicon, rt/NS/flipper/request
-///   robot     publish rt/NS/flipper/{plan,actions,answer}; subscribe rt/NS/flipper/request
-///   operator  publish rt/NS/flipper/request; subscribe rt/NS/flipper/{plan,actions,answer}
+///   robot     publish rt/NS/flipper/{plan,actions,answer}; subscribe rt/NS/flipper/request;
+///             Nav2's client, A = NS/navigate_through_poses/_action/: publish
+///             rq/A{send_goal,get_result,cancel_goal}Request, subscribe rr/A...Reply,
+///             rt/A{feedback,status}
+///   operator  publish rt/NS/flipper/request; subscribe rt/NS/flipper/{plan,actions,answer},
+///             rt/A{feedback,status}
 /// so only NAME may serve NAME's robot (answer its requests, publish its plans), only sites
 /// replicate the lexicon (whose events carry their site's signature: event_signature.hpp), and
 /// only operators send requests. Every reader of rt/NS/flipper/answer sees every answer there.
