@@ -66,7 +66,8 @@ TEST_CASE("a lab's request, signed at the CA, installs at the lab, the key never
   // The CA never had the key: not in its identity folder, not in the outbox.
   CHECK_FALSE(exists(ca + "/identities/lab3/key.pem"));
   CHECK_FALSE(exists(outbox + "/key.pem"));
-  CHECK(shell_output("ls " + outbox) == "ca.pem\ncert.pem\ngovernance.p7s\npermissions.p7s\n");
+  CHECK(shell_output("ls " + outbox) ==
+        "ca.pem\ncert.pem\ngovernance.p7s\ngovernance_sign.p7s\npermissions.p7s\n");
   CHECK(shell_output("openssl verify -CAfile " + ca + "/ca.pem " + outbox + "/cert.pem") ==
         outbox + "/cert.pem: OK\n");
   // The certificate holds the lab's public key.
@@ -83,8 +84,8 @@ TEST_CASE("a lab's request, signed at the CA, installs at the lab, the key never
   const CommandRun installed = security_command({"install", lab, "lab3", outbox});
   INFO(installed.out);
   REQUIRE(installed.status == 0);
-  for (const char* f :
-       {"ca.pem", "governance.p7s", "identities/lab3/cert.pem", "identities/lab3/permissions.p7s"})
+  for (const char* f : {"ca.pem", "governance.p7s", "governance_sign.p7s",
+                        "identities/lab3/cert.pem", "identities/lab3/permissions.p7s"})
     CHECK(exists(lab + "/" + f));
   CHECK(shell_output("openssl smime -verify -in " + lab +
                      "/identities/lab3/permissions.p7s -CAfile " + lab +
