@@ -158,7 +158,8 @@ struct Node {
 // A secured requester of namespace `ns`: sends `line`, returns the answer line ("" when none
 // came within 60 s: discovery and the handshake take about a second).
 std::string ask(const std::vector<std::pair<std::string, std::string>>& security, int domain,
-                const std::string& ns, const std::string& line) {
+                const std::string& ns, const std::string& line,
+                std::chrono::seconds wait = std::chrono::seconds(60)) {
   ensure_loopback_env();
   dds::Transport t;
   t.xml = dds::loopback_xml();
@@ -182,7 +183,7 @@ std::string ask(const std::vector<std::pair<std::string, std::string>>& security
         dds_publication_matched_status_t st;
         return dds_get_publication_matched_status(writer, &st) == 0 && st.current_count > 0;
       },
-      std::chrono::seconds(60));
+      wait);
   if (!matched) return "";
   flipper_msg_dds__SessionLine_ s{};
   s.session_ = const_cast<char*>("sros2");
@@ -294,6 +295,13 @@ TEST_CASE("flipper's identities exported as SROS2 enclaves, and protection sign,
     const std::string answer = ask(props, domain, "r1", R"({"op":"user","name":"ana"})");
     INFO(node.text());
     CHECK(json::parse(answer.empty() ? "{}" : answer)["op"] == "user");
+    // A participant of the same CA with the other governance (encrypt) never matches it:
+    // watched for 5 s, while the matching one above took about a second.
+    const auto start = std::chrono::steady_clock::now();
+    CHECK(ask(dds::security_properties(dds::Keystore{ca}, "op"), domain, "r1",
+              R"({"op":"user","name":"ana"})", std::chrono::seconds(5))
+              .empty());
+    CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(15));
   }
   std::filesystem::remove_all(dir);
 }
