@@ -37,6 +37,7 @@ struct DdsSecurityArgs {
   std::string file;           ///< sign: the lab's CSR; install: the CA's outbox folder
   long days = 365;            ///< add, sign, renew: lifetime of the certificate and permissions
   std::string role = "site";  ///< add, sign: site, robot or operator (its permissions)
+  std::string enclave;        ///< export: the SROS2 enclave name
 };
 int run_dds_security(const std::string& action, const DdsSecurityArgs& args);
 /// `flipper accounts ACTION NAME`: the studio's accounts (docs/accounts.md); runs in the serve

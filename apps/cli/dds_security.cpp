@@ -1,5 +1,6 @@
-// flipper dds security init | add | request | sign | renew | install, in the dds front-end module
-// (frontend_module.hpp): the DDS Security keystore of apps/dds/keystore.hpp and lab_keys.hpp.
+// flipper dds security init | add | request | sign | renew | revoke | install | export, in the dds
+// front-end module (frontend_module.hpp): the DDS Security keystore of apps/dds/keystore.hpp and
+// lab_keys.hpp.
 #include <iostream>
 
 #include "commands.hpp"
@@ -39,6 +40,11 @@ int dds_security_main(const std::string& action, const DdsSecurityArgs& args) {
       std::cout << "next: copy " << crl
                 << " into every lab's keystore folder (or point dds.security.crl at it) and "
                    "restart their flipper\n";
+    } else if (action == "export") {
+      dds::export_enclave(args.dir, args.name, args.file, args.enclave, std::cout);
+      std::cout << "use: ROS_SECURITY_KEYSTORE=" << args.file << " and --ros-args --enclave "
+                << args.enclave << " (a ROS 2 node), or --set dds.security.keystore=" << args.file
+                << " --set dds.security.enclave=" << args.enclave << "\n";
     } else {
       dds::install_identity(args.dir, args.name, args.file, std::cout);
       std::cout << use << " --set dds.security.identity=" << args.name << "\n";

@@ -18,7 +18,8 @@ void add_serve_command(CLI::App& app) {
 // config's other DDS services (plans, lexicon replication), until SIGINT/SIGTERM.
 // flipper dds security init DIR | add DIR NAME [--namespace NS]... [--days N] | request DIR NAME
 // | sign DIR CSR [--namespace NS]... [--days N] | renew DIR NAME [--days N] | revoke DIR NAME |
-// install DIR NAME FROM: the DDS Security keystore (apps/dds/keystore.hpp, lab_keys.hpp).
+// install DIR NAME FROM | export DIR NAME KEYSTORE --enclave E: the DDS Security keystore
+// (apps/dds/keystore.hpp, lab_keys.hpp).
 void add_dds_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "dds",
@@ -29,9 +30,9 @@ void add_dds_command(CLI::App& app) {
       "security", "Make the DDS Security keystore: a project CA, identities, permissions");
   security->require_subcommand(1);
   static CommonOptions init_opts, add_opts, request_opts, sign_opts, renew_opts, install_opts,
-      revoke_opts;
+      revoke_opts, export_opts;
   static DdsSecurityArgs init_args, add_args, request_args, sign_args, renew_args, install_args,
-      revoke_args;
+      revoke_args, export_args;
   const auto role = [](CLI::App& sub, DdsSecurityArgs& args) {
     sub.add_option("--role", args.role,
                    "site (lexicon, its namespaces), robot (its namespaces) or operator (requests "
@@ -100,6 +101,19 @@ void add_dds_command(CLI::App& app) {
   install->add_option("name", install_args.name, "The identity")->required();
   install->add_option("from", install_args.file, "The folder the CA sent")->required();
   on_run(*install, [] { return run_dds_security("install", install_args); });
+  // For ROS 2 nodes (docs/ros2.md, "SROS2 keystores").
+  auto* exported = security->add_subcommand(
+      "export",
+      "Write identity NAME as an SROS2 enclave of a ROS 2 keystore (ROS_SECURITY_KEYSTORE)");
+  add_common_options(*exported, export_opts);
+  exported->add_option("dir", export_args.dir, "The keystore folder holding NAME's key")
+      ->required();
+  exported->add_option("name", export_args.name, "The identity")->required();
+  exported->add_option("keystore", export_args.file, "The SROS2 keystore folder (created)")
+      ->required();
+  exported->add_option("--enclave", export_args.enclave, "The enclave's name, e.g. /lab1/flipper")
+      ->required();
+  on_run(*exported, [] { return run_dds_security("export", export_args); });
   on_run(*cmd, [cmd] {
     if (!cmd->get_subcommands().empty()) return kExitOk;  // `dds security ...` ran instead
     return run_dds_node(opts);

@@ -5,6 +5,8 @@
 #include <dlfcn.h>
 
 #include <dds/dds.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <ostream>
 
@@ -44,6 +46,21 @@ void require_file(const std::string& path, const std::string& hint) {
 
 }  // namespace
 
+void check_enclave(const std::string& enclave) {
+  // SROS2's enclave names are absolute ROS 2 names: "/" then name tokens joined by "/".
+  const std::string what = "dds.security.enclave '" + enclave.substr(0, 128) + "'";
+  if (enclave.size() < 2 || enclave.front() != '/' || enclave.back() == '/' || enclave.size() > 256)
+    refuse(sdk::codes::kBadConfig,
+           what + " is not an SROS2 enclave name (/name[/name]..., e.g. /lab1/flipper)");
+  std::size_t from = 1;
+  while (from <= enclave.size()) {
+    const std::size_t to = std::min(enclave.find('/', from), enclave.size());
+    if (to == from) refuse(sdk::codes::kBadConfig, what + " has an empty part (/name[/name]...)");
+    check_namespace(enclave.substr(from, to - from), "a part of " + what);
+    from = to + 1;
+  }
+}
+
 void init_keystore(const std::string& dir, std::ostream& out) {
   const Keystore ks{dir};
   std::error_code ec;
@@ -57,9 +74,14 @@ void init_keystore(const std::string& dir, std::ostream& out) {
   out << "flipper dds security: a keystore in " << dir << ":\n";
   pki::write_text(ks.ca_key(), pki::key_pem(key.get()), true, out);
   pki::write_text(ks.ca_certificate(), ossl::cert_to_pem(ca.get()), false, out);
-  const std::string governance = pki::governance_xml();
+  // dds.security.protection chooses between the two (docs/ros2.md, "Protection").
+  const std::string governance = pki::governance_xml(/*encrypt=*/true);
   pki::write_text(dir + "/governance.xml", governance, false, out);
   pki::write_text(ks.governance(), pki::smime_signed(governance, ca.get(), key.get()), false, out);
+  const std::string sign_only = pki::governance_xml(/*encrypt=*/false);
+  pki::write_text(dir + "/governance_sign.xml", sign_only, false, out);
+  pki::write_text(ks.governance_sign(), pki::smime_signed(sign_only, ca.get(), key.get()), false,
+                  out);
 }
 
 void add_identity(const std::string& dir, const std::string& name, const std::string& role,
@@ -90,6 +112,32 @@ void add_identity(const std::string& dir, const std::string& name, const std::st
                   false, out);
 }
 
+void export_enclave(const std::string& dir, const std::string& name, const std::string& keystore,
+                    const std::string& enclave, std::ostream& out) {
+  const Keystore from{dir};
+  const Keystore to{keystore, {}, enclave};
+  check_namespace(name, "identity name");
+  check_enclave(enclave);
+  const std::string hint = "flipper dds security add, or install at a lab";
+  for (const auto& f : {from.ca_certificate(), from.governance(), from.certificate(name),
+                        from.private_key(name), from.permissions(name)})
+    require_file(f, hint);
+  std::error_code ec;
+  if (fs::exists(to.enclave_dir(), ec))
+    refuse(sdk::codes::kBadRequest, "'" + to.enclave_dir() + "' exists already");
+  fs::create_directories(to.enclave_dir(), ec);
+  if (ec) refuse("io_error", "cannot create '" + to.enclave_dir() + "': " + ec.message());
+  out << "flipper dds security: identity '" << name << "' as the SROS2 enclave " << enclave
+      << " of " << keystore << ":\n";
+  const std::string ca = pki::read_text(from.ca_certificate());
+  pki::write_text(to.ca_certificate(), ca, false, out);
+  pki::write_text(to.permissions_ca(), ca, false, out);
+  pki::write_text(to.governance(), pki::read_text(from.governance()), false, out);
+  pki::write_text(to.certificate(name), pki::read_text(from.certificate(name)), false, out);
+  pki::write_text(to.private_key(name), pki::read_text(from.private_key(name)), true, out);
+  pki::write_text(to.permissions(name), pki::read_text(from.permissions(name)), false, out);
+}
+
 std::string Keystore::revocation_list() const {
   if (!crl.empty()) return crl;
   std::error_code ec;
@@ -98,9 +146,14 @@ std::string Keystore::revocation_list() const {
 
 std::vector<std::pair<std::string, std::string>> security_properties(const Keystore& ks,
                                                                      const std::string& name) {
-  const std::string hint = "flipper dds security init DIR; flipper dds security add DIR " + name;
-  for (const auto& f : {ks.ca_certificate(), ks.governance(), ks.certificate(name),
-                        ks.private_key(name), ks.permissions(name)})
+  const std::string hint =
+      ks.sros2() ? "an SROS2 enclave: ros2 security create_enclave " + ks.dir + " " + ks.enclave +
+                       ", or flipper dds security export"
+      : ks.sign_only
+          ? "dds.security.protection: sign; keystores made before it have only governance.p7s"
+          : "flipper dds security init DIR; flipper dds security add DIR " + name;
+  for (const auto& f : {ks.ca_certificate(), ks.permissions_ca(), ks.governance(),
+                        ks.certificate(name), ks.private_key(name), ks.permissions(name)})
     require_file(f, hint);
   const auto file = [](const std::string& path) {
     return "file:" + fs::absolute(path).lexically_normal().string();
@@ -118,7 +171,7 @@ std::vector<std::pair<std::string, std::string>> security_properties(const Keyst
       {"dds.sec.access.library.path", plugin_path("dds_security_ac")},
       {"dds.sec.access.library.init", "init_access_control"},
       {"dds.sec.access.library.finalize", "finalize_access_control"},
-      {"dds.sec.access.permissions_ca", file(ks.ca_certificate())},
+      {"dds.sec.access.permissions_ca", file(ks.permissions_ca())},
       {"dds.sec.access.governance", file(ks.governance())},
       {"dds.sec.access.permissions", file(ks.permissions(name))}};
   if (const std::string crl = ks.revocation_list(); !crl.empty()) {
@@ -140,7 +193,16 @@ std::vector<std::pair<std::string, std::string>> security_properties(const Keyst
 std::optional<SecurityConfig> security_config(const kernel::Config& config) {
   const std::string dir = config.get(keys::kKeystore);
   if (dir.empty()) return std::nullopt;
-  SecurityConfig sc{Keystore{dir, config.get(keys::kCrl)}, config.get(keys::kIdentity)};
+  SecurityConfig sc{Keystore{dir, config.get(keys::kCrl), config.get(keys::kEnclave),
+                             config.get(keys::kProtection) == keys::Protection::sign},
+                    config.get(keys::kIdentity)};
+  if (sc.keystore.sros2()) {
+    check_enclave(sc.keystore.enclave);
+    if (sc.keystore.sign_only)
+      refuse(sdk::codes::kBadConfig,
+             "dds.security.protection: sign is for Flipper's keystore layout; with "
+             "dds.security.enclave the enclave's governance.p7s decides the protection");
+  }
   if (!sc.keystore.crl.empty())
     require_file(sc.keystore.crl,
                  "dds.security.crl; the CA's `flipper dds security revoke` "

@@ -127,6 +127,8 @@ void issue(const Keystore& ks, const std::string& name, X509* cert, const std::s
   out << "send to the lab (the folder " << box << "):\n";
   copy_file(ks.ca_certificate(), box + "/ca.pem", out);
   copy_file(ks.governance(), box + "/governance.p7s", out);
+  if (exists(ks.governance_sign()))
+    copy_file(ks.governance_sign(), box + "/governance_sign.p7s", out);
   copy_file(ks.certificate(name), box + "/cert.pem", out);
   copy_file(ks.permissions(name), box + "/permissions.p7s", out);
   if (exists(ks.crl_file())) copy_file(ks.crl_file(), box + "/crl.pem", out);
@@ -292,6 +294,8 @@ void install_identity(const std::string& dir, const std::string& name, const std
   if (permissions.find("<subject_name>CN=" + name + "</subject_name>") == std::string::npos)
     refuse(sdk::codes::kBadRequest, "'" + from + "/permissions.p7s' does not grant CN=" + name);
   verified_document(from + "/governance.p7s", ca.get());
+  const bool has_sign = exists(from + "/governance_sign.p7s");  // dds.security.protection: sign
+  if (has_sign) verified_document(from + "/governance_sign.p7s", ca.get());
   const bool has_crl = exists(from + "/crl.pem");
   if (has_crl) {
     const ossl::Crl crl = pki::read_crl(from + "/crl.pem", ca.get());
@@ -303,6 +307,7 @@ void install_identity(const std::string& dir, const std::string& name, const std
   out << "flipper dds security: identity '" << name << "' installed in " << dir << ":\n";
   copy_file(from + "/ca.pem", ks.ca_certificate(), out);
   copy_file(from + "/governance.p7s", ks.governance(), out);
+  if (has_sign) copy_file(from + "/governance_sign.p7s", ks.governance_sign(), out);
   copy_file(from + "/cert.pem", ks.certificate(name), out);
   copy_file(from + "/permissions.p7s", ks.permissions(name), out);
   if (has_crl) copy_file(from + "/crl.pem", ks.crl_file(), out);

@@ -10,6 +10,10 @@ std::string node_topic(const std::string& ns, const std::string& leaf) {
   return ns.empty() ? "rt/flipper/" + leaf : "rt/" + ns + "/flipper/" + leaf;
 }
 
+std::string action_prefix(const std::string& ns, const std::string& action) {
+  return (ns.empty() ? "" : ns + "/") + action + "/_action/";
+}
+
 void check_namespace(const std::string& ns, const std::string& key) {
   constexpr std::size_t kMax = 64;
   bool ok = ns.size() <= kMax;

@@ -54,10 +54,6 @@ std::array<std::uint8_t, 16> random_uuid() {
   return id;
 }
 
-std::string prefix_of(const Nav2Executor::Options& o) {
-  return (o.ns.empty() ? "" : o.ns + "/") + o.action + "/_action/";
-}
-
 // Takes every sample of `reader` and calls `f` on the valid ones.
 template <class T, class F>
 void take_all(dds_entity_t reader, F&& f) {
@@ -126,7 +122,7 @@ Nav2Executor::Nav2Executor(std::shared_ptr<Participant> participant, PlanFrame f
       frame_(std::move(frame)),
       options_(std::move(options)),
       log_(log),
-      prefix_(prefix_of(options_)) {
+      prefix_(dds::action_prefix(options_.ns, options_.action)) {
   auto& p = *participant_;
   Qos service;  // rmw's services: reliable, volatile, keep-last 10
   ros_default_qos(service, 10);

@@ -157,7 +157,11 @@ std::string smime_signed(const std::string& document, X509* ca, EVP_PKEY* ca_key
   return std::string(data, static_cast<std::size_t>(n));
 }
 
-std::string governance_xml() {
+std::string governance_xml(bool encrypt) {
+  // encrypt: SROS2's default governance (ros2 security create_keystore): RTPS messages,
+  // discovery, liveliness, metadata and data encrypted (AES-GCM) and so authenticated; sign: the
+  // same rules with every protection SIGN (GMAC: tamper-proof, readable on the wire).
+  const std::string kind = encrypt ? "ENCRYPT" : "SIGN";
   return R"(<?xml version="1.0" encoding="UTF-8"?>
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_governance.xsd">
   <domain_access_rules>
@@ -167,9 +171,12 @@ std::string governance_xml() {
          R"(
       <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
       <enable_join_access_control>true</enable_join_access_control>
-      <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
-      <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
-      <rtps_protection_kind>SIGN</rtps_protection_kind>
+      <discovery_protection_kind>)" +
+         kind + R"(</discovery_protection_kind>
+      <liveliness_protection_kind>)" +
+         kind + R"(</liveliness_protection_kind>
+      <rtps_protection_kind>)" +
+         kind + R"(</rtps_protection_kind>
       <topic_access_rules>
         <topic_rule>
           <topic_expression>*</topic_expression>
@@ -177,8 +184,10 @@ std::string governance_xml() {
           <enable_liveliness_protection>true</enable_liveliness_protection>
           <enable_read_access_control>true</enable_read_access_control>
           <enable_write_access_control>true</enable_write_access_control>
-          <metadata_protection_kind>ENCRYPT</metadata_protection_kind>
-          <data_protection_kind>ENCRYPT</data_protection_kind>
+          <metadata_protection_kind>)" +
+         kind + R"(</metadata_protection_kind>
+          <data_protection_kind>)" +
+         kind + R"(</data_protection_kind>
         </topic_rule>
       </topic_access_rules>
     </domain_rule>
@@ -211,6 +220,17 @@ std::string permissions_xml(const std::string& name, const std::string& role,
     for (const char* leaf : {"plan", "actions", "answer"})
       (serves ? publish : subscribe).push_back(node_topic(ns, leaf));
     (serves ? subscribe : publish).push_back(node_topic(ns, "request"));
+    // Nav2's NavigateThroughPoses action (nav2.action's default name): a robot's node is its
+    // client (nav2.execute), sending goals, results and cancels and reading the replies,
+    // feedback and status; an operator may watch feedback and status; a site has no part in it.
+    const std::string action = action_prefix(ns, std::string(keys::kNav2Action.def));
+    if (role == "robot")
+      for (const char* service : {"send_goal", "get_result", "cancel_goal"}) {
+        publish.push_back("rq/" + action + service + "Request");
+        subscribe.push_back("rr/" + action + service + "Reply");
+      }
+    if (role != "site")
+      for (const char* topic : {"feedback", "status"}) subscribe.push_back("rt/" + action + topic);
   }
   return R"(<?xml version="1.0" encoding="UTF-8"?>
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">

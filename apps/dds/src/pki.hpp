@@ -37,7 +37,8 @@ ossl::Cert make_cert(const std::string& subject_cn, EVP_PKEY* key, X509* issuer,
 /// `openssl smime -sign -text`: multipart/signed, the CA's certificate included.
 std::string smime_signed(const std::string& document, X509* ca, EVP_PKEY* ca_key);
 
-std::string governance_xml();
+/// The governance document: every protection ENCRYPT (`encrypt`, SROS2's default) or SIGN.
+std::string governance_xml(bool encrypt);
 /// Throws sdk::Error(bad_request) unless `role` is site, robot or operator.
 void check_role(const std::string& role);
 

@@ -101,11 +101,11 @@ std::optional<std::string> RequestNode::answer(const std::string& name, std::uin
   }
 }
 
-void RequestNode::serve_available() {
+void RequestNode::serve_available(const std::atomic<bool>& stop) {
   constexpr int kBatch = 16;
   void* samples[kBatch] = {};
   dds_sample_info_t infos[kBatch];
-  for (;;) {
+  while (!stop.load()) {
     const dds_return_t n = dds_take(reader_, samples, infos, kBatch, kBatch);
     if (n <= 0) {
       if (n < 0) log_ << "flipper dds: take failed: " << dds_strretcode(n) << std::endl;
@@ -113,6 +113,7 @@ void RequestNode::serve_available() {
     }
     for (dds_return_t i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;  // dispose/unregister notices carry no request
+      if (stop.load()) continue;  // stopping: taken but never answered, so never acknowledged
       const auto* s = static_cast<const flipper_msg_dds__SessionLine_*>(samples[i]);
       const std::string name = s->session_ ? s->session_ : "";
       const std::string line = s->line_ ? s->line_ : "";
@@ -140,8 +141,16 @@ void RequestNode::run(const std::atomic<bool>& stop) {
       log_ << "flipper dds: wait failed: " << dds_strretcode(rc) << std::endl;
       return;
     }
-    serve_available();
+    serve_available(stop);
   }
+}
+
+bool RequestNode::flush(std::chrono::milliseconds timeout) {
+  const dds_return_t rc = dds_wait_for_acks(writer_, DDS_MSECS(timeout.count()));
+  if (rc == DDS_RETCODE_OK) return true;
+  log_ << "flipper dds: not every answer was acknowledged within " << timeout.count()
+       << " ms: " << dds_strretcode(rc) << std::endl;
+  return false;
 }
 
 }  // namespace flipper::dds

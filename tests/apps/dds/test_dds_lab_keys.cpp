@@ -8,6 +8,8 @@
 #include "dds_test_support.hpp"
 #include "flipper/dds/keystore.hpp"
 #include "flipper/dds/lab_keys.hpp"
+#include "flipper/dds/nav2_executor.hpp"
+#include "flipper/dds/plan_frame.hpp"
 #include "flipper/sdk/errors.hpp"
 
 using namespace flipper;
@@ -66,7 +68,8 @@ TEST_CASE("a lab's request, signed at the CA, installs at the lab, the key never
   // The CA never had the key: not in its identity folder, not in the outbox.
   CHECK_FALSE(exists(ca + "/identities/lab3/key.pem"));
   CHECK_FALSE(exists(outbox + "/key.pem"));
-  CHECK(shell_output("ls " + outbox) == "ca.pem\ncert.pem\ngovernance.p7s\npermissions.p7s\n");
+  CHECK(shell_output("ls " + outbox) ==
+        "ca.pem\ncert.pem\ngovernance.p7s\ngovernance_sign.p7s\npermissions.p7s\n");
   CHECK(shell_output("openssl verify -CAfile " + ca + "/ca.pem " + outbox + "/cert.pem") ==
         outbox + "/cert.pem: OK\n");
   // The certificate holds the lab's public key.
@@ -83,8 +86,8 @@ TEST_CASE("a lab's request, signed at the CA, installs at the lab, the key never
   const CommandRun installed = security_command({"install", lab, "lab3", outbox});
   INFO(installed.out);
   REQUIRE(installed.status == 0);
-  for (const char* f :
-       {"ca.pem", "governance.p7s", "identities/lab3/cert.pem", "identities/lab3/permissions.p7s"})
+  for (const char* f : {"ca.pem", "governance.p7s", "governance_sign.p7s",
+                        "identities/lab3/cert.pem", "identities/lab3/permissions.p7s"})
     CHECK(exists(lab + "/" + f));
   CHECK(shell_output("openssl smime -verify -in " + lab +
                      "/identities/lab3/permissions.p7s -CAfile " + lab +
@@ -383,5 +386,83 @@ TEST_CASE("renew takes a certificate an hour before it expires, not an hour afte
   INFO(renewed.out);
   CHECK(renewed.status == 0);
   CHECK(lifetime(cert_path).first == 366);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("only the robot role drives Nav2: its action topics are refused to the other roles",
+          "[dds][security][lab_keys][nav2]") {
+  const auto dir = scratch_dir("roles-nav2");
+  const std::string ca = (dir / "ca").string();
+  REQUIRE(security_command({"init", ca}).status == 0);
+  REQUIRE(security_command({"add", ca, "lab1", "--namespace", "r1"}).status == 0);  // a site
+  REQUIRE(security_command({"add", ca, "robo", "--role", "robot", "--namespace", "r1"}).status ==
+          0);
+  REQUIRE(security_command({"add", ca, "op", "--role", "operator", "--namespace", "r1"}).status ==
+          0);
+  // The names ROS 2 gives the action /r1/navigate_through_poses on DDS (docs/ros2/interfaces:
+  // rq/...Request and rr/...Reply per service, rt/... for feedback and status), spelled out here
+  // rather than taken from Flipper's code.
+  const std::string a = "/r1/navigate_through_poses/_action/";
+  const auto rq = [&](const char* s) { return "rq" + a + s + "Request"; };
+  const auto rr = [&](const char* s) { return "rr" + a + s + "Reply"; };
+  const auto rt = [&](const char* s) { return "rt" + a + s; };
+  struct Case {
+    std::string identity, topic;
+    bool publish, allowed;
+  };
+  std::vector<Case> cases;
+  for (const char* service : {"send_goal", "get_result", "cancel_goal"}) {
+    // The robot's node is the action's client: it sends requests and reads replies...
+    cases.push_back({"robo", rq(service), true, true});
+    cases.push_back({"robo", rr(service), false, true});
+    cases.push_back({"robo", rr(service), true, false});  // ...and never serves the action
+    cases.push_back({"robo", rq(service), false, false});
+    cases.push_back({"robo",
+                     "rq/r2/navigate_through_poses/_action/" + std::string(service) + "Request",
+                     true, false});                      // only its namespaces
+    for (const std::string identity : {"lab1", "op"}) {  // nobody else sends goals or cancels
+      cases.push_back({identity, rq(service), true, false});
+      cases.push_back({identity, rr(service), false, false});
+    }
+  }
+  for (const char* topic : {"feedback", "status"}) {
+    cases.push_back({"robo", rt(topic), false, true});
+    cases.push_back({"robo", rt(topic), true, false});
+    cases.push_back({"op", rt(topic), false, true});  // an operator may watch the robot
+    cases.push_back({"op", rt(topic), true, false});
+    cases.push_back({"lab1", rt(topic), false, false});  // a site has no part in it
+  }
+  ensure_loopback_env();
+  dds::Transport t;
+  t.xml = dds::loopback_xml();
+  t.interfaces = {"lo"};
+  t.source = "test";
+  std::ostringstream sink;
+  const int domain = test_domain();
+  for (const std::string name : {"lab1", "robo", "op"}) {
+    auto p = std::make_shared<dds::Participant>(domain, t, sink,
+                                                dds::security_properties(dds::Keystore{ca}, name));
+    for (const auto& c : cases) {
+      if (c.identity != name) continue;
+      INFO(c.identity << (c.publish ? " publishes " : " subscribes ") << c.topic);
+      CHECK(allowed(*p, c.topic, c.publish) == c.allowed);
+    }
+    // Flipper's own Nav2 client (nav2.execute) starts only under the robot's identity, and only
+    // for the robot's namespace.
+    const auto executor = [&](const std::string& ns) {
+      dds::Nav2Executor::Options o;
+      o.ns = ns;
+      return std::make_shared<dds::Nav2Executor>(p, dds::PlanFrame(Eigen::Affine3d::Identity()), o,
+                                                 sink);
+    };
+    INFO(name);
+    if (name == "robo") {
+      CHECK_NOTHROW(executor("r1"));
+      CHECK_THROWS_WITH(executor("r2"), Catch::Contains("not allowed by security") ||
+                                            Catch::Contains("creating DDS topic"));
+    } else {
+      CHECK_THROWS(executor("r1"));
+    }
+  }
   std::filesystem::remove_all(dir);
 }

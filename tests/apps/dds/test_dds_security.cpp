@@ -71,7 +71,8 @@ TEST_CASE("flipper dds security makes a keystore openssl verifies", "[dds][secur
   CHECK(shell("openssl x509 -noout -subject -nameopt RFC2253 -in " + ca) ==
         "subject=CN=Flipper DDS CA\n");
   // The signed documents verify against the CA and carry exactly the plain documents.
-  for (const std::string doc : {"governance", "identities/robot_a/permissions"}) {
+  for (const std::string doc :
+       {"governance", "governance_sign", "identities/robot_a/permissions"}) {
     const std::string verified = (dir / "verified.xml").string();
     CHECK(shell("openssl smime -verify -in " + ks + "/" + doc + ".p7s -CAfile " + ca +
                 " -text -out " + verified) == "Verification successful\n");

@@ -1,8 +1,9 @@
 #pragma once
 /// @file keystore.hpp
 /// DDS Security for sites and robots (docs/ros2.md, "Secured sites"): a keystore
-/// folder in the layout of ROS 2's SROS2, made with OpenSSL (libcrypto), read by Cyclone's OMG
-/// DDS Security plugins (libdds_security_auth, _ac, _crypto) and by the lexicon replication:
+/// folder of Flipper's layout (below), or an SROS2 keystore's enclave (Keystore::enclave), made
+/// with OpenSSL (libcrypto), read by Cyclone's OMG DDS Security plugins (libdds_security_auth, _ac,
+/// _crypto) and by the lexicon replication:
 ///
 ///   DIR/ca.pem                   the project CA: issues identities, signs governance and
 ///                                permissions (identity CA and permissions CA in one, as SROS2's
@@ -10,7 +11,9 @@
 ///   DIR/private/ca.key           its key (keep it off the robots)
 ///   DIR/governance.xml, .p7s     domains 0..230: only authenticated participants join, every
 ///                                topic's readers and writers are access-controlled, discovery,
-///                                liveliness, metadata and data encrypted, RTPS messages signed
+///                                liveliness, RTPS messages, metadata and data encrypted (SROS2's
+///                                default); governance_sign.xml, .p7s the same, all signed only
+///                                (dds.security.protection)
 ///   DIR/identities/NAME/         one per site or robot: cert.pem (subject CN=NAME), key.pem,
 ///                                permissions.xml and its signed permissions.p7s; at a CA that
 ///                                signed a lab's request, no key.pem (the lab keeps it) but
@@ -23,8 +26,12 @@
 /// operator's default: every namespace, `*`):
 ///   site      publish rt/flipper/lexicon, rt/NS/flipper/{plan,actions,answer}
 ///             subscribe rt/flipper/lexicon, rt/NS/flipper/request
-///   robot     publish rt/NS/flipper/{plan,actions,answer}; subscribe rt/NS/flipper/request
-///   operator  publish rt/NS/flipper/request; subscribe rt/NS/flipper/{plan,actions,answer}
+///   robot     publish rt/NS/flipper/{plan,actions,answer}; subscribe rt/NS/flipper/request;
+///             Nav2's client, A = NS/navigate_through_poses/_action/: publish
+///             rq/A{send_goal,get_result,cancel_goal}Request, subscribe rr/A...Reply,
+///             rt/A{feedback,status}
+///   operator  publish rt/NS/flipper/request; subscribe rt/NS/flipper/{plan,actions,answer},
+///             rt/A{feedback,status}
 /// so only NAME may serve NAME's robot (answer its requests, publish its plans), only sites
 /// replicate the lexicon (whose events carry their site's signature: event_signature.hpp), and
 /// only operators send requests. Every reader of rt/NS/flipper/answer sees every answer there.
@@ -44,11 +51,35 @@ struct Keystore {
   std::string dir;
   /// dds.security.crl: the revocation list to honour ("": crl_file() when it exists).
   std::string crl = {};
+  /// dds.security.enclave: an SROS2 keystore's enclave ("/lab1/flipper"). When set, a
+  /// participant's files are SROS2's, in enclave_dir(), whatever the identity's name:
+  /// identity_ca.cert.pem, permissions_ca.cert.pem, governance.p7s, cert.pem, key.pem,
+  /// permissions.p7s (docs/ros2.md, "SROS2 keystores").
+  std::string enclave = {};
+  /// dds.security.protection: sign reads governance_sign.p7s (Flipper's layout only).
+  bool sign_only = false;
 
-  std::string ca_certificate() const { return dir + "/ca.pem"; }
+  bool sros2() const { return !enclave.empty(); }
+  std::string enclave_dir() const { return dir + "/enclaves" + enclave; }
+  /// The identity CA (authentication), also the one the lexicon event check trusts.
+  std::string ca_certificate() const {
+    return sros2() ? enclave_dir() + "/identity_ca.cert.pem" : dir + "/ca.pem";
+  }
+  /// The CA that signed the governance and permissions.
+  std::string permissions_ca() const {
+    return sros2() ? enclave_dir() + "/permissions_ca.cert.pem" : dir + "/ca.pem";
+  }
   std::string ca_key() const { return dir + "/private/ca.key"; }
-  std::string governance() const { return dir + "/governance.p7s"; }
-  std::string identity_dir(const std::string& name) const { return dir + "/identities/" + name; }
+  std::string governance() const {
+    return sros2()     ? enclave_dir() + "/governance.p7s"
+           : sign_only ? dir + "/governance_sign.p7s"
+                       : dir + "/governance.p7s";
+  }
+  /// The signed governance of protection `sign` (init writes both).
+  std::string governance_sign() const { return dir + "/governance_sign.p7s"; }
+  std::string identity_dir(const std::string& name) const {
+    return sros2() ? enclave_dir() : dir + "/identities/" + name;
+  }
   std::string certificate(const std::string& name) const {
     return identity_dir(name) + "/cert.pem";
   }
@@ -70,6 +101,10 @@ struct Keystore {
   std::string revocation_list() const;
 };
 
+/// Throws sdk::Error(bad_config) unless `enclave` is an SROS2 enclave name: "/" then ROS 2 name
+/// tokens (names.hpp) joined by "/", e.g. /lab1/flipper.
+void check_enclave(const std::string& enclave);
+
 /// Highest DDS domain the governance and permissions cover (Cyclone's limit for them).
 inline constexpr int kMaxSecureDomain = 230;
 
@@ -85,6 +120,13 @@ void init_keystore(const std::string& dir, std::ostream& out);
 /// its own key uses request_identity and the CA sign_request instead: lab_keys.hpp.)
 void add_identity(const std::string& dir, const std::string& name, const std::string& role,
                   const std::vector<std::string>& namespaces, long days, std::ostream& out);
+
+/// Writes identity `name` of keystore `dir` (its CA, governance, certificate, key, permissions)
+/// as the SROS2 enclave `enclave` of the SROS2 keystore `keystore` (created if missing), in the
+/// files ros2 security create_enclave writes. Throws sdk::Error(bad_request) when the enclave
+/// exists, sdk::Error(bad_config) naming a missing file.
+void export_enclave(const std::string& dir, const std::string& name, const std::string& keystore,
+                    const std::string& enclave, std::ostream& out);
 
 /// The DDS Security participant QoS properties (dds.sec.*) for identity `name` of `keystore`:
 /// plugins, CA, certificate, key, governance, permissions, and the CRL when there is one

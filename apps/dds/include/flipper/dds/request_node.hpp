@@ -16,6 +16,7 @@
 /// own bad_json answer.
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -44,8 +45,12 @@ class RequestNode {
   RequestNode(const RequestNode&) = delete;
   RequestNode& operator=(const RequestNode&) = delete;
 
-  /// Serves until `stop` becomes true (checked at least every 100 ms).
+  /// Serves until `stop` becomes true (checked at least every 100 ms and before each request:
+  /// once it is true no further request is answered).
   void run(const std::atomic<bool>& stop);
+  /// Waits up to `timeout` until every answer written is acknowledged by the readers matched
+  /// (the answers a requester was sent reach it before the node exits); whether they all were.
+  bool flush(std::chrono::milliseconds timeout);
   /// One request -> the answer line, or nothing when the sample is dropped. Never throws.
   std::optional<std::string> answer(const std::string& session, std::uint64_t request_id,
                                     const std::string& line);
@@ -55,7 +60,7 @@ class RequestNode {
   const std::string& answer_topic() const { return answer_topic_; }
 
  private:
-  void serve_available();
+  void serve_available(const std::atomic<bool>& stop);
 
   std::shared_ptr<Participant> participant_;
   SessionMaker make_session_;

@@ -37,6 +37,18 @@ inline constexpr param::Path kCrl{
     "dds.security.crl", "",
     "DDS Security: the CA's revocation list (`flipper dds security revoke`), honoured by the "
     "handshake and the lexicon event check (empty: <keystore>/crl.pem when it exists)"};
+inline constexpr param::Text kEnclave{
+    "dds.security.enclave", "",
+    "DDS Security: an SROS2 keystore's enclave (/lab1/flipper): its files in "
+    "<keystore>/enclaves/<enclave>/ (empty: Flipper's own layout)"};
+/// dds.security.protection: which of Flipper's governance documents a participant uses.
+enum class Protection { sign, encrypt };
+inline constexpr param::Choice<Protection, 2> kProtection{
+    "dds.security.protection",
+    Protection::encrypt,
+    {"sign", "encrypt"},
+    "DDS Security: RTPS messages, data and metadata signed, or encrypted as SROS2's default "
+    "(Flipper's keystore: governance_sign.p7s or governance.p7s)"};
 
 /// nav2.distro: which ROS 2 distribution's NavigateThroughPoses result the Nav2 stack speaks.
 enum class Nav2Distro { humble, jazzy };
@@ -68,6 +80,8 @@ inline sdk::ParamSchema config_schema() {
   param::add(s, kKeystore);
   param::add(s, kIdentity);
   param::add(s, kCrl);
+  param::add(s, kEnclave);
+  param::add(s, kProtection);
   s.add_section("nav2", "Nav2 as the executor of accepted plans (NavigateThroughPoses over DDS)");
   param::add(s, kNav2Execute);
   param::add(s, kNav2Distro);
