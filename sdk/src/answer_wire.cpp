@@ -373,7 +373,7 @@ std::optional<std::vector<WeightChange>> weight_values_of(std::string_view bytes
   return decoded<std::vector<WeightChange>>(bytes, [](std::string_view whole) {
     Reader in(whole);
     // Each value is at least two empty texts' lengths and two doubles.
-    std::vector<WeightChange> values(in.count(4 * 8));
+    std::vector<WeightChange> values(in.count(std::size_t{4} * 8));
     for (WeightChange& v : values) {
       v.model = in.text();
       v.feature = in.text();
