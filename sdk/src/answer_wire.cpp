@@ -373,7 +373,7 @@ std::optional<std::vector<WeightChange>> weight_values_of(std::string_view bytes
   return decoded<std::vector<WeightChange>>(bytes, [](std::string_view whole) {
     Reader in(whole);
     // Each value is at least two empty texts' lengths and two doubles.
-    std::vector<WeightChange> values(in.count(4 * 8));
+    std::vector<WeightChange> values(in.count(std::size_t{4} * 8));
     for (WeightChange& v : values) {
       v.model = in.text();
       v.feature = in.text();
@@ -383,6 +383,47 @@ std::optional<std::vector<WeightChange>> weight_values_of(std::string_view bytes
     }
     in.done();
     return values;
+  });
+}
+
+bool learns_apart(const Scorer& scorer) {
+  return dynamic_cast<const WeightValues*>(&scorer) != nullptr ||
+         dynamic_cast<const IncrementalScorer*>(&scorer) == nullptr;
+}
+
+std::string learnt_bytes(const Scorer& scorer) {
+  const auto* values = dynamic_cast<const WeightValues*>(&scorer);
+  return values != nullptr ? to_bytes(values->pending_values()) : scorer.save_state();
+}
+
+bool apply_learnt(Scorer& scorer, std::string_view bytes) {
+  auto* values = dynamic_cast<WeightValues*>(&scorer);
+  if (values == nullptr) {
+    scorer.load_state(bytes);
+    return true;
+  }
+  const auto learnt = weight_values_of(bytes);
+  if (learnt) values->set_values(*learnt);
+  return learnt.has_value();
+}
+
+std::string to_bytes(const CallFailure& failure) {
+  Bytes b;
+  b.put(failure.cause);
+  b.put_text(failure.code);
+  b.put_text(failure.message);
+  return b.take();
+}
+
+std::optional<CallFailure> call_failure_of(std::string_view bytes) {
+  return decoded<CallFailure>(bytes, [](std::string_view whole) {
+    Reader in(whole);
+    CallFailure f;
+    f.cause = in.get<std::uint64_t>();
+    f.code = in.text();
+    f.message = in.text();
+    in.done();
+    return f;
   });
 }
 

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "flipper/sdk/answer_wire.hpp"
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::kernel {
@@ -57,32 +58,7 @@ pid_t fork_holding_reads() {
   return pid;  // the child keeps them shared: it only reads, then _exits
 }
 
-// --- the envelope a child sends: 'A' + answer bytes, or 'E' + cause + code + message ------
-
-void put_u64(std::string& out, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
-}
-std::uint64_t get_u64(std::string_view& in) {
-  std::uint64_t v = 0;
-  for (int i = 0; i < 8; ++i)
-    v |= static_cast<std::uint64_t>(static_cast<unsigned char>(in[static_cast<std::size_t>(i)]))
-         << (8 * i);
-  in.remove_prefix(8);
-  return v;
-}
-void put_text(std::string& out, std::string_view s) {
-  put_u64(out, s.size());
-  out.append(s);
-}
-// False when `in` holds no whole text.
-bool get_text(std::string_view& in, std::string& s) {
-  if (in.size() < 8) return false;
-  const std::uint64_t n = get_u64(in);
-  if (n > in.size()) return false;
-  s.assign(in.substr(0, n));
-  in.remove_prefix(n);
-  return true;
-}
+// The envelope a child sends: 'A' + answer bytes, or 'E' + sdk::host::CallFailure's bytes.
 
 std::string signal_text(int signal) {
   const char* abbrev = sigabbrev_np(signal);
@@ -155,9 +131,8 @@ void write_all(int fd, const std::string& bytes) {
     try {
       detail::rethrow_plugin_failure(plugin, op);
     } catch (const sdk::Error& e) {
-      put_u64(out, static_cast<std::uint64_t>(sdk::stop_cause_of(e)));
-      put_text(out, e.code());
-      put_text(out, e.what());
+      out += sdk::host::to_bytes(sdk::host::CallFailure{
+          static_cast<std::uint64_t>(sdk::stop_cause_of(e)), e.code(), e.what()});
     } catch (...) {
       ::_exit(4);
     }
@@ -319,14 +294,12 @@ std::optional<std::string> call_in_child(
   const char tag = in_view.front();
   in_view.remove_prefix(1);
   if (tag == 'A') return std::string(in_view);
-  std::string code, message;
-  if (tag != 'E' || in_view.size() < 8) crashed(plugin, op, "its process sent a malformed answer");
-  const std::uint64_t cause = get_u64(in_view);
-  if (!get_text(in_view, code) || !get_text(in_view, message) ||
-      cause > static_cast<std::uint64_t>(sdk::StopCause::wall_backstop))
+  const auto failure = tag == 'E' ? sdk::host::call_failure_of(in_view) : std::nullopt;
+  if (!failure || failure->cause > static_cast<std::uint64_t>(sdk::StopCause::wall_backstop))
     crashed(plugin, op, "its process sent a malformed answer");
-  if (cause != 0) throw sdk::StoppedError(static_cast<sdk::StopCause>(cause), message);
-  throw sdk::Error(code, message);
+  if (failure->cause != 0)
+    throw sdk::StoppedError(static_cast<sdk::StopCause>(failure->cause), failure->message);
+  throw sdk::Error(failure->code, failure->message);
 }
 
 }  // namespace detail

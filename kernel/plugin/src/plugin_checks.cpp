@@ -12,7 +12,6 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/planner.hpp"
-#include "flipper/sdk/scorer.hpp"
 
 namespace flipper::kernel {
 
@@ -98,32 +97,23 @@ sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
   return r;
 }
 
-// The child sends the learnt weights as values (sdk::WeightValues; a change added here could
-// differ in the last bit), or a scorer without changes to report its whole state; an incremental
-// scorer without values learns in process (docs/plugins-untrusted.md §6).
+// docs/plugins-untrusted.md §6: the learnt weights cross as values (sdk::host::learnt_bytes).
 void checked_learn(const PluginRef<sdk::Scorer>& scorer, const std::vector<sdk::Candidate>& all,
                    std::size_t accepted, const sdk::ScoreContext& ctx,
                    const sdk::StopCondition& stop) {
   auto learn = [&](sdk::Scorer& s) { s.learn(all, accepted, ctx); };
-  sdk::Scorer& object = *scorer.borrow();
-  auto* values = dynamic_cast<sdk::WeightValues*>(&object);
-  if (scorer.isolation() != Isolation::process ||
-      (values == nullptr && dynamic_cast<sdk::IncrementalScorer*>(&object) != nullptr))
-    return scorer.call("learn", learn);
   std::optional<std::string> bytes;
-  {
+  if (scorer.isolation() == Isolation::process && sdk::host::learns_apart(*scorer.borrow())) {
     const detail::CallTimer timer(scorer.id(), "learn");
     bytes = detail::call_in_child(scorer.id(), "learn", stop, [&](const sdk::StopCondition&) {
-      learn(object);
-      return values != nullptr ? sdk::host::to_bytes(values->pending_values())
-                               : object.save_state();
+      learn(*scorer.borrow());
+      return sdk::host::learnt_bytes(*scorer.borrow());
     });
   }
   if (!bytes) return scorer.call("learn", learn);
-  if (values == nullptr)
-    return scorer.call("load_state", [&](sdk::Scorer& s) { s.load_state(*bytes); });
-  const auto learnt = whole(scorer.id(), "learn", sdk::host::weight_values_of(*bytes));
-  scorer.call("set_values", [&](sdk::Scorer&) { values->set_values(learnt); });
+  if (!scorer.call("learn", [&](sdk::Scorer& s) { return sdk::host::apply_learnt(s, *bytes); }))
+    throw sdk::Error(kPluginCrashed,
+                     scorer.id().label() + ": learn: its process sent a malformed answer");
 }
 
 }  // namespace flipper::kernel

@@ -10,9 +10,9 @@
 /// request has left, writes the answer to a pipe and _exits; the parent reads the answer with a
 /// bound, reaps the child and charges the child's CPU time to the request's budgets
 /// (`CpuCharge`), so that budgets still count work, never wall time. What the call changes in
-/// the plugin object stays in the child: only calls that change nothing the kernel keeps
-/// (const calls: a planner's plan and tour, a parser's parse with the scorer's score_node calls
-/// it makes) are isolated; a scorer's learn, which changes its weights, stays in process.
+/// the plugin object stays in the child: const calls are isolated as they are (a planner's plan
+/// and tour, a parser's parse with its score_node calls); a scorer's learn sends the weights it
+/// changed back as values, set in the parent (plugin_checks.hpp checked_learn).
 
 #include <chrono>
 #include <cstdint>

@@ -35,8 +35,7 @@ sdk::TourResult checked_tour(const PluginRef<const sdk::Planner>& planner,
 sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
                                const sdk::ParseRequest& request);
 
-/// scorer.learn(candidates, accepted, ctx), in a child process when the ref says so: the
-/// learnt weights cross as checked values (plugin_crashed when they are not) and are set here.
+/// scorer.learn(candidates, accepted, ctx), in a child process when the ref says so.
 void checked_learn(const PluginRef<sdk::Scorer>& scorer,
                    const std::vector<sdk::Candidate>& candidates, std::size_t accepted,
                    const sdk::ScoreContext& ctx, const sdk::StopCondition& stop);
