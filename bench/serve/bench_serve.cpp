@@ -80,6 +80,7 @@ void fairness(const std::string& flipper) {
   std::atomic<bool> done{false};
   std::atomic<long> heavy_done{0}, heavy_failed{0};
   std::vector<std::thread> heavy;
+  heavy.reserve(16);
   for (int i = 0; i < 16; ++i)
     heavy.emplace_back([&] {
       auto c = s.client();
@@ -122,6 +123,7 @@ void fairness_between(const std::string& flipper) {
   std::atomic<bool> done{false};
   std::vector<std::vector<double>> per_client(16);  // each thread writes its own
   std::vector<std::thread> clients;
+  clients.reserve(per_client.size());
   for (std::size_t i = 0; i < per_client.size(); ++i)
     clients.emplace_back([&, i] {
       auto c = s.client();

@@ -111,6 +111,7 @@ void login_flood(const std::string& flipper) {
   std::atomic<bool> stop{false};
   std::atomic<long> attempts{0}, limited{0};
   std::vector<std::thread> attackers;
+  attackers.reserve(60);
   for (int a = 0; a < 60; ++a)
     attackers.emplace_back([&, a] {
       while (!stop) {
@@ -173,6 +174,7 @@ void session_flood(const std::string& flipper) {
   std::atomic<bool> stop{false};
   std::atomic<long> opened{0}, refused{0};
   std::vector<std::thread> attackers;
+  attackers.reserve(40);
   for (int a = 0; a < 40; ++a)
     attackers.emplace_back([&, a] {
       while (!stop) {
