@@ -578,6 +578,15 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   std::vector<StoredRule> stored;
   stored.reserve(fresh.size());
   for (const auto& rule : fresh) stored.push_back(stored_from_rule(*rule, 0));
+  // lexicon.moderation = hold_new: a user's definition waits for a researcher, serving no one
+  // (its author included); preloaded, imported and replicated ones are the site's or were
+  // moderated where they were made (docs/naturalization.md §5 "Moderation").
+  if (options_.moderation == Moderation::hold_new && req.via.empty()) {
+    out.held = store_->hold_definition(
+        {0, req.head, req.body, req.user, now, {}, req.study, req.via}, stored);
+    out.rules.assign(fresh.begin(), fresh.end());
+    return out;
+  }
   DefinitionCommit commit = store_->commit_definition(
       {0, req.head, req.body, req.user, now, {}, req.study, req.via}, std::move(stored));
   out.definition = commit.definition;
@@ -592,6 +601,28 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   out.rules = std::move(rules);
   out.stored = true;
   return out;
+}
+
+std::vector<HeldDefinition> Naturalizer::pending() const {
+  return store_->held();
+}
+
+std::vector<sdk::RulePtr> Naturalizer::approve(const std::string& moderator,
+                                               const std::string& id) {
+  refresh();
+  const DefinitionCommit commit =
+      store_->approve_held(id, {moderator, {}, {}}, static_cast<std::int64_t>(std::time(nullptr)));
+  apply(store_->changes_since(mark_));
+  std::vector<sdk::RulePtr> rules;
+  for (const auto& r : commit.rules)
+    if (auto rule = find_rule(r.id)) rules.push_back(std::move(rule));
+  return rules;
+}
+
+void Naturalizer::reject(const std::string& moderator, const std::string& id,
+                         const std::string& reason) {
+  (void)store_->reject_held(id, {moderator, {}, reason},
+                            static_cast<std::int64_t>(std::time(nullptr)));
 }
 
 std::vector<RuleListing> Naturalizer::rules(const std::string& user,

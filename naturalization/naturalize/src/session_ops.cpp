@@ -155,6 +155,7 @@ void op_define(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
   // Only when there is something to say: answers without conflicts stay as recorded studies
   // hashed them (docs/studio.md §7).
   if (!out.stored) a.key("stored").boolean(false);
+  if (!out.held.empty()) a.key("held").string(out.held);
   if (!out.conflicts.empty()) {
     a.key("conflicts").begin_array();
     for (const auto& c : out.conflicts) {

@@ -82,6 +82,7 @@ struct NaturalizeOptions {
   /// default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
   ConflictPolicy conflicts = ConflictPolicy::warn;  ///< lexicon.conflicts
+  Moderation moderation = Moderation::off;          ///< lexicon.moderation
   InductionOptions induction;                       ///< induction.alignment (+ parser beam)
   bool generalize = keys::kGeneralize.def;          ///< induction.generalize
   int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
@@ -126,7 +127,9 @@ struct DefineOutcome {
   std::vector<Discarded> discarded;
   /// Phrases of other users the rules change (lexicon.conflicts = warn: stored anyway).
   std::vector<DefineConflict> conflicts;
-  bool stored = false;  ///< false for a dry run
+  bool stored = false;  ///< false for a dry run and a held definition
+  /// lexicon.moderation = hold_new: the id ("h<N>") it waits under for a researcher.
+  std::string held{};
 };
 
 /// One line of a `rules` listing.
@@ -195,6 +198,14 @@ class Naturalizer {
   /// and stores the scorer state, in one transaction. Throws the store's codes when it did not
   /// commit (the session then undoes the accept).
   void on_accept(const std::string& user, const std::vector<sdk::RulePtr>& used_rules);
+  /// Moderation (docs/naturalization.md §5 "Moderation"): the definitions held for approval,
+  /// oldest first; approve() stores one (its rules then serve as if defined now) and returns its
+  /// rules, reject() drops one; both are history entries by `moderator`. Who may moderate is the
+  /// front end's decision (the CLI's local user, the studio's researcher login). Throws
+  /// not_found for an id that is not held.
+  std::vector<HeldDefinition> pending() const;
+  std::vector<sdk::RulePtr> approve(const std::string& moderator, const std::string& id);
+  void reject(const std::string& moderator, const std::string& id, const std::string& reason = {});
   /// per_user weights: makes the scorer hold `user`'s weights (no-op for global weights).
   void select_user(const std::string& user);
 
