@@ -37,7 +37,7 @@ std::string code_of(const std::function<void()>& f) {
 
 }  // namespace
 
-TEST_CASE("a held definition changes no parse until approved, a rejected one never",
+TEST_CASE("a held definition changes no parse until approved and a rejected one never does",
           "[naturalize][moderation]") {
   const std::string store = scratch_path("moderation") + ".sqlite";
   auto bob = open(store, {"lexicon.moderation=hold_new"});
