@@ -510,6 +510,40 @@ std::string conflicts_message(const std::vector<DefineConflict>& conflicts) {
 }
 }  // namespace
 
+std::string preview_id(std::size_t index) {
+  return "new" + std::to_string(index + 1);
+}
+
+namespace {
+// Leaves out the rules a preview's author dropped (docs/naturalization.md §5 "Preview").
+void drop_rules(const std::vector<std::string>& drop,
+                std::vector<std::shared_ptr<sdk::Rule>>& fresh, std::vector<std::string>& dropped) {
+  if (drop.empty()) return;
+  std::vector<bool> gone(fresh.size(), false);
+  for (const auto& id : drop) {
+    std::size_t k = 0;
+    while (k < fresh.size() && preview_id(k) != id) ++k;
+    if (k == fresh.size())
+      throw sdk::Error(sdk::codes::kBadRequest,
+                       "drop: '" + id.substr(0, 40) + "' names none of the " +
+                           std::to_string(fresh.size()) + " rules this definition induces (new1.." +
+                           preview_id(fresh.size() - (fresh.empty() ? 0 : 1)) + ")");
+    gone[k] = true;
+  }
+  if (std::all_of(gone.begin(), gone.end(), [](bool g) { return g; }))
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "drop leaves none of the definition's rules; cancel the definition instead");
+  std::vector<std::shared_ptr<sdk::Rule>> kept;
+  for (std::size_t k = 0; k < fresh.size(); ++k) {
+    if (gone[k])
+      dropped.push_back(preview_id(k));
+    else
+      kept.push_back(std::move(fresh[k]));
+  }
+  fresh = std::move(kept);
+}
+}  // namespace
+
 DefineOutcome Naturalizer::define(const DefineRequest& req) {
   check_head_tokens(req.head);
   refresh();  // induce against every rule committed so far, by any process
@@ -540,6 +574,11 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
     for (const auto& c : g.candidates)
       if (!c.rejected_reason.empty())
         out.discarded.push_back({c.program, c.rewriting, c.rejected_reason});
+    out.perturbations = g.perturbations;
+    if (g.winner_index < g.candidates.size()) {
+      out.perturbed_passed = g.candidates[g.winner_index].perturbed_passed;
+      out.perturbed_failed = g.candidates[g.winner_index].failed_checks;
+    }
   }
 
   InductionResult induced = inducer.induce(
@@ -560,6 +599,7 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
     rule->body = req.body;
     fresh.push_back(std::move(rule));
   }
+  drop_rules(req.drop, fresh, out.dropped);
   // Conflicts before they happen (docs/naturalization.md §5 "Conflicts"): shown, or refused. A
   // preloaded definition is the site's own lexicon, shown to no one, and a replicated one was
   // checked where it was made: neither is checked here.

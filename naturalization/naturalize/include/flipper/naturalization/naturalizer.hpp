@@ -31,6 +31,7 @@
 #include "flipper/naturalization/config_keys.hpp"
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/naturalization/preview.hpp"
 #include "flipper/naturalization/rule_snapshot.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/world.hpp"
@@ -108,6 +109,9 @@ struct DefineRequest {
   std::string via{};
   /// Induce and check for conflicts, store nothing (the outcome's rules have no ids).
   bool dry_run = false;
+  /// Rules left out, by preview id ("newK": the K-th rule induced, from 1; docs/naturalization.md
+  /// §5 "Preview"); bad_request for a name outside new1..newN or when no rule would be left.
+  std::vector<std::string> drop{};
 };
 
 /// A rewriter candidate that generalization discarded.
@@ -130,7 +134,19 @@ struct DefineOutcome {
   bool stored = false;  ///< false for a dry run and a held definition
   /// lexicon.moderation = hold_new: the id ("h<N>") it waits under for a researcher.
   std::string held{};
+  /// Preview ids ("newK") of the rules left out by DefineRequest::drop.
+  std::vector<std::string> dropped{};
+  /// The perturbed check of the chosen body (docs/naturalization.md §6): perturbed worlds used,
+  /// how many it agreed with the user's body on, and the failures.
+  int perturbations = 0;
+  int perturbed_passed = 0;
+  std::vector<std::string> perturbed_failed{};
+  /// A preview's rules with their example sentences (session service, DefineCall::preview).
+  std::vector<RulePreview> previews{};
 };
+
+/// "newK" for the K-th rule (from 1) a definition induces (docs/naturalization.md §5 "Preview").
+std::string preview_id(std::size_t index);
 
 /// One line of a `rules` listing.
 struct RuleListing {
