@@ -116,7 +116,7 @@ void StudyEndpoints::moderate(const HttpRequest& r, const Respond& respond, bool
                              Json{{"group", group}, {"id", id}});
       return json_reply(200, answer);
     } catch (const sdk::Error& e) {
-      const std::string code = e.code();
+      const std::string& code = e.code();
       const int status = code == "not_found"                                   ? 404
                          : naturalization::lexicon_codes::is_store_fault(code) ? 503
                                                                                : 400;
