@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "flipper/kernel/session_request.hpp"
+#include "flipper/naturalization/generalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -48,11 +49,24 @@ void check_length(const kernel::InputLimits& limits, const std::string& text,
 
 constexpr std::size_t kExamplesPerRule = 3;
 
+PlanSummary run_summary(const sdk::ExecutionService& exec, const sdk::Program& program,
+                        const sdk::WorldState& world) {
+  try {
+    return summarize(exec.run(program, world));
+  } catch (const sdk::Error& err) {
+    PlanSummary failed;
+    failed.realizable = false;
+    failed.error = std::string(err.code()) + ": " + err.what();
+    return failed;
+  }
+}
+
 // Each rule's example sentences, run on the session's world (docs/naturalization.md §5
 // "Preview"). A run that stops (the request's limits) or fails is summarised with its error.
 std::vector<RulePreview> preview_rules(kernel::Session& s, const sdk::ExecutionService& exec,
                                        const std::vector<sdk::RulePtr>& rules,
-                                       const std::string& head) {
+                                       const std::string& head,
+                                       const std::optional<sdk::WorldState>& elsewhere) {
   std::vector<RulePreview> out;
   const auto& grammar = s.runtime().core_grammar;
   if (!grammar) return out;
@@ -60,13 +74,9 @@ std::vector<RulePreview> preview_rules(kernel::Session& s, const sdk::ExecutionS
   for (std::size_t i = 0; i < rules.size(); ++i) {
     RulePreview p{preview_id(i), {}};
     for (auto& e : book.examples(*rules[i], head, kExamplesPerRule)) {
-      PreviewSentence sentence{std::move(e.text), std::move(e.program), {}};
-      try {
-        sentence.plan = summarize(exec.run(sentence.program, s.world()));
-      } catch (const sdk::Error& err) {
-        sentence.plan.realizable = false;
-        sentence.plan.error = std::string(err.code()) + ": " + err.what();
-      }
+      PreviewSentence sentence{std::move(e.text), std::move(e.program), {}, {}};
+      sentence.plan = run_summary(exec, sentence.program, s.world());
+      if (elsewhere) sentence.elsewhere = run_summary(exec, sentence.program, *elsewhere);
       p.sentences.push_back(std::move(sentence));
     }
     out.push_back(std::move(p));
@@ -108,7 +118,11 @@ DefineOutcome define(Naturalizer& nat, kernel::Session& s, const DefineCall& cal
   d.dry_run = call.dry_run || call.preview;
   d.drop = call.drop;
   DefineOutcome out = nat.define(d);
-  if (call.preview) out.previews = preview_rules(s, exec, out.rules, call.head);
+  if (call.preview) {
+    if (auto other = perturbed_worlds(s.world(), 1); !other.empty())
+      out.preview_elsewhere = std::move(other.front());
+    out.previews = preview_rules(s, exec, out.rules, call.head, out.preview_elsewhere);
+  }
   s.emit(RulesDefined{s, call, out});
   return out;
 }
@@ -177,11 +191,28 @@ void write_preview(kernel::JsonWriter& a, const DefineOutcome& out, const kernel
       for (const auto& w : e.plan.warnings) a.string(w);
       a.end_array();
       if (!e.plan.error.empty()) a.key("error").string(e.plan.error);
+      if (out.preview_elsewhere) {
+        const PlanSummary& o = e.elsewhere;
+        a.key("elsewhere").begin_object().key("realizable").boolean(o.realizable);
+        a.key("moves").unsigned_integer(o.moves).key("picks").unsigned_integer(o.picks);
+        a.key("drops").unsigned_integer(o.drops).key("end");
+        if (o.end)
+          a.begin_array().integer(o.end->x).integer(o.end->y).end_array();
+        else
+          a.null();
+        if (!o.error.empty()) a.key("error").string(o.error);
+        a.end_object();
+      }
       a.end_object();
     }
     a.end_array().end_object();
   }
   a.end_array();
+  if (out.preview_elsewhere) {
+    const sdk::Cell& robot = out.preview_elsewhere->robot;
+    a.key("elsewhere").begin_object().key("robot").begin_array().integer(robot.x).integer(robot.y);
+    a.end_array().key("holding").unsigned_integer(out.preview_elsewhere->held.size()).end_object();
+  }
   a.key("perturbed").begin_object();
   a.key("checks").integer(config.get(keys::kPerturbedChecks));
   a.key("worlds").integer(out.perturbations).key("passed").integer(out.perturbed_passed);

@@ -71,6 +71,15 @@ TEST_CASE("a preview shows each rule's new sentences and what they do, storing n
             "hop right twice -> {{move right};{move right}}: 2 [4,4] realizable"});
   CHECK(hop["preview"][0]["sentences"][0]["warnings"] ==
         Json{"Could not complete the action: {move up} ([2,6] is a wall)"});
+  // The other world: the first perturbed copy puts the robot at [11,7] (room5's corner): up
+  // reaches [11,8] below the border, [11,6] below it and [12,7] right of it are walls.
+  CHECK(hop["elsewhere"] == Json{{"robot", {11, 7}}, {"holding", 0}});
+  std::vector<std::string> elsewhere;
+  for (const auto& e : hop["preview"][0]["sentences"])
+    elsewhere.push_back(std::to_string(e["elsewhere"]["moves"].get<int>()) + " " +
+                        e["elsewhere"]["end"].dump() + " " +
+                        (e["elsewhere"]["realizable"].get<bool>() ? "realizable" : "not"));
+  CHECK(elsewhere == std::vector<std::string>{"1 [11,8] not", "0 null not", "0 null not"});
   CHECK(ask(*s, {{"op", "rules"}})["rules"].empty());
 }
 

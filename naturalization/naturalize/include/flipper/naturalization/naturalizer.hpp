@@ -143,6 +143,9 @@ struct DefineOutcome {
   std::vector<std::string> perturbed_failed{};
   /// A preview's rules with their example sentences (session service, DefineCall::preview).
   std::vector<RulePreview> previews{};
+  /// The other world a preview's sentences also ran on: the first perturbed copy of the
+  /// session's world (robot elsewhere, items moved; none for a world too small to perturb).
+  std::optional<sdk::WorldState> preview_elsewhere{};
 };
 
 /// "newK" for the K-th rule (from 1) a definition induces (docs/naturalization.md §5 "Preview").

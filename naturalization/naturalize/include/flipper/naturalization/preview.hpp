@@ -38,7 +38,8 @@ struct ExampleSentence {
 struct PreviewSentence {
   std::string text;
   sdk::Program program;
-  PlanSummary plan;
+  PlanSummary plan;       ///< on the session's world
+  PlanSummary elsewhere;  ///< on the preview's other world (RulePreview's caller: `other`)
 };
 
 /// One rule a definition would induce: its preview id ("newK") and example sentences.
