@@ -28,11 +28,9 @@
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "lexicon_common.hpp"
 
 namespace flipper::cli {
-
-/// lexicon log|diff|tag|revert (lexicon_history.cpp).
-void add_lexicon_history_commands(CLI::App& lexicon);
 
 namespace {
 
@@ -342,7 +340,8 @@ std::function<int()> guarded(const char* what, int (*action)(const LexiconArgs&)
 
 void add_lexicon_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
-      "lexicon", "List, export, import, delete, log, diff, tag and revert the community lexicon");
+      "lexicon",
+      "List, export, import, delete, log, diff, tag, revert and moderate the community lexicon");
   cmd->require_subcommand(1);
   static LexiconArgs list_args, export_args, import_args;
 
@@ -374,6 +373,7 @@ void add_lexicon_command(CLI::App& app) {
   on_run(*del, guarded("delete", delete_rule, delete_args));
 
   add_lexicon_history_commands(*cmd);
+  add_lexicon_moderation_commands(*cmd);
 }
 
 }  // namespace flipper::cli

@@ -26,6 +26,7 @@
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "lexicon_common.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -38,17 +39,6 @@ struct HistoryArgs {
   std::string a, b;  // diff's points, tag's name, revert's target
   bool json = false;
 };
-
-std::unique_ptr<nat::LexiconStore> open_store(const CommonOptions& common) {
-  const std::string path = nat::NaturalizeOptions::from_config(load_config(common)).store_path;
-  std::error_code ec;
-  if (path != ":memory:" && !std::filesystem::exists(path, ec))
-    throw sdk::Error(sdk::codes::kBadConfig,
-                     "no lexicon store at '" + path + "' (lexicon.path; --set lexicon.path=FILE)");
-  nat::LexiconStoreOptions options;
-  options.site = load_config(common).get(nat::keys::kSite);
-  return std::make_unique<nat::LexiconStore>(path, options);
-}
 
 std::string utc(std::int64_t seconds) {
   const auto t = static_cast<std::time_t>(seconds);
@@ -147,7 +137,7 @@ json entry_json(const nat::HistoryEntry& e) {
 }
 
 int show_log(const HistoryArgs& a) {
-  const auto store = open_store(a.common);
+  const auto store = open_lexicon_store(a.common);
   nat::HistoryFilter filter;
   if (!a.rule.empty()) filter.rule = a.rule;
   if (!a.author.empty()) filter.author = a.author;
@@ -192,7 +182,7 @@ int show_log(const HistoryArgs& a) {
 }
 
 int show_diff(const HistoryArgs& a) {
-  const auto store = open_store(a.common);
+  const auto store = open_lexicon_store(a.common);
   const Point from = resolve_point(*store, a.a, true);
   const Point to = resolve_point(*store, a.b, true);
   // Multisets of rule content: a re-created rule (new id) is the same rule.
@@ -251,29 +241,25 @@ int show_diff(const HistoryArgs& a) {
   return kExitOk;
 }
 
-std::string who(const std::string& user) {
-  if (!user.empty()) return user;
-  const char* env = std::getenv("USER");
-  return env != nullptr && *env != '\0' ? env : "unknown";
-}
-
 int make_tag(const HistoryArgs& a) {
-  const auto store = open_store(a.common);
-  const auto t = store->tag(a.a, who(a.user), static_cast<std::int64_t>(std::time(nullptr)));
+  const auto store = open_lexicon_store(a.common);
+  const auto t =
+      store->tag(a.a, lexicon_user(a.user), static_cast<std::int64_t>(std::time(nullptr)));
   std::cout << "tag " << t.name << " = entry " << t.seq << " of " << store->path() << " ("
             << store->rules_at(t.seq).size() << " live rules, checksum " << t.checksum << ")\n";
   return kExitOk;
 }
 
 int revert(const HistoryArgs& a) {
-  const auto store = open_store(a.common);
+  const auto store = open_lexicon_store(a.common);
   const auto target = resolve_seq(*store, a.a);
   if (!target)
     throw sdk::Error(sdk::codes::kBadRequest,
                      "'" + a.a + "' is no tag of '" + store->path() +
                          "', entry (#N), time (@SECONDS, YYYY-MM-DDTHH:MM:SSZ) or 'now'");
-  const auto out = store->revert_to(target->first, {who(a.user), {}, "revert to " + target->second},
-                                    static_cast<std::int64_t>(std::time(nullptr)));
+  const auto out =
+      store->revert_to(target->first, {lexicon_user(a.user), {}, "revert to " + target->second},
+                       static_cast<std::int64_t>(std::time(nullptr)));
   std::cout << "reverted " << store->path() << " to " << target->second << ": "
             << out.removed.size() << " rules deleted, " << out.restored.size()
             << " re-created; checksum " << nat::lexicon_checksum(store->rules()) << "\n";
@@ -295,6 +281,24 @@ std::function<int()> guarded(const char* what, int (*action)(const HistoryArgs&)
 }
 
 }  // namespace
+
+std::unique_ptr<naturalization::LexiconStore> open_lexicon_store(const CommonOptions& common) {
+  const std::string path =
+      naturalization::NaturalizeOptions::from_config(load_config(common)).store_path;
+  std::error_code ec;
+  if (path != ":memory:" && !std::filesystem::exists(path, ec))
+    throw sdk::Error(sdk::codes::kBadConfig,
+                     "no lexicon store at '" + path + "' (lexicon.path; --set lexicon.path=FILE)");
+  naturalization::LexiconStoreOptions options;
+  options.site = load_config(common).get(naturalization::keys::kSite);
+  return std::make_unique<naturalization::LexiconStore>(path, options);
+}
+
+std::string lexicon_user(const std::string& user) {
+  if (!user.empty()) return user;
+  const char* env = std::getenv("USER");
+  return env != nullptr && *env != '\0' ? env : "unknown";
+}
 
 void add_lexicon_history_commands(CLI::App& cmd) {
   static HistoryArgs log_args, diff_args, tag_args, revert_args;

@@ -461,6 +461,8 @@ void LexiconReplicator::attach(kernel::Session& session) {
     session.set_op(name, std::move(wrapped));
   }
   session.on<naturalization::RulesDefined>([weak](const naturalization::RulesDefined& e) {
+    // A dry run, a preview or a held definition (lexicon.moderation) stored nothing to share.
+    if (!e.outcome.stored) return;
     if (auto self = weak.lock()) self->defined(e);
   });
 }

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
+#include <sstream>
 #include <vector>
 
 #include <fstream>
@@ -30,6 +31,9 @@ const char* kCommands =
     "  :define HEAD   teach HEAD (default: the last utterance); then one body line per\n"
     "                 line, each checked as you type it, ending with an empty line;\n"
     "                 Ctrl-C (or :cancel) abandons the definition\n"
+    "  :preview HEAD  the same, but first shows the rules it would induce, new sentences each\n"
+    "                 makes understandable and what they would do here; then store, drop\n"
+    "                 some rules (e.g. `new2`), or cancel\n"
     "  :undo          put the world back as it was before the last choice or :world\n"
     "  :rules         list the rules you can use, with their ids\n"
     "  :delete ID     delete a rule you defined (ids from :rules)\n"
@@ -343,6 +347,8 @@ class Repl {
         out_ << "Deleted rule " << arg << ".\n";
     } else if (cmd == ":define") {
       define(arg.empty() ? last_text_ : arg);
+    } else if (cmd == ":preview") {
+      define(arg.empty() ? last_text_ : arg, true);
     } else {
       out_ << "Unknown command " << cmd << ". :help lists the commands.\n";
     }
@@ -396,7 +402,33 @@ class Repl {
     return true;
   }
 
-  void define(const std::string& head) {
+  // A preview (docs/naturalization.md §5 "Preview"): each rule with its example sentences and
+  // what they would do on this world, and the perturbed check.
+  void show_preview(const naturalization::DefineOutcome& shown) {
+    for (std::size_t i = 0; i < shown.rules.size() && i < shown.previews.size(); ++i) {
+      const auto& r = *shown.rules[i];
+      out_ << shown.previews[i].id << ": " << r.lhs << " -> " << rhs_text(r) << "  =>  "
+           << sdk::render(r.sem) << '\n';
+      if (shown.previews[i].sentences.empty()) out_ << "    (reads only \"" << r.head << "\")\n";
+      for (const auto& e : shown.previews[i].sentences) {
+        out_ << "    \"" << e.text << "\" -> " << sdk::render(e.program) << ": ";
+        if (!e.plan.error.empty()) {
+          out_ << "fails here (" << e.plan.error << ")\n";
+          continue;
+        }
+        out_ << e.plan.moves << " moves, " << e.plan.picks << " picks, " << e.plan.drops << " drops"
+             << (e.plan.realizable ? "" : ", not realizable here") << '\n';
+      }
+    }
+    if (shown.perturbations == 0)
+      out_ << "Perturbed check: not run (induction.perturbed_checks = 0, or no rewriting).\n";
+    else
+      out_ << "Perturbed check: the body used agrees with yours on " << shown.perturbed_passed
+           << " of " << shown.perturbations << " perturbed worlds.\n";
+    for (const auto& f : shown.perturbed_failed) out_ << "  " << f << '\n';
+  }
+
+  void define(const std::string& head, bool preview = false) {
     if (head.empty() || sdk::tokenize(head).empty()) {
       out_ << "usage: :define HEAD (or make a query first); the head needs a word\n";
       return;
@@ -464,8 +496,31 @@ class Repl {
       return;
     }
     auto* nat = lexicon();
+    if (preview) {
+      definition.preview = true;
+      naturalization::DefineOutcome shown;
+      if (nat == nullptr || !call([&] { shown = nat->define(session_, definition); })) return;
+      show_preview(shown);
+      std::string answer;
+      if (!read_definition_line("Store it? [y]es, n(o), or the rules to leave out (new2 ...): ",
+                                answer) ||
+          answer == "n" || answer == "no") {
+        out_ << "Nothing defined.\n";
+        return;
+      }
+      if (answer != "y" && answer != "yes" && !answer.empty())
+        for (std::istringstream ids(answer); ids >> answer;) definition.drop.push_back(answer);
+      definition.preview = false;
+    }
     naturalization::DefineOutcome defined;
     if (nat == nullptr || !call([&] { defined = nat->define(session_, definition); })) return;
+    if (!defined.held.empty()) {
+      out_ << "Held for a researcher's approval as " << defined.held << " (" << defined.rules.size()
+           << (defined.rules.size() == 1 ? " rule" : " rules")
+           << "): it serves no one until approved (lexicon.moderation = hold_new).\n";
+      readings_ = kernel::Json::array();
+      return;
+    }
     const auto& rules = defined.rules;
     out_ << "Learned " << rules.size() << (rules.size() == 1 ? " rule" : " rules") << ":\n";
     for (const auto& r : rules) out_ << rule_text(*r) << '\n';

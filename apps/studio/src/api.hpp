@@ -49,6 +49,14 @@ class Api {
     std::lock_guard lock(k.mutex);
     return f(k);
   }
+  /// Runs `f(kernel)` with study group `group`'s first kernel under its lock (an unknown group:
+  /// the first pool's): the researcher's lexicon page reads and moderates its lexicon there.
+  template <class F>
+  decltype(auto) with_group_kernel(const std::string& group, F&& f) {
+    Kernel& k = *pools_.pool_for(group).kernels.front();
+    std::lock_guard lock(k.mutex);
+    return f(k);
+  }
   /// Queues `job` on the plain pool's first kernel under `key` (one job at a time per key, the
   /// least CPU-hungry key first) and answers its reply; 429 `session_busy` when the key already
   /// has requests waiting.

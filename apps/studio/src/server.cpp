@@ -103,6 +103,12 @@ struct Server::Impl {
                [s](const HttpRequest& r, const Respond& done) { s->end(r, done); });
     router.add("POST", "/api/v1/study/next",
                [s](const HttpRequest& r, const Respond& done) { s->next(r, done); });
+    router.add("GET", "/api/v1/study/lexicon",
+               [s](const HttpRequest& r, const Respond& done) { s->lexicon(r, done); });
+    router.add("POST", "/api/v1/study/lexicon/approve",
+               [s](const HttpRequest& r, const Respond& done) { s->moderate(r, done, true); });
+    router.add("POST", "/api/v1/study/lexicon/reject",
+               [s](const HttpRequest& r, const Respond& done) { s->moderate(r, done, false); });
     router.add_prefix("GET", "/api/v1/study/recording/",
                       [s](const HttpRequest& r, const Respond& done) { s->recording(r, done); });
     if (sempre) {

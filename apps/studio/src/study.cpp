@@ -60,9 +60,9 @@ std::shared_ptr<Study> Study::load(const std::string& path) {
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     if (key != "name" && key != "tutorial" && key != "groups" && key != "preload" &&
-        key != "record" && key != "tasks")
-      fail(path,
-           "unknown key '" + key + "' (known: name, tutorial, groups, preload, record, tasks)");
+        key != "record" && key != "tasks" && key != "moderation")
+      fail(path, "unknown key '" + key +
+                     "' (known: name, tutorial, groups, preload, record, tasks, moderation)");
   }
   const fs::path dir = fs::absolute(path).parent_path();
   auto study = std::make_shared<Study>();
@@ -83,6 +83,12 @@ std::shared_ptr<Study> Study::load(const std::string& path) {
   if (study->groups_.empty()) study->groups_ = {"C"};
   if (auto p = text_of(root["preload"], path, "preload", false); !p.empty())
     study->preload_ = (dir / p).lexically_normal().string();
+  // The study asks for moderation of its lexicons (docs/naturalization.md §5 "Moderation");
+  // absent: the server's lexicon.moderation.
+  study->moderation_ = text_of(root["moderation"], path, "moderation", false);
+  if (!study->moderation_.empty() && study->moderation_ != "off" &&
+      study->moderation_ != "hold_new")
+    fail(path, "moderation '" + study->moderation_ + "' is not off or hold_new");
   std::string record = text_of(root["record"], path, "record", false);
   if (record.empty()) record = study->name_ + "-recording";
   study->record_dir_ = (dir / record).lexically_normal().string();
@@ -117,6 +123,7 @@ std::vector<std::pair<std::string, kernel::Config>> Study::kernels(
     c.set(std::string("lexicon.sharing=") + sharing_of_group(g));
     c.set("lexicon.path=" + record_dir_ + "/lexicon-" + g + ".sqlite");
     c.set("lexicon.preload=" + (g == "C" ? preload_ : std::string()));
+    if (!moderation_.empty()) c.set("lexicon.moderation=" + moderation_);
     out.emplace_back(g, std::move(c));
   }
   return out;

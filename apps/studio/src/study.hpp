@@ -8,6 +8,8 @@
 //   groups: [C]                      # participants are assigned round-robin (or ?group=)
 //   preload: experts.jsonl           # group C's preloaded definitions (lexicon.preload format)
 //   record: recording                # where the corpus is written (default: <name>-recording)
+//   moderation: hold_new             # definitions wait for the researcher (default: the
+//                                    # server's lexicon.moderation; docs/naturalization.md §5)
 //   tasks:
 //     - {name: warm-up, text: "Move the robot up.", start: worlds/a.json, goal: worlds/b.json}
 //     - {name: red, text: "...", start: worlds/a.json, goal: {items: [{color: red, in: room4}]}}
@@ -57,6 +59,7 @@ class Study {
   std::vector<std::string> groups_;
   std::string preload_;
   std::string record_dir_;
+  std::string moderation_;  ///< lexicon.moderation for the groups ("": the server's)
   std::vector<StudyTask> tasks_;
 };
 

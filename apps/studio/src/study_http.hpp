@@ -12,9 +12,15 @@
 //                                        used takes the next participant at its next request
 //   POST /api/v1/study/next              (the participant's page, kiosk mode) ends this login:
 //                                        the page reloads as the next participant
+//   GET  /api/v1/study/lexicon?group=G  (admin) group G's lexicon: its history (newest first, at
+//                                        most 200 entries) and the definitions held for approval
+//   POST /api/v1/study/lexicon/approve {"group":G,"id":"hN"}  (admin) stores a held definition
+//   POST /api/v1/study/lexicon/reject {"group":G,"id":"hN","reason":R}  (admin) drops it
+//                                        (lexicon.moderation: hold_new; docs/naturalization.md §5)
 // The researcher's endpoints answer 401 login_required without a login, 403 forbidden for a
 // login that is not an administrator; a server without a study answers 404 no_study. Each close,
-// reopen, invitation, end and download is a line of the recording's audit.jsonl (§7 "Audit").
+// reopen, invitation, end, approval, rejection and download is a line of the recording's
+// audit.jsonl (§7 "Audit").
 #include "api.hpp"
 #include "http_types.hpp"
 
@@ -32,6 +38,9 @@ class StudyEndpoints {
   void invite(const HttpRequest& request, const Respond& respond);
   void end(const HttpRequest& request, const Respond& respond);
   void next(const HttpRequest& request, const Respond& respond);
+  /// The lexicon page: history and moderation queue (lexicon_http.cpp).
+  void lexicon(const HttpRequest& request, const Respond& respond);
+  void moderate(const HttpRequest& request, const Respond& respond, bool approve);
 
  private:
   /// The researcher's account name, or the refusal.

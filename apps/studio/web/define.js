@@ -213,6 +213,9 @@ export class DefinePanel {
     const n = answer.rules.length;
     const h = document.createElement('p');
     h.textContent = `Learned "${head}": ${n} rule${n === 1 ? '' : 's'}.`;
+    // lexicon.moderation: hold_new (docs/naturalization.md §5 "Moderation").
+    if (answer.held)
+      h.textContent = `"${head}" (${n} rule${n === 1 ? '' : 's'}) waits for the researcher's approval; until then it is not understood.`;
     result.append(h);
     const ul = document.createElement('ul');
     for (const r of answer.rules) {

@@ -77,6 +77,7 @@ function render(o) {
   $('view').hidden = false;
   $('login').hidden = true;
   document.body.dataset.ready = 'true';
+  document.dispatchEvent(new Event('researcher-view')); // researcher-lexicon.js follows
 }
 
 async function refresh() {

@@ -188,4 +188,9 @@ GeneralizeResult Generalizer::generalize(
   return result;
 }
 
+std::vector<sdk::WorldState> perturbed_worlds(const sdk::WorldState& world, int count,
+                                              std::uint64_t seed) {
+  return generalize::perturb(world, count, seed);
+}
+
 }  // namespace flipper::naturalization

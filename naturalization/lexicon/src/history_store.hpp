@@ -3,6 +3,7 @@
 // (lexicon_store.cpp): an entry is appended inside the transaction of the change it records.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "flipper/naturalization/lexicon_history.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
@@ -20,5 +21,9 @@ bool has_history_table(sqlite::Db& db);
 /// Appends `e` (its seq assigned by SQLite, its time raised to the last entry's when earlier),
 /// inside the caller's write transaction.
 void append_history(sqlite::Db& db, const HistoryEntry& e);
+/// Stores a definition and its rules (ids and `created` assigned), with their history entries,
+/// inside the caller's write transaction (LexiconStore::commit_definition, an approval).
+DefinitionCommit commit_definition_in(sqlite::Db& db, const std::string& site,
+                                      const StoredDefinition& d, std::vector<StoredRule> rules);
 
 }  // namespace flipper::naturalization

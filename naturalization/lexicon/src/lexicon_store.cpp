@@ -450,10 +450,8 @@ HistoryEntry entry_for(const StoredRule& r, const char* action, const char* effe
 
 }  // namespace
 
-DefinitionCommit LexiconStore::commit_definition(const StoredDefinition& d,
-                                                 std::vector<StoredRule> rules) {
-  auto& db = *impl_->db;
-  sqlite::Transaction tx(db);
+DefinitionCommit commit_definition_in(sqlite::Db& db, const std::string& site,
+                                      const StoredDefinition& d, std::vector<StoredRule> rules) {
   sqlite::Stmt ins(db, "INSERT INTO definitions(head, body, author, time) VALUES (?,?,?,?)");
   ins.bind(1, d.head).bind(2, to_json_list(d.body)).bind(3, d.author).bind(4, d.time).run();
   DefinitionCommit out;
@@ -467,7 +465,7 @@ DefinitionCommit LexiconStore::commit_definition(const StoredDefinition& d,
   def.head = d.head;
   def.body = d.body;
   def.study = d.study;
-  def.site = impl_->site;
+  def.site = site;
   append_history(db, def);
   // Under the write lock: no other process can take these numbers before the commit.
   std::int64_t created = next_value(db, "SELECT coalesce(max(created), 0) + 1 FROM rules");
@@ -478,12 +476,20 @@ DefinitionCommit LexiconStore::commit_definition(const StoredDefinition& d,
     r.deleted = false;
     insert_rule(db, r, out.definition);
     HistoryEntry e =
-        entry_for(r, history_action::kInduce, history_effect::kAdd, d.author, d.time, impl_->site);
+        entry_for(r, history_action::kInduce, history_effect::kAdd, d.author, d.time, site);
     e.study = d.study;
     append_history(db, e);
   }
-  tx.commit();
   out.rules = std::move(rules);
+  return out;
+}
+
+DefinitionCommit LexiconStore::commit_definition(const StoredDefinition& d,
+                                                 std::vector<StoredRule> rules) {
+  auto& db = *impl_->db;
+  sqlite::Transaction tx(db);
+  DefinitionCommit out = commit_definition_in(db, impl_->site, d, std::move(rules));
+  tx.commit();
   return out;
 }
 

@@ -510,6 +510,40 @@ std::string conflicts_message(const std::vector<DefineConflict>& conflicts) {
 }
 }  // namespace
 
+std::string preview_id(std::size_t index) {
+  return "new" + std::to_string(index + 1);
+}
+
+namespace {
+// Leaves out the rules a preview's author dropped (docs/naturalization.md §5 "Preview").
+void drop_rules(const std::vector<std::string>& drop,
+                std::vector<std::shared_ptr<sdk::Rule>>& fresh, std::vector<std::string>& dropped) {
+  if (drop.empty()) return;
+  std::vector<bool> gone(fresh.size(), false);
+  for (const auto& id : drop) {
+    std::size_t k = 0;
+    while (k < fresh.size() && preview_id(k) != id) ++k;
+    if (k == fresh.size())
+      throw sdk::Error(sdk::codes::kBadRequest,
+                       "drop: '" + id.substr(0, 40) + "' names none of the " +
+                           std::to_string(fresh.size()) + " rules this definition induces (new1.." +
+                           preview_id(fresh.size() - (fresh.empty() ? 0 : 1)) + ")");
+    gone[k] = true;
+  }
+  if (std::all_of(gone.begin(), gone.end(), [](bool g) { return g; }))
+    throw sdk::Error(sdk::codes::kBadRequest,
+                     "drop leaves none of the definition's rules; cancel the definition instead");
+  std::vector<std::shared_ptr<sdk::Rule>> kept;
+  for (std::size_t k = 0; k < fresh.size(); ++k) {
+    if (gone[k])
+      dropped.push_back(preview_id(k));
+    else
+      kept.push_back(std::move(fresh[k]));
+  }
+  fresh = std::move(kept);
+}
+}  // namespace
+
 DefineOutcome Naturalizer::define(const DefineRequest& req) {
   check_head_tokens(req.head);
   refresh();  // induce against every rule committed so far, by any process
@@ -540,6 +574,11 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
     for (const auto& c : g.candidates)
       if (!c.rejected_reason.empty())
         out.discarded.push_back({c.program, c.rewriting, c.rejected_reason});
+    out.perturbations = g.perturbations;
+    if (g.winner_index < g.candidates.size()) {
+      out.perturbed_passed = g.candidates[g.winner_index].perturbed_passed;
+      out.perturbed_failed = g.candidates[g.winner_index].failed_checks;
+    }
   }
 
   InductionResult induced = inducer.induce(
@@ -560,6 +599,7 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
     rule->body = req.body;
     fresh.push_back(std::move(rule));
   }
+  drop_rules(req.drop, fresh, out.dropped);
   // Conflicts before they happen (docs/naturalization.md §5 "Conflicts"): shown, or refused. A
   // preloaded definition is the site's own lexicon, shown to no one, and a replicated one was
   // checked where it was made: neither is checked here.
@@ -578,6 +618,15 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   std::vector<StoredRule> stored;
   stored.reserve(fresh.size());
   for (const auto& rule : fresh) stored.push_back(stored_from_rule(*rule, 0));
+  // lexicon.moderation = hold_new: a user's definition waits for a researcher, serving no one
+  // (its author included); preloaded, imported and replicated ones are the site's or were
+  // moderated where they were made (docs/naturalization.md §5 "Moderation").
+  if (options_.moderation == Moderation::hold_new && req.via.empty()) {
+    out.held = store_->hold_definition(
+        {0, req.head, req.body, req.user, now, {}, req.study, req.via}, stored);
+    out.rules.assign(fresh.begin(), fresh.end());
+    return out;
+  }
   DefinitionCommit commit = store_->commit_definition(
       {0, req.head, req.body, req.user, now, {}, req.study, req.via}, std::move(stored));
   out.definition = commit.definition;
@@ -592,6 +641,28 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   out.rules = std::move(rules);
   out.stored = true;
   return out;
+}
+
+std::vector<HeldDefinition> Naturalizer::pending() const {
+  return store_->held();
+}
+
+std::vector<sdk::RulePtr> Naturalizer::approve(const std::string& moderator,
+                                               const std::string& id) {
+  refresh();
+  const DefinitionCommit commit =
+      store_->approve_held(id, {moderator, {}, {}}, static_cast<std::int64_t>(std::time(nullptr)));
+  apply(store_->changes_since(mark_));
+  std::vector<sdk::RulePtr> rules;
+  for (const auto& r : commit.rules)
+    if (auto rule = find_rule(r.id)) rules.push_back(std::move(rule));
+  return rules;
+}
+
+void Naturalizer::reject(const std::string& moderator, const std::string& id,
+                         const std::string& reason) {
+  (void)store_->reject_held(id, {moderator, {}, reason},
+                            static_cast<std::int64_t>(std::time(nullptr)));
 }
 
 std::vector<RuleListing> Naturalizer::rules(const std::string& user,

@@ -21,6 +21,7 @@ NaturalizeOptions NaturalizeOptions::from_config(const kernel::Config& config) {
   o.store.sync_every_commit = config.get(keys::kDurability) == keys::Durability::full;
   o.store.site = config.get(keys::kSite);
   o.conflicts = config.get(keys::kConflicts);
+  o.moderation = config.get(keys::kModeration);
   o.snapshot_min_rules = config.get(keys::kSnapshotMinRules);
   o.induction.alignment = config.get(keys::kAlignment);
   o.generalize = config.get(keys::kGeneralize);

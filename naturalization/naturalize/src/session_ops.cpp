@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "flipper/kernel/session_request.hpp"
+#include "flipper/naturalization/generalizer.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -46,6 +47,43 @@ void check_length(const kernel::InputLimits& limits, const std::string& text,
                                                     std::to_string(limits.max_tokens));
 }
 
+constexpr std::size_t kExamplesPerRule = 3;
+
+PlanSummary run_summary(const sdk::ExecutionService& exec, const sdk::Program& program,
+                        const sdk::WorldState& world) {
+  try {
+    return summarize(exec.run(program, world));
+  } catch (const sdk::Error& err) {
+    PlanSummary failed;
+    failed.realizable = false;
+    failed.error = std::string(err.code()) + ": " + err.what();
+    return failed;
+  }
+}
+
+// Each rule's example sentences, run on the session's world (docs/naturalization.md §5
+// "Preview"). A run that stops (the request's limits) or fails is summarised with its error.
+std::vector<RulePreview> preview_rules(kernel::Session& s, const sdk::ExecutionService& exec,
+                                       const std::vector<sdk::RulePtr>& rules,
+                                       const std::string& head,
+                                       const std::optional<sdk::WorldState>& elsewhere) {
+  std::vector<RulePreview> out;
+  const auto& grammar = s.runtime().core_grammar;
+  if (!grammar) return out;
+  const PhraseBook book(*grammar);
+  for (std::size_t i = 0; i < rules.size(); ++i) {
+    RulePreview p{preview_id(i), {}};
+    for (auto& e : book.examples(*rules[i], head, kExamplesPerRule)) {
+      PreviewSentence sentence{std::move(e.text), std::move(e.program), {}, {}};
+      sentence.plan = run_summary(exec, sentence.program, s.world());
+      if (elsewhere) sentence.elsewhere = run_summary(exec, sentence.program, *elsewhere);
+      p.sentences.push_back(std::move(sentence));
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
 }  // namespace
 
 DefineOutcome define(Naturalizer& nat, kernel::Session& s, const DefineCall& call) {
@@ -77,8 +115,14 @@ DefineOutcome define(Naturalizer& nat, kernel::Session& s, const DefineCall& cal
   d.before = &s.world();
   d.exec = &exec;
   d.stop = s.request_stop();
-  d.dry_run = call.dry_run;
+  d.dry_run = call.dry_run || call.preview;
+  d.drop = call.drop;
   DefineOutcome out = nat.define(d);
+  if (call.preview) {
+    if (auto other = perturbed_worlds(s.world(), 1); !other.empty())
+      out.preview_elsewhere = std::move(other.front());
+    out.previews = preview_rules(s, exec, out.rules, call.head, out.preview_elsewhere);
+  }
   s.emit(RulesDefined{s, call, out});
   return out;
 }
@@ -125,6 +169,58 @@ void read_body(const kernel::Json& req, DefineCall& call) {
   }
 }
 
+// docs/protocol.md § define, `preview`: each rule's example sentences with their plan summary,
+// and the perturbed check.
+void write_preview(kernel::JsonWriter& a, const DefineOutcome& out, const kernel::Config& config) {
+  a.key("preview").begin_array();
+  for (std::size_t i = 0; i < out.previews.size() && i < out.rules.size(); ++i) {
+    const RulePreview& p = out.previews[i];
+    a.begin_object().key("id").string(p.id).key("rule").string(rule_shape(*out.rules[i]));
+    a.key("semantics").string(sdk::render(out.rules[i]->sem));
+    a.key("sentences").begin_array();
+    for (const auto& e : p.sentences) {
+      a.begin_object().key("text").string(e.text).key("formula").string(sdk::render(e.program));
+      a.key("realizable").boolean(e.plan.realizable);
+      a.key("moves").unsigned_integer(e.plan.moves).key("picks").unsigned_integer(e.plan.picks);
+      a.key("drops").unsigned_integer(e.plan.drops).key("end");
+      if (e.plan.end)
+        a.begin_array().integer(e.plan.end->x).integer(e.plan.end->y).end_array();
+      else
+        a.null();
+      a.key("warnings").begin_array();
+      for (const auto& w : e.plan.warnings) a.string(w);
+      a.end_array();
+      if (!e.plan.error.empty()) a.key("error").string(e.plan.error);
+      if (out.preview_elsewhere) {
+        const PlanSummary& o = e.elsewhere;
+        a.key("elsewhere").begin_object().key("realizable").boolean(o.realizable);
+        a.key("moves").unsigned_integer(o.moves).key("picks").unsigned_integer(o.picks);
+        a.key("drops").unsigned_integer(o.drops).key("end");
+        if (o.end)
+          a.begin_array().integer(o.end->x).integer(o.end->y).end_array();
+        else
+          a.null();
+        if (!o.error.empty()) a.key("error").string(o.error);
+        a.end_object();
+      }
+      a.end_object();
+    }
+    a.end_array().end_object();
+  }
+  a.end_array();
+  if (out.preview_elsewhere) {
+    const sdk::Cell& robot = out.preview_elsewhere->robot;
+    a.key("elsewhere").begin_object().key("robot").begin_array().integer(robot.x).integer(robot.y);
+    a.end_array().key("holding").unsigned_integer(out.preview_elsewhere->held.size()).end_object();
+  }
+  a.key("perturbed").begin_object();
+  a.key("checks").integer(config.get(keys::kPerturbedChecks));
+  a.key("worlds").integer(out.perturbations).key("passed").integer(out.perturbed_passed);
+  a.key("failed").begin_array();
+  for (const auto& f : out.perturbed_failed) a.string(f);
+  a.end_array().end_object();
+}
+
 // docs/protocol.md § define: {"rules":[rule...],"generalized"[,"discarded"]}.
 void op_define(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
                kernel::JsonWriter& a) {
@@ -148,6 +244,20 @@ void op_define(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
       throw sdk::Error(sdk::codes::kBadRequest, "field 'dry_run' must be true or false");
     call.dry_run = req["dry_run"].get<bool>();
   }
+  if (req.contains("preview") && !req["preview"].is_null()) {
+    if (!req["preview"].is_boolean())
+      throw sdk::Error(sdk::codes::kBadRequest, "field 'preview' must be true or false");
+    call.preview = req["preview"].get<bool>();
+  }
+  if (req.contains("drop") && !req["drop"].is_null()) {
+    const char* what = "field 'drop' must be a list of preview rule ids (\"new1\", ...)";
+    if (!req["drop"].is_array() || req["drop"].size() > 1000)
+      throw sdk::Error(sdk::codes::kBadRequest, what);
+    for (const auto& id : req["drop"]) {
+      if (!id.is_string()) throw sdk::Error(sdk::codes::kBadRequest, what);
+      call.drop.push_back(id.get<std::string>());
+    }
+  }
   const DefineOutcome out = define(nat, s, call);
   a.key("rules").begin_array();
   for (const auto& r : out.rules) write_rule(a, *r);
@@ -155,6 +265,13 @@ void op_define(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
   // Only when there is something to say: answers without conflicts stay as recorded studies
   // hashed them (docs/studio.md §7).
   if (!out.stored) a.key("stored").boolean(false);
+  if (!out.held.empty()) a.key("held").string(out.held);
+  if (!out.dropped.empty()) {
+    a.key("dropped").begin_array();
+    for (const auto& id : out.dropped) a.string(id);
+    a.end_array();
+  }
+  if (call.preview) write_preview(a, out, s.runtime().config);
   if (!out.conflicts.empty()) {
     a.key("conflicts").begin_array();
     for (const auto& c : out.conflicts) {

@@ -91,6 +91,24 @@ TEST_CASE("repl: define an unparsable utterance, then use it", "[repl][loop]") {
   CHECK(s->world().robot.y == 5);
 }
 
+TEST_CASE("repl: :preview shows the rules' new sentences, then stores with one dropped",
+          "[repl][loop]") {
+  // docs/naturalization.md §5 "Preview": the examples are hand-derived (colours black blue gray
+  // green, the head's own skipped; nothing to pick where the robot stands).
+  auto s = flipper::wiring::open_session(flipper::testsupport::test_runtime());
+  const std::string out =
+      run_script(*s, ":preview zap blue\npick item is blue\n\nnew2 new3\n:rules\n");
+  CHECK_THAT(out, Catch::Contains("new1: $Action -> zap $Color  =>  {pick item {is $1}}\n"
+                                  "    \"zap black\" -> {pick item {is black}}: 0 moves, 0 picks, "
+                                  "0 drops, not realizable here\n"));
+  CHECK_THAT(out, Catch::Contains("new3: $Action -> zap blue  =>  {pick item {is blue}}\n"
+                                  "    (reads only \"zap blue\")\n"));
+  CHECK_THAT(out, Catch::Contains("Perturbed check: not run"));
+  CHECK_THAT(out, Catch::Contains("Learned 1 rule"));
+  CHECK_THAT(out, Catch::Contains("zap $Color  =>  {pick item {is $1}}  (by anonymous"));
+  CHECK_THAT(out, !Catch::Contains("zap $Property  =>  {pick item {is $1}}  (by"));
+}
+
 TEST_CASE("repl: :save draws the plan just chosen", "[repl][loop]") {
   auto s = flipper::testsupport::bare_session();
   const std::string file = std::string(FLIPPER_BINARY_DIR) + "/tests/tmp/repl-save.svg";

@@ -233,6 +233,16 @@ run(async () => {
     if (withPage) equal(rows, [['P1', 'B', '2: room1'], ['P2', 'C', '1: warm-up']], 'the researcher sees both participants, their group and task');
     else equal(rows.map((row) => row.slice(0, 2)), [['P1', 'B'], ['P2', 'C']], 'the researcher sees both participants and their group (tasks need the page\'s task_start)');
     check(await r.isVisible('[data-testid=researcher-download-queries]'), 'the recording can be downloaded file by file');
+    // The lexicon section (docs/studio.md §7 "Lexicon"): group B's history holds P1's two
+    // definitions of `hop`; this study holds nothing for approval.
+    await r.waitForSelector('body[data-lexicon-ready=true]');
+    equal(await r.$$eval('#lexicon-group option', (os) => os.map((o) => o.value)), ['B', 'C'],
+      'the lexicon section offers the study\'s groups');
+    equal(await r.textContent('[data-testid=researcher-pending]'), 'nothing held',
+      'nothing is held without moderation');
+    const heads = await r.$$eval('[data-testid=researcher-history] li[data-action=define]',
+      (lis) => lis.map((li) => li.textContent.includes("'hop'")));
+    equal(heads.filter(Boolean).length, 2, 'group B\'s history shows both definitions of hop');
     await r.fill('#invite-name', 'P1');
     await r.click('[data-testid=researcher-invite] button');
     await r.waitForFunction(() => document.getElementById('invite-url').textContent.includes('/?code='));

@@ -77,6 +77,13 @@ class Generalizer {
   GeneralizeOptions options_;
 };
 
+/// `count` perturbed copies of `world` (robot elsewhere, items moved), the same for the same seed:
+/// the worlds the perturbed checks use (docs/naturalization.md §6). Empty when the world has fewer
+/// than two free cells.
+std::vector<sdk::WorldState> perturbed_worlds(
+    const sdk::WorldState& world, int count,
+    std::uint64_t seed = GeneralizeOptions{}.perturbation_seed);
+
 /// Words of the head for the similarity: its tokens without `, [ ] { }` (docs/naturalization.md
 /// §6).
 std::vector<std::string> head_words(const std::vector<std::string>& head_tokens);

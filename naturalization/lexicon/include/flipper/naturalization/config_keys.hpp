@@ -17,6 +17,8 @@ namespace flipper::naturalization {
 enum class Sharing { shared, private_, core };
 /// lexicon.conflicts: what a definition that changes other users' readings gets.
 enum class ConflictPolicy { warn, refuse };
+/// lexicon.moderation: whether new definitions wait for a researcher's approval.
+enum class Moderation { off, hold_new };
 
 namespace keys {
 
@@ -60,6 +62,12 @@ inline constexpr param::Choice<ConflictPolicy, 2> kConflicts{
     {"warn", "refuse"},
     "a definition that changes other users' readings: shown (warn) or refused (refuse, "
     "definition_conflicts)"};
+inline constexpr param::Choice<Moderation, 2> kModeration{
+    "lexicon.moderation",
+    Moderation::off,
+    {"off", "hold_new"},
+    "hold_new: a new definition's rules serve no one until a researcher approves them "
+    "(docs/naturalization.md §5 \"Moderation\")"};
 
 inline constexpr param::Bool kAlignment{"induction.alignment", true,
                                         "induce rules by aligning head and body"};
@@ -82,6 +90,7 @@ inline sdk::ParamSchema config_schema() {
   param::add(s, kReplication);
   param::add(s, kSite);
   param::add(s, kConflicts);
+  param::add(s, kModeration);
   s.add_section("induction", "grammar induction from definitions");
   param::add(s, kAlignment);
   param::add(s, kGeneralize);

@@ -28,6 +28,10 @@ inline constexpr const char* kDelete = "delete";          ///< an author deleted
 inline constexpr const char* kQuarantine = "quarantine";  ///< a stored rule stopped loading
 inline constexpr const char* kImport = "import";          ///< copied in (or there before history)
 inline constexpr const char* kRevert = "revert";          ///< re-created or deleted by a revert
+/// lexicon.moderation = hold_new: a definition held for a researcher (its rules serve no one)
+inline constexpr const char* kHold = "hold";
+inline constexpr const char* kApprove = "approve";  ///< a researcher approved a held definition
+inline constexpr const char* kReject = "reject";    ///< a researcher rejected a held definition
 }  // namespace history_action
 
 /// One entry of the history.

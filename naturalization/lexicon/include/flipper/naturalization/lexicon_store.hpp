@@ -182,6 +182,14 @@ struct LearnedChanges {
   std::int64_t mark = 0;  ///< the newest learning sequence read (the argument when none)
 };
 
+/// A definition held for moderation (lexicon.moderation = hold_new; docs/naturalization.md §5
+/// "Moderation"): stored apart from the rules, so it serves no one until it is approved.
+struct HeldDefinition {
+  std::string id;  ///< "h<N>", never reused
+  StoredDefinition definition;
+  std::vector<StoredRule> rules;  ///< as induced when held (no ids yet)
+};
+
 class LexiconStore {
  public:
   /// Opens (or creates, with parent directories) the store at `path`; ":memory:" is a private
@@ -322,6 +330,22 @@ class LexiconStore {
   /// Records that `rule` is quarantined for `reason` (once per rule and reason; best effort:
   /// false when it did not write).
   bool record_quarantine(const StoredRule& rule, const std::string& reason);
+
+  // ---- Moderation (docs/naturalization.md §5 "Moderation"; moderation.cpp) ----
+  /// Holds a definition and its rules for a researcher, with a `hold` history entry, in one
+  /// transaction; returns its id ("h<N>").
+  std::string hold_definition(const StoredDefinition& definition,
+                              const std::vector<StoredRule>& rules);
+  /// The held definitions, oldest first.
+  std::vector<HeldDefinition> held() const;
+  /// Stores held definition `id` as if defined now (its `define` and `induce` entries, by its
+  /// author) and records an `approve` entry by `moderator`, in one transaction. Throws not_found
+  /// for an id that is not held (approved, rejected or unknown).
+  DefinitionCommit approve_held(const std::string& id, const HistoryContext& moderator,
+                                std::int64_t time);
+  /// Drops held definition `id` with a `reject` entry by `moderator` (not_found as above).
+  HeldDefinition reject_held(const std::string& id, const HistoryContext& moderator,
+                             std::int64_t time);
 
  private:
   struct Impl;

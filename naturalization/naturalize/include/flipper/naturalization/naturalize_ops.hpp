@@ -32,6 +32,11 @@ struct DefineCall {
   std::vector<sdk::Program> programs;
   /// Induce and report conflicts only; store nothing (docs/protocol.md § define, `dry_run`).
   bool dry_run = false;
+  /// A dry run that also shows each rule's example sentences and what they would do on the
+  /// session's world, and the perturbed check (docs/protocol.md § define, `preview`).
+  bool preview = false;
+  /// Preview ids of rules to leave out ("newK"; docs/naturalization.md §5 "Preview").
+  std::vector<std::string> drop{};
 };
 
 /// Emitted through the session by define() after a definition succeeded (dry runs too:

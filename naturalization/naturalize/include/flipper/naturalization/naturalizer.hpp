@@ -31,6 +31,7 @@
 #include "flipper/naturalization/config_keys.hpp"
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
+#include "flipper/naturalization/preview.hpp"
 #include "flipper/naturalization/rule_snapshot.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/world.hpp"
@@ -82,6 +83,7 @@ struct NaturalizeOptions {
   /// default: standard error, "flipper: warning: ...".
   std::function<void(const std::string&)> warn;
   ConflictPolicy conflicts = ConflictPolicy::warn;  ///< lexicon.conflicts
+  Moderation moderation = Moderation::off;          ///< lexicon.moderation
   InductionOptions induction;                       ///< induction.alignment (+ parser beam)
   bool generalize = keys::kGeneralize.def;          ///< induction.generalize
   int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
@@ -107,6 +109,9 @@ struct DefineRequest {
   std::string via{};
   /// Induce and check for conflicts, store nothing (the outcome's rules have no ids).
   bool dry_run = false;
+  /// Rules left out, by preview id ("newK": the K-th rule induced, from 1; docs/naturalization.md
+  /// §5 "Preview"); bad_request for a name outside new1..newN or when no rule would be left.
+  std::vector<std::string> drop{};
 };
 
 /// A rewriter candidate that generalization discarded.
@@ -126,8 +131,25 @@ struct DefineOutcome {
   std::vector<Discarded> discarded;
   /// Phrases of other users the rules change (lexicon.conflicts = warn: stored anyway).
   std::vector<DefineConflict> conflicts;
-  bool stored = false;  ///< false for a dry run
+  bool stored = false;  ///< false for a dry run and a held definition
+  /// lexicon.moderation = hold_new: the id ("h<N>") it waits under for a researcher.
+  std::string held{};
+  /// Preview ids ("newK") of the rules left out by DefineRequest::drop.
+  std::vector<std::string> dropped{};
+  /// The perturbed check of the chosen body (docs/naturalization.md §6): perturbed worlds used,
+  /// how many it agreed with the user's body on, and the failures.
+  int perturbations = 0;
+  int perturbed_passed = 0;
+  std::vector<std::string> perturbed_failed{};
+  /// A preview's rules with their example sentences (session service, DefineCall::preview).
+  std::vector<RulePreview> previews{};
+  /// The other world a preview's sentences also ran on: the first perturbed copy of the
+  /// session's world (robot elsewhere, items moved; none for a world too small to perturb).
+  std::optional<sdk::WorldState> preview_elsewhere{};
 };
+
+/// "newK" for the K-th rule (from 1) a definition induces (docs/naturalization.md §5 "Preview").
+std::string preview_id(std::size_t index);
 
 /// One line of a `rules` listing.
 struct RuleListing {
@@ -195,6 +217,14 @@ class Naturalizer {
   /// and stores the scorer state, in one transaction. Throws the store's codes when it did not
   /// commit (the session then undoes the accept).
   void on_accept(const std::string& user, const std::vector<sdk::RulePtr>& used_rules);
+  /// Moderation (docs/naturalization.md §5 "Moderation"): the definitions held for approval,
+  /// oldest first; approve() stores one (its rules then serve as if defined now) and returns its
+  /// rules, reject() drops one; both are history entries by `moderator`. Who may moderate is the
+  /// front end's decision (the CLI's local user, the studio's researcher login). Throws
+  /// not_found for an id that is not held.
+  std::vector<HeldDefinition> pending() const;
+  std::vector<sdk::RulePtr> approve(const std::string& moderator, const std::string& id);
+  void reject(const std::string& moderator, const std::string& id, const std::string& reason = {});
   /// per_user weights: makes the scorer hold `user`'s weights (no-op for global weights).
   void select_user(const std::string& user);
 
