@@ -17,6 +17,7 @@
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/naturalization/repair_extension.hpp"
 #include "flipper/repl/repl.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -52,8 +53,9 @@ Reading interpret(kernel::Session& session, const std::string& text) {
   kernel::QueryRequest request;
   request.text = text;
   request.k = 1;
-  request.repair = true;  // a failure says how to repair it (docs/protocol.md "Repairs")
   const kernel::QueryResult result = session.query(request);  // the session's checks and codes
+  // A failure says how to repair it (docs/protocol.md "Repairs").
+  const auto repair = naturalization::repair_query(session, result);
   if (result.query->shown.empty()) {
     const std::string note = repl::unknown_words_note(session, text);
     throw sdk::Error(sdk::codes::kBadProgram,
@@ -61,7 +63,7 @@ Reading interpret(kernel::Session& session, const std::string& text) {
                          "': it is neither canonical text nor core language, nor a phrase of the "
                          "lexicon visible to this user" +
                          (note.empty() ? "" : ". " + note.substr(0, note.size() - 1)) +
-                         (result.repair ? repl::repair_summary(*result.repair) : "") +
+                         (repair ? repl::repair_summary(*repair) : "") +
                          " (teach a phrase in `flipper repl`)");
   }
   const kernel::LastQuery& q = *result.query;

@@ -8,9 +8,9 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "dds_services.hpp"
-#include "flipper/kernel/line_reader.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/wiring/session_factory.hpp"
+#include "request_lines.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -58,10 +58,10 @@ int run_session(const CommonOptions& opts, const std::string& script) {
     std::string line;
     std::uint64_t bytes = 0;
     for (;;) {
-      const kernel::LineRead read = kernel::read_request_line(*in, max_bytes, line, bytes);
-      if (read == kernel::LineRead::eof) break;
-      std::string answer = read == kernel::LineRead::too_long ? session->line_too_long(bytes)
-                                                              : session->handle_line(line);
+      const LineRead read = read_request_line(*in, max_bytes, line, bytes);
+      if (read == LineRead::eof) break;
+      std::string answer =
+          read == LineRead::too_long ? session->line_too_long(bytes) : session->handle_line(line);
       if (answer.empty()) continue;
       answer.push_back('\n');
       std::fwrite(answer.data(), 1, answer.size(), stdout);

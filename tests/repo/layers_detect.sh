@@ -86,9 +86,9 @@ clean
 printf 'auto s = params.get_string(\n    "shape");\n' >"$tmp/tree/plugins/b/b.cpp"
 expect fail "a string read of a plugin param over two lines"
 clean
-for i in $(seq 6578); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
-expect fail "a kernel of 6,578 lines"
+for i in $(seq 6060); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
+expect fail "a kernel of 6,060 lines"
 clean
-for i in $(seq 6577); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
-expect pass "a kernel of 6,577 lines"
+for i in $(seq 6059); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
+expect pass "a kernel of 6,059 lines"
 echo "layer check detection OK"

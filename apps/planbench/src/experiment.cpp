@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "flipper/kernel/yaml_file.hpp"
 #include "flipper/replay/experiment.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/yaml_file.hpp"
 
 namespace flipper::planbench {
 namespace {
@@ -80,7 +80,7 @@ TaskSource task_source(const std::string& file, const YAML::Node& node, const st
 BenchExperiment load_bench_experiment(const std::string& path) {
   BenchExperiment e;
   e.file = std::filesystem::absolute(path).lexically_normal().string();
-  const YAML::Node root = kernel::load_bounded_yaml_file(path, "experiment file");
+  const YAML::Node root = wiring::load_bounded_yaml_file(path, "experiment file");
   const std::string where = "experiment file '" + path + "': ";
   try {
     only_keys(root,

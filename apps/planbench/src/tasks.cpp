@@ -6,8 +6,8 @@
 #include <deque>
 #include <limits>
 
-#include "flipper/kernel/yaml_file.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/yaml_file.hpp"
 
 namespace flipper::planbench {
 
@@ -73,7 +73,7 @@ std::vector<Task> random_tasks(const sdk::Geometry& g, int count, std::uint64_t 
 
 std::vector<Task> read_task_file(const std::string& path, const sdk::Geometry& g) {
   const std::string where = "task file '" + path + "': ";
-  const YAML::Node root = kernel::load_bounded_yaml_file(path, "task file");
+  const YAML::Node root = wiring::load_bounded_yaml_file(path, "task file");
   std::vector<Task> tasks;
   try {
     const YAML::Node list = root["tasks"];

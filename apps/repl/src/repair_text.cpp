@@ -1,6 +1,6 @@
-// A repair (flipper/kernel/repair.hpp, docs/protocol.md "Repairs") as the repl and `flipper run`
-// say it: what was understood, which words were not, the nearest sentences, how to teach it.
-#include "flipper/kernel/repair.hpp"
+// A repair (flipper/naturalization/repair.hpp, docs/protocol.md "Repairs") as the repl and `flipper
+// run` say it: what was understood, which words were not, the nearest sentences, how to teach it.
+#include "flipper/naturalization/repair.hpp"
 #include "flipper/repl/repl.hpp"
 #include "flipper/sdk/canonical.hpp"
 
@@ -13,7 +13,7 @@ std::string quoted_list(const std::vector<std::string>& items) {
   return s;
 }
 
-std::vector<std::string> word_notes(const kernel::Repair& r) {
+std::vector<std::string> word_notes(const naturalization::Repair& r) {
   std::vector<std::string> notes;
   for (const auto& w : r.words)
     notes.push_back("'" + w.word + "' (" + (w.known ? "misplaced" : "unknown") +
@@ -24,7 +24,7 @@ std::vector<std::string> word_notes(const kernel::Repair& r) {
 
 }  // namespace
 
-std::string repair_lines(const kernel::Repair& r) {
+std::string repair_lines(const naturalization::Repair& r) {
   std::string out;
   if (!r.understood.empty()) {
     std::vector<std::string> parts;
@@ -47,7 +47,7 @@ std::string repair_lines(const kernel::Repair& r) {
   return out;
 }
 
-std::string repair_summary(const kernel::Repair& r) {
+std::string repair_summary(const naturalization::Repair& r) {
   std::vector<std::string> parts;
   if (!r.nearest.empty()) {
     std::vector<std::string> near;

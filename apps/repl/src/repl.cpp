@@ -12,6 +12,7 @@
 
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
+#include "flipper/naturalization/repair_extension.hpp"
 #include "flipper/repl/repl.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/svg/svg.hpp"
@@ -191,9 +192,13 @@ class Repl {
     shown_ = 0;
     query_world_ = world_view(session_.world());  // the paths start here
     kernel::QueryResult result;
-    kernel::QueryRequest request{text, kKeep};
-    request.repair = true;  // a failure says how to repair it (docs/protocol.md "Repairs")
-    const bool ok = call([&] { result = session_.query(request); });
+    std::shared_ptr<const naturalization::Repair> repair;
+    const kernel::QueryRequest request{text, kKeep};
+    const bool ok = call([&] {
+      result = session_.query(request);
+      // A failure says how to repair it (docs/protocol.md "Repairs").
+      repair = naturalization::repair_query(session_, result);
+    });
     // The session cannot be stopped mid-query (session.deadline_ms bounds it); Ctrl-C while it
     // ran drops its answer.
     if (reader_.take_interrupt()) {
@@ -206,7 +211,7 @@ class Repl {
       out_ << "I did not understand that. " << note
            << (note.empty() ? "" : "Fix the spelling, or teach the phrase with `:define`.\n")
            << (note.empty() ? "Teach me with `:define` (then the steps, one per line).\n" : "");
-      if (result.repair) out_ << repair_lines(*result.repair);
+      if (repair) out_ << repair_lines(*repair);
       return;
     }
     for (const kernel::ShownCandidate& sc : result.query->shown)

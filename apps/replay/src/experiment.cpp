@@ -7,8 +7,8 @@
 #include <cctype>
 #include <filesystem>
 
-#include "flipper/kernel/yaml_file.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/yaml_file.hpp"
 
 namespace flipper::replay {
 namespace fs = std::filesystem;
@@ -94,7 +94,7 @@ std::vector<record::SweepAxis> sweep_axes(const YAML::Node& sweep, const std::st
 Experiment load_experiment(const std::string& path) {
   Experiment e;
   e.file = fs::absolute(path).lexically_normal().string();
-  const YAML::Node root = kernel::load_bounded_yaml_file(path, "experiment file");
+  const YAML::Node root = wiring::load_bounded_yaml_file(path, "experiment file");
   const std::string where = "experiment file '" + path + "': ";
   try {
     for (const auto& kv : root) {

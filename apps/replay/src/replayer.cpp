@@ -17,6 +17,7 @@
 #include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/kernel/session.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
+#include "flipper/naturalization/repair_extension.hpp"
 #include "flipper/replay/deletion_map.hpp"
 #include "flipper/replay/rule_oracle.hpp"
 #include "flipper/sdk/ast.hpp"
@@ -227,9 +228,13 @@ class RunReplay {
     row.original_parses = c.n_parses;
     row.original_ms = c.walltime_s * 1000.0;
     kernel::QueryResult result;
-    kernel::QueryRequest request{c.utterance, {}};
-    request.repair = repair_ && c.status == "Nothing";
-    const bool ok = attempt([&] { result = session_->query(request); }).empty();
+    std::shared_ptr<const naturalization::Repair> repair;
+    const kernel::QueryRequest request{c.utterance, {}};
+    const bool ok = attempt([&] {
+                      result = session_->query(request);
+                      if (repair_ && c.status == "Nothing")
+                        repair = naturalization::repair_query(*session_, result);
+                    }).empty();
     last_qid_ = c.qid;
     if (ok) {
       const kernel::LastQuery& q = *result.query;
@@ -246,8 +251,8 @@ class RunReplay {
       const auto& top = q.parse.candidates;
       row.floating =
           !top.empty() && !top[0].derivations.empty() && words_left_out(*top[0].derivations[0]) > 0;
-      if (result.repair)
-        for (const auto& near : result.repair->nearest) {
+      if (repair)
+        for (const auto& near : repair->nearest) {
           row.suggestions.push_back(near.text);
           row.suggestion_formulas.push_back(sdk::render(near.program));
         }

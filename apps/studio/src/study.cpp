@@ -7,8 +7,8 @@
 
 #include "flipper/kernel/keys.hpp"
 #include "flipper/kernel/limits.hpp"
-#include "flipper/kernel/yaml_file.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/wiring/yaml_file.hpp"
 #include "registry.hpp"
 
 namespace flipper::studio {
@@ -55,7 +55,7 @@ const char* sharing_of_group(const std::string& group) {
 
 std::shared_ptr<Study> Study::load(const std::string& path) {
   // Bounded like a config: a regular file of at most 1 MiB, 100,000 nodes with aliases expanded.
-  const YAML::Node root = kernel::load_bounded_yaml_file(path, "study file");
+  const YAML::Node root = wiring::load_bounded_yaml_file(path, "study file");
   if (!root.IsMap()) fail(path, "must be a map with name, groups and tasks");
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();

@@ -3,6 +3,7 @@
 #include "flipper/wiring/session_factory.hpp"
 
 #include "flipper/naturalization/naturalize_ops.hpp"
+#include "flipper/naturalization/repair_extension.hpp"
 #include "flipper/wiring/config_schema.hpp"
 
 namespace flipper::wiring {
@@ -37,6 +38,8 @@ SessionHost open_host(std::shared_ptr<Runtime> runtime) {
       host.runtime, NaturalizeOptions::from_config(host.runtime->config));
   // Naturalization: define, rules, delete_rule, visibility, accept persistence, per-user weights.
   host.extensions.push_back(std::make_shared<NaturalizationExtension>(host.naturalizer));
+  // Answers that repair: a query's "repair": true (docs/protocol.md § "Repairs").
+  host.extensions.push_back(std::make_shared<naturalization::RepairExtension>());
   return host;
 }
 

@@ -22,9 +22,9 @@
 #include <utility>
 
 #include "flipper/kernel/limits.hpp"
+#include "flipper/kernel/yaml_bounds.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/param_check.hpp"
-#include "yaml_bounds.hpp"
 
 namespace flipper::kernel {
 namespace detail {

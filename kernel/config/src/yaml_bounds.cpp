@@ -1,4 +1,4 @@
-#include "yaml_bounds.hpp"
+#include "flipper/kernel/yaml_bounds.hpp"
 
 #include <vector>
 

@@ -54,44 +54,26 @@ void collect_induced(const sdk::DerivationPtr& d, std::vector<sdk::RulePtr>& out
 
 }  // namespace
 
-std::vector<std::string> Session::vocabulary() const {
-  std::vector<std::string> words;
-  if (const auto& g = runtime_->core_grammar) {
-    for (const auto& r : g->rules)
-      for (const auto& s : r->rhs)
-        if (s.type == sdk::Symbol::Type::token) words.push_back(s.text);
-    for (const auto* list : {&g->colors, &g->shapes, &g->directions})
-      words.insert(words.end(), list->begin(), list->end());
-  }
-  events_.emit(VocabularyAsked{user_, words});
-  std::sort(words.begin(), words.end());
-  words.erase(std::unique(words.begin(), words.end()), words.end());
-  return words;
+// docs/architecture.md §4: every parse of a session, the query's and its extensions', sees the
+// same scorer, rules and limits.
+sdk::ParseResult Session::parse(const std::vector<std::string>& tokens, bool want_chart,
+                                const char* stage) {
+  sdk::ParseRequest pr;
+  pr.tokens = tokens;
+  pr.context.tokens = &tokens;
+  pr.context.user = user_;
+  pr.context.usage = runtime_->usage.get();
+  pr.scorer = runtime_->scorer.borrow();  // the parser's call guards its scorer calls
+  const auto visible = visible_rules();   // outlives the parse below
+  pr.visible = sdk::RuleFilter::of(visible);
+  pr.beam = options_.beam;
+  pr.stop = request_stop();
+  pr.want_chart = want_chart;
+  sdk::ParseResult result = checked_parse(runtime_->parser, pr);  // docs/plugins-untrusted.md
+  if (result.stopped) check_deadline(stage);
+  return result;
 }
 
-// The repair of a query without candidates (repair.hpp): the same parse asked for its chart,
-// and edited sentences parsed with the query's scorer, rules and limits.
-std::shared_ptr<const Repair> Session::repair(const LastQuery& q, const sdk::ParseRequest& base) {
-  RepairInput in;
-  in.text = q.text;
-  in.tokens = q.tokens;
-  if (const auto& g = runtime_->core_grammar) in.root = g->root;
-  in.vocabulary = vocabulary();
-  sdk::ParseRequest pr = base;
-  pr.want_chart = true;
-  sdk::ParseResult chart = checked_parse(runtime_->parser, pr);
-  if (chart.stopped) check_deadline("repairing");
-  in.chart = std::move(chart.chart);
-  in.parse = [&](const std::vector<std::string>& tokens) {
-    sdk::ParseRequest edited = base;
-    edited.tokens = tokens;
-    edited.context.tokens = &edited.tokens;
-    sdk::ParseResult result = checked_parse(runtime_->parser, edited);
-    if (result.stopped) check_deadline("repairing");
-    return std::move(result.candidates);
-  };
-  return std::make_shared<const Repair>(find_repair(in));
-}
 void Session::check_length(std::string_view text) const {
   const std::size_t n = utf8_length(text);
   if (n > options_.max_chars)
@@ -111,34 +93,22 @@ QueryResult Session::query(const QueryRequest& request) {
   auto q = std::make_shared<LastQuery>();
   q->text = request.text;
   q->user = user_;
-  sdk::ParseRequest pr;
-  pr.tokens = sdk::tokenize(q->text);
-  auto semicolons = std::count(pr.tokens.begin(), pr.tokens.end(), ";");
+  std::vector<std::string> tokens = sdk::tokenize(q->text);
+  auto semicolons = std::count(tokens.begin(), tokens.end(), ";");
   if (semicolons >= options_.max_semicolons)
     throw sdk::Error(sdk::codes::kInputTooLong,
                      "the utterance has " + std::to_string(semicolons) +
                          " ';' tokens; the limit is input.max_semicolons = " +
                          std::to_string(options_.max_semicolons) + " (refused at that many)");
-  if (pr.tokens.size() > options_.input.max_tokens)
+  if (tokens.size() > options_.input.max_tokens)
     throw sdk::Error(sdk::codes::kInputTooLong, "the utterance has " +
-                                                    std::to_string(pr.tokens.size()) +
+                                                    std::to_string(tokens.size()) +
                                                     " tokens; the limit is input.max_tokens = " +
                                                     std::to_string(options_.input.max_tokens));
-  q->tokens = pr.tokens;
-  pr.context.tokens = &q->tokens;
-  pr.context.user = user_;
-  pr.context.usage = runtime_->usage.get();
-  pr.scorer = runtime_->scorer.borrow();  // the parser's call guards its scorer calls
-  const auto visible = visible_rules();   // outlives the parse below
-  pr.visible = sdk::RuleFilter::of(visible);
-  pr.beam = options_.beam;
-  pr.stop = request_stop();
-  q->parse = checked_parse(runtime_->parser, pr);  // docs/plugins-untrusted.md
-  if (q->parse.stopped) check_deadline("parsing");
+  q->tokens = std::move(tokens);
+  q->parse = parse(q->tokens, false, "parsing");
   q->probs = softmax(q->parse.candidates);
   q->world = world_;
-  std::shared_ptr<const Repair> repaired;
-  if (request.repair && q->parse.candidates.empty()) repaired = repair(*q, pr);
 
   const auto& cands = q->parse.candidates;
   const std::size_t shown = std::min<std::size_t>(static_cast<std::size_t>(k), cands.size());
@@ -163,7 +133,6 @@ QueryResult Session::query(const QueryRequest& request) {
 
   check_deadline("writing the answer");
   QueryResult result;
-  result.repair = std::move(repaired);
   if (!cands.empty())
     result.status =
         std::any_of(cands.begin(), cands.end(), [](const sdk::Candidate& c) { return c.core_only; })
@@ -177,51 +146,13 @@ QueryResult Session::query(const QueryRequest& request) {
   return result;
 }
 
-namespace {
-// docs/protocol.md § "Repairs": {"understood","words","nearest","teach"[,"limited"]}.
-void write_repair(JsonWriter& a, const Repair& r) {
-  a.begin_object().key("understood").begin_array();
-  for (const auto& p : r.understood) {
-    a.begin_object().key("start").integer(p.start).key("end").integer(p.end);
-    a.key("text").string(p.text).key("formula").string(sdk::render(p.program)).end_object();
-  }
-  a.end_array().key("words").begin_array();
-  for (const auto& w : r.words) {
-    a.begin_object().key("at").integer(w.at).key("word").string(w.word);
-    a.key("kind").string(w.known ? "misplaced" : "unknown");
-    if (!w.did_you_mean.empty()) a.key("did_you_mean").string(w.did_you_mean);
-    a.end_object();
-  }
-  a.end_array().key("nearest").begin_array();
-  for (const auto& s : r.nearest) {
-    a.begin_object().key("text").string(s.text).key("formula").string(sdk::render(s.program));
-    a.key("score").number(s.score).key("edits").integer(s.edits).key("edit").string(s.edit);
-    a.end_object();
-  }
-  a.end_array();
-  if (!r.teach_body.empty()) {
-    a.key("teach").begin_object().key("op").string("define").key("head").string(r.teach_head);
-    a.key("body").begin_array();
-    for (const auto& line : r.teach_body) a.string(line);
-    a.end_array().end_object();
-  }
-  if (!r.limited.empty()) a.key("limited").string(r.limited);
-  a.end_object();
-}
-}  // namespace
-
 // docs/protocol.md § query: {"status","candidates":[{"rank","score","prob","formula","induced",
 // "rules","authors","realizable","trace","world","warnings"[,"error"]}],"total","ms"}.
 void Session::op_query(const Json& req, JsonWriter& a) {
   QueryRequest request;
   request.text = request::require_string(req, "text", "the utterance to parse");
   request.k = request::optional_int(req, "k", "how many candidates to show");
-  if (req.contains("repair") && !req["repair"].is_null()) {
-    if (!req["repair"].is_boolean())
-      throw sdk::Error(sdk::codes::kBadRequest,
-                       "field 'repair' must be true or false (whether to explain a failure)");
-    request.repair = req["repair"].get<bool>();
-  }
+  const std::shared_ptr<LastQuery> before = last_query_;
   const QueryResult result = query(request);
   const LastQuery& q = *result.query;
   const int dims = q.world.geometry ? q.world.geometry->dims() : 2;
@@ -256,7 +187,12 @@ void Session::op_query(const Json& req, JsonWriter& a) {
     a.end_object();
   }
   a.end_array().key("total").unsigned_integer(result.total()).key("ms").number(result.ms);
-  if (result.repair) write_repair(a.key("repair"), *result.repair);
+  try {
+    events_.emit(QueryWriting{*this, req, result, a});
+  } catch (...) {
+    last_query_ = before;  // a refusal leaves the state as it was
+    throw;
+  }
   write_world_version(a, q.world);
 }
 

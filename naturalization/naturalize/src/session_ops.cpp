@@ -5,6 +5,7 @@
 
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/naturalization/generalizer.hpp"
+#include "flipper/naturalization/repair_extension.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 
@@ -349,7 +350,7 @@ void NaturalizationExtension::attach(kernel::Session& session) {
     });
   // A repair's known words include the words of the rules this user sees.
   // The words are a hint: a lexicon that cannot be listed now adds none (the query stands).
-  session.on<kernel::VocabularyAsked>([nat, &session](const kernel::VocabularyAsked& e) {
+  session.on<VocabularyAsked>([nat, &session](const VocabularyAsked& e) {
     try {
       for (const auto& l : list_rules(*nat, session, std::nullopt))
         for (const auto& symbol : l.rule->rhs)

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "flipper/kernel/session.hpp"
+#include "flipper/naturalization/repair.hpp"
 
 namespace flipper::repl {
 
@@ -52,10 +53,10 @@ std::string unknown_words_note(kernel::Session& session, const std::string& text
 /// A repair (docs/protocol.md "Repairs") as lines for the repl: "Understood: ...",
 /// "Not understood: ...", the numbered nearest sentences with their edits, "Teach it: ...";
 /// each line only when the repair has it.
-std::string repair_lines(const kernel::Repair& repair);
+std::string repair_lines(const naturalization::Repair& repair);
 /// The same on one line for an error message: "; nearest understood: 'move up' (drop 'x');
 /// understood: ...; not understood: ..." ("" for an empty repair).
-std::string repair_summary(const kernel::Repair& repair);
+std::string repair_summary(const naturalization::Repair& repair);
 
 /// One row of the language guide's example table (docs/language.md).
 struct GuideExample {

@@ -13,7 +13,6 @@
 #include <string>
 #include <vector>
 
-#include "flipper/kernel/repair.hpp"
 #include "flipper/sdk/derivation.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/parser.hpp"
@@ -44,8 +43,6 @@ struct LastQuery {
 struct QueryRequest {
   std::string text;               ///< the utterance (input.max_chars code points at most)
   std::optional<std::int64_t> k;  ///< candidates to show (session.k when unset); not negative
-  /// When nothing parses, also find a repair (QueryResult::repair; docs/protocol.md § "Repairs").
-  bool repair = false;
 };
 
 struct QueryResult {
@@ -54,8 +51,6 @@ struct QueryResult {
   std::shared_ptr<const LastQuery> query;
   const char* status = "unparsable";  ///< "core", "induced" or "unparsable"
   double ms = 0;                      ///< wall time of the query
-  /// Set for an unparsable query that asked for a repair (QueryRequest::repair).
-  std::shared_ptr<const Repair> repair;
   /// Distinct readings found; `query->shown` holds the first k.
   std::size_t total() const { return query->parse.candidates.size(); }
 };

@@ -183,9 +183,11 @@ class Session {
   const std::string& user() const { return user_; }
   /// Null before the first query, after an accept and after a world change.
   const LastQuery* last_query() const { return last_query_.get(); }
-  /// Every word the current user's parses may know: the core grammar's terminals, its colour,
-  /// shape and direction words, and what VocabularyAsked subscribers add (sorted, unique).
-  std::vector<std::string> vocabulary() const;
+  /// Parses `tokens` as a query of the current user is parsed (the scorer, the rules visible to
+  /// the user, the beam, the request's limits), with the chart of every sub-span when
+  /// `want_chart`; a parse the limits stopped throws deadline_exceeded naming `stage`.
+  sdk::ParseResult parse(const std::vector<std::string>& tokens, bool want_chart,
+                         const char* stage);
   /// The rule filter for the current user (null when every rule is visible).
   std::function<bool(const sdk::Rule&)> visible_rules() const;
 
@@ -221,7 +223,6 @@ class Session {
   void op_world(const Json& request, JsonWriter& answer);
   void op_query(const Json& request, JsonWriter& answer);
   void op_accept(const Json& request, JsonWriter& answer);
-  std::shared_ptr<const Repair> repair(const LastQuery& query, const sdk::ParseRequest& base);
   void attach_all();
 
   std::shared_ptr<Runtime> runtime_;

@@ -15,11 +15,13 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <typeindex>
 #include <utility>
 #include <vector>
 
+#include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/query_service.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/grammar.hpp"
@@ -52,6 +54,15 @@ struct QueryAnswered {
   Session& session;
   const QueryResult& result;
 };
+/// The query op writes its answer: after "total" and "ms", before the world version, a subscriber
+/// may add members of its own (docs/protocol.md § "Repairs" is one). A throw refuses the query
+/// (the session's last query stays the one before).
+struct QueryWriting {
+  Session& session;
+  const nlohmann::json& request;
+  const QueryResult& result;
+  JsonWriter& answer;
+};
 /// The user changed (set_user, the `user` op).
 struct UserChanged {
   Session& session;
@@ -61,12 +72,6 @@ struct UserChanged {
 struct VisibilityAsked {
   const std::string& user;
   std::function<bool(const sdk::Rule&)>& filter;
-};
-/// A repair asks which words `user`'s parses may know beyond the core grammar's: a subscriber
-/// appends the words of the rules visible to that user (docs/protocol.md § "Repairs").
-struct VocabularyAsked {
-  const std::string& user;
-  std::vector<std::string>& words;
 };
 /// An accept, after the scorer learned and the use counters counted, before the world changes.
 /// A throw undoes the accept (scorer state, counters); the error is the answer.

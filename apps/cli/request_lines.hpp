@@ -1,13 +1,15 @@
 #pragma once
-/// @file line_reader.hpp
+/// @file request_lines.hpp
 /// Reading request lines without trusting their length: a line longer than the limit is skipped
 /// up to its newline without being kept, so a 68 MB line costs no more memory than the limit.
+/// The pipe front end's job (`flipper session`, docs/protocol.md): the kernel's session answers a
+/// line it is given (Session::handle_line, Session::line_too_long).
 
 #include <cstdint>
 #include <istream>
 #include <string>
 
-namespace flipper::kernel {
+namespace flipper::cli {
 
 enum class LineRead {
   line,      ///< `out` holds the line (without the newline)
@@ -19,4 +21,4 @@ enum class LineRead {
 LineRead read_request_line(std::istream& in, std::uint64_t max_bytes, std::string& out,
                            std::uint64_t& bytes);
 
-}  // namespace flipper::kernel
+}  // namespace flipper::cli

@@ -1,6 +1,6 @@
 // Repairs of utterances without a parse (repair.hpp, docs/protocol.md § "Repairs"): understood
 // phrases and uncovered words from the chart, edited sentences parsed again.
-#include "flipper/kernel/repair.hpp"
+#include "flipper/naturalization/repair.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -11,7 +11,7 @@
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/param_check.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 namespace {
 
 std::string join(const std::vector<std::string>& tokens, std::size_t from, std::size_t to) {
@@ -281,4 +281,4 @@ Repair find_repair(const RepairInput& in) {
   return r;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

@@ -1,7 +1,7 @@
-// Bounded request-line reading (see line_reader.hpp).
-#include "flipper/kernel/line_reader.hpp"
+// Bounded request-line reading (see request_lines.hpp).
+#include "request_lines.hpp"
 
-namespace flipper::kernel {
+namespace flipper::cli {
 
 LineRead read_request_line(std::istream& in, std::uint64_t max_bytes, std::string& out,
                            std::uint64_t& bytes) {
@@ -26,4 +26,4 @@ LineRead read_request_line(std::istream& in, std::uint64_t max_bytes, std::strin
   return bytes > max_bytes ? LineRead::too_long : LineRead::line;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::cli

@@ -1,5 +1,5 @@
 #pragma once
-/// @file repair.hpp
+/// @file repair.hpp (the session side: repair_extension.hpp)
 /// Answers that repair a query the parser did not understand (docs/protocol.md § "Repairs"):
 /// from the parser's own chart of the utterance, the longest sub-phrases it understood (spans
 /// that derive the root category), the words no understood phrase covers (unknown to the
@@ -17,7 +17,7 @@
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/derivation.hpp"
 
-namespace flipper::kernel {
+namespace flipper::naturalization {
 
 /// Edited sentences parsed per repair at most (the rest are not tried: `limited` says so).
 inline constexpr std::size_t kMaxRepairParses = 48;
@@ -76,4 +76,4 @@ struct RepairInput {
 /// The repair of an utterance without a parse.
 Repair find_repair(const RepairInput& input);
 
-}  // namespace flipper::kernel
+}  // namespace flipper::naturalization

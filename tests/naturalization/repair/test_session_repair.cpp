@@ -2,10 +2,11 @@
 // map with the default grammar. Expected values are worked out by hand from the core grammar:
 // "move up" and "move left" are commands ($ROOT), "xyzzy" and "vist" are no words of it.
 #include <catch2/catch.hpp>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "flipper/kernel/repair.hpp"
+#include "flipper/naturalization/repair_extension.hpp"
 #include "flipper/wiring/session_factory.hpp"
 #include "session_fixture.hpp"
 
@@ -14,6 +15,14 @@ using flipper::testsupport::ask;
 using flipper::testsupport::error_code;
 
 namespace {
+
+// The session module's own ops and the repair extension (no lexicon wired in).
+std::unique_ptr<flipper::kernel::Session> repair_session() {
+  return std::make_unique<flipper::kernel::Session>(
+      flipper::testsupport::test_runtime(),
+      flipper::kernel::Session::Extensions{
+          std::make_shared<flipper::naturalization::RepairExtension>()});
+}
 
 Json query(flipper::kernel::Session& s, const std::string& text, bool repair = true) {
   Json req{{"op", "query"}, {"text", text}};
@@ -39,7 +48,7 @@ std::string noise(std::size_t n) {
 
 TEST_CASE("a repair names the understood phrase, the unknown word and the nearest sentence",
           "[session][repair]") {
-  auto s = flipper::testsupport::bare_session();
+  auto s = repair_session();
   const Json a = query(*s, "move up xyzzy");
   REQUIRE(a["ok"] == true);
   CHECK(a["status"] == "unparsable");
@@ -57,7 +66,7 @@ TEST_CASE("a repair names the understood phrase, the unknown word and the neares
 }
 
 TEST_CASE("a misspelt word is replaced by the closest known word", "[session][repair]") {
-  auto s = flipper::testsupport::bare_session();
+  auto s = repair_session();
   const Json r = query(*s, "vist room3")["repair"];
   CHECK(r["understood"] == Json::array());
   CHECK(r["words"] ==
@@ -110,12 +119,12 @@ TEST_CASE("words of the user's lexicon rules are known, so misplaced", "[session
   CHECK(r["words"] == Json::parse(R"([{"at":0,"word":"zag","kind":"misplaced"},
                                       {"at":1,"word":"zig","kind":"misplaced"}])"));
   // Without the lexicon (the bare session) the same words are unknown.
-  auto bare = flipper::testsupport::bare_session();
+  auto bare = repair_session();
   CHECK(query(*bare, "zag zig")["repair"]["words"][0]["kind"] == "unknown");
 }
 
 TEST_CASE("an edit in the middle: the misplaced word is dropped", "[session][repair]") {
-  auto s = flipper::testsupport::bare_session();
+  auto s = repair_session();
   const Json r = query(*s, "pick item is green and item is square")["repair"];
   REQUIRE(r["understood"].size() == 1);
   CHECK(r["understood"][0]["text"] == "pick item is green");
@@ -128,7 +137,7 @@ TEST_CASE("an edit in the middle: the misplaced word is dropped", "[session][rep
 }
 
 TEST_CASE("glued words are split, a trailing count repeats the phrase", "[session][repair]") {
-  auto s = flipper::testsupport::bare_session();
+  auto s = repair_session();
   const Json glued = query(*s, "pick itemis red")["repair"]["nearest"];
   REQUIRE(glued.size() == 2);
   CHECK(glued[0]["text"] == "pick item is red");
@@ -146,7 +155,7 @@ TEST_CASE("glued words are split, a trailing count repeats the phrase", "[sessio
 }
 
 TEST_CASE("a colour before 'item' is said as the core language says it", "[session][repair]") {
-  auto s = flipper::testsupport::bare_session();
+  auto s = repair_session();
   const Json r = query(*s, "drop red item")["repair"];
   REQUIRE(r["nearest"].size() >= 1);
   CHECK(r["nearest"][0]["text"] == "drop item is red");
@@ -156,7 +165,7 @@ TEST_CASE("a colour before 'item' is said as the core language says it", "[sessi
 
 TEST_CASE("answers with candidates, and queries without repair, are unchanged",
           "[session][repair]") {
-  auto s = flipper::testsupport::bare_session();
+  auto s = repair_session();
   CHECK(masked(*s, R"({"op":"query","text":"move up","repair":true})") ==
         masked(*s, R"({"op":"query","text":"move up"})"));
   CHECK(masked(*s, R"({"op":"query","text":"move up","repair":false})") ==
@@ -172,9 +181,9 @@ TEST_CASE("answers with candidates, and queries without repair, are unchanged",
 
 TEST_CASE("repair work is bounded by counts: tokens and edited sentences",
           "[session][repair][limits]") {
-  using flipper::kernel::kMaxRepairParses;
-  using flipper::kernel::kMaxRepairTokens;
-  auto s = flipper::testsupport::bare_session();
+  using flipper::naturalization::kMaxRepairParses;
+  using flipper::naturalization::kMaxRepairTokens;
+  auto s = repair_session();
   // At the token limit the edited sentences are tried; one more token and they are not.
   const Json at = query(*s, noise(kMaxRepairTokens - 2))["repair"];
   REQUIRE(at["nearest"].size() == 1);
@@ -190,14 +199,13 @@ TEST_CASE("repair work is bounded by counts: tokens and edited sentences",
   // The typed service counts the parses: never more than kMaxRepairParses.
   flipper::kernel::QueryRequest req;
   req.text = noise(10);
-  req.repair = true;
-  const auto few = s->query(req);
-  REQUIRE(few.repair);
+  const auto few = flipper::naturalization::repair_query(*s, s->query(req));
+  REQUIRE(few);
   // 10 drops, 9 joins, "drop every word", "keep only 'move up'", then pairs up to the bound.
-  CHECK(few.repair->parses == kMaxRepairParses);
+  CHECK(few->parses == kMaxRepairParses);
   req.text = noise(1);
-  const auto one = s->query(req);
-  REQUIRE(one.repair);
-  CHECK(one.repair->parses == 2);  // "drop 'qq0'" (= "keep only 'move up'"), "join 'up qq0'"
-  CHECK(one.repair->limited.empty());
+  const auto one = flipper::naturalization::repair_query(*s, s->query(req));
+  REQUIRE(one);
+  CHECK(one->parses == 2);  // "drop 'qq0'" (= "keep only 'move up'"), "join 'up qq0'"
+  CHECK(one->limited.empty());
 }

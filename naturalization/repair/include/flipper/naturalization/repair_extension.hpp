@@ -1,0 +1,43 @@
+#pragma once
+/// @file repair_extension.hpp
+/// Answers that repair (docs/protocol.md § "Repairs") as a session extension above the kernel
+/// (docs/architecture.md §3): the kernel's session parses and answers; this module asks the
+/// session's parser for the chart of an utterance nothing parsed and for edited sentences
+/// (repair.hpp), and writes the "repair" member of a query answer that asked for it. Front ends
+/// that call the typed service ask repair_query() after Session::query.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "flipper/kernel/session.hpp"
+#include "flipper/naturalization/repair.hpp"
+
+namespace flipper::naturalization {
+
+/// A repair asks which words `user`'s parses may know beyond the core grammar's: a subscriber
+/// appends the words of the rules visible to that user (the lexicon does).
+struct VocabularyAsked {
+  const std::string& user;
+  std::vector<std::string>& words;
+};
+
+/// Every word the session's current user's parses may know: the core grammar's terminals, its
+/// colour, shape and direction words, and what VocabularyAsked subscribers add (sorted, unique).
+std::vector<std::string> vocabulary(const kernel::Session& session);
+
+/// The repair of an answered query nothing parsed (null when it has candidates): the session's
+/// parse asked for its chart, and edited sentences parsed with the same scorer, rules and
+/// limits (a stopped parse throws deadline_exceeded, "repairing"). Call it right after the query,
+/// within the same call's limits.
+std::shared_ptr<const Repair> repair_query(kernel::Session& session,
+                                           const kernel::QueryResult& result);
+
+/// The protocol side: a query op with `"repair": true` (false and null: none; anything else:
+/// bad_request before the query runs) gets the member "repair" when nothing parsed.
+class RepairExtension final : public kernel::SessionExtension {
+ public:
+  void attach(kernel::Session& session) override;
+};
+
+}  // namespace flipper::naturalization
