@@ -39,4 +39,11 @@ inline std::string status(kernel::Session& s, const std::string& text) {
   return a.value("status", std::string("error: ") + error_code(a));
 }
 
+/// The first candidate's formula of a query, "(none)" when it has none.
+inline std::string first_formula(kernel::Session& s, const std::string& text) {
+  const kernel::Json a = ask(s, {{"op", "query"}, {"text", text}});
+  if (!a.value("ok", false) || a["candidates"].empty()) return "(none)";
+  return a["candidates"][0].value("formula", std::string());
+}
+
 }  // namespace flipper::naturalizetest

@@ -11,12 +11,6 @@ using flipper::kernel::Json;
 
 namespace {
 
-std::string first_formula(flipper::kernel::Session& s, const std::string& text) {
-  const Json a = ask(s, {{"op", "query"}, {"text", text}});
-  if (!a.value("ok", false) || a["candidates"].empty()) return "(none)";
-  return a["candidates"][0].value("formula", std::string());
-}
-
 std::size_t rule_count(flipper::kernel::Session& s) {
   return ask(s, {{"op", "rules"}})["rules"].size();
 }

@@ -14,12 +14,6 @@ namespace nat = flipper::naturalization;
 
 namespace {
 
-std::string first_formula(flipper::kernel::Session& s, const std::string& text) {
-  const Json a = ask(s, {{"op", "query"}, {"text", text}});
-  if (!a.value("ok", false) || a["candidates"].empty()) return "(none)";
-  return a["candidates"][0].value("formula", std::string());
-}
-
 nat::Naturalizer& naturalizer_of(flipper::kernel::Session& s) {
   auto* ext = s.extension<nat::NaturalizationExtension>();
   REQUIRE(ext != nullptr);
