@@ -1,9 +1,9 @@
 // The words a session's parser knows, and the note for words it does not: used by `flipper repl`
 // and `flipper run`, so both give the same "did you mean" (docs/language.md "How to try things").
-#include <algorithm>
 #include <map>
 
 #include "flipper/naturalization/naturalize_ops.hpp"
+#include "flipper/naturalization/repair_extension.hpp"
 #include "flipper/repl/repl.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/param_check.hpp"
@@ -39,33 +39,13 @@ const std::map<std::string, std::string>& plain_words() {
 
 }  // namespace
 
-std::vector<std::string> vocabulary(kernel::Session& session) {
-  std::vector<std::string> words;
-  if (const auto& g = session.runtime().core_grammar) {
-    for (const auto& r : g->rules)
-      for (const auto& s : r->rhs)
-        if (s.type == sdk::Symbol::Type::token) words.push_back(s.text);
-    for (const auto* list : {&g->colors, &g->shapes, &g->directions})
-      words.insert(words.end(), list->begin(), list->end());
-  }
-  if (auto* nat = session.extension<naturalization::NaturalizationExtension>()) try {
-      for (const auto& l : nat->rules(session, std::nullopt))
-        for (const auto& symbol : l.rule->rhs)
-          if (!symbol.text.empty() && symbol.text[0] != '$') words.push_back(symbol.text);
-    } catch (const std::exception&) {  // the words are a hint: none from the lexicon then
-    }
-  std::sort(words.begin(), words.end());
-  words.erase(std::unique(words.begin(), words.end()), words.end());
-  return words;
-}
-
 std::string plain_word_hint(const std::string& word) {
   const auto it = plain_words().find(word);
   return it == plain_words().end() ? "" : " (the core language says '" + it->second + "')";
 }
 
 std::string unknown_words_note(kernel::Session& session, const std::string& text) {
-  const auto unknown = unknown_words(sdk::tokenize(text), vocabulary(session));
+  const auto unknown = unknown_words(sdk::tokenize(text), naturalization::vocabulary(session));
   if (unknown.empty()) return {};
   std::string note = unknown.size() == 1 ? "Unknown word: " : "Unknown words: ";
   for (std::size_t i = 0; i < unknown.size(); ++i) note += (i ? ", " : "") + unknown[i];

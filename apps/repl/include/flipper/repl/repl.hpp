@@ -44,9 +44,6 @@ std::vector<std::string> unknown_words(const std::vector<std::string>& tokens,
                                        const std::vector<std::string>& vocabulary);
 /// " (the core language says 'pick item')" for "take", "grab", ...; "" for other words.
 std::string plain_word_hint(const std::string& word);
-/// Every word `session`'s parser may know: the core grammar's terminals, colour, shape and
-/// direction words, and the words of the lexicon rules visible to its user.
-std::vector<std::string> vocabulary(kernel::Session& session);
 /// "Unknown words: 'vist' (did you mean 'visit'?), 'go' (the core language says ...)." or "".
 std::string unknown_words_note(kernel::Session& session, const std::string& text);
 
