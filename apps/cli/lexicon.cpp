@@ -324,18 +324,6 @@ int delete_rule(const LexiconArgs& a) {
   return kExitOk;
 }
 
-/// Errors of the store or the input are the caller's (2) unless the work itself failed.
-std::function<int()> guarded(const char* what, int (*action)(const LexiconArgs&),
-                             const LexiconArgs& a) {
-  return [what, action, &a] {
-    try {
-      return action(a);
-    } catch (const sdk::Error& e) {
-      return error(what, e.code(), e.what(), status_for(e.code()));
-    }
-  };
-}
-
 }  // namespace
 
 void add_lexicon_command(CLI::App& app) {

@@ -269,17 +269,6 @@ int revert(const HistoryArgs& a) {
   return kExitOk;
 }
 
-std::function<int()> guarded(const char* what, int (*action)(const HistoryArgs&),
-                             const HistoryArgs& a) {
-  return [what, action, &a] {
-    try {
-      return action(a);
-    } catch (const sdk::Error& e) {
-      return report_error(std::string("lexicon ") + what, e.code(), e.what(), status_for(e.code()));
-    }
-  };
-}
-
 }  // namespace
 
 std::unique_ptr<naturalization::LexiconStore> open_lexicon_store(const CommonOptions& common) {

@@ -85,17 +85,6 @@ int reject(const ModerationArgs& a) {
   return kExitOk;
 }
 
-std::function<int()> guarded(const char* what, int (*action)(const ModerationArgs&),
-                             const ModerationArgs& a) {
-  return [what, action, &a] {
-    try {
-      return action(a);
-    } catch (const sdk::Error& e) {
-      return report_error(std::string("lexicon ") + what, e.code(), e.what(), status_for(e.code()));
-    }
-  };
-}
-
 }  // namespace
 
 void add_lexicon_moderation_commands(CLI::App& cmd) {
