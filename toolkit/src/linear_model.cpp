@@ -15,6 +15,20 @@ std::string prefix(const LinearStateFormat& f) {
   return std::string(f.plugin) + ": ";
 }
 
+// Calls f(partition, feature name, weight now, weight before) for each weight changed since the
+// last commit that the model still holds: what pending_changes and pending_values report.
+template <class Partitions, class Pending, class F>
+void for_each_pending(const Partitions& partitions, const Pending& pending, F f) {
+  for (const auto& [k, before] : pending) {
+    const auto m = partitions.find(k.partition);
+    if (m == partitions.end()) continue;
+    const auto w = m->second.weights.find(k.key);
+    const auto name = m->second.names.find(k.key);
+    if (w == m->second.weights.end() || name == m->second.names.end()) continue;
+    f(k.partition, name->second, w->second, before.value);
+  }
+}
+
 }  // namespace
 
 const LinearPartition* LinearModel::find(const sdk::ScoreContext& ctx) const {
@@ -59,28 +73,22 @@ double LinearModel::accepts(const LinearPartition& m) {
 
 std::vector<sdk::WeightChange> LinearModel::pending_changes() const {
   std::vector<sdk::WeightChange> out;
-  for (const auto& [k, before] : pending_) {
-    auto m = partitions_.find(k.partition);
-    if (m == partitions_.end()) continue;
-    auto w = m->second.weights.find(k.key);
-    auto name = m->second.names.find(k.key);
-    if (w == m->second.weights.end() || name == m->second.names.end()) continue;
-    const double dw = w->second.w - before.value.w, daux = w->second.aux - before.value.aux;
-    if (dw != 0 || daux != 0) out.push_back({k.partition, name->second, dw, daux});
-  }
+  for_each_pending(partitions_, pending_,
+                   [&](const std::string& partition, const std::string& name,
+                       const LinearWeight& now, const LinearWeight& before) {
+                     const double dw = now.w - before.w, daux = now.aux - before.aux;
+                     if (dw != 0 || daux != 0) out.push_back({partition, name, dw, daux});
+                   });
   return out;
 }
 
 std::vector<sdk::WeightChange> LinearModel::pending_values() const {
   std::vector<sdk::WeightChange> out;
-  for (const auto& [k, before] : pending_) {
-    auto m = partitions_.find(k.partition);
-    if (m == partitions_.end()) continue;
-    auto w = m->second.weights.find(k.key);
-    auto name = m->second.names.find(k.key);
-    if (w == m->second.weights.end() || name == m->second.names.end()) continue;
-    out.push_back({k.partition, name->second, w->second.w, w->second.aux});
-  }
+  for_each_pending(partitions_, pending_,
+                   [&](const std::string& partition, const std::string& name,
+                       const LinearWeight& now, const LinearWeight&) {
+                     out.push_back({partition, name, now.w, now.aux});
+                   });
   return out;
 }
 
