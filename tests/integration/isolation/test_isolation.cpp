@@ -22,14 +22,15 @@
 
 #include "apps/studio/studio_server.hpp"
 #include "cli_test_support.hpp"
+#include "isolation_test_support.hpp"
 
 using namespace flipper;
 using nlohmann::json;
+using namespace flipper::isolationtest;
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kEvilDir = std::string(FLIPPER_BINARY_DIR) + "/tests/plugins/evil";
 const std::string kLabel = "plugin 'evil_planner' (" + kEvilDir + "/evil_planner.so)";
 const std::string kCrashing = R"({"op":"query","text":"visit room1"})";
 const std::string kFine = R"({"op":"query","text":"visit room4"})";
@@ -37,11 +38,6 @@ const std::string kFine = R"({"op":"query","text":"visit room4"})";
 std::vector<std::string> evil_sets(const std::string& mode) {
   return {"plugin_paths=[" + kEvilDir + "]", "planner.plugin=evil_planner",
           "planner.params.mode=" + mode, "planner.params.on_target_x=9"};
-}
-
-json without_ms(json a) {
-  a.erase("ms");
-  return a;
 }
 
 // The answer to `request` of a fresh `flipper session` with the evil planner in mode ok, in

@@ -11,13 +11,14 @@
 
 #include "apps/studio/studio_server.hpp"
 #include "cli_test_support.hpp"
+#include "isolation_test_support.hpp"
 
 using namespace flipper;
 using nlohmann::json;
+using namespace flipper::isolationtest;
 
 namespace {
 
-const std::string kEvilDir = std::string(FLIPPER_BINARY_DIR) + "/tests/plugins/evil";
 const std::string kLabel = "plugin 'evil_parser' (" + kEvilDir + "/evil_parser.so)";
 // Servers name a plugin's library by its file name only (no paths to a remote client).
 const std::string kServeLabel = "plugin 'evil_parser' (evil_parser.so)";
@@ -27,17 +28,6 @@ const std::string kFine = R"({"op":"query","text":"visit room4"})";
 std::vector<std::string> evil_sets(const std::string& mode) {
   return {"plugin_paths=[" + kEvilDir + "]", "parser.plugin=evil_parser",
           "parser.params.mode=" + mode, "parser.params.on_token=room1"};
-}
-
-std::string set_args(const std::vector<std::string>& sets) {
-  std::string out;
-  for (const auto& s : sets) out += " --set " + s;
-  return out;
-}
-
-json without_ms(json a) {
-  a.erase("ms");
-  return a;
 }
 
 // The answer to kFine of a fresh `flipper session` with the evil parser in mode ok, in process:

@@ -11,13 +11,14 @@
 
 #include "apps/studio/studio_server.hpp"
 #include "cli_test_support.hpp"
+#include "isolation_test_support.hpp"
 
 using namespace flipper;
 using nlohmann::json;
+using namespace flipper::isolationtest;
 
 namespace {
 
-const std::string kEvilDir = std::string(FLIPPER_BINARY_DIR) + "/tests/plugins/evil";
 // Servers name a plugin's library by its file name only (no paths to a remote client).
 const std::string kServeLabel = "plugin 'evil_scorer' (evil_scorer.so)";
 const std::string kCrashing = R"({"op":"query","text":"visit room1"})";
@@ -27,17 +28,6 @@ const std::string kAccept = R"({"op":"accept","rank":0})";
 std::vector<std::string> evil_sets(const std::string& mode) {
   return {"plugin_paths=[" + kEvilDir + "]", "scorer.plugin=evil_scorer",
           "scorer.params.mode=" + mode, "scorer.params.on_token=room1"};
-}
-
-std::string set_args(const std::vector<std::string>& sets) {
-  std::string out;
-  for (const auto& s : sets) out += " --set " + s;
-  return out;
-}
-
-json without_ms(json a) {
-  a.erase("ms");
-  return a;
 }
 
 // The answers of a fresh `flipper session`, the evil scorer in mode ok, in process, to `lines`.
