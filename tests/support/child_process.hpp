@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -41,6 +42,10 @@ class ChildProcess {
       throw std::runtime_error("ChildProcess: fork failed");
     }
     if (pid_ == 0) {
+      // A test that crashes takes its child with it: a server left running would hold the test
+      // runner's output pipe open until ctest's timeout. (The signal follows the forking thread:
+      // start children from threads that outlive them.)
+      prctl(PR_SET_PDEATHSIG, SIGKILL);
       dup2(in[0], STDIN_FILENO);
       dup2(out[1], STDOUT_FILENO);
       close_pair(in);

@@ -229,6 +229,9 @@ struct HttpTransport::Impl {
   /// A descriptor kept free: at EMFILE it is closed to accept one waiting connection, refuse it
   /// and close it, then taken again (docs/studio.md §2 "Descriptors").
   int spare_fd = -1;
+  /// The refusal sent at EMFILE, written once here: a process out of descriptors builds nothing.
+  const std::string out_of_descriptors_text = refusal_text(
+      "the server has no descriptors left for connections (its descriptor limit); try later");
 
   ~Impl() {
     if (spare_fd >= 0) ::close(spare_fd);
@@ -467,8 +470,7 @@ void HttpTransport::Impl::out_of_descriptors() {
   const int fd =
       ::accept4(acceptor.native_handle(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
   if (fd >= 0) {
-    const std::string text = refusal_text(
-        "the server has no descriptors left for connections (its descriptor limit); try later");
+    const std::string& text = out_of_descriptors_text;
     (void)::send(fd, text.data(), text.size(), MSG_NOSIGNAL);
     ::close(fd);
   }

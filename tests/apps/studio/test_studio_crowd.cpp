@@ -34,7 +34,7 @@ void client(int me, int port, Ledger& ledger) {
         ledger.first_error = req.dump() + " -> " +
                              (res ? std::to_string(res->status) + " " + res->body
                                   : "no answer: " + httplib::to_string(res.error()));
-      return std::make_pair(std::string(), json());
+      return std::make_pair(std::string(), json::object());
     }
     return std::make_pair(res->get_header_value("Flipper-Session"), json::parse(res->body));
   };

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "sanitizer_build.hpp"
+
 namespace flipper::isolationtest {
 
 /// The folder of tests/support's evil plugins (evil_planner, evil_parser, evil_scorer).
@@ -15,6 +17,14 @@ inline std::string set_args(const std::vector<std::string>& sets) {
   std::string out;
   for (const auto& s : sets) out += " --set " + s;
   return out;
+}
+
+/// A server's `--set` values with isolation as the server has it by default: `auto` (process in
+/// a server) in Release; said explicitly in the AddressSanitizer tree, whose servers keep `auto`
+/// in process (docs/plugins-untrusted.md §6, "Where it is on").
+inline std::vector<std::string> isolated_server(std::vector<std::string> sets) {
+  if (testsupport::kAddressSanitizer) sets.emplace_back("plugins.isolation=process");
+  return sets;
 }
 
 /// An answer without its `ms`, the one member that differs between equal answers.

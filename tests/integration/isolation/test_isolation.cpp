@@ -127,12 +127,14 @@ json crash_error(const std::string& what) {
 
 TEST_CASE("serve: a planner that segfaults costs user A one answer, user B nothing",
           "[isolation]") {
-  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), evil_sets("segv"));
+  studiotest::StudioServer server(studiotest::fresh_dir("isolation"),
+                                  isolated_server(evil_sets("segv")));
   crash_costs_one_answer(server, crash_error("SIGSEGV"));
 }
 
 TEST_CASE("serve: a planner that aborts costs user A one answer, user B nothing", "[isolation]") {
-  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), evil_sets("abort"));
+  studiotest::StudioServer server(studiotest::fresh_dir("isolation"),
+                                  isolated_server(evil_sets("abort")));
   crash_costs_one_answer(server, crash_error("SIGABRT"));
 }
 
@@ -141,7 +143,7 @@ TEST_CASE("serve: a planner that spins past its CPU budget is ended by it (SIGXC
   // execution.cpu_budget_ms = 100: the child is ended after at most 100 ms + 1 s of CPU time.
   auto sets = evil_sets("hang");
   sets.push_back("execution.cpu_budget_ms=100");
-  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), sets);
+  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), isolated_server(sets));
   crash_costs_one_answer(
       server,
       crash_error("SIGXCPU (still running 1000 ms of CPU time after its budget was spent)"));
@@ -152,7 +154,8 @@ TEST_CASE("serve: the plan's process killed from outside (SIGKILL) costs one ans
   // The planner spins (its CPU limit, 2 s + 1 s, is far); this test finds the server's child
   // that has spent 50 ms of CPU time, the plan call's process (the query's parse has a child of
   // its own first, done in a few ms), and kills it.
-  studiotest::StudioServer server(studiotest::fresh_dir("isolation"), evil_sets("hang"));
+  studiotest::StudioServer server(studiotest::fresh_dir("isolation"),
+                                  isolated_server(evil_sets("hang")));
   const int pid = server.pid();
   crash_costs_one_answer(server, crash_error("SIGKILL"), [pid] {
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);

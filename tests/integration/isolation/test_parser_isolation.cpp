@@ -50,7 +50,8 @@ json query_error(const std::string& code, const std::string& message) {
 
 // Two users of one server: B answered, A's query whose parse misbehaves, B again, A again.
 void bad_parse_costs_one_answer(const std::string& mode, const json& expected) {
-  studiotest::StudioServer server(studiotest::fresh_dir("parser-isolation"), evil_sets(mode));
+  studiotest::StudioServer server(studiotest::fresh_dir("parser-isolation"),
+                                  isolated_server(evil_sets(mode)));
   const json fine = reference();
   REQUIRE(fine["candidates"].size() == 1u);
   CHECK(fine["candidates"][0]["formula"] == "{visit room4}");

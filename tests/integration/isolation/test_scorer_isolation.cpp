@@ -53,7 +53,8 @@ std::vector<json> reference(const std::vector<std::string>& lines) {
 // Two users of one server: B queries, A accepts a query whose learn misbehaves, B queries again,
 // A queries and accepts again.
 void bad_learn_costs_one_answer(const std::string& mode, const json& expected) {
-  studiotest::StudioServer server(studiotest::fresh_dir("scorer-isolation"), evil_sets(mode));
+  studiotest::StudioServer server(studiotest::fresh_dir("scorer-isolation"),
+                                  isolated_server(evil_sets(mode)));
   const auto fine = reference({kFine, kAccept, kFine});
   // The accept taught the model: the same query scores higher after it.
   REQUIRE(fine[0]["candidates"][0]["score"] == 7.0);
