@@ -11,6 +11,7 @@
 #include "flipper/corpus/answer_digest.hpp"
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/naturalization/moderation_request.hpp"
 #include "flipper/record/checksum.hpp"
 #include "flipper/replay/corpus.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -55,6 +56,20 @@ std::string comparable(const std::string& dump) {
   return out;
 }
 
+// The value of `section.key` in a config dump ("" when absent): what the study chose for a group
+// that the server's --config and --set do not say (study.cpp sets lexicon.moderation from it).
+std::string dumped_value(const std::string& dump, const std::string& section,
+                         const std::string& key) {
+  std::istringstream in(dump);
+  std::string line, current;
+  const std::string prefix = "  " + key + ": ";
+  for (; std::getline(in, line);) {
+    if (!line.empty() && line[0] != ' ') current = line;
+    if (current == section + ":" && line.rfind(prefix, 0) == 0) return line.substr(prefix.size());
+  }
+  return "";
+}
+
 std::size_t first_difference(const std::string& a, const std::string& b) {
   std::size_t i = 0;
   while (i < a.size() && i < b.size() && a[i] == b[i]) ++i;
@@ -83,6 +98,8 @@ VerifyResult verify_recording(const std::string& dir, const VerifyOptions& optio
     std::vector<std::string> sets = options.sets;
     const fs::path preload = fs::path(dir) / "preload-C.jsonl";
     sets.push_back("lexicon.sharing=" + sharing);
+    const std::string moderation = dumped_value(text(recorded, "config"), "lexicon", "moderation");
+    if (!moderation.empty()) sets.push_back("lexicon.moderation=" + moderation);
     sets.push_back("lexicon.path=:memory:");
     sets.push_back("lexicon.preload=" +
                    (name == "C" && fs::exists(preload) ? fs::absolute(preload).string() : ""));
@@ -105,20 +122,34 @@ VerifyResult verify_recording(const std::string& dir, const VerifyOptions& optio
                                        ": not an exchange {n, request, answer, sha256, ...}");
     const std::string group = text(e, "group"), participant = text(e, "participant");
     wiring::SessionHost& host = group_of(group);
-    const std::string key = participant + "#" + e.value("session", json()).dump();
-    auto& session = sessions[key];
-    if (!session) {
-      session = host.open();
-      session->set_user(text(e, "user"));
-    }
-    session->activate();
     const std::string request = e["request"].get<std::string>();
     const std::string live = corpus::answer_for_digest(e["answer"].get<std::string>());
-    const std::string ours = corpus::answer_for_digest(session->handle_line(request));
+    std::string ours;
+    if (text(e, "origin") == "researcher") {
+      // A researcher's approve or reject, applied to the group's lexicon where it happened.
+      if (!host.naturalizer)
+        throw sdk::Error(kBadCorpus, exchanges.string() + ":" + std::to_string(n) +
+                                         ": a moderation in a group without a lexicon");
+      try {
+        ours = naturalization::apply_moderation(*host.naturalizer, text(e, "user"), request);
+      } catch (const sdk::Error& err) {
+        ours = std::string("error ") + err.code() + ": " + err.what();
+      }
+    } else {
+      const std::string key = participant + "#" + e.value("session", json()).dump();
+      auto& session = sessions[key];
+      if (!session) {
+        session = host.open();
+        session->set_user(text(e, "user"));
+      }
+      session->activate();
+      ours = corpus::answer_for_digest(session->handle_line(request));
+    }
     const json parsed = json::parse(request, nullptr, false);
     const std::string op = parsed.is_object() ? text(parsed, "op") : std::string();
     std::ostringstream where;
-    where << "exchange " << e.value("n", json(n)).dump() << " (participant " << participant
+    where << "exchange " << e.value("n", json(n)).dump() << " ("
+          << (participant.empty() ? "researcher " + text(e, "user") : "participant " + participant)
           << ", group " << group << ", qid " << e.value("qid", json()).dump() << ", op "
           << (op.empty() ? "?" : op) << ")";
     if (record::sha256_text(live) != text(e, "sha256")) {

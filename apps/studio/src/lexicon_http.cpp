@@ -5,6 +5,7 @@
 // approved definition at once, and the group's other kernels pick it up at their next request.
 #include <algorithm>
 
+#include "flipper/naturalization/moderation_request.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "recorder.hpp"
@@ -100,16 +101,15 @@ void StudyEndpoints::moderate(const HttpRequest& r, const Respond& respond, bool
   auto job = [this, group = *group, id, reason, approve, account = who.account,
               peer = r.peer]() -> HttpReply {
     try {
+      // Applied and recorded under the group kernel's lock: the recording's exchanges keep it
+      // where it happened, and `flipper replay verify` applies it there (docs/studio.md §7).
       Json answer = api_.with_group_kernel(group, [&](Kernel& k) {
-        auto& nat = *k.host->naturalizer;
+        const std::string request = naturalization::moderation_request(approve, id, reason);
+        const std::string applied =
+            naturalization::apply_moderation(*k.host->naturalizer, account, request);
+        api_.recorder()->record_moderation(group, account, request, applied);
         Json out{{"ok", true}, {"group", group}, {"id", id}};
-        if (approve) {
-          Json rules = Json::array();
-          for (const auto& rule : nat.approve(account, id)) rules.push_back(rule->id);
-          out["rules"] = rules;
-        } else {
-          nat.reject(account, id, reason);
-        }
+        if (approve) out["rules"] = Json::parse(applied)["rules"];
         return out;
       });
       api_.recorder()->audit(account, peer, approve ? "approve" : "reject",

@@ -365,24 +365,36 @@ RecordOutcome Recorder::record(const SessionEntry& entry, const std::string& req
     qid = command(entry, p, req, tap->heard(), ms, n, outcome);
     tap->clear();
   }
-  // Ordered: the short members first, the request and answer texts last (docs/studio.md §7).
-  using Ordered = nlohmann::ordered_json;
-  append_line(exchanges_,
-              Ordered{{"n", n},
-                      {"time", now_iso()},
-                      {"group", entry.group},
-                      {"participant", entry.participant},
-                      {"session", session_numbers_.count(entry.token)
-                                      ? Ordered(session_numbers_[entry.token])
-                                      : Ordered()},
-                      {"user", entry.session->user()},
-                      {"qid", qid.empty() ? Ordered() : Ordered(qid)},
-                      {"origin", origin},
-                      {"request", request},
-                      {"answer", answer},
-                      {"sha256", record::sha256_text(corpus::answer_for_digest(answer))}});
+  append_exchange(
+      n, entry.group, entry.participant,
+      session_numbers_.count(entry.token) ? Line(session_numbers_[entry.token]) : Line(),
+      entry.session->user(), qid, origin, request, answer);
   participants_.save();
   return outcome;
+}
+
+void Recorder::record_moderation(const std::string& group, const std::string& account,
+                                 const std::string& request, const std::string& answer) {
+  std::lock_guard lock(mutex_);
+  append_exchange(++exchange_, group, Line(), Line(), account, "", "researcher", request, answer);
+}
+
+void Recorder::append_exchange(std::int64_t n, const std::string& group, const Line& participant,
+                               const Line& session, const std::string& user, const std::string& qid,
+                               const char* origin, const std::string& request,
+                               const std::string& answer) {
+  // Ordered: the short members first, the request and answer texts last (docs/studio.md §7).
+  append_line(exchanges_, Line{{"n", n},
+                               {"time", now_iso()},
+                               {"group", group},
+                               {"participant", participant},
+                               {"session", session},
+                               {"user", user},
+                               {"qid", qid.empty() ? Line() : Line(qid)},
+                               {"origin", origin},
+                               {"request", request},
+                               {"answer", answer},
+                               {"sha256", record::sha256_text(corpus::answer_for_digest(answer))}});
 }
 
 std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, const Json& req,

@@ -89,6 +89,11 @@ class Recorder {
   /// `origin`: "page" or "server" (requests the server made itself, e.g. resume).
   RecordOutcome record(const SessionEntry& entry, const std::string& request,
                        const std::string& answer, double ms, const char* origin = "page");
+  /// A researcher's moderation (approve or reject, naturalization::moderation_request) in
+  /// `group`'s kernel, as an exchange of origin "researcher" without participant or session,
+  /// numbered in the kernel's order: call it inside that kernel's lock, after it applied.
+  void record_moderation(const std::string& group, const std::string& account,
+                         const std::string& request, const std::string& answer);
   /// A page event (flip, reject, page_load); the body was checked by the caller.
   void event(const SessionEntry& entry, const kernel::Json& body);
 
@@ -121,6 +126,12 @@ class Recorder {
   std::string world_id(const SessionEntry& entry);
   Line line(const SessionEntry& entry, ParticipantState& p, const std::string& kind,
             std::optional<std::int64_t> exchange);
+  /// Appends one exchanges.jsonl line (docs/studio.md §7), numbered `n`.
+  void append_exchange(std::int64_t n, const std::string& group,
+                       const nlohmann::ordered_json& participant,
+                       const nlohmann::ordered_json& session, const std::string& user,
+                       const std::string& qid, const char* origin, const std::string& request,
+                       const std::string& answer);
   void write_sessions();
   void write_study_json(const std::vector<std::pair<std::string, kernel::Config>>& kernels);
   void load_existing();

@@ -168,6 +168,30 @@ TEST_CASE("the researcher approves or rejects held definitions and nobody else c
     actions.push_back(e["action"].get<std::string>() + " " + e["id"].get<std::string>());
   }
   CHECK(actions == std::vector<std::string>{"reject h2", "approve h1"});
+
+  // The recording keeps the two moderations that took effect (not the refused attempts) among
+  // the exchanges, where they happened, and the study replays byte for byte (docs/studio.md §7).
+  std::istringstream exchanges(text_of(fs::path(dir) / "rec" / "exchanges.jsonl"));
+  std::vector<std::string> moderations;
+  std::size_t count = 0;
+  for (std::string line; std::getline(exchanges, line); ++count) {
+    const json e = json::parse(line);
+    if (e["origin"] != "researcher") continue;
+    CHECK(e["participant"].is_null());
+    CHECK(e["user"] == "mod");
+    moderations.push_back(e["request"].get<std::string>() + " -> " +
+                          e["answer"].get<std::string>());
+  }
+  CHECK(
+      moderations ==
+      std::vector<std::string>{
+          R"({"id":"h2","op":"reject","reason":"say it with numbers"} -> {"id":"h2","ok":true,"op":"reject"})",
+          R"({"id":"h1","op":"approve"} -> {"id":"h1","ok":true,"op":"approve","rules":["r1","r2","r3"]})"});
+  const CliRun verify = run_flipper("replay verify " + dir + "/rec", dir);
+  INFO(verify.out);
+  CHECK(verify.status == 0);
+  CHECK(verify.out ==
+        std::to_string(count) + " exchanges, every answer equal byte for byte (ms excluded)\n");
 }
 
 }  // namespace flipper::studiotest
