@@ -20,6 +20,7 @@
 #include "flipper/dds/config_keys.hpp"
 #include "flipper/dds/request_node.hpp"
 #include "flipper/kernel/runtime.hpp"
+#include "sanitizer_build.hpp"
 
 namespace flipper::cli {
 namespace {
@@ -99,7 +100,7 @@ int dds_node_main(const CommonOptions& opts) {
   std::signal(SIGTERM, on_signal);
   // Declared first, so destroyed last: it bounds the destructors below.
   StopWatchdog watchdog;
-  kernel::set_auto_isolation(kernel::Isolation::process);  // docs/plugins-untrusted.md §6
+  set_server_isolation();  // docs/plugins-untrusted.md §6
   wiring::SessionHost host = wiring::open_host(config_file(opts), opts.overrides);
   const NodeServices services = NodeServices::start(host, /*force_participant=*/true);
   dds::RequestNode node(

@@ -8,11 +8,12 @@
 #include "common.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/studio/server.hpp"
+#include "sanitizer_build.hpp"
 
 namespace flipper::cli {
 
 int serve_main(const CommonOptions& opts) {
-  kernel::set_auto_isolation(kernel::Isolation::process);  // docs/plugins-untrusted.md §6
+  set_server_isolation();  // docs/plugins-untrusted.md §6
   const kernel::Config config = load_config(opts);
   // Signals go to one waiting thread that stops the server (httplib's stop is not
   // async-signal-safe); block them before any server thread starts.

@@ -11,21 +11,12 @@
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/wiring/session_factory.hpp"
 #include "request_lines.hpp"
+#include "sanitizer_build.hpp"
 
 namespace flipper::cli {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
+constexpr bool kSanitized = kAddressSanitizer || kThreadSanitizer;
 
 /// The process is about to exit: the lexicon store is closed properly (checkpoint, WAL removed),
 /// but the runtime and its rules are not freed one by one (at 10k rules their teardown is ~10%

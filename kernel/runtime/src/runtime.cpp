@@ -121,26 +121,9 @@ std::vector<std::string> direction_words(const Config& config, const std::string
 
 namespace {
 std::atomic<Isolation> g_auto_isolation{Isolation::in_process};
-
-// clang 14's AddressSanitizer installs no fork handlers (LLVM 17 added them): a child forked while
-// another thread refills the sanitizer's allocator waits on that lock forever, and a busy server
-// forks thousands of times. Instrumented builds (the sanitizer tree, docs/testing.md) therefore
-// keep `auto` in process; `process`, said explicitly, still forks (docs/plugins-untrusted.md §6).
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kForkUnsafeAllocator = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kForkUnsafeAllocator = true;
-#else
-constexpr bool kForkUnsafeAllocator = false;
-#endif
-#else
-constexpr bool kForkUnsafeAllocator = false;
-#endif
 }  // namespace
 
 void set_auto_isolation(Isolation isolation) {
-  if (kForkUnsafeAllocator) return;
   g_auto_isolation.store(isolation);
 }
 

@@ -43,8 +43,8 @@ struct Runtime {
 /// What `plugins.isolation: auto` means for the runtimes this process builds from now on:
 /// `process` in the servers (serve, dds: each calls this before building its runtimes, since a
 /// crash there would lose other users' work), `in_process` (the initial value) elsewhere
-/// (docs/plugins-untrusted.md §6). AddressSanitizer builds ignore it: their allocator is not safe
-/// to fork from a busy process (docs/testing.md).
+/// (docs/plugins-untrusted.md §6). The servers' AddressSanitizer builds do not call it: that
+/// allocator is not safe to fork from a busy process (apps/cli/sanitizer_build.hpp).
 void set_auto_isolation(Isolation isolation);
 
 /// Loads every plugin the config selects and builds the runtime. Throws sdk::Error with codes
