@@ -5,29 +5,23 @@
 
 namespace flipper::cli {
 
-#if defined(__SANITIZE_ADDRESS__)
-inline constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
+// GCC says __SANITIZE_ADDRESS__ / __SANITIZE_THREAD__, clang __has_feature (GCC 12 has none).
+#if defined(__has_feature)
+#define FLIPPER_CLI_HAS_FEATURE(x) __has_feature(x)
+#else
+#define FLIPPER_CLI_HAS_FEATURE(x) 0
+#endif
+#if defined(__SANITIZE_ADDRESS__) || FLIPPER_CLI_HAS_FEATURE(address_sanitizer)
 inline constexpr bool kAddressSanitizer = true;
 #else
 inline constexpr bool kAddressSanitizer = false;
 #endif
-#else
-inline constexpr bool kAddressSanitizer = false;
-#endif
-
-#if defined(__SANITIZE_THREAD__)
-inline constexpr bool kThreadSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
+#if defined(__SANITIZE_THREAD__) || FLIPPER_CLI_HAS_FEATURE(thread_sanitizer)
 inline constexpr bool kThreadSanitizer = true;
 #else
 inline constexpr bool kThreadSanitizer = false;
 #endif
-#else
-inline constexpr bool kThreadSanitizer = false;
-#endif
+#undef FLIPPER_CLI_HAS_FEATURE
 
 /// The isolation a server gives `plugins.isolation: auto` (docs/plugins-untrusted.md §6, "Where
 /// it is on"): `process`, except under AddressSanitizer. clang 14's ASan installs no fork
