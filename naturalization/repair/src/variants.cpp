@@ -78,6 +78,7 @@ std::vector<std::string> rooms_near(const sdk::RoomMap& rooms, const std::string
       order.emplace_back(self == rooms.end() ? 0 : box_gap(self->second, cells), other);
   std::sort(order.begin(), order.end());
   std::vector<std::string> out;
+  out.reserve(order.size());
   for (auto& o : order) out.push_back(std::move(o.second));
   return out;
 }

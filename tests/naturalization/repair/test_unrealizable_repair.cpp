@@ -13,8 +13,12 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "flipper/naturalization/repair_extension.hpp"
+#include "flipper/naturalization/unrealizable.hpp"
+#include "flipper/sdk/ast.hpp"
+#include "flipper/sdk/canonical.hpp"
 #include "session_fixture.hpp"
 
 using flipper::kernel::Json;
@@ -169,4 +173,50 @@ TEST_CASE("realizable answers and answers without repair are unchanged", "[sessi
   const Json plain = query(*s, "visit room5", false);
   CHECK(plain["candidates"][0]["realizable"] == false);
   CHECK_FALSE(plain.contains("repair"));
+}
+
+TEST_CASE("a drop with nothing held: every edit fails too", "[session][repair]") {
+  auto s = session_on(world_with());
+  const Json u = explained(*s, "drop item is red");
+  CHECK(u["why"] == "the robot holds nothing");
+  // 'red' -> 'blue', 'green', then drop 'is red': the robot holds no item at all.
+  CHECK(u["variant"].is_null());
+  CHECK(u["tried"] == 3);
+}
+
+TEST_CASE("finding the step is bounded by count: 48 executions, not 49",
+          "[session][repair][limits]") {
+  using flipper::naturalization::kMaxExplainRuns;
+  namespace sdk = flipper::sdk;
+  REQUIRE(kMaxExplainRuns == 48);
+  auto s = session_on(world_with());
+  const auto run = [&](const sdk::Program& p, const sdk::WorldState& w) {
+    return s->executor().run(p, w);
+  };
+  // `moves` moves that succeed (right, left, right, ...), then `visit room5`: the descent
+  // executes each statement once, so the step is found with moves + 1 executions.
+  const auto explain = [&](int moves) {
+    std::vector<sdk::Program> steps;
+    for (int i = 0; i < moves; ++i)
+      steps.push_back(sdk::make(sdk::Kind::Move,
+                                {sdk::make_word(sdk::Kind::Direction, i % 2 ? "left" : "right")}));
+    steps.push_back(sdk::make(sdk::Kind::VisitArea, {sdk::make_word(sdk::Kind::Room, "room5")}));
+    const sdk::Program p = sdk::make_seq(steps);
+    const sdk::Outcome o = run(p, s->world());
+    REQUIRE_FALSE(o.realizable);
+    return flipper::naturalization::explain_unrealizable(p, s->world(), o, run);
+  };
+  const auto at = explain(47);
+  CHECK(sdk::render(at.step) == "{visit room5}");
+  CHECK(at.why == "room5 is unreachable from the robot's position [1,0]");
+  CHECK(at.limited.empty());
+  CHECK(at.runs == 48 + 1);  // and one variant, `visit room3`
+  REQUIRE(at.variant);
+  CHECK(at.variant->edit == "replace 'room5' by 'room3'");
+  const auto over = explain(48);
+  CHECK(over.step->kind == sdk::Kind::Seq);  // the descent stopped at the whole program
+  CHECK(over.why == "Could not complete the action: {visit room5} (room5 is unreachable)");
+  CHECK(over.limited == "the step and its reason took more than 48 executions");
+  CHECK(over.runs == 48);
+  CHECK_FALSE(over.variant);
 }
