@@ -20,9 +20,10 @@ using sdk::Kind;
 using sdk::Node;
 using sdk::Program;
 
-// Ties between edits at the same distance: item words first (keep the place the user named),
-// then dropped conditions, rooms, directions.
-enum class EditKind { item_word = 0, drop = 1, room = 2, direction = 3 };
+// Ties between edits at the same distance: going to the item a pick names first (every word the
+// user said is kept), then item words (the place the user named is kept), dropped conditions,
+// rooms, directions.
+enum class EditKind { visit_first = 0, item_word = 1, drop = 2, room = 3, direction = 4 };
 
 struct Edit {
   NodePath path;  // inside the step
@@ -96,6 +97,17 @@ class EditFinder {
   }
 
   std::vector<Edit> edits_of(const Program& step) {
+    if (step->kind == Kind::Pick) {
+      // `pick I` -> `visit world containing I ; pick I`: one statement inserted.
+      const Program& i = step->kids[0];
+      const Program item = i->kind == Kind::Every ? i->kids[0] : i;
+      const Program where = sdk::make(Kind::AreaContaining, {sdk::make(Kind::World), item});
+      edits_.push_back({{},
+                        sdk::make_seq({sdk::make(Kind::VisitArea, {where}), step}),
+                        "visit " + quoted(where) + " first",
+                        1,
+                        EditKind::visit_first});
+    }
     NodePath path;
     walk(step, path);
     std::stable_sort(edits_.begin(), edits_.end(), [](const Edit& a, const Edit& b) {

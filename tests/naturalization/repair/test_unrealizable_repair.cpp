@@ -100,21 +100,33 @@ TEST_CASE("an empty intersection: no item is both, the nearest variant drops the
   const Json u = explained(*s, "pick item is red and is circle");
   CHECK(u["step"] == "{pick item {{is red} and {is circle}}}");
   CHECK(u["why"] == "no item is both red and a circle");
-  // Tried in order: red -> blue, green; circle -> square, triangle (distance 1); drop 'is red',
+  // Tried in order: visit a red circle first (none lies anywhere); red -> blue, green; circle ->
+  // square, triangle (distance 1); drop 'is red',
   // drop 'is circle' (3); drop the whole condition (5): only a plain item lies at [0,0].
   // (A plain item renders "{pick item }", as a query of "pick item" answers.)
   CHECK(u["variant"] == Json::parse(R"({"formula":"{pick item }",
                                         "edit":"drop '{is red} and {is circle}'","edits":5})"));
-  CHECK(u["tried"] == 7);
+  CHECK(u["tried"] == 8);
 }
 
 TEST_CASE("a pick where the robot is not: where such items lie", "[session][repair]") {
   auto s = session_on(world_with());
   const Json u = explained(*s, "pick item is red");
   CHECK(u["why"] == "no red item at [0,0], where the robot is; one lies in room1");
-  // 'red' -> 'blue' fails (no blue item at [0,0]); -> 'green' is the green triangle there.
-  CHECK(u["variant"]["formula"] == "{pick item {is green}}");
-  CHECK(u["tried"] == 2);
+  // The nearest variant goes to the red square first (one statement inserted).
+  CHECK(u["variant"] ==
+        Json::parse(R"({"formula":"{{visit {world containing item {is red}}};{pick item {is red}}}",
+                        "edit":"visit 'world containing item {is red}' first","edits":1})"));
+  CHECK(u["tried"] == 1);
+  // Behind the wall the red square is out of reach: 'red' -> 'blue' fails (no blue item at
+  // [0,0]); -> 'green' is the green triangle there.
+  Json walled = world_with();
+  walled["items"][1]["x"] = 6;
+  auto behind = session_on(walled);
+  const Json b = explained(*behind, "pick item is red");
+  CHECK(b["why"] == "no red item at [0,0], where the robot is; one lies outside every room");
+  CHECK(b["variant"]["formula"] == "{pick item {is green}}");
+  CHECK(b["tried"] == 3);
 }
 
 TEST_CASE("the failing step of a sequence, and a variant that fails too: none found",
@@ -135,18 +147,17 @@ TEST_CASE("variants are bounded by count: 8 are tried, a 9th is left out",
           "[session][repair][limits]") {
   using flipper::naturalization::kMaxVariantRuns;
   REQUIRE(kMaxVariantRuns == 8);
-  // Behind the wall, so no edit of the pick makes the trailing visit of room5 possible. Seven
-  // edits as above, plus one colour word per extra colour of the world.
+  // No edit of the pick makes the trailing visit of room5 possible. Eight edits as above, plus
+  // one colour word per extra colour of the world (a yellow item behind the wall).
   const Json yellow{{"x", 6}, {"y", 2}, {"color", "yellow"}, {"shape", "circle"}};
-  const Json purple{{"x", 6}, {"y", 2}, {"color", "purple"}, {"shape", "circle"}};
   const std::string text = "pick item is red and is circle ; visit room5";
-  auto at = session_on(world_with(Json::array({yellow})));
+  auto at = session_on(world_with());
   const Json eight = explained(*at, text);
   CHECK(eight["step"] == "{pick item {{is red} and {is circle}}}");
   CHECK(eight["variant"].is_null());
   CHECK(eight["tried"] == 8);
   CHECK_FALSE(eight.contains("limited"));
-  auto over = session_on(world_with(Json::array({yellow, purple})));
+  auto over = session_on(world_with(Json::array({yellow})));
   const Json nine = explained(*over, text);
   CHECK(nine["variant"].is_null());
   CHECK(nine["tried"] == 8);
