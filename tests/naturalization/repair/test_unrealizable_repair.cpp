@@ -52,7 +52,7 @@ std::unique_ptr<flipper::kernel::Session> session_on(const Json& world) {
 Json query(flipper::kernel::Session& s, const std::string& text, bool repair = true) {
   Json req{{"op", "query"}, {"text", text}, {"k", 1}};
   if (repair) req["repair"] = true;
-  const Json a = ask(s, req.dump());
+  Json a = ask(s, req.dump());
   REQUIRE(a["ok"] == true);
   return a;
 }
@@ -64,7 +64,7 @@ Json explained(flipper::kernel::Session& s, const std::string& text) {
   CHECK(a["candidates"][0]["realizable"] == false);
   REQUIRE(a.contains("repair"));
   REQUIRE(a["repair"]["unrealizable"].size() == 1);
-  const Json u = a["repair"]["unrealizable"][0];
+  Json u = a["repair"]["unrealizable"][0];
   CHECK(u["rank"] == 0);
   return u;
 }
@@ -208,6 +208,7 @@ TEST_CASE("finding the step is bounded by count: 48 executions, not 49",
   // executes each statement once, so the step is found with moves + 1 executions.
   const auto explain = [&](int moves) {
     std::vector<sdk::Program> steps;
+    steps.reserve(static_cast<std::size_t>(moves) + 1);
     for (int i = 0; i < moves; ++i)
       steps.push_back(sdk::make(sdk::Kind::Move,
                                 {sdk::make_word(sdk::Kind::Direction, i % 2 ? "left" : "right")}));
