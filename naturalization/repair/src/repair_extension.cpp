@@ -110,13 +110,15 @@ std::shared_ptr<const Repair> repair_query(kernel::Session& session,
 }
 
 std::vector<ExplainedCandidate> explain_unrealizable(const kernel::Session& session,
-                                                     const kernel::QueryResult& result) {
+                                                     const kernel::QueryResult& result,
+                                                     std::size_t first) {
   const kernel::LastQuery& q = *result.query;
   const RunProgram run = [&session](const sdk::Program& p, const sdk::WorldState& w) {
     return session.executor().run(p, w, session.request_stop());
   };
   std::vector<ExplainedCandidate> out;
-  for (const kernel::ShownCandidate& sc : q.shown) {
+  for (std::size_t i = 0; i < q.shown.size() && i < first; ++i) {
+    const kernel::ShownCandidate& sc = q.shown[i];
     // Only what this world decides: not a budget, a deadline or a refused plugin.
     if (sc.outcome.realizable && !sc.outcome.error) continue;
     if (sc.outcome.error && sc.outcome.error_code != sdk::codes::kExecution) continue;

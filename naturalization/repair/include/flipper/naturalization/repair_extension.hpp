@@ -6,6 +6,8 @@
 /// (repair.hpp), and writes the "repair" member of a query answer that asked for it. Front ends
 /// that call the typed service ask repair_query() after Session::query.
 
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,11 +42,13 @@ struct ExplainedCandidate {
   Unrealizable explanation;
 };
 
-/// Every shown candidate of `result` that is not realizable in the query's world (not run out of
-/// a budget, not refused from a plugin), explained with the session's executor, the query's
-/// world and the call's limits (deadline_exceeded is thrown). Call it right after the query.
+/// Every shown candidate of `result` (the first `first` of them) that is not realizable in the
+/// query's world (not run out of a budget, not refused from a plugin), explained with the
+/// session's executor, the query's world and the call's limits (deadline_exceeded is thrown).
+/// Call it right after the query.
 std::vector<ExplainedCandidate> explain_unrealizable(const kernel::Session& session,
-                                                     const kernel::QueryResult& result);
+                                                     const kernel::QueryResult& result,
+                                                     std::size_t first = SIZE_MAX);
 
 /// The protocol side: a query op with `"repair": true` (false and null: none; anything else:
 /// bad_request before the query runs) gets the member "repair" when nothing parsed, or when some
