@@ -1,6 +1,7 @@
 // A repair (flipper/naturalization/repair.hpp, docs/protocol.md "Repairs") as the repl and `flipper
 // run` say it: what was understood, which words were not, the nearest sentences, how to teach it.
 #include "flipper/naturalization/repair.hpp"
+#include "flipper/naturalization/unrealizable.hpp"
 #include "flipper/repl/repl.hpp"
 #include "flipper/sdk/canonical.hpp"
 
@@ -63,6 +64,15 @@ std::string repair_summary(const naturalization::Repair& r) {
   std::string s;
   for (const auto& p : parts) s += "; " + p;
   return s;
+}
+
+std::string unrealizable_line(const naturalization::Unrealizable& u, int dims) {
+  std::string s = "Cannot be done here: " + sdk::render(u.step) + " fails at " +
+                  sdk::to_string(u.at, dims) + ": " + u.why + ".";
+  if (u.variant)
+    return s + " Nearest that works: " + sdk::render(u.variant->program) + " (" + u.variant->edit +
+           ").";
+  return s + " No variant found (" + std::to_string(u.tried) + " tried).";
 }
 
 }  // namespace flipper::repl

@@ -193,11 +193,15 @@ class Repl {
     query_world_ = world_view(session_.world());  // the paths start here
     kernel::QueryResult result;
     std::shared_ptr<const naturalization::Repair> repair;
+    std::vector<naturalization::ExplainedCandidate> explained;
     const kernel::QueryRequest request{text, kKeep};
     const bool ok = call([&] {
       result = session_.query(request);
-      // A failure says how to repair it (docs/protocol.md "Repairs").
+      // A failure says how to repair it (docs/protocol.md "Repairs"); so does a reading of the
+      // first page that cannot be done here (docs/naturalization.md §7).
       repair = naturalization::repair_query(session_, result);
+      explained =
+          naturalization::explain_unrealizable(session_, result, static_cast<std::size_t>(page_));
     });
     // The session cannot be stopped mid-query (session.deadline_ms bounds it); Ctrl-C while it
     // ran drops its answer.
@@ -214,8 +218,13 @@ class Repl {
       if (repair) out_ << repair_lines(*repair);
       return;
     }
-    for (const kernel::ShownCandidate& sc : result.query->shown)
+    const auto& shown = result.query->shown;
+    const int dims = result.query->world.geometry ? result.query->world.geometry->dims() : 2;
+    for (const kernel::ShownCandidate& sc : shown) {
       readings_.push_back(candidate_view(*result.query, sc));
+      for (const auto& e : explained)
+        if (e.rank == sc.index) readings_.back()["why"] = unrealizable_line(e.explanation, dims);
+    }
     total_ = result.total();
     out_ << "Readings (" << result.status << "):\n";
     show_more();
@@ -233,6 +242,7 @@ class Repl {
     for (int i = shown_; i < until; ++i) {
       const kernel::Json& c = readings_[static_cast<std::size_t>(i)];
       out_ << describe_candidate(c, i + 1);
+      if (c.contains("why")) out_ << "      " << c["why"].get<std::string>() << "\n";
       const kernel::Json& trace = c["trace"];
       if (!trace.empty() && query_world_.is_object() && !c.contains("error"))
         out_ << indent(render_map(query_world_, map_options(&trace, false)));

@@ -263,6 +263,23 @@ function selectCandidate(i, { user = true } = {}) {
     warn.textContent = `⚠ ${w}`;
     detail.append(warn);
   }
+  // Why a reading cannot be done here, and the nearest one that can (docs/protocol.md "Repairs").
+  const why = state.query.answer.repair?.unrealizable?.find((u) => u.rank === c.rank);
+  if (why) {
+    const p = document.createElement('p');
+    p.dataset.testid = 'candidate-why';
+    const step = document.createElement('code');
+    step.textContent = why.step;
+    p.append('Cannot be done here: ', step, ` fails at [${why.at.join(',')}]: ${why.why}.`);
+    if (why.variant) {
+      const v = document.createElement('code');
+      v.textContent = why.variant.formula;
+      p.append(' Nearest that works: ', v, ` (${why.variant.edit}).`);
+    } else {
+      p.append(` No variant found (${why.tried} tried).`);
+    }
+    detail.append(p);
+  }
   $('accept').disabled = Boolean(c.error);
   state.cancelAnimation?.();
   state.animating = true;

@@ -43,6 +43,29 @@ void write_repair(kernel::JsonWriter& a, const Repair& r) {
   a.end_object();
 }
 
+// {"unrealizable":[{"rank","step","at","why","variant","tried"[,"limited"]}]}.
+void write_unrealizable(kernel::JsonWriter& a, const std::vector<ExplainedCandidate>& cs,
+                        int dims) {
+  a.begin_object().key("unrealizable").begin_array();
+  for (const auto& [rank, u] : cs) {
+    a.begin_object().key("rank").unsigned_integer(rank);
+    a.key("step").string(sdk::render(u.step)).key("at").begin_array();
+    a.integer(u.at.x).integer(u.at.y);
+    if (dims == 3) a.integer(u.at.z);
+    a.end_array().key("why").string(u.why).key("variant");
+    if (u.variant) {
+      a.begin_object().key("formula").string(sdk::render(u.variant->program));
+      a.key("edit").string(u.variant->edit).key("edits").integer(u.variant->edits).end_object();
+    } else {
+      a.null();
+    }
+    a.key("tried").unsigned_integer(u.tried);
+    if (!u.limited.empty()) a.key("limited").string(u.limited);
+    a.end_object();
+  }
+  a.end_array().end_object();
+}
+
 // The query's "repair" field: true asks for one; false, null and absent do not.
 bool wants_repair(const kernel::Json& req) {
   const auto it = req.find("repair");
@@ -86,6 +109,25 @@ std::shared_ptr<const Repair> repair_query(kernel::Session& session,
   return std::make_shared<const Repair>(find_repair(in));
 }
 
+std::vector<ExplainedCandidate> explain_unrealizable(const kernel::Session& session,
+                                                     const kernel::QueryResult& result,
+                                                     std::size_t first) {
+  const kernel::LastQuery& q = *result.query;
+  const RunProgram run = [&session](const sdk::Program& p, const sdk::WorldState& w) {
+    return session.executor().run(p, w, session.request_stop());
+  };
+  std::vector<ExplainedCandidate> out;
+  for (std::size_t i = 0; i < q.shown.size() && i < first; ++i) {
+    const kernel::ShownCandidate& sc = q.shown[i];
+    // Only what this world decides: not a budget, a deadline or a refused plugin.
+    if (sc.outcome.realizable && !sc.outcome.error) continue;
+    if (sc.outcome.error && sc.outcome.error_code != sdk::codes::kExecution) continue;
+    out.push_back({sc.index, explain_unrealizable(q.parse.candidates[sc.index].program, q.world,
+                                                  sc.outcome, run)});
+  }
+  return out;
+}
+
 void RepairExtension::attach(kernel::Session& session) {
   // The field is checked before the query runs: a bad one changes nothing.
   if (const kernel::Session::OpHandler* query = session.find_op("query"))
@@ -96,8 +138,14 @@ void RepairExtension::attach(kernel::Session& session) {
     });
   session.on<kernel::QueryWriting>([](const kernel::QueryWriting& e) {
     if (!wants_repair(e.request)) return;
-    if (auto repair = repair_query(e.session, e.result))
+    if (auto repair = repair_query(e.session, e.result)) {
       write_repair(e.answer.key("repair"), *repair);
+      return;
+    }
+    const auto explained = explain_unrealizable(e.session, e.result);
+    if (explained.empty()) return;  // every candidate is realizable: the answer is unchanged
+    const auto& geometry = e.result.query->world.geometry;
+    write_unrealizable(e.answer.key("repair"), explained, geometry ? geometry->dims() : 2);
   });
 }
 

@@ -68,6 +68,17 @@ TEST_CASE("repl: a sentence it does not understand gets its repair", "[repl][loo
              Catch::Contains("Teach it: `:define`, then the steps: \"move up\" \"move left\"."));
 }
 
+TEST_CASE("repl: a reading that cannot be done here says why and what can",
+          "[repl][loop][repair]") {
+  auto s = flipper::testsupport::bare_session();
+  const std::string out = run_script(*s, "pick item is red\n");
+  CHECK_THAT(out, Catch::Contains(
+                      "      Cannot be done here: {pick item {is red}} fails at [2,4]: no red item "
+                      "at [2,4], where the robot is; one lies in room2, room3, room5. Nearest "
+                      "that works: {{visit {world containing item {is red}}};{pick item {is "
+                      "red}}} (visit 'world containing item {is red}' first).\n"));
+}
+
 TEST_CASE("repl: :floor in a 2-D world says the world is flat", "[repl][loop]") {
   auto s = flipper::testsupport::bare_session();
   const std::string out = run_script(*s, ":floor 1\n");

@@ -49,6 +49,16 @@ run(async () => {
     await page.waitForFunction(() => window.flipperStudio.state.world.robot.x === 2);
     equal(await robot(page), { x: 2, y: 4, holding: [] }, 'undo restores the world before the accept');
 
+    // A reading that cannot be done here says why, and the nearest that can (docs/protocol.md
+    // "Repairs"): no red item lies at (2,4), going to one first is the variant.
+    a = await query(page, 'pick item is red');
+    equal(a.repair?.unrealizable?.[0]?.variant?.edit, "visit 'world containing item {is red}' first",
+      'the answer has the nearest realizable variant');
+    await page.waitForSelector('[data-testid=candidate-why]');
+    const why = await page.textContent('[data-testid=candidate-why]');
+    check(why.includes('no red item at [2,4], where the robot is') && why.includes('Nearest that works'),
+      'the reading says why it cannot be done and what can', why);
+
     // A bad utterance: unparsable, with its error and a "did you mean".
     a = await query(page, 'move lfet');
     equal(a.status, 'unparsable', '"move lfet" does not parse');

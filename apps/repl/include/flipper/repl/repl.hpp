@@ -13,6 +13,7 @@
 
 #include "flipper/kernel/session.hpp"
 #include "flipper/naturalization/repair.hpp"
+#include "flipper/naturalization/unrealizable.hpp"
 
 namespace flipper::repl {
 
@@ -54,6 +55,10 @@ std::string repair_lines(const naturalization::Repair& repair);
 /// The same on one line for an error message: "; nearest understood: 'move up' (drop 'x');
 /// understood: ...; not understood: ..." ("" for an empty repair).
 std::string repair_summary(const naturalization::Repair& repair);
+/// An unrealizable reading explained (docs/naturalization.md §7) on one line: "Cannot be done
+/// here: STEP fails at [x,y]: WHY. Nearest that works: FORMULA (EDIT)." or "No variant found
+/// (N tried)."
+std::string unrealizable_line(const naturalization::Unrealizable& u, int dims);
 
 /// One row of the language guide's example table (docs/language.md).
 struct GuideExample {

@@ -6,12 +6,15 @@
 /// (repair.hpp), and writes the "repair" member of a query answer that asked for it. Front ends
 /// that call the typed service ask repair_query() after Session::query.
 
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "flipper/kernel/session.hpp"
 #include "flipper/naturalization/repair.hpp"
+#include "flipper/naturalization/unrealizable.hpp"
 
 namespace flipper::naturalization {
 
@@ -33,8 +36,23 @@ std::vector<std::string> vocabulary(const kernel::Session& session);
 std::shared_ptr<const Repair> repair_query(kernel::Session& session,
                                            const kernel::QueryResult& result);
 
+/// An unrealizable candidate of an answered query, explained (unrealizable.hpp).
+struct ExplainedCandidate {
+  std::size_t rank = 0;  ///< its rank in the answer
+  Unrealizable explanation;
+};
+
+/// Every shown candidate of `result` (the first `first` of them) that is not realizable in the
+/// query's world (not run out of a budget, not refused from a plugin), explained with the
+/// session's executor, the query's world and the call's limits (deadline_exceeded is thrown).
+/// Call it right after the query.
+std::vector<ExplainedCandidate> explain_unrealizable(const kernel::Session& session,
+                                                     const kernel::QueryResult& result,
+                                                     std::size_t first = SIZE_MAX);
+
 /// The protocol side: a query op with `"repair": true` (false and null: none; anything else:
-/// bad_request before the query runs) gets the member "repair" when nothing parsed.
+/// bad_request before the query runs) gets the member "repair" when nothing parsed, or when some
+/// shown candidate is unrealizable (`{"unrealizable": [...]}`).
 class RepairExtension final : public kernel::SessionExtension {
  public:
   void attach(kernel::Session& session) override;
