@@ -1,7 +1,8 @@
 // A real network, on one machine (docs/ros2.md, "Across a network"): two hosts, network
 // namespaces joined by a veth pair (veth_hosts.sh makes them and runs this test on host A), each
 // with its own address, DDS Security on, discovery through the unicast peers only (multicast is
-// off in the Cyclone configuration and on both ends of the pair). A phrase defined at site lab1
+// off in the Cyclone configuration and on both ends of the pair), both hosts behind the firewall
+// the document gives (nft, when installed). A phrase defined at site lab1
 // on host A is used at site lab2 on host B; a robot's plan made on host B reaches an operator on
 // host A; every `flipper dds` exits within its stated bound on SIGTERM there too. The
 // replication time across the pair (define answered at lab1 -> the rule parses at lab2) is
@@ -75,6 +76,31 @@ std::vector<std::string> network(const Host& self) {
 std::string host_b_pid() {
   const char* pid = std::getenv("FLIPPER_VETH_HOST_B");
   return pid == nullptr ? "" : pid;
+}
+
+// The firewall of docs/ros2.md ("Across a network"), those very nft commands, on `self` for
+// `domain`'s ports with MaxAutoParticipantIndex 20 (7410 + 250 d to 7451 + 250 d): the peers'
+// discovery and data reach them through `self`'s interface, everything else to them is dropped.
+// False with nft's message when nft is not installed or refuses.
+bool firewall(const Host& self, int domain, std::string* out) {
+  const int low = 7400 + 250 * domain + 10, high = low + 41;
+  const std::string ports = std::to_string(low) + "-" + std::to_string(high);
+  const std::string script =
+      std::string("exec 2>&1\nset -e\n") +
+      "nft add table inet flipper_dds\n"
+      "nft add chain inet flipper_dds input '{ type filter hook input priority 0; policy accept; "
+      "}'\n"
+      "nft add rule inet flipper_dds input iifname lo accept\n"
+      "nft add rule inet flipper_dds input iifname " +
+      self.interface + " ip saddr '{ " + kHostA.address + ", " + kHostB.address + " }' udp dport " +
+      ports + " accept\n" + "nft add rule inet flipper_dds input udp dport " + ports + " drop\n";
+  std::vector<std::string> args = {"/bin/sh", "-c", script};
+  if (std::string_view(self.interface) == kHostB.interface)
+    args.insert(args.begin(),
+                {std::getenv("FLIPPER_VETH_NSENTER"), "-t", host_b_pid(), "-n", "--"});
+  testsupport::ChildProcess p(args);
+  *out = p.read_all();
+  return p.finish() == 0;
 }
 
 // `flipper dds ARGS...` on host A, or on host B through nsenter; stderr into `log`.
@@ -239,6 +265,19 @@ TEST_CASE("two hosts on a veth pair: a phrase defined on one is used on the othe
     args.insert(args.end(), add.begin(), add.end());
     REQUIRE(security_command(args).status == 0);
   }
+  // Both hosts behind the documented firewall (when nft is there: scripts/packages-test.txt).
+  if (run_command({"/bin/sh", "-c", "command -v nft"}).status == 0) {
+    for (const Host& host : {kHostA, kHostB}) {
+      std::string out;
+      const bool set = firewall(host, domain, &out);
+      INFO(out);
+      REQUIRE(set);
+    }
+  } else {
+    std::cout << "test_dds_veth: nft is not installed: the hosts run without the firewall of "
+                 "docs/ros2.md"
+              << std::endl;
+  }
   const auto common = [&](const std::string& name) {
     return std::vector<std::string>{"--set", "dds.domain=" + std::to_string(domain),
                                     "--set", "dds.namespace=" + name,
@@ -318,7 +357,8 @@ TEST_CASE("two hosts on a veth pair: a phrase defined on one is used on the othe
   const int words = asked != nullptr ? std::clamp(std::atoi(asked), 1, 500) : 7;
   const std::array<const char*, 4> bodies = {"move left", "move right", "move up", "move down"};
   for (int i = 0; i < words; ++i) {
-    const std::string word = "veth " + made_up_word(i), body = bodies[i % bodies.size()];
+    const std::string word = "veth " + made_up_word(i),
+                      body = bodies.at(static_cast<std::size_t>(i) % bodies.size());
     times.push_back(replicate(word, body, word, "{" + body + "}"));
   }
   // For scale: a query's round trip across the pair (operator on A -> lab2 on B -> back).
