@@ -309,7 +309,9 @@ TEST_CASE("two hosts on a veth pair: a phrase defined on one is used on the othe
     // Two hosts indeed: host B's nodes in another network namespace than this test's, lab1 in
     // this test's (host A's).
     const bool on_a = std::string_view(host.interface) == kHostA.interface;
-    CHECK((net_namespace(node->pid) == net_namespace(::getpid())) == on_a);
+    const std::string ns = net_namespace(node->pid);
+    CHECK(ns.rfind("net:[", 0) == 0);
+    CHECK((ns == net_namespace(::getpid())) == on_a);
   }
 
   // The operator, on host A: requests to the three namespaces, robot1's plans.
