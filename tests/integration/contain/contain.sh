@@ -136,9 +136,10 @@ before=$(readlink "$tmp/bench1/latest")
 "$flipper" bench planners --experiment "$tmp/bench.yaml" --out "$tmp/bench1" --jobs 1 --no-plots \
   >/dev/null 2>&1 &
 pid=$!
-# Wait (bounded) for its run folder, then kill it while its hanging cell runs.
+# Wait (bounded) for its run folder's first manifest (status running: the folder alone may come
+# before it, and a run killed in between has no manifest to list), then kill it while it runs.
 for _ in $(seq 1 300); do
-  [[ $(find "$tmp/bench1" -mindepth 1 -maxdepth 1 -type d | wc -l) -ge 2 ]] && break
+  [[ $(find "$tmp/bench1" -mindepth 2 -maxdepth 2 -name manifest.json | wc -l) -ge 2 ]] && break
   sleep 0.1
 done
 kill -KILL "$pid"
