@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 
+#include "dds_session_ends.hpp"
 #include "dds_test_support.hpp"
 #include "flipper/dds/names.hpp"
 #include "flipper/dds/plan_publisher.hpp"
@@ -24,24 +25,12 @@ namespace {
 struct Client {
   dds_entity_t writer = 0, reader = 0;
   explicit Client(dds::Participant& p, const std::string& ns = {}) {
-    dds::Qos qos;
-    dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(10));
-    dds_qset_history(qos.q, DDS_HISTORY_KEEP_ALL, DDS_LENGTH_UNLIMITED);
-    writer = dds_create_writer(
-        p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, dds::node_topic(ns, "request")),
-        qos.q, nullptr);
-    reader = dds_create_reader(
-        p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, dds::node_topic(ns, "answer")),
-        qos.q, nullptr);
-    REQUIRE(writer > 0);
-    REQUIRE(reader > 0);
+    const SessionEnds ends = session_ends(p, ns);
+    writer = ends.writer;
+    reader = ends.reader;
   }
   void send(const std::string& session, std::uint64_t id, const std::string& line) {
-    flipper_msg_dds__SessionLine_ s{};
-    s.session_ = const_cast<char*>(session.c_str());
-    s.request_id_ = id;
-    s.line_ = const_cast<char*>(line.c_str());
-    REQUIRE(dds_write(writer, &s) == DDS_RETCODE_OK);
+    send_line(writer, session, id, line);
   }
   /// Answers received so far, by request id (session checked), and how many came per id.
   std::map<std::uint64_t, std::pair<std::string, std::string>> answers;

@@ -24,6 +24,7 @@
 #include <iostream>
 #include <string_view>
 
+#include "dds_session_ends.hpp"
 #include "dds_test_support.hpp"
 #include "flipper/dds/keystore.hpp"
 #include "flipper/dds/names.hpp"
@@ -160,17 +161,9 @@ struct Client {
   dds_entity_t writer = 0, reader = 0, waitset = 0;
   std::uint64_t next_id = 1;
   Client(dds::Participant& p, const std::string& ns) {
-    dds::Qos qos;
-    dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(10));
-    dds_qset_history(qos.q, DDS_HISTORY_KEEP_ALL, DDS_LENGTH_UNLIMITED);
-    writer = dds_create_writer(
-        p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, dds::node_topic(ns, "request")),
-        qos.q, nullptr);
-    reader = dds_create_reader(
-        p.handle(), p.topic(&flipper_msg_dds__SessionLine__desc, dds::node_topic(ns, "answer")),
-        qos.q, nullptr);
-    REQUIRE(writer > 0);
-    REQUIRE(reader > 0);
+    const SessionEnds ends = session_ends(p, ns);
+    writer = ends.writer;
+    reader = ends.reader;
     waitset = dds_create_waitset(p.handle());
     REQUIRE(waitset > 0);
     REQUIRE(dds_waitset_attach(waitset, dds_create_readcondition(reader, DDS_ANY_STATE), 0) == 0);
@@ -189,11 +182,7 @@ struct Client {
   json call(const json& request) {
     const std::uint64_t id = next_id++;
     const std::string line = request.dump();
-    flipper_msg_dds__SessionLine_ s{};
-    s.session_ = const_cast<char*>("veth");
-    s.request_id_ = id;
-    s.line_ = const_cast<char*>(line.c_str());
-    REQUIRE(dds_write(writer, &s) == DDS_RETCODE_OK);
+    send_line(writer, "veth", id, line);
     // Woken by the answer's arrival (a waitset), not by polling, so round trips are measured as
     // they are.
     json answer;
