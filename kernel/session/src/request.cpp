@@ -55,18 +55,6 @@ std::int64_t require_int(const Json& req, const char* field, const char* what,
   wrong_type(field, "an integer", what);
 }
 
-std::vector<std::string> require_string_list(const Json& req, const char* field, const char* what) {
-  const Json& v = require(req, field, what);
-  if (!v.is_array()) wrong_type(field, "a list of strings", what);
-  std::vector<std::string> out;
-  out.reserve(v.size());
-  for (const auto& e : v) {
-    if (!e.is_string()) wrong_type(field, "a list of strings", what);
-    out.push_back(e.get<std::string>());
-  }
-  return out;
-}
-
 std::optional<std::string> optional_string(const Json& req, const char* field, const char* what) {
   auto it = req.find(field);
   if (it == req.end() || it->is_null()) return std::nullopt;

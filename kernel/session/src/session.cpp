@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/protocol.hpp"
@@ -235,7 +236,19 @@ std::string Session::handle_line(std::string_view line) {
                             std::to_string(limit) + " levels");
     Json request;
     try {
-      request = Json::parse(line);
+      // A world object is read by its plugin from the line's text (op_world): the tree keeps it
+      // empty, so its walls and items are not built into nodes only to be freed.
+      bool world_key = false, in_world = false;
+      request = Json::parse(line, [&](int depth, Json::parse_event_t event, const Json& parsed) {
+        if (depth != 1) return depth < 2 || !in_world;
+        if (event == Json::parse_event_t::key)
+          world_key = parsed == "world";
+        else if (event == Json::parse_event_t::object_start)
+          in_world = std::exchange(world_key, false);
+        else
+          in_world = world_key = false;
+        return true;
+      });
     } catch (const Json::exception& e) {
       // Syntax errors and numbers beyond double range (1e999); nlohmann's message carries the
       // byte position and may quote bytes that are not UTF-8 (the writer replaces them).

@@ -20,7 +20,6 @@ std::string require_string(const Json& req, const char* field, const char* what)
 /// refused with `out_of_range_code` (default bad_request), never wrapped or saturated.
 std::int64_t require_int(const Json& req, const char* field, const char* what,
                          const char* out_of_range_code = nullptr);
-std::vector<std::string> require_string_list(const Json& req, const char* field, const char* what);
 std::optional<std::string> optional_string(const Json& req, const char* field, const char* what);
 std::optional<std::int64_t> optional_int(const Json& req, const char* field, const char* what,
                                          const char* out_of_range_code = nullptr);
