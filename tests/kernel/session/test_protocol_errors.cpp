@@ -246,3 +246,35 @@ TEST_CASE("the op table takes new ops and wraps existing ones", "[session][proto
   CHECK(calls == 1);
   CHECK(s->user() == "ana");
 }
+
+TEST_CASE(
+    "a world op's request tree keeps the world object empty and its world comes from the line",
+    "[session][protocol]") {
+  // handle_line keeps a top-level world object empty in the tree (its plugin reads the line's
+  // text), so an op wrapping `world` still sees that a world object was sent; the last of two
+  // "world" members decides, as in the tree.
+  auto s = flipper::testsupport::bare_session();
+  auto inner = *s->find_op("world");
+  std::vector<std::string> seen;
+  s->set_op("world", [inner, &seen](flipper::kernel::Session& ss, const Json& r,
+                                    flipper::kernel::JsonWriter& a) {
+    seen.push_back(r.contains("world") ? r["world"].dump() : "absent");
+    inner(ss, r, a);
+  });
+  const std::string world =
+      R"({"bounds":{"max":[3,3],"min":[-1,-1]},"items":[{"color":"red","shape":"circle","x":1,)"
+      R"("y":2}],"robot":{"x":0,"y":0,"items":[]},"walls":[[2,2]]})";
+  Json a = ask(*s, R"({"op":"world","world":)" + world + R"(,"id":{"n":[1,{"m":2}]}})");
+  REQUIRE(a["ok"] == true);
+  CHECK(a["id"] == Json::parse(R"({"n":[1,{"m":2}]})"));  // other objects stay whole
+  CHECK(a["world"]["items"] ==
+        Json::parse(R"([{"color":"red","id":0,"shape":"circle","x":1,"y":2}])"));
+  CHECK(a["world"]["walls"] == Json::parse("[[2,2]]"));
+  CHECK(ask(*s, R"({"op":"world","world":{"x":1},"world":)" + world + "}")["ok"] == true);
+  Json last_null = ask(*s, R"({"op":"world","world":)" + world + R"(,"world":null})");
+  CHECK(error_code(last_null) == "missing_field");  // no world object, no file
+  Json nested =
+      ask(*s, R"({"op":"world","world":{"bounds":{"max":[1,1],"min":[0,0]},"a":{"b":}}})");
+  CHECK(error_code(nested) == "bad_json");  // the left-out object's syntax is still checked
+  CHECK(seen == std::vector<std::string>{"{}", "{}", "null"});
+}
