@@ -132,22 +132,36 @@ LexiconReplicator::~LexiconReplicator() {
 }
 
 void LexiconReplicator::recover() {
+  // Decisions made while this site was down: approved definitions are claimed before the loop
+  // below could take them for definitions made here before replication.
+  check_moderation();
   auto& store = host_.naturalizer->store();
   std::set<std::int64_t> claimed;
   for (const auto& [key, row] : log_db_->rows())
     if (row.definition != 0) claimed.insert(row.definition);
   const auto definitions = store.definitions();
-  const auto rules_of = [&](std::int64_t definition) {
-    std::vector<std::string> ids;
-    for (const auto& r : store.rules(true))
-      if (r.definition == definition) ids.push_back(r.id);
-    return ids;
-  };
-  // Killed between the store's commit and the log's: the definition is there, unclaimed.
+  std::set<std::string> followed;
+  for (const auto& [id, h] : log_db_->held()) followed.insert(id);
+  const auto held = store.held();
+  // Killed between the store's commit and the log's: the definition is there, unclaimed (or
+  // held for this site's moderator, unfollowed).
   std::vector<LogRow> redo;
   for (const auto& [key, row] : log_db_->rows()) {
     if (row.status != "applying") continue;
     LogRow fixed = row;
+    for (const auto& h : held)
+      if (!followed.count(h.id) && h.definition.via == "replicate" &&
+          h.definition.head == row.event.head && h.definition.body == row.event.body &&
+          h.definition.author == row.event.author) {
+        fixed.status = "held";
+        log_db_->put_held({h.id, row.event, false});
+        followed.insert(h.id);
+        break;
+      }
+    if (fixed.status == "held") {
+      log_db_->put(fixed);
+      continue;
+    }
     for (const auto& d : definitions)
       if (!claimed.count(d.id) && d.head == row.event.head && d.body == row.event.body &&
           d.author == row.event.author) {
@@ -182,6 +196,13 @@ void LexiconReplicator::recover() {
     log_db_->put(row);
   }
   retry_pending();
+}
+
+std::vector<std::string> LexiconReplicator::rules_of(std::int64_t definition) const {
+  std::vector<std::string> ids;
+  for (const auto& r : host_.naturalizer->store().rules(true))
+    if (r.definition == definition) ids.push_back(r.id);
+  return ids;
 }
 
 LexiconEvent LexiconReplicator::next_local_event(const std::string& kind) const {
@@ -254,6 +275,15 @@ void LexiconReplicator::loop() {
     dds_attach_t triggered = 0;
     if (dds_waitset_wait(waitset_, &triggered, 1, DDS_MSECS(100)) < 0) return;
     take_available();
+    while (sessions_waiting_.load() > 0) std::this_thread::yield();
+    std::lock_guard lock(mutex_);
+    if (log_db_->held().empty()) continue;
+    try {
+      check_moderation();
+    } catch (const std::exception& ex) {
+      log_ << "flipper: lexicon replication: following the moderation queue: " << ex.what()
+           << std::endl;
+    }
   }
 }
 
@@ -322,7 +352,8 @@ bool LexiconReplicator::apply(LogRow row) {
 bool LexiconReplicator::dominated(const LexiconEvent& e) const {
   for (const auto& [key, other] : log_db_->rows())
     if (other.event.kind == "define" && other.event.head == e.head && other.event.site != e.site &&
-        other.status != "refused" && other.event.wins_over(e))
+        other.status != "refused" && other.status != "held" && other.status != "rejected" &&
+        other.event.wins_over(e))
       return true;
   return false;
 }
@@ -358,6 +389,15 @@ bool LexiconReplicator::apply_define(LogRow& row) {
   }
   try {
     const naturalization::DefineOutcome out = host_.naturalizer->define(req);
+    if (!out.held.empty()) {  // lexicon.moderation = hold_new: for this site's researcher
+      row.status = "held";
+      log_db_->put(row);
+      log_db_->put_held({out.held, row.event, false});
+      log_ << "flipper: lexicon replication: " << row.event.identity() << " ('" << row.event.head
+           << "' by " << row.event.author << ") held for this site's moderator as " << out.held
+           << std::endl;
+      return true;
+    }
     row.definition = out.definition;
     row.local_rules.clear();
     for (const auto& r : out.rules) row.local_rules.push_back(r->id);
@@ -387,7 +427,9 @@ bool LexiconReplicator::apply_delete(LogRow& row) {
     return true;
   }
   const LogRow* target = log_db_->find({e.target_site, e.target_version});
-  if (target == nullptr || target->status == "pending" || target->status == "applying")
+  // A held target waits for this site's moderator: approved, its rules go; rejected, none serve.
+  if (target == nullptr || target->status == "pending" || target->status == "applying" ||
+      target->status == "held")
     return false;
   for (const auto& id : target->local_rules) {
     auto rule = host_.naturalizer->find_rule(id);
@@ -461,9 +503,14 @@ void LexiconReplicator::attach(kernel::Session& session) {
     session.set_op(name, std::move(wrapped));
   }
   session.on<naturalization::RulesDefined>([weak](const naturalization::RulesDefined& e) {
-    // A dry run, a preview or a held definition (lexicon.moderation) stored nothing to share.
-    if (!e.outcome.stored) return;
-    if (auto self = weak.lock()) self->defined(e);
+    // A dry run or a preview stored nothing to share; a held definition (lexicon.moderation) is
+    // followed until its researcher decides, and published only when approved.
+    auto self = weak.lock();
+    if (!self) return;
+    if (e.outcome.stored)
+      self->defined(e);
+    else if (!e.outcome.held.empty())
+      self->held_here(e);
   });
 }
 
@@ -490,6 +537,91 @@ void LexiconReplicator::defined(const naturalization::RulesDefined& e) {
   // saw it, so it is later and wins; the other site's rules go here too, as they do elsewhere.
   settle(row.event.head);
   publish(row.event);
+}
+
+void LexiconReplicator::held_here(const naturalization::RulesDefined& e) {
+  const auto lock = session_lock();
+  HeldRow row;
+  row.held = e.outcome.held;
+  row.own = true;
+  row.event.site = site_;
+  row.event.kind = "define";
+  row.event.author = e.session.user();
+  row.event.head = e.call.head;
+  row.event.body = e.call.body;
+  row.event.ranks = e.call.ranks;
+  row.event.world = e.session.world_json(e.session.world()).dump();
+  log_db_->put_held(row);
+}
+
+void LexiconReplicator::check_moderation() {
+  if (log_db_->held().empty()) return;
+  auto& store = host_.naturalizer->store();
+  std::set<std::string> still;
+  for (const auto& h : store.held()) still.insert(h.id);
+  std::vector<HeldRow> decided;
+  for (const auto& [id, row] : log_db_->held())
+    if (!still.count(id)) decided.push_back(row);
+  if (decided.empty()) return;
+  host_.naturalizer->refresh();  // the approved rules, whichever process approved them
+  const auto history = store.history();
+  for (const auto& h : decided) {
+    // The store's history says what happened to it: `approve` (then the definition's own
+    // entries) or `reject`, each with the held id in its note (lexicon/moderation.cpp).
+    const naturalization::HistoryEntry* approval = nullptr;
+    std::int64_t definition = 0;
+    for (const auto& entry : history) {
+      if (approval == nullptr && entry.action == naturalization::history_action::kApprove &&
+          entry.note == h.held)
+        approval = &entry;
+      else if (approval != nullptr && entry.seq > approval->seq && entry.definition != 0 &&
+               entry.head == h.event.head) {
+        definition = entry.definition;
+        break;
+      }
+    }
+    LogRow* origin = nullptr;
+    LogRow row;
+    if (!h.own) {
+      if (const LogRow* r = log_db_->find({h.event.site, h.event.version})) row = *r;
+      origin = &row;
+    }
+    if (definition == 0) {  // rejected: nothing serves here, nothing is published
+      if (origin != nullptr) {
+        row.status = "rejected";
+        log_db_->put(row);
+      }
+      log_db_->drop_held(h.held);
+      log_ << "flipper: lexicon replication: held " << h.held << " ('" << h.event.head
+           << "') rejected here" << (h.own ? "; not published" : "") << std::endl;
+      continue;
+    }
+    if (origin == nullptr) {  // this site's own: published now, as a definition made now
+      LexiconEvent e = next_local_event("define");
+      row.event = h.event;
+      row.event.version = e.version;
+      row.event.lamport = e.lamport;
+      row.event.time = e.time;
+    }
+    row.definition = definition;
+    row.local_rules = rules_of(definition);
+    if (origin == nullptr)
+      for (const auto& id : row.local_rules)
+        if (auto rule = host_.naturalizer->find_rule(id))
+          row.event.rules.push_back(rule_description(*rule));
+    row.status = "applied";
+    if (origin == nullptr && signer_) signer_->sign(row.event);
+    log_db_->put(row);
+    log_db_->drop_held(h.held);
+    log_ << "flipper: lexicon replication: held " << h.held << " ('" << h.event.head << "' by "
+         << h.event.author << ") approved by " << approval->author << "; "
+         << (origin == nullptr ? "published as " + row.event.identity()
+                               : "serves here (" + row.event.identity() + ")")
+         << std::endl;
+    settle(row.event.head);
+    if (origin == nullptr) publish(row.event);
+  }
+  retry_pending();
 }
 
 void LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
