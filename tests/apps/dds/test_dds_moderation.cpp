@@ -232,3 +232,57 @@ TEST_CASE("a deletion of a definition still held waits for the moderator's decis
   for (Site* s : {&a, &b}) CHECK(s->child->finish() == 0);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("decisions made while a site was down are followed when it starts again",
+          "[dds][moderation]") {
+  const auto dir = scratch_dir("moderation-restart");
+  const int kDomain = test_domain();
+  Site a("a", dir, kDomain), b("b", dir, kDomain, kHoldNew);
+  auto participant = test_participant(kDomain);
+  SeenEvents seen(*participant);
+  for (Site* s : {&a, &b}) s->call({{"op", "user"}, {"name", "ana"}});
+  REQUIRE(define(a, "go home", "visit room1")["ok"] == true);
+  REQUIRE(wait_until([&] { return pending(b).size() == 1; }));
+  REQUIRE(define(b, "go away", "visit room2")["held"] == "h2");
+  CHECK(b.child->finish() == 0);
+
+  // bob approves both while b is down.
+  REQUIRE(lexicon(b, {"approve", "h1", "--user", "bob"}).status == 0);
+  REQUIRE(lexicon(b, {"approve", "h2", "--user", "bob"}).status == 0);
+  b.start();
+  b.call({{"op", "user"}, {"name", "ana"}});
+  // b's own approved definition is published at start-up as b#1, with its world; a's is not
+  // published again (it is a's event): a keeps one definition of it.
+  CHECK(wait_until([&] { return a.top("go away") == "{visit room2}"; }));
+  CHECK(b.top("go home") == "{visit room1}");
+  CHECK(wait_until([&] { return !seen.heads("b").empty(); }));
+  CHECK(seen.heads("b") == std::map<std::uint64_t, std::string>{{1, "go away"}});
+  CHECK(seen.by_key[{"b", 1}].has_world);
+  CHECK(definitions_per_head(a.store) ==
+        std::map<std::string, int>{{"go home", 1}, {"go away", 1}});
+
+  for (Site* s : {&a, &b}) CHECK(s->child->finish() == 0);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("with DDS Security an approved definition is signed by its site and accepted",
+          "[dds][moderation][security]") {
+  const auto dir = scratch_dir("moderation-secured");
+  const std::string ks = (dir / "ks").string();
+  const int kDomain = test_domain();
+  REQUIRE(security_command({"init", ks}).status == 0);
+  for (const char* name : {"lab1", "lab2"})
+    REQUIRE(security_command({"add", ks, name}).status == 0);
+  std::vector<std::string> held = {"--set", "dds.security.keystore=" + ks};
+  const std::vector<std::string> secure = held;
+  held.insert(held.end(), kHoldNew.begin(), kHoldNew.end());
+  Site lab1("lab1", dir, kDomain, held), lab2("lab2", dir, kDomain, secure);
+  for (Site* s : {&lab1, &lab2}) s->call({{"op", "user"}, {"name", "ana"}});
+  REQUIRE(define(lab1, "go home", "visit room1")["held"] == "h1");
+  REQUIRE(lexicon(lab1, {"approve", "h1", "--user", "rita"}).status == 0);
+  // lab2 accepts only events signed by the site they name (event_signature.hpp).
+  CHECK(
+      wait_until([&] { return lab2.top("go home") == "{visit room1}"; }, std::chrono::seconds(60)));
+  for (Site* s : {&lab1, &lab2}) CHECK(s->child->finish() == 0);
+  std::filesystem::remove_all(dir);
+}
