@@ -179,6 +179,7 @@ TEST_CASE("a site with hold_new holds other sites' definitions for its own moder
   CHECK(held[0]["id"] == "h1");
   CHECK(held[0]["head"] == "go home");
   CHECK(held[0]["author"] == "ana");
+  CHECK(held[0]["via"] == "replicate");
   CHECK(held[1]["id"] == "h2");
   CHECK(held[1]["head"] == "wander off");
   CHECK(b.top("go home") == "");
