@@ -48,6 +48,9 @@ int show_pending(const ModerationArgs& a) {
                       {"body", h.definition.body},
                       {"study", h.definition.study},
                       {"rules", rules}});
+      // Made at another site and held here for this site's researcher (docs/ros2.md
+      // "Moderation across sites").
+      if (!h.definition.via.empty()) list.back()["via"] = h.definition.via;
     }
     std::cout << json{{"store", store->path()}, {"pending", list}}.dump(2) << "\n";
     return kExitOk;
@@ -58,6 +61,7 @@ int show_pending(const ModerationArgs& a) {
     std::cout << h.id << " " << h.definition.author << " '" << h.definition.head << "' := '" << body
               << "'";
     if (!h.definition.study.empty()) std::cout << " study=" << h.definition.study;
+    if (!h.definition.via.empty()) std::cout << " via=" << h.definition.via;
     std::cout << "\n";
     for (const auto& r : h.rules) std::cout << "   " << rule_text(r) << "\n";
   }

@@ -2,10 +2,13 @@
 // Runs one program on the default world (or W): canonical text is read directly; anything else
 // goes through a session's parser — with the lexicon's rules visible to U (lexicon.sharing) —
 // and the top candidate is taken, saying so when there were several. Prints the interpretation,
-// the trace, the warnings and the final world (or one JSON object with --json).
+// the trace, the warnings and the final world (or one JSON object with --json). A sentence nothing
+// parsed, and a program that cannot be done in this world, get their repair (docs/usage.md "run",
+// docs/protocol.md "Repairs"): the repl's lines, or the protocol's "repair" member with --json.
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -38,8 +41,10 @@ struct RunOptions {
 
 struct Reading {
   sdk::Program program;
-  std::size_t readings = 1;  ///< how many the parser found (1 for canonical text)
-  double prob = 1.0;         ///< the chosen one's share
+  std::size_t readings = 1;    ///< how many the parser found (1 for canonical text)
+  double prob = 1.0;           ///< the chosen one's share
+  std::string not_understood;  ///< why nothing parsed ("": understood)
+  std::shared_ptr<const naturalization::Repair> repair;  ///< how to repair that (may be null)
 };
 
 // Canonical text first (deterministic); otherwise the session parser's best candidate, which
@@ -47,28 +52,69 @@ struct Reading {
 Reading interpret(kernel::Session& session, const std::string& text) {
   session.check_length(text);  // as a query counts it (code points), also for canonical text
   try {
-    return {sdk::read_canonical(text)};
+    Reading canonical;
+    canonical.program = sdk::read_canonical(text);
+    return canonical;
   } catch (const sdk::Error&) {
   }
   kernel::QueryRequest request;
   request.text = text;
   request.k = 1;
   const kernel::QueryResult result = session.query(request);  // the session's checks and codes
-  // A failure says how to repair it (docs/protocol.md "Repairs").
-  const auto repair = naturalization::repair_query(session, result);
   if (result.query->shown.empty()) {
+    Reading failed;
+    // A failure says how to repair it (docs/protocol.md "Repairs").
+    failed.repair = naturalization::repair_query(session, result);
     const std::string note = repl::unknown_words_note(session, text);
-    throw sdk::Error(sdk::codes::kBadProgram,
-                     "cannot understand '" + text +
-                         "': it is neither canonical text nor core language, nor a phrase of the "
-                         "lexicon visible to this user" +
-                         (note.empty() ? "" : ". " + note.substr(0, note.size() - 1)) +
-                         (repair ? repl::repair_summary(*repair) : "") +
-                         " (teach a phrase in `flipper repl`)");
+    failed.not_understood =
+        "cannot understand '" + text +
+        "': it is neither canonical text nor core language, nor a phrase of the lexicon visible "
+        "to this user" +
+        (note.empty() ? "" : ". " + note.substr(0, note.size() - 1)) +
+        (failed.repair ? repl::repair_summary(*failed.repair) : "") +
+        " (teach a phrase in `flipper repl`)";
+    return failed;
   }
   const kernel::LastQuery& q = *result.query;
   const kernel::ShownCandidate& top = q.shown.front();
-  return {q.parse.candidates[top.index].program, result.total(), q.probs[top.index]};
+  Reading parsed;
+  parsed.program = q.parse.candidates[top.index].program;
+  parsed.readings = result.total();
+  parsed.prob = q.probs[top.index];
+  return parsed;
+}
+
+// A failure with its repair (docs/usage.md "run"): with --json one object, the protocol's
+// "repair" member next to "error"; otherwise the error line and the repair's lines on stderr.
+int fail_with_repair(const std::string& code, const std::string& message, int exit_code,
+                     const nlohmann::json& repair, const std::string& lines) {
+  if (!json_output()) {
+    report_error("run", code, message, exit_code);
+    std::cerr << lines << std::flush;
+    return exit_code;
+  }
+  const nlohmann::json out{{"ok", false},
+                           {"command", "run"},
+                           {"error", {{"code", code}, {"message", message}}},
+                           {"repair", repair}};
+  std::cout << out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n"
+            << std::flush;
+  return exit_code;
+}
+
+// Why the program cannot be done in this world, and its nearest realizable variant
+// (docs/naturalization.md §7), when the world decides it: not realizable, or an execution error
+// (an unknown room); not a budget, a deadline or a refused plugin.
+std::optional<naturalization::Unrealizable> explain(kernel::Session& session,
+                                                    const sdk::Program& program,
+                                                    const sdk::WorldState& world,
+                                                    const sdk::Outcome& o) {
+  if (o.realizable && !o.error) return std::nullopt;
+  if (o.error && o.error_code != sdk::codes::kExecution) return std::nullopt;
+  return naturalization::explain_unrealizable(
+      program, world, o, [&session](const sdk::Program& p, const sdk::WorldState& w) {
+        return session.executor().run(p, w);  // the session's limits, as the run itself
+      });
 }
 
 const char* act_name(sdk::TraceStep::Act a) {
@@ -156,6 +202,14 @@ int run(const RunOptions& opts) {
   } catch (const sdk::Error& e) {
     return fail(e.code(), e.what(), kExitFailed, sdk::stop_cause_of(e));
   }
+  if (!reading.not_understood.empty()) {
+    if (!reading.repair) return fail(sdk::codes::kBadProgram, reading.not_understood, kExitFailed);
+    return fail_with_repair(
+        sdk::codes::kBadProgram, reading.not_understood, kExitFailed,
+        naturalization::repair_json(*reading.repair),
+        repl::repair_lines(*reading.repair,
+                           "Teach it in `flipper repl`: `:define`, then the steps:"));
+  }
   const sdk::Program& program = reading.program;
   if (reading.readings > 1 && !opts.json)
     std::fprintf(stderr,
@@ -163,8 +217,19 @@ int run(const RunOptions& opts) {
                  "them all and lets you choose\n",
                  reading.readings, reading.prob);
   const sdk::Outcome o = session->executor().run(program, world);  // the session's limits
-  if (o.error)
-    return fail(o.error_code.value_or(sdk::codes::kExecution), *o.error, kExitFailed, o.stopped);
+  std::optional<naturalization::Unrealizable> why;
+  try {
+    why = explain(*session, program, world, o);
+  } catch (const sdk::Error& e) {
+    return fail(e.code(), e.what(), kExitFailed, sdk::stop_cause_of(e));
+  }
+  const auto repair_member = [&] { return naturalization::unrealizable_json({{0, *why}}, dims); };
+  if (o.error) {
+    const std::string code = o.error_code.value_or(sdk::codes::kExecution);
+    if (!why) return fail(code, *o.error, kExitFailed, o.stopped);
+    return fail_with_repair(code, *o.error, kExitFailed, repair_member(),
+                            repl::unrealizable_line(*why, dims) + "\n");
+  }
   if (!opts.svg_file.empty()) {
     const kernel::Json before = session->world_json(world);
     const kernel::Json trace = kernel::protocol::trace_json(o.trace, dims);
@@ -179,9 +244,11 @@ int run(const RunOptions& opts) {
     j["formula"] = sdk::render(program);
     j["world"] = session->world_json(o.world);
     j["readings"] = reading.readings;
+    if (why) j["repair"] = repair_member();
     std::cout << j.dump() << "\n";
   } else {
     print_human(program, o, dims, metre_frame(session->world_json(o.world)));
+    if (why) std::cout << repl::unrealizable_line(*why, dims) << "\n";
   }
   return kExitOk;
 }

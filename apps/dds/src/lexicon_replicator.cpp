@@ -132,22 +132,36 @@ LexiconReplicator::~LexiconReplicator() {
 }
 
 void LexiconReplicator::recover() {
+  // Decisions made while this site was down: approved definitions are claimed before the loop
+  // below could take them for definitions made here before replication.
+  check_moderation();
   auto& store = host_.naturalizer->store();
   std::set<std::int64_t> claimed;
   for (const auto& [key, row] : log_db_->rows())
     if (row.definition != 0) claimed.insert(row.definition);
   const auto definitions = store.definitions();
-  const auto rules_of = [&](std::int64_t definition) {
-    std::vector<std::string> ids;
-    for (const auto& r : store.rules(true))
-      if (r.definition == definition) ids.push_back(r.id);
-    return ids;
-  };
-  // Killed between the store's commit and the log's: the definition is there, unclaimed.
+  std::set<std::string> followed;
+  for (const auto& [id, h] : log_db_->held()) followed.insert(id);
+  const auto held = store.held();
+  // Killed between the store's commit and the log's: the definition is there, unclaimed (or
+  // held for this site's moderator, unfollowed).
   std::vector<LogRow> redo;
   for (const auto& [key, row] : log_db_->rows()) {
     if (row.status != "applying") continue;
     LogRow fixed = row;
+    for (const auto& h : held)
+      if (!followed.count(h.id) && h.definition.via == "replicate" &&
+          h.definition.head == row.event.head && h.definition.body == row.event.body &&
+          h.definition.author == row.event.author) {
+        fixed.status = "held";
+        log_db_->put_held({h.id, row.event, false});
+        followed.insert(h.id);
+        break;
+      }
+    if (fixed.status == "held") {
+      log_db_->put(fixed);
+      continue;
+    }
     for (const auto& d : definitions)
       if (!claimed.count(d.id) && d.head == row.event.head && d.body == row.event.body &&
           d.author == row.event.author) {
@@ -182,6 +196,13 @@ void LexiconReplicator::recover() {
     log_db_->put(row);
   }
   retry_pending();
+}
+
+std::vector<std::string> LexiconReplicator::rules_of(std::int64_t definition) const {
+  std::vector<std::string> ids;
+  for (const auto& r : host_.naturalizer->store().rules(true))
+    if (r.definition == definition) ids.push_back(r.id);
+  return ids;
 }
 
 LexiconEvent LexiconReplicator::next_local_event(const std::string& kind) const {
@@ -254,6 +275,15 @@ void LexiconReplicator::loop() {
     dds_attach_t triggered = 0;
     if (dds_waitset_wait(waitset_, &triggered, 1, DDS_MSECS(100)) < 0) return;
     take_available();
+    while (sessions_waiting_.load() > 0) std::this_thread::yield();
+    std::lock_guard lock(mutex_);
+    if (log_db_->held().empty()) continue;
+    try {
+      check_moderation();
+    } catch (const std::exception& ex) {
+      log_ << "flipper: lexicon replication: following the moderation queue: " << ex.what()
+           << std::endl;
+    }
   }
 }
 
@@ -322,7 +352,8 @@ bool LexiconReplicator::apply(LogRow row) {
 bool LexiconReplicator::dominated(const LexiconEvent& e) const {
   for (const auto& [key, other] : log_db_->rows())
     if (other.event.kind == "define" && other.event.head == e.head && other.event.site != e.site &&
-        other.status != "refused" && other.event.wins_over(e))
+        other.status != "refused" && other.status != "held" && other.status != "rejected" &&
+        other.event.wins_over(e))
       return true;
   return false;
 }
@@ -358,6 +389,15 @@ bool LexiconReplicator::apply_define(LogRow& row) {
   }
   try {
     const naturalization::DefineOutcome out = host_.naturalizer->define(req);
+    if (!out.held.empty()) {  // lexicon.moderation = hold_new: for this site's researcher
+      row.status = "held";
+      log_db_->put(row);
+      log_db_->put_held({out.held, row.event, false});
+      log_ << "flipper: lexicon replication: " << row.event.identity() << " ('" << row.event.head
+           << "' by " << row.event.author << ") held for this site's moderator as " << out.held
+           << std::endl;
+      return true;
+    }
     row.definition = out.definition;
     row.local_rules.clear();
     for (const auto& r : out.rules) row.local_rules.push_back(r->id);
@@ -387,7 +427,9 @@ bool LexiconReplicator::apply_delete(LogRow& row) {
     return true;
   }
   const LogRow* target = log_db_->find({e.target_site, e.target_version});
-  if (target == nullptr || target->status == "pending" || target->status == "applying")
+  // A held target waits for this site's moderator: approved, its rules go; rejected, none serve.
+  if (target == nullptr || target->status == "pending" || target->status == "applying" ||
+      target->status == "held")
     return false;
   for (const auto& id : target->local_rules) {
     auto rule = host_.naturalizer->find_rule(id);
@@ -461,9 +503,14 @@ void LexiconReplicator::attach(kernel::Session& session) {
     session.set_op(name, std::move(wrapped));
   }
   session.on<naturalization::RulesDefined>([weak](const naturalization::RulesDefined& e) {
-    // A dry run, a preview or a held definition (lexicon.moderation) stored nothing to share.
-    if (!e.outcome.stored) return;
-    if (auto self = weak.lock()) self->defined(e);
+    // A dry run or a preview stored nothing to share; a held definition (lexicon.moderation) is
+    // followed until its researcher decides, and published only when approved.
+    auto self = weak.lock();
+    if (!self) return;
+    if (e.outcome.stored)
+      self->defined(e);
+    else if (!e.outcome.held.empty())
+      self->held_here(e);
   });
 }
 

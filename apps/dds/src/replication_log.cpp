@@ -22,6 +22,10 @@ const char* kSchema =
     " definition INTEGER NOT NULL DEFAULT 0, local_rules TEXT NOT NULL DEFAULT '[]',"
     " event TEXT NOT NULL, PRIMARY KEY(site, version))";
 
+const char* kHeldSchema =
+    "CREATE TABLE IF NOT EXISTS dds_held("
+    " held TEXT PRIMARY KEY, own INTEGER NOT NULL, event TEXT NOT NULL)";
+
 }  // namespace
 
 struct ReplicationLog::Db {
@@ -34,7 +38,8 @@ ReplicationLog::ReplicationLog(const std::string& path) : db_(std::make_unique<D
                       nullptr) != SQLITE_OK)
     fail(db_->db, "cannot open '" + path + "'");
   sqlite3_busy_timeout(db_->db, 10000);  // the store's connection writes to the same file
-  for (const char* sql : {"PRAGMA journal_mode=WAL", "PRAGMA synchronous=FULL", kSchema})
+  for (const char* sql :
+       {"PRAGMA journal_mode=WAL", "PRAGMA synchronous=FULL", kSchema, kHeldSchema})
     if (sqlite3_exec(db_->db, sql, nullptr, nullptr, nullptr) != SQLITE_OK)
       fail(db_->db, std::string("setting up (") + sql + ")");
   sqlite3_stmt* st = nullptr;
@@ -53,9 +58,48 @@ ReplicationLog::ReplicationLog(const std::string& path) : db_(std::make_unique<D
     rows_[{row.event.site, row.event.version}] = std::move(row);
   }
   sqlite3_finalize(st);
+  if (sqlite3_prepare_v2(db_->db, "SELECT held, own, event FROM dds_held", -1, &st, nullptr) !=
+      SQLITE_OK)
+    fail(db_->db, "reading the held definitions");
+  while (sqlite3_step(st) == SQLITE_ROW) {
+    HeldRow row;
+    row.held = reinterpret_cast<const char*>(sqlite3_column_text(st, 0));
+    row.own = sqlite3_column_int(st, 1) != 0;
+    row.event =
+        event_from_json(json::parse(reinterpret_cast<const char*>(sqlite3_column_text(st, 2))));
+    held_[row.held] = std::move(row);
+  }
+  sqlite3_finalize(st);
 }
 
 ReplicationLog::~ReplicationLog() = default;
+
+void ReplicationLog::put_held(const HeldRow& row) {
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_->db, "INSERT OR REPLACE INTO dds_held(held, own, event) VALUES(?,?,?)",
+                         -1, &st, nullptr) != SQLITE_OK)
+    fail(db_->db, "preparing a write");
+  const std::string event = to_json(row.event).dump(-1, ' ', false, json::error_handler_t::replace);
+  sqlite3_bind_text(st, 1, row.held.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_int(st, 2, row.own ? 1 : 0);
+  sqlite3_bind_text(st, 3, event.c_str(), -1, SQLITE_TRANSIENT);
+  const int rc = sqlite3_step(st);
+  sqlite3_finalize(st);
+  if (rc != SQLITE_DONE) fail(db_->db, "writing held definition " + row.held);
+  held_[row.held] = row;
+}
+
+void ReplicationLog::drop_held(const std::string& held) {
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_->db, "DELETE FROM dds_held WHERE held = ?", -1, &st, nullptr) !=
+      SQLITE_OK)
+    fail(db_->db, "preparing a write");
+  sqlite3_bind_text(st, 1, held.c_str(), -1, SQLITE_TRANSIENT);
+  const int rc = sqlite3_step(st);
+  sqlite3_finalize(st);
+  if (rc != SQLITE_DONE) fail(db_->db, "dropping held definition " + held);
+  held_.erase(held);
+}
 
 void ReplicationLog::put(const LogRow& row) {
   sqlite3_stmt* st = nullptr;

@@ -25,7 +25,7 @@ std::vector<std::string> word_notes(const naturalization::Repair& r) {
 
 }  // namespace
 
-std::string repair_lines(const naturalization::Repair& r) {
+std::string repair_lines(const naturalization::Repair& r, const std::string& teach) {
   std::string out;
   if (!r.understood.empty()) {
     std::vector<std::string> parts;
@@ -41,7 +41,7 @@ std::string repair_lines(const naturalization::Repair& r) {
              ")\n";
   }
   if (!r.teach_body.empty()) {
-    out += "Teach it: `:define`, then the steps:";
+    out += teach;
     for (const auto& line : r.teach_body) out += " \"" + line + "\"";
     out += ".\n";
   }

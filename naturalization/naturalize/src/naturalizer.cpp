@@ -619,9 +619,10 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   stored.reserve(fresh.size());
   for (const auto& rule : fresh) stored.push_back(stored_from_rule(*rule, 0));
   // lexicon.moderation = hold_new: a user's definition waits for a researcher, serving no one
-  // (its author included); preloaded, imported and replicated ones are the site's or were
-  // moderated where they were made (docs/naturalization.md §5 "Moderation").
-  if (options_.moderation == Moderation::hold_new && req.via.empty()) {
+  // (its author included), and so does one another site made (replicated: this site's researcher
+  // decides what serves here, docs/ros2.md "Moderation across sites"); preloaded and imported
+  // ones are the site's own (docs/naturalization.md §5 "Moderation").
+  if (options_.moderation == Moderation::hold_new && (req.via.empty() || req.via == "replicate")) {
     out.held = store_->hold_definition(
         {0, req.head, req.body, req.user, now, {}, req.study, req.via}, stored);
     out.rules.assign(fresh.begin(), fresh.end());

@@ -93,6 +93,20 @@ std::vector<std::string> vocabulary(const kernel::Session& session) {
   return words;
 }
 
+kernel::Json repair_json(const Repair& repair) {
+  std::string text;
+  kernel::JsonWriter writer(text);
+  write_repair(writer, repair);
+  return kernel::Json::parse(text);
+}
+
+kernel::Json unrealizable_json(const std::vector<ExplainedCandidate>& explained, int dims) {
+  std::string text;
+  kernel::JsonWriter writer(text);
+  write_unrealizable(writer, explained, dims);
+  return kernel::Json::parse(text);
+}
+
 std::shared_ptr<const Repair> repair_query(kernel::Session& session,
                                            const kernel::QueryResult& result) {
   const kernel::LastQuery& q = *result.query;

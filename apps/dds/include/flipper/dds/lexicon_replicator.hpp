@@ -21,6 +21,16 @@
 ///   - conflicts: a definition is retired (its rules deleted here, status superseded) as soon as
 ///     a definition of the same head from ANOTHER site with a larger (lamport, site) is known.
 ///     The live set is therefore a function of the events alone: every site converges to it.
+///   - moderation (lexicon.moderation = hold_new; docs/ros2.md "Moderation across sites"): a
+///     definition held here is not published; when this site's researcher approves it (`flipper
+///     lexicon approve`, any process on the store) it is published as this site's event, made
+///     then (its author and world kept, signed by this site; the approval, naming the moderator,
+///     is in this site's history). A definition from another site is held here too, for this
+///     site's researcher: approved, it serves here (not published again: it is the other site's
+///     event); rejected, it never serves here. Rejections are local history only. Held and
+///     rejected definitions take no part in "newest wins" here, and a deletion of a held one
+///     waits for the researcher's decision. Decisions are seen by polling the store (each
+///     wake-up of the reader thread, at most 100 ms apart, only while something is held).
 /// A definition whose body does not parse yet (it uses a rule still on its way) waits (pending)
 /// and is retried after each applied event; so do deletions that arrive before their definition.
 /// Malformed samples are logged and dropped.
@@ -89,6 +99,12 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   bool apply_define(LogRow& row);
   bool apply_delete(LogRow& row);
   void retry_pending();
+  /// Follows the moderator's decisions on held definitions (approved or rejected since the last
+  /// look): publishes this site's approved ones, applies or rejects other sites' ones.
+  void check_moderation();
+  void held_here(const naturalization::RulesDefined& e);
+  /// The local rule ids of definition `id` in the store.
+  std::vector<std::string> rules_of(std::int64_t definition) const;
   void settle(const std::string& head);
   bool dominated(const LexiconEvent& e) const;
   void retire(LogRow& row);

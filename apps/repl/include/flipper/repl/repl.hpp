@@ -50,8 +50,10 @@ std::string unknown_words_note(kernel::Session& session, const std::string& text
 
 /// A repair (docs/protocol.md "Repairs") as lines for the repl: "Understood: ...",
 /// "Not understood: ...", the numbered nearest sentences with their edits, "Teach it: ...";
-/// each line only when the repair has it.
-std::string repair_lines(const naturalization::Repair& repair);
+/// each line only when the repair has it. `teach`: how the last line begins (the repl's
+/// command; `flipper run` names the repl it is taught in).
+std::string repair_lines(const naturalization::Repair& repair,
+                         const std::string& teach = "Teach it: `:define`, then the steps:");
 /// The same on one line for an error message: "; nearest understood: 'move up' (drop 'x');
 /// understood: ...; not understood: ..." ("" for an empty repair).
 std::string repair_summary(const naturalization::Repair& repair);

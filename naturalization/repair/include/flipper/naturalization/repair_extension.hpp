@@ -50,6 +50,13 @@ std::vector<ExplainedCandidate> explain_unrealizable(const kernel::Session& sess
                                                      const kernel::QueryResult& result,
                                                      std::size_t first = SIZE_MAX);
 
+/// The protocol's "repair" member (docs/protocol.md "Repairs") as JSON, for front ends that call
+/// the typed service and print their own answers (`flipper run --json`): the same fields the
+/// query op writes.
+kernel::Json repair_json(const Repair& repair);
+/// `{"unrealizable": [...]}` for explained candidates in a world of `dims` dimensions.
+kernel::Json unrealizable_json(const std::vector<ExplainedCandidate>& explained, int dims);
+
 /// The protocol side: a query op with `"repair": true` (false and null: none; anything else:
 /// bad_request before the query runs) gets the member "repair" when nothing parsed, or when some
 /// shown candidate is unrealizable (`{"unrealizable": [...]}`).
