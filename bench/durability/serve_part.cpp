@@ -76,6 +76,7 @@ void client(int me, int port, const ServeRound& round, ServeTimes& into, std::mu
 void serve_round(const std::string& flipper, const std::filesystem::path& store,
                  const ServeRound& round, ServeTimes& into) {
   std::vector<std::string> args{flipper, "serve"};
+  args.reserve(18);
   for (const std::string& s :
        {std::string("serve.host=127.0.0.1"), std::string("serve.port=0"),
         "lexicon.path=" + store.string(), std::string("lexicon.preload="),
@@ -94,6 +95,7 @@ void serve_round(const std::string& flipper, const std::filesystem::path& store,
   std::mutex mutex;
   std::string error;
   std::vector<std::thread> clients;
+  clients.reserve(static_cast<std::size_t>(round.clients));
   for (int c = 0; c < round.clients; ++c)
     clients.emplace_back(client, c, port, std::cref(round), std::ref(into), std::ref(mutex),
                          std::ref(error));

@@ -94,8 +94,9 @@ std::string run_crowd(StudioServer& server, Ledger& ledger) {
   const std::string owner = new_session(http);
   const Reply d = post(http, owner, R"({"op":"define","head":"owner hop","body":["move up"]})");
   REQUIRE(d.body.value("ok", false));
-  const std::string owners_rule = d.body["rules"][0]["id"];
+  std::string owners_rule = d.body["rules"][0]["id"];
   std::vector<std::thread> clients;
+  clients.reserve(kClients);
   for (int i = 0; i < kClients; ++i)
     clients.emplace_back(client, i, server.port(), owners_rule, std::ref(ledger));
   for (auto& t : clients) t.join();

@@ -67,6 +67,7 @@ TEST_CASE("group commit: the writes made during one sync share the next one", "[
   });
   REQUIRE(wait_for([&] { return syncs_run.load() == 1; }));
   std::vector<std::thread> followers;
+  followers.reserve(kFollowers);
   for (int i = 0; i < kFollowers; ++i)
     followers.emplace_back([&] {
       group.wait_durable([&]() -> GroupSync::Failure {
@@ -140,22 +141,25 @@ TEST_CASE("group commit: connections on one file share syncs, each define stays 
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string path = (dir / "lexicon.sqlite").string();
-  constexpr int kWriters = 6;
-  constexpr int kDefines = 15;
+  constexpr std::uint64_t kWriters = 6;
+  constexpr std::uint64_t kDefines = 15;
   {
     std::vector<std::unique_ptr<LexiconStore>> stores;
-    for (int w = 0; w < kWriters; ++w) stores.push_back(std::make_unique<LexiconStore>(path));
+    stores.reserve(kWriters);
+    for (std::uint64_t w = 0; w < kWriters; ++w)
+      stores.push_back(std::make_unique<LexiconStore>(path));
     const auto before = flipper::naturalization::group_commit_stats(path);
     std::vector<std::thread> writers;
-    for (int w = 0; w < kWriters; ++w)
+    writers.reserve(kWriters);
+    for (std::uint64_t w = 0; w < kWriters; ++w)
       writers.emplace_back([&, w] {
-        for (int i = 0; i < kDefines; ++i) {
+        for (std::uint64_t i = 0; i < kDefines; ++i) {
           StoredDefinition d;
           d.head = "zap" + std::to_string(w) + "x" + std::to_string(i);
           d.body = {"move left"};
           d.author = "u" + std::to_string(w);
           std::vector<StoredRule> rules(2);
-          for (int j = 0; j < 2; ++j) {
+          for (std::size_t j = 0; j < rules.size(); ++j) {
             rules[j].lhs = "$Action";
             rules[j].rhs = {d.head, std::to_string(j)};
             rules[j].semantics = "{move left}";
@@ -176,7 +180,7 @@ TEST_CASE("group commit: connections on one file share syncs, each define stays 
   // Every define whole, ids unique and in creation order (assigned inside each transaction).
   const LexiconStore reopened(path);
   const auto rules = reopened.rules();
-  REQUIRE(rules.size() == static_cast<std::size_t>(kWriters * kDefines * 2));
+  REQUIRE(rules.size() == kWriters * kDefines * 2);
   std::set<std::string> ids;
   for (std::size_t i = 0; i < rules.size(); ++i) {
     ids.insert(rules[i].id);
