@@ -7,6 +7,8 @@
 #include "commands.hpp"
 #include "common.hpp"
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/naturalization/config_keys.hpp"
+#include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/studio/server.hpp"
 #include "sanitizer_build.hpp"
 
@@ -54,6 +56,16 @@ int serve_main(const CommonOptions& opts) {
   // listen() also returns when binding breaks: wake the waiter so it can be joined.
   pthread_kill(waiter.native_handle(), SIGUSR1);
   waiter.join();
+  // Group commit's counters (docs/naturalization.md §5 "Group commit"): the kernels' writes and
+  // the WAL syncs they shared.
+  if (const std::string path = config.text(naturalization::keys::kLexiconPath);
+      !path.empty() && path != ":memory:") {
+    const auto group = naturalization::group_commit_stats(
+        config.resolve_path_of(naturalization::keys::kLexiconPath, path));
+    if (group.writes > 0)
+      std::cout << "flipper serve: lexicon group commit: " << group.writes << " writes, "
+                << group.syncs << " syncs" << std::endl;
+  }
   std::cout << "flipper serve: stopped" << std::endl;
   return kExitOk;
 }

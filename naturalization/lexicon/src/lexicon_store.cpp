@@ -11,6 +11,7 @@
 
 #include "degraded_open.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "group_sync.hpp"
 #include "history_store.hpp"
 #include "sqlite_handle.hpp"
 #include "store_impl.hpp"
@@ -296,14 +297,26 @@ void open_writable(std::unique_ptr<sqlite::Db>& into, const std::string& path, b
     // WAL + FULL: every COMMIT is on disk when it returns, and a kill mid-write never corrupts.
     // WAL + NORMAL (lexicon.durability: normal): a COMMIT is in the WAL file (the OS's page cache)
     // when it returns, so it survives a crash of the process; the WAL is synced at checkpoints.
+    // WAL + NORMAL + a shared sync (lexicon.group_commit, group_sync.hpp): a write returns once
+    // an fdatasync of the WAL that started after its COMMIT returned — `full`'s promise, with
+    // one sync for the commits of every connection of this process that waited meanwhile.
     if (!memory) use_wal(db);
-    db.exec(options.sync_every_commit ? "PRAGMA synchronous=FULL" : "PRAGMA synchronous=NORMAL");
+    const bool group = options.sync_every_commit && options.group_commit && !memory;
+    db.exec(options.sync_every_commit && !group ? "PRAGMA synchronous=FULL"
+                                                : "PRAGMA synchronous=NORMAL");
+    if (group) db.commit_in_groups(sqlite::group_sync_for(path));
     if (!memory) db.checkpoint_in_background();
     if (version < LexiconStore::kSchemaVersion) create_or_upgrade(db);
   }
 }
 
 }  // namespace
+
+GroupCommitStats group_commit_stats(const std::string& path) {
+  const std::shared_ptr<sqlite::GroupSync> sync = sqlite::find_group_sync(path);
+  if (!sync) return {};
+  return {sync->writes(), sync->syncs()};
+}
 
 LexiconStore::LexiconStore(const std::string& path, const LexiconStoreOptions& options)
     : impl_(std::make_unique<Impl>()) {

@@ -9,6 +9,7 @@
 
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "group_sync.hpp"
 
 namespace flipper::naturalization::sqlite {
 
@@ -325,6 +326,35 @@ Transaction::~Transaction() {
 void Transaction::commit() {
   db_.exec("COMMIT");
   done_ = true;
+  if (GroupSync* group = db_.group_sync()) {
+    group->wait_durable([this]() -> GroupSync::Failure {
+      try {
+        db_.sync_wal();
+        return {};
+      } catch (const sdk::Error& e) {
+        return {e.code(), e.what()};
+      }
+    });
+  }
+}
+
+void Db::commit_in_groups(std::shared_ptr<GroupSync> sync) {
+  group_sync_ = std::move(sync);
+}
+
+void Db::sync_wal() {
+  sqlite3_file* wal = nullptr;
+  int rc = sqlite3_file_control(db_, "main", SQLITE_FCNTL_JOURNAL_POINTER, &wal);
+  if (rc == SQLITE_OK && (wal == nullptr || wal->pMethods == nullptr)) rc = SQLITE_IOERR_FSYNC;
+  if (rc == SQLITE_OK) rc = wal->pMethods->xSync(wal, SQLITE_SYNC_NORMAL);
+  if (rc != SQLITE_OK) {
+    const int system_errno = errno;
+    const char* code = code_for(rc, system_errno);
+    throw sdk::Error(code, "lexicon store '" + path_ + "' " + explain(code, busy_timeout_ms_) +
+                               " (cannot sync the write-ahead log: " + sqlite3_errstr(rc) +
+                               "; the writes of this batch may not be on the disk, and this " +
+                               "process refuses every later write until it restarts)");
+  }
 }
 
 ReadTransaction::ReadTransaction(Db& db) : db_(db) {

@@ -17,6 +17,7 @@ namespace flipper::naturalization::sqlite {
 const char* code_for(int rc, int system_errno);
 
 class Checkpointer;
+class GroupSync;
 
 class Db {
  public:
@@ -57,6 +58,14 @@ class Db {
   /// only after its frames are synced to the WAL (synchronous=FULL).
   void checkpoint_in_background();
 
+  /// Group commit (docs/naturalization.md §5, group_sync.hpp): the caller has set
+  /// synchronous=NORMAL; every write transaction's COMMIT then waits on `sync` for one shared
+  /// fdatasync of the WAL before it returns.
+  void commit_in_groups(std::shared_ptr<GroupSync> sync);
+  GroupSync* group_sync() const { return group_sync_.get(); }
+  /// Syncs this connection's WAL file (one fdatasync); throws the lexicon error on failure.
+  void sync_wal();
+
   static constexpr int kCheckpointPages = 1000;  // SQLite's own auto-checkpoint size
   static constexpr int kMaxWalPages = 16000;     // ~64 MiB with 4 KiB pages
 
@@ -71,6 +80,7 @@ class Db {
   std::uint64_t jitter_ = 0;
   std::unique_ptr<Checkpointer> checkpointer_;  // stopped before the connection closes
   const char* write_refusal_ = nullptr;
+  std::shared_ptr<GroupSync> group_sync_;
 };
 
 class Stmt {
@@ -105,7 +115,8 @@ class Stmt {
 
 /// BEGIN IMMEDIATE ... COMMIT: the write lock is taken at BEGIN (waiting through the busy
 /// handler), so a transaction never fails half-way for a lock; rolls back when destroyed
-/// uncommitted (an exception).
+/// uncommitted (an exception). Under group commit, commit() returns once a shared sync of the WAL
+/// covers the COMMIT.
 class Transaction {
  public:
   explicit Transaction(Db& db);

@@ -19,6 +19,7 @@ NaturalizeOptions NaturalizeOptions::from_config(const kernel::Config& config) {
   o.per_user_weights = config.get(keys::kWeights) == keys::Weights::per_user;
   o.store.busy_timeout_ms = static_cast<int>(config.get(keys::kBusyTimeoutMs));
   o.store.sync_every_commit = config.get(keys::kDurability) == keys::Durability::full;
+  o.store.group_commit = config.get(keys::kGroupCommit);
   o.store.site = config.get(keys::kSite);
   o.conflicts = config.get(keys::kConflicts);
   o.moderation = config.get(keys::kModeration);

@@ -104,6 +104,8 @@ class StudioServer {
   }
   void kill() { child_->kill_now(); }
   int pid() const { return child_->pid(); }
+  /// What the server wrote to standard output after its first line, up to its exit (after stop()).
+  std::string rest_of_output() { return child_->read_all(); }
   /// SIGTERM and wait: the exit status.
   int stop() {
     ::kill(child_->pid(), SIGTERM);

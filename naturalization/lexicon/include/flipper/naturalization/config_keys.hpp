@@ -52,6 +52,10 @@ inline constexpr param::Choice<Durability, 2> kDurability{
     {"full", "normal"},
     "full: each accept/define is on disk when answered; normal: survives any process crash, a "
     "power loss may drop the last commits (docs/naturalization.md §5)"};
+inline constexpr param::Bool kGroupCommit{
+    "lexicon.group_commit", true,
+    "with durability full: the commits of one process (serve's kernels) share one WAL sync; each "
+    "is answered after a sync that covers it (docs/naturalization.md §5)"};
 inline constexpr param::Choice<Replication, 2> kReplication{
     "lexicon.replication", Replication::none, {"none", "dds"}, "share rules between sites"};
 inline constexpr param::Text kSite{"lexicon.site", "",
@@ -87,6 +91,7 @@ inline sdk::ParamSchema config_schema() {
   param::add(s, kBusyTimeoutMs);
   param::add(s, kSnapshotMinRules);
   param::add(s, kDurability);
+  param::add(s, kGroupCommit);
   param::add(s, kReplication);
   param::add(s, kSite);
   param::add(s, kConflicts);

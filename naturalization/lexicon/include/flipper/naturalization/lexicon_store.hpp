@@ -57,6 +57,11 @@ struct LexiconStoreOptions {
   /// false (`normal`, synchronous=NORMAL) syncs it only at checkpoints: every commit survives any
   /// crash of the process, a power loss may drop the last ones.
   bool sync_every_commit = true;
+  /// lexicon.group_commit (docs/naturalization.md §5 "Group commit"), with sync_every_commit: the
+  /// connections of this process on this file share their WAL syncs. A COMMIT writes its frames
+  /// (synchronous=NORMAL) and the call returns once one fdatasync started after it has returned
+  /// (one sync for every commit made while the previous one ran).
+  bool group_commit = true;
   /// lexicon.site: recorded in every history entry this process writes.
   std::string site{};
 };
@@ -189,6 +194,14 @@ struct HeldDefinition {
   StoredDefinition definition;
   std::vector<StoredRule> rules;  ///< as induced when held (no ids yet)
 };
+
+/// Group commit's counters for the store file at `path` in this process (zeros when no
+/// connection on it commits in groups): writes that waited for a shared sync, and the syncs.
+struct GroupCommitStats {
+  std::uint64_t writes = 0;
+  std::uint64_t syncs = 0;
+};
+GroupCommitStats group_commit_stats(const std::string& path);
 
 class LexiconStore {
  public:
