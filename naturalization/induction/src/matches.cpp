@@ -147,6 +147,40 @@ void mark_loop_guard_strands(std::vector<Match>& matches, const sdk::Program& bo
   }
 }
 
+/// Whether `d`'s tree has a node spanning exactly [a, b).
+bool has_node_spanning(const sdk::Derivation& d, int a, int b) {
+  if (d.start == a && d.end == b) return true;
+  return std::any_of(d.kids.begin(), d.kids.end(),
+                     [&](const sdk::DerivationPtr& k) { return k && has_node_spanning(*k, a, b); });
+}
+
+/// Whether a node of `d`'s tree starts or ends strictly inside [a, b).
+bool has_boundary_inside(const sdk::Derivation& d, int a, int b) {
+  if ((d.start > a && d.start < b) || (d.end > a && d.end < b)) return true;
+  return std::any_of(d.kids.begin(), d.kids.end(), [&](const sdk::DerivationPtr& k) {
+    return k && has_boundary_inside(*k, a, b);
+  });
+}
+
+/// Marks the matches that the head's reading of a longer phrase splits: `drop all` in `drop all
+/// blue items to room3`, where the chart reads `drop all blue` as `drop` + `blue` through
+/// `$ItemAct all $Property` and has no `drop all` inside it (docs/naturalization.md §4.6). A
+/// one-token match has no inside to split.
+void mark_split_by_head(std::vector<Match>& matches, const std::vector<sdk::DerivationPtr>& chart,
+                        int head_length) {
+  for (auto& m : matches) {
+    if (m.end - m.start < 2) continue;
+    for (const auto& d : chart) {
+      if (!d || (d->start == 0 && d->end == head_length)) continue;
+      if (d->start > m.start || d->end < m.end || d->end - d->start == m.end - m.start) continue;
+      if (has_boundary_inside(*d, m.start, m.end) && !has_node_spanning(*d, m.start, m.end)) {
+        m.split_by_head = true;
+        break;
+      }
+    }
+  }
+}
+
 ProgramSet counted_objects(const sdk::Program& body) {
   ProgramSet out;
   collect_counted_objects(body, out);
@@ -192,6 +226,7 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
     return std::tie(a.start, a.end) < std::tie(b.start, b.end);
   });
   mark_loop_guard_strands(out, body);
+  mark_split_by_head(out, chart, head_length);
   return out;
 }
 

@@ -299,3 +299,28 @@ TEST_CASE("a phrase in a loop's body whose part is in the loop's guard is packed
   CHECK(has_rule(yellow, sdk::RuleOrigin::best, "$Action item"));
   CHECK_FALSE(has_rule(yellow, sdk::RuleOrigin::best, "$ItemAct $Property item"));
 }
+
+TEST_CASE("a phrase the head's reading of a longer phrase splits is packed in parts",
+          "[induction][examples]") {
+  // sep2018/FridayMorningC#779 in data/study2018/dev/definitions.jsonl: with the preloaded `drop
+  // all` := `drop every item` and `drop all red` := `drop every item is red`, `drop all blue items
+  // to room3` := `get all blue items; visit room3; drop every item` gave the original
+  // `$ItemActionFragment all $Property items to $Area`. `drop all` and `drop` score alike, but
+  // the head's chart reads `drop all blue` as `drop` + `blue` (`$ItemAct all $Property`), with
+  // no `drop all` inside it (docs/naturalization.md §4.6).
+  Lexicon lex(false);  // the study ran without alignment
+  REQUIRE(
+      has_rule(lex.define("drop all", {"drop every item"}), sdk::RuleOrigin::best, "$ItemAct all"));
+  REQUIRE(has_rule(lex.define("drop all red", {"drop every item is red"}), sdk::RuleOrigin::best,
+                   "$ItemAct all $Property"));
+  const auto rules = lex.define(
+      "drop all blue items to room3",
+      {"foreach point in world containing item is blue {visit point; pick every item is blue}; "
+       "visit room3; drop every item"});
+  CHECK(has_rule(rules, sdk::RuleOrigin::best, "$ItemAct all $Property items to $Area"));
+  CHECK_FALSE(has_rule(rules, sdk::RuleOrigin::best, "$Action $Property items to $Area"));
+  // Where no longer phrase splits it, the defined phrase stays whole (#818: `$Action to $Area`).
+  lex.define("pick all items", {"pick every item"});
+  const auto items = lex.define("drop all items to room1", {"visit room1; drop every item"});
+  CHECK(has_rule(items, sdk::RuleOrigin::best, "$Action to $Area"));
+}
