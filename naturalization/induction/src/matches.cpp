@@ -108,6 +108,79 @@ void collect_counted_objects(const sdk::Program& p, ProgramSet& out) {
   }
 }
 
+/// Whether some node of `p` equals `x`.
+bool contains(const sdk::Program& p, const sdk::Program& x) {
+  if (!p) return false;
+  if (p->sort == x->sort && sdk::equal(p, x)) return true;
+  return std::any_of(p->kids.begin(), p->kids.end(),
+                     [&](const sdk::Program& k) { return contains(k, x); });
+}
+
+/// Whether some loop of `p` (foreach over points or areas, while) has `whole` in its body and
+/// `part` in its guard (the area or collection it goes over, the condition it tests).
+bool in_loop_with_guard(const sdk::Program& p, const sdk::Program& whole,
+                        const sdk::Program& part) {
+  if (!p) return false;
+  const bool loop = p->kind == sdk::Kind::ForeachPoint || p->kind == sdk::Kind::ForeachArea ||
+                    p->kind == sdk::Kind::While;
+  if (loop && p->kids.size() == 2 && contains(p->kids[1], whole) && contains(p->kids[0], part))
+    return true;
+  return std::any_of(p->kids.begin(), p->kids.end(),
+                     [&](const sdk::Program& k) { return in_loop_with_guard(k, whole, part); });
+}
+
+/// Marks the matches that lie in a loop's body while a shorter match inside their span has its
+/// program in that loop's guard: `drop green` in `drop green items` := `while robot has item is
+/// green {drop item is green}` (docs/naturalization.md §4.6).
+void mark_loop_guard_strands(std::vector<Match>& matches, const sdk::Program& body) {
+  const sdk::Program full_body = sdk::full_form(body);
+  for (auto& whole : matches) {
+    const sdk::Program full_whole = sdk::full_form(whole.program);
+    for (const auto& part : matches) {
+      if (part.start < whole.start || part.end > whole.end) continue;
+      if (part.start == whole.start && part.end == whole.end) continue;
+      if (in_loop_with_guard(full_body, full_whole, sdk::full_form(part.program))) {
+        whole.strands_loop_guard = true;
+        break;
+      }
+    }
+  }
+}
+
+/// Whether `d`'s tree has a node spanning exactly [a, b).
+bool has_node_spanning(const sdk::Derivation& d, int a, int b) {
+  if (d.start == a && d.end == b) return true;
+  return std::any_of(d.kids.begin(), d.kids.end(),
+                     [&](const sdk::DerivationPtr& k) { return k && has_node_spanning(*k, a, b); });
+}
+
+/// Whether a node of `d`'s tree starts or ends strictly inside [a, b).
+bool has_boundary_inside(const sdk::Derivation& d, int a, int b) {
+  if ((d.start > a && d.start < b) || (d.end > a && d.end < b)) return true;
+  return std::any_of(d.kids.begin(), d.kids.end(), [&](const sdk::DerivationPtr& k) {
+    return k && has_boundary_inside(*k, a, b);
+  });
+}
+
+/// Marks the matches that the head's reading of a longer phrase splits: `drop all` in `drop all
+/// blue items to room3`, where the chart reads `drop all blue` as `drop` + `blue` through
+/// `$ItemAct all $Property` and has no `drop all` inside it (docs/naturalization.md §4.6). A
+/// one-token match has no inside to split.
+void mark_split_by_head(std::vector<Match>& matches, const std::vector<sdk::DerivationPtr>& chart,
+                        int head_length) {
+  for (auto& m : matches) {
+    if (m.end - m.start < 2) continue;
+    for (const auto& d : chart) {
+      if (!d || (d->start == 0 && d->end == head_length)) continue;
+      if (d->start > m.start || d->end < m.end || d->end - d->start == m.end - m.start) continue;
+      if (has_boundary_inside(*d, m.start, m.end) && !has_node_spanning(*d, m.start, m.end)) {
+        m.split_by_head = true;
+        break;
+      }
+    }
+  }
+}
+
 ProgramSet counted_objects(const sdk::Program& body) {
   ProgramSet out;
   collect_counted_objects(body, out);
@@ -152,6 +225,8 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
   std::stable_sort(out.begin(), out.end(), [](const Match& a, const Match& b) {
     return std::tie(a.start, a.end) < std::tie(b.start, b.end);
   });
+  mark_loop_guard_strands(out, body);
+  mark_split_by_head(out, chart, head_length);
   return out;
 }
 

@@ -48,9 +48,14 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
         std::min(min_end[static_cast<std::size_t>(a)], min_end[static_cast<std::size_t>(a) + 1]);
   auto gap_free = [&](int a, int b) { return min_end[static_cast<std::size_t>(a)] > b; };
 
-  // best[j]: best (total score, shared matches) of a valid packing prefix whose last packed span
-  // is matches[j]. On equal scores the packing with more matches held by several body
-  // statements wins, and otherwise the first in match order (docs/naturalization.md §4.6): a
+  // best[j]: best (total score, tie-breaks) of a valid packing prefix whose last packed span is
+  // matches[j]. On equal scores the packing with fewer matches stranding a loop guard's part
+  // wins (`drop green` inside `while robot has item is green {...}` would leave the guard's green
+  // fixed), then the one with fewer matches the head's reading of a longer phrase splits
+  // (`drop all` where the chart reads `drop all blue` as `drop` + `blue`), then the one with
+  // more matches held by several body statements, then the one
+  // covering more head tokens, and otherwise the first in match order
+  // (docs/naturalization.md §4.6): a
   // phrase matched as a whole (`grab blue square` as one $Action) scores what its parts (`blue`,
   // `square`) score; the parts win only when they let several statements share their holes
   // (`walk and grab blue square`), and the whole wins where nothing is shared, as the original
@@ -59,11 +64,15 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
   struct Total {
     double score = -std::numeric_limits<double>::infinity();
     int shared = 0;
-    int covered = 0;  // head tokens inside packed spans
+    int covered = 0;    // head tokens inside packed spans
+    int stranding = 0;  // matches stranding a loop guard's part
+    int split = 0;      // matches the head's reading of a longer phrase splits
     bool valid() const { return score != -std::numeric_limits<double>::infinity(); }
     bool beats(const Total& o) const {
       if (!o.valid()) return valid();
       if (std::abs(score - o.score) > kScoreTolerance) return score > o.score;
+      if (stranding != o.stranding) return stranding < o.stranding;
+      if (split != o.split) return split < o.split;
       if (shared != o.shared) return shared > o.shared;
       return covered > o.covered;
     }
@@ -73,7 +82,7 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
   for (std::size_t j = 0; j < m; ++j) {  // matches are ordered by start
     const Match& x = matches[j];
     Total base;
-    if (gap_free(0, x.start)) base = {0.0, 0, 0};
+    if (gap_free(0, x.start)) base = {0.0, 0, 0, 0, 0};
     int from = -1;
     for (std::size_t k = 0; k < j; ++k) {
       const Match& y = matches[k];
@@ -85,7 +94,8 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
     }
     if (!base.valid()) continue;
     best[j] = {base.score + x.score, base.shared + (x.statements > 1 ? 1 : 0),
-               base.covered + (x.end - x.start)};
+               base.covered + (x.end - x.start), base.stranding + (x.strands_loop_guard ? 1 : 0),
+               base.split + (x.split_by_head ? 1 : 0)};
     prev[j] = from;
   }
   int last = -1;

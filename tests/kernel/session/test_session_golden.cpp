@@ -5,10 +5,11 @@
 // timing field) masked to 0. It was recorded with main's binary before the answer writer was
 // rewritten (typed query service, streaming writer instead of placeholder splicing), by running
 // this test with FLIPPER_WRITE_GOLDEN=<path>; re-record only for an intended protocol change, or an
-// intended change of what the stream's definitions induce (last: the `$CountedItem` and
-// loop-variable matches of docs/naturalization.md §4.4 and the coverage tie-break of §4.6, which
-// changed the rules of 6 of its definitions, 198 later query answers and one rules listing, in
-// each protocol).
+// intended change of what the stream's definitions induce (the `$CountedItem` and loop-variable
+// matches of docs/naturalization.md §4.4 and the coverage tie-break of §4.6 changed the rules of 6
+// of its definitions, 198 later query answers and one rules listing, in each protocol; last, the
+// loop-guard tie-break of §4.6 changed 5 answers in each protocol, the rules of
+// feb2018/groupB1#822 and feb2018/groupB2#890 among them).
 // golden/dev_answers_k50.txt holds the same stream with every query asking for k = 50 candidates
 // (every reading written in full: the candidate writer's bytes), recorded with the binary before
 // the candidate writer wrote numbers, ids and trace steps itself (FLIPPER_WRITE_GOLDEN_K50=<path>),

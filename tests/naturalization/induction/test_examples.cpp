@@ -275,3 +275,52 @@ TEST_CASE("the loop variable point is a word of the loop, never a $Point match",
   for (const auto& r : rules)
     for (const auto& s : r->rhs) CHECK(s.text != "$Point");
 }
+
+TEST_CASE("a phrase in a loop's body whose part is in the loop's guard is packed in parts",
+          "[induction][examples]") {
+  // feb2018/groupB1#822 in data/study2018/dev/definitions.jsonl: `drop green items` := `while
+  // robot has green item {drop green item}` gave the original `$ItemActionFragment $Property
+  // items`. `drop green` (through `$ItemAct $Property`) and `drop` + `green` score alike; packed
+  // whole, the rule's template would keep `green` in the while's condition, so `drop red items`
+  // would loop on green items dropping red ones (docs/naturalization.md §4.6, loop guards).
+  Lexicon lex(false);  // the study ran without alignment
+  const auto green = lex.define("pick green", {"pick item is green"});
+  REQUIRE(has_rule(green, sdk::RuleOrigin::best, "$ItemAct $Property"));
+  const auto items =
+      lex.define("drop green items", {"while robot has item is green {drop item is green}"});
+  CHECK(has_rule(items, sdk::RuleOrigin::best, "$ItemAct $Property items"));
+  CHECK_FALSE(has_rule(items, sdk::RuleOrigin::best, "$Action items"));
+  CHECK(
+      lex.parses_to("drop red items", lex.core("while robot has item is red {drop item is red}")));
+
+  // An if is no loop: sep2018/FridayMorningC#438 kept `pick yellow` whole, as the original did.
+  const auto yellow =
+      lex.define("pick yellow item", {"if item is yellow at current {pick item is yellow}"});
+  CHECK(has_rule(yellow, sdk::RuleOrigin::best, "$Action item"));
+  CHECK_FALSE(has_rule(yellow, sdk::RuleOrigin::best, "$ItemAct $Property item"));
+}
+
+TEST_CASE("a phrase the head's reading of a longer phrase splits is packed in parts",
+          "[induction][examples]") {
+  // sep2018/FridayMorningC#779 in data/study2018/dev/definitions.jsonl: with the preloaded `drop
+  // all` := `drop every item` and `drop all red` := `drop every item is red`, `drop all blue items
+  // to room3` := `get all blue items; visit room3; drop every item` gave the original
+  // `$ItemActionFragment all $Property items to $Area`. `drop all` and `drop` score alike, but
+  // the head's chart reads `drop all blue` as `drop` + `blue` (`$ItemAct all $Property`), with
+  // no `drop all` inside it (docs/naturalization.md §4.6).
+  Lexicon lex(false);  // the study ran without alignment
+  REQUIRE(
+      has_rule(lex.define("drop all", {"drop every item"}), sdk::RuleOrigin::best, "$ItemAct all"));
+  REQUIRE(has_rule(lex.define("drop all red", {"drop every item is red"}), sdk::RuleOrigin::best,
+                   "$ItemAct all $Property"));
+  const auto rules = lex.define(
+      "drop all blue items to room3",
+      {"foreach point in world containing item is blue {visit point; pick every item is blue}; "
+       "visit room3; drop every item"});
+  CHECK(has_rule(rules, sdk::RuleOrigin::best, "$ItemAct all $Property items to $Area"));
+  CHECK_FALSE(has_rule(rules, sdk::RuleOrigin::best, "$Action $Property items to $Area"));
+  // Where no longer phrase splits it, the defined phrase stays whole (#818: `$Action to $Area`).
+  lex.define("pick all items", {"pick every item"});
+  const auto items = lex.define("drop all items to room1", {"visit room1; drop every item"});
+  CHECK(has_rule(items, sdk::RuleOrigin::best, "$Action to $Area"));
+}

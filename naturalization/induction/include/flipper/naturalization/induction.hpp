@@ -38,6 +38,16 @@ struct Match {
   /// is no sequence is one statement). Best packing prefers, on equal scores, the packing with
   /// more matches held by several statements (docs/naturalization.md §4.6).
   int statements = 0;
+  /// The match lies in the body of a loop (foreach, while) whose guard holds a part of it, the
+  /// program of a shorter match inside its span: a hole for this match alone would keep that
+  /// part fixed in the guard. Best packing prefers, on equal scores, the packing with fewer
+  /// such matches (docs/naturalization.md §4.6).
+  bool strands_loop_guard = false;
+  /// The head's own reading of a longer phrase splits this match: some head-chart derivation of
+  /// a longer span around it (not the whole head) has a constituent boundary strictly inside the
+  /// match's span and no constituent for it. Best packing prefers, on equal scores, the packing
+  /// with fewer such matches (docs/naturalization.md §4.6).
+  bool split_by_head = false;
 };
 
 /// The category naming a sort ($Action, $Area, $CountedItem, ...).
@@ -57,7 +67,9 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
 /// Simple packing (§4.5): core-only, one-token, primitive matches; the first at each position.
 std::vector<Match> simple_packing(const std::vector<Match>& matches);
 /// Best packing (§4.6): non-overlapping, maximal, greatest total score; on equal totals the one
-/// with more matches held by several body statements, then the first in match order.
+/// with fewer matches stranding a loop guard's part, then fewer matches the head splits, then
+/// more matches held by several body statements, then more head tokens covered, then the first
+/// in match order.
 std::vector<Match> best_packing(const std::vector<Match>& matches, int head_length);
 /// Total score of a packing.
 double packing_score(const std::vector<Match>& packing);
