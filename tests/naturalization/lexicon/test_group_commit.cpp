@@ -14,6 +14,7 @@
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "group_sync.hpp"
+#include "thrown_code.hpp"
 
 namespace fs = std::filesystem;
 using flipper::naturalization::LexiconStore;
@@ -21,6 +22,8 @@ using flipper::naturalization::LexiconStoreOptions;
 using flipper::naturalization::StoredDefinition;
 using flipper::naturalization::StoredRule;
 using flipper::naturalization::sqlite::GroupSync;
+
+using flipper::testsupport::thrown_code;
 
 namespace {
 
@@ -34,17 +37,6 @@ bool wait_for(F&& done) {
     std::this_thread::yield();
   }
   return true;
-}
-
-/// The code of the sdk::Error `f` throws ("" when it returns).
-template <class F>
-std::string code_of(F&& f) {
-  try {
-    f();
-  } catch (const flipper::sdk::Error& e) {
-    return e.code();
-  }
-  return "";
 }
 
 }  // namespace
@@ -95,7 +87,7 @@ TEST_CASE("group commit: a failed sync fails exactly its batch, then every later
   std::atomic<int> syncs_run{0};
   std::string first_code = "unset";
   std::thread first([&] {
-    first_code = code_of([&] {
+    first_code = thrown_code([&] {
       group.wait_durable([&]() -> GroupSync::Failure {
         ++syncs_run;
         if (!wait_for([&] { return group.writes() == 3; }))
@@ -110,7 +102,7 @@ TEST_CASE("group commit: a failed sync fails exactly its batch, then every later
   std::vector<std::thread> batch;
   for (auto& code : codes)
     batch.emplace_back([&] {
-      code = code_of([&] {
+      code = thrown_code([&] {
         group.wait_durable([&]() -> GroupSync::Failure {
           ++syncs_run;
           return {"lexicon_full", "no space left on the device"};
@@ -125,7 +117,7 @@ TEST_CASE("group commit: a failed sync fails exactly its batch, then every later
   CHECK(group.syncs() == 2);
   // A write after the failure is refused without a sync: frames after a lost one never count.
   bool synced_again = false;
-  CHECK(code_of([&] {
+  CHECK(thrown_code([&] {
           group.wait_durable([&]() -> GroupSync::Failure {
             synced_again = true;
             return {};

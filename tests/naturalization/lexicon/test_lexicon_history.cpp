@@ -13,11 +13,14 @@
 
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "thrown_code.hpp"
 
 namespace fs = std::filesystem;
 using flipper::naturalization::HistoryEntry;
 using flipper::naturalization::LexiconStore;
 using flipper::naturalization::StoredRule;
+
+using flipper::testsupport::thrown_code;
 
 namespace {
 
@@ -63,16 +66,6 @@ std::vector<std::string> summaries(const std::vector<HistoryEntry>& entries) {
   return out;
 }
 
-template <class F>
-std::string code_of(F&& f) {
-  try {
-    f();
-  } catch (const flipper::sdk::Error& e) {
-    return e.code();
-  }
-  return "";
-}
-
 }  // namespace
 
 TEST_CASE("every change is one history entry, in commit order, in the change's transaction",
@@ -114,10 +107,10 @@ TEST_CASE("the history is append-only and tags never move", "[lexicon][history]"
     LexiconStore store(path);
     store.commit_definition({0, "glorp 3", {"b"}, "ana", 1}, {rule("ana", "glorp")});
     store.tag("first", "lead", 5);
-    CHECK(code_of([&] { store.tag("first", "lead", 6); }) == "bad_request");
-    CHECK(code_of([&] { store.tag("2026-11-29", "lead", 6); }) == "bad_request");
-    CHECK(code_of([&] { store.tag("", "lead", 6); }) == "bad_request");
-    CHECK(code_of([&] { store.tag("a b", "lead", 6); }) == "bad_request");
+    CHECK(thrown_code([&] { store.tag("first", "lead", 6); }) == "bad_request");
+    CHECK(thrown_code([&] { store.tag("2026-11-29", "lead", 6); }) == "bad_request");
+    CHECK(thrown_code([&] { store.tag("", "lead", 6); }) == "bad_request");
+    CHECK(thrown_code([&] { store.tag("a b", "lead", 6); }) == "bad_request");
   }
   sqlite3* db = nullptr;
   REQUIRE(sqlite3_open(path.c_str(), &db) == SQLITE_OK);
@@ -181,7 +174,7 @@ TEST_CASE("a revert makes the live rules those of the tag, in their creation ord
   CHECK(kept.removed == std::vector<std::string>{"r7"});
   CHECK(kept.restored.empty());
   CHECK(words(store.rules()) == std::vector<std::string>{"a", "b"});
-  CHECK(code_of([&] {
+  CHECK(thrown_code([&] {
           store.revert_to(store.history_head() + 1, {"lead", {}, ""}, 9);
         }) == "bad_request");
 }

@@ -7,10 +7,13 @@
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "naturalize_fixture.hpp"
+#include "thrown_code.hpp"
 
 using namespace flipper::naturalizetest;
 using flipper::kernel::Json;
 namespace nat = flipper::naturalization;
+
+using flipper::testsupport::thrown_code;
 
 namespace {
 
@@ -18,15 +21,6 @@ nat::Naturalizer& naturalizer_of(flipper::kernel::Session& s) {
   auto* ext = s.extension<nat::NaturalizationExtension>();
   REQUIRE(ext != nullptr);
   return *ext->naturalizer();
-}
-
-std::string code_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const flipper::sdk::Error& e) {
-    return e.code();
-  }
-  return "(none)";
 }
 
 }  // namespace
@@ -74,9 +68,9 @@ TEST_CASE("a held definition changes no parse until approved and a rejected one 
   moderator.reject("rita", "h2", "duplicates move up");
   for (std::size_t i = 0; i < phrases.size(); ++i)
     CHECK(first_formula(*ana, phrases[i]) == before[i]);
-  CHECK(code_of([&] { moderator.approve("rita", "h2"); }) == "not_found");
-  CHECK(code_of([&] { moderator.reject("rita", "h9"); }) == "not_found");
-  CHECK(code_of([&] { moderator.approve("rita", "x1"); }) == "not_found");
+  CHECK(thrown_code([&] { moderator.approve("rita", "h2"); }) == "not_found");
+  CHECK(thrown_code([&] { moderator.reject("rita", "h9"); }) == "not_found");
+  CHECK(thrown_code([&] { moderator.approve("rita", "x1"); }) == "not_found");
 
   // Approved (by another kernel over the same store): every user's parses see it.
   const auto approved = moderator.approve("rita", "h1");
