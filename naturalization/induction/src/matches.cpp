@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <tuple>
 #include <unordered_set>
+#include <utility>
+#include <vector>
 
 #include "flipper/naturalization/induction.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -108,41 +110,45 @@ void collect_counted_objects(const sdk::Program& p, ProgramSet& out) {
   }
 }
 
-/// Whether some node of `p` equals `x`.
-bool contains(const sdk::Program& p, const sdk::Program& x) {
-  if (!p) return false;
-  if (p->sort == x->sort && sdk::equal(p, x)) return true;
-  return std::any_of(p->kids.begin(), p->kids.end(),
-                     [&](const sdk::Program& k) { return contains(k, x); });
-}
+/// The subtrees of one loop's guard (the area or collection it goes over, the condition it
+/// tests) and of its body.
+struct LoopParts {
+  ProgramSet guard, body;
+};
 
-/// Whether some loop of `p` (foreach over points or areas, while) has `whole` in its body and
-/// `part` in its guard (the area or collection it goes over, the condition it tests).
-bool in_loop_with_guard(const sdk::Program& p, const sdk::Program& whole,
-                        const sdk::Program& part) {
-  if (!p) return false;
+/// Every loop of `p` (foreach over points or areas, while), with its parts' subtrees.
+void collect_loops(const sdk::Program& p, std::vector<LoopParts>& out) {
+  if (!p) return;
   const bool loop = p->kind == sdk::Kind::ForeachPoint || p->kind == sdk::Kind::ForeachArea ||
                     p->kind == sdk::Kind::While;
-  if (loop && p->kids.size() == 2 && contains(p->kids[1], whole) && contains(p->kids[0], part))
-    return true;
-  return std::any_of(p->kids.begin(), p->kids.end(),
-                     [&](const sdk::Program& k) { return in_loop_with_guard(k, whole, part); });
+  if (loop && p->kids.size() == 2) {
+    LoopParts parts;
+    collect_subtrees(p->kids[0], parts.guard);
+    collect_subtrees(p->kids[1], parts.body);
+    out.push_back(std::move(parts));
+  }
+  for (const auto& k : p->kids) collect_loops(k, out);
 }
 
 /// Marks the matches that lie in a loop's body while a shorter match inside their span has its
 /// program in that loop's guard: `drop green` in `drop green items` := `while robot has item is
 /// green {drop item is green}` (docs/naturalization.md §4.6).
 void mark_loop_guard_strands(std::vector<Match>& matches, const sdk::Program& body) {
-  const sdk::Program full_body = sdk::full_form(body);
-  for (auto& whole : matches) {
-    const sdk::Program full_whole = sdk::full_form(whole.program);
-    for (const auto& part : matches) {
+  std::vector<LoopParts> loops;
+  collect_loops(sdk::full_form(body), loops);
+  if (loops.empty()) return;
+  std::vector<sdk::Program> full;  // each match's program in the full form, as the body's
+  full.reserve(matches.size());
+  for (const auto& m : matches) full.push_back(sdk::full_form(m.program));
+  for (std::size_t w = 0; w < matches.size(); ++w) {
+    Match& whole = matches[w];
+    for (std::size_t p = 0; p < matches.size() && !whole.strands_loop_guard; ++p) {
+      const Match& part = matches[p];
       if (part.start < whole.start || part.end > whole.end) continue;
       if (part.start == whole.start && part.end == whole.end) continue;
-      if (in_loop_with_guard(full_body, full_whole, sdk::full_form(part.program))) {
-        whole.strands_loop_guard = true;
-        break;
-      }
+      whole.strands_loop_guard = std::any_of(loops.begin(), loops.end(), [&](const LoopParts& l) {
+        return l.body.count(full[w]) > 0 && l.guard.count(full[p]) > 0;
+      });
     }
   }
 }

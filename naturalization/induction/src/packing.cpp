@@ -53,14 +53,12 @@ std::vector<Match> best_packing(const std::vector<Match>& matches, int n) {
   // wins (`drop green` inside `while robot has item is green {...}` would leave the guard's green
   // fixed), then the one with fewer matches the head's reading of a longer phrase splits
   // (`drop all` where the chart reads `drop all blue` as `drop` + `blue`), then the one with
-  // more matches held by several body statements, then the one
-  // covering more head tokens, and otherwise the first in match order
-  // (docs/naturalization.md §4.6): a
-  // phrase matched as a whole (`grab blue square` as one $Action) scores what its parts (`blue`,
-  // `square`) score; the parts win only when they let several statements share their holes
-  // (`walk and grab blue square`), and the whole wins where nothing is shared, as the original
-  // induced (`pick green item` := `pick item is green` gives `$Action item`, not
-  // `$ItemAct $Property item`).
+  // more matches held by several body statements, then the one covering more head tokens, and
+  // otherwise the first in match order (docs/naturalization.md §4.6): a phrase matched as a
+  // whole (`grab blue square` as one $Action) scores what its parts (`blue`, `square`) score;
+  // the parts win only when they let several statements share their holes (`walk and grab blue
+  // square`), and the whole wins where nothing is shared, as the original induced (`pick green
+  // item` := `pick item is green` gives `$Action item`, not `$ItemAct $Property item`).
   struct Total {
     double score = -std::numeric_limits<double>::infinity();
     int shared = 0;
