@@ -103,14 +103,12 @@ int fail_with_repair(const std::string& code, const std::string& message, int ex
 }
 
 // Why the program cannot be done in this world, and its nearest realizable variant
-// (docs/naturalization.md §7), when the world decides it: not realizable, or an execution error
-// (an unknown room); not a budget, a deadline or a refused plugin.
+// (docs/naturalization.md §7), when the world decides it (naturalization::decided_by_world).
 std::optional<naturalization::Unrealizable> explain(kernel::Session& session,
                                                     const sdk::Program& program,
                                                     const sdk::WorldState& world,
                                                     const sdk::Outcome& o) {
-  if (o.realizable && !o.error) return std::nullopt;
-  if (o.error && o.error_code != sdk::codes::kExecution) return std::nullopt;
+  if (!naturalization::decided_by_world(o)) return std::nullopt;
   return naturalization::explain_unrealizable(
       program, world, o, [&session](const sdk::Program& p, const sdk::WorldState& w) {
         return session.executor().run(p, w);  // the session's limits, as the run itself

@@ -133,9 +133,7 @@ std::vector<ExplainedCandidate> explain_unrealizable(const kernel::Session& sess
   std::vector<ExplainedCandidate> out;
   for (std::size_t i = 0; i < q.shown.size() && i < first; ++i) {
     const kernel::ShownCandidate& sc = q.shown[i];
-    // Only what this world decides: not a budget, a deadline or a refused plugin.
-    if (sc.outcome.realizable && !sc.outcome.error) continue;
-    if (sc.outcome.error && sc.outcome.error_code != sdk::codes::kExecution) continue;
+    if (!decided_by_world(sc.outcome)) continue;
     out.push_back({sc.index, explain_unrealizable(q.parse.candidates[sc.index].program, q.world,
                                                   sc.outcome, run)});
   }

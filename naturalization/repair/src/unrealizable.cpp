@@ -231,6 +231,11 @@ class Reasons {
 
 }  // namespace
 
+bool decided_by_world(const sdk::Outcome& outcome) {
+  if (detail::realized(outcome)) return false;
+  return !outcome.error || outcome.error_code == sdk::codes::kExecution;
+}
+
 Unrealizable explain_unrealizable(const sdk::Program& program, const sdk::WorldState& world,
                                   const sdk::Outcome& outcome, const RunProgram& run) {
   Unrealizable out;

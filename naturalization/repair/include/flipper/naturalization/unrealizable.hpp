@@ -45,6 +45,11 @@ struct Unrealizable {
 using RunProgram =
     std::function<sdk::Outcome(const sdk::Program& program, const sdk::WorldState& world)>;
 
+/// Whether this world decided that an execution failed, so that explain_unrealizable can say
+/// why: not realizable, or an execution error (an unknown room); not a budget, a deadline or a
+/// refused plugin.
+bool decided_by_world(const sdk::Outcome& outcome);
+
 /// Why `program`, whose execution `outcome` on `world` was not realizable, fails, and its
 /// nearest realizable variant. `run` throws or returns deadline_exceeded like the executor;
 /// an outcome with deadline_exceeded is thrown as sdk::StoppedError (the request's limit).
