@@ -56,14 +56,16 @@ inline bool& json_output() {
 /// --json `{"ok":false,"command":CMD,"error":{"code","message"}}` on stdout and nothing on stderr;
 /// a deadline_exceeded error also has `stopped` ("cpu_budget" | "wall_backstop", docs/protocol.md).
 /// Returns `status` so callers can `return report_error(...)`.
+/// `more`: members the JSON object also carries (`run`'s "repair"); the text form has none.
 inline int report_error(const std::string& cmd, const std::string& code, const std::string& message,
-                        int status, sdk::StopCause stopped = sdk::StopCause::none) {
+                        int status, sdk::StopCause stopped = sdk::StopCause::none,
+                        const nlohmann::json& more = nlohmann::json::object()) {
   if (json_output()) {
     nlohmann::json error{{"code", code}, {"message", message}};
     if (stopped != sdk::StopCause::none) error["stopped"] = sdk::to_string(stopped);
-    std::cout << nlohmann::json{{"ok", false}, {"command", cmd}, {"error", error}}.dump(
-                     -1, ' ', false, nlohmann::json::error_handler_t::replace)
-              << "\n"
+    nlohmann::json out{{"ok", false}, {"command", cmd}, {"error", error}};
+    out.update(more);
+    std::cout << out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n"
               << std::flush;
     return status;
   }

@@ -88,17 +88,9 @@ Reading interpret(kernel::Session& session, const std::string& text) {
 // "repair" member next to "error"; otherwise the error line and the repair's lines on stderr.
 int fail_with_repair(const std::string& code, const std::string& message, int exit_code,
                      const nlohmann::json& repair, const std::string& lines) {
-  if (!json_output()) {
-    report_error("run", code, message, exit_code);
-    std::cerr << lines << std::flush;
-    return exit_code;
-  }
-  const nlohmann::json out{{"ok", false},
-                           {"command", "run"},
-                           {"error", {{"code", code}, {"message", message}}},
-                           {"repair", repair}};
-  std::cout << out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << "\n"
-            << std::flush;
+  const nlohmann::json more{{"repair", repair}};
+  report_error("run", code, message, exit_code, sdk::StopCause::none, more);
+  if (!json_output()) std::cerr << lines << std::flush;
   return exit_code;
 }
 
