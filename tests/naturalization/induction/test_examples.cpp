@@ -30,10 +30,13 @@ struct Lexicon {
   }
   naturalization::InductionOptions options;
 
+  /// `programs`: per body line, the program it means (DefinitionInput::body_programs).
   std::vector<sdk::RulePtr> define(const std::string& head, std::vector<std::string> body,
-                                   const std::string& user = "ana") {
+                                   const std::string& user = "ana",
+                                   std::vector<sdk::Program> programs = {}) {
     naturalization::Inducer inducer(parser, scorer, options);
-    auto prepared = inducer.prepare({head, std::move(body), user, {}, {}}, nullptr);
+    auto prepared =
+        inducer.prepare({head, std::move(body), user, {}, std::move(programs)}, nullptr);
     auto result = inducer.induce(prepared, prepared.body, false, [&](const sdk::Rule& r) {
       for (const auto& e : rules)
         if (naturalization::same_rule(*e, r)) return true;
@@ -323,4 +326,30 @@ TEST_CASE("a phrase the head's reading of a longer phrase splits is packed in pa
   lex.define("pick all items", {"pick every item"});
   const auto items = lex.define("drop all items to room1", {"visit room1; drop every item"});
   CHECK(has_rule(items, sdk::RuleOrigin::best, "$Action to $Area"));
+}
+
+TEST_CASE("a line read to its program by no rule of ours is matched by the program's parts",
+          "[induction][examples]") {
+  // sep2018/FridayMorningC#961 in data/study2018/dev/definitions.jsonl: `pick exactly 3 red item`
+  // := `if item is red at current { repeat 3 times pick red item}`, with the program the user
+  // accepted for it. The original read `pick red item` through induced rules whose hole for
+  // `red` was a $Color (`pick $Color`), so its parse had no $ItemAct and no $Property node and it
+  // induced only `pick exactly $Number $Color item`. A line that no reading of ours yields its
+  // program is matched against every subtree of the program (docs/naturalization.md §4.4, §4.10
+  // "the body's parts"): simple packing takes `3` and `red` ($Number, $Color); best packing
+  // takes `pick` ($ItemAct, score 1), `3` ($Number, 3) and `red` as $Property (4: $Color's 3
+  // and the `$Property -> $Color` step), a superset of the original's rules, deliberately.
+  Lexicon lex(false);  // the study ran without alignment
+  const std::string meant = "if item is red at current {repeat 3 times pick item is red}";
+  const std::string line = "if item is red at current {repeat 3 times grab red thing}";
+  REQUIRE(lex.parse(line).empty());  // the core reads no part of the line's braces
+  const auto rules =
+      lex.define("pick exactly 3 red item", {line}, "ana", {sdk::read_canonical(lex.core(meant))});
+  REQUIRE(rules.size() == 2);
+  CHECK(has_rule(rules, sdk::RuleOrigin::simple, "pick exactly $Number $Color item"));
+  CHECK(has_rule(rules, sdk::RuleOrigin::best, "$ItemAct exactly $Number $Property item"));
+  // The $Property hole serves every property: a shape, a count and another verb.
+  CHECK(
+      lex.parses_to("drop exactly 2 circle item",
+                    lex.core("if item is circle at current {repeat 2 times drop item is circle}")));
 }
