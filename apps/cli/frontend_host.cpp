@@ -48,7 +48,7 @@ struct Module {
 Module load(const kernel::PluginLoader& loader, const std::string& name,
             const std::map<std::string, sdk::ParamValue>& given) {
   Module m;
-  m.plugin = loader.open(name, sdk::kFrontendKind);
+  m.plugin = loader.open(name, sdk::PluginKind::frontend);
   const sdk::Params params = sdk::validate_params(m.plugin.schema(), given, "frontend." + name);
   m.object = loader.instantiate(m.plugin, params);
   m.frontend = dynamic_cast<sdk::Frontend*>(m.object.get());
@@ -237,7 +237,7 @@ void add_frontend_command(CLI::App& app) {
     std::vector<std::string> path{frontends_dir()};
     for (auto& dir : kernel::PluginLoader::search_path_for(config)) path.push_back(dir);
     const kernel::PluginLoader loader(path);
-    const auto schema = loader.open(name, sdk::kFrontendKind).schema();
+    const auto schema = loader.open(name, sdk::PluginKind::frontend).schema();
     Module m = load(loader, name, parse_params(schema, params, "frontend." + name));
     std::signal(SIGINT, on_stop_signal);
     std::signal(SIGTERM, on_stop_signal);

@@ -42,6 +42,7 @@ FLIPPER_PIN(PluginKind::parser, 3);
 FLIPPER_PIN(PluginKind::scorer, 4);
 FLIPPER_PIN(PluginKind::rewriter, 5);
 FLIPPER_PIN(PluginKind::similarity, 6);
+FLIPPER_PIN(PluginKind::frontend, 7);
 
 FLIPPER_PIN(Sort::Action, 0);
 FLIPPER_PIN(Sort::Condition, 1);

@@ -32,7 +32,7 @@ constexpr KindEntry kKinds[] = {
     {PluginKind::world, "world"},       {PluginKind::planner, "planner"},
     {PluginKind::parser, "parser"},     {PluginKind::scorer, "scorer"},
     {PluginKind::rewriter, "rewriter"}, {PluginKind::similarity, "similarity"},
-    {kFrontendKind, "frontend"},
+    {PluginKind::frontend, "frontend"},
 };
 }  // namespace
 

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "api.hpp"
 #include "cookies.hpp"
 
 namespace flipper::studio {

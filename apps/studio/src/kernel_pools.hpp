@@ -2,7 +2,7 @@
 // The kernels of `flipper serve` (docs/studio.md §5): one runtime and lexicon connection each,
 // grouped in pools (a plain server has one, group ""; a study one per group), each pool with the
 // scheduler whose worker i runs on kernel i. What a kernel costs of serve.memory_budget_mb is
-// charged here; the sessions get the rest (api.hpp).
+// charged here; the sessions get the rest (sessions.hpp).
 #include <cstddef>
 #include <map>
 #include <memory>

@@ -61,10 +61,10 @@ void StudyEndpoints::lexicon(const HttpRequest& r, const Respond& respond) {
   auto who = researcher(r);
   if (who.refusal) return respond(std::move(*who.refusal));
   const std::string asked = r.param("group");
-  const auto group = group_named(*api_.study(), asked);
-  if (!group) return respond(unknown_group(*api_.study(), asked));
+  const auto group = group_named(*sessions_.study(), asked);
+  if (!group) return respond(unknown_group(*sessions_.study(), asked));
   auto job = [this, group = *group]() -> HttpReply {
-    return api_.with_group_kernel(group, [&](Kernel& k) {
+    return sessions_.with_group_kernel(group, [&](Kernel& k) {
       auto& nat = *k.host->naturalizer;
       const auto history = nat.store().history();
       Json entries = Json::array();
@@ -94,8 +94,8 @@ void StudyEndpoints::moderate(const HttpRequest& r, const Respond& respond, bool
     return respond(error_reply(400, "bad_request",
                                "send {\"group\": G, \"id\": \"hN\"} (reject: and \"reason\")"));
   const std::string asked = body["group"].get<std::string>();
-  const auto group = group_named(*api_.study(), asked);
-  if (!group) return respond(unknown_group(*api_.study(), asked));
+  const auto group = group_named(*sessions_.study(), asked);
+  if (!group) return respond(unknown_group(*sessions_.study(), asked));
   const std::string id = body["id"].get<std::string>();
   const std::string reason = body.value("reason", std::string());
   auto job = [this, group = *group, id, reason, approve, account = who.account,
@@ -103,17 +103,17 @@ void StudyEndpoints::moderate(const HttpRequest& r, const Respond& respond, bool
     try {
       // Applied and recorded under the group kernel's lock: the recording's exchanges keep it
       // where it happened, and `flipper replay verify` applies it there (docs/studio.md §7).
-      Json answer = api_.with_group_kernel(group, [&](Kernel& k) {
+      Json answer = sessions_.with_group_kernel(group, [&](Kernel& k) {
         const std::string request = naturalization::moderation_request(approve, id, reason);
         const std::string applied =
             naturalization::apply_moderation(*k.host->naturalizer, account, request);
-        api_.recorder()->record_moderation(group, account, request, applied);
+        sessions_.recorder()->record_moderation(group, account, request, applied);
         Json out{{"ok", true}, {"group", group}, {"id", id}};
         if (approve) out["rules"] = Json::parse(applied)["rules"];
         return out;
       });
-      api_.recorder()->audit(account, peer, approve ? "approve" : "reject",
-                             Json{{"group", group}, {"id", id}});
+      sessions_.recorder()->audit(account, peer, approve ? "approve" : "reject",
+                                  Json{{"group", group}, {"id", id}});
       return json_reply(200, answer);
     } catch (const sdk::Error& e) {
       const std::string& code = e.code();

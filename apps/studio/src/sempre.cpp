@@ -120,8 +120,8 @@ std::map<std::string, std::string> decode_query_string(std::string_view query) {
   return out;
 }
 
-SempreEndpoint::SempreEndpoint(Api& api, const ServeOptions& options)
-    : api_(api), origins_(options.sempre_origins) {}
+SempreEndpoint::SempreEndpoint(Sessions& sessions, const ServeOptions& options)
+    : sessions_(sessions), origins_(options.sempre_origins) {}
 
 std::optional<std::string> SempreEndpoint::allowed_origin(const SempreRequest& r) const {
   // A listed origin (or "*": every origin, the original's behaviour) is answered with its CORS
@@ -138,18 +138,18 @@ std::optional<std::string> SempreEndpoint::allowed_origin(const SempreRequest& r
 SempreEndpoint::Slot* SempreEndpoint::slot_for(Kernel& kernel, const std::string& id,
                                                const std::string& peer,
                                                std::optional<SessionRegistry::Refusal>& refusal) {
-  SessionRegistry& registry = api_.registry();
+  SessionRegistry& registry = sessions_.registry();
   const auto now = Clock::now();
-  auto it = sessions_.find(id);
+  auto it = slots_.find(id);
   // Evicted by the registry (idle, or for memory): the sessionId starts afresh.
-  if (it != sessions_.end() && registry.find(it->second.entry->token) != it->second.entry) {
-    sessions_.erase(it);
-    it = sessions_.end();
+  if (it != slots_.end() && registry.find(it->second.entry->token) != it->second.entry) {
+    slots_.erase(it);
+    it = slots_.end();
   }
-  if (it == sessions_.end()) {
+  if (it == slots_.end()) {
     if ((refusal = registry.admit_new(peer, now))) return nullptr;
-    if (sessions_.size() >= 2 * registry.limits().max_sessions)  // drop the evicted ones
-      std::erase_if(sessions_, [&](const auto& e) {
+    if (slots_.size() >= 2 * registry.limits().max_sessions)  // drop the evicted ones
+      std::erase_if(slots_, [&](const auto& e) {
         return registry.find(e.second.entry->token) != e.second.entry;
       });
     auto entry = std::make_shared<SessionEntry>();
@@ -172,7 +172,7 @@ SempreEndpoint::Slot* SempreEndpoint::slot_for(Kernel& kernel, const std::string
       const auto& geometry = raw->session->world().geometry;
       registry.charge(*raw, base + (geometry ? world_bytes(geometry->cell_count()) : 0));
     };
-    it = sessions_.emplace(id, std::move(slot)).first;
+    it = slots_.emplace(id, std::move(slot)).first;
   }
   return &it->second;
 }
@@ -217,13 +217,13 @@ HttpReply SempreEndpoint::handle(const SempreRequest& request) {
   } catch (const sdk::Error& e) {
     return refused(400, e.code(), e.what(), count, *allow);
   }
-  api_.bury_evicted();  // sessions the registry evicted, destroyed under their kernel's lock
-  return api_.with_kernel([&](Kernel& kernel) {
+  sessions_.bury_evicted();  // sessions the registry evicted, destroyed under their kernel's lock
+  return sessions_.with_kernel([&](Kernel& kernel) {
     std::optional<SessionRegistry::Refusal> refusal;
     Slot* slot = slot_for(kernel, id->second, request.peer, refusal);
     if (slot == nullptr)
       return refused(refusal->status, refusal->code, refusal->message, count, *allow);
-    SessionRegistry& registry = api_.registry();
+    SessionRegistry& registry = sessions_.registry();
     if (!registry.admit(*slot->entry, Clock::now()))
       return refused(429, "rate_limited",
                      "too many requests in this session (serve.rate_per_second)", count, *allow);

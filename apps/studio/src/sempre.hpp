@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "api.hpp"
 #include "sempre_session.hpp"
+#include "sessions.hpp"
 
 namespace flipper::studio {
 
@@ -33,12 +33,12 @@ struct SempreRequest {
 
 class SempreEndpoint {
  public:
-  SempreEndpoint(Api& api, const ServeOptions& options);
+  SempreEndpoint(Sessions& sessions, const ServeOptions& options);
   HttpReply handle(const SempreRequest& request);
 
  private:
   struct Slot {
-    std::shared_ptr<SessionEntry> entry;  ///< in the Api's registry while the session lives
+    std::shared_ptr<SessionEntry> entry;  ///< in the sessions' registry while the session lives
     SempreSession state;
   };
   /// The sessionId's session, opened on first use (admitted by the registry as a new guest
@@ -50,10 +50,10 @@ class SempreEndpoint {
   /// or no browser), or nullopt when the origin may not use /sempre.
   std::optional<std::string> allowed_origin(const SempreRequest& request) const;
 
-  Api& api_;
-  std::vector<std::string> origins_;      ///< serve.sempre_origins
-  std::map<std::string, Slot> sessions_;  ///< by sessionId; under the kernel lock
-  std::atomic<std::uint64_t> count_{0};   ///< requests answered (stats.count)
+  Sessions& sessions_;
+  std::vector<std::string> origins_;     ///< serve.sempre_origins
+  std::map<std::string, Slot> slots_;    ///< by sessionId; under the kernel lock
+  std::atomic<std::uint64_t> count_{0};  ///< requests answered (stats.count)
 };
 
 /// An answer's body: {"candidates": [...], ["error": {"code", "message"},] "lines": [...],

@@ -65,7 +65,8 @@ struct Server::Impl {
   Router router;
   std::unique_ptr<HttpTransport> transport;
   // Destroyed before the transport: no worker answers into a transport that is gone.
-  std::unique_ptr<Api> api;
+  std::unique_ptr<Sessions> sessions;      ///< the kernel pools and their sessions (sessions.hpp)
+  std::unique_ptr<Api> api;                ///< the session protocol over HTTP
   std::unique_ptr<AuthEndpoints> auth;     ///< logins and logouts (docs/accounts.md)
   std::unique_ptr<SempreEndpoint> sempre;  ///< serve.sempre: GET /sempre (docs/sempre.md)
   std::unique_ptr<StudyEndpoints> study;  ///< events and the researcher's view (docs/studio.md §7)
@@ -114,8 +115,9 @@ struct Server::Impl {
     if (sempre) {
       // On the plain kernel's worker, one request at a time per sessionId, never on the I/O
       // thread (docs/sempre.md, docs/studio.md §5).
-      auto answer = [this, a, s = sempre.get()](const HttpRequest& r, const Respond& done) {
-        a->run_on_plain_kernel(
+      auto answer = [this, sessions_of = sessions.get(), s = sempre.get()](const HttpRequest& r,
+                                                                           const Respond& done) {
+        sessions_of->run_on_plain_kernel(
             "sempre:" + r.param("sessionId"),
             [s, r, own = hosts.allows_origin(r)] {
               return s->handle({r.method, r.raw_query, r.peer, r.origin, own});
@@ -161,21 +163,19 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   SchedulerOptions logins = so;
   logins.workers = 1;
   m.login_scheduler = std::make_unique<Scheduler>(logins);
-  m.api = std::make_unique<Api>(kernels, m.options, *m.accounts, *m.scheduler, m.hosts);
+  m.sessions = std::make_unique<Sessions>(kernels, m.options, *m.accounts);
+  m.api = std::make_unique<Api>(*m.sessions, m.options, *m.accounts, *m.scheduler, m.hosts);
   m.auth = std::make_unique<AuthEndpoints>(m.options.login_days, *m.accounts, *m.login_scheduler,
                                            m.hosts);
-  if (study) {
-    m.api->set_study(study);
-    m.api->set_recorder(std::make_shared<Recorder>(study, kernels));
-  }
-  m.study = std::make_unique<StudyEndpoints>(*m.api, *m.scheduler, m.hosts);
+  if (study) m.sessions->set_study(study, std::make_shared<Recorder>(study, kernels));
+  m.study = std::make_unique<StudyEndpoints>(*m.sessions, *m.accounts, *m.scheduler, m.hosts);
   TransportOptions t;
   t.request_timeout_ms = m.options.request_timeout_ms;
   t.idle_timeout_ms = m.options.idle_timeout_ms;
   // The connection cap stays below the descriptor limit, so a flood meets a 503, never EMFILE.
   const std::size_t descriptors = raise_descriptor_limit();
   const std::size_t needed =
-      kDescriptorsBesideConnections + kDescriptorsPerKernel * m.api->kernel_count();
+      kDescriptorsBesideConnections + kDescriptorsPerKernel * m.sessions->kernel_count();
   if (descriptors <= needed + 1)
     throw sdk::Error(sdk::codes::kBadConfig,
                      "the descriptor limit (" + std::to_string(descriptors) +
@@ -189,17 +189,19 @@ Server::Server(const kernel::Config& config) : impl_(std::make_unique<Impl>()) {
   t.tls_key = m.options.tls_key;
   t.behind_proxy = m.options.behind_proxy;
   m.transport = std::make_unique<HttpTransport>(t, m.router);
-  if (m.options.sempre) m.sempre = std::make_unique<SempreEndpoint>(*m.api, m.options);
+  if (m.options.sempre) m.sempre = std::make_unique<SempreEndpoint>(*m.sessions, m.options);
   m.add_routes();
 }
 
 Server::~Server() {
-  // Workers first (they answer into the transport), then the api they use.
+  // Workers first (they answer into the transport), then the endpoints they use, then the
+  // sessions (whose destructor stops the kernels' workers before the sessions go).
   impl_->scheduler.reset();
   impl_->login_scheduler.reset();
   impl_->sempre.reset();
   impl_->study.reset();
   impl_->api.reset();
+  impl_->sessions.reset();
 }
 
 const ServeOptions& Server::options() const {

@@ -38,8 +38,8 @@ void StudyEndpoints::later(const std::string& key, std::function<HttpReply()> jo
 }
 
 StudyEndpoints::Researcher StudyEndpoints::researcher(const HttpRequest& r) const {
-  if (!api_.recorder()) return {no_study(), {}};
-  const std::optional<Login> login = api_.accounts().resume(login_cookie(r.cookie));
+  if (!sessions_.recorder()) return {no_study(), {}};
+  const std::optional<Login> login = accounts_.resume(login_cookie(r.cookie));
   if (!login)
     return {error_reply(401, "login_required", "log in as the study's researcher (an admin)"), {}};
   if (login->role != Role::admin)
@@ -55,7 +55,7 @@ StudyEndpoints::Researcher StudyEndpoints::researcher_change(const HttpRequest& 
 }
 
 void StudyEndpoints::event(const HttpRequest& r, const Respond& respond) {
-  if (!api_.recorder()) return respond(no_study());
+  if (!sessions_.recorder()) return respond(no_study());
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "events must come from this server's page"));
   const std::string token = r.param("session");
@@ -75,15 +75,15 @@ void StudyEndpoints::event(const HttpRequest& r, const Respond& respond) {
       return error_reply(400, "bad_request",
                          "send {\"kind\":\"flip\",\"rank\":N,\"formula\":F}, {\"kind\":\"reject\"} "
                          "or {\"kind\":\"page_load\",\"reloaded\":B}");
-    std::shared_ptr<SessionEntry> entry = api_.registry().find(token);
+    std::shared_ptr<SessionEntry> entry = sessions_.registry().find(token);
     if (!entry) return error_reply(404, "unknown_session", "no session has this token");
-    const std::optional<Login> login = api_.accounts().resume(login_cookie(r.cookie));
+    const std::optional<Login> login = accounts_.resume(login_cookie(r.cookie));
     if (!entry->account.empty() && (!login || login->name != entry->account))
       return error_reply(401, "login_required",
                          "this session belongs to account '" + entry->account + "'");
-    if (!api_.registry().admit(*entry, Clock::now()))
+    if (!sessions_.registry().admit(*entry, Clock::now()))
       return error_reply(429, "rate_limited", "too many requests in this session");
-    api_.recorder()->event(*entry, body);
+    sessions_.recorder()->event(*entry, body);
     return json_reply(200, Json{{"ok", true}});
   };
   later(token.empty() ? "event:" + r.peer : token, std::move(job), respond);
@@ -93,7 +93,8 @@ void StudyEndpoints::overview(const HttpRequest& r, const Respond& respond) {
   auto who = researcher(r);
   if (who.refusal) return respond(std::move(*who.refusal));
   later(
-      "study:" + r.peer, [this] { return json_reply(200, api_.recorder()->overview()); }, respond);
+      "study:" + r.peer, [this] { return json_reply(200, sessions_.recorder()->overview()); },
+      respond);
 }
 
 void StudyEndpoints::recording(const HttpRequest& r, const Respond& respond) {
@@ -106,11 +107,12 @@ void StudyEndpoints::recording(const HttpRequest& r, const Respond& respond) {
     return respond(
         error_reply(404, "not_found", "the recording has no file '" + name.substr(0, 100) + "'"));
   auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
-    std::ifstream in(std::filesystem::path(api_.study()->record_dir()) / name, std::ios::binary);
+    std::ifstream in(std::filesystem::path(sessions_.study()->record_dir()) / name,
+                     std::ios::binary);
     if (!in) return error_reply(404, "not_found", "'" + name + "' is not written yet");
     std::ostringstream text;
     text << in.rdbuf();
-    api_.recorder()->audit(account, peer, "download", Json{{"file", name}});
+    sessions_.recorder()->audit(account, peer, "download", Json{{"file", name}});
     HttpReply reply;
     reply.body = text.str();
     reply.content_type = name.ends_with(".jsonl") ? "application/x-ndjson" : "application/json";
@@ -129,9 +131,9 @@ void StudyEndpoints::close(const HttpRequest& r, const Respond& respond) {
     return respond(error_reply(400, "bad_request", "send {\"open\": false} or {\"open\": true}"));
   const bool open = body["open"].get<bool>();
   auto job = [this, open, account = who.account, peer = r.peer] {
-    api_.recorder()->set_open(open);
-    api_.recorder()->audit(account, peer, open ? "reopen" : "close", Json::object());
-    return json_reply(200, api_.recorder()->overview());
+    sessions_.recorder()->set_open(open);
+    sessions_.recorder()->audit(account, peer, open ? "reopen" : "close", Json::object());
+    return json_reply(200, sessions_.recorder()->overview());
   };
   later("study:" + r.peer, std::move(job), respond);
 }
@@ -144,15 +146,15 @@ void StudyEndpoints::invite(const HttpRequest& r, const Respond& respond) {
   const std::string& name = *named;
   auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
     // Only a participant's account, or a new one: never a code for another account (an admin's).
-    const bool account_known = api_.accounts().find(name).has_value();
-    if (account_known && !api_.recorder()->participant_of(name))
+    const bool account_known = accounts_.find(name).has_value();
+    if (account_known && !sessions_.recorder()->participant_of(name))
       return error_reply(409, "not_a_participant",
                          "'" + name + "' is an account that is not a participant of this study");
     try {
       const std::string code =
-          api_.accounts().invite(name, Role::participant, std::chrono::hours(24) * 7);
-      api_.recorder()->audit(account, peer, "invite",
-                             Json{{"participant", name}, {"known", account_known}});
+          accounts_.invite(name, Role::participant, std::chrono::hours(24) * 7);
+      sessions_.recorder()->audit(account, peer, "invite",
+                                  Json{{"participant", name}, {"known", account_known}});
       return json_reply(200, Json{{"ok", true},
                                   {"participant", name},
                                   {"code", code},
@@ -172,26 +174,27 @@ void StudyEndpoints::end(const HttpRequest& r, const Respond& respond) {
   if (!named) return respond(error_reply(400, "bad_request", "send {\"participant\": NAME}"));
   const std::string& name = *named;
   auto job = [this, name, account = who.account, peer = r.peer]() -> HttpReply {
-    if (!api_.recorder()->participant_of(name))
+    if (!sessions_.recorder()->participant_of(name))
       return error_reply(404, "not_a_participant",
                          "'" + name.substr(0, 100) + "' is not a participant of this study");
-    const int logins = api_.accounts().revoke(name);
-    api_.recorder()->audit(account, peer, "end", Json{{"participant", name}, {"logins", logins}});
+    const int logins = accounts_.revoke(name);
+    sessions_.recorder()->audit(account, peer, "end",
+                                Json{{"participant", name}, {"logins", logins}});
     return json_reply(200, Json{{"ok", true}, {"participant", name}, {"logins", logins}});
   };
   later("study:" + r.peer, std::move(job), respond);
 }
 
 void StudyEndpoints::next(const HttpRequest& r, const Respond& respond) {
-  if (!api_.recorder()) return respond(no_study());
+  if (!sessions_.recorder()) return respond(no_study());
   if (!hosts_.allows_origin(r))
     return respond(error_reply(403, "cross_origin", "must come from this server's page"));
   auto job = [this, r]() -> HttpReply {
     const std::string token = login_cookie(r.cookie);
-    const std::optional<Login> login = api_.accounts().resume(token);
-    if (!login || !api_.recorder()->participant_of(login->name))
+    const std::optional<Login> login = accounts_.resume(token);
+    if (!login || !sessions_.recorder()->participant_of(login->name))
       return error_reply(401, "login_required", "only a participant's own page ends its login");
-    api_.accounts().logout(token);
+    accounts_.logout(token);
     HttpReply reply = json_reply(200, Json{{"ok", true}, {"participant", login->name}});
     reply.set_header("Set-Cookie", login_cookie_cleared());
     return reply;

@@ -21,15 +21,19 @@
 // login that is not an administrator; a server without a study answers 404 no_study. Each close,
 // reopen, invitation, end, approval, rejection and download is a line of the recording's
 // audit.jsonl (§7 "Audit").
-#include "api.hpp"
+#include "flipper/studio/accounts.hpp"
+#include "host_policy.hpp"
 #include "http_types.hpp"
+#include "scheduler.hpp"
+#include "sessions.hpp"
 
 namespace flipper::studio {
 
 class StudyEndpoints {
  public:
-  StudyEndpoints(Api& api, Scheduler& scheduler, const HostPolicy& hosts)
-      : api_(api), scheduler_(scheduler), hosts_(hosts) {}
+  StudyEndpoints(Sessions& sessions, AccountStore& accounts, Scheduler& scheduler,
+                 const HostPolicy& hosts)
+      : sessions_(sessions), accounts_(accounts), scheduler_(scheduler), hosts_(hosts) {}
 
   void event(const HttpRequest& request, const Respond& respond);
   void overview(const HttpRequest& request, const Respond& respond);
@@ -53,7 +57,8 @@ class StudyEndpoints {
   Researcher researcher_change(const HttpRequest& request) const;
   void later(const std::string& key, std::function<HttpReply()> job, const Respond& respond);
 
-  Api& api_;
+  Sessions& sessions_;
+  AccountStore& accounts_;
   Scheduler& scheduler_;
   const HostPolicy& hosts_;
 };

@@ -27,8 +27,9 @@
 namespace flipper::sdk {
 inline namespace FLIPPER_ABI_NAMESPACE {
 
-/// The plugin kind of a front end (PluginKind's next value: part of the ABI, never renumbered).
-inline constexpr PluginKind kFrontendKind = static_cast<PluginKind>(7);
+/// The plugin kind of a front end: PluginKind::frontend (7), the name front ends were built
+/// with before the enumerator existed (docs/sdk-migration.md 3.0.0).
+inline constexpr PluginKind kFrontendKind = PluginKind::frontend;
 
 /// What `flipper` gives a running front end. Thread rule: the host serialises the requests of
 /// all sessions itself, so a front end may call it from any of its threads.
@@ -69,7 +70,7 @@ class FLIPPER_SDK_API Frontend : public Plugin {
 
 template <>
 struct KindOf<Frontend> {
-  static constexpr PluginKind value = kFrontendKind;
+  static constexpr PluginKind value = PluginKind::frontend;
 };
 
 }  // namespace FLIPPER_ABI_NAMESPACE
@@ -92,7 +93,7 @@ struct KindOf<Frontend> {
       FLIPPER_PLUGIN_ABI,                                                                      \
       FLIPPER_SDK_VERSION_MAJOR,                                                               \
       FLIPPER_SDK_VERSION_MINOR,                                                               \
-      static_cast<std::uint32_t>(::flipper::sdk::kFrontendKind),                               \
+      static_cast<std::uint32_t>(::flipper::sdk::PluginKind::frontend),                        \
       name,                                                                                    \
       version,                                                                                 \
       description,                                                                             \

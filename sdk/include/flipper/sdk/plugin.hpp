@@ -34,6 +34,7 @@ enum class PluginKind : std::uint32_t {
   scorer = 4,
   rewriter = 5,
   similarity = 6,
+  frontend = 7,  ///< flipper/sdk/frontend.hpp
 };
 
 /// "world", "planner", ...; "unknown" for other values.

@@ -24,6 +24,7 @@
 #include <string>
 
 #include "flipper/sdk/errors.hpp"
+#include "flipper/sdk/frontend.hpp"
 #include "flipper/sdk/host_loader.hpp"
 #include "flipper/sdk/param_check.hpp"
 #include "flipper/sdk/sdk.hpp"
@@ -47,6 +48,8 @@ inline bool implements_kind(const sdk::Plugin* object, std::uint32_t kind) {
       return dynamic_cast<const sdk::Rewriter*>(object) != nullptr;
     case sdk::PluginKind::similarity:
       return dynamic_cast<const sdk::Similarity*>(object) != nullptr;
+    case sdk::PluginKind::frontend:
+      return dynamic_cast<const sdk::Frontend*>(object) != nullptr;
   }
   return false;
 }
