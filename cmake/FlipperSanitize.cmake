@@ -32,6 +32,14 @@ if(FLIPPER_SANITIZE)
   if(FLIPPER_FUZZ)
     add_compile_options(-fsanitize=fuzzer-no-link)
   endif()
+  # Links with lld where clang finds it (Debian's lld-14, scripts/packages-test.txt): an
+  # instrumented executable links 3-4x faster than with GNU ld (CPU, median of 2: a test 0.25 ->
+  # 0.09 s, build/bin/flipper 1.5 -> 0.35 s). GNU ld where it is missing.
+  include(CheckLinkerFlag)
+  check_linker_flag(CXX -fuse-ld=lld FLIPPER_HAVE_LLD)
+  if(FLIPPER_HAVE_LLD)
+    add_link_options(-fuse-ld=lld)
+  endif()
   # Shared objects do not carry the sanitizer runtime (the executable does), so with clang their
   # __asan_*/__ubsan_* references stay undefined until load: plugins drop -Wl,--no-undefined.
   set(FLIPPER_PLUGIN_ALLOW_UNDEFINED ON)

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Same answers on a quiet machine and at `nice -n 19` beside busy loops (docs/planners.md §2:
+# Same answers on a quiet machine and at `nice -n 19` beside a busy loop (docs/planners.md §2:
 # limits that can change an answer count work or the request thread's CPU time; the wall clock
-# is only a far backstop). Runs, once quietly and once at nice 19 while one busy loop per core
-# (at least 2) spins at normal priority:
+# is only a far backstop). Runs, once quietly and once at nice 19 pinned (taskset) to one CPU
+# on which a busy loop, pinned there too, spins at normal priority:
 #   - every `build/bin/flipper run ...` line of the tested blocks of README.md and docs/usage.md
 #     (the 3-D octomap-ompl example included);
 #   - a small `flipper bench planners` experiment (small-planners.yaml), its results table;
@@ -15,7 +15,12 @@
 # (0.16 % with 8 other builds on the machine), so the loaded phase takes 70-650x its CPU in
 # wall time: 0.62 s of CPU took 400 s here (the bench ~300 s of it), a sanitizer build would
 # take 2-3x that. Each loaded command is bounded by `timeout` (kLimit below, 3x the slowest
-# sanitizer estimate); the busy loops are killed at the end, also on failure.
+# sanitizer estimate); the busy loop is killed at the end, also on failure.
+# One loop on the loaded commands' one CPU starves them as much as one loop per CPU did (the
+# same nice-0 loop beside them on whichever CPU they run: a 15/1039 share of it at nice 19), and
+# burns one core for the loaded phase's wall instead of all of them: in Release 81 -> 47 s of
+# CPU for the whole test at load 7-8 (a thread at nice 19 here got 0.6 % of the CPU); in CI,
+# where it runs alone, one core-second per second of the loaded phase instead of two.
 # Before CPU budgets (wall-clock deadlines, the same machine): the octomap-ompl run failed with
 # deadline_exceeded and the bench's octomap3d rows fell to 50 % (rrtconnect) and 25 % (prm).
 # Usage: under_load.sh <source dir> <build dir>
@@ -82,14 +87,13 @@ done
 [[ $(cat "$tmp/quiet/bench.status") == 0 ]] || fail "quiet bench: $(cat "$tmp/quiet/bench.err")"
 grep -q '^| octomap3d | prm |' "$tmp/quiet/bench.out" || fail "quiet bench: no results table"
 
-cores=$(nproc)
-((cores >= 2)) || cores=2
-for _ in $(seq 1 "$cores"); do
-  bash -c 'while :; do :; done' &
-  burners+=($!)
-done
-echo "== nice 19 beside $cores busy loops"
-time run_phase loaded nice -n 19
+# The first CPU this script may run on (its affinity list, e.g. "0-1" or "2,5").
+cpu=$(taskset -pc $$ | sed 's/.*: *//; s/[,-].*//')
+[[ $cpu =~ ^[0-9]+$ ]] || fail "no CPU in this process's affinity list: $(taskset -pc $$)"
+taskset -c "$cpu" bash -c 'while :; do :; done' &
+burners+=($!)
+echo "== nice 19 beside a busy loop, both on CPU $cpu"
+time run_phase loaded taskset -c "$cpu" nice -n 19
 
 status=0
 for i in $(seq 1 ${#commands[@]}); do
