@@ -40,6 +40,7 @@ TEST_CASE("dev replay: induced rules per definition against the original's, by c
   CHECK(count("disjoint") == 4);
   CHECK(m.rule_action_hole == 2);
   CHECK(m.overall.n == 3950);
-  // 3869 before the coverage tie-break of §4.6, 3890 before its loop-guard tie-break.
-  CHECK(m.overall.agree == 3891);
+  // 3869 before the coverage tie-break of §4.6, 3890 before its loop-guard tie-break, 3891
+  // before the February runs' window alignment of §4.8.
+  CHECK(m.overall.agree == 3906);
 }
