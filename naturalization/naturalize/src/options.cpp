@@ -27,6 +27,7 @@ NaturalizeOptions NaturalizeOptions::from_config(const kernel::Config& config) {
   o.induction.alignment = config.get(keys::kAlignment);
   o.induction.alignment_window = config.get(keys::kAlignmentMode) == keys::AlignmentMode::window;
   o.generalize = config.get(keys::kGeneralize);
+  o.induction_sees_everyone = config.get(keys::kInductionView) == keys::InductionView::everyone;
   o.perturbed_checks = static_cast<int>(config.get(keys::kPerturbedChecks));
   return o;
 }

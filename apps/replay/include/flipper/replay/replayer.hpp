@@ -55,6 +55,13 @@ std::vector<std::string> mode_overrides(const std::string& group);
 /// mode_overrides, before the caller's keys.
 std::vector<std::string> alignment_overrides(const Corpus& corpus, const Run& run);
 
+/// Whose rules a 2018 run's definitions were induced against, read from its log: the 2018
+/// server had one grammar, so in its private runs a definition's head parse saw every user's
+/// rules (feb2018/groupB1#494, #779, #782 pack another user's; docs/naturalization.md §4.1):
+/// `induction.view=everyone` for a run whose logged rules are the 2018 system's (no
+/// `semantics` in our notation); none for a studio recording.
+std::vector<std::string> view_overrides(const Corpus& corpus, const Run& run);
+
 /// The runs named (all when `names` is empty), in the order given. Throws
 /// sdk::Error(bad_request) for an unknown run, listing the corpus's runs.
 std::vector<const Run*> select_runs(const Corpus& corpus, const std::vector<std::string>& names);

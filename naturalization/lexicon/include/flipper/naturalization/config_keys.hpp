@@ -32,6 +32,8 @@ enum class Durability { full, normal };
 enum class Replication { none, dds };
 /// induction.alignment_mode (docs/naturalization.md §4.8)
 enum class AlignmentMode { stretch, window };
+/// induction.view (docs/naturalization.md §4.1)
+enum class InductionView { author, everyone };
 
 inline constexpr param::Path kLexiconPath{"lexicon.path", "~/.local/share/flipper/lexicon.sqlite",
                                           "SQLite file (`:memory:`: none)"};
@@ -84,6 +86,12 @@ inline constexpr param::Choice<AlignmentMode, 2> kAlignmentMode{
     "stretch: the one stretch where head and body differ; window: every head phrase whose "
     "neighbouring tokens are a body node's, as the February 2018 runs (docs/naturalization.md "
     "§4.8)"};
+inline constexpr param::Choice<InductionView, 2> kInductionView{
+    "induction.view",
+    InductionView::author,
+    {"author", "everyone"},
+    "whose rules a definition's head and body parses see under lexicon.sharing=private: the "
+    "author's, or every user's as the 2018 server's one grammar (docs/naturalization.md §4.1)"};
 inline constexpr param::Bool kGeneralize{"induction.generalize", true,
                                          "generalize definitions by rewriting"};
 inline constexpr param::Int<std::int64_t> kPerturbedChecks{
@@ -108,6 +116,7 @@ inline sdk::ParamSchema config_schema() {
   s.add_section("induction", "grammar induction from definitions");
   param::add(s, kAlignment);
   param::add(s, kAlignmentMode);
+  param::add(s, kInductionView);
   param::add(s, kGeneralize);
   param::add(s, kPerturbedChecks);
   return s;
