@@ -71,6 +71,8 @@ void bench_run(const std::string& flipper, const replay::Corpus& corpus, const r
   std::vector<std::string> args{flipper, "serve",        "--set", "serve.host=127.0.0.1",
                                 "--set", "serve.port=0", "--set", "serve.sempre=true"};
   std::vector<std::string> sets = replay::mode_overrides(run.group);
+  for (auto& k : replay::alignment_overrides(corpus, run)) sets.push_back(std::move(k));
+  for (auto& k : replay::view_overrides(corpus, run)) sets.push_back(std::move(k));
   sets.push_back("induction.generalize=false");
   // Every logged sessionId comes from this one address, as fast as the server answers.
   for (const char* key : {"serve.sessions_per_address", "serve.new_sessions_per_minute",

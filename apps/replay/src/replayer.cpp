@@ -153,6 +153,8 @@ class RunReplay {
         reparse_bodies_(options.reparse_bodies),
         repair_(options.repair) {
     std::vector<std::string> sets = mode_overrides(run.group);
+    for (auto& k : alignment_overrides(corpus, run)) sets.push_back(std::move(k));
+    for (auto& k : view_overrides(corpus, run)) sets.push_back(std::move(k));
     sets.insert(sets.end(), options.sets.begin(), options.sets.end());
     session_ = wiring::open_session(options.config_file, sets);
     naturalization_ = session_->extension<naturalization::NaturalizationExtension>();
@@ -500,6 +502,30 @@ std::vector<std::string> mode_overrides(const std::string& group) {
   const char* sharing = group == "A" ? "core" : group == "B" ? "private" : "shared";
   return {"lexicon.path=:memory:", std::string("lexicon.sharing=") + sharing,
           "lexicon.preload=", "induction.alignment=false"};
+}
+
+std::vector<std::string> alignment_overrides(const Corpus& corpus, const Run& run) {
+  // A 2018 log's rule has the original's formula, no `semantics` in our notation (a studio
+  // recording's has: those runs keep the keys mode_overrides gives).
+  const bool logged =
+      std::any_of(corpus.definitions.begin(), corpus.definitions.end(), [&](const Definition& d) {
+        return d.source == run.source &&
+               std::any_of(d.rules.begin(), d.rules.end(),
+                           [](const LoggedRule& r) { return r.alignment && r.semantics.empty(); });
+      });
+  if (!logged) return {};
+  return {"induction.alignment=true", "induction.alignment_mode=window"};
+}
+
+std::vector<std::string> view_overrides(const Corpus& corpus, const Run& run) {
+  const bool original =
+      std::any_of(corpus.definitions.begin(), corpus.definitions.end(), [&](const Definition& d) {
+        return d.source == run.source &&
+               std::any_of(d.rules.begin(), d.rules.end(),
+                           [](const LoggedRule& r) { return r.semantics.empty(); });
+      });
+  if (!original) return {};
+  return {"induction.view=everyone"};
 }
 
 std::vector<const Run*> select_runs(const Corpus& corpus, const std::vector<std::string>& names) {

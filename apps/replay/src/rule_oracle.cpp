@@ -40,7 +40,10 @@ std::string compare_rules(const std::vector<LoggedRule>& original,
       theirs.insert(original_shape(r));
   if (theirs.empty()) return "";
   for (const auto& r : ours)
-    mine.insert(our_shape(r) + (with_semantics ? " => " + r.semantics : ""));
+    if (with_semantics)
+      mine.insert(our_shape(r) + " => " + r.semantics);
+    else if (!r.alignment)  // as the original's alignment rules
+      mine.insert(our_shape(r));
   if (mine == theirs) return "identical";
   const bool common = std::any_of(mine.begin(), mine.end(),
                                   [&](const std::string& s) { return theirs.count(s) != 0; });

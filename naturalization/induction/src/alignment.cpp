@@ -1,6 +1,8 @@
-// Alignment (docs/naturalization.md §4.8, after the February 2018 code): a head that differs from a
-// one-line body in one short stretch teaches a lexical rule for that stretch.
+// Alignment (docs/naturalization.md §4.8): a head that differs from a one-line body in one short
+// stretch teaches a lexical rule for that stretch; the February 2018 runs' window alignment maps
+// every head phrase whose neighbouring tokens are a body node's to that node's category.
 #include <algorithm>
+#include <optional>
 
 #include "flipper/naturalization/induction.hpp"
 
@@ -60,7 +62,108 @@ void nodes_spanning(const sdk::DerivationPtr& d, int start, int end,
   for (const auto& k : d->kids) nodes_spanning(k, start, end, out);
 }
 
+/// The categories the February 2018 runs' alignment rules have (their logs show no other):
+/// actions, areas and items, never a word's category ($Property, $ItemAct, ...).
+bool is_window_category(const std::string& category) {
+  return category == "$Action" || category == "$Area" || category == "$CountedItem" ||
+         category == "$Item";
+}
+
+/// Every node of the derivation with its span, outermost first (pre-order).
+void all_nodes(const sdk::DerivationPtr& d, std::vector<const sdk::Derivation*>& out) {
+  if (!d) return;
+  out.push_back(d.get());
+  for (const auto& k : d->kids) all_nodes(k, out);
+}
+
+/// The token before `start` (or "" at the sentence's start) and at `end` (or "" at its end).
+std::string token_at(const std::vector<std::string>& tokens, int i) {
+  return i < 0 || i >= static_cast<int>(tokens.size()) ? std::string()
+                                                       : tokens[static_cast<std::size_t>(i)];
+}
+
+/// The category a window-aligned node teaches, or "" when it teaches none: every statement
+/// category, the grammar's root included, is $Action (§4.4).
+std::string window_category(const sdk::Derivation& node) {
+  if (!node.sem || sdk::has_holes(node.sem) || node.end <= node.start) return {};
+  try {
+    const std::string cat = node.category() == "$ROOT" ? category_of_sort(node.sem->sort)
+                                                       : sdk::normalize_category(node.category());
+    (void)sdk::category_sort(cat);  // not a private category
+    return is_window_category(cat) ? cat : std::string();
+  } catch (const std::exception&) {
+    return {};
+  }
+}
+
+/// Whether head [hs, he) stands where `node` stands in the body: the same token before (or both
+/// at the start) and after (or both at the end), lengths within 2, not the node's own words.
+bool window_fits(const std::vector<std::string>& head, const std::vector<std::string>& body,
+                 const sdk::Derivation& node, int hs, int he) {
+  const int n = static_cast<int>(head.size());
+  const int m = static_cast<int>(body.size());
+  if ((hs == 0) != (node.start == 0) || token_at(head, hs - 1) != token_at(body, node.start - 1))
+    return false;
+  if ((he == n) != (node.end == m) || token_at(head, he) != token_at(body, node.end)) return false;
+  const int head_len = he - hs;
+  const int body_len = node.end - node.start;
+  if (std::abs(head_len - body_len) > kMaxLengthDifference) return false;
+  return head_len != body_len ||
+         !std::equal(head.begin() + hs, head.begin() + he, body.begin() + node.start);
+}
+
+/// The rule from head [hs, he) to `node`: its parts packed (§4.6) with the node's matches that
+/// lie inside both the phrase and the node's body positions, as the 2018 code read the chart
+/// (it kept the derivations inside the node's span, in head positions), never the whole phrase.
+std::optional<sdk::Rule> window_rule(const std::vector<std::string>& head,
+                                     const sdk::Derivation& node, const std::string& lhs,
+                                     const std::vector<Match>& matches, int hs, int he) {
+  std::vector<Match> inside;
+  for (const auto& m : matches)
+    if (m.start >= std::max(hs, node.start) && m.end <= std::min(he, node.end) &&
+        m.end - m.start < he - hs) {
+      Match shifted = m;
+      shifted.start -= hs;
+      shifted.end -= hs;
+      inside.push_back(std::move(shifted));
+    }
+  const std::vector<std::string> tokens(head.begin() + hs, head.begin() + he);
+  return build_rule(lhs, tokens, best_packing(inside, he - hs), node.sem,
+                    sdk::RuleOrigin::alignment)
+      .rule;
+}
+
 }  // namespace
+
+std::vector<sdk::Rule> window_alignment_rules(const std::vector<std::string>& head,
+                                              const std::vector<std::string>& body,
+                                              const sdk::DerivationPtr& body_derivation,
+                                              const std::vector<sdk::DerivationPtr>& head_chart,
+                                              std::size_t max_rules) {
+  const int n = static_cast<int>(head.size());
+  std::vector<const sdk::Derivation*> nodes;
+  all_nodes(body_derivation, nodes);
+  std::vector<sdk::Rule> out;
+  for (const auto* node : nodes) {
+    const std::string lhs = window_category(*node);
+    if (lhs.empty()) continue;
+    std::optional<std::vector<Match>> matches;  // against the node's program, once per node
+    for (int hs = 0; hs < n; ++hs)
+      for (int he = hs + 1; he <= n; ++he) {
+        if (!window_fits(head, body, *node, hs, he)) continue;
+        if (!matches) matches = find_matches(head_chart, node->sem, n, false);
+        auto rule = window_rule(head, *node, lhs, *matches, hs, he);
+        if (!rule) continue;
+        const bool again = std::any_of(out.begin(), out.end(), [&](const sdk::Rule& r) {
+          return r.lhs == rule->lhs && r.rhs == rule->rhs;
+        });
+        if (again) continue;  // the same phrase for the same category (nested nodes)
+        out.push_back(std::move(*rule));
+        if (out.size() >= max_rules) return out;
+      }
+  }
+  return out;
+}
 
 std::vector<sdk::Rule> alignment_rules(const std::vector<std::string>& head,
                                        const std::vector<std::string>& body,

@@ -31,6 +31,30 @@ void take_program_line(const sdk::Program& program, sdk::ParseResult& parsed,
   out.body_candidates.push_back(std::move(chosen));
 }
 
+std::size_t node_count(const sdk::Derivation& d) {
+  std::size_t n = 1;
+  for (const auto& k : d.kids)
+    if (k) n += node_count(*k);
+  return n;
+}
+
+// The derivation of a body line that the February 2018 runs aligned (docs/naturalization.md
+// §4.8): of those giving the line's program, the one with the fewest nodes (the first such), so a
+// phrase the lexicon reads word for word is read whole, with no node inside.
+sdk::DerivationPtr fewest_nodes(const sdk::Candidate& line) {
+  sdk::DerivationPtr best;
+  std::size_t best_count = 0;
+  for (const auto& d : line.derivations) {
+    if (!d) continue;
+    const std::size_t count = node_count(*d);
+    if (!best || count < best_count) {
+      best = d;
+      best_count = count;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 PreparedDefinition Inducer::prepare(const DefinitionInput& def,
@@ -111,14 +135,19 @@ InductionResult Inducer::induce(const PreparedDefinition& p, const sdk::Program&
   InductionResult out;
   const int n = static_cast<int>(p.head_tokens.size());
   auto add = [&](sdk::Rule rule) {
+    // One meaning per RHS within a definition; window alignment's rules, one per category
+    // (docs/naturalization.md §4.8).
+    const bool per_category = options_.alignment_window && rule.how == sdk::RuleOrigin::alignment;
     for (const auto& r : out.rules)
-      if (r.rhs == rule.rhs) return;  // one meaning per RHS within a definition
+      if (r.rhs == rule.rhs && (!per_category || r.lhs == rule.lhs)) return;
     if (exists && exists(rule)) return;
     out.rules.push_back(std::move(rule));
   };
 
   // Simple packing of the user's body.
-  const std::vector<Match> body_matches = find_matches(p.head_chart, p.body, n);
+  // The February 2018 runs never packed a packed alignment rule (§4.8).
+  const bool packed_alignment = !options_.alignment_window;
+  const std::vector<Match> body_matches = find_matches(p.head_chart, p.body, n, packed_alignment);
   out.simple = simple_packing(body_matches);
   const std::string lhs = sdk::normalize_category(category_of_sort(p.body->sort));
   if (auto built = build_rule(lhs, p.head_tokens, out.simple, p.body, sdk::RuleOrigin::simple);
@@ -126,7 +155,8 @@ InductionResult Inducer::induce(const PreparedDefinition& p, const sdk::Program&
     add(std::move(*built.rule));
 
   // Best packing of the winner (the body unless a rewriting beat it).
-  out.matches = winner_is_rewriting ? find_matches(p.head_chart, winner, n) : body_matches;
+  out.matches =
+      winner_is_rewriting ? find_matches(p.head_chart, winner, n, packed_alignment) : body_matches;
   out.best = best_packing(out.matches, n);
   const auto how = winner_is_rewriting ? sdk::RuleOrigin::rewriting : sdk::RuleOrigin::best;
   if (auto built = build_rule(sdk::normalize_category(category_of_sort(winner->sort)),
@@ -134,9 +164,13 @@ InductionResult Inducer::induce(const PreparedDefinition& p, const sdk::Program&
       built.rule)
     add(std::move(*built.rule));
 
-  if (options_.alignment && p.body_tokens.size() == 1 && p.body_derivations[0])
-    for (auto& r : alignment_rules(p.head_tokens, p.body_tokens[0], p.body_derivations[0], 4))
-      add(std::move(r));
+  if (options_.alignment && p.body_tokens.size() == 1 && p.body_derivations[0]) {
+    auto rules = options_.alignment_window
+                     ? window_alignment_rules(p.head_tokens, p.body_tokens[0],
+                                              fewest_nodes(p.body_candidates[0]), p.head_chart, 4)
+                     : alignment_rules(p.head_tokens, p.body_tokens[0], p.body_derivations[0], 4);
+    for (auto& r : rules) add(std::move(r));
+  }
   return out;
 }
 

@@ -194,10 +194,20 @@ ProgramSet counted_objects(const sdk::Program& body) {
   return out;
 }
 
+/// Whether the derivation uses an alignment rule with a category in its RHS (a packed one).
+bool uses_packed_alignment(const sdk::Derivation& d) {
+  if (d.rule && d.rule->how == sdk::RuleOrigin::alignment &&
+      std::any_of(d.rule->rhs.begin(), d.rule->rhs.end(),
+                  [](const sdk::Symbol& s) { return s.type == sdk::Symbol::Type::category; }))
+    return true;
+  return std::any_of(d.kids.begin(), d.kids.end(),
+                     [](const sdk::DerivationPtr& k) { return k && uses_packed_alignment(*k); });
+}
+
 }  // namespace
 
 std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
-                                const sdk::Program& body, int head_length) {
+                                const sdk::Program& body, int head_length, bool packed_alignment) {
   // Chart meanings are in normal form (pick/drop as Pick/Drop); the verb of an item action is a
   // node only in the full form (ItemAction(ItemAct, item)), so both forms' subtrees count.
   const ProgramSet nodes = subtrees_of(body);
@@ -207,6 +217,7 @@ std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
   for (const auto& d : chart) {
     if (!d || !d->sem || (d->start == 0 && d->end == head_length)) continue;
     if (!nodes.count(d->sem)) continue;
+    if (!packed_alignment && uses_packed_alignment(*d)) continue;
     // The loop variables `point` and `area` are words of the loop, not a point or area a rule
     // could take in their place (docs/naturalization.md §4.4).
     if (d->sem->kind == sdk::Kind::PointVar || d->sem->kind == sdk::Kind::AreaVar) continue;

@@ -548,7 +548,11 @@ DefineOutcome Naturalizer::define(const DefineRequest& req) {
   check_head_tokens(req.head);
   refresh();  // induce against every rule committed so far, by any process
   Inducer inducer(runtime_->parser, runtime_->scorer, options_.induction, runtime_->usage.get());
-  const auto visible_rules = visibility_for(req.user);
+  // induction.view=everyone: the head and body parses see every user's rules, as the 2018
+  // server's one grammar did in its private runs (docs/naturalization.md §4.1).
+  const auto visible_rules = options_.induction_sees_everyone
+                                 ? std::function<bool(const sdk::Rule&)>()
+                                 : visibility_for(req.user);
   PreparedDefinition prepared = inducer.prepare(
       {req.head, req.body, req.user, req.body_ranks, req.body_programs}, visible_rules, req.stop);
 

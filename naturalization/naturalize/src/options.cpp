@@ -25,7 +25,9 @@ NaturalizeOptions NaturalizeOptions::from_config(const kernel::Config& config) {
   o.moderation = config.get(keys::kModeration);
   o.snapshot_min_rules = config.get(keys::kSnapshotMinRules);
   o.induction.alignment = config.get(keys::kAlignment);
+  o.induction.alignment_window = config.get(keys::kAlignmentMode) == keys::AlignmentMode::window;
   o.generalize = config.get(keys::kGeneralize);
+  o.induction_sees_everyone = config.get(keys::kInductionView) == keys::InductionView::everyone;
   o.perturbed_checks = static_cast<int>(config.get(keys::kPerturbedChecks));
   return o;
 }

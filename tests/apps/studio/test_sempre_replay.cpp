@@ -36,11 +36,14 @@ std::map<std::string, json> records_by_qid() {
   return out;
 }
 
-// The run's keys as `flipper replay` sets them (mode_overrides, then the dev experiment's
-// induction.generalize=false), its preloaded expert definitions in lexicon.preload's format.
+// The run's keys as `flipper replay` sets them (mode_overrides, alignment_overrides,
+// view_overrides, then the dev experiment's induction.generalize=false), its preloaded expert
+// definitions in lexicon.preload's format.
 std::vector<std::string> run_keys(const replay::Corpus& corpus, const replay::Run& run,
                                   const std::string& dir) {
   std::vector<std::string> sets = replay::mode_overrides(run.group);
+  for (auto& k : replay::alignment_overrides(corpus, run)) sets.push_back(std::move(k));
+  for (auto& k : replay::view_overrides(corpus, run)) sets.push_back(std::move(k));
   sets.push_back("induction.generalize=false");
   sets.push_back("serve.sempre=true");
   // Every logged sessionId comes from this one address, as fast as the server answers.

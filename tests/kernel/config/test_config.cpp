@@ -685,8 +685,9 @@ TEST_CASE("each layer declares its own keys, the host composes them", "[config][
   // The keys of docs/config.md's table: 88 before the split, then `plugins.isolation`, then
   // serve.tls.cert, serve.tls.key and serve.behind_proxy, then nav2.execute, nav2.distro,
   // nav2.action and nav2.behavior_tree, then dds.security.crl, then dds.security.enclave and
-  // dds.security.protection, then lexicon.moderation, then lexicon.group_commit.
-  CHECK(installed.params.size() == 101);
+  // dds.security.protection, then lexicon.moderation, then lexicon.group_commit, then
+  // induction.alignment_mode and induction.view.
+  CHECK(installed.params.size() == 103);
   CHECK(Config::kernel_schema().params.size() ==
         38);  // 6 world, 2 x 5 plugins, 4 grammar, 6 + 7 + 3, 1, 1 plugins
   // A lexicon key is the naturalization's: a config reads it through its handle...

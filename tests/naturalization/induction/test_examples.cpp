@@ -1,5 +1,6 @@
 // The spec's induction examples (docs/naturalization.md §4) end to end with the core grammar, the
 // chart parser and the loglinear scorer: define, then parse what the new rules should cover.
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include "flipper/naturalization/induction.hpp"
@@ -139,6 +140,60 @@ TEST_CASE("alignment: throw item := drop item, pick all := pick every item",
     CHECK(r->how != sdk::RuleOrigin::alignment);
   // Best packing alone already abstracts the verb: `$ItemAct all`.
   CHECK(off.parses_to("drop all", off.core("drop every item")));
+}
+
+/// Every alignment rule of `rules` as "lhs -> rhs => template", sorted.
+std::vector<std::string> aligned(const std::vector<sdk::RulePtr>& rules) {
+  std::vector<std::string> out;
+  for (const auto& r : rules)
+    if (r->how == sdk::RuleOrigin::alignment)
+      out.push_back(r->lhs + " -> " + rhs(*r) + " => " + sdk::render(r->sem));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST_CASE("window alignment: the February 2018 runs' rules", "[induction][examples][alignment]") {
+  // docs/naturalization.md §4.8, the rules worked out by hand from the one-token windows.
+  Lexicon window;
+  window.options.alignment_window = true;
+  // `drop all` := `drop every item`: "every item" ($CountedItem, after `drop`, at the end)
+  // stands where the head has "all" (feb2018/groupB1#574: `$CountedItem -> all`). The root's
+  // phrase, the whole head, gives the best rule's RHS again; `item` alone has no window.
+  const auto all = window.define("drop all", {"drop every item"});
+  CHECK(aligned(all) == std::vector<std::string>{"$CountedItem -> all => every item "});
+
+  // Only the neighbouring tokens must agree, not the rest of the sentence (the stretch rule of
+  // the default mode finds no shared prefix here): "item" after `drop`, at the end, is where
+  // the head has "stuff" (as feb2018/groupB2#334 `drop in empty space` := `visit empty space;
+  // drop item`). Both the counted item and the item node teach it.
+  const auto stuff = window.define("please drop stuff", {"visit room1; drop item"});
+  CHECK(aligned(stuff) ==
+        std::vector<std::string>{"$CountedItem -> stuff => item ", "$Item -> stuff => item "});
+  CHECK(window.parses_to("pick stuff", window.core("pick item")));
+  Lexicon stretch;
+  CHECK(aligned(stretch.define("please drop stuff", {"visit room1; drop item"})).empty());
+
+  // A part packs only where it lies inside the node's own body positions too (the 2018 code
+  // read the chart there): `red` is head token 1, inside "item is red" (body 1-3), so it packs
+  // (feb2018/groupB2#524); in `drop 2 red items` it is head token 2, outside "item is red"
+  // (body 4-6), so the phrase stays literal (feb2018/groupB1#923 `pick 2 red items`, whose
+  // log has the `$CountedItem` rule only: one of the February rules this mode does not match).
+  Lexicon quirk;
+  quirk.options.alignment_window = true;
+  CHECK(aligned(quirk.define("drop red item", {"drop item is red"})) ==
+        std::vector<std::string>{"$CountedItem -> $Property item => item {is $1}",
+                                 "$Item -> $Property item => item {is $1}"});
+  CHECK(aligned(quirk.define("drop 2 red items", {"repeat 2 times drop item is red"})) ==
+        std::vector<std::string>{"$CountedItem -> 2 red items => item {is red}",
+                                 "$Item -> 2 red items => item {is red}"});
+  // Those packed rules serve parses but never a later packing: `green item` reads as an $Item
+  // through `$Item -> $Property item`, yet the head packs `green` (feb2018/groupB1#332).
+  CHECK(quirk.parses_to("visit world containing blue item",
+                        quirk.core("visit world containing item is blue")));
+  const auto place =
+      quirk.define("visit green item zone", {"visit world containing item is green"});
+  CHECK(has_rule(place, sdk::RuleOrigin::best, "visit $Property item zone"));
+  CHECK_FALSE(has_rule(place, sdk::RuleOrigin::best, "visit $Item zone"));
 }
 
 TEST_CASE("gather red, red to room1: definitions build on definitions", "[induction][examples]") {

@@ -1,5 +1,6 @@
 // define / rules / delete_rule through the session protocol: sharing modes, authorship,
 // deletion history, generalization, persistence across restarts, preload.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -286,4 +287,37 @@ TEST_CASE("naturalization options start from the kernel schema's defaults",
   CHECK(o.snapshot_min_rules == std::get<std::int64_t>(def("lexicon.snapshot_min_rules")));
   CHECK(to_string(o.sharing) == std::get<std::string>(def("lexicon.sharing")));
   CHECK(o.per_user_weights == (std::get<std::string>(def("lexicon.weights")) == "per_user"));
+}
+
+TEST_CASE("induction.view=everyone: a private run's definitions see every user's rules",
+          "[naturalize]") {
+  // feb2018/groupB1#494 (docs/naturalization.md §4.1): in the 2018 server's private run BP2's
+  // `visit empty space` packed BP4's `visit empty`, giving `$Action space`.
+  const std::string empty = "visit world minus {world containing item}";
+  auto rhs_of = [](const Json& answer) {
+    std::vector<std::string> out;
+    for (const auto& r : answer["rules"]) {
+      std::string text;
+      for (const auto& sym : r["rhs"]) text += (text.empty() ? "" : " ") + sym.get<std::string>();
+      out.push_back(text);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  for (const std::string view : {"author", "everyone"}) {
+    INFO("induction.view=" << view);
+    auto s = open(scratch_path("view-" + view) + ".sqlite",
+                  {"lexicon.sharing=private", "induction.view=" + view});
+    user(*s, "bp4");
+    REQUIRE(define(*s, "visit empty", {empty})["ok"] == true);
+    user(*s, "bp2");
+    const Json a = define(*s, "visit empty space", {empty});
+    REQUIRE(a["ok"] == true);
+    if (view == "author")
+      CHECK(rhs_of(a) == std::vector<std::string>{"visit empty space"});
+    else
+      CHECK(rhs_of(a) == std::vector<std::string>{"$Action space", "visit empty space"});
+    // Parses stay private either way: bp2 cannot read bp4's phrase.
+    CHECK(status(*s, "visit empty") == "unparsable");
+  }
 }

@@ -44,8 +44,23 @@ struct ReplayOptions {
   std::function<void(std::size_t, std::size_t, const std::string&)> progress;
 };
 
-/// The config overrides a run's group implies (lexicon.path, lexicon.sharing, alignment off).
+/// The config overrides a run's group implies (lexicon.path, lexicon.sharing, alignment off;
+/// alignment_overrides may turn it back on for a run).
 std::vector<std::string> mode_overrides(const std::string& group);
+
+/// The alignment a 2018 run ran with, read from its log (docs/naturalization.md §4.8): a run
+/// whose logged definitions hold alignment rules (the February 2018 runs) ran with the window
+/// alignment of its time: `induction.alignment=true`, `induction.alignment_mode=window`. Any
+/// other run (and a studio recording) keeps mode_overrides' alignment off. Applied after
+/// mode_overrides, before the caller's keys.
+std::vector<std::string> alignment_overrides(const Corpus& corpus, const Run& run);
+
+/// Whose rules a 2018 run's definitions were induced against, read from its log: the 2018
+/// server had one grammar, so in its private runs a definition's head parse saw every user's
+/// rules (feb2018/groupB1#494, #779, #782 pack another user's; docs/naturalization.md §4.1):
+/// `induction.view=everyone` for a run whose logged rules are the 2018 system's (no
+/// `semantics` in our notation); none for a studio recording.
+std::vector<std::string> view_overrides(const Corpus& corpus, const Run& run);
 
 /// The runs named (all when `names` is empty), in the order given. Throws
 /// sdk::Error(bad_request) for an unknown run, listing the corpus's runs.

@@ -4,7 +4,8 @@
 /// logged for it (definitions.jsonl `induced_rules`), compared as `lhs -> rhs` shapes after
 /// mapping the original's category names to ours ($ItemActionFragment is our $ItemAct).
 /// The 2018 corpus: templates are not compared (the original printed them as lambda formulas of
-/// its own) and its alignment rules are left out (replays run with alignment off, as the study).
+/// its own) and alignment rules are left out on both sides (the September runs had none; the
+/// February runs' are reproduced, docs/naturalization.md §4.8, but not counted).
 /// A studio recording logs each rule's `semantics` in our notation: then every rule, alignment
 /// ones too, is compared as `lhs -> rhs => semantics` (docs/studio.md §7).
 

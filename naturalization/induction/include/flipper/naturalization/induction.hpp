@@ -60,9 +60,12 @@ bool category_fits(const std::string& category, sdk::Sort program);
 bool is_primitive_category(const std::string& category);
 
 /// Matches (§4.4), one per distinct (span, category, program) keeping the best score, ordered by
-/// (start, end, chart order). Derivations of the whole head (if present) are ignored.
+/// (start, end, chart order). Derivations of the whole head (if present) are ignored, and so
+/// are those through an alignment rule with a category in its RHS unless `packed_alignment`
+/// (the February 2018 runs never packed one: §4.8).
 std::vector<Match> find_matches(const std::vector<sdk::DerivationPtr>& chart,
-                                const sdk::Program& body, int head_length);
+                                const sdk::Program& body, int head_length,
+                                bool packed_alignment = true);
 
 /// Simple packing (§4.5): core-only, one-token, primitive matches; the first at each position.
 std::vector<Match> simple_packing(const std::vector<Match>& matches);
@@ -102,12 +105,26 @@ std::vector<sdk::Rule> alignment_rules(const std::vector<std::string>& head_toke
                                        const sdk::DerivationPtr& body_derivation,
                                        std::size_t max_rules = 4);
 
+/// Window alignment (§4.8, the February 2018 runs' rule) of a one-line body: for each node of
+/// the body derivation (outermost first) of an action, area or item category and each head
+/// phrase whose neighbouring tokens (or the sentence's ends) are the node's, lengths within 2
+/// and not the node's own words, a rule from the phrase to the node's category, its parts
+/// packed (§4.6) with the head-chart matches that lie inside both the phrase and the node's
+/// body positions (as the 2018 code read them). One rule per (category, phrase), at most
+/// `max_rules`.
+std::vector<sdk::Rule> window_alignment_rules(const std::vector<std::string>& head_tokens,
+                                              const std::vector<std::string>& body_tokens,
+                                              const sdk::DerivationPtr& body_derivation,
+                                              const std::vector<sdk::DerivationPtr>& head_chart,
+                                              std::size_t max_rules = 4);
+
 /// Same LHS, RHS and template (structurally).
 bool same_rule(const sdk::Rule& a, const sdk::Rule& b);
 
 struct InductionOptions {
-  bool alignment = true;  ///< config induction.alignment
-  int beam = 0;           ///< parser beam (0: plugin default)
+  bool alignment = true;          ///< config induction.alignment
+  bool alignment_window = false;  ///< config induction.alignment_mode: window
+  int beam = 0;                   ///< parser beam (0: plugin default)
 };
 
 /// A definition to induce from.

@@ -30,6 +30,10 @@ enum class Weights { global, per_user };
 enum class Durability { full, normal };
 /// lexicon.replication
 enum class Replication { none, dds };
+/// induction.alignment_mode (docs/naturalization.md §4.8)
+enum class AlignmentMode { stretch, window };
+/// induction.view (docs/naturalization.md §4.1)
+enum class InductionView { author, everyone };
 
 inline constexpr param::Path kLexiconPath{"lexicon.path", "~/.local/share/flipper/lexicon.sqlite",
                                           "SQLite file (`:memory:`: none)"};
@@ -75,6 +79,19 @@ inline constexpr param::Choice<Moderation, 2> kModeration{
 
 inline constexpr param::Bool kAlignment{"induction.alignment", true,
                                         "induce rules by aligning head and body"};
+inline constexpr param::Choice<AlignmentMode, 2> kAlignmentMode{
+    "induction.alignment_mode",
+    AlignmentMode::stretch,
+    {"stretch", "window"},
+    "stretch: the one stretch where head and body differ; window: every head phrase whose "
+    "neighbouring tokens are a body node's, as the February 2018 runs (docs/naturalization.md "
+    "§4.8)"};
+inline constexpr param::Choice<InductionView, 2> kInductionView{
+    "induction.view",
+    InductionView::author,
+    {"author", "everyone"},
+    "whose rules a definition's head and body parses see under lexicon.sharing=private: the "
+    "author's, or every user's as the 2018 server's one grammar (docs/naturalization.md §4.1)"};
 inline constexpr param::Bool kGeneralize{"induction.generalize", true,
                                          "generalize definitions by rewriting"};
 inline constexpr param::Int<std::int64_t> kPerturbedChecks{
@@ -98,6 +115,8 @@ inline sdk::ParamSchema config_schema() {
   param::add(s, kModeration);
   s.add_section("induction", "grammar induction from definitions");
   param::add(s, kAlignment);
+  param::add(s, kAlignmentMode);
+  param::add(s, kInductionView);
   param::add(s, kGeneralize);
   param::add(s, kPerturbedChecks);
   return s;

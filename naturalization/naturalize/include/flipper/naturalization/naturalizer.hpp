@@ -86,6 +86,7 @@ struct NaturalizeOptions {
   Moderation moderation = Moderation::off;          ///< lexicon.moderation
   InductionOptions induction;                       ///< induction.alignment (+ parser beam)
   bool generalize = keys::kGeneralize.def;          ///< induction.generalize
+  bool induction_sees_everyone = false;             ///< induction.view: everyone
   int perturbed_checks = static_cast<int>(keys::kPerturbedChecks.def);  ///< induction.*
   /// Reads the keys above from a validated config (the schema filled every default).
   static NaturalizeOptions from_config(const kernel::Config& config);
