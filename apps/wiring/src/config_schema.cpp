@@ -5,6 +5,7 @@
 
 #include "flipper/dds/config_keys.hpp"
 #include "flipper/naturalization/config_keys.hpp"
+#include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/config_handles.hpp"
 #include "flipper/studio/config_keys.hpp"
 
@@ -25,7 +26,9 @@ void install_config_schema() {
 kernel::Config load_config(const std::optional<std::string>& file,
                            const std::vector<std::string>& overrides) {
   install_config_schema();
-  return kernel::Config::load(file, overrides);
+  kernel::Config config = kernel::Config::load(file, overrides);
+  naturalization::apply_weights_switch(config);  // lexicon.weights: the scorer's per_user
+  return config;
 }
 
 }  // namespace flipper::wiring

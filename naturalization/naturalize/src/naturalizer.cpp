@@ -272,8 +272,29 @@ void Naturalizer::restore() {
   for (const auto& u : store_->nonzero_uses())
     if (by_id_.count(u.rule)) runtime_->usage->set(u.rule, {u.by_author, u.by_others});
   initial_weights_ = save_weights();
-  weights_user_.clear();
-  if (!options_.per_user_weights) load_weights(weights_key({}));
+  fold_legacy_user_weights();
+  load_weights(kWeightsKey);
+}
+
+// Stores of older builds kept lexicon.weights = per_user's weights under one key per user
+// ("user:X", with the scorer's own partition "" or X); the scorer now partitions by user
+// itself, so they are folded into the one key, partition X (docs/naturalization.md §5 "Learned
+// state"). Once, in one transaction; a read-only store keeps them (and says so).
+void Naturalizer::fold_legacy_user_weights() {
+  const auto legacy = store_->legacy_user_weight_keys();
+  if (legacy == 0) return;
+  if (store_->write_refusal()) {
+    options_.warn("lexicon store '" + store_->path() + "' holds " + std::to_string(legacy) +
+                  " per-user weight key(s) of an older Flipper (user:NAME); a store that is "
+                  "read-only cannot fold them into the scorer's per-user partitions, so they "
+                  "are not served until it is opened writable");
+    return;
+  }
+  const auto kept = store_->fold_user_weights(kWeightsKey, linear_state_weights);
+  for (const auto& key : kept)
+    options_.warn("lexicon store '" + store_->path() + "': the saved scorer state under '" + key +
+                  "' (an older Flipper's per-user state) is not a weight table this build can "
+                  "fold into the scorer's per-user partitions; it is kept, not served");
 }
 
 bool Naturalizer::restore_from_snapshot() {
@@ -360,16 +381,10 @@ void Naturalizer::refresh() {
 void Naturalizer::apply(const LearnedChanges& learned) {
   for (const auto& u : learned.uses)
     if (by_id_.count(u.rule)) runtime_->usage->set(u.rule, {u.by_author, u.by_others});
-  const std::string held = held_weights_key();
-  if (!held.empty() && std::find(learned.weight_keys.begin(), learned.weight_keys.end(), held) !=
-                           learned.weight_keys.end())
-    load_weights(held);
+  if (std::find(learned.weight_keys.begin(), learned.weight_keys.end(), kWeightsKey) !=
+      learned.weight_keys.end())
+    load_weights(kWeightsKey);
   learned_mark_ = learned.mark;
-}
-
-std::string Naturalizer::held_weights_key() const {
-  if (!options_.per_user_weights) return weights_key({});
-  return weights_user_.empty() ? std::string() : weights_key(weights_user_);
 }
 
 bool Naturalizer::add_stored(StoredRule&& stored, const std::vector<sdk::RulePtr>& own) {
@@ -435,16 +450,6 @@ void Naturalizer::record_quarantines() {
 
 std::string Naturalizer::save_weights() const {
   return runtime_->scorer.call("save_state", [](const sdk::Scorer& s) { return s.save_state(); });
-}
-
-std::string Naturalizer::weights_key(const std::string& user) const {
-  return options_.per_user_weights ? "user:" + user : "global";
-}
-
-void Naturalizer::select_user(const std::string& user) {
-  if (!options_.per_user_weights || user == weights_user_) return;
-  load_weights(weights_key(user));
-  weights_user_ = user;
 }
 
 void Naturalizer::add_live(sdk::RulePtr rule) {
@@ -718,28 +723,27 @@ void Naturalizer::on_accept(const std::string& user, const std::vector<sdk::Rule
     std::vector<StoredWeightChange> changes;
     for (auto& c : inc->pending_changes())
       changes.push_back({std::move(c.model), std::move(c.feature), c.weight, c.aux});
-    totals = store_->record_accept(deltas, weights_key(user), changes, &sums);
+    totals = store_->record_accept(deltas, kWeightsKey, changes, &sums);
   } else {
-    totals = store_->record_accept(deltas, weights_key(user), save_weights());
+    totals = store_->record_accept(deltas, kWeightsKey, save_weights());
   }
   // The stored totals include other processes' uses.
   for (std::size_t i = 0; i < rules.size(); ++i)
     runtime_->usage->set(rules[i]->id, {totals[i].by_author, totals[i].by_others});
-  hold_stored_weights(user, inc, sums);
+  hold_stored_weights(inc, sums);
 }
 
 // The scorer learned in memory; the stored sums are the truth every other kernel reads, and
 // floating-point sums taken in another order may differ in the last bit: hold the stored ones
 // (docs/naturalization.md §5 "Learned state").
-void Naturalizer::hold_stored_weights(const std::string& user, sdk::IncrementalScorer* inc,
+void Naturalizer::hold_stored_weights(sdk::IncrementalScorer* inc,
                                       const LexiconStore::WeightSums& sums) {
-  if (weights_key(user) != held_weights_key()) return;
   if (store_->changed_elsewhere() || !inc || held_from_state_) {
     // Someone else committed since this kernel last looked (its weights may lag the stored sums
     // by more than this accept), or the base is a saved state: catch up whole.
     apply(store_->changes_since(mark_));
     apply(store_->learned_since(learned_mark_));
-    load_weights(weights_key(user));
+    load_weights(kWeightsKey);
     return;
   }
   // The changed weights held exactly the sums before (0 + sum, as any kernel loads them): undo

@@ -360,17 +360,9 @@ void NaturalizationExtension::attach(kernel::Session& session) {
   });
   session.on<kernel::Accepting>(
       [nat](const kernel::Accepting& e) { nat->on_accept(e.user, e.candidate.induced_rules); });
-  if (nat->options().per_user_weights) {
-    session.on<kernel::UserChanged>(
-        [nat](const kernel::UserChanged& e) { nat->select_user(e.user); });
-    nat->select_user(session.user());
-  }
   // A session may have asked on another kernel (a server's pool, docs/studio.md §5): an accept
   // must count and learn against everything committed so far, like a parse.
-  session.on<kernel::Activated>([nat](const kernel::Activated& e) {
-    if (nat->options().per_user_weights) nat->select_user(e.session.user());
-    nat->refresh();
-  });
+  session.on<kernel::Activated>([nat](const kernel::Activated&) { nat->refresh(); });
 }
 
 }  // namespace flipper::naturalization

@@ -1,6 +1,7 @@
 // Runtime: a config becomes loaded plugins, grammar (handed to the parser) and default world;
 // incompatible world/planner pairs and bad worlds are refused.
 #include "flipper/kernel/runtime.hpp"
+#include "flipper/naturalization/naturalizer.hpp"
 #include "kernel/kernel_test_support.hpp"
 
 using namespace flipper;
@@ -75,4 +76,25 @@ TEST_CASE("the grammar's direction words come from the world plugin", "[runtime]
       "bad_config",
       {"grammar.directions names 'up', which world plugin 'test_world' does not know (its "
        "directions: right)"});
+}
+
+// Per-user weights are the scorer's (docs/naturalization.md §5 "Learned state"): a scorer without
+// the per_user param asked for them is refused, never silently global.
+TEST_CASE("lexicon.weights = per_user with a scorer that has no per-user weights is bad_config",
+          "[runtime][per_user]") {
+  kernel::Config c = kerneltest::test_config({"lexicon.weights=per_user"});
+  naturalization::apply_weights_switch(c);
+  require_error([&] { (void)kernel::make_runtime(c); }, "bad_config",
+                {"scorer.params.per_user", "unknown"});
+  // Without the switch the same config runs (the refusal is the switch's, nothing else's).
+  CHECK_NOTHROW(kernel::make_runtime(kerneltest::test_config()));
+  // The switch against an explicit scorer.params.per_user: false.
+  kernel::Config both =
+      kerneltest::test_config({"lexicon.weights=per_user", "scorer.params.per_user=false"});
+  require_error([&] { naturalization::apply_weights_switch(both); }, "bad_config",
+                {"lexicon.weights = per_user", "scorer.params.per_user is false"});
+  // A config that skipped the switch: the naturalization's options refuse it.
+  const kernel::Config skipped = kerneltest::test_config({"lexicon.weights=per_user"});
+  require_error([&] { (void)naturalization::NaturalizeOptions::from_config(skipped); },
+                "bad_config", {"scorer's per_user param is not set"});
 }

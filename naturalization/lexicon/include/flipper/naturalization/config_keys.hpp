@@ -24,7 +24,7 @@ namespace keys {
 
 namespace param = sdk::param;
 
-/// lexicon.weights
+/// lexicon.weights: a short way to write the scorer's per_user param (apply_weights_switch)
 enum class Weights { global, per_user };
 /// lexicon.durability
 enum class Durability { full, normal };
@@ -42,7 +42,11 @@ inline constexpr param::Choice<Sharing, 3> kSharing{
 inline constexpr param::Path kPreload{"lexicon.preload", "",
                                       "definitions replayed at start (empty: none)"};
 inline constexpr param::Choice<Weights, 2> kWeights{
-    "lexicon.weights", Weights::global, {"global", "per_user"}, "scorer weights"};
+    "lexicon.weights",
+    Weights::global,
+    {"global", "per_user"},
+    "per_user: sets scorer.params.per_user, the scorer's weights per user (docs/naturalization.md "
+    "§3)"};
 inline constexpr param::Int<std::int64_t> kBusyTimeoutMs{
     "lexicon.busy_timeout_ms", 10000, 1, 600000,
     "longest wait for other writers, then lexicon_busy"};

@@ -58,9 +58,9 @@ void delete_rule(Naturalizer& nat, kernel::Session& session, const std::string& 
 
 /// Naturalization as a session extension over one naturalizer that several sessions share:
 /// attach() adds the ops above and subscribes to the session's events: QueryBegins (refresh),
-/// VisibilityAsked (sharing modes), Accepting (persistence), UserChanged (per-user weights) and
-/// Activated (selects the caller's weights, lexicon.weights: per_user, and picks up what other
-/// kernels committed before one of the sessions handles a request). Front ends find it
+/// VisibilityAsked (sharing modes), Accepting (persistence) and Activated (picks up what other
+/// kernels committed before one of the sessions handles a request). Per-user weights need no
+/// event: the scorer keeps a partition per user (docs/naturalization.md §3). Front ends find it
 /// with `session.extension<NaturalizationExtension>()` and call the typed service through it.
 class NaturalizationExtension final : public kernel::SessionExtension {
  public:

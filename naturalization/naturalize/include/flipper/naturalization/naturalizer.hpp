@@ -38,6 +38,10 @@
 
 namespace flipper::naturalization {
 
+/// The one key the scorer's learned weights are stored under: a scorer with per-user weights
+/// keeps each user's in its own partition (sdk::WeightChange::model), docs/naturalization.md §5.
+inline constexpr const char* kWeightsKey = "global";
+
 namespace naturalize_codes {
 inline constexpr const char* kForbidden = "forbidden";  ///< deleting another user's rule
 inline constexpr const char* kNotFound = "not_found";   ///< unknown (or hidden) rule id
@@ -73,8 +77,10 @@ struct NaturalizeOptions {
   std::string store_path = ":memory:";  ///< lexicon.path
   Sharing sharing = Sharing::shared;    ///< lexicon.sharing
   std::string preload;                  ///< lexicon.preload (JSON Lines; empty: none)
-  bool per_user_weights = false;        ///< lexicon.weights == per_user
-  LexiconStoreOptions store;            ///< lexicon.busy_timeout_ms (+ test-only limits)
+  /// lexicon.weights == per_user: the alias of the scorer's `per_user` param, the one switch
+  /// (apply_weights_switch); the naturalizer itself keeps one weights key either way.
+  bool per_user_weights = false;
+  LexiconStoreOptions store;  ///< lexicon.busy_timeout_ms (+ test-only limits)
   /// Start-up keeps a rule snapshot in the store once it holds this many live rules, and rebuilds
   /// it when more than max(this, an eighth of its rules) rows changed since (docs/naturalization.md
   /// §5 "Start-up at scale"). 0: never use or write one.
@@ -91,6 +97,17 @@ struct NaturalizeOptions {
   /// Reads the keys above from a validated config (the schema filled every default).
   static NaturalizeOptions from_config(const kernel::Config& config);
 };
+
+/// lexicon.weights = per_user is a short way to write `scorer.params.per_user: true` (the
+/// scorer's partition per user is the one switch, docs/naturalization.md §5 "Learned state"):
+/// sets it on a config just loaded, before the runtime is made, so a scorer plugin without the
+/// param refuses it (bad_config, "unknown config key 'scorer.params.per_user'"). Throws
+/// bad_config when the config also writes `scorer.params.per_user: false`.
+void apply_weights_switch(kernel::Config& config);
+/// Throws bad_config when lexicon.weights = per_user but the scorer was not given per_user
+/// (a config that did not go through apply_weights_switch): per-user weights are never global
+/// silently.
+void check_weights_switch(const kernel::Config& config);
 
 struct DefineRequest {
   std::string user;
@@ -226,8 +243,6 @@ class Naturalizer {
   std::vector<HeldDefinition> pending() const;
   std::vector<sdk::RulePtr> approve(const std::string& moderator, const std::string& id);
   void reject(const std::string& moderator, const std::string& id, const std::string& reason = {});
-  /// per_user weights: makes the scorer hold `user`'s weights (no-op for global weights).
-  void select_user(const std::string& user);
 
   /// Live induced rules in creation order.
   const std::vector<sdk::RulePtr>& induced_rules() const { return rules_; }
@@ -263,15 +278,13 @@ class Naturalizer {
   void apply(const LexiconChanges& changes, const std::vector<sdk::RulePtr>& own = {});
   /// Applies counters and weights learned elsewhere.
   void apply(const LearnedChanges& learned);
-  /// The weights key the scorer holds ("" before a per_user session chose its user).
-  std::string held_weights_key() const;
-  /// After an accept's commit: the scorer holds exactly the stored weights of its key again.
-  void hold_stored_weights(const std::string& user, sdk::IncrementalScorer* inc,
-                           const LexiconStore::WeightSums& sums);
+  /// After an accept's commit: the scorer holds exactly the stored weights again.
+  void hold_stored_weights(sdk::IncrementalScorer* inc, const LexiconStore::WeightSums& sums);
+  /// Folds an older store's per-user weight keys into kWeightsKey (once; see the .cpp).
+  void fold_legacy_user_weights();
   void add_live(sdk::RulePtr rule);
   void remove_live(const std::string& id);
   bool exists_for(const sdk::Rule& rule, const std::string& author) const;
-  std::string weights_key(const std::string& user) const;
   std::string save_weights() const;  ///< the scorer's state (a guarded plugin call)
   /// Loads the scorer's stored weights under `key` (saved state, then additive weights).
   void load_weights(const std::string& key);
@@ -291,7 +304,6 @@ class Naturalizer {
   std::int64_t learned_mark_ = 0;  ///< how far it has read what accepts taught
   bool held_from_state_ = false;   ///< the held weights start from a stored whole state
   std::string initial_weights_;    ///< scorer state before any learning (per_user default)
-  std::string weights_user_;       ///< whose weights the scorer holds (per_user)
   PreloadReport preload_report_;
   StartupReport startup_;
   std::vector<QuarantinedRule> quarantined_;
