@@ -504,27 +504,29 @@ std::vector<std::string> mode_overrides(const std::string& group) {
           "lexicon.preload=", "induction.alignment=false"};
 }
 
+namespace {
+// Whether some definition of `run` logged a rule that `pred` holds for.
+template <class Pred>
+bool run_logged_rule(const Corpus& corpus, const Run& run, Pred pred) {
+  return std::any_of(
+      corpus.definitions.begin(), corpus.definitions.end(), [&](const Definition& d) {
+        return d.source == run.source && std::any_of(d.rules.begin(), d.rules.end(), pred);
+      });
+}
+}  // namespace
+
 std::vector<std::string> alignment_overrides(const Corpus& corpus, const Run& run) {
   // A 2018 log's rule has the original's formula, no `semantics` in our notation (a studio
   // recording's has: those runs keep the keys mode_overrides gives).
-  const bool logged =
-      std::any_of(corpus.definitions.begin(), corpus.definitions.end(), [&](const Definition& d) {
-        return d.source == run.source &&
-               std::any_of(d.rules.begin(), d.rules.end(),
-                           [](const LoggedRule& r) { return r.alignment && r.semantics.empty(); });
-      });
-  if (!logged) return {};
+  if (!run_logged_rule(corpus, run,
+                       [](const LoggedRule& r) { return r.alignment && r.semantics.empty(); }))
+    return {};
   return {"induction.alignment=true", "induction.alignment_mode=window"};
 }
 
 std::vector<std::string> view_overrides(const Corpus& corpus, const Run& run) {
-  const bool original =
-      std::any_of(corpus.definitions.begin(), corpus.definitions.end(), [&](const Definition& d) {
-        return d.source == run.source &&
-               std::any_of(d.rules.begin(), d.rules.end(),
-                           [](const LoggedRule& r) { return r.semantics.empty(); });
-      });
-  if (!original) return {};
+  if (!run_logged_rule(corpus, run, [](const LoggedRule& r) { return r.semantics.empty(); }))
+    return {};
   return {"induction.view=everyone"};
 }
 
