@@ -17,8 +17,9 @@ NaturalizeOptions NaturalizeOptions::from_config(const kernel::Config& config) {
   o.sharing = config.get(keys::kSharing);
   const std::string preload = config.text(keys::kPreload);
   o.preload = preload.empty() ? preload : config.resolve_path_of(keys::kPreload, preload);
+  // lexicon.weights is the scorer's per_user param (apply_weights_switch): the naturalizer keeps
+  // one weights key either way, and only checks that the switch reached the scorer.
   check_weights_switch(config);
-  o.per_user_weights = config.get(keys::kWeights) == keys::Weights::per_user;
   o.store.busy_timeout_ms = static_cast<int>(config.get(keys::kBusyTimeoutMs));
   o.store.sync_every_commit = config.get(keys::kDurability) == keys::Durability::full;
   o.store.group_commit = config.get(keys::kGroupCommit);

@@ -288,7 +288,9 @@ TEST_CASE("naturalization options start from the kernel schema's defaults",
   CHECK(o.store.busy_timeout_ms == std::get<std::int64_t>(def("lexicon.busy_timeout_ms")));
   CHECK(o.snapshot_min_rules == std::get<std::int64_t>(def("lexicon.snapshot_min_rules")));
   CHECK(to_string(o.sharing) == std::get<std::string>(def("lexicon.sharing")));
-  CHECK(o.per_user_weights == (std::get<std::string>(def("lexicon.weights")) == "per_user"));
+  CHECK(o.induction.alignment_window ==
+        (std::get<std::string>(def("induction.alignment_mode")) == "window"));
+  CHECK(o.induction_sees_everyone == (std::get<std::string>(def("induction.view")) == "everyone"));
 }
 
 TEST_CASE("induction.view=everyone: a private run's definitions see every user's rules",

@@ -77,10 +77,7 @@ struct NaturalizeOptions {
   std::string store_path = ":memory:";  ///< lexicon.path
   Sharing sharing = Sharing::shared;    ///< lexicon.sharing
   std::string preload;                  ///< lexicon.preload (JSON Lines; empty: none)
-  /// lexicon.weights == per_user: the alias of the scorer's `per_user` param, the one switch
-  /// (apply_weights_switch); the naturalizer itself keeps one weights key either way.
-  bool per_user_weights = false;
-  LexiconStoreOptions store;  ///< lexicon.busy_timeout_ms (+ test-only limits)
+  LexiconStoreOptions store;            ///< lexicon.busy_timeout_ms (+ test-only limits)
   /// Start-up keeps a rule snapshot in the store once it holds this many live rules, and rebuilds
   /// it when more than max(this, an eighth of its rules) rows changed since (docs/naturalization.md
   /// §5 "Start-up at scale"). 0: never use or write one.
