@@ -3,7 +3,8 @@
 # header of `a` (by a relative path, or by name through a borrowed include directory) and `b`
 # linking a library of `a` must each fail layers.sh, and the clean tree must pass; so must a layer
 # declaring another's config key, a key spelled twice, a string read of a key, and a kernel over
-# its line cap.
+# its line cap. The toolkit's config module is the kernel's, naturalization's and the apps' only:
+# they may include it, the SDK, the plugins and the plugins' toolkit may not.
 # Usage: layers_detect.sh <doc>
 set -euo pipefail
 doc=$1
@@ -61,6 +62,31 @@ expect fail "b includes a naturalization header with angle brackets"
 clean
 echo '#include "flipper/toolkit/params.hpp"' >"$tmp/tree/kernel/k.cpp"
 expect fail "the kernel includes a toolkit header"
+clean
+echo '#include "flipper/toolkit/params.hpp"  // not flipper/toolkit/config/' >"$tmp/tree/kernel/k.cpp"
+expect fail "the kernel includes a toolkit header, naming the config module in a comment"
+clean
+echo '#include "flipper/toolkit/config_helpers.hpp"' >"$tmp/tree/apps/a.cpp"
+expect fail "an app includes a toolkit header whose name starts with config"
+clean
+echo '#include "flipper/toolkit/config/document.hpp"' >"$tmp/tree/kernel/k.cpp"
+echo '#include <flipper/toolkit/config/yaml_bounds.hpp>' >"$tmp/tree/naturalization/n.cpp"
+echo '#include "flipper/toolkit/config/regular_file.hpp"' >"$tmp/tree/apps/a.cpp"
+expect pass "the kernel, naturalization and an app include the toolkit's config module"
+clean
+echo '#include "flipper/toolkit/config/document.hpp"' >"$tmp/tree/sdk/s.cpp"
+expect fail "the SDK includes the toolkit's config module"
+clean
+echo '#include "flipper/toolkit/config/document.hpp"' >>"$tmp/tree/plugins/b/b.cpp"
+expect fail "a plugin includes the toolkit's config module"
+clean
+mkdir -p "$tmp/tree/toolkit/src"
+echo '#include "flipper/toolkit/config/document.hpp"' >"$tmp/tree/toolkit/src/t.cpp"
+expect fail "the plugins' toolkit includes its config module"
+clean
+printf 'flipper_add_plugin(b KIND world SOURCES b.cpp LIBRARIES flipper_toolkit_config)\n' \
+  >"$tmp/tree/plugins/b/CMakeLists.txt"
+expect fail "a plugin links the toolkit's config module"
 # Each part declares its own config keys and reads them through handles (docs/config.md).
 clean
 printf 'inline constexpr Int kPort{"serve.port", 8410, 0, 65535, "port"};\n' >"$tmp/tree/kernel/keys.hpp"
@@ -86,9 +112,9 @@ clean
 printf 'auto s = params.get_string(\n    "shape");\n' >"$tmp/tree/plugins/b/b.cpp"
 expect fail "a string read of a plugin param over two lines"
 clean
-for i in $(seq 6060); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
-expect fail "a kernel of 6,060 lines"
+for i in $(seq 5358); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
+expect fail "a kernel of 5,358 lines"
 clean
-for i in $(seq 6059); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
-expect pass "a kernel of 6,059 lines"
+for i in $(seq 5357); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
+expect pass "a kernel of 5,357 lines"
 echo "layer check detection OK"

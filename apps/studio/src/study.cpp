@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "flipper/kernel/keys.hpp"
-#include "flipper/kernel/limits.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/toolkit/config/regular_file.hpp"
 #include "flipper/wiring/yaml_file.hpp"
 #include "registry.hpp"
 
@@ -26,9 +26,9 @@ namespace {
 Json read_world(const std::string& study, const fs::path& path, const std::string& key) {
   std::string text;
   try {
-    text = kernel::read_regular_file(path.string(),
-                                     static_cast<std::uint64_t>(kernel::keys::kMaxFileBytes.def),
-                                     "world file", sdk::codes::kBadConfig);
+    text = toolkit::config::read_regular_file(
+        path.string(), static_cast<std::uint64_t>(kernel::keys::kMaxFileBytes.def), "world file",
+        sdk::codes::kBadConfig);
   } catch (const sdk::Error& e) {
     fail(study, key + ": " + e.what());
   }

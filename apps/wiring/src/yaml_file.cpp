@@ -1,19 +1,19 @@
 #include "flipper/wiring/yaml_file.hpp"
 
-#include "flipper/kernel/limits.hpp"
-#include "flipper/kernel/yaml_bounds.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/toolkit/config/regular_file.hpp"
+#include "flipper/toolkit/config/yaml_bounds.hpp"
 
 namespace flipper::wiring {
 
 YAML::Node load_bounded_yaml_file(const std::string& path, const std::string& what) {
   const std::string failed = "cannot read " + what + " '" + path + "': ";
   try {
-    const std::string text = kernel::read_regular_file(path, kernel::yaml_bounds::kMaxConfigBytes,
-                                                       what, sdk::codes::kBadConfig);
+    const std::string text = toolkit::config::read_regular_file(
+        path, toolkit::config::yaml_bounds::kMaxConfigBytes, what, sdk::codes::kBadConfig);
     YAML::Node root = YAML::Load(text);
     // Before anything walks the tree: an alias bomb loads at once and expands when walked.
-    kernel::yaml_bounds::check_expanded_size(root, what + " '" + path + "'");
+    toolkit::config::yaml_bounds::check_expanded_size(root, what + " '" + path + "'");
     return root;
   } catch (const YAML::Exception& e) {
     throw sdk::Error(sdk::codes::kBadConfig, failed + e.what());

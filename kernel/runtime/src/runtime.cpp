@@ -12,6 +12,7 @@
 #include "flipper/kernel/loader.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/world_format.hpp"
+#include "flipper/toolkit/config/regular_file.hpp"
 
 namespace flipper::kernel {
 
@@ -74,9 +75,9 @@ sdk::WorldState load_world_path(const PluginRef<sdk::World>& world, const Config
   const auto first = path_or_json.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && path_or_json[first] == '{')
     return load_world(world, config, path_or_json, fs::current_path().string());
-  const std::string text =
-      read_regular_file(path_or_json, InputLimits::from_config(config).max_file_bytes, "world file",
-                        codes::kBadWorld);
+  const std::string text = toolkit::config::read_regular_file(
+      path_or_json, InputLimits::from_config(config).max_file_bytes, "world file",
+      codes::kBadWorld);
   return load_world(world, config, text, fs::absolute(path_or_json).parent_path().string());
 }
 
@@ -169,8 +170,8 @@ std::unique_ptr<Runtime> make_runtime(const Config& config) {
 
   require_file(config, keys::kGrammarFile, codes::kBadGrammar, "grammar file");
   const std::string grammar_file = config.get(keys::kGrammarFile);
-  check_regular_file(grammar_file, InputLimits::from_config(config).max_file_bytes, "grammar file",
-                     codes::kBadGrammar);
+  toolkit::config::check_regular_file(grammar_file, InputLimits::from_config(config).max_file_bytes,
+                                      "grammar file", codes::kBadGrammar);
   rt->core_grammar = std::make_shared<const sdk::Grammar>(sdk::load_grammar_file(
       config.get(keys::kGrammarFile), config.get(keys::kGrammarColors),
       config.get(keys::kGrammarShapes), direction_words(config, world_name, rt->default_world)));

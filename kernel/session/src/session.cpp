@@ -9,6 +9,7 @@
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/toolkit/config/regular_file.hpp"
 #include "world_texts.hpp"
 
 namespace flipper::kernel {
@@ -375,8 +376,8 @@ const sdk::WorldState& Session::open_world_file(const std::string& file) {
   std::error_code ec;
   if (path.is_relative() && !std::filesystem::exists(path, ec))
     path = runtime_->config.resolve_path(file);
-  std::string text = read_regular_file(path.string(), options_.input.max_file_bytes, "world file",
-                                       sdk::codes::kBadWorld);
+  std::string text = toolkit::config::read_regular_file(
+      path.string(), options_.input.max_file_bytes, "world file", sdk::codes::kBadWorld);
   return open_world_text(text, path.parent_path().string());
 }
 

@@ -10,11 +10,12 @@
 #include "flipper/kernel/limits.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/toolkit/config/regular_file.hpp"
 
 namespace flipper::naturalization {
 
 void Naturalizer::preload(const std::string& path) {
-  std::istringstream in(kernel::read_regular_file(
+  std::istringstream in(toolkit::config::read_regular_file(
       path, kernel::InputLimits::from_config(runtime_->config).max_file_bytes,
       "lexicon.preload file", sdk::codes::kBadConfig));
   // A restart must not replay what the store already holds.

@@ -3,8 +3,8 @@
 /// Reading a YAML file that is not a config (an experiment, a planner task list) with a config's
 /// bounds (docs/bad-input.md): a regular file of at most 1 MiB whose document expands to at most
 /// 100,000 nodes, aliases counted, so /dev/zero, a FIFO or an alias bomb is an error, not a hang.
-/// A host's job (the study, experiment and task files of the apps), on the kernel's bounds for a
-/// config document (flipper/kernel/yaml_bounds.hpp).
+/// A host's job (the study, experiment and task files of the apps), on the bounds of a config
+/// document (flipper/toolkit/config/yaml_bounds.hpp).
 #include <yaml-cpp/yaml.h>
 
 #include <string>

@@ -2,12 +2,13 @@
 /// @file config.hpp
 /// The validated configuration. Sources, in order: the file given with --config (or the embedded
 /// configs/default.yaml) over the files it `extends:` (each merged under the one that extends
-/// it), then each --set key.path=value. Validation happens before anything is
-/// built, by one engine (sdk::validate_params) with one wording: the keys against the schema the
-/// host composed (Config::schema(): the kernel's fragment, keys.hpp and keys.cpp, and each layer's
-/// above it; docs/config.md "Who declares a key"), each plugin's `params` against the schema that
-/// plugin declares; unknown keys are errors with a "did you mean" hint (code bad_config), and
-/// every message names the file and the full key.
+/// it), then each --set key.path=value: a document read by the toolkit's config module
+/// (flipper/toolkit/config/document.hpp), which the kernel binds to the schema. Validation
+/// happens before anything is built, by one engine (sdk::validate_params) with one wording: the
+/// keys against the schema the host composed (Config::schema(): the kernel's fragment, keys.hpp
+/// and keys.cpp, and each layer's above it; docs/config.md "Who declares a key"), each plugin's
+/// `params` against the schema that plugin declares; unknown keys are errors with a "did you
+/// mean" hint (code bad_config), and every message names the file and the full key.
 ///
 /// Layout (Nav2-style named instances):
 ///   world:    {plugin: grid2d, params: {...}, file: worlds/study2018.json, resolution, origin,

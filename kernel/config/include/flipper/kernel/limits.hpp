@@ -36,18 +36,6 @@ struct InputLimits {
   static InputLimits from_config(const Config& config);
 };
 
-/// Reads a whole file that must be a regular file (not a FIFO, device or directory) of at most
-/// `max_bytes` bytes; `what` names it in messages ("world file"). Throws sdk::Error with
-/// `not_a_regular_file`, `file_too_large`, or `missing_code` when it cannot be opened/read.
-/// The size is checked on the open descriptor, and reading stops at max_bytes + 1 regardless,
-/// so a file that grows meanwhile cannot make it read more.
-std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
-                              const std::string& what, const char* missing_code);
-
-/// Checks the same for a file another library will read (e.g. an OctoMap .bt) without reading it.
-void check_regular_file(const std::string& path, std::uint64_t max_bytes, const std::string& what,
-                        const char* missing_code);
-
 /// Depth of the deepest array/object nesting in JSON text (strings skipped), stopping early once
 /// it exceeds `stop_above`: no recursion, O(length).
 int json_depth(std::string_view text, int stop_above);

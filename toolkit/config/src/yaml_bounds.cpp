@@ -1,10 +1,10 @@
-#include "flipper/kernel/yaml_bounds.hpp"
+#include "flipper/toolkit/config/yaml_bounds.hpp"
 
 #include <vector>
 
 #include "flipper/sdk/errors.hpp"
 
-namespace flipper::kernel::yaml_bounds {
+namespace flipper::toolkit::config::yaml_bounds {
 
 void check_expanded_size(const YAML::Node& root, const std::string& source) {
   std::size_t nodes = 1;
@@ -52,4 +52,4 @@ YAML::Node without_nulls(const YAML::Node& n) {
   return out;
 }
 
-}  // namespace flipper::kernel::yaml_bounds
+}  // namespace flipper::toolkit::config::yaml_bounds

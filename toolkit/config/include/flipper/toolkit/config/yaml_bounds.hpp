@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-namespace flipper::kernel::yaml_bounds {
+namespace flipper::toolkit::config::yaml_bounds {
 
 /// A config file has at most this many bytes (1 MiB; the configs in configs/ have under 5 KiB).
 inline constexpr std::uint64_t kMaxConfigBytes = std::uint64_t{1} << 20;
@@ -26,4 +26,4 @@ void check_expanded_size(const YAML::Node& root, const std::string& source);
 /// are unique: parse_yaml refused duplicates).
 YAML::Node without_nulls(const YAML::Node& node);
 
-}  // namespace flipper::kernel::yaml_bounds
+}  // namespace flipper::toolkit::config::yaml_bounds
