@@ -61,7 +61,8 @@ class FloatingRun : public toolkit::ChartRun<FloatingRun> {
 
   void queue_more(int i, int j, std::vector<Queued>& queue) {
     for (auto& f : pending_floating_)
-      if (insert_floating(i, j, f)) queue.push_back({f.d, 0, f.skips});
+      if (insert_floating(i, j, f))
+        queue.push_back({f.d, 0, f.skips, index_.category_id(f.d->rule->lhs)});
   }
 
   bool insert_inexact(int i, int j, const DerivationPtr& d, int skips) {

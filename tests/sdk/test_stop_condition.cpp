@@ -80,3 +80,45 @@ TEST_CASE("StoppedError is deadline_exceeded with its cause") {
   CHECK(sdk::stop_cause_of(e) == sdk::StopCause::wall_backstop);
   CHECK(sdk::stop_cause_of(sdk::Error("deadline_exceeded", "x")) == sdk::StopCause::none);
 }
+
+TEST_CASE("a poll reads the CPU clock only when the last reading cannot prove the budget unspent") {
+  const auto& last = sdk::last_cpu_reading();
+  // Far from the budget's end: the reading taken at the start answers the polls (none is taken).
+  const auto stop = sdk::StopCondition::within_cpu(milliseconds(500), milliseconds(0));
+  REQUIRE(last.clock == stop.cpu_clock);
+  const auto taken = last.at;
+  CHECK(stop.cause() == sdk::StopCause::none);
+  CHECK_FALSE(stop.expired());
+  CHECK(last.at == taken);
+  // Near it (within 1 ms, or twice the time passed since that reading): the clock is read.
+  sdk::StopCondition near = stop;
+  near.cpu_deadline = last.cpu + milliseconds(1);
+  CHECK(near.cause() == sdk::StopCause::none);
+  CHECK(last.at > taken);
+  // The CPU used since the last reading counts, though no poll read the clock meanwhile: the
+  // bound grows with the time that passed, so a budget spent is seen as spent.
+  static_cast<void>(sdk::read_cpu_clock(stop.cpu_clock));
+  burn(milliseconds(5));
+  sdk::StopCondition spent = stop;
+  spent.cpu_deadline = sdk::cpu_time(stop.cpu_clock);
+  CHECK(spent.cause() == sdk::StopCause::cpu_budget);
+  CHECK(spent.cpu_left() == std::chrono::nanoseconds::zero());
+}
+
+TEST_CASE("a reading of one clock proves nothing about another") {
+  static_cast<void>(sdk::read_cpu_clock(CLOCK_THREAD_CPUTIME_ID));
+  // The process's clock counts every thread's CPU, faster than time passes: never remembered,
+  // always read.
+  static_cast<void>(sdk::read_cpu_clock(CLOCK_PROCESS_CPUTIME_ID));
+  CHECK(sdk::last_cpu_reading().clock == CLOCK_THREAD_CPUTIME_ID);
+  sdk::StopCondition process;
+  process.cpu_clock = CLOCK_PROCESS_CPUTIME_ID;
+  process.cpu_deadline = sdk::cpu_time(CLOCK_PROCESS_CPUTIME_ID);
+  CHECK(process.cause() == sdk::StopCause::cpu_budget);
+  // This thread's clock under another name is read too (and remembered under that name).
+  sdk::StopCondition other;
+  other.cpu_clock = sdk::this_thread_cpu_clock();
+  other.cpu_deadline = sdk::cpu_time(other.cpu_clock);
+  CHECK(other.cause() == sdk::StopCause::cpu_budget);
+  CHECK(sdk::last_cpu_reading().clock == other.cpu_clock);
+}

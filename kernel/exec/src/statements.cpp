@@ -37,7 +37,9 @@ Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const Exe
   // request's budget, on its own clock, binds when less of it is left than execution's.
   stop_.cancel = request.cancel;
   stop_.cpu_clock = sdk::this_thread_cpu_clock();
-  const auto cpu_now = sdk::cpu_time(stop_.cpu_clock);
+  const auto wall_now = std::chrono::steady_clock::now();
+  // Remembered on this thread: the polls after it read the clock only near a budget's end.
+  const auto cpu_now = sdk::read_cpu_clock(stop_.cpu_clock, wall_now);
   const std::chrono::nanoseconds own = limits.cpu_budget;
   // The request's budget is usually on this same clock (the request thread's): one reading serves
   // both (a thread CPU clock read is a system call, ~1.5 µs on a VM; one per executed candidate).
@@ -51,7 +53,7 @@ Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const Exe
     left = request.cpu_left();
   request_cpu_binds_ = left < own;
   stop_.cpu_deadline = cpu_now + (request_cpu_binds_ ? left : own);
-  stop_.deadline = std::chrono::steady_clock::now() + limits.deadline;
+  stop_.deadline = wall_now + limits.deadline;
   if (request.deadline < stop_.deadline) {
     stop_.deadline = request.deadline;
     request_wall_binds_ = true;

@@ -39,6 +39,49 @@ inline std::chrono::nanoseconds cpu_time(clockid_t clock = CLOCK_THREAD_CPUTIME_
   return std::chrono::seconds(t.tv_sec) + std::chrono::nanoseconds(t.tv_nsec);
 }
 
+/// The last reading of a thread's CPU clock taken on this thread by read_cpu_clock, with the
+/// steady clock's time taken just before it (`cpu` negative: none yet).
+struct CpuClockReading {
+  clockid_t clock = CLOCK_THREAD_CPUTIME_ID;
+  std::chrono::nanoseconds cpu{-1};
+  std::chrono::steady_clock::time_point at{};
+};
+inline CpuClockReading& last_cpu_reading() {
+  static thread_local CpuClockReading reading;
+  return reading;
+}
+/// A clock of one thread (CLOCK_THREAD_CPUTIME_ID, or pthread_getcpuclockid's, whose bit 2 says
+/// "thread" on Linux): it counts at most the real time that passes, unlike a process's clock.
+inline bool counts_one_thread(clockid_t clock) {
+  return clock == CLOCK_THREAD_CPUTIME_ID || (clock < 0 && (clock & 4) != 0);
+}
+
+/// cpu_time(clock), remembered on the calling thread (with `now`, the steady clock's time taken
+/// before the read) so that cpu_clock_before() can answer later polls without reading the clock.
+inline std::chrono::nanoseconds read_cpu_clock(
+    clockid_t clock, std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now()) {
+  const auto cpu = cpu_time(clock);
+  if (cpu != std::chrono::nanoseconds::max() && counts_one_thread(clock))
+    last_cpu_reading() = CpuClockReading{clock, cpu, now};
+  return cpu;
+}
+
+/// Whether `clock` is still below `deadline` at steady time `now`: exactly what a reading of the
+/// clock at `now` says, with the reading skipped when the calling thread's last reading of the
+/// same clock already proves it (docs/planners.md §2). A thread runs for at most the real time
+/// that passes, so its clock is at most that reading plus the steady time since; the bound
+/// doubles that time and adds 1 ms, far more than any difference in the two clocks' rates. Only
+/// when the bound reaches the deadline is the clock read (a system call).
+inline bool cpu_clock_before(clockid_t clock, std::chrono::nanoseconds deadline,
+                             std::chrono::steady_clock::time_point now) {
+  const CpuClockReading& last = last_cpu_reading();
+  if (last.clock == clock && last.cpu.count() >= 0 && now >= last.at) {
+    const auto since = std::chrono::duration_cast<std::chrono::nanoseconds>(now - last.at);
+    if (last.cpu + 2 * since + std::chrono::milliseconds(1) < deadline) return true;
+  }
+  return read_cpu_clock(clock, now) < deadline;
+}
+
 /// The calling thread's CPU clock as a clock any thread can read.
 inline clockid_t this_thread_cpu_clock() {
   clockid_t c = CLOCK_THREAD_CPUTIME_ID;
@@ -68,19 +111,22 @@ struct StopCondition {
   /// A time limit passed or the cancel flag is set (the expansion budget is not consulted).
   bool expired() const { return cause() != StopCause::none; }
   /// Which limit has fired now: the cancel flag, then the CPU budget, then the wall backstop.
+  /// The CPU clock is read only when the last reading on this thread cannot prove the budget
+  /// unspent (cpu_clock_before): a poll costs a system call only near the budget's end.
   StopCause cause() const {
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return StopCause::cancelled;
-    if (cpu_deadline != std::chrono::nanoseconds::max() && cpu_time(cpu_clock) >= cpu_deadline)
-      return StopCause::cpu_budget;
-    if (deadline != std::chrono::steady_clock::time_point::max() &&
-        std::chrono::steady_clock::now() >= deadline)
-      return StopCause::wall_backstop;
+    const bool cpu = cpu_deadline != std::chrono::nanoseconds::max();
+    const bool wall = deadline != std::chrono::steady_clock::time_point::max();
+    if (!cpu && !wall) return StopCause::none;
+    const auto now = std::chrono::steady_clock::now();
+    if (cpu && !cpu_clock_before(cpu_clock, cpu_deadline, now)) return StopCause::cpu_budget;
+    if (wall && now >= deadline) return StopCause::wall_backstop;
     return StopCause::none;
   }
   /// The CPU time left on the budget (max when there is none, zero when it is spent).
   std::chrono::nanoseconds cpu_left() const {
     if (cpu_deadline == std::chrono::nanoseconds::max()) return cpu_deadline;
-    const auto now = cpu_time(cpu_clock);
+    const auto now = read_cpu_clock(cpu_clock);
     return now >= cpu_deadline ? std::chrono::nanoseconds::zero() : cpu_deadline - now;
   }
   /// A wall-clock limit only (tests, tools): `ms` from now.
@@ -94,8 +140,9 @@ struct StopCondition {
   static StopCondition within_cpu(std::chrono::milliseconds cpu, std::chrono::milliseconds wall) {
     StopCondition s;
     s.cpu_clock = this_thread_cpu_clock();
-    if (cpu.count() > 0) s.cpu_deadline = cpu_time(s.cpu_clock) + cpu;
-    if (wall.count() > 0) s.deadline = std::chrono::steady_clock::now() + wall;
+    const auto now = std::chrono::steady_clock::now();
+    if (cpu.count() > 0) s.cpu_deadline = read_cpu_clock(s.cpu_clock, now) + cpu;
+    if (wall.count() > 0) s.deadline = now + wall;
     return s;
   }
 };

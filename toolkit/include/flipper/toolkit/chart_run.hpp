@@ -109,10 +109,11 @@ class ChartRun {
  public:
   using Rhs = std::span<const Sym>;
   /// An entry of the unary fixpoint's queue: a derivation of the span, how many unary rules
-  /// built it, and the words it leaves out (0: exact).
+  /// built it, the words it leaves out (0: exact) and its category (the rule's CompiledRule::lhs:
+  /// no lookup of the name per derivation).
   struct Queued {
     sdk::DerivationPtr d;
-    int depth, skips;
+    int depth, skips, cat;
   };
 
   /// `exhaustive`: try every rule whose first symbol fits (the unindexed matcher, the oracle of
@@ -193,8 +194,11 @@ class ChartRun {
   /// Rule r has been matched over [i, j) with `kids_`: its derivation joins the span's.
   void complete(int r, int i, int j) {
     auto d = build(r, i, j, req_.tokens[static_cast<std::size_t>(i)]);
-    if (d) pending_.push_back(std::move(d));
+    if (d) pending_.push_back({std::move(d), 0, 0, lhs_of(r)});
   }
+
+  /// The category id of rule r's left-hand side.
+  int lhs_of(int r) const { return index_.rules()[static_cast<std::size_t>(r)].lhs; }
 
   /// Whether token p fits a terminal (token or class) symbol.
   bool fits(const Sym& s, int p) const {
@@ -245,8 +249,8 @@ class ChartRun {
     return d;
   }
 
-  bool insert_exact(int i, int j, const sdk::DerivationPtr& d) {
-    return insert_in_beam(list_for(cell(i, j), index_.category_id(d->rule->lhs)), d, beam_,
+  bool insert_exact(int i, int j, const sdk::DerivationPtr& d, int cat) {
+    return insert_in_beam(list_for(cell(i, j), cat), d, beam_,
                           [](const sdk::DerivationPtr& x) { return x->score; });
   }
 
@@ -284,23 +288,24 @@ class ChartRun {
     for (int e = i + 1; e < j; ++e)
       for (const auto& cc : cell(i, e)) try_first_category(cc.cat, i, j);
     self().try_more_first_categories(i, j);
-    std::vector<Queued> queue;
-    for (auto& d : pending_)
-      if (insert_exact(i, j, d)) queue.push_back({d, 0, 0});
+    std::vector<Queued>& queue = queue_;
+    queue.clear();
+    for (auto& p : pending_)
+      if (insert_exact(i, j, p.d, p.cat)) queue.push_back(p);
     self().queue_more(i, j, queue);
     // Unary rules to a fixpoint.
     for (std::size_t q = 0; q < queue.size() && !stopped_; ++q) {
       const Queued item = queue[q];
       if (item.depth >= kMaxUnaryDepth) continue;
-      const int cat = index_.category_id(item.d->rule->lhs);
-      for (int r : index_.unary_from(cat)) {
+      for (int r : index_.unary_from(item.cat)) {
         if (!starts_.visible(r)) continue;
         kids_.assign(1, item.d);
         auto d = build(r, i, j, {});
         if (!d) continue;
-        const bool kept =
-            item.skips == 0 ? insert_exact(i, j, d) : self().insert_inexact(i, j, d, item.skips);
-        if (kept) queue.push_back({std::move(d), item.depth + 1, item.skips});
+        const int cat = lhs_of(r);
+        const bool kept = item.skips == 0 ? insert_exact(i, j, d, cat)
+                                          : self().insert_inexact(i, j, d, item.skips);
+        if (kept) queue.push_back({std::move(d), item.depth + 1, item.skips, cat});
       }
     }
   }
@@ -357,7 +362,8 @@ class ChartRun {
   static constexpr int kMaxUnaryDepth = 24;
 
   std::vector<Cell> cells_;
-  std::vector<sdk::DerivationPtr> pending_;  ///< exact derivations of the span being filled
+  std::vector<Queued> pending_;  ///< exact derivations of the span being filled (depth 0)
+  std::vector<Queued> queue_;    ///< the unary fixpoint's queue of the span being filled
   std::vector<sdk::Program> sems_;
   std::vector<int> tried_;  ///< per category: the span whose rules of that first category ran
   int span_stamp_ = 0;
