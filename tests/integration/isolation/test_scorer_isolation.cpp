@@ -100,3 +100,39 @@ TEST_CASE("serve: an isolated learn's exception arrives as in process (plugin_er
   bad_learn_costs_one_answer("throw",
                              accept_error("plugin_error", "learn: evil_scorer: thrown on purpose"));
 }
+
+TEST_CASE(
+    "a scorer whose reported changes do not add up to its weights: the kernel holds the stored "
+    "sums, so the next start ranks exactly as the session did",
+    "[isolation][scorer][stored_sums]") {
+  // The stored sums are the truth every kernel over a lexicon reads (docs/naturalization.md §5
+  // "Learned state"): after each accept the kernel takes them back into the scorer, whatever the
+  // scorer holds. The evil scorer learns as in mode ok but reports each change rounded to a
+  // float. Oracles: a second session over the same store (what it loads is the stored sums), and
+  // mode ok in process (the weights the scorer really learnt, which the session must not keep).
+  const std::string store = clitest::scratch("stored-sums.sqlite");
+  const std::vector<std::string> taught = {kFine, kAccept, kFine, kAccept, kFine, kAccept, kFine};
+  const auto run = [&](const std::vector<std::string>& lines) {
+    std::string text;
+    for (const auto& l : lines) text += l + "\n";
+    const std::string in = clitest::write_file("stored-sums.jsonl", text);
+    const auto r =
+        clitest::run_flipper("session --set lexicon.path=" + store +
+                                 " --set lexicon.preload=" + set_args(evil_sets("inexact")) +
+                                 " --set plugins.isolation=in_process " + in,
+                             false);
+    REQUIRE(r.status == 0);
+    const auto last = r.out.rfind('\n', r.out.size() - 2);
+    return without_ms(json::parse(r.out.substr(last == std::string::npos ? 0 : last + 1)));
+  };
+  const json session = run(taught);
+  const json restarted = run({kFine});
+  const json learnt = reference(taught).back();
+  REQUIRE(session["ok"] == true);
+  CHECK(session == restarted);
+  CHECK(session != learnt);  // the rounding is visible in the scores at all
+  // Same readings, only the scores differ.
+  REQUIRE(session["candidates"].size() == learnt["candidates"].size());
+  for (std::size_t i = 0; i < learnt["candidates"].size(); ++i)
+    CHECK(session["candidates"][i]["formula"] == learnt["candidates"][i]["formula"]);
+}

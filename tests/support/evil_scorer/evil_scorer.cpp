@@ -7,6 +7,9 @@
 //   throw   throws std::runtime_error from learn()
 //   segv    dereferences a null pointer
 //   abort   calls std::abort()
+// and one mode that learns correctly but reports its changes wrongly:
+//   inexact reports each weight's change rounded to a float (pending_changes), so the changes
+//           the kernel stores do not add up to the weights the scorer holds
 // Tests select it with --set plugin_paths=[build/tests/plugins/evil] --set
 // scorer.plugin=evil_scorer.
 #include <algorithm>
@@ -24,11 +27,11 @@ namespace sdk = flipper::sdk;
 namespace param = flipper::sdk::param;
 namespace toolkit = flipper::toolkit;
 
-enum class Mode { ok, throws, segv, abort_ };
-constexpr param::Choice<Mode, 4> kMode{
+enum class Mode { ok, throws, segv, abort_, inexact };
+constexpr param::Choice<Mode, 5> kMode{
     "mode",
     Mode::ok,
-    {"ok", "throw", "segv", "abort"},
+    {"ok", "throw", "segv", "abort", "inexact"},
     "how to misbehave (tests/support/evil_scorer/evil_scorer.cpp)"};
 constexpr param::Text kOnToken{"on_token", "",
                                "misbehave only on accepts of utterances with this token (empty: "
@@ -45,6 +48,13 @@ class EvilScorer final : public toolkit::LinearScorer {
   static sdk::ParamSchema schema() { return param::schema(kMode, kOnToken, kRate); }
 
  protected:
+  std::vector<sdk::WeightChange> do_pending_changes() const override {
+    auto changes = LinearScorer::do_pending_changes();
+    if (mode_ == Mode::inexact)
+      for (auto& c : changes) c.weight = static_cast<float>(c.weight);
+    return changes;
+  }
+
   void update(const std::vector<sdk::Candidate>& candidates, std::size_t accepted,
               const sdk::ScoreContext& ctx) override {
     misbehave(ctx);
@@ -65,7 +75,7 @@ class EvilScorer final : public toolkit::LinearScorer {
 
  private:
   void misbehave(const sdk::ScoreContext& ctx) const {
-    if (mode_ == Mode::ok) return;
+    if (mode_ == Mode::ok || mode_ == Mode::inexact) return;
     const auto& tokens = *ctx.tokens;
     if (!on_token_.empty() && std::find(tokens.begin(), tokens.end(), on_token_) == tokens.end())
       return;
@@ -80,6 +90,7 @@ class EvilScorer final : public toolkit::LinearScorer {
       case Mode::abort_:
         std::abort();
       case Mode::ok:
+      case Mode::inexact:
         return;
     }
   }
