@@ -83,6 +83,16 @@ inline int status_for(const std::string& code) {
              : kExitFailed;
 }
 
+/// Runs `action`; an sdk::Error it throws is reported as subcommand `cmd` (report_error) with its
+/// code's exit status (status_for).
+inline int reporting_errors(const char* cmd, const std::function<int()>& action) {
+  try {
+    return action();
+  } catch (const sdk::Error& e) {
+    return report_error(cmd, e.code(), e.what(), status_for(e.code()));
+  }
+}
+
 /// Makes `action` the subcommand's callback; a non-zero status ends the process with exactly that
 /// status (a CLI::RuntimeError would reach main's handler, which maps every failure to 2).
 inline void on_run(CLI::App& cmd, std::function<int()> action) {

@@ -112,7 +112,7 @@ Point resolve_point(const nat::LexiconStore& store, const std::string& text, boo
                        (allow_store ? ", nor a lexicon store file" : ""));
 }
 
-std::string rule_text(const nat::StoredRule& r) {
+std::string history_rule_text(const nat::StoredRule& r) {
   std::string rhs;
   for (const auto& s : r.rhs) rhs += (rhs.empty() ? "" : " ") + s;
   return r.lhs + " -> " + rhs + " => " + r.semantics;
@@ -121,7 +121,7 @@ std::string rule_text(const nat::StoredRule& r) {
 /// What decides parses (lexicon_checksum's content): two rules with the same key are the same
 /// rule for a diff, whatever their ids.
 std::string rule_key(const nat::StoredRule& r) {
-  return r.author + '\x1f' + rule_text(r);
+  return r.author + '\x1f' + history_rule_text(r);
 }
 
 json entry_json(const nat::HistoryEntry& e) {
@@ -213,7 +213,7 @@ int show_diff(const HistoryArgs& a) {
     const auto list = [](const std::vector<const nat::StoredRule*>& v) {
       json out = json::array();
       for (const auto* r : v)
-        out.push_back({{"id", r->id}, {"author", r->author}, {"rule", rule_text(*r)}});
+        out.push_back({{"id", r->id}, {"author", r->author}, {"rule", history_rule_text(*r)}});
       return out;
     };
     std::cout
@@ -231,9 +231,9 @@ int show_diff(const HistoryArgs& a) {
             << "\n+++ " << to.label << ": " << to.rules.size() << " rules, checksum " << sum_to
             << "\n";
   for (const auto* r : removed)
-    std::cout << "- " << r->id << " " << r->author << " " << rule_text(*r) << "\n";
+    std::cout << "- " << r->id << " " << r->author << " " << history_rule_text(*r) << "\n";
   for (const auto* r : added)
-    std::cout << "+ " << r->id << " " << r->author << " " << rule_text(*r) << "\n";
+    std::cout << "+ " << r->id << " " << r->author << " " << history_rule_text(*r) << "\n";
   std::cout << removed.size() << " removed, " << added.size() << " added";
   if (removed.empty() && added.empty() && sum_from != sum_to)
     std::cout << " (the same rules in another creation order)";

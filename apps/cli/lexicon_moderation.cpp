@@ -25,7 +25,7 @@ struct ModerationArgs {
   bool json = false;
 };
 
-std::string rule_text(const nat::StoredRule& r) {
+std::string pending_rule_text(const nat::StoredRule& r) {
   std::string text = r.lhs + " ->";
   for (const auto& s : r.rhs) (text += ' ') += s;
   return text + " := " + r.semantics;
@@ -63,7 +63,7 @@ int show_pending(const ModerationArgs& a) {
     if (!h.definition.study.empty()) std::cout << " study=" << h.definition.study;
     if (!h.definition.via.empty()) std::cout << " via=" << h.definition.via;
     std::cout << "\n";
-    for (const auto& r : h.rules) std::cout << "   " << rule_text(r) << "\n";
+    for (const auto& r : h.rules) std::cout << "   " << pending_rule_text(r) << "\n";
   }
   std::cout << held.size() << (held.size() == 1 ? " definition" : " definitions") << " held in "
             << store->path() << "\n";
@@ -76,7 +76,8 @@ int approve(const ModerationArgs& a) {
                                           static_cast<std::int64_t>(std::time(nullptr)));
   std::cout << "approved " << a.id << " as definition " << commit.definition << " ("
             << commit.rules.size() << (commit.rules.size() == 1 ? " rule" : " rules") << ")\n";
-  for (const auto& r : commit.rules) std::cout << "+ " << r.id << " " << rule_text(r) << "\n";
+  for (const auto& r : commit.rules)
+    std::cout << "+ " << r.id << " " << pending_rule_text(r) << "\n";
   return kExitOk;
 }
 

@@ -209,15 +209,6 @@ struct CompareArgs {
   bool all = false;
 };
 
-// Runs a replay sub-subcommand with the one error format.
-int guarded(const char* name, const std::function<int()>& f) {
-  try {
-    return f();
-  } catch (const sdk::Error& e) {
-    return report_error(name, e.code(), e.what(), status_for(e.code()));
-  }
-}
-
 void add_check(CLI::App& replay) {
   auto* cmd = replay.add_subcommand(
       "check", "Re-run a recorded run from its manifest and report every figure that differs");
@@ -226,7 +217,7 @@ void add_check(CLI::App& replay) {
   cmd->add_option("--jobs", args.jobs, "Variants in parallel processes (default: the cores)");
   cmd->add_option("--out", args.out, "Keep the re-run under this folder (default: removed)");
   on_run(*cmd, [] {
-    return guarded("replay check", [] {
+    return reporting_errors("replay check", [] {
       if (args.jobs != -1 && args.jobs < 1)
         throw sdk::Error(sdk::codes::kBadRequest,
                          "--jobs must be at least 1 (got " + std::to_string(args.jobs) + ")");
@@ -245,7 +236,7 @@ void add_merge(CLI::App& replay) {
   cmd->add_option("--out", args.out, "Parent folder of the merged run")->required();
   cmd->add_flag("--no-plots", args.no_plots, "Do not draw the plots");
   on_run(*cmd, [] {
-    return guarded("replay merge", [] {
+    return reporting_errors("replay merge", [] {
       std::vector<std::string> warnings;
       const auto s = replay::merge_runs(args.runs, args.out, !args.no_plots, warnings);
       for (const auto& w : warnings) std::cerr << "flipper replay merge: warning: " << w << "\n";
@@ -265,7 +256,7 @@ void add_compare(CLI::App& replay) {
   cmd->add_option("run_b", args.b, "Run B")->required();
   cmd->add_flag("--all", args.all, "List every figure, not only those that differ");
   on_run(*cmd, [] {
-    return guarded("replay compare", [] {
+    return reporting_errors("replay compare", [] {
       record::ComparisonCounts counts;
       std::cout << record::compare_runs(record::read_run_figures(args.a),
                                         record::read_run_figures(args.b), args.all, &counts);
@@ -283,7 +274,7 @@ void add_plot(CLI::App& replay) {
   static std::string run;
   cmd->add_option("run", run, "The run folder")->required();
   on_run(*cmd, [] {
-    return guarded("replay plot", [] {
+    return reporting_errors("replay plot", [] {
       if (!record::is_run_folder(run))
         throw sdk::Error(sdk::codes::kBadRequest, "'" + run + "' is not a run folder");
       const auto plots = record::draw_plots("replay_plots.py", run);
@@ -304,7 +295,7 @@ void add_verify(CLI::App& replay) {
       ->required();
   add_common_options(*cmd, opts);
   on_run(*cmd, [] {
-    return guarded("replay verify", [] {
+    return reporting_errors("replay verify", [] {
       replay::VerifyResult r;
       try {
         r = replay::verify_recording(dir, {config_file(opts), opts.overrides});
@@ -335,7 +326,7 @@ void add_repair(CLI::App& replay) {
   cmd->add_option("--runs", runs, "Runs to replay, comma-separated (default: all)");
   add_common_options(*cmd, opts);
   on_run(*cmd, [] {
-    return guarded("replay repair", [] {
+    return reporting_errors("replay repair", [] {
       const replay::Corpus c = replay::load_corpus(corpus);
       replay::ReplayOptions o;
       o.config_file = config_file(opts);
@@ -385,7 +376,7 @@ void add_replay_command(CLI::App& app) {
   on_run(*cmd, [cmd] {
     if (!cmd->get_subcommands().empty())
       return kExitOk;  // check, merge, compare, plot, verify, repair
-    return guarded("replay", [] { return run_replay(opts, args); });
+    return reporting_errors("replay", [] { return run_replay(opts, args); });
   });
 }
 }  // namespace flipper::cli

@@ -102,14 +102,6 @@ int show_run(const std::string& run) {
   return kExitOk;
 }
 
-int guarded(const char* name, const std::function<int()>& f) {
-  try {
-    return f();
-  } catch (const sdk::Error& e) {
-    return report_error(name, e.code(), e.what(), status_for(e.code()));
-  }
-}
-
 }  // namespace
 
 void add_runs_command(CLI::App& app) {
@@ -120,11 +112,11 @@ void add_runs_command(CLI::App& app) {
   auto* list = cmd->add_subcommand("list", "Every run under a parent folder (--out of the runs)");
   static std::string parent;
   list->add_option("parent", parent, "The parent folder")->required();
-  on_run(*list, [] { return guarded("runs list", [] { return list_runs(parent); }); });
+  on_run(*list, [] { return reporting_errors("runs list", [] { return list_runs(parent); }); });
   auto* show = cmd->add_subcommand("show", "One run: status, provenance, lost work");
   static std::string run;
   show->add_option("run", run, "The run folder")->required();
-  on_run(*show, [] { return guarded("runs show", [] { return show_run(run); }); });
+  on_run(*show, [] { return reporting_errors("runs show", [] { return show_run(run); }); });
 }
 
 }  // namespace flipper::cli

@@ -3,7 +3,6 @@
 #include <vector>
 
 #include <ompl/base/goals/GoalSampleableRegion.h>
-#include <ompl/base/terminationconditions/IterationTerminationCondition.h>
 
 namespace flipper::plugins::ompl {
 namespace ob = ::ompl::base;

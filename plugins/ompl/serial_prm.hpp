@@ -6,6 +6,10 @@
 // for a solution, expand it for a counted slice, look again, ... until the caller's termination
 // condition (counted too) fires. Roadmap, connection strategy and solution search are OMPL's.
 #include <ompl/geometric/planners/prm/PRM.h>
+// OMPL 1.5's IterationTerminationCondition.h has no include guard: included here, once, for this
+// plugin's units that count iterations (serial_prm.cpp, sampling.cpp), which compile as one batch
+// (the product's unity build, CMakeLists.txt FLIPPER_UNITY).
+#include <ompl/base/terminationconditions/IterationTerminationCondition.h>
 
 namespace flipper::plugins::ompl {
 

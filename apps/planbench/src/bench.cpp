@@ -160,7 +160,7 @@ std::vector<Cell> plan_cells(const Settings& settings, const BenchExperiment& e,
   return cells;
 }
 
-std::string read_text(const std::string& path) {
+std::string read_cell_file(const std::string& path) {
   std::ifstream in(path);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -196,7 +196,7 @@ std::size_t count_lines(const std::string& path) {
 // The rows a cell wrote before an interruption: complete lines only (a line cut short is
 // removed, and its task runs again).
 std::size_t complete_rows(const std::string& path) {
-  const std::string text = read_text(path);
+  const std::string text = read_cell_file(path);
   const std::size_t end = text.rfind('\n');
   const std::string kept = end == std::string::npos ? std::string() : text.substr(0, end + 1);
   if (kept.size() != text.size()) {
@@ -403,7 +403,7 @@ BenchResult run_bench(const BenchExperiment& e, const BenchOptions& options) {
   record::OutFile runs_out(result.run_dir + "/runs.csv");
   runs_out << record::csv_line(run_columns()) << "\n";
   for (std::size_t i = 0; i < cells.size(); ++i)
-    runs_out << read_text(cell_dir + "/" + std::to_string(i) + ".csv");
+    runs_out << read_cell_file(cell_dir + "/" + std::to_string(i) + ".csv");
   runs_out.close();
   fs::remove_all(cell_dir);
   write_tasks(result.run_dir + "/tasks.csv", worlds);

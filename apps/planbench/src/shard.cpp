@@ -61,7 +61,7 @@ json agreement(const json& m) {
           {"cells", cells}};
 }
 
-std::string read_text(const std::string& path) {
+std::string read_shard_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw refused("cannot read '" + path + "'");
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -89,7 +89,7 @@ ShardRun read_shard(const std::string& dir) {
   if (!shard.is_object())
     throw refused("'" + dir + "' is not a shard (it ran without --shard I/N)");
   s.shard = {shard.at("index").get<int>(), shard.at("count").get<int>()};
-  s.tasks_text = read_text(dir + "/tasks.csv");
+  s.tasks_text = read_shard_file(dir + "/tasks.csv");
   s.runs = record::read_csv(dir + "/runs.csv");
   return s;
 }

@@ -10,7 +10,7 @@ namespace flipper::naturalization {
 
 namespace {
 
-constexpr const char* kCreateTable =
+constexpr const char* kCreatePreloadFailures =
     "CREATE TABLE IF NOT EXISTS preload_failures("
     "file TEXT NOT NULL, line INTEGER NOT NULL, head TEXT NOT NULL, author TEXT NOT NULL, "
     "code TEXT NOT NULL, message TEXT NOT NULL, time INTEGER NOT NULL, PRIMARY KEY(file, line))";
@@ -24,7 +24,7 @@ bool has_table(sqlite::Db& db) {
 
 void insert_preload_failures(sqlite::Db& db, const std::vector<PreloadFailure>& failures) {
   if (failures.empty()) return;
-  db.exec(kCreateTable);
+  db.exec(kCreatePreloadFailures);
   sqlite::Stmt ins(db,
                    "INSERT OR REPLACE INTO preload_failures(file, line, head, author, code, "
                    "message, time) VALUES (?,?,?,?,?,?,?)");

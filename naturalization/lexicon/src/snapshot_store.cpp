@@ -12,7 +12,7 @@ namespace flipper::naturalization {
 
 namespace {
 
-constexpr const char* kCreateTable =
+constexpr const char* kCreateRuleSnapshot =
     "CREATE TABLE IF NOT EXISTS rule_snapshot("
     "id INTEGER PRIMARY KEY CHECK (id = 1), format INTEGER NOT NULL, created_mark INTEGER NOT "
     "NULL, deleted_mark INTEGER NOT NULL, rows INTEGER NOT NULL, rules INTEGER NOT NULL, checksum "
@@ -98,7 +98,7 @@ bool LexiconStore::save_snapshot(const LiveRulesRead& read, std::int64_t rules,
   db.set_busy_timeout_ms(kSaveBusyMs);
   try {
     sqlite::Transaction tx(db);
-    db.exec(kCreateTable);
+    db.exec(kCreateRuleSnapshot);
     // Start-up reads the used rules' counters through this (a lexicon big enough for a snapshot
     // mostly holds unused rules; the full table scan was a tenth of a warm start).
     db.exec(

@@ -53,7 +53,7 @@ std::map<std::pair<int, int>, sdk::DerivationPtr> root_spans(const RepairInput& 
 }
 
 // One edited sentence to try.
-struct Variant {
+struct EditedSentence {
   std::vector<std::string> tokens;
   int edits = 0;
   std::string what;
@@ -203,7 +203,7 @@ Repair find_repair(const RepairInput& in) {
   std::stable_sort(singles.begin(), singles.end(),
                    [](const WordEdit& a, const WordEdit& b) { return a.at < b.at; });
 
-  std::vector<Variant> variants;
+  std::vector<EditedSentence> variants;
   variants.reserve(singles.size() + kMaxPairedEdits * kMaxPairedEdits / 2 +
                    2 * r.understood.size() + 1);
   for (const auto& e : singles) variants.push_back({apply(tokens, {&e}), 1, e.what});
@@ -246,17 +246,19 @@ Repair find_repair(const RepairInput& in) {
                             singles[x].what + ", " + singles[y].what});
   // Each sentence once, as its fewest edits make it; the whole-phrase variants are parsed first
   // (a long tail of small edits must not crowd them out of the budget), then by edits.
-  std::stable_sort(variants.begin(), variants.end(),
-                   [](const Variant& a, const Variant& b) { return a.edits < b.edits; });
+  std::stable_sort(
+      variants.begin(), variants.end(),
+      [](const EditedSentence& a, const EditedSentence& b) { return a.edits < b.edits; });
   std::set<std::vector<std::string>> seen;
-  std::vector<Variant> order;
+  std::vector<EditedSentence> order;
   for (auto& v : variants)
     if (!v.tokens.empty() && v.tokens != tokens && seen.insert(v.tokens).second)
       order.push_back(std::move(v));
-  std::stable_partition(order.begin(), order.end(), [](const Variant& v) { return v.whole; });
+  std::stable_partition(order.begin(), order.end(),
+                        [](const EditedSentence& v) { return v.whole; });
 
   std::vector<NearSentence> found;
-  for (const Variant& v : order) {
+  for (const EditedSentence& v : order) {
     if (r.parses == kMaxRepairParses) {
       r.limited =
           "only the first " + std::to_string(kMaxRepairParses) + " edited sentences were tried";

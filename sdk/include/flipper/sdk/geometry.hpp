@@ -9,6 +9,10 @@
 #include <string>
 #include <vector>
 
+// Before the Area below: GCC 12's -Wshadow takes the enumerator Sort::Area, when declared after
+// it, for a shadowing declaration; in this order it does not (a unit, or a unity batch of the
+// product's units, may include this header first).
+#include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/export.hpp"
 
 namespace flipper::sdk {
