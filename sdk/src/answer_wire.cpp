@@ -247,7 +247,7 @@ struct Table {
   }
 };
 
-constexpr std::uint64_t kKinds = static_cast<std::uint64_t>(Kind::Hole) + 1;
+constexpr std::uint64_t kKindCount = static_cast<std::uint64_t>(Kind::Hole) + 1;
 constexpr std::uint64_t kSorts = static_cast<std::uint64_t>(Sort::Property) + 1;
 constexpr std::uint64_t kSymbols = static_cast<std::uint64_t>(Symbol::Type::direction) + 1;
 constexpr std::uint64_t kOrigins = static_cast<std::uint64_t>(RuleOrigin::rewriting) + 1;
@@ -288,7 +288,7 @@ ParseResult parse_of(std::string_view bytes) {
   Table<Program> nodes(in.count(1));
   for (std::size_t i = 0; i < nodes.items.size(); ++i) {
     auto n = std::make_shared<Node>();
-    n->kind = static_cast<Kind>(in.below<std::uint8_t>(kKinds));
+    n->kind = static_cast<Kind>(in.below<std::uint8_t>(kKindCount));
     n->sort = static_cast<Sort>(in.below<std::uint8_t>(kSorts));
     n->number = in.get<double>();
     n->text = in.text();

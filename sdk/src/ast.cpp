@@ -17,7 +17,7 @@ struct KindInfo {
 };
 
 // One row per Kind, in enum order.
-constexpr KindInfo kKinds[] = {
+constexpr KindInfo kKindTable[] = {
     {Kind::Seq, Sort::Action, "Seq"},
     {Kind::Strict, Sort::Action, "Strict"},
     {Kind::Move, Sort::Action, "Move"},
@@ -75,8 +75,9 @@ constexpr KindInfo kKinds[] = {
     {Kind::Hole, Sort::Action, "Hole"},
 };
 
-static_assert(sizeof(kKinds) / sizeof(kKinds[0]) == static_cast<std::size_t>(Kind::Hole) + 1,
-              "kKinds must list every Kind in order");
+static_assert(sizeof(kKindTable) / sizeof(kKindTable[0]) ==
+                  static_cast<std::size_t>(Kind::Hole) + 1,
+              "kKindTable must list every Kind in order");
 
 [[noreturn]] void misuse(Kind kind, const std::string& what) {
   throw Error(codes::kBadProgram, std::string(kind_name(kind)) + ": " + what);
@@ -274,10 +275,10 @@ bool sort_fits(Sort expected, Sort actual) {
 }
 
 Sort sort_of(Kind kind) {
-  return kKinds[static_cast<std::size_t>(kind)].sort;
+  return kKindTable[static_cast<std::size_t>(kind)].sort;
 }
 const char* kind_name(Kind kind) {
-  return kKinds[static_cast<std::size_t>(kind)].name;
+  return kKindTable[static_cast<std::size_t>(kind)].name;
 }
 
 const char* sort_name(Sort sort) {

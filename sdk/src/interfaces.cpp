@@ -28,7 +28,7 @@ struct KindEntry {
   PluginKind kind;
   const char* name;
 };
-constexpr KindEntry kKinds[] = {
+constexpr KindEntry kPluginKinds[] = {
     {PluginKind::world, "world"},       {PluginKind::planner, "planner"},
     {PluginKind::parser, "parser"},     {PluginKind::scorer, "scorer"},
     {PluginKind::rewriter, "rewriter"}, {PluginKind::similarity, "similarity"},
@@ -37,13 +37,13 @@ constexpr KindEntry kKinds[] = {
 }  // namespace
 
 const char* kind_name(PluginKind kind) {
-  for (const auto& k : kKinds)
+  for (const auto& k : kPluginKinds)
     if (k.kind == kind) return k.name;
   return "unknown";
 }
 
 bool parse_kind(const char* name, PluginKind& out) {
-  for (const auto& k : kKinds) {
+  for (const auto& k : kPluginKinds) {
     if (std::strcmp(k.name, name) == 0) {
       out = k.kind;
       return true;

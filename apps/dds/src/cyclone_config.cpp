@@ -18,7 +18,7 @@
 namespace flipper::dds {
 namespace {
 
-[[noreturn]] void refuse(const std::string& message) {
+[[noreturn]] void refuse_config(const std::string& message) {
   throw sdk::Error(sdk::codes::kBadConfig, message);
 }
 
@@ -79,16 +79,17 @@ Parsed parse_element(const std::string& xml, const std::string& where) {
                                 &TreeBuilder::on_close, &TreeBuilder::on_error};
   std::unique_ptr<ddsrt_xmlp_state, void (*)(ddsrt_xmlp_state*)> st(
       ddsrt_xmlp_new_string(xml.c_str(), &b, &cb), &ddsrt_xmlp_free);
-  if (!st) refuse(where + ": cannot set up the XML parser");
+  if (!st) refuse_config(where + ": cannot set up the XML parser");
   ddsrt_xmlp_set_options(st.get(),
                          DDSRT_XMLP_ANONYMOUS_CLOSE_TAG | DDSRT_XMLP_MISSING_CLOSE_AS_EOF);
   if (ddsrt_xmlp_parse(st.get()) != 0 || !b.error.empty())
-    refuse(where + " is not a configuration Cyclone DDS can read: " +
-           (b.error.empty() ? std::string("XML error") : b.error));
+    refuse_config(where + " is not a configuration Cyclone DDS can read: " +
+                  (b.error.empty() ? std::string("XML error") : b.error));
   Parsed p;
   p.roots = std::move(b.roots);
   p.consumed = ddsrt_xmlp_get_bufpos(st.get());
-  if (p.consumed == 0 || p.consumed > xml.size()) refuse(where + ": the XML parser stopped early");
+  if (p.consumed == 0 || p.consumed > xml.size())
+    refuse_config(where + ": the XML parser stopped early");
   return p;
 }
 
@@ -99,7 +100,7 @@ std::size_t skip_separators(const std::string& s, std::size_t at) {
 
 std::string read_file(const std::string& path, const std::string& item, const std::string& source) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) refuse(source + " names '" + item + "', which cannot be read");
+  if (!in) refuse_config(source + " names '" + item + "', which cannot be read");
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -230,8 +231,8 @@ CycloneConfig resolve_cyclone_config(const std::string& uri, const std::string& 
     std::size_t at = skip_separators(xml, 0);
     do {
       if (at >= xml.size() || xml[at] != '<')
-        refuse(where + " holds text outside an XML element ('" + xml.substr(at, 24) +
-               "'), which Cyclone would read as another item");
+        refuse_config(where + " holds text outside an XML element ('" + xml.substr(at, 24) +
+                      "'), which Cyclone would read as another item");
       Parsed p = parse_element(xml.substr(at), where);
       config.items.push_back(xml.substr(at, p.consumed));
       for (auto& r : p.roots) config.roots.push_back(std::move(r));
@@ -255,7 +256,7 @@ CycloneConfig resolve_cyclone_config(const std::string& uri, const std::string& 
     }
     cursor = skip_separators(uri, cursor);
   }
-  if (config.items.empty()) refuse(source + " is empty");
+  if (config.items.empty()) refuse_config(source + " is empty");
   return config;
 }
 

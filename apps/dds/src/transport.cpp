@@ -13,7 +13,7 @@
 namespace flipper::dds {
 namespace {
 
-[[noreturn]] void refuse(const std::string& message) {
+[[noreturn]] void refuse_transport(const std::string& message) {
   throw sdk::Error(sdk::codes::kBadConfig, message);
 }
 
@@ -67,13 +67,15 @@ Transport choose_transport(const kernel::Config& config, const char* env_uri) {
     const CycloneConfig resolved = resolve_cyclone_config(uri, source);
     const NetworkSelection sel = network_selection(resolved, domain);
     if (!sel.unprovable.empty() && named.empty())
-      refuse(source + " has settings the loopback check cannot prove stay on this machine: " +
-             join(sel.unprovable) + "; remove them, or name the interfaces in dds.interfaces");
+      refuse_transport(
+          source + " has settings the loopback check cannot prove stay on this machine: " +
+          join(sel.unprovable) + "; remove them, or name the interfaces in dds.interfaces");
     if (!sel.selects_for_domain)
-      refuse(source + " selects no network interface for DDS domain " + std::to_string(domain) +
-             ", so Cyclone would choose one itself (with multicast); name them (e.g. "
-             "<NetworkInterface name=\"lo\"/>) or remove it to get Flipper's loopback-only "
-             "default");
+      refuse_transport(
+          source + " selects no network interface for DDS domain " + std::to_string(domain) +
+          ", so Cyclone would choose one itself (with multicast); name them (e.g. "
+          "<NetworkInterface name=\"lo\"/>) or remove it to get Flipper's loopback-only "
+          "default");
     Transport t;
     for (const auto& i : sel.interfaces)
       if (std::find(t.interfaces.begin(), t.interfaces.end(), i) == t.interfaces.end())
@@ -83,14 +85,16 @@ Transport choose_transport(const kernel::Config& config, const char* env_uri) {
                       peers_local && sel.unprovable.empty();
     for (const auto& i : t.interfaces)
       if (!is_loopback(i) && !is_named(i))
-        refuse(source + " selects interface '" + i +
-               "', which is not loopback; Flipper stays on loopback unless dds.interfaces "
-               "names every interface explicitly (dds.interfaces: [" +
-               join(named) + "])");
+        refuse_transport(
+            source + " selects interface '" + i +
+            "', which is not loopback; Flipper stays on loopback unless dds.interfaces "
+            "names every interface explicitly (dds.interfaces: [" +
+            join(named) + "])");
     if (!peers_local && named.empty())
-      refuse(source +
-             " lists discovery peers off loopback; name the interfaces in dds.interfaces to "
-             "allow that");
+      refuse_transport(
+          source +
+          " lists discovery peers off loopback; name the interfaces in dds.interfaces to "
+          "allow that");
     t.xml = resolved.text();
     t.source = source;
     return t;

@@ -7,7 +7,7 @@
 namespace flipper::studio {
 namespace {
 
-std::string lower(std::string s) {
+std::string lower_host(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
@@ -32,15 +32,15 @@ HostPolicy::HostPolicy(const std::string& bound_host, int port,
     : port_(port) {
   // A wildcard address is no name a client sends: such servers list their names.
   if (bound_host != "0.0.0.0" && bound_host != "::" && bound_host != "[::]")
-    hosts_.insert(lower(with_port(bound_host, port)));
+    hosts_.insert(lower_host(with_port(bound_host, port)));
   hosts_.insert("localhost:" + std::to_string(port));
-  for (const auto& name : allowed) hosts_.insert(lower(with_port(name, port)));
+  for (const auto& name : allowed) hosts_.insert(lower_host(with_port(name, port)));
 }
 
 bool HostPolicy::allows_host(const std::string& host, bool https) const {
   if (host.empty()) return false;
   // No port in the header: the scheme's default.
-  return hosts_.count(lower(with_port(host, https ? 443 : 80))) > 0;
+  return hosts_.count(lower_host(with_port(host, https ? 443 : 80))) > 0;
 }
 
 bool HostPolicy::allows_origin(const HttpRequest& r) const {
@@ -50,7 +50,7 @@ bool HostPolicy::allows_origin(const HttpRequest& r) const {
   if (r.origin.empty()) return true;  // not a browser (curl, programs, the benchmark)
   // An HTTPS page's origin is https:// (docs/serve.md "HTTPS"), a plain page's http://.
   const std::string scheme = r.secure ? "https://" : "http://";
-  if (lower(r.origin.substr(0, scheme.size())) != scheme) return false;
+  if (lower_host(r.origin.substr(0, scheme.size())) != scheme) return false;
   const std::string host = r.origin.substr(scheme.size());
   if (host.find('/') != std::string::npos) return false;
   return allows_host(host, r.secure);

@@ -72,7 +72,7 @@ void append_line(record::AppendFile& out, const J& line) {
   out.append(line.dump(-1, ' ', false, J::error_handler_t::replace) + "\n");
 }
 
-std::string text_of(const Json& j, const char* key) {
+std::string member_text(const Json& j, const char* key) {
   auto it = j.find(key);
   return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
@@ -128,17 +128,17 @@ void Recorder::load_existing() {
   for_each_json_line(dir / "worlds.jsonl", [&](const Json& j) {
     if (!j.is_object()) return;
     Json w = j;
-    const std::string id = text_of(j, "world_id");
+    const std::string id = member_text(j, "world_id");
     w.erase("world_id");
     worlds_by_id_[id] = std::move(w);
   });
   for_each_json_line(dir / "definitions.jsonl", [&](const Json& j) {
     if (!j.is_object()) return;
-    const std::string source = text_of(j, "source");
-    if (text_of(j, "origin") == "preloaded") preloaded_.insert(source);
+    const std::string source = member_text(j, "source");
+    if (member_text(j, "origin") == "preloaded") preloaded_.insert(source);
     int pos = 0;
     for (const auto& r : j.value("induced_rules", Json::array())) {
-      rule_defs_[text_of(r, "id")] = {text_of(j, "def_id"), pos++};
+      rule_defs_[member_text(r, "id")] = {member_text(j, "def_id"), pos++};
       ++rule_lines_[source];
     }
   });
@@ -313,8 +313,8 @@ void Recorder::preloaded(const std::string& group) {
     if (!d.is_object()) continue;
     Json body = Json::array();
     for (const auto& b : d.value("body", Json::array()))
-      body.push_back({{"utterance", b.is_string() ? b : Json(text_of(b, "text"))},
-                      {"formula", b.is_object() ? Json(text_of(b, "formula")) : Json("")}});
+      body.push_back({{"utterance", b.is_string() ? b : Json(member_text(b, "text"))},
+                      {"formula", b.is_object() ? Json(member_text(b, "formula")) : Json("")}});
     append_line(definitions_, Json{{"def_id", "p:" + source + "#" + std::to_string(++n)},
                                    {"origin", "preloaded"},
                                    {"source", source},
@@ -400,9 +400,9 @@ void Recorder::append_exchange(std::int64_t n, const std::string& group, const L
 std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, const Json& req,
                               const RecorderTap::Heard& heard, double ms, std::int64_t exchange,
                               RecordOutcome& outcome) {
-  const std::string op = text_of(req, "op");
+  const std::string op = member_text(req, "op");
   const Json studio = req.value("studio", Json::object());
-  const std::string why = studio.is_object() ? text_of(studio, "why") : std::string();
+  const std::string why = studio.is_object() ? member_text(studio, "why") : std::string();
   const bool ok = heard.answered && heard.code.empty();
   const std::string status = ok ? std::string("ok") : heard.code.empty() ? "error" : heard.code;
   Live& live = live_[entry.participant];
@@ -411,7 +411,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
   Line c;
   if (op == "query" && ok) {
     c = line(entry, p, why == "live" || why == "rerun" ? why : "q", exchange);
-    c["utterance"] = text_of(req, "text");
+    c["utterance"] = member_text(req, "text");
     c["status"] = corpus_status(heard.status);
     const kernel::LastQuery* q = entry.session->last_query();
     c["n_parses"] = q ? q->parse.candidates.size() : 0;
@@ -458,7 +458,7 @@ std::string Recorder::command(const SessionEntry& entry, ParticipantState& p, co
     define(entry, p, req, heard, c);
   } else if (op == "delete_rule") {
     c = line(entry, p, "delete", exchange);
-    const std::string rule = text_of(req, "rule");
+    const std::string rule = member_text(req, "rule");
     c["rule"] = rule;
     auto it = rule_defs_.find(rule);
     c["def_id"] = it == rule_defs_.end() ? Json() : Json(it->second.first);
@@ -503,7 +503,7 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
   const bool ok = heard.answered && heard.code.empty();
   const Json ranks = req.value("ranks", Json::array());
   const Json studio = req.value("studio", Json::object());
-  const bool from_history = studio.is_object() && text_of(studio, "why") == "history";
+  const bool from_history = studio.is_object() && member_text(studio, "why") == "history";
   Json steps = studio.is_object() ? studio.value("steps", Json::array()) : Json::array();
   int first = -1, last = -1;
   if (from_history && steps.is_array() && steps.size() == 2 && steps[0].is_number_integer() &&
@@ -521,7 +521,7 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
       const int rank = i < ranks.size() && ranks[i].is_number_integer() ? ranks[i].get<int>() : 0;
       lineout = {{"utterance", b}, {"formula", ""}, {"rank", rank}};
     } else if (b.is_object()) {
-      lineout = {{"utterance", text_of(b, "text")}, {"formula", text_of(b, "formula")}};
+      lineout = {{"utterance", member_text(b, "text")}, {"formula", member_text(b, "formula")}};
     }
     if (range_ok && first + static_cast<int>(i) <= last) {
       const Json& step = p.history[static_cast<std::size_t>(first) + i];
@@ -531,7 +531,7 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
     body.push_back(std::move(lineout));
     ++i;
   }
-  c["head"] = text_of(req, "head");
+  c["head"] = member_text(req, "head");
   c["body"] = body;
   c["def_id"] = "d:" + c["qid"].get<std::string>();
   c["status"] = ok ? std::string("ok") : heard.code.empty() ? "error" : heard.code;
@@ -570,7 +570,7 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
     Json replaced = Json::array();
     for (int k = first; k <= last; ++k) {
       const Json& step = p.history[static_cast<std::size_t>(k)];
-      formula += (k > first ? ";" : "") + text_of(step, "formula");
+      formula += (k > first ? ";" : "") + member_text(step, "formula");
       replaced.push_back(step);
     }
     Json collapsed{
@@ -592,14 +592,14 @@ void Recorder::define(const SessionEntry& entry, ParticipantState& p, const Json
 void Recorder::event(const SessionEntry& entry, const Json& body) {
   std::lock_guard lock(mutex_);
   ParticipantState& p = state(entry);
-  const std::string kind = text_of(body, "kind");
+  const std::string kind = member_text(body, "kind");
   const Live& live = live_[entry.participant];
   Line c = line(entry, p, kind, std::nullopt);
   if (kind == "flip") {
     c["for_qid"] = live.last_qid;
     c["utterance"] = live.last_text;
     c["rank"] = body.value("rank", 0);
-    c["formula"] = text_of(body, "formula");
+    c["formula"] = member_text(body, "formula");
   } else if (kind == "reject") {
     c["for_qid"] = live.last_qid;
     c["utterance"] = live.last_text;
@@ -617,7 +617,7 @@ Json Recorder::page_state(const std::string& participant) {
   if (p == nullptr) return nullptr;
   Json history = Json::array();
   for (const auto& step : p->history) {
-    auto w = worlds_by_id_.find(text_of(step, "world_id"));
+    auto w = worlds_by_id_.find(member_text(step, "world_id"));
     history.push_back({{"qid", step.value("qid", Json())},
                        {"utterance", step.value("utterance", Json())},
                        {"formula", step.value("formula", Json())},

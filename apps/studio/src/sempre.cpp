@@ -59,7 +59,7 @@ void cors(HttpReply& reply, const std::string& allow) {
   reply.headers.emplace_back("Cache-Control", "no-store");
 }
 
-std::string lower(std::string text) {
+std::string lower_origin(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return text;
 }
@@ -129,7 +129,7 @@ std::optional<std::string> SempreEndpoint::allowed_origin(const SempreRequest& r
   // before it does anything: CORS only hides an answer, the GET (a :def) would still run.
   for (const auto& o : origins_) {
     if (o == "*") return r.origin.empty() ? std::string("*") : r.origin;
-    if (!r.origin.empty() && lower(o) == lower(r.origin)) return r.origin;
+    if (!r.origin.empty() && lower_origin(o) == lower_origin(r.origin)) return r.origin;
   }
   if (r.own_origin) return std::string();
   return std::nullopt;

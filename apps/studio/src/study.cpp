@@ -37,8 +37,8 @@ Json read_world(const std::string& study, const fs::path& path, const std::strin
   return w;
 }
 
-std::string text_of(const YAML::Node& n, const std::string& study, const std::string& key,
-                    bool required) {
+std::string study_text(const YAML::Node& n, const std::string& study, const std::string& key,
+                       bool required) {
   if (!n || n.IsNull()) {
     if (required) fail(study, "missing key '" + key + "'");
     return {};
@@ -66,11 +66,11 @@ std::shared_ptr<Study> Study::load(const std::string& path) {
   }
   const fs::path dir = fs::absolute(path).parent_path();
   auto study = std::make_shared<Study>();
-  study->name_ = text_of(root["name"], path, "name", true);
+  study->name_ = study_text(root["name"], path, "name", true);
   for (char c : study->name_)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_')
       fail(path, "name '" + study->name_ + "' may hold only letters, digits, '-' and '_'");
-  study->tutorial_ = text_of(root["tutorial"], path, "tutorial", false);
+  study->tutorial_ = study_text(root["tutorial"], path, "tutorial", false);
   if (root["groups"]) {
     if (!root["groups"].IsSequence()) fail(path, "'groups' must be a list of A, B or C");
     for (const auto& g : root["groups"]) {
@@ -81,15 +81,15 @@ std::shared_ptr<Study> Study::load(const std::string& path) {
     }
   }
   if (study->groups_.empty()) study->groups_ = {"C"};
-  if (auto p = text_of(root["preload"], path, "preload", false); !p.empty())
+  if (auto p = study_text(root["preload"], path, "preload", false); !p.empty())
     study->preload_ = (dir / p).lexically_normal().string();
   // The study asks for moderation of its lexicons (docs/naturalization.md §5 "Moderation");
   // absent: the server's lexicon.moderation.
-  study->moderation_ = text_of(root["moderation"], path, "moderation", false);
+  study->moderation_ = study_text(root["moderation"], path, "moderation", false);
   if (!study->moderation_.empty() && study->moderation_ != "off" &&
       study->moderation_ != "hold_new")
     fail(path, "moderation '" + study->moderation_ + "' is not off or hold_new");
-  std::string record = text_of(root["record"], path, "record", false);
+  std::string record = study_text(root["record"], path, "record", false);
   if (record.empty()) record = study->name_ + "-recording";
   study->record_dir_ = (dir / record).lexically_normal().string();
   const YAML::Node tasks = root["tasks"];
@@ -98,14 +98,14 @@ std::shared_ptr<Study> Study::load(const std::string& path) {
   for (std::size_t i = 0; i < tasks.size(); ++i) {
     const std::string key = "tasks[" + std::to_string(i) + "]";
     StudyTask t;
-    t.name = text_of(tasks[i]["name"], path, key + ".name", true);
-    t.text = text_of(tasks[i]["text"], path, key + ".text", true);
-    t.start = read_world(path, dir / text_of(tasks[i]["start"], path, key + ".start", true),
+    t.name = study_text(tasks[i]["name"], path, key + ".name", true);
+    t.text = study_text(tasks[i]["text"], path, key + ".text", true);
+    t.start = read_world(path, dir / study_text(tasks[i]["start"], path, key + ".start", true),
                          key + ".start");
     // A world file, or a predicate over the world (docs/studio.md §7 "Goals").
     if (const YAML::Node goal = tasks[i]["goal"]; goal && goal.IsMap())
       t.goal = TaskGoal::of_predicate(goal, t.start, path, key + ".goal");
-    else if (auto file = text_of(goal, path, key + ".goal", false); !file.empty())
+    else if (auto file = study_text(goal, path, key + ".goal", false); !file.empty())
       t.goal = TaskGoal::of_world(read_world(path, dir / file, key + ".goal"));
     study->tasks_.push_back(std::move(t));
   }

@@ -15,7 +15,7 @@ namespace {
   throw sdk::Error(sdk::codes::kBadConfig, "study " + study + ": " + key + ": " + what);
 }
 
-std::string text_of(const Json& j, const char* key) {
+std::string goal_member_text(const Json& j, const char* key) {
   auto it = j.find(key);
   return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
@@ -33,11 +33,11 @@ Digest digest(const Json& w) {
   const Json robot = w.value("robot", Json::object());
   for (const char* k : {"x", "y", "z"}) d.robot.push_back(robot.value(k, std::int64_t{0}));
   for (const auto& h : robot.value("holding", Json::array()))
-    d.held.push_back(text_of(h, "color") + "/" + text_of(h, "shape"));
+    d.held.push_back(goal_member_text(h, "color") + "/" + goal_member_text(h, "shape"));
   for (const auto& i : w.value("items", Json::array()))
     d.lying.push_back(std::to_string(i.value("x", 0)) + "," + std::to_string(i.value("y", 0)) +
-                      "," + std::to_string(i.value("z", 0)) + "/" + text_of(i, "color") + "/" +
-                      text_of(i, "shape"));
+                      "," + std::to_string(i.value("z", 0)) + "/" + goal_member_text(i, "color") +
+                      "/" + goal_member_text(i, "shape"));
   std::sort(d.held.begin(), d.held.end());
   std::sort(d.lying.begin(), d.lying.end());
   return d;
@@ -64,8 +64,8 @@ std::vector<std::int64_t> cell_of(const Json& thing) {
 }
 
 bool matches(const TaskGoal::Items& want, const Json& item) {
-  return (want.color.empty() || text_of(item, "color") == want.color) &&
-         (want.shape.empty() || text_of(item, "shape") == want.shape);
+  return (want.color.empty() || goal_member_text(item, "color") == want.color) &&
+         (want.shape.empty() || goal_member_text(item, "shape") == want.shape);
 }
 
 std::string scalar(const YAML::Node& n, const std::string& study, const std::string& key) {
