@@ -105,3 +105,40 @@ grep -q 'clang-tidy on 1 of 2 units' "$tmp/out" || { echo "not the header's unit
 printf '// touched\n' >>"$tmp/apps/demo/old.cpp"
 expect fail "the unit with the finding changed" --tidy-only --changed-since HEAD build
 grep -q 'implicit-widening-of-multiplication-result' "$tmp/out" || { echo "no widening finding"; exit 1; }
+
+# A unity batch (the product's FLIPPER_UNITY): its units are checked through the batch, in one run,
+# and a finding names the unit's own file. A batch that also holds a test unit (a test executable
+# built from a product source) does not stand for its product units: those are checked alone,
+# and the test unit's findings (Catch2's macros trip the checks by design) are not reported.
+mkdir -p "$tmp/build/Unity" "$tmp/tests/apps/demo"
+printf '#include "%s"\n#include "%s"\n' "$tmp/apps/demo/demo.cpp" "$tmp/apps/demo/old.cpp" \
+  >"$tmp/build/Unity/unity_0_cxx.cxx"
+cat >"$tmp/build/compile_commands.json" <<JSON
+[{"directory": "$tmp", "file": "$tmp/build/Unity/unity_0_cxx.cxx",
+  "command": "clang++-14 -std=c++20 -c $tmp/build/Unity/unity_0_cxx.cxx -o /dev/null"}]
+JSON
+expect fail "a finding in a unit of a unity batch" --tidy-only build
+grep -q 'apps/demo/old.cpp:2:.*implicit-widening-of-multiplication-result' "$tmp/out" ||
+  { echo "the finding does not name the unit's line"; cat "$tmp/out"; exit 1; }
+printf 'long cells(int width, int height) {\n  return long{width} * height;\n}\n' >"$tmp/apps/demo/old.cpp"
+expect pass "the batch's units clean" --tidy-only build
+grep -q 'clang-tidy clean (2 translation units, in 1 runs)' "$tmp/out" ||
+  { echo "not one run for the batch"; cat "$tmp/out"; exit 1; }
+cat >"$tmp/tests/apps/demo/test_demo.cpp" <<'CPP'
+long test_cells(int width, int height) {
+  return width * height;
+}
+CPP
+printf '#include "%s"\n#include "%s"\n' "$tmp/apps/demo/old.cpp" "$tmp/tests/apps/demo/test_demo.cpp" \
+  >"$tmp/build/Unity/unity_1_cxx.cxx"
+cat >"$tmp/build/compile_commands.json" <<JSON
+[{"directory": "$tmp", "file": "$tmp/build/Unity/unity_0_cxx.cxx",
+  "command": "clang++-14 -std=c++20 -c $tmp/build/Unity/unity_0_cxx.cxx -o /dev/null"},
+ {"directory": "$tmp", "file": "$tmp/build/Unity/unity_1_cxx.cxx",
+  "command": "clang++-14 -std=c++20 -c $tmp/build/Unity/unity_1_cxx.cxx -o /dev/null"}]
+JSON
+printf '#include "%s"\n' "$tmp/apps/demo/demo.cpp" >"$tmp/build/Unity/unity_0_cxx.cxx"
+git -C "$tmp" add -A
+expect pass "a product unit in a test's batch only: checked alone" --tidy-only build
+grep -q 'clang-tidy clean (2 translation units, in 2 runs)' "$tmp/out" ||
+  { echo "not the batch and the unit alone"; cat "$tmp/out"; exit 1; }
