@@ -11,6 +11,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "node_storage.hpp"
+
 namespace flipper::sdk {
 inline namespace FLIPPER_ABI_NAMESPACE {
 namespace host {
@@ -287,7 +289,7 @@ ParseResult parse_of(std::string_view bytes) {
   Reader in(bytes);
   Table<Program> nodes(in.count(1));
   for (std::size_t i = 0; i < nodes.items.size(); ++i) {
-    auto n = std::make_shared<Node>();
+    auto n = detail::new_node();
     n->kind = static_cast<Kind>(in.below<std::uint8_t>(kKindCount));
     n->sort = static_cast<Sort>(in.below<std::uint8_t>(kSorts));
     n->number = in.get<double>();

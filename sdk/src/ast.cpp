@@ -4,6 +4,7 @@
 #include <initializer_list>
 
 #include "flipper/sdk/errors.hpp"
+#include "node_storage.hpp"
 
 namespace flipper::sdk {
 inline namespace FLIPPER_ABI_NAMESPACE {
@@ -262,7 +263,7 @@ Program finish(Node n) {
   }
   n.hash = h;
   n.size = size;
-  return std::make_shared<const Node>(std::move(n));
+  return detail::new_node(std::move(n));
 }
 
 }  // namespace

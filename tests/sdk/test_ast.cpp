@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <memory>
 
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -109,4 +110,28 @@ TEST_CASE("a colour or a shape fills a Property hole, nothing else does", "[ast]
   auto color_only = make(Kind::FilterIs, {make_hole(0, Sort::Color)});
   REQUIRE_THROWS_AS(substitute(color_only, {make_word(Kind::Shape, "circle")}), Error);
   REQUIRE_THROWS_AS(make(Kind::FilterIs, {make_num(1)}), Error);
+}
+
+TEST_CASE("a program of any depth is destroyed in constant stack", "[ast][depth]") {
+  // 200,000 levels: destroyed recursively, a level takes a hundred bytes or more of stack at any
+  // optimisation level (several hundred instrumented at -O0), far more than a thread's 8 MiB.
+  // The SDK's nodes hand their kids to a queue instead (sdk/src/node_storage.hpp).
+  Program leaf = make(Kind::RobotAtPoint, {make(Kind::Current)});
+  const std::weak_ptr<const Node> deepest = leaf;
+  Program middle;
+  Program top = std::move(leaf);
+  for (int i = 0; i < 200000; ++i) {
+    top = make(Kind::CondNot, {top});
+    if (i == 100000) middle = top;
+  }
+  REQUIRE(top->size == 200002u);
+  // The upper half dies; the lower half is still held through `middle`, whole.
+  top.reset();
+  REQUIRE_FALSE(deepest.expired());
+  CHECK(middle->size == 100003u);
+  std::size_t depth = 0;
+  for (const Node* n = middle.get(); !n->kids.empty(); n = n->kids.front().get()) ++depth;
+  CHECK(depth == 100002u);
+  middle.reset();
+  CHECK(deepest.expired());
 }

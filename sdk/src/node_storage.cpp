@@ -1,0 +1,59 @@
+#include "node_storage.hpp"
+
+#include <new>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace flipper::sdk::detail {
+namespace {
+
+/// Moves `node`'s kids to this thread's queue of nodes to release, and releases the queue unless
+/// an outer call is already doing so. Without memory for the queue, the kids left in place are
+/// destroyed by the node's own destructor, recursively, as std::shared_ptr would.
+void release_kids(Node& node) noexcept {
+  if (node.kids.empty()) return;
+  thread_local std::vector<Program> pending;
+  thread_local bool draining = false;
+  try {
+    for (Program& kid : node.kids) {
+      if (kid) pending.push_back(std::move(kid));
+    }
+  } catch (const std::bad_alloc&) {
+  }
+  if (draining) return;
+  draining = true;
+  while (!pending.empty()) {
+    // The last reference dies at the end of this block: its node's kids join the queue.
+    Program kid = std::move(pending.back());
+    pending.pop_back();
+  }
+  draining = false;
+  // A very wide program leaves a large queue behind; keep no more than a small one per thread.
+  if (pending.capacity() > 4096) std::vector<Program>().swap(pending);
+}
+
+/// std::allocator, except that a Node's kids are released (release_kids) before it is destroyed.
+template <class T>
+struct NodeAllocator {
+  using value_type = T;
+  NodeAllocator() = default;
+  template <class U>
+  NodeAllocator(const NodeAllocator<U>& /*other*/) noexcept {}  // implicit, as allocators convert
+  T* allocate(std::size_t n) { return std::allocator<T>{}.allocate(n); }
+  void deallocate(T* p, std::size_t n) noexcept { std::allocator<T>{}.deallocate(p, n); }
+  template <class U>
+  void destroy(U* p) noexcept {
+    if constexpr (std::is_same_v<std::remove_cv_t<U>, Node>) release_kids(*p);
+    p->~U();
+  }
+  friend bool operator==(const NodeAllocator& /*a*/, const NodeAllocator& /*b*/) { return true; }
+};
+
+}  // namespace
+
+std::shared_ptr<Node> new_node(Node node) {
+  return std::allocate_shared<Node>(NodeAllocator<Node>{}, std::move(node));
+}
+
+}  // namespace flipper::sdk::detail
