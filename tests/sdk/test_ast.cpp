@@ -1,3 +1,5 @@
+#include <pthread.h>
+
 #include <catch2/catch.hpp>
 #include <memory>
 
@@ -112,10 +114,29 @@ TEST_CASE("a colour or a shape fills a Property hole, nothing else does", "[ast]
   REQUIRE_THROWS_AS(make(Kind::FilterIs, {make_num(1)}), Error);
 }
 
+namespace {
+/// Runs `fn` on a thread of its own with a stack of `bytes` (std::thread cannot choose it).
+template <class F>
+void on_stack_of(std::size_t bytes, F fn) {
+  pthread_attr_t attr;
+  REQUIRE(pthread_attr_init(&attr) == 0);
+  REQUIRE(pthread_attr_setstacksize(&attr, bytes) == 0);
+  pthread_t thread;
+  auto run = [](void* f) -> void* {
+    (*static_cast<F*>(f))();
+    return nullptr;
+  };
+  REQUIRE(pthread_create(&thread, &attr, run, &fn) == 0);
+  pthread_join(thread, nullptr);
+  pthread_attr_destroy(&attr);
+}
+}  // namespace
+
 TEST_CASE("a program of any depth is destroyed in constant stack", "[ast][depth]") {
-  // 200,000 levels: destroyed recursively, a level takes a hundred bytes or more of stack at any
-  // optimisation level (several hundred instrumented at -O0), far more than a thread's 8 MiB.
-  // The SDK's nodes hand their kids to a queue instead (sdk/src/node_storage.hpp).
+  // 200,000 levels, destroyed on a thread with a 256 KiB stack. Destroyed recursively, a level
+  // takes some 40 bytes of stack in Release (200,000 levels overflow a 2 MiB stack, fit in 8 MiB)
+  // and several hundred instrumented at -O0. The SDK's nodes hand their kids to a queue instead
+  // (sdk/src/node_storage.hpp).
   Program leaf = make(Kind::RobotAtPoint, {make(Kind::Current)});
   const std::weak_ptr<const Node> deepest = leaf;
   Program middle;
@@ -126,12 +147,13 @@ TEST_CASE("a program of any depth is destroyed in constant stack", "[ast][depth]
   }
   REQUIRE(top->size == 200002u);
   // The upper half dies; the lower half is still held through `middle`, whole.
-  top.reset();
+  on_stack_of(256 * 1024, [&top] { top.reset(); });
+  REQUIRE(top == nullptr);
   REQUIRE_FALSE(deepest.expired());
   CHECK(middle->size == 100003u);
   std::size_t depth = 0;
   for (const Node* n = middle.get(); !n->kids.empty(); n = n->kids.front().get()) ++depth;
   CHECK(depth == 100002u);
-  middle.reset();
+  on_stack_of(256 * 1024, [&middle] { middle.reset(); });
   CHECK(deepest.expired());
 }
