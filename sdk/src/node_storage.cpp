@@ -8,29 +8,38 @@
 namespace flipper::sdk::detail {
 namespace {
 
+/// Whether destroying `node` would destroy a kid that has kids of its own (the only case that
+/// recurses): a kid shared elsewhere only loses a reference, and a leaf dies at once.
+bool kills_an_inner_node(const Node& node) noexcept {
+  for (const Program& kid : node.kids) {
+    if (kid && kid.use_count() == 1 && !kid->kids.empty()) return true;
+  }
+  return false;
+}
+
 /// Moves `node`'s kids to this thread's queue of nodes to release, and releases the queue unless
 /// an outer call is already doing so. Without memory for the queue, the kids left in place are
 /// destroyed by the node's own destructor, recursively, as std::shared_ptr would.
 void release_kids(Node& node) noexcept {
-  if (node.kids.empty()) return;
-  thread_local std::vector<Program> pending;
+  if (!kills_an_inner_node(node)) return;  // the common case, without thread-local storage
+  thread_local std::vector<Program> queue;
   thread_local bool draining = false;
   try {
     for (Program& kid : node.kids) {
-      if (kid) pending.push_back(std::move(kid));
+      if (kid) queue.push_back(std::move(kid));
     }
   } catch (const std::bad_alloc&) {
   }
   if (draining) return;
   draining = true;
-  while (!pending.empty()) {
+  while (!queue.empty()) {
     // The last reference dies at the end of this block: its node's kids join the queue.
-    Program kid = std::move(pending.back());
-    pending.pop_back();
+    Program kid = std::move(queue.back());
+    queue.pop_back();
   }
   draining = false;
   // A very wide program leaves a large queue behind; keep no more than a small one per thread.
-  if (pending.capacity() > 4096) std::vector<Program>().swap(pending);
+  if (queue.capacity() > 4096) std::vector<Program>().swap(queue);
 }
 
 /// std::allocator, except that a Node's kids are released (release_kids) before it is destroyed.
