@@ -10,10 +10,16 @@ trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/scripts" "$tmp/apps/demo" "$tmp/build"
 cp "$root/scripts/lint" "$tmp/scripts/"
 cp "$root/.clang-format" "$root/.clang-tidy" "$tmp/"
-cat >"$tmp/build/compile_commands.json" <<JSON
-[{"directory": "$tmp", "file": "$tmp/apps/demo/demo.cpp",
-  "command": "clang++-14 -std=c++20 -c $tmp/apps/demo/demo.cpp -o /dev/null"}]
-JSON
+commands() {  # commands FILE...: build/compile_commands.json, each FILE compiled alone
+  local f sep="["
+  for f in "$@"; do
+    printf '%s{"directory": "%s", "file": "%s",\n  "command": "clang++-14 -std=c++20 -c %s -o /dev/null"}' \
+      "$sep" "$tmp" "$f" "$f"
+    sep=$',\n '
+  done >"$tmp/build/compile_commands.json"
+  printf ']\n' >>"$tmp/build/compile_commands.json"
+}
+commands "$tmp/apps/demo/demo.cpp"
 clean() {
   cat >"$tmp/apps/demo/demo.cpp" <<'CPP'
 #include <string>
@@ -85,12 +91,7 @@ long cells(int width, int height) {
   return width * height;
 }
 CPP
-cat >"$tmp/build/compile_commands.json" <<JSON
-[{"directory": "$tmp", "file": "$tmp/apps/demo/demo.cpp",
-  "command": "clang++-14 -std=c++20 -c $tmp/apps/demo/demo.cpp -o /dev/null"},
- {"directory": "$tmp", "file": "$tmp/apps/demo/old.cpp",
-  "command": "clang++-14 -std=c++20 -c $tmp/apps/demo/old.cpp -o /dev/null"}]
-JSON
+commands "$tmp/apps/demo/demo.cpp" "$tmp/apps/demo/old.cpp"
 printf 'demo.cpp.o: \\\n %s %s\n' "$tmp/apps/demo/demo.cpp" "$tmp/apps/demo/demo.hpp" >"$tmp/build/demo.cpp.o.d"
 printf "build/\nout\n" >"$tmp/.gitignore"
 git -C "$tmp" init -q
@@ -113,10 +114,7 @@ grep -q 'implicit-widening-of-multiplication-result' "$tmp/out" || { echo "no wi
 mkdir -p "$tmp/build/Unity" "$tmp/tests/apps/demo"
 printf '#include "%s"\n#include "%s"\n' "$tmp/apps/demo/demo.cpp" "$tmp/apps/demo/old.cpp" \
   >"$tmp/build/Unity/unity_0_cxx.cxx"
-cat >"$tmp/build/compile_commands.json" <<JSON
-[{"directory": "$tmp", "file": "$tmp/build/Unity/unity_0_cxx.cxx",
-  "command": "clang++-14 -std=c++20 -c $tmp/build/Unity/unity_0_cxx.cxx -o /dev/null"}]
-JSON
+commands "$tmp/build/Unity/unity_0_cxx.cxx"
 expect fail "a finding in a unit of a unity batch" --tidy-only build
 grep -q 'apps/demo/old.cpp:2:.*implicit-widening-of-multiplication-result' "$tmp/out" ||
   { echo "the finding does not name the unit's line"; cat "$tmp/out"; exit 1; }
@@ -131,12 +129,7 @@ long test_cells(int width, int height) {
 CPP
 printf '#include "%s"\n#include "%s"\n' "$tmp/apps/demo/old.cpp" "$tmp/tests/apps/demo/test_demo.cpp" \
   >"$tmp/build/Unity/unity_1_cxx.cxx"
-cat >"$tmp/build/compile_commands.json" <<JSON
-[{"directory": "$tmp", "file": "$tmp/build/Unity/unity_0_cxx.cxx",
-  "command": "clang++-14 -std=c++20 -c $tmp/build/Unity/unity_0_cxx.cxx -o /dev/null"},
- {"directory": "$tmp", "file": "$tmp/build/Unity/unity_1_cxx.cxx",
-  "command": "clang++-14 -std=c++20 -c $tmp/build/Unity/unity_1_cxx.cxx -o /dev/null"}]
-JSON
+commands "$tmp/build/Unity/unity_0_cxx.cxx" "$tmp/build/Unity/unity_1_cxx.cxx"
 printf '#include "%s"\n' "$tmp/apps/demo/demo.cpp" >"$tmp/build/Unity/unity_0_cxx.cxx"
 git -C "$tmp" add -A
 expect pass "a product unit in a test's batch only: checked alone" --tidy-only build
