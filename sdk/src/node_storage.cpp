@@ -17,29 +17,33 @@ bool kills_an_inner_node(const Node& node) noexcept {
   return false;
 }
 
-/// Moves `node`'s kids to this thread's queue of nodes to release, and releases the queue unless
-/// an outer call is already doing so. Without memory for the queue, the kids left in place are
+// The queue of this thread's outermost dying node while it empties it, else null. A plain
+// pointer: a thread_local vector would be destroyed at exit before the statics whose programs die
+// after it, and their deaths would then push into freed memory.
+thread_local std::vector<Program>* draining = nullptr;
+
+/// Moves `node`'s kids to the queue of the outermost death on this thread, or, being that death,
+/// to a queue of its own that it empties. Without memory for the queue, the kids left in place are
 /// destroyed by the node's own destructor, recursively, as std::shared_ptr would.
 void release_kids(Node& node) noexcept {
   if (!kills_an_inner_node(node)) return;  // the common case, without thread-local storage
-  thread_local std::vector<Program> queue;
-  thread_local bool draining = false;
+  std::vector<Program>* const outer = draining;
+  std::vector<Program> own;
+  std::vector<Program>& queue = outer != nullptr ? *outer : own;
   try {
     for (Program& kid : node.kids) {
       if (kid) queue.push_back(std::move(kid));
     }
   } catch (const std::bad_alloc&) {
   }
-  if (draining) return;
-  draining = true;
-  while (!queue.empty()) {
+  if (outer != nullptr) return;
+  draining = &own;
+  while (!own.empty()) {
     // The last reference dies at the end of this block: its node's kids join the queue.
-    Program kid = std::move(queue.back());
-    queue.pop_back();
+    Program kid = std::move(own.back());
+    own.pop_back();
   }
-  draining = false;
-  // A very wide program leaves a large queue behind; keep no more than a small one per thread.
-  if (queue.capacity() > 4096) std::vector<Program>().swap(queue);
+  draining = nullptr;
 }
 
 /// std::allocator, except that a Node's kids are released (release_kids) before it is destroyed.
