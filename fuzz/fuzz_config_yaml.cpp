@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "flipper/kernel/config.hpp"
+#include "flipper/kernel/keys.hpp"
+#include "flipper/language/keys.hpp"
 #include "flipper/kernel/loader.hpp"
 #include "flipper/naturalization/config_keys.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -41,10 +43,11 @@ const LoadedPlugin& open_plugin(const std::string& section, const std::string& n
 
 void read_everything(Config& config) {
   namespace keys = flipper::kernel::keys;
+  namespace exec = flipper::language::keys;
   (void)config.dump();
   for (const auto* key :
-       {&keys::kActionBudget, &keys::kStepBudget, &keys::kExecCpuBudgetMs, &keys::kExecDeadlineMs,
-        &keys::kWhileLimit, &keys::kMaxChars, &keys::kSessionK})
+       {&exec::kActionBudget, &exec::kStepBudget, &exec::kExecCpuBudgetMs, &exec::kExecDeadlineMs,
+        &exec::kWhileLimit, &keys::kMaxChars, &keys::kSessionK})
     (void)config.get(*key);
   (void)config.get(keys::kGrammarColors);
   (void)config.get(keys::kGrammarShapes);

@@ -2,7 +2,7 @@
 # Names match folders (docs/architecture.md §2). Every C++ file of a layer declares its code in the
 # namespace its folder gives, or one nested in it:
 #   sdk/ -> flipper::sdk (its conformance kit, include/flipper/testing/, -> flipper::testing)
-#   toolkit/ -> flipper::toolkit      kernel/ -> flipper::kernel
+#   toolkit/ -> flipper::toolkit      language/ -> flipper::language      kernel/ -> flipper::kernel
 #   naturalization/ -> flipper::naturalization      apps/NAME/ -> flipper::NAME
 #   plugins/NAME/ -> flipper::plugins::NAME
 # A block that only forward-declares another layer's classes (`namespace flipper::kernel { class
@@ -33,6 +33,7 @@ expected_for() {  # expected_for <path relative to the root>: the allowed namesp
     sdk/include/flipper/testing/*) echo "flipper::testing" ;;
     sdk/*) echo "flipper::sdk" ;;
     toolkit/*) echo "flipper::toolkit" ;;
+    language/*) echo "flipper::language" ;;
     kernel/*) echo "flipper::kernel" ;;
     naturalization/*) echo "flipper::naturalization" ;;
     apps/*) rel=${rel#apps/}; echo "flipper::${rel%%/*}" ;;
@@ -51,7 +52,7 @@ check() {  # check <root>: prints each violation, fails if there is one
         bad=1
       fi
     done < <(code_namespaces "$file")
-  done < <(find "$root"/sdk "$root"/toolkit "$root"/kernel "$root"/naturalization "$root"/apps \
+  done < <(find "$root"/sdk "$root"/toolkit "$root"/language "$root"/kernel "$root"/naturalization "$root"/apps \
              "$root"/plugins -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' \) \
              -not -path '*/node_modules/*' 2>/dev/null | sort)
   for dir in "$root"/plugins/*/; do

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "flipper/kernel/config.hpp"
+#include "flipper/language/keys.hpp"
 
 namespace flipper::kernel {
 namespace {
@@ -56,18 +57,7 @@ ParamSchema build() {
   add(s, keys::kGrammarShapes);
   add(s, keys::kGrammarDirections);
 
-  s.add_section("execution", "limits of one program's execution");
-  add(s, keys::kActionBudget);
-  add(s, keys::kStepBudget);
-  add(s, keys::kWhileLimit);
-  add(s, keys::kExecCpuBudgetMs);
-  add(s, keys::kExecDeadlineMs);
-  s.add_retired("execution.time_budget_ms",
-                "it was a wall-clock budget, so a result depended on the machine's load; results "
-                "are bounded by work now (execution.action_budget, execution.step_budget) and "
-                "by CPU time (execution.cpu_budget_ms), and the wall-clock limit is the far "
-                "backstop execution.deadline_ms; either refuses the query (deadline_exceeded) "
-                "instead of changing a plan (docs/planners.md §2)");
+  language::keys::add_config(s);  // the core language's section (language/exec)
   s.add_section("input", "limits on what a request or a file may make the kernel do");
   add(s, keys::kMaxChars);
   add(s, keys::kMaxSemicolons);

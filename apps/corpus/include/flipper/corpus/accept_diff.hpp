@@ -2,7 +2,7 @@
 /// @file accept_diff.hpp
 /// Why our execution of an accepted program ends in another world than the one the study's
 /// client sent next. Shared by the replay (apps/replay: accepts.csv, metrics.json, report.md)
-/// and the executor's corpus differential (tests/kernel/exec/test_corpus_accepts.cpp), so both
+/// and the executor's corpus differential (tests/language/exec/test_corpus_accepts.cpp), so both
 /// count the same classes.
 ///
 /// The classes, tried in this order (first match wins):

