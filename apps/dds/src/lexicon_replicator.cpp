@@ -487,14 +487,14 @@ void LexiconReplicator::attach(kernel::Session& session) {
     kernel::Session::OpHandler inner = *session.find_op(name);
     kernel::Session::OpHandler wrapped;
     if (name == "delete_rule")
-      wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
+      wrapped = [weak, inner](kernel::Session& s, const Json& r, toolkit::json::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
         const auto lock = self->session_lock();
         self->delete_op(inner, s, r, a);
       };
     else
-      wrapped = [weak, inner](kernel::Session& s, const Json& r, kernel::JsonWriter& a) {
+      wrapped = [weak, inner](kernel::Session& s, const Json& r, toolkit::json::JsonWriter& a) {
         auto self = weak.lock();
         if (!self) return inner(s, r, a);
         const auto lock = self->session_lock();
@@ -540,7 +540,7 @@ void LexiconReplicator::defined(const naturalization::RulesDefined& e) {
 }
 
 void LexiconReplicator::delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
-                                  const Json& req, kernel::JsonWriter& a) {
+                                  const Json& req, toolkit::json::JsonWriter& a) {
   const auto rule_field = req.find("rule");
   if (rule_field == req.end() || !rule_field->is_string()) return inner(s, req, a);
   const std::string id = rule_field->get<std::string>();

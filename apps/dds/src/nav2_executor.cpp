@@ -9,8 +9,8 @@
 #include "action_msgs/srv/CancelGoal.h"
 #include "flipper/dds/names.hpp"
 #include "flipper/kernel/config.hpp"
-#include "flipper/kernel/json_writer.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 #include "nav2_msgs/action/NavigateThroughPoses.h"
 #include "nav2_msgs/action/NavigateThroughPosesJazzy.h"
 #include "ros_time.hpp"
@@ -191,26 +191,27 @@ void Nav2Executor::attach(kernel::Session& session) {
   });
   session.on<kernel::WorldReplaced>(
       [this](const kernel::WorldReplaced& w) { cancel_session_goal(&w.session); });
-  session.set_op("execution", [this](kernel::Session&, const kernel::Json&, kernel::JsonWriter& a) {
-    a.key("goals").begin_array();
-    for (const Nav2Goal& g : goals()) {
-      a.begin_object();
-      a.key("goal").unsigned_integer(g.number).key("plan").unsigned_integer(g.plan);
-      a.key("state").string(g.state).key("poses").unsigned_integer(g.poses.size());
-      a.key("feedbacks").unsigned_integer(g.feedbacks);
-      if (g.feedbacks > 0)
-        a.key("poses_remaining")
-            .integer(g.poses_remaining)
-            .key("distance_remaining")
-            .number(g.distance_remaining)
-            .key("recoveries")
-            .integer(g.recoveries);
-      if (g.state == "aborted" && options_.distro == keys::Nav2Distro::jazzy)
-        a.key("error_code").integer(g.error_code).key("error_msg").string(g.error_msg);
-      a.end_object();
-    }
-    a.end_array();
-  });
+  session.set_op(
+      "execution", [this](kernel::Session&, const kernel::Json&, toolkit::json::JsonWriter& a) {
+        a.key("goals").begin_array();
+        for (const Nav2Goal& g : goals()) {
+          a.begin_object();
+          a.key("goal").unsigned_integer(g.number).key("plan").unsigned_integer(g.plan);
+          a.key("state").string(g.state).key("poses").unsigned_integer(g.poses.size());
+          a.key("feedbacks").unsigned_integer(g.feedbacks);
+          if (g.feedbacks > 0)
+            a.key("poses_remaining")
+                .integer(g.poses_remaining)
+                .key("distance_remaining")
+                .number(g.distance_remaining)
+                .key("recoveries")
+                .integer(g.recoveries);
+          if (g.state == "aborted" && options_.distro == keys::Nav2Distro::jazzy)
+            a.key("error_code").integer(g.error_code).key("error_msg").string(g.error_msg);
+          a.end_object();
+        }
+        a.end_array();
+      });
 }
 
 std::vector<Nav2Goal> Nav2Executor::goals() const {

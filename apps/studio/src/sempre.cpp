@@ -4,8 +4,8 @@
 #include <cctype>
 #include <nlohmann/json.hpp>
 
-#include "flipper/kernel/json_writer.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 #include "studio_ops.hpp"
 
 namespace flipper::studio {
@@ -77,7 +77,7 @@ std::string sempre_body(const std::string& type, std::uint64_t count, double sec
   for (const auto& c : a.candidates) size += c.size() + 1;
   std::string out;
   out.reserve(size);
-  kernel::JsonWriter w(out);
+  toolkit::json::JsonWriter w(out);
   w.begin_object().key("candidates").begin_array();
   for (const auto& c : a.candidates) w.raw(c);
   w.end_array();

@@ -4,10 +4,10 @@
 #include <cmath>
 
 #include "flipper/corpus/original_formula.hpp"
-#include "flipper/kernel/json_writer.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 #include "sempre_value.hpp"
 #include "sempre_world.hpp"
 
@@ -205,7 +205,7 @@ std::string candidate_text(const std::string& formula, double score, double prob
                            const std::string& value) {
   std::string out;
   out.reserve(64 + 2 * formula.size() + value.size() + value.size() / 4);
-  kernel::JsonWriter w(out);
+  toolkit::json::JsonWriter w(out);
   w.begin_object().key("anchored").boolean(true).key("formula").string(formula);
   w.key("prettyString").string(formula).key("prob").number(prob).key("score").number(score);
   w.key("value").string(value).end_object();

@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "flipper/kernel/json_writer.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 
 namespace flipper::studio {
 namespace {
@@ -90,9 +90,9 @@ class PathWriter {
   void begin(sdk::Cell c, const char* action) {
     if (!path_.empty()) path_ += ',';
     path_ += '[';
-    kernel::JsonWriter::append_integer(path_, c.x);
+    toolkit::json::JsonWriter::append_integer(path_, c.x);
     path_ += ',';
-    kernel::JsonWriter::append_integer(path_, c.y);
+    toolkit::json::JsonWriter::append_integer(path_, c.y);
     path_ += ",\"";
     path_ += action;
     path_ += "\",";

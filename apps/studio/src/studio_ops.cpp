@@ -12,8 +12,8 @@
 namespace flipper::studio {
 namespace fs = std::filesystem;
 using kernel::Json;
-using kernel::JsonWriter;
 using kernel::Session;
+using toolkit::json::JsonWriter;
 
 namespace {
 // Measured (bench/serve, "memory"): a 2048 x 2048 grid2d world raises the server's resident

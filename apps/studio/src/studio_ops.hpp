@@ -53,11 +53,11 @@ class StudioOps : public kernel::SessionExtension {
   const std::string& error_code() const { return error_code_; }
 
  private:
-  void op_user(kernel::Session& s, const kernel::Json& req, kernel::JsonWriter& a,
+  void op_user(kernel::Session& s, const kernel::Json& req, toolkit::json::JsonWriter& a,
                const kernel::Session::OpHandler& inner);
-  void op_world(kernel::Session& s, const kernel::Json& req, kernel::JsonWriter& a,
+  void op_world(kernel::Session& s, const kernel::Json& req, toolkit::json::JsonWriter& a,
                 const kernel::Session::OpHandler& inner);
-  void op_delete_rule(kernel::Session& s, const kernel::Json& req, kernel::JsonWriter& a,
+  void op_delete_rule(kernel::Session& s, const kernel::Json& req, toolkit::json::JsonWriter& a,
                       const kernel::Session::OpHandler& inner);
 
   StudioOpsContext context_;

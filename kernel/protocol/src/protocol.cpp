@@ -1,9 +1,11 @@
 #include <nlohmann/json.hpp>
 
-#include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/protocol.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 
 namespace flipper::kernel::protocol {
+
+using toolkit::json::JsonWriter;
 
 namespace {
 [[noreturn]] void bad(const std::string& what) {

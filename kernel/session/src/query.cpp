@@ -13,6 +13,9 @@
 #include "flipper/sdk/errors.hpp"
 
 namespace flipper::kernel {
+
+using toolkit::json::JsonWriter;
+
 namespace {
 
 // Code points, not bytes: the limit is about what a person typed.

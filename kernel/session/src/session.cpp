@@ -5,14 +5,17 @@
 #include <nlohmann/json.hpp>
 #include <utility>
 
-#include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/session_request.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/toolkit/config/regular_file.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 #include "world_texts.hpp"
 
 namespace flipper::kernel {
+
+using toolkit::json::JsonWriter;
+
 namespace {
 
 // {"ok":false,"op":OP,"id":ID,"error":{"code","message"}}: op and id echoed from the request's
@@ -288,7 +291,7 @@ void Session::answer(const Json& request, std::string_view line, std::string& ou
   // number or 1.10, and an object's key order (the tree sorts keys).
   auto echo_text = [&](const Json* v, const char* key) {
     return v != nullptr && !line.empty() && (v->is_structured() || v->is_number_float())
-               ? top_level_value(line, key)
+               ? toolkit::json::top_level_value(line, key)
                : std::string_view();
   };
   const std::string_view op_text = echo_text(op, "op");
@@ -387,7 +390,8 @@ void Session::op_world(const Json& req, JsonWriter& a) {
     if (!world_field->is_object())
       throw sdk::Error(sdk::codes::kBadRequest, "field 'world' must be a world object");
     // The object's text as sent when the line is at hand: no second serialisation.
-    std::string_view raw = line_.empty() ? std::string_view() : top_level_value(line_, "world");
+    std::string_view raw =
+        line_.empty() ? std::string_view() : toolkit::json::top_level_value(line_, "world");
     std::string text = !raw.empty() && raw.front() == '{' ? std::string(raw) : world_field->dump();
     open_world_text(text, std::filesystem::current_path().string());
   } else {

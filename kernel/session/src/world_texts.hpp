@@ -21,20 +21,9 @@
 
 #include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/world.hpp"
+#include "flipper/toolkit/json/raw_members.hpp"
 
 namespace flipper::kernel {
-
-/// One top-level member of a JSON object text: the key as written (with its quotes) and the
-/// value's raw text.
-struct RawMember {
-  std::string_view key;
-  std::string_view value;
-};
-/// The top-level members of the JSON object `text`, in order. `text` must be valid JSON (it is
-/// not validated); anything else gives an empty list.
-std::vector<RawMember> top_level_members(std::string_view text);
-/// The raw value of the (last) member `"key"`, or an empty view.
-std::string_view top_level_value(std::string_view text, std::string_view key);
 
 class WorldTexts {
  public:

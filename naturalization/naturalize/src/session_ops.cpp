@@ -11,7 +11,7 @@
 
 namespace flipper::naturalization {
 
-void write_rule(kernel::JsonWriter& w, const sdk::Rule& rule, bool close) {
+void write_rule(toolkit::json::JsonWriter& w, const sdk::Rule& rule, bool close) {
   w.begin_object().key("id").string(rule.id).key("lhs").string(rule.lhs);
   w.key("rhs").begin_array();
   for (const auto& s : rule.rhs) w.string(s.text);
@@ -172,7 +172,8 @@ void read_body(const kernel::Json& req, DefineCall& call) {
 
 // docs/protocol.md § define, `preview`: each rule's example sentences with their plan summary,
 // and the perturbed check.
-void write_preview(kernel::JsonWriter& a, const DefineOutcome& out, const kernel::Config& config) {
+void write_preview(toolkit::json::JsonWriter& a, const DefineOutcome& out,
+                   const kernel::Config& config) {
   a.key("preview").begin_array();
   for (std::size_t i = 0; i < out.previews.size() && i < out.rules.size(); ++i) {
     const RulePreview& p = out.previews[i];
@@ -224,7 +225,7 @@ void write_preview(kernel::JsonWriter& a, const DefineOutcome& out, const kernel
 
 // docs/protocol.md § define: {"rules":[rule...],"generalized"[,"discarded"]}.
 void op_define(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
-               kernel::JsonWriter& a) {
+               toolkit::json::JsonWriter& a) {
   DefineCall call;
   call.head = kernel::request::require_string(req, "head", "the utterance to define");
   read_body(req, call);
@@ -300,7 +301,7 @@ void op_define(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
 
 // docs/protocol.md § rules: each rule with "head", "body", "uses", "uses_by_author/others".
 void op_rules(Naturalizer& nat, kernel::Session& s, const kernel::Json& req,
-              kernel::JsonWriter& a) {
+              toolkit::json::JsonWriter& a) {
   const auto author = kernel::request::optional_string(req, "author", "a user name");
   a.key("rules").begin_array();
   for (const auto& l : list_rules(nat, s, author)) {
@@ -330,14 +331,12 @@ std::shared_ptr<Naturalizer> install_naturalization(kernel::Session& session,
 
 void NaturalizationExtension::attach(kernel::Session& session) {
   auto nat = naturalizer_;
-  session.set_op("define", [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
-    op_define(*nat, s, r, a);
-  });
-  session.set_op("rules", [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
-    op_rules(*nat, s, r, a);
-  });
+  session.set_op("define", [nat](kernel::Session& s, const kernel::Json& r,
+                                 toolkit::json::JsonWriter& a) { op_define(*nat, s, r, a); });
+  session.set_op("rules", [nat](kernel::Session& s, const kernel::Json& r,
+                                toolkit::json::JsonWriter& a) { op_rules(*nat, s, r, a); });
   session.set_op("delete_rule",
-                 [nat](kernel::Session& s, const kernel::Json& r, kernel::JsonWriter& a) {
+                 [nat](kernel::Session& s, const kernel::Json& r, toolkit::json::JsonWriter& a) {
                    const std::string id = kernel::request::require_string(r, "rule", "a rule id");
                    naturalization::delete_rule(*nat, s, id);
                    a.key("deleted").string(id);

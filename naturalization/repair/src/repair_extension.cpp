@@ -13,7 +13,7 @@ namespace flipper::naturalization {
 namespace {
 
 // {"understood","words","nearest","teach"[,"limited"]}.
-void write_repair(kernel::JsonWriter& a, const Repair& r) {
+void write_repair(toolkit::json::JsonWriter& a, const Repair& r) {
   a.begin_object().key("understood").begin_array();
   for (const auto& p : r.understood) {
     a.begin_object().key("start").integer(p.start).key("end").integer(p.end);
@@ -44,7 +44,7 @@ void write_repair(kernel::JsonWriter& a, const Repair& r) {
 }
 
 // {"unrealizable":[{"rank","step","at","why","variant","tried"[,"limited"]}]}.
-void write_unrealizable(kernel::JsonWriter& a, const std::vector<ExplainedCandidate>& cs,
+void write_unrealizable(toolkit::json::JsonWriter& a, const std::vector<ExplainedCandidate>& cs,
                         int dims) {
   a.begin_object().key("unrealizable").begin_array();
   for (const auto& [rank, u] : cs) {
@@ -95,14 +95,14 @@ std::vector<std::string> vocabulary(const kernel::Session& session) {
 
 kernel::Json repair_json(const Repair& repair) {
   std::string text;
-  kernel::JsonWriter writer(text);
+  toolkit::json::JsonWriter writer(text);
   write_repair(writer, repair);
   return kernel::Json::parse(text);
 }
 
 kernel::Json unrealizable_json(const std::vector<ExplainedCandidate>& explained, int dims) {
   std::string text;
-  kernel::JsonWriter writer(text);
+  toolkit::json::JsonWriter writer(text);
   write_unrealizable(writer, explained, dims);
   return kernel::Json::parse(text);
 }
@@ -144,7 +144,7 @@ void RepairExtension::attach(kernel::Session& session) {
   // The field is checked before the query runs: a bad one changes nothing.
   if (const kernel::Session::OpHandler* query = session.find_op("query"))
     session.set_op("query", [inner = *query](kernel::Session& s, const kernel::Json& req,
-                                             kernel::JsonWriter& a) {
+                                             toolkit::json::JsonWriter& a) {
       wants_repair(req);
       inner(s, req, a);
     });

@@ -1,11 +1,14 @@
 // append_trace_text must write exactly what dumping trace_json writes (the session splices it
 // into answers in place of the tree).
 #include <catch2/catch.hpp>
+#include <cstdint>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "flipper/kernel/protocol.hpp"
+#include "json_strings.hpp"
 
 namespace protocol = flipper::kernel::protocol;
 namespace sdk = flipper::sdk;
@@ -40,4 +43,29 @@ TEST_CASE("trace text equals the dumped trace tree", "[protocol]") {
   }
   CHECK(via_text({trace.front()}, 2) == R"([{"act":"move","to":[3,-4]}])");
   CHECK(via_text({trace.front()}, 3) == R"([{"act":"move","to":[3,-4,7]}])");
+}
+
+TEST_CASE("generated traces are written as their dumped trees", "[protocol][writer]") {
+  using Act = sdk::TraceStep::Act;
+  std::mt19937_64 rng(3);
+  std::size_t picks = 0;
+  for (int t = 0; t < 2000; ++t) {
+    std::vector<sdk::TraceStep> trace(rng() % 12);
+    for (auto& s : trace) {
+      s.act = static_cast<Act>(rng() % 3);
+      s.cell = {static_cast<std::int32_t>(rng()), static_cast<std::int32_t>(rng() % 21) - 10,
+                static_cast<std::int32_t>(rng() % 5) - 2};
+      if (s.act != Act::move) {
+        ++picks;
+        s.item = {static_cast<std::int64_t>(rng()), flipper::testsupport::random_string(rng),
+                  flipper::testsupport::random_string(rng)};
+      }
+    }
+    for (int dims : {2, 3}) {
+      std::string text;
+      protocol::append_trace_text(text, trace, dims);
+      REQUIRE(text == via_tree(trace, dims));
+    }
+  }
+  CHECK(picks > 1000);
 }

@@ -229,16 +229,15 @@ TEST_CASE("a throwing plugin call is plugin_error and the session goes on", "[se
 
 TEST_CASE("the op table takes new ops and wraps existing ones", "[session][protocol]") {
   auto s = flipper::testsupport::bare_session();
-  s->set_op("echo", [](flipper::kernel::Session&, const Json& r, flipper::kernel::JsonWriter& a) {
-    a.key("text").value(r["text"]);
-  });
+  s->set_op("echo", [](flipper::kernel::Session&, const Json& r,
+                       flipper::toolkit::json::JsonWriter& a) { a.key("text").value(r["text"]); });
   // The answer's bytes: ok, op, id first, then the handler's members in the order written.
   CHECK(s->handle_line(R"({"op":"echo","text":"hi","id":1})") ==
         R"({"ok":true,"op":"echo","id":1,"text":"hi"})");
   auto inner = *s->find_op("user");
   int calls = 0;
   s->set_op("user", [inner, &calls](flipper::kernel::Session& ss, const Json& r,
-                                    flipper::kernel::JsonWriter& a) {
+                                    flipper::toolkit::json::JsonWriter& a) {
     ++calls;
     inner(ss, r, a);
   });
@@ -257,7 +256,7 @@ TEST_CASE(
   auto inner = *s->find_op("world");
   std::vector<std::string> seen;
   s->set_op("world", [inner, &seen](flipper::kernel::Session& ss, const Json& r,
-                                    flipper::kernel::JsonWriter& a) {
+                                    flipper::toolkit::json::JsonWriter& a) {
     seen.push_back(r.contains("world") ? r["world"].dump() : "absent");
     inner(ss, r, a);
   });

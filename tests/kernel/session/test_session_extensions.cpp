@@ -11,10 +11,10 @@
 #include "session_fixture.hpp"
 
 using flipper::kernel::Json;
-using flipper::kernel::JsonWriter;
 using flipper::kernel::Session;
 using flipper::testsupport::ask;
 using flipper::testsupport::error_code;
+using flipper::toolkit::json::JsonWriter;
 namespace k = flipper::kernel;
 
 namespace {

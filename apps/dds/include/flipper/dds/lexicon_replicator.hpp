@@ -116,7 +116,7 @@ class LexiconReplicator : public std::enable_shared_from_this<LexiconReplicator>
   std::unique_lock<std::recursive_mutex> session_lock();
   void defined(const naturalization::RulesDefined& e);
   void delete_op(const kernel::Session::OpHandler& inner, kernel::Session& s,
-                 const kernel::Json& req, kernel::JsonWriter& answer);
+                 const kernel::Json& req, toolkit::json::JsonWriter& answer);
 
   std::shared_ptr<Participant> participant_;
   wiring::SessionHost host_;

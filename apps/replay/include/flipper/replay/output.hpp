@@ -19,7 +19,8 @@ namespace flipper::replay {
 
 /// The metrics report, written indented to metrics.json for people to read. The one use of
 /// nlohmann::ordered_json in the tree: the report's sections stay in reading order (agreement
-/// first) in an indented file, which the protocol's JsonWriter (compact only) does not write.
+/// first) in an indented file, which the protocol's toolkit::json::JsonWriter (compact only) does
+/// not write.
 nlohmann::ordered_json metrics_json(const Metrics& m);
 /// Writes metrics.json and the CSV files into `dir` (created).
 void write_metrics(const std::string& dir, const ReplayResult& result, const Metrics& m);

@@ -8,12 +8,12 @@
 ///   `set_user`, `set_world`; `flipper run`, `repl` and `replay` call these directly;
 /// - the protocol: `handle_line` turns one request line into exactly one answer line. Ops are
 ///   looked up in a table; each JSON op is a thin adapter that reads the request's fields, calls
-///   the typed service and writes the result with a JsonWriter.
+///   the typed service and writes the result with a toolkit::json::JsonWriter.
 /// Modules above the kernel come in as extensions (session_extension.hpp): ops and typed events.
 /// @code
 ///   session.install(kernel::make_extension([&](Session& s) {
-///     s.set_op("define", [&](Session& s, const Json& req, JsonWriter& answer) { ... });
-///     s.on<Accepting>([&](const Accepting& e) { /* persist */ });
+///     s.set_op("define", [&](Session& s, const Json& req, toolkit::json::JsonWriter& answer) { ...
+///     }); s.on<Accepting>([&](const Accepting& e) { /* persist */ });
 ///   }));
 /// @endcode
 /// A handler writes the answer's payload members into the open answer object; the session has
@@ -34,7 +34,6 @@
 
 #include "flipper/kernel/executor.hpp"
 #include "flipper/kernel/isolation.hpp"
-#include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/limits.hpp"
 #include "flipper/kernel/query_service.hpp"
 #include "flipper/kernel/runtime.hpp"
@@ -43,13 +42,14 @@
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/world.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 
 namespace flipper::kernel {
 
 class WorldTexts;
 
-/// Requests as parsed. Answers are written with a JsonWriter (field order as written), so
-/// the tree's key order never reaches a client.
+/// Requests as parsed. Answers are written with a toolkit::json::JsonWriter (field order as
+/// written), so the tree's key order never reaches a client.
 using Json = nlohmann::json;
 
 /// Protocol error codes owned by the session (sdk::codes has the shared ones).
@@ -76,7 +76,8 @@ struct SessionOptions {
 
 class Session {
  public:
-  using OpHandler = std::function<void(Session&, const Json& request, JsonWriter& answer)>;
+  using OpHandler =
+      std::function<void(Session&, const Json& request, toolkit::json::JsonWriter& answer)>;
   using Extensions = std::vector<std::shared_ptr<SessionExtension>>;
 
   /// Options from the runtime's config; `extensions` belong to the runtime (rebind replaces
@@ -202,11 +203,12 @@ class Session {
   int protocol() const { return protocol_; }
   /// Writes the value of a world that changed: in protocol 1 the full world object, in protocol 2
   /// only `{"items", "robot"}` (then write_world_version() must be called for the answer).
-  void write_changed_world(JsonWriter& w, const sdk::WorldState& state);
+  void write_changed_world(toolkit::json::JsonWriter& w, const sdk::WorldState& state);
   /// Protocol 2: writes the member "world_version" (the id of the state's geometry and rooms),
   /// and "geometry" (the world object without items and robot) when this client has not been
   /// sent that version yet or `always` is set. Protocol 1: writes nothing.
-  void write_world_version(JsonWriter& w, const sdk::WorldState& state, bool always = false);
+  void write_world_version(toolkit::json::JsonWriter& w, const sdk::WorldState& state,
+                           bool always = false);
 
  private:
   struct CachedWorld {
@@ -219,10 +221,10 @@ class Session {
 
   void install_default_ops();
   sdk::WorldState load_requested_world(const std::string& text, const std::string& base);
-  void op_hello(const Json& request, JsonWriter& answer);
-  void op_world(const Json& request, JsonWriter& answer);
-  void op_query(const Json& request, JsonWriter& answer);
-  void op_accept(const Json& request, JsonWriter& answer);
+  void op_hello(const Json& request, toolkit::json::JsonWriter& answer);
+  void op_world(const Json& request, toolkit::json::JsonWriter& answer);
+  void op_query(const Json& request, toolkit::json::JsonWriter& answer);
+  void op_accept(const Json& request, toolkit::json::JsonWriter& answer);
   void attach_all();
 
   std::shared_ptr<Runtime> runtime_;

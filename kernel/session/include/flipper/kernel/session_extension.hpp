@@ -21,11 +21,11 @@
 #include <utility>
 #include <vector>
 
-#include "flipper/kernel/json_writer.hpp"
 #include "flipper/kernel/query_service.hpp"
 #include "flipper/sdk/execution.hpp"
 #include "flipper/sdk/grammar.hpp"
 #include "flipper/sdk/world.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 
 namespace flipper::kernel {
 
@@ -61,7 +61,7 @@ struct QueryWriting {
   Session& session;
   const nlohmann::json& request;
   const QueryResult& result;
-  JsonWriter& answer;
+  toolkit::json::JsonWriter& answer;
 };
 /// The user changed (set_user, the `user` op).
 struct UserChanged {

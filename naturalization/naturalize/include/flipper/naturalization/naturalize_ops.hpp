@@ -86,6 +86,6 @@ class NaturalizationExtension final : public kernel::SessionExtension {
 
 /// Protocol form of a rule: {"id","lhs","rhs","semantics","author","how"}; `close` false leaves
 /// the object open for more members.
-void write_rule(kernel::JsonWriter& w, const sdk::Rule& rule, bool close = true);
+void write_rule(toolkit::json::JsonWriter& w, const sdk::Rule& rule, bool close = true);
 
 }  // namespace flipper::naturalization

@@ -11,15 +11,14 @@
 #include <string>
 #include <vector>
 
-#include "flipper/kernel/json_writer.hpp"
-#include "flipper/kernel/protocol.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
+#include "json_strings.hpp"
 
 namespace {
 
-using flipper::kernel::JsonWriter;
+using flipper::testsupport::random_string;
+using flipper::toolkit::json::JsonWriter;
 using nlohmann::json;
-namespace protocol = flipper::kernel::protocol;
-namespace sdk = flipper::sdk;
 
 std::string tree_dump(const json& j) {
   return j.dump(-1, ' ', false, json::error_handler_t::replace);
@@ -44,24 +43,9 @@ double from_bits(std::uint64_t bits) {
   return d;
 }
 
-// Strings of every kind of byte: ASCII, the escaped ones, control characters, valid multi-byte
-// UTF-8, and bytes that are not UTF-8 (replaced by U+FFFD).
-std::string random_string(std::mt19937_64& rng) {
-  static const std::vector<std::string> pieces = {
-      "a",    "Z",     " ",    "\"",       "\\",       "/",
-      "\n",   "\t",    "\r",   "\b",       "\f",       std::string(1, '\0'),
-      "\x01", "\x1f",  "\x7f", "é",        "ünï",      "€",
-      "😀",    "\xff",  "\xc3", "\xe2\x82", "\xf0\x9f", "\xed\xa0\x80",
-      "red",  "circle"};
-  std::string s;
-  const auto n = rng() % 8;
-  for (std::uint64_t i = 0; i < n; ++i) s += pieces[rng() % pieces.size()];
-  return s;
-}
-
 }  // namespace
 
-TEST_CASE("numbers are written as nlohmann writes a double", "[protocol][writer]") {
+TEST_CASE("numbers are written as nlohmann writes a double", "[json][writer]") {
   const double inf = std::numeric_limits<double>::infinity();
   // NaN and the infinities: null, as the tree writes them (a plugin's NaN score is refused before
   // an answer is written, docs/plugins-untrusted.md; the writer still never writes "nan").
@@ -117,7 +101,7 @@ TEST_CASE("numbers are written as nlohmann writes a double", "[protocol][writer]
   CHECK(compared == 80000);
 }
 
-TEST_CASE("integers are written as nlohmann writes them", "[protocol][writer]") {
+TEST_CASE("integers are written as nlohmann writes them", "[json][writer]") {
   std::mt19937_64 rng(7);
   std::vector<std::int64_t> values = {0,
                                       -1,
@@ -140,7 +124,7 @@ TEST_CASE("integers are written as nlohmann writes them", "[protocol][writer]") 
   }
 }
 
-TEST_CASE("strings are escaped as nlohmann escapes them", "[protocol][writer]") {
+TEST_CASE("strings are escaped as nlohmann escapes them", "[json][writer]") {
   for (const std::string& s : {std::string(), std::string("plain ascii"), std::string("q\"uote\\d"),
                                std::string("ünïcödé 😀"), std::string("bad \xff utf8"),
                                std::string("ctl \x01\x07\x1f\x7f"), std::string("nul \0 x", 7)})
@@ -152,28 +136,4 @@ TEST_CASE("strings are escaped as nlohmann escapes them", "[protocol][writer]") 
     const std::string s = random_string(rng);
     REQUIRE(written_string(s) == tree_dump(json(s)));
   }
-}
-
-TEST_CASE("generated traces are written as their dumped trees", "[protocol][writer]") {
-  using Act = sdk::TraceStep::Act;
-  std::mt19937_64 rng(3);
-  std::size_t picks = 0;
-  for (int t = 0; t < 2000; ++t) {
-    std::vector<sdk::TraceStep> trace(rng() % 12);
-    for (auto& s : trace) {
-      s.act = static_cast<Act>(rng() % 3);
-      s.cell = {static_cast<std::int32_t>(rng()), static_cast<std::int32_t>(rng() % 21) - 10,
-                static_cast<std::int32_t>(rng() % 5) - 2};
-      if (s.act != Act::move) {
-        ++picks;
-        s.item = {static_cast<std::int64_t>(rng()), random_string(rng), random_string(rng)};
-      }
-    }
-    for (int dims : {2, 3}) {
-      std::string text;
-      protocol::append_trace_text(text, trace, dims);
-      REQUIRE(text == tree_dump(protocol::trace_json(trace, dims)));
-    }
-  }
-  CHECK(picks > 1000);
 }

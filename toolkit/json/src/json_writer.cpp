@@ -1,11 +1,11 @@
-#include "flipper/kernel/json_writer.hpp"
+#include "flipper/toolkit/json/json_writer.hpp"
 
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-namespace flipper::kernel {
+namespace flipper::toolkit::json {
 namespace {
 
 using nlohmann::json;
@@ -249,4 +249,4 @@ std::string& JsonWriter::raw_begin() {
   return out_;
 }
 
-}  // namespace flipper::kernel
+}  // namespace flipper::toolkit::json

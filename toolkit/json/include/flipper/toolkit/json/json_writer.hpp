@@ -1,10 +1,11 @@
 #pragma once
 /// @file json_writer.hpp
 /// A small streaming writer of compact JSON text, the way every protocol answer is written
-/// (docs/protocol.md). It writes members in the order the code writes them (the protocol's field
-/// order: "ok", "op", "id" first), and it embeds values that are already JSON text (a world as the
-/// world plugin wrote it, a trace) without parsing them again: a world is serialised once per
-/// distinct state, whatever the number of answers it appears in.
+/// (docs/protocol.md; toolkit/json: generic, it knows no protocol). It writes members in the order
+/// the code writes them (the protocol's field order: "ok", "op", "id" first), and it embeds values
+/// that are already JSON text (a world as the world plugin wrote it, a trace) without parsing them
+/// again: a world is serialised once per distinct state, whatever the number of answers it appears
+/// in.
 ///
 /// Its bytes are nlohmann's `dump()` bytes for the same values (numbers, escapes, invalid UTF-8
 /// replaced by U+FFFD), so answers written here equal the ones a JSON tree would give.
@@ -14,7 +15,8 @@
 ///   w.begin_object().key("ok").boolean(true).key("world").raw(world_text).end_object();
 /// @endcode
 /// The writer does not check the structure (a key outside an object, an unclosed array): the
-/// session's byte-identity test (tests/kernel/session/test_session_golden.cpp) guards the answers.
+/// session's byte-identity test (tests/kernel/session/test_session_golden.cpp) guards the answers,
+/// tests/toolkit/json the values' bytes.
 
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
@@ -22,7 +24,7 @@
 #include <string_view>
 #include <vector>
 
-namespace flipper::kernel {
+namespace flipper::toolkit::json {
 
 class JsonWriter {
  public:
@@ -75,4 +77,4 @@ class JsonWriter {
   bool after_key_ = false;
 };
 
-}  // namespace flipper::kernel
+}  // namespace flipper::toolkit::json
