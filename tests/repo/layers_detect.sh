@@ -15,7 +15,7 @@ trap 'rm -rf "$tmp"' EXIT
 clean() {
   rm -rf "$tmp/tree"
   mkdir -p "$tmp/tree/plugins/a" "$tmp/tree/plugins/b" "$tmp/tree/sdk" "$tmp/tree/toolkit" \
-    "$tmp/tree/kernel" "$tmp/tree/naturalization" "$tmp/tree/apps"
+    "$tmp/tree/language" "$tmp/tree/kernel" "$tmp/tree/naturalization" "$tmp/tree/apps"
   printf '#pragma once\nint a_helper();\n' >"$tmp/tree/plugins/a/helper.hpp"
   printf '#include "helper.hpp"\n#include "flipper/sdk/plugin.hpp"\n' >"$tmp/tree/plugins/a/a.cpp"
   printf '#include "flipper/toolkit/params.hpp"\n' >"$tmp/tree/plugins/b/b.cpp"
@@ -112,9 +112,29 @@ clean
 printf 'auto s = params.get_string(\n    "shape");\n' >"$tmp/tree/plugins/b/b.cpp"
 expect fail "a string read of a plugin param over two lines"
 clean
-for i in $(seq 5360); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
-expect fail "a kernel of 5,360 lines"
+for i in $(seq 4001); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
+expect fail "a kernel of 4,001 lines"
 clean
-for i in $(seq 5359); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
-expect pass "a kernel of 5,359 lines"
+for i in $(seq 4000); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
+expect pass "a kernel of 4,000 lines"
+clean
+echo '#include "flipper/kernel/plugin_ref.hpp"' >"$tmp/tree/language/l.cpp"
+expect fail "the core language includes a kernel header"
+clean
+echo '#include <flipper/toolkit/json/json_writer.hpp>' >"$tmp/tree/language/l.cpp"
+expect fail "the core language includes a toolkit header"
+clean
+echo '#include "flipper/language/executor.hpp"' >"$tmp/tree/plugins/b/b.cpp"
+expect fail "a plugin includes the core language's header"
+clean
+echo '#include "flipper/toolkit/json/json_writer.hpp"' >"$tmp/tree/plugins/b/b.cpp"
+expect fail "a plugin includes the toolkit's JSON module"
+clean
+printf 'inline constexpr Int kK{"session.k", 3, 1, 9, "k"};\n' >"$tmp/tree/language/keys.hpp"
+expect fail "the core language declares a kernel key"
+clean
+echo '#include "flipper/language/executor.hpp"' >"$tmp/tree/kernel/k.cpp"
+echo '#include "flipper/toolkit/json/raw_members.hpp"' >"$tmp/tree/naturalization/n.cpp"
+printf '#include "flipper/sdk/plugin.hpp"\n#include "flipper/language/keys.hpp"\n' >"$tmp/tree/language/l.cpp"
+expect pass "the kernel includes the core language, naturalization the toolkit's JSON module"
 echo "layer check detection OK"
