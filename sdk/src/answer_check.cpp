@@ -1,5 +1,6 @@
 // The checks of plugin answers (docs/plugins-untrusted.md): planners' paths and tours, parsers'
-// candidates and scores. One implementation for the kernel, the benchmarks and the kits.
+// candidates and scores, scorers' weights read from a saved state. One implementation for the
+// kernel, the benchmarks and the kits.
 #include "flipper/sdk/answer_check.hpp"
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/planner.hpp"
+#include "flipper/sdk/scorer.hpp"
 
 namespace flipper::sdk {
 inline namespace FLIPPER_ABI_NAMESPACE {
@@ -155,6 +157,19 @@ std::optional<Violation> parse_violation(const ParseRequest& req, const ParseRes
   for (const DerivationPtr& d : r.chart)
     if (auto v = derivation_violation(d.get(), 0, n, derivations))
       return Violation{v->code, "the chart: " + v->what};
+  return std::nullopt;
+}
+
+std::optional<std::string> state_weights_violation(std::size_t state_bytes,
+                                                   const std::vector<WeightChange>& weights) {
+  if (weights.size() > state_bytes)
+    return std::to_string(weights.size()) + " weights read from a saved state of " +
+           std::to_string(state_bytes) + " bytes (at most one per byte)";
+  for (const auto& w : weights)
+    if (!std::isfinite(w.weight) || !std::isfinite(w.aux))
+      return "the weight '" + w.feature + "' of partition '" + w.model +
+             "' read from a saved state is " + number_text(w.weight) + " (aux " +
+             number_text(w.aux) + "), not a finite number";
   return std::nullopt;
 }
 

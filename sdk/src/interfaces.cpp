@@ -17,6 +17,7 @@ Parser::~Parser() = default;
 Scorer::~Scorer() = default;
 IncrementalScorer::~IncrementalScorer() = default;
 WeightValues::~WeightValues() = default;
+StateWeights::~StateWeights() = default;
 Rewriter::~Rewriter() = default;
 Similarity::~Similarity() = default;
 ContinuousSpace::~ContinuousSpace() = default;

@@ -2,9 +2,10 @@
 # The layer check must catch what it is for: in a scratch tree of two plugins, `b` including a
 # header of `a` (by a relative path, or by name through a borrowed include directory) and `b`
 # linking a library of `a` must each fail layers.sh, and the clean tree must pass; so must a layer
-# declaring another's config key, a key spelled twice, a string read of a key, and a kernel over
-# its line cap. The toolkit's config module is the kernel's, naturalization's and the apps' only:
-# they may include it, the SDK, the plugins and the plugins' toolkit may not.
+# declaring another's config key, a key spelled twice, a string read of a key, a kernel over its
+# line cap, and naturalization decoding a scorer's saved state. The toolkit's config module is the
+# kernel's, naturalization's and the apps' only: they may include it, the SDK, the plugins and the
+# plugins' toolkit may not.
 # Usage: layers_detect.sh <doc>
 set -euo pipefail
 doc=$1
@@ -111,6 +112,12 @@ expect fail "a string read of a config key"
 clean
 printf 'auto s = params.get_string(\n    "shape");\n' >"$tmp/tree/plugins/b/b.cpp"
 expect fail "a string read of a plugin param over two lines"
+clean
+printf 'for (const auto& [p, m] : j.at("models").items()) {}\n' >"$tmp/tree/naturalization/n.cpp"
+expect fail "naturalization decodes a scorer's saved state"
+clean
+printf 'out.push_back({p, "#accepts", c - 1, 0});\n' >"$tmp/tree/naturalization/n.cpp"
+expect fail "naturalization spells the linear model's reserved weight"
 clean
 for i in $(seq 4001); do echo "int x$i;"; done >"$tmp/tree/kernel/big.cpp"
 expect fail "a kernel of 4,001 lines"

@@ -139,3 +139,69 @@ TEST_CASE("linear model: an unreadable state is refused naming the plugin, nothi
   CHECK_THAT(refused("not json {"), Catch::StartsWith("counted: unreadable state: "));
   CHECK(m.save_state(kCounted) == before);
 }
+
+TEST_CASE(
+    "linear model: a saved state reads back as weights, as load_state loads it (hand-written)") {
+  const auto flat = LinearModel::state_weights(
+      R"({"format": "flat/1", "per_user": false, "models": {"": {"rule=a": [0.5, 0.25]}}})", kFlat);
+  REQUIRE(flat);
+  REQUIRE(flat->size() == 1);
+  CHECK((*flat)[0].model == "");
+  CHECK((*flat)[0].feature == "rule=a");
+  CHECK((*flat)[0].weight == 0.5);
+  CHECK((*flat)[0].aux == 0.25);
+  // The counted layout: a partition's counter c = 3 is the reserved weight #accepts = 2, before
+  // its weights; c = 1 is no accept.
+  const auto counted = LinearModel::state_weights(
+      R"({"format": "counted/1", "per_user": true,
+          "models": {"ana": {"c": 3, "weights": {"rule=b": [-1.5, 4]}},
+                     "bob": {"c": 1, "weights": {"rule=c": [0.125, 1]}}}})",
+      kCounted);
+  REQUIRE(counted);
+  REQUIRE(counted->size() == 3);
+  CHECK((*counted)[0].model == "ana");
+  CHECK((*counted)[0].feature == "#accepts");
+  CHECK((*counted)[0].weight == 2.0);
+  CHECK((*counted)[0].aux == 0.0);
+  CHECK((*counted)[1].model == "ana");
+  CHECK((*counted)[1].feature == "rule=b");
+  CHECK((*counted)[1].weight == -1.5);
+  CHECK((*counted)[1].aux == 4.0);
+  CHECK((*counted)[2].model == "bob");
+  CHECK((*counted)[2].feature == "rule=c");
+  CHECK((*counted)[2].weight == 0.125);
+  CHECK((*counted)[2].aux == 1.0);
+  // Not a state of this format: nullopt exactly where load_state refuses.
+  for (const std::string text :
+       {"opaque", R"({"models": {}})", R"({"format": "flat/1", "models": {}})",
+        R"({"format": "counted/1", "models": {"": {"c": 0.5, "weights": {}}}})",
+        R"({"format": "counted/1", "models": {"": {"c": -3, "weights": {}}}})",
+        R"({"format": "counted/1", "models": {"": {"weights": {}}}})",
+        R"({"format": "counted/1", "models": {"": {"c": 2, "weights": {"a": 1}}}})"}) {
+    INFO(text);
+    CHECK_FALSE(LinearModel::state_weights(text, kCounted));
+    LinearModel m(false);
+    CHECK_THROWS_AS(m.load_state(text, kCounted), sdk::Error);
+  }
+  CHECK_FALSE(
+      LinearModel::state_weights(R"({"format": "flat/1", "models": {"": {"a": 1}}})", kFlat));
+  // What a model saves reads back as its weights: added to an empty model, the same state.
+  LinearModel m(true);
+  const sdk::ScoreContext ana{nullptr, "ana", nullptr}, bob{nullptr, "bob", nullptr};
+  update(m, *node("a"), ana, 0.75);
+  update(m, *node("b"), bob, -0.5);
+  m.count_accept(ana);
+  m.count_accept(ana);
+  m.count_accept(bob);
+  m.commit_changes();
+  for (const auto* format : {&kFlat, &kCounted}) {
+    const std::string state = m.save_state(*format);
+    const auto weights = LinearModel::state_weights(state, *format);
+    REQUIRE(weights);
+    CHECK(weights->size() == 8);  // 3 features and #accepts in each partition
+    LinearModel back(true);
+    back.apply_changes(*weights);
+    CHECK(back.save_state(*format) == state);
+    CHECK(LinearModel::accepts(*back.find(ana)) == 2.0);
+  }
+}

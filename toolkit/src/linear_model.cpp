@@ -1,6 +1,7 @@
 #include "flipper/toolkit/linear_model.hpp"
 
 #include <cmath>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "flipper/sdk/errors.hpp"
@@ -145,15 +146,21 @@ std::string LinearModel::save_state(const LinearStateFormat& format) const {
   return j.dump();
 }
 
-void LinearModel::load_state(std::string_view state, const LinearStateFormat& format) {
-  std::unordered_map<std::string, LinearPartition> loaded;
+namespace {
+
+// Reads a saved state of `format`: f(partition, name, weight) for every weight, a partition's
+// counter c > 1 as the weight kAcceptsFeature = c - 1 first (the counter counts 1 + accepts),
+// then its weights in name order. Error(bad_config) naming the plugin when the text is not such
+// a state; f may have been called by then.
+using WeightRead =
+    std::function<void(const std::string& partition, const std::string& name, LinearWeight w)>;
+void read_state(std::string_view state, const LinearStateFormat& format, const WeightRead& f) {
   try {
     const auto j = nlohmann::json::parse(state);
     if (j.value("format", "") != format.format)
       throw sdk::Error(sdk::codes::kBadConfig, prefix(format) + "unknown state format (want " +
                                                    std::string(format.format) + ")");
     for (const auto& [user, jm] : j.at("models").items()) {
-      LinearPartition& m = loaded[user];
       const nlohmann::json* ws = &jm;
       if (!format.counter.empty()) {
         const double c = jm.at(std::string(format.counter)).get<double>();
@@ -161,23 +168,43 @@ void LinearModel::load_state(std::string_view state, const LinearStateFormat& fo
           throw sdk::Error(
               sdk::codes::kBadConfig,
               prefix(format) + "bad counter " + std::string(format.counter) + " in the state");
-        if (c > 1) {
-          m.weights[kAcceptsKey] = {c - 1, 0};
-          m.names[kAcceptsKey] = std::string(kAcceptsFeature);
-        }
+        if (c > 1) f(user, std::string(kAcceptsFeature), LinearWeight{c - 1, 0});
         ws = &jm.at("weights");
       }
-      for (const auto& [name, v] : ws->items()) {
-        const auto key = features::feature_key(name);
-        m.weights[key] = {v.at(0).get<double>(), v.at(1).get<double>()};
-        m.names[key] = name;
-      }
+      for (const auto& [name, v] : ws->items())
+        f(user, name, LinearWeight{v.at(0).get<double>(), v.at(1).get<double>()});
     }
   } catch (const nlohmann::json::exception& e) {
     throw sdk::Error(sdk::codes::kBadConfig, prefix(format) + "unreadable state: " + e.what());
   }
+}
+
+}  // namespace
+
+void LinearModel::load_state(std::string_view state, const LinearStateFormat& format) {
+  std::unordered_map<std::string, LinearPartition> loaded;
+  read_state(state, format, [&](const std::string& user, const std::string& name, LinearWeight w) {
+    LinearPartition& m = loaded[user];
+    const auto key = features::feature_key(name);
+    m.weights[key] = w;
+    m.names[key] = name;
+  });
   partitions_ = std::move(loaded);
   pending_.clear();
+}
+
+std::optional<std::vector<sdk::WeightChange>> LinearModel::state_weights(
+    std::string_view state, const LinearStateFormat& format) {
+  std::vector<sdk::WeightChange> out;
+  try {
+    read_state(state, format,
+               [&](const std::string& user, const std::string& name, LinearWeight w) {
+                 out.push_back({user, name, w.w, w.aux});
+               });
+  } catch (const sdk::Error&) {
+    return std::nullopt;
+  }
+  return out;
 }
 
 }  // namespace flipper::toolkit

@@ -48,5 +48,9 @@ std::vector<sdk::WeightChange> LinearScorer::do_pending_values() const {
 void LinearScorer::do_set_values(const std::vector<sdk::WeightChange>& values) {
   model_.set_values(values);
 }
+std::optional<std::vector<sdk::WeightChange>> LinearScorer::do_state_weights(
+    std::string_view saved_state) const {
+  return LinearModel::state_weights(saved_state, format_);
+}
 
 }  // namespace flipper::toolkit

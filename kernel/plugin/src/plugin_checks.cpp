@@ -12,6 +12,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/planner.hpp"
+#include "flipper/sdk/scorer.hpp"
 
 namespace flipper::kernel {
 
@@ -98,6 +99,17 @@ sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
 }
 
 // docs/plugins-untrusted.md §6: the learnt weights cross as values (sdk::host::learnt_bytes).
+std::optional<std::vector<sdk::WeightChange>> checked_state_weights(
+    const PluginRef<sdk::Scorer>& scorer, const sdk::StateWeights& reader,
+    const std::string& state) {
+  auto read = scorer.call("state_weights",
+                          [&](const sdk::Scorer&) { return reader.state_weights(state); });
+  if (read)
+    if (auto v = sdk::state_weights_violation(state.size(), *read))
+      throw_invalid_output(scorer.id(), sdk::codes::kInvalidWeights, "state_weights: " + *v);
+  return read;
+}
+
 void checked_learn(const PluginRef<sdk::Scorer>& scorer, const std::vector<sdk::Candidate>& all,
                    std::size_t accepted, const sdk::ScoreContext& ctx,
                    const sdk::StopCondition& stop) {

@@ -2,9 +2,6 @@
 // §5 "Learned state"): lexicon.weights = per_user used to keep each user's weights under
 // "user:NAME", the scorer swapped per user; the scorer now keeps a partition per user itself, so
 // NAME's weights become partition NAME of the one key. No schema change: the rows move.
-#include <cmath>
-#include <nlohmann/json.hpp>
-
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "sqlite_handle.hpp"
 #include "store_impl.hpp"
@@ -75,7 +72,7 @@ std::vector<std::string> LexiconStore::fold_user_weights(const std::string& key,
   for (const auto& legacy : keys) {
     const std::string user = legacy.substr(kUserPrefix.size());
     if (auto state = load_weights(legacy)) {
-      auto weights = state_weights ? state_weights(*state) : std::nullopt;
+      auto weights = state_weights ? state_weights(legacy, *state) : std::nullopt;
       if (!weights) {
         kept.push_back(legacy);
         continue;
@@ -92,34 +89,6 @@ std::vector<std::string> LexiconStore::fold_user_weights(const std::string& key,
   }
   tx.commit();
   return kept;
-}
-
-std::optional<std::vector<StoredWeightChange>> linear_state_weights(const std::string& state) {
-  std::vector<StoredWeightChange> out;
-  try {
-    const auto j = nlohmann::json::parse(state);
-    if (!j.is_object() || !j.contains("format") || !j.contains("models") ||
-        !j.at("models").is_object())
-      return std::nullopt;
-    for (const auto& [partition, jm] : j.at("models").items()) {
-      const nlohmann::json* ws = &jm;
-      if (jm.contains("weights") && jm.at("weights").is_object()) {
-        if (jm.size() != 2) return std::nullopt;
-        for (const auto& [name, v] : jm.items()) {
-          if (name == "weights") continue;
-          const double c = v.get<double>();
-          if (!(c >= 1) || !std::isfinite(c)) return std::nullopt;
-          if (c > 1) out.push_back({partition, "#accepts", c - 1, 0});
-        }
-        ws = &jm.at("weights");
-      }
-      for (const auto& [name, v] : ws->items())
-        out.push_back({partition, name, v.at(0).get<double>(), v.at(1).get<double>()});
-    }
-  } catch (const nlohmann::json::exception&) {
-    return std::nullopt;
-  }
-  return out;
 }
 
 }  // namespace flipper::naturalization

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <ctime>
 #include <iostream>
+#include <map>
 #include <type_traits>
 #include <unordered_map>
 
+#include "flipper/kernel/plugin_checks.hpp"
 #include "flipper/naturalization/generalizer.hpp"
 #include "flipper/naturalization/rule_snapshot.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -279,7 +281,9 @@ void Naturalizer::restore() {
 // Stores of older builds kept lexicon.weights = per_user's weights under one key per user
 // ("user:X", with the scorer's own partition "" or X); the scorer now partitions by user
 // itself, so they are folded into the one key, partition X (docs/naturalization.md §5 "Learned
-// state"). Once, in one transaction; a read-only store keeps them (and says so).
+// state"). Once, in one transaction; a read-only store keeps them (and says so). A saved whole
+// state is read by the scorer, whose format it is (sdk::StateWeights), its answer checked before
+// it is stored (docs/plugins-untrusted.md): a scorer that cannot read it keeps it unserved.
 void Naturalizer::fold_legacy_user_weights() {
   const auto legacy = store_->legacy_user_weight_keys();
   if (legacy == 0) return;
@@ -290,11 +294,41 @@ void Naturalizer::fold_legacy_user_weights() {
                   "are not served until it is opened writable");
     return;
   }
-  const auto kept = store_->fold_user_weights(kWeightsKey, linear_state_weights);
-  for (const auto& key : kept)
+  const auto& scorer = runtime_->scorer;
+  const auto* reader = dynamic_cast<const sdk::StateWeights*>(scorer.borrow());
+  std::map<std::string, std::string> why;  // a kept key: why its state was not read
+  const auto state_weights =
+      [&](const std::string& key,
+          const std::string& state) -> std::optional<std::vector<StoredWeightChange>> {
+    if (reader == nullptr) {
+      why[key] = scorer.id().label() + " does not read its saved states as weights";
+      return std::nullopt;
+    }
+    std::optional<std::vector<sdk::WeightChange>> read;
+    try {
+      read = kernel::checked_state_weights(scorer, *reader, state);
+    } catch (const sdk::Error& e) {  // plugin_error, invalid_weights, or the plugin's own code
+      why[key] = std::string("[") + e.code() + "] " + e.what();
+      return std::nullopt;
+    }
+    if (!read) {
+      why[key] = scorer.id().label() + " does not read it as a state it saved";
+      return std::nullopt;
+    }
+    std::vector<StoredWeightChange> out;
+    out.reserve(read->size());
+    for (auto& w : *read)
+      out.push_back({std::move(w.model), std::move(w.feature), w.weight, w.aux});
+    return out;
+  };
+  const auto kept = store_->fold_user_weights(kWeightsKey, state_weights);
+  for (const auto& key : kept) {
+    const auto reason = why.find(key);
     options_.warn("lexicon store '" + store_->path() + "': the saved scorer state under '" + key +
                   "' (an older Flipper's per-user state) is not a weight table this build can "
-                  "fold into the scorer's per-user partitions; it is kept, not served");
+                  "fold into the scorer's per-user partitions; it is kept, not served" +
+                  (reason == why.end() ? std::string() : " (" + reason->second + ")"));
+  }
 }
 
 bool Naturalizer::restore_from_snapshot() {

@@ -2,18 +2,26 @@
 // "Learned state"): `scorer.params.per_user` (lexicon.weights = per_user writes it). The
 // naturalizer keeps one weights key; a user's accepts move that user's ranking only, on every
 // kernel over the store and after a restart; a store written the old way (a key per user) is
-// folded into the one key without losing a weight.
+// folded into the one key without losing a weight, its saved states read by the scorer whose
+// format they are (sdk::StateWeights), its answer checked; a scorer that cannot read them keeps
+// them unserved, with a warning.
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <functional>
+#include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "flipper/kernel/runtime.hpp"
 #include "flipper/kernel/session.hpp"
 #include "flipper/naturalization/lexicon_store.hpp"
 #include "flipper/naturalization/naturalizer.hpp"
 #include "flipper/wiring/config_schema.hpp"
 #include "flipper/wiring/session_factory.hpp"
 #include "naturalize_fixture.hpp"
+#include "product_schema.hpp"
 #include "store_sql.hpp"
 
 namespace {
@@ -203,10 +211,12 @@ TEST_CASE("folding old per-user keys adds to the one key's sums (hand-computed)"
       "2)");
   naturalization::LexiconStore s(store);
   REQUIRE(s.legacy_user_weight_keys() == 2);
-  const auto kept = s.fold_user_weights(naturalization::kWeightsKey, [](const std::string&) {
-    return std::optional<std::vector<naturalization::StoredWeightChange>>(
-        {{"", "f", 0.125, 1.0}, {"", "#accepts", 2.0, 0.0}});
-  });
+  const auto kept = s.fold_user_weights(
+      naturalization::kWeightsKey, [](const std::string& key, const std::string&) {
+        CHECK(key == "user:bob");
+        return std::optional<std::vector<naturalization::StoredWeightChange>>(
+            {{"", "f", 0.125, 1.0}, {"", "#accepts", 2.0, 0.0}});
+      });
   CHECK(kept.empty());
   CHECK(s.legacy_user_weight_keys() == 0);
   std::vector<std::string> rows;
@@ -218,34 +228,170 @@ TEST_CASE("folding old per-user keys adds to the one key's sums (hand-computed)"
                                          "bob f 4.125000 17.000000"});
 }
 
-TEST_CASE("an older store's saved linear-model state reads back as weights (hand-written)",
+namespace {
+
+namespace kernel = flipper::kernel;
+namespace sdk = flipper::sdk;
+
+// The config's scorer behind a wrapper that forwards the Scorer calls and has no other
+// capability: no sdk::StateWeights (nor IncrementalScorer: it saves whole states).
+class Forwarding : public sdk::Scorer {
+ public:
+  explicit Forwarding(std::shared_ptr<sdk::Scorer> inner) : inner_(std::move(inner)) {}
+
+ protected:
+  double do_score_node(const sdk::Derivation& node, const sdk::ScoreContext& ctx) const override {
+    return inner_->score_node(node, ctx);
+  }
+  void do_features(const sdk::Derivation& node, const sdk::ScoreContext& ctx,
+                   sdk::FeatureVector& out) const override {
+    inner_->features(node, ctx, out);
+  }
+  void do_learn(const std::vector<sdk::Candidate>& candidates, std::size_t accepted,
+                const sdk::ScoreContext& ctx) override {
+    inner_->learn(candidates, accepted, ctx);
+  }
+  std::string do_save_state() const override { return inner_->save_state(); }
+  void do_load_state(std::string_view state) override { inner_->load_state(state); }
+
+  std::shared_ptr<sdk::Scorer> inner_;
+};
+
+using Answer = std::function<std::optional<std::vector<sdk::WeightChange>>(std::string_view)>;
+
+// The same with sdk::StateWeights, answering as `answer` says.
+class Answering : public Forwarding, public sdk::StateWeights {
+ public:
+  Answering(std::shared_ptr<sdk::Scorer> inner, Answer answer)
+      : Forwarding(std::move(inner)), answer_(std::move(answer)) {}
+
+ protected:
+  std::optional<std::vector<sdk::WeightChange>> do_state_weights(
+      std::string_view saved_state) const override {
+    return answer_(saved_state);
+  }
+
+ private:
+  Answer answer_;
+};
+
+// A store of an older build: ana's weights as a whole state saved by loglinear (the default
+// scorer), under user:ana.
+const std::string kAnaState =
+    R"({"format":"flipper.loglinear/1","per_user":false,"models":{"":{"rule=a":[0.5,0.25]}}})";
+
+std::string old_store() {
+  const std::string store = scratch_path("peruser-reader") + ".sqlite";
+  { naturalization::LexiconStore create(store); }
+  sql(store,
+      "INSERT INTO scorer_state(key, state, seq) VALUES ('user:ana', '" + kAnaState + "', 1)");
+  return store;
+}
+
+// Starts a naturalizer over `store` whose scorer is made by `wrap` from the config's; its
+// warnings.
+std::vector<std::string> start(
+    const std::string& store,
+    const std::function<std::shared_ptr<sdk::Scorer>(std::shared_ptr<sdk::Scorer>)>& wrap) {
+  std::shared_ptr<kernel::Runtime> rt =
+      kernel::make_runtime(kernel::Config::load(std::nullopt, {"lexicon.path=" + store}));
+  rt->scorer = kernel::PluginRef<sdk::Scorer>(wrap(rt->scorer.shared()));
+  auto options = naturalization::NaturalizeOptions::from_config(rt->config);
+  std::vector<std::string> warnings;
+  options.warn = [&](const std::string& w) { warnings.push_back(w); };
+  naturalization::Naturalizer nat(rt, options);
+  return warnings;
+}
+
+// The one warning, checked to name the kept key.
+std::string kept_warning(const std::vector<std::string>& warnings) {
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Catch::Contains("the saved scorer state under 'user:ana'") &&
+                              Catch::Contains("it is kept, not served"));
+  return warnings[0];
+}
+
+}  // namespace
+
+TEST_CASE("an older store's saved state is read by the scorer, checked, or kept with a warning",
           "[naturalize][per_user][migration]") {
-  using naturalization::linear_state_weights;
-  const auto flat = linear_state_weights(
-      R"({"format": "flipper.loglinear/1", "per_user": false,
-          "models": {"": {"rule=a": [0.5, 0.25]}}})");
-  REQUIRE(flat);
-  REQUIRE(flat->size() == 1);
-  CHECK((*flat)[0].model == "");
-  CHECK((*flat)[0].feature == "rule=a");
-  CHECK((*flat)[0].weight == 0.5);
-  CHECK((*flat)[0].aux == 0.25);
-  // The perceptron's layout: the counter c = 3 is the reserved weight #accepts = 2.
-  const auto counted = linear_state_weights(
-      R"({"format": "flipper.perceptron/1", "per_user": true,
-          "models": {"ana": {"c": 3, "weights": {"rule=b": [-1.5, 4]}}}})");
-  REQUIRE(counted);
-  REQUIRE(counted->size() == 2);
-  CHECK((*counted)[0].model == "ana");
-  CHECK((*counted)[0].feature == "#accepts");
-  CHECK((*counted)[0].weight == 2.0);
-  CHECK((*counted)[1].feature == "rule=b");
-  CHECK((*counted)[1].weight == -1.5);
-  CHECK((*counted)[1].aux == 4.0);
-  // Not such a state.
-  CHECK_FALSE(linear_state_weights("opaque"));
-  CHECK_FALSE(linear_state_weights(R"({"models": {}})"));
-  CHECK_FALSE(
-      linear_state_weights(R"({"format": "f", "models": {"": {"c": 0.5, "weights": {}}}})"));
-  CHECK_FALSE(linear_state_weights(R"({"format": "f", "models": {"": {"a": 1}}})"));
+  const auto reads = [](std::shared_ptr<sdk::Scorer> inner) {
+    return [inner](std::string_view s) {
+      return dynamic_cast<const sdk::StateWeights&>(*inner).state_weights(s);
+    };
+  };
+  SECTION("the scorer's own reading (through the wrapper): folded") {
+    const std::string store = old_store();
+    CHECK(start(store, [&](auto inner) {
+            return std::make_shared<Answering>(inner, reads(inner));
+          }).empty());
+    naturalization::LexiconStore s(store);
+    CHECK(s.legacy_user_weight_keys() == 0);
+    const auto w = s.weight_changes(naturalization::kWeightsKey);
+    REQUIRE(w.size() == 1);
+    CHECK(w[0].model == "ana");
+    CHECK(w[0].feature == "rule=a");
+    CHECK(w[0].weight == 0.5);
+    CHECK(w[0].aux == 0.25);
+  }
+  SECTION("a scorer without sdk::StateWeights: kept") {
+    const std::string store = old_store();
+    const auto w =
+        kept_warning(start(store, [](auto inner) { return std::make_shared<Forwarding>(inner); }));
+    CHECK_THAT(w, Catch::Contains("plugin 'in-process' (scorer) does not read its saved states "
+                                  "as weights"));
+    CHECK(sql_int(store, "SELECT count(*) FROM scorer_state WHERE key = 'user:ana'") == 1);
+    CHECK(sql_int(store, "SELECT count(*) FROM scorer_weights") == 0);
+  }
+  SECTION("a weight or aux that is not finite: refused, kept") {
+    for (const double bad :
+         {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+      for (const bool in_aux : {false, true}) {
+        INFO("bad " << bad << (in_aux ? " in aux" : " in the weight"));
+        const std::string store = old_store();
+        const auto w = kept_warning(start(store, [&](auto inner) {
+          return std::make_shared<Answering>(inner, [&, read = reads(inner)](std::string_view s) {
+            auto r = read(s);
+            (in_aux ? r->back().aux : r->back().weight) = bad;
+            return r;
+          });
+        }));
+        CHECK_THAT(w, Catch::Contains("[invalid_weights] plugin 'in-process' (scorer): "
+                                      "state_weights: the weight 'rule=a' of partition ''") &&
+                          Catch::Contains("not a finite number"));
+        CHECK(sql_int(store, "SELECT count(*) FROM scorer_state WHERE key = 'user:ana'") == 1);
+        CHECK(sql_int(store, "SELECT count(*) FROM scorer_weights") == 0);
+      }
+    }
+  }
+  SECTION("more weights than the state has bytes: refused, kept") {
+    const std::string store = old_store();
+    const auto w = kept_warning(start(store, [](auto inner) {
+      return std::make_shared<Answering>(inner, [](std::string_view s) {
+        return std::optional<std::vector<sdk::WeightChange>>(
+            std::vector<sdk::WeightChange>(s.size() + 1, sdk::WeightChange{"", "f", 1, 0}));
+      });
+    }));
+    CHECK_THAT(w, Catch::Contains("[invalid_weights]") &&
+                      Catch::Contains(std::to_string(kAnaState.size() + 1) +
+                                      " weights read from a saved state of " +
+                                      std::to_string(kAnaState.size()) + " bytes"));
+    CHECK(sql_int(store, "SELECT count(*) FROM scorer_weights") == 0);
+  }
+  SECTION("a reading that throws, or reads no state: kept") {
+    const std::string store = old_store();
+    const auto w = kept_warning(start(store, [](auto inner) {
+      return std::make_shared<Answering>(
+          inner, [](std::string_view) -> std::optional<std::vector<sdk::WeightChange>> {
+            throw std::runtime_error("cannot read");
+          });
+    }));
+    CHECK_THAT(w, Catch::Contains("[plugin_error] plugin 'in-process' (scorer): state_weights: "
+                                  "cannot read"));
+    const auto none = kept_warning(start(store, [](auto inner) {
+      return std::make_shared<Answering>(inner, [](std::string_view) { return std::nullopt; });
+    }));
+    CHECK_THAT(none, Catch::Contains("does not read it as a state it saved"));
+    CHECK(sql_int(store, "SELECT count(*) FROM scorer_state WHERE key = 'user:ana'") == 1);
+  }
 }

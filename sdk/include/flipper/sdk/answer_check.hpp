@@ -32,6 +32,7 @@ struct ParseResult;
 struct Candidate;
 class Scorer;
 struct ScoreContext;
+struct WeightChange;
 
 namespace codes {
 /// A planner's path or tour that is not an answer to the request.
@@ -40,6 +41,9 @@ inline constexpr const char* kInvalidPlan = "invalid_plan";
 inline constexpr const char* kInvalidCandidate = "invalid_candidate";
 /// A candidate's or derivation's score that is not a finite number.
 inline constexpr const char* kInvalidScore = "invalid_score";
+/// A scorer's weights read from a saved state (StateWeights) that are not finite numbers, or
+/// more of them than the state has bytes.
+inline constexpr const char* kInvalidWeights = "invalid_weights";
 }  // namespace codes
 
 /// What is wrong with an answer: its code (codes::kInvalid*) and what it broke, in words.
@@ -68,6 +72,12 @@ FLIPPER_SDK_API std::optional<std::string> tour_violation(std::size_t points,
 /// (want_chart) are checked the same way. Code: kInvalidCandidate or kInvalidScore.
 FLIPPER_SDK_API std::optional<Violation> parse_violation(const ParseRequest& request,
                                                          const ParseResult& result);
+
+/// Weights a scorer read from a saved state of `state_bytes` bytes (StateWeights::state_weights)
+/// that break its contract: a weight or aux that is not finite, or more weights than the state
+/// has bytes. Code: kInvalidWeights.
+FLIPPER_SDK_API std::optional<std::string> state_weights_violation(
+    std::size_t state_bytes, const std::vector<WeightChange>& weights);
 
 }  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk

@@ -5,6 +5,7 @@
 /// when the user accepts a candidate, and to save/restore its state with the lexicon.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -132,6 +133,28 @@ class FLIPPER_SDK_API WeightValues {
  protected:
   virtual std::vector<WeightChange> do_pending_values() const = 0;
   virtual void do_set_values(const std::vector<WeightChange>& values) = 0;
+};
+
+/// Optional extension of a Scorer, found with dynamic_cast (SDK 3.1): reads a state that
+/// save_state() wrote as weights, so that a host can move a saved state into stored weights
+/// without knowing its format, which stays the scorer's own (docs/naturalization.md §5 "Learned
+/// state": an older store's per-user states are folded into the one weights key). A scorer
+/// without it keeps working; a host then keeps such states as they are.
+class FLIPPER_SDK_API StateWeights {
+ public:
+  virtual ~StateWeights();
+  /// The weights a state saved by save_state() holds, as values (a WeightChange here holds a
+  /// weight's value and its aux, `model` its partition): applied as changes to a scorer whose
+  /// weights are all 0 they give the weights load_state(saved_state) gives. nullopt when the
+  /// text is no state of this scorer. Does not change the scorer. The host checks the answer
+  /// (sdk::state_weights_violation): every number finite, at most one weight per byte of text.
+  std::optional<std::vector<WeightChange>> state_weights(std::string_view saved_state) const {
+    return do_state_weights(saved_state);
+  }
+
+ protected:
+  virtual std::optional<std::vector<WeightChange>> do_state_weights(
+      std::string_view saved_state) const = 0;
 };
 
 template <>

@@ -8,7 +8,10 @@
 /// - learning on an accept moves the accepted candidate's score up relative to the others
 ///   (the accepted, initially not top, candidate rises above the former top after a few accepts);
 /// - save_state/load_state round-trips: a second instance loaded from the state scores every
-///   node exactly as the first; unreadable state throws Error(bad_config).
+///   node exactly as the first; unreadable state throws Error(bad_config);
+/// - a scorer with sdk::StateWeights reads its saved state as weights that pass the host's check
+///   (sdk::state_weights_violation) and, with sdk::IncrementalScorer, added to a fresh instance
+///   score every node exactly as the scorer that saved it; it reads no state in other text.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -16,9 +19,11 @@
 #include <memory>
 #include <string>
 
+#include "flipper/sdk/answer_check.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/parser.hpp"
+#include "flipper/sdk/scorer.hpp"
 
 namespace flipper::testing {
 
@@ -84,6 +89,29 @@ inline void check_scorer_conformance(const std::function<std::shared_ptr<sdk::Sc
       });
   INFO("load_state(\"not a state {\"): want sdk::Error(bad_config)");
   CHECK_THROWS_AS(other->load_state("not a state {"), sdk::Error);
+  // The saved state as weights (SDK 3.1).
+  const auto* reader = dynamic_cast<const sdk::StateWeights*>(scorer.get());
+  if (reader == nullptr) return;
+  CHECK_FALSE(reader->state_weights("not a state {").has_value());
+  const auto weights = reader->state_weights(state);
+  INFO("state_weights(save_state()): want the weights, not nullopt");
+  REQUIRE(weights.has_value());
+  const auto violation = sdk::state_weights_violation(state.size(), *weights);
+  INFO("state_weights(save_state()) breaks the host's check: " << violation.value_or(""));
+  CHECK_FALSE(violation.has_value());
+  auto added = fresh();
+  auto* inc = dynamic_cast<sdk::IncrementalScorer*>(added.get());
+  if (inc == nullptr) return;
+  inc->apply_changes(*weights);
+  inc->commit_changes();
+  for (const auto& c : r.candidates)
+    for (const auto& d : c.derivations)
+      for_each_node(*d, [&](const sdk::Derivation& n) {
+        INFO("state_weights(save_state()) added to a fresh scorer: candidate "
+             << sdk::render(c.program) << ", node " << n.category() << " over tokens [" << n.start
+             << ", " << n.end << ")");
+        CHECK(added->score_node(n, ctx) == scorer->score_node(n, ctx));
+      });
 }
 
 }  // namespace flipper::testing

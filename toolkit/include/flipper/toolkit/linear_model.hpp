@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -116,6 +117,12 @@ class LinearModel {
   /// Replaces the state with a saved one; Error(bad_config) naming the plugin when the text is
   /// not such a state (and then nothing changes). Pending changes are dropped.
   void load_state(std::string_view state, const LinearStateFormat& format);
+  /// The weights a saved state holds, as values (sdk::StateWeights): exactly what load_state
+  /// loads, each partition's accepts as the weight kAcceptsFeature first (a counted layout's
+  /// counter c > 1 is c - 1 accepts), then its weights in name order. nullopt when load_state
+  /// would refuse the text.
+  static std::optional<std::vector<sdk::WeightChange>> state_weights(
+      std::string_view state, const LinearStateFormat& format);
 
  private:
   LinearWeight& change(std::string partition, std::uint64_t key);

@@ -1,9 +1,10 @@
 #pragma once
 /// @file linear_scorer.hpp
 /// A scorer plugin over the toolkit's LinearModel (linear_model.hpp): features, scores, per-user
-/// partitions, saved state, sdk::IncrementalScorer and sdk::WeightValues are done here; a plugin
-/// derives from it and writes its update rule (`update`) and, when it scores with something else
-/// than the weights themselves (e.g. their average), `do_score_node`.
+/// partitions, saved state, sdk::IncrementalScorer, sdk::WeightValues and sdk::StateWeights are
+/// done here; a plugin derives from it and writes its update rule (`update`) and, when it scores
+/// with something else than the weights themselves (e.g. their average), `do_score_node`.
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,7 +14,10 @@
 
 namespace flipper::toolkit {
 
-class LinearScorer : public sdk::Scorer, public sdk::IncrementalScorer, public sdk::WeightValues {
+class LinearScorer : public sdk::Scorer,
+                     public sdk::IncrementalScorer,
+                     public sdk::WeightValues,
+                     public sdk::StateWeights {
  protected:
   LinearScorer(bool per_user, LinearStateFormat format) : format_(format), model_(per_user) {}
 
@@ -40,6 +44,8 @@ class LinearScorer : public sdk::Scorer, public sdk::IncrementalScorer, public s
   void do_apply_changes(const std::vector<sdk::WeightChange>& changes) override;
   std::vector<sdk::WeightChange> do_pending_values() const override;
   void do_set_values(const std::vector<sdk::WeightChange>& values) override;
+  std::optional<std::vector<sdk::WeightChange>> do_state_weights(
+      std::string_view saved_state) const override;
 
  private:
   const LinearStateFormat format_;

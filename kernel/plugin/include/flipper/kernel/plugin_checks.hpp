@@ -9,6 +9,7 @@
 /// sdk::Error(invalid_plan | invalid_candidate | invalid_score, "plugin 'NAME' (FILE): WHAT")
 /// when the answer breaks its contract: nothing of it is acted on.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,12 @@ sdk::TourResult checked_tour(const PluginRef<const sdk::Planner>& planner,
 /// parser.parse(request), its candidates checked (invalid_candidate, invalid_score).
 sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
                                const sdk::ParseRequest& request);
+
+/// The scorer's reading of a state it saved (sdk::StateWeights, which `reader` is: the scorer's
+/// own object), its weights checked (invalid_weights); nullopt when it does not read `state`.
+std::optional<std::vector<sdk::WeightChange>> checked_state_weights(
+    const PluginRef<sdk::Scorer>& scorer, const sdk::StateWeights& reader,
+    const std::string& state);
 
 /// scorer.learn(candidates, accepted, ctx), in a child process when the ref says so.
 void checked_learn(const PluginRef<sdk::Scorer>& scorer,

@@ -303,10 +303,11 @@ class LexiconStore {
   /// Older builds' per-user weights (lexicon.weights = per_user stored each user's under
   /// "user:NAME"): how many such keys the store holds (weight rows and saved states).
   std::size_t legacy_user_weight_keys() const;
-  /// Converts a saved whole state to weights (partition, feature, weight, aux), nullopt when it
-  /// is not a state the caller can read.
-  using StateWeights =
-      std::function<std::optional<std::vector<StoredWeightChange>>(const std::string& state)>;
+  /// Converts the whole state saved under `key` to weights (partition, feature, weight, aux),
+  /// nullopt when it is not a state the caller can read. The store does not read states: their
+  /// format is the scorer's (the naturalizer asks it, sdk::StateWeights).
+  using StateWeights = std::function<std::optional<std::vector<StoredWeightChange>>(
+      const std::string& key, const std::string& state)>;
   /// Folds every "user:NAME" key into `key`, partition NAME (docs/naturalization.md §5 "Learned
   /// state"), in one transaction: a saved state first (read by `state_weights`; its partition
   /// "" becomes NAME), then the key's weight rows (partition "" becomes NAME), each added to the
@@ -379,13 +380,5 @@ class LexiconStore {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// The weights of a saved scorer state in the layout of the toolkit's LinearModel (what
-/// `loglinear` and `perceptron` save: {"format", "per_user", "models": {partition: {feature:
-/// [w, aux]} or {counter: c, "weights": {...}}}}), as values: a partition's counter c > 1 becomes
-/// the reserved weight "#accepts" = c - 1, as the model loads it. nullopt for any other text.
-/// LexiconStore::fold_user_weights reads an older store's per-user states with it (the lexicon
-/// cannot use the toolkit, a plugins' library: this reads those stored bytes, nothing more).
-std::optional<std::vector<StoredWeightChange>> linear_state_weights(const std::string& state);
 
 }  // namespace flipper::naturalization
