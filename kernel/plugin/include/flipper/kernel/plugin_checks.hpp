@@ -15,6 +15,7 @@
 
 #include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/answer_check.hpp"  // declares the SDK types used here
+#include "flipper/sdk/scorer.hpp"
 
 namespace flipper::kernel {
 
