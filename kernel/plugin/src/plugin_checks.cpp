@@ -102,8 +102,8 @@ sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
 std::optional<std::vector<sdk::WeightChange>> checked_state_weights(
     const PluginRef<sdk::Scorer>& scorer, const sdk::StateWeights& reader,
     const std::string& state) {
-  auto read = scorer.call("state_weights",
-                          [&](const sdk::Scorer&) { return reader.state_weights(state); });
+  auto read =
+      scorer.call("state_weights", [&](const sdk::Scorer&) { return reader.state_weights(state); });
   if (read)
     if (auto v = sdk::state_weights_violation(state.size(), *read))
       throw_invalid_output(scorer.id(), sdk::codes::kInvalidWeights, "state_weights: " + *v);
