@@ -11,8 +11,8 @@
 
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/keys.hpp"
-#include "flipper/language/keys.hpp"
 #include "flipper/kernel/loader.hpp"
+#include "flipper/language/keys.hpp"
 #include "flipper/naturalization/config_keys.hpp"
 #include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/plugin.hpp"

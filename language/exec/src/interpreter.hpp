@@ -21,8 +21,8 @@ using Collection = std::vector<sdk::Area>;
 
 class Interpreter {
  public:
-  Interpreter(const PlannerAccess& planner, const ExecLimits& limits,
-              const sdk::WorldState& start, const sdk::StopCondition& request = {});
+  Interpreter(const PlannerAccess& planner, const ExecLimits& limits, const sdk::WorldState& start,
+              const sdk::StopCondition& request = {});
 
   /// Runs a statement on `state` (the real run); fills trace and warnings. Returns success.
   /// Throws sdk::Error(execution_error | budget_exceeded | deadline_exceeded).

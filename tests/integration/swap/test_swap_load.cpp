@@ -97,7 +97,8 @@ std::string plans(const sdk::Planner& planner, const World& w, bool reverse) {
 }
 
 std::string programs(const std::shared_ptr<sdk::Planner>& planner, const World& w) {
-  // The plans are compared here, not the runaway deadline (tests/language/exec covers it): far away.
+  // The plans are compared here, not the runaway deadline (tests/language/exec covers it): far
+  // away.
   kernel::ExecLimits limits;
   limits.deadline = std::chrono::minutes(30);
   const kernel::Executor exec(planner, limits);
