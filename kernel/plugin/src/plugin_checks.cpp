@@ -98,7 +98,6 @@ sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
   return r;
 }
 
-// docs/plugins-untrusted.md §6: the learnt weights cross as values (sdk::host::learnt_bytes).
 std::optional<std::vector<sdk::WeightChange>> checked_state_weights(
     const PluginRef<sdk::Scorer>& scorer, const sdk::StateWeights& reader,
     const std::string& state) {
@@ -110,6 +109,7 @@ std::optional<std::vector<sdk::WeightChange>> checked_state_weights(
   return read;
 }
 
+// docs/plugins-untrusted.md §6: the learnt weights cross as values (sdk::host::learnt_bytes).
 void checked_learn(const PluginRef<sdk::Scorer>& scorer, const std::vector<sdk::Candidate>& all,
                    std::size_t accepted, const sdk::ScoreContext& ctx,
                    const sdk::StopCondition& stop) {

@@ -84,12 +84,12 @@ sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avo
   req.goals = &goals;
   req.avoid = (avoid != nullptr && !avoid->empty()) ? avoid : nullptr;
   Area nearest;
-  if (!planner_optimal_ && (goals.size() > 1 || distance != nullptr)) {
+  if (!traits_.optimal && (goals.size() > 1 || distance != nullptr)) {
     // Which goal is semantics (§4.4): decided here from path distances, whatever the planner.
     const NearestGoal n = nearest_goal(geometry_, start, goals, req.avoid, stop_);
     if (n.status != sdk::PlanStatus::found) {
       if (n.status == sdk::PlanStatus::stopped) tick();
-      sdk::PathResult none;  // the kernel's own search proved it: no planner message
+      sdk::PathResult none;  // the executor's own search proved it: no planner message
       none.status = n.status;
       return none;
     }
@@ -100,12 +100,12 @@ sdk::PathResult Interpreter::plan(Cell start, const Area& goals, const Area* avo
   // Checked before anything follows it (docs/plugins-untrusted.md): invalid_plan otherwise.
   sdk::PathResult r = planner_.plan(geometry_, req, stop_);
   if (r.status == sdk::PlanStatus::stopped) tick();  // the deadline fired inside the planner
-  if (distance != nullptr && planner_optimal_) *distance = r.path.size();
+  if (distance != nullptr && traits_.optimal) *distance = r.path.size();
   return r;
 }
 
 std::string Interpreter::unproven(const sdk::PathResult& r) const {
-  if (r.message.empty() || (r.status != sdk::PlanStatus::stopped && !planner_sampling_)) return {};
+  if (r.message.empty() || (r.status != sdk::PlanStatus::stopped && !traits_.sampling)) return {};
   return "; the planner: " + r.message;
 }
 

@@ -38,9 +38,10 @@ class Interpreter {
   };
 
   const PlannerAccess& planner_;
-  bool planner_optimal_;        // the planner's paths are shortest (else the kernel picks goals)
-  bool planner_deterministic_;  // same request, same answer (tours may be reused)
-  bool planner_sampling_;       // "no path" may mean "none within its budget"
+  // Asked once per execution: `optimal` (its paths are shortest, else the executor picks goals),
+  // `deterministic` (same request, same answer: tours may be reused), `sampling` ("no path" may
+  // mean "none within its budget").
+  const sdk::PlannerTraits traits_;
   const sdk::Geometry& geometry_;
   const sdk::RoomMap& rooms_;
   ExecLimits limits_;

@@ -1,5 +1,5 @@
 #pragma once
-// The nearest goal by path (core-language §4.4, §8), decided by the kernel for planners that do
+// The nearest goal by path (core-language §4.4, §8), decided by the executor for planners that do
 // not promise shortest paths (PlannerTraits::optimal false, e.g. sampling planners), so that
 // `visit` of an area or collection picks the same goal whatever the planner: which goal is
 // semantics, how to get there is planning.

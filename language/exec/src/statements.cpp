@@ -20,9 +20,7 @@ using sdk::WorldState;
 Interpreter::Interpreter(const PlannerAccess& planner, const ExecLimits& limits,
                          const WorldState& start, const sdk::StopCondition& request)
     : planner_(planner),
-      planner_optimal_(planner.traits().optimal),
-      planner_deterministic_(planner.traits().deterministic),
-      planner_sampling_(planner.traits().sampling),
+      traits_(planner.traits()),
       geometry_(*start.geometry),
       rooms_(*start.rooms),
       limits_(limits) {
@@ -198,7 +196,7 @@ std::vector<std::size_t> Interpreter::point_tour(Cell start, const Area& cells) 
   // A deterministic planner gives the same order for the same request: `strict` and `possible`
   // run a loop once as a trial and again for real, so the last order is reused (a tour over the
   // 16k cells of a 128^2 world is most of such a query).
-  if (planner_deterministic_ && last_tour_.valid && last_tour_.start == start &&
+  if (traits_.deterministic && last_tour_.valid && last_tour_.start == start &&
       last_tour_.cells == cells)
     return last_tour_.order;
   sdk::TourResult tour = planner_.tour(geometry_, start, cells, stop_);
@@ -206,7 +204,7 @@ std::vector<std::size_t> Interpreter::point_tour(Cell start, const Area& cells) 
   if (tour.status != sdk::PlanStatus::found || tour.order.size() != cells.size())
     throw sdk::Error(sdk::codes::kExecution,
                      "the planner gave no visiting order for 'foreach point'");
-  if (planner_deterministic_) {
+  if (traits_.deterministic) {
     last_tour_.valid = true;
     last_tour_.start = start;
     last_tour_.cells = cells;

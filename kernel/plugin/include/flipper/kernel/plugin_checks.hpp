@@ -6,8 +6,8 @@
 /// definition's parse; `bench planners`), so no front end can act on an answer another refuses.
 /// Each makes the plugin call through its PluginRef (a throwing plugin is plugin_error there),
 /// then applies the SDK's one check of the answer (flipper/sdk/answer_check.hpp) and throws
-/// sdk::Error(invalid_plan | invalid_candidate | invalid_score, "plugin 'NAME' (FILE): WHAT")
-/// when the answer breaks its contract: nothing of it is acted on.
+/// sdk::Error(invalid_plan | invalid_candidate | invalid_score | invalid_weights, "plugin 'NAME'
+/// (FILE): WHAT") when the answer breaks its contract: nothing of it is acted on.
 
 #include <optional>
 #include <string>
