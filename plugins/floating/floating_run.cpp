@@ -138,10 +138,13 @@ class FloatingRun : public toolkit::ChartRun<FloatingRun> {
       }
       // Words before a token symbol belong to the category kid before it, if there is one.
       if (rhs[k - 1].type != Sym::Type::category) return;
-      const DerivationPtr before = kids_.back();
-      kids_.back() = extend(before, before->start, q);
-      if (kids_.back()) match(r, rhs, k + 1, q + 1, i, j, skips);
-      kids_.back() = before;
+      const DerivationPtr* before = kids_.back();
+      const DerivationPtr extended = extend(*before, (*before)->start, q);
+      if (extended) {
+        kids_.back() = &extended;  // alive until the match below returns
+        match(r, rhs, k + 1, q + 1, i, j, skips);
+        kids_.back() = before;
+      }
       return;
     }
     const int e_min = k + 1 == nsym ? j : q + 1;
@@ -162,9 +165,9 @@ class FloatingRun : public toolkit::ChartRun<FloatingRun> {
   // Continues the match with `d` (over [q, e)) as kid k, wrapped over [p, e). False: stopped.
   bool use_kid(int r, Rhs rhs, std::size_t k, int p, int q, const DerivationPtr& d, int e, int i,
                int j, int skips) {
-    DerivationPtr kid = q == p ? d : extend(d, p, e);
-    if (!kid) return false;
-    kids_.push_back(std::move(kid));
+    const DerivationPtr extended = q == p ? nullptr : extend(d, p, e);
+    if (q != p && !extended) return false;
+    kids_.push_back(q == p ? &d : &extended);  // both alive until the match below returns
     match(r, rhs, k + 1, e, i, j, skips);
     kids_.pop_back();
     return !stopped_;

@@ -224,7 +224,7 @@ class ChartRun {
     if (!count_built()) return nullptr;
     const CompiledRule& rule = index_.rules()[static_cast<std::size_t>(r)];
     sems_.clear();
-    for (const auto& k : kids_) sems_.push_back(k->sem);
+    for (const sdk::DerivationPtr* k : kids_) sems_.push_back((*k)->sem);
     sdk::Program sem;
     try {
       sem = sdk::apply_rule(*rule.rule, sems_, token);
@@ -235,12 +235,13 @@ class ChartRun {
     d->rule = rule.rule;
     d->start = i;
     d->end = j;
-    d->kids = kids_;
+    d->kids.reserve(kids_.size());
+    for (const sdk::DerivationPtr* k : kids_) d->kids.push_back(*k);
     d->sem = std::move(sem);
     d->core_only = !rule.rule->induced;
     d->newest_rule = rule.rule->induced ? rule.rule->created : 0;
     double kid_score = 0;
-    for (const auto& k : kids_) {
+    for (const auto& k : d->kids) {
       d->core_only = d->core_only && k->core_only;
       d->newest_rule = std::max(d->newest_rule, k->newest_rule);
       kid_score += k->score;
@@ -268,7 +269,12 @@ class ChartRun {
   const std::vector<int> token_ids_;
   const std::vector<std::uint8_t> classes_;
   StartRules starts_;
-  std::vector<sdk::DerivationPtr> kids_;  ///< the kids matched so far
+  /// The kids matched so far, by address: each points into a cell's list (the cells of shorter
+  /// spans, which no match of this span changes) or at a derivation a caller keeps alive until
+  /// the match returns. A derivation copies them once it is built; matching itself copies no
+  /// shared_ptr (the reference counts' atomic increments and decrements on every partial match
+  /// were a quarter of a parse with many rules).
+  std::vector<const sdk::DerivationPtr*> kids_;
   ProgramIndex exact_programs_;           ///< the candidates of exact root derivations
   std::uint64_t built_ = 0;
   bool stopped_ = false;
@@ -299,7 +305,7 @@ class ChartRun {
       if (item.depth >= kMaxUnaryDepth) continue;
       for (int r : index_.unary_from(item.cat)) {
         if (!starts_.visible(r)) continue;
-        kids_.assign(1, item.d);
+        kids_.assign(1, &item.d);
         auto d = build(r, i, j, {});
         if (!d) continue;
         const int cat = lhs_of(r);
@@ -350,7 +356,7 @@ class ChartRun {
       const auto* ds = find_list(cell(p, e), s.id);
       if (ds == nullptr) continue;
       for (const auto& d : *ds) {
-        kids_.push_back(d);
+        kids_.push_back(&d);
         match(r, rhs, k + 1, e, i, j);
         kids_.pop_back();
         if (stopped_) return;
