@@ -275,7 +275,7 @@ class ChartRun {
   /// shared_ptr (the reference counts' atomic increments and decrements on every partial match
   /// were a quarter of a parse with many rules).
   std::vector<const sdk::DerivationPtr*> kids_;
-  ProgramIndex exact_programs_;           ///< the candidates of exact root derivations
+  ProgramIndex exact_programs_;  ///< the candidates of exact root derivations
   std::uint64_t built_ = 0;
   bool stopped_ = false;
 
