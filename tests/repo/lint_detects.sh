@@ -81,7 +81,7 @@ grep -q 'implicit-widening-of-multiplication-result' "$tmp/out" || { echo "no wi
 
 # --changed-since REF (scripts/test outside CI): only the units a change since REF can affect.
 # A committed unit with a finding is skipped while unchanged; a unit is checked when it changed
-# or when its dependency file names a changed header.
+# or when its dependency file (or Ninja's log) names a changed header.
 clean
 printf '#pragma once\nint answer();\n' >"$tmp/apps/demo/demo.hpp"
 printf '#include "demo.hpp"\n' | cat - "$tmp/apps/demo/demo.cpp" >"$tmp/demo.tmp"
@@ -103,6 +103,21 @@ grep -q 'clang-tidy on 0 of 2 units' "$tmp/out" || { echo "units were checked"; 
 printf 'int other();\n' >>"$tmp/apps/demo/demo.hpp"
 expect pass "a changed header: the unit including it is checked" --tidy-only --changed-since HEAD build
 grep -q 'clang-tidy on 1 of 2 units' "$tmp/out" || { echo "not the header's unit"; cat "$tmp/out"; exit 1; }
+# The same in a Ninja build (-G Ninja): no *.o.d files, the dependencies are in Ninja's log, with
+# paths relative to the build folder. A one-rule build.ninja records them as a compile would.
+rm "$tmp/build/demo.cpp.o.d"
+cat >"$tmp/build/build.ninja" <<'NINJA'
+rule cc
+  command = printf '%s: ../apps/demo/demo.cpp ../apps/demo/demo.hpp\n' $out > $out.d && touch $out
+  depfile = $out.d
+  deps = gcc
+build demo.cpp.o: cc ../apps/demo/demo.cpp
+NINJA
+ninja -C "$tmp/build" >/dev/null
+expect pass "a changed header, Ninja's log: the unit including it is checked" \
+  --tidy-only --changed-since HEAD build
+grep -q 'clang-tidy on 1 of 2 units' "$tmp/out" ||
+  { echo "not the header's unit (Ninja)"; cat "$tmp/out"; exit 1; }
 printf '// touched\n' >>"$tmp/apps/demo/old.cpp"
 expect fail "the unit with the finding changed" --tidy-only --changed-since HEAD build
 grep -q 'implicit-widening-of-multiplication-result' "$tmp/out" || { echo "no widening finding"; exit 1; }
