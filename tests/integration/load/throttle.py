@@ -43,7 +43,10 @@ def main() -> int:
     stop_per_run = (100.0 - share) / share
 
     started = time.monotonic()
-    child = subprocess.Popen(args[1:], start_new_session=True)
+    # A process group of its own in this session: should this script die (even by SIGKILL)
+    # while the group is stopped, the group becomes orphaned and the kernel sends it SIGHUP and
+    # SIGCONT, so no stopped command is left behind.
+    child = subprocess.Popen(args[1:], process_group=0)
     group = child.pid
 
     def signal_group(sig: int) -> None:
