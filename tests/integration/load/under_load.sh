@@ -62,8 +62,11 @@ mapfile -t commands < <(awk '
   inside && /^build\/bin\/flipper run / { sub(/  # .*$/, ""); print }
 ' "$src/README.md" "$src/docs/usage.md")
 ((${#commands[@]} >= 3)) || fail "found ${#commands[@]} 'flipper run' lines in the tested blocks"
-printf '%s\n' "${commands[@]}" | grep -q 'configs/octomap-ompl.yaml' ||
-  fail "docs/usage.md's octomap-ompl example is not among the tested run lines"
+octomap=0  # the octomap-ompl run's index in commands (from 1), for the nice-19 phase
+for i in $(seq 1 ${#commands[@]}); do
+  if [[ ${commands[i - 1]} == *configs/octomap-ompl.yaml* ]]; then octomap=$i; fi
+done
+((octomap > 0)) || fail "docs/usage.md's octomap-ompl example is not among the tested run lines"
 
 run_phase() {  # run_phase NAME WHICH [PREFIX...]: WHICH "all" (every command and the bench) or
   local out=$tmp/$1 which=$2  # the index of one command; outputs in $tmp/NAME
@@ -85,10 +88,13 @@ run_phase() {  # run_phase NAME WHICH [PREFIX...]: WHICH "all" (every command an
     --print results) >"$out/bench.out" 2>"$out/bench.err" || status=$?
   echo "$status" >"$out/bench.status"
 }
-timed_phase() {  # timed_phase NAME WHICH [PREFIX...]: run_phase, printing its wall and CPU
+# timed_phase NAME WHICH [PREFIX...]: run_phase; its wall and CPU (user+sys) go to $tmp/NAME.time
+# as "WALL_S CPU_S" and are printed.
+timed_phase() {
   local TIMEFORMAT='%R %U %S'
-  { time run_phase "$@" 2>&3; } 3>&2 2>"$tmp/$1.time"
-  awk '{ printf "%.2f s wall, %.2f s CPU (user+sys)\n", $1, $2 + $3 }' "$tmp/$1.time"
+  { time run_phase "$@" 2>&3; } 3>&2 2>"$tmp/$1.raw"
+  awk '{ print $1, $2 + $3 }' "$tmp/$1.raw" >"$tmp/$1.time"
+  awk '{ printf "%.2f s wall, %.2f s CPU (user+sys)\n", $1, $2 }' "$tmp/$1.time"
 }
 # share_at_most WHAT FILE MAX: FILE's lines "WALL_S CPU_S" (commands that ran starved) add up to
 # at most MAX of a CPU: the starving worked.
@@ -100,32 +106,32 @@ share_at_most() {
   awk -v s="$share" -v max="$3" 'BEGIN { exit !(s + 0 <= max + 0) }' ||
     fail "$1: the commands got $share of a CPU, more than $3: they were not starved"
 }
-same_as_quiet() {  # same_as_quiet PHASE: every output PHASE wrote equals the quiet run's
-  local phase=$1 i c status=0
-  for i in $(seq 1 ${#commands[@]}); do
-    [[ -f $tmp/$phase/run$i.status ]] || continue
-    c=${commands[i - 1]}
-    if ! cmp -s "$tmp/quiet/run$i.status" "$tmp/$phase/run$i.status" ||
-      ! cmp -s "$tmp/quiet/run$i.out" "$tmp/$phase/run$i.out"; then
-      echo "DIFFERS ($phase): $c (exit $(cat "$tmp/$phase/run$i.status"))"
-      diff "$tmp/quiet/run$i.out" "$tmp/$phase/run$i.out" | head -20 || true
-      head -c 600 "$tmp/$phase/run$i.err"
-      status=1
-    else
-      echo "same ($phase): $c"
-    fi
-  done
-  if [[ -f $tmp/$phase/bench.status ]]; then
-    if ! cmp -s "$tmp/quiet/bench.status" "$tmp/$phase/bench.status" ||
-      ! cmp -s "$tmp/quiet/bench.out" "$tmp/$phase/bench.out"; then
-      echo "DIFFERS ($phase): the bench's results table (exit $(cat "$tmp/$phase/bench.status"))"
-      diff "$tmp/quiet/bench.out" "$tmp/$phase/bench.out" || true
-      head -c 600 "$tmp/$phase/bench.err"
-      status=1
-    else
-      echo "same ($phase): the bench's results table"
-    fi
+# same_output PHASE NAME WHAT [DIFF_LINES]: PHASE's NAME.status and NAME.out equal the quiet
+# run's (no output: nothing to compare); on a difference, the diff (its first DIFF_LINES lines,
+# default all) and the start of the error output.
+same_output() {
+  local phase=$1 name=$2 what=$3 lines=${4:-}
+  [[ -f $tmp/$phase/$name.status ]] || return 0
+  if cmp -s "$tmp/quiet/$name.status" "$tmp/$phase/$name.status" &&
+    cmp -s "$tmp/quiet/$name.out" "$tmp/$phase/$name.out"; then
+    echo "same ($phase): $what"
+    return 0
   fi
+  echo "DIFFERS ($phase): $what (exit $(cat "$tmp/$phase/$name.status"))"
+  if [[ -n $lines ]]; then
+    diff "$tmp/quiet/$name.out" "$tmp/$phase/$name.out" | head -"$lines" || true
+  else
+    diff "$tmp/quiet/$name.out" "$tmp/$phase/$name.out" || true
+  fi
+  head -c 600 "$tmp/$phase/$name.err"
+  return 1
+}
+same_as_quiet() {  # same_as_quiet PHASE: every output PHASE wrote equals the quiet run's
+  local phase=$1 i status=0
+  for i in $(seq 1 ${#commands[@]}); do
+    same_output "$phase" "run$i" "${commands[i - 1]}" 20 || status=1
+  done
+  same_output "$phase" bench "the bench's results table" || status=1
   return $status
 }
 
@@ -150,18 +156,12 @@ share_at_most starved "$tmp/starved.report" "$kMaxStarvedShare"
 # The first CPU this script may run on (its affinity list, e.g. "0-1" or "2,5").
 cpu=$(taskset -pc $$ | sed 's/.*: *//; s/[,-].*//')
 [[ $cpu =~ ^[0-9]+$ ]] || fail "no CPU in this process's affinity list: $(taskset -pc $$)"
-octomap=0
-for i in $(seq 1 ${#commands[@]}); do
-  if [[ ${commands[i - 1]} == *configs/octomap-ompl.yaml* ]]; then octomap=$i; fi
-done
-((octomap > 0)) || fail "no octomap-ompl run line"
 taskset -c "$cpu" bash -c 'while :; do :; done' &
 burners+=($!)
 echo "== nice 19 beside a busy loop, both on CPU $cpu: the octomap-ompl run"
 timed_phase nice19 "$octomap" taskset -c "$cpu" nice -n 19
 kill "${burners[@]}" 2>/dev/null || true
-awk '{ print $1, $2 + $3 }' "$tmp/nice19.time" >"$tmp/nice19.report"
-share_at_most "nice 19" "$tmp/nice19.report" "$kMaxNiceShare"
+share_at_most "nice 19" "$tmp/nice19.time" "$kMaxNiceShare"
 
 status=0
 same_as_quiet starved || status=1
