@@ -56,13 +56,12 @@ endif()
 set(FLIPPER_SANITIZE_FRONT_END_OPT "" CACHE STRING
   "Optimisation level of the front ends in the sanitizer build (empty: FLIPPER_SANITIZE_OPT)")
 
-# flipper_front_end_options(<out>): the current directory's compile options for a front end's
-# folder in this tree (unchanged outside a sanitizer build).
-function(flipper_front_end_options out)
+# flipper_drop_fuzz_coverage([OPTION...]): the current directory's targets, from here on, compile
+# without libFuzzer's coverage (-fsanitize=fuzzer-no-link) and with OPTIONs after the others (the
+# units under tests/, and the front ends through flipper_add_front_end).
+function(flipper_drop_fuzz_coverage)
   get_directory_property(options COMPILE_OPTIONS)
-  if(FLIPPER_SANITIZE)
-    list(REMOVE_ITEM options -fsanitize=fuzzer-no-link)
-    list(APPEND options ${FLIPPER_SANITIZE_FRONT_END_OPT})
-  endif()
-  set(${out} "${options}" PARENT_SCOPE)
+  list(REMOVE_ITEM options -fsanitize=fuzzer-no-link)
+  list(APPEND options ${ARGN})
+  set_directory_properties(PROPERTIES COMPILE_OPTIONS "${options}")
 endfunction()
