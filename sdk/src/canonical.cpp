@@ -116,8 +116,11 @@ void render_number(double v, std::string& out) {
     out += std::to_string(static_cast<long long>(v));
     return;
   }
-  char buf[64];
-  auto res = std::to_chars(buf, buf + sizeof buf, v);
+  // The shortest fixed form that reads back: the reader takes -?digits[.digits] only, and the
+  // shortest form of all would write 1e-04 or 5e-76 (docs/core-language.md). A double's fixed form
+  // is at most 1 + 309 digits before the point and 1 + 324 after it with its sign.
+  char buf[400];
+  auto res = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed);
   out.append(buf, res.ptr);
 }
 

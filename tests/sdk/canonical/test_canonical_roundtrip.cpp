@@ -158,6 +158,17 @@ TEST_CASE("every location construct round-trips", "[canonical]") {
                                             make(Kind::VisitArea, {make(Kind::AreaVar)})})}));
 }
 
+TEST_CASE("a small number renders in fixed notation and reads back", "[canonical]") {
+  // std::to_chars' shortest form would write 1e-04 and 5e-76, which the reader refuses
+  // (fuzz_canonical_text found -0.000...05; its seed is regress-tiny-number).
+  for (double v : {1e-4, -1.2e-4, 5e-76, -5e-76, 0.25, -98.5}) {
+    const Program p = make(Kind::PointList, {make(Kind::PointXY, {num(v), num(1)})});
+    round_trip(p, Sort::Area);
+  }
+  CHECK(render(num(1e-4)) == "0.0001");
+  CHECK(render(num(-5e-76)) == "-0." + std::string(75, '0') + "5");
+}
+
 TEST_CASE("every item and filter construct round-trips", "[canonical]") {
   const Program r = is("red"), c = is("circle", Kind::Shape), g = is("gray");
   for (const Program& f :
