@@ -1,8 +1,11 @@
 #include "flipper/dds/request_node.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <thread>
+#include <vector>
 
 #include "flipper/dds/names.hpp"
 #include "flipper/msg/SessionLine.h"
@@ -120,6 +123,7 @@ void RequestNode::serve_available(const std::atomic<bool>& stop) {
       const std::uint64_t id = s->request_id_;
       std::optional<std::string> answer_line = answer(name, id, line);
       if (!answer_line || answer_line->empty()) continue;  // dropped, or a blank line
+      await_answer_reader(infos[i].publication_handle, id, stop);
       flipper_msg_dds__SessionLine_ out{};
       out.session_ = const_cast<char*>(name.c_str());
       out.request_id_ = id;
@@ -131,6 +135,58 @@ void RequestNode::serve_available(const std::atomic<bool>& stop) {
     }
     dds_return_loan(reader_, samples, n);
   }
+}
+
+void RequestNode::await_answer_reader(dds_instance_handle_t request_writer, std::uint64_t id,
+                                      const std::atomic<bool>& stop) {
+  dds_builtintopic_endpoint_t* writer = dds_get_matched_publication_data(reader_, request_writer);
+  if (writer == nullptr) return;  // the requester's writer is gone: no participant to wait for
+  Guid who;
+  std::memcpy(who.data(), writer->participant_key.v, who.size());
+  dds_builtintopic_free_endpoint(writer);
+  if (readerless_.count(who) != 0) return;
+  const auto end = std::chrono::steady_clock::now() + kAwaitReader;
+  while (!answer_reader_matched(who)) {
+    if (stop.load()) return;
+    if (std::chrono::steady_clock::now() >= end) {
+      log_ << "flipper dds: answer " << id << ": no answer reader of the requesting participant "
+           << "matched within " << kAwaitReader.count()
+           << " ms; written anyway, and its later answers at once" << std::endl;
+      if (readerless_.size() >= kMaxReaderless) readerless_.clear();
+      readerless_.insert(who);
+      return;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
+bool RequestNode::answer_reader_matched(const Guid& participant) {
+  std::vector<dds_instance_handle_t> handles(reader_participants_.size() + 16);
+  dds_return_t n = dds_get_matched_subscriptions(writer_, handles.data(), handles.size());
+  if (n > 0 && static_cast<std::size_t>(n) > handles.size()) {  // more readers came meanwhile
+    handles.resize(static_cast<std::size_t>(n) + 16);
+    n = dds_get_matched_subscriptions(writer_, handles.data(), handles.size());
+  }
+  if (n < 0) return true;  // cannot tell: do not hold the answer back
+  handles.resize(std::min(handles.size(), static_cast<std::size_t>(n)));
+  std::map<dds_instance_handle_t, Guid> now;  // readers no longer matched are forgotten
+  bool found = false;
+  for (const dds_instance_handle_t h : handles) {
+    auto known = reader_participants_.find(h);
+    if (known != reader_participants_.end()) {
+      now.insert(*known);
+    } else if (dds_builtintopic_endpoint_t* r = dds_get_matched_subscription_data(writer_, h)) {
+      Guid g;
+      std::memcpy(g.data(), r->participant_key.v, g.size());
+      dds_builtintopic_free_endpoint(r);
+      now.emplace(h, g);
+    } else {
+      continue;  // unmatched since the list was taken
+    }
+    found = found || now.at(h) == participant;
+  }
+  reader_participants_ = std::move(now);
+  return found;
 }
 
 void RequestNode::run(const std::atomic<bool>& stop) {

@@ -7,6 +7,8 @@
 // its own topics.
 #include <fstream>
 #include <map>
+#include <string_view>
+#include <thread>
 
 #include "dds_session_ends.hpp"
 #include "dds_test_support.hpp"
@@ -271,5 +273,110 @@ TEST_CASE("two nodes give one answer each and each robot's plans go to its own t
     kill(n->pid(), SIGTERM);
     CHECK(n->finish() == 0);
   }
+  std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+/// A participant's request writer or answer reader on the root namespace, with the session
+/// protocol's QoS (dds_session_ends.hpp).
+dds_entity_t session_endpoint(dds::Participant& p, const char* kind) {
+  dds::Qos qos;
+  dds_qset_reliability(qos.q, DDS_RELIABILITY_RELIABLE, DDS_SECS(10));
+  dds_qset_history(qos.q, DDS_HISTORY_KEEP_ALL, DDS_LENGTH_UNLIMITED);
+  const dds_entity_t topic =
+      p.topic(&flipper_msg_dds__SessionLine__desc, dds::node_topic("", kind));
+  const dds_entity_t e = std::string_view(kind) == "request"
+                             ? dds_create_writer(p.handle(), topic, qos.q, nullptr)
+                             : dds_create_reader(p.handle(), topic, qos.q, nullptr);
+  REQUIRE(e > 0);
+  return e;
+}
+
+/// The answer lines `reader` has received so far, by request id.
+void take_answers(dds_entity_t reader, std::map<std::uint64_t, std::string>& into) {
+  void* samples[8] = {};
+  dds_sample_info_t infos[8];
+  dds_return_t n;
+  while ((n = dds_take(reader, samples, infos, 8, 8)) > 0) {
+    for (dds_return_t i = 0; i < n; ++i)
+      if (infos[i].valid_data) {
+        const auto* s = static_cast<const flipper_msg_dds__SessionLine_*>(samples[i]);
+        into[s->request_id_] = s->line_;
+      }
+    dds_return_loan(reader, samples, n);
+  }
+}
+
+bool writer_matched(dds_entity_t writer) {
+  return wait_until([&] {
+    dds_publication_matched_status_t st;
+    return dds_get_publication_matched_status(writer, &st) == 0 && st.current_count > 0;
+  });
+}
+
+}  // namespace
+
+TEST_CASE("an answer waits for its requester's answer reader, within a bound", "[dds]") {
+  // docs/ros2.md, "Requests over DDS": the answer topic is volatile, and discovery runs each way
+  // on its own, so a client's first request can reach the node before the node's answer writer
+  // has matched the client's answer reader. Made certain here: the client makes its answer
+  // reader only once the node has acknowledged the request. The answer must still come.
+  const int kDomain = test_domain();
+  const auto dir = scratch_dir("late-reader");
+  const std::string log = (dir / "node.log").string();
+  testsupport::ChildProcess node({"/bin/sh", "-c",
+                                  "log=$1; shift; exec \"$0\" dds \"$@\" 2>\"$log\"", flipper_bin(),
+                                  log, "--set", "dds.domain=" + std::to_string(kDomain), "--set",
+                                  "lexicon.path=" + (dir / "node.sqlite").string()});
+  auto late = test_participant(kDomain);
+  const dds_entity_t late_writer = session_endpoint(*late, "request");
+  REQUIRE(writer_matched(late_writer));
+  send_line(late_writer, "s1", 1, R"({"op":"user","name":"ana"})");
+  REQUIRE(dds_wait_for_acks(late_writer, DDS_SECS(20)) == DDS_RETCODE_OK);  // the node has it
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // and, unwaited, answered it
+  const dds_entity_t late_reader = session_endpoint(*late, "answer");
+  std::map<std::uint64_t, std::string> answers;
+  REQUIRE(wait_until([&] {
+    take_answers(late_reader, answers);
+    return answers.count(1) > 0;
+  }));
+  CHECK(json::parse(answers[1])["name"] == "ana");
+
+  SECTION("a requester with no answer reader holds its first answer back at most the bound") {
+    // `mute` writes requests and never reads answers. The node waits for its reader up to
+    // RequestNode::kAwaitReader (5 s) once, says so in its log, then answers at once: late's
+    // requests, queued behind mute's, are answered (within wait_until's 20 s), and mute's second
+    // request is not waited for.
+    auto mute = test_participant(kDomain);
+    const dds_entity_t mute_writer = session_endpoint(*mute, "request");
+    REQUIRE(writer_matched(mute_writer));
+    send_line(mute_writer, "m", 2, R"({"op":"state"})");
+    REQUIRE(dds_wait_for_acks(mute_writer, DDS_SECS(20)) == DDS_RETCODE_OK);
+    send_line(late_writer, "s1", 3, R"({"op":"state"})");
+    REQUIRE(wait_until([&] {
+      take_answers(late_reader, answers);
+      return answers.count(3) > 0;
+    }));
+    send_line(mute_writer, "m", 4, R"({"op":"state"})");
+    REQUIRE(dds_wait_for_acks(mute_writer, DDS_SECS(20)) == DDS_RETCODE_OK);
+    send_line(late_writer, "s1", 5, R"({"op":"state"})");
+    REQUIRE(wait_until([&] {
+      take_answers(late_reader, answers);
+      return answers.count(5) > 0;
+    }));
+    const std::string text = file_text(log);
+    INFO(text);
+    CHECK(text.find("flipper dds: answer 2: no answer reader of the requesting participant "
+                    "matched within 5000 ms; written anyway, and its later answers at once") !=
+          std::string::npos);
+    CHECK(text.find("answer 4:") == std::string::npos);
+    // The answer topic is one for every requester: late's reader has mute's answers too, so
+    // answer 2 was written (after the wait), and answer 4 before 5.
+    CHECK(answers.count(2) == 1);
+    CHECK(answers.count(4) == 1);
+  }
+  kill(node.pid(), SIGTERM);
+  CHECK(node.finish() == 0);
   std::filesystem::remove_all(dir);
 }

@@ -9,12 +9,21 @@
 /// sharing one runtime and lexicon; the answer line is exactly what `flipper session` writes for
 /// the same request line. QoS of both topics: reliable, volatile, keep-all.
 ///
+/// The answer topic is volatile, so an answer written before the node's answer writer has
+/// matched the requester's answer reader would be lost (discovery runs each way on its own: a
+/// client that sees the node's endpoints may not be seen yet). The node therefore writes an
+/// answer once its answer writer has matched a reader of the requesting participant, waiting
+/// up to kAwaitReader (a wall-clock bound on a runaway only: the answer is the same either way);
+/// past it the answer is written anyway, logged, and that participant's later answers are
+/// written at once (docs/ros2.md, "Requests over DDS").
+///
 /// Bad samples never stop the node: a session name that is empty, longer than 256 bytes or
 /// holds control characters, is logged and dropped (no answer: there is no safe name to answer
 /// to); a line longer than kMaxLine bytes, or a new session beyond the limit, gets an error
 /// answer (codes input_too_long, too_many_sessions); a line that is not JSON gets the session's
 /// own bad_json answer.
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -23,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "flipper/dds/participant.hpp"
@@ -38,6 +48,7 @@ class RequestNode {
   using SessionMaker = std::function<std::unique_ptr<kernel::Session>()>;
   static constexpr std::size_t kMaxLine = 1 << 20;
   static constexpr std::size_t kMaxSessionName = 256;
+  static constexpr std::chrono::milliseconds kAwaitReader{5000};
 
   RequestNode(std::shared_ptr<Participant> participant, SessionMaker make_session,
               std::ostream& log, const std::string& ns = {}, std::size_t max_sessions = 64);
@@ -60,7 +71,13 @@ class RequestNode {
   const std::string& answer_topic() const { return answer_topic_; }
 
  private:
+  using Guid = std::array<std::uint8_t, 16>;
   void serve_available(const std::atomic<bool>& stop);
+  /// Waits (up to kAwaitReader, or until `stop`) until the answer writer has matched a reader of
+  /// the participant whose writer `request_writer` sent request `id`.
+  void await_answer_reader(dds_instance_handle_t request_writer, std::uint64_t id,
+                           const std::atomic<bool>& stop);
+  bool answer_reader_matched(const Guid& participant);
 
   std::shared_ptr<Participant> participant_;
   SessionMaker make_session_;
@@ -73,6 +90,12 @@ class RequestNode {
   dds_entity_t waitset_ = 0;
   std::uint64_t answered_ = 0;
   std::uint64_t dropped_ = 0;
+  /// The participant of each reader the answer writer has matched (those matched now only).
+  std::map<dds_instance_handle_t, Guid> reader_participants_;
+  /// Participants whose answer reader did not match within kAwaitReader (not waited for again;
+  /// at most kMaxReaderless, then forgotten).
+  std::set<Guid> readerless_;
+  static constexpr std::size_t kMaxReaderless = 4096;
 };
 
 }  // namespace flipper::dds
