@@ -22,6 +22,7 @@ scripted crashes_always "echo All tests passed; $crash; exit 1"
 scripted leaks_and_crashes "$leak; $crash; exit 1"
 scripted ub_and_crashes "echo 'a.cpp:3:7: runtime error: signed integer overflow'; $crash; exit 1"
 scripted fails "echo 'FAILED:'; exit 1"
+scripted options "echo \"\$ASAN_OPTIONS\" >$tmp/options"
 cmake -S "$tmp" -B "$tmp/b" >/dev/null
 runs() { cat "$tmp/$1.runs" 2>/dev/null || echo 0; }
 case_run() {  # case_run REGEX: a fresh count, the script on the tests REGEX selects; sets rc
@@ -53,4 +54,13 @@ done
 case_run '^(crashes_once|fails)$'  # one other failure: no test is rerun
 ((rc != 0)) || fail "an LSan crash beside a failure passed"
 [[ $(runs crashes_once) == 1 ]] || fail "an LSan crash beside a failure was rerun"
-echo "sanitizer_rerun_detects: 7 of 7 cases as documented" >&2
+# The tests run with ASan's allocation stacks at 10 frames; options given to the script win.
+case_run '^options$'
+[[ $rc == 0 && $(cat "$tmp/options") == malloc_context_size=10 ]] ||
+  fail "the tests' ASAN_OPTIONS: '$(cat "$tmp/options" 2>/dev/null)', not 'malloc_context_size=10'"
+rc=0
+ASAN_OPTIONS=malloc_context_size=30:detect_leaks=0 bash "$src/scripts/sanitizer-ctest" "$tmp/b" \
+  -R '^options$' >"$tmp/out" 2>&1 || rc=$?
+[[ $rc == 0 && $(cat "$tmp/options") == malloc_context_size=10:malloc_context_size=30:detect_leaks=0 ]] ||
+  fail "ASAN_OPTIONS given to the script: '$(cat "$tmp/options" 2>/dev/null)'"
+echo "sanitizer_rerun_detects: 9 of 9 cases as documented" >&2
