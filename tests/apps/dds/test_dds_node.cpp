@@ -24,6 +24,30 @@ using namespace flipper::ddstest;
 
 namespace {
 
+/// Takes every answer `reader` has received: got(request id, session, line) for each.
+template <class Got>
+void take_answers(dds_entity_t reader, Got got) {
+  void* samples[8] = {};
+  dds_sample_info_t infos[8];
+  dds_return_t n;
+  while ((n = dds_take(reader, samples, infos, 8, 8)) > 0) {
+    for (dds_return_t i = 0; i < n; ++i)
+      if (infos[i].valid_data) {
+        const auto* s = static_cast<const flipper_msg_dds__SessionLine_*>(samples[i]);
+        got(s->request_id_, std::string(s->session_), std::string(s->line_));
+      }
+    dds_return_loan(reader, samples, n);
+  }
+}
+
+/// Whether `writer` matches a reader within wait_until's bound.
+bool writer_matched(dds_entity_t writer) {
+  return wait_until([&] {
+    dds_publication_matched_status_t st;
+    return dds_get_publication_matched_status(writer, &st) == 0 && st.current_count > 0;
+  });
+}
+
 struct Client {
   dds_entity_t writer = 0, reader = 0;
   explicit Client(dds::Participant& p, const std::string& ns = {}) {
@@ -38,18 +62,10 @@ struct Client {
   std::map<std::uint64_t, std::pair<std::string, std::string>> answers;
   std::map<std::uint64_t, int> count;
   void poll() {
-    void* samples[8] = {};
-    dds_sample_info_t infos[8];
-    dds_return_t n;
-    while ((n = dds_take(reader, samples, infos, 8, 8)) > 0) {
-      for (dds_return_t i = 0; i < n; ++i)
-        if (infos[i].valid_data) {
-          const auto* s = static_cast<const flipper_msg_dds__SessionLine_*>(samples[i]);
-          answers[s->request_id_] = {s->session_, s->line_};
-          ++count[s->request_id_];
-        }
-      dds_return_loan(reader, samples, n);
-    }
+    take_answers(reader, [&](std::uint64_t id, std::string session, std::string line) {
+      answers[id] = {std::move(session), std::move(line)};
+      ++count[id];
+    });
   }
   bool wait_for(std::uint64_t id) {
     return wait_until([&] {
@@ -57,12 +73,7 @@ struct Client {
       return answers.count(id) > 0;
     });
   }
-  bool matched() {
-    return wait_until([&] {
-      dds_publication_matched_status_t st;
-      return dds_get_publication_matched_status(writer, &st) == 0 && st.current_count > 0;
-    });
-  }
+  bool matched() { return writer_matched(writer); }
 };
 
 json without_ms(json a) {
@@ -115,10 +126,7 @@ TEST_CASE("flipper dds answers requests exactly as flipper session does", "[dds]
                                   "dds.domain=" + std::to_string(kDomain), "--set",
                                   "lexicon.path=" + (dir / "node.sqlite").string()});
   // Discovery: the first request goes out once the node's reader has matched ours.
-  REQUIRE(wait_until([&] {
-    dds_publication_matched_status_t st;
-    return dds_get_publication_matched_status(client.writer, &st) == 0 && st.current_count > 0;
-  }));
+  REQUIRE(client.matched());
   std::uint64_t id = 100;
   for (std::size_t i = 0; i < script.size(); ++i) {
     client.send("s1", ++id, script[i]);
@@ -293,28 +301,6 @@ dds_entity_t session_endpoint(dds::Participant& p, const char* kind) {
   return e;
 }
 
-/// The answer lines `reader` has received so far, by request id.
-void take_answers(dds_entity_t reader, std::map<std::uint64_t, std::string>& into) {
-  void* samples[8] = {};
-  dds_sample_info_t infos[8];
-  dds_return_t n;
-  while ((n = dds_take(reader, samples, infos, 8, 8)) > 0) {
-    for (dds_return_t i = 0; i < n; ++i)
-      if (infos[i].valid_data) {
-        const auto* s = static_cast<const flipper_msg_dds__SessionLine_*>(samples[i]);
-        into[s->request_id_] = s->line_;
-      }
-    dds_return_loan(reader, samples, n);
-  }
-}
-
-bool writer_matched(dds_entity_t writer) {
-  return wait_until([&] {
-    dds_publication_matched_status_t st;
-    return dds_get_publication_matched_status(writer, &st) == 0 && st.current_count > 0;
-  });
-}
-
 }  // namespace
 
 TEST_CASE("an answer waits for its requester's answer reader, within a bound", "[dds]") {
@@ -336,11 +322,17 @@ TEST_CASE("an answer waits for its requester's answer reader, within a bound", "
   REQUIRE(dds_wait_for_acks(late_writer, DDS_SECS(20)) == DDS_RETCODE_OK);  // the node has it
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // and, unwaited, answered it
   const dds_entity_t late_reader = session_endpoint(*late, "answer");
-  std::map<std::uint64_t, std::string> answers;
-  REQUIRE(wait_until([&] {
-    take_answers(late_reader, answers);
-    return answers.count(1) > 0;
-  }));
+  std::map<std::uint64_t, std::string> answers;  // every answer on the topic, by request id
+  const auto keep = [&](std::uint64_t id, const std::string&, std::string line) {
+    answers[id] = std::move(line);
+  };
+  const auto answered = [&](std::uint64_t id) {  // within wait_until's 20 s
+    return wait_until([&] {
+      take_answers(late_reader, keep);
+      return answers.count(id) > 0;
+    });
+  };
+  REQUIRE(answered(1));
   CHECK(json::parse(answers[1])["name"] == "ana");
 
   SECTION("a requester with no answer reader holds its first answer back at most the bound") {
@@ -354,17 +346,11 @@ TEST_CASE("an answer waits for its requester's answer reader, within a bound", "
     send_line(mute_writer, "m", 2, R"({"op":"state"})");
     REQUIRE(dds_wait_for_acks(mute_writer, DDS_SECS(20)) == DDS_RETCODE_OK);
     send_line(late_writer, "s1", 3, R"({"op":"state"})");
-    REQUIRE(wait_until([&] {
-      take_answers(late_reader, answers);
-      return answers.count(3) > 0;
-    }));
+    REQUIRE(answered(3));
     send_line(mute_writer, "m", 4, R"({"op":"state"})");
     REQUIRE(dds_wait_for_acks(mute_writer, DDS_SECS(20)) == DDS_RETCODE_OK);
     send_line(late_writer, "s1", 5, R"({"op":"state"})");
-    REQUIRE(wait_until([&] {
-      take_answers(late_reader, answers);
-      return answers.count(5) > 0;
-    }));
+    REQUIRE(answered(5));
     const std::string text = file_text(log);
     INFO(text);
     CHECK(text.find("flipper dds: answer 2: no answer reader of the requesting participant "
