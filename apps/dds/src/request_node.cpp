@@ -169,23 +169,28 @@ bool RequestNode::answer_reader_matched(const Guid& participant) {
   }
   if (n < 0) return true;  // cannot tell: do not hold the answer back
   handles.resize(std::min(handles.size(), static_cast<std::size_t>(n)));
-  std::map<dds_instance_handle_t, Guid> now;  // readers no longer matched are forgotten
   bool found = false;
+  std::size_t matched = 0;  // of the handles, those still matched (in the cache now)
   for (const dds_instance_handle_t h : handles) {
     auto known = reader_participants_.find(h);
-    if (known != reader_participants_.end()) {
-      now.insert(*known);
-    } else if (dds_builtintopic_endpoint_t* r = dds_get_matched_subscription_data(writer_, h)) {
+    if (known == reader_participants_.end()) {
+      dds_builtintopic_endpoint_t* r = dds_get_matched_subscription_data(writer_, h);
+      if (r == nullptr) continue;  // unmatched since the list was taken
       Guid g;
       std::memcpy(g.data(), r->participant_key.v, g.size());
       dds_builtintopic_free_endpoint(r);
-      now.emplace(h, g);
-    } else {
-      continue;  // unmatched since the list was taken
+      known = reader_participants_.emplace(h, g).first;
     }
-    found = found || now.at(h) == participant;
+    ++matched;
+    found = found || known->second == participant;
   }
-  reader_participants_ = std::move(now);
+  // Readers no longer matched are forgotten; only then is there work (usually none per answer).
+  if (reader_participants_.size() > matched) {
+    std::sort(handles.begin(), handles.end());
+    std::erase_if(reader_participants_, [&](const auto& entry) {
+      return !std::binary_search(handles.begin(), handles.end(), entry.first);
+    });
+  }
   return found;
 }
 

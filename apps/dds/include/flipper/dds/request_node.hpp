@@ -90,7 +90,8 @@ class RequestNode {
   dds_entity_t waitset_ = 0;
   std::uint64_t answered_ = 0;
   std::uint64_t dropped_ = 0;
-  /// The participant of each reader the answer writer has matched (those matched now only).
+  /// The participant of each reader the answer writer has matched (pruned to those matched now
+  /// whenever it holds more).
   std::map<dds_instance_handle_t, Guid> reader_participants_;
   /// Participants whose answer reader did not match within kAwaitReader (not waited for again;
   /// at most kMaxReaderless, then forgotten).
