@@ -55,15 +55,17 @@ case_run '^(crashes_once|fails)$'  # one other failure: no test is rerun
 ((rc != 0)) || fail "an LSan crash beside a failure passed"
 [[ $(runs crashes_once) == 1 ]] || fail "an LSan crash beside a failure was rerun"
 # The tests run with ASan's allocation stacks at 10 frames; options given to the script win.
-# (Run without this process's own ASAN_OPTIONS: instrumented, it runs under the script itself.)
-rc=0
-env -u ASAN_OPTIONS bash "$src/scripts/sanitizer-ctest" "$tmp/b" -R '^options$' >"$tmp/out" 2>&1 ||
-  rc=$?
-[[ $rc == 0 && $(cat "$tmp/options") == malloc_context_size=10 ]] ||
-  fail "the tests' ASAN_OPTIONS: '$(cat "$tmp/options" 2>/dev/null)', not 'malloc_context_size=10'"
-rc=0
-ASAN_OPTIONS=malloc_context_size=30:detect_leaks=0 bash "$src/scripts/sanitizer-ctest" "$tmp/b" \
-  -R '^options$' >"$tmp/out" 2>&1 || rc=$?
-[[ $rc == 0 && $(cat "$tmp/options") == malloc_context_size=10:malloc_context_size=30:detect_leaks=0 ]] ||
-  fail "ASAN_OPTIONS given to the script: '$(cat "$tmp/options" 2>/dev/null)'"
+# options_seen [ASAN_OPTIONS=...]: what the options test saw, the script run with that alone (not
+# this process's own ASAN_OPTIONS: instrumented, it runs under the script itself).
+options_seen() {
+  env -u ASAN_OPTIONS "$@" bash "$src/scripts/sanitizer-ctest" "$tmp/b" -R '^options$' \
+    >"$tmp/out" 2>&1 || { echo "(the script failed: $(cat "$tmp/out"))"; return; }
+  cat "$tmp/options"
+}
+seen=$(options_seen)
+[[ $seen == malloc_context_size=10 ]] ||
+  fail "the tests' ASAN_OPTIONS: '$seen', not 'malloc_context_size=10'"
+seen=$(options_seen ASAN_OPTIONS=malloc_context_size=30:detect_leaks=0)
+[[ $seen == malloc_context_size=10:malloc_context_size=30:detect_leaks=0 ]] ||
+  fail "ASAN_OPTIONS given to the script: '$seen'"
 echo "sanitizer_rerun_detects: 9 of 9 cases as documented" >&2
