@@ -18,7 +18,8 @@ std::string to_string(const Cell& c, int dims) {
 
 namespace areas {
 void normalize(Area& a) {
-  std::sort(a.begin(), a.end());
+  // Lists written by write_world (and so most a client sends back) are sorted already.
+  if (!std::is_sorted(a.begin(), a.end())) std::sort(a.begin(), a.end());
   a.erase(std::unique(a.begin(), a.end()), a.end());
 }
 Area unite(const Area& a, const Area& b) {
@@ -67,6 +68,9 @@ Geometry::Geometry(int dims, Cell min, Cell max, std::vector<std::uint8_t> free_
   if (__builtin_mul_overflow(sx_, sy_, &cells) || __builtin_mul_overflow(cells, sz_, &cells) ||
       free_.size() != cells)
     throw Error(codes::kBadWorld, "geometry: free mask size does not match the bounds");
+  // Counted first: one allocation of the exact size, not a doubling vector's copies.
+  free_cells_.reserve(static_cast<std::size_t>(
+      std::count_if(free_.begin(), free_.end(), [](std::uint8_t f) { return f != 0; })));
   // Cells in (x, y, z) order: iterate x outermost so the result is sorted without a sort.
   // 64-bit counters: `x <= max.x; ++x` never ends (and overflows) when max.x is INT_MAX.
   for (std::int64_t x = min.x; x <= max.x; ++x)

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "flipper/sdk/errors.hpp"
+#include "point_scan.hpp"
 
 namespace flipper::sdk {
 inline namespace FLIPPER_ABI_NAMESPACE {
@@ -317,7 +318,10 @@ void check_cells(std::uint64_t cells, const WorldLimits& limits) {
 
 namespace {
 
-WorldDocument parse_world_in(std::string_view text, int dims) {
+// The document of `text`; `split`: the point lists already read from the text, whose values
+// there were replaced by [] and {} (parse_world_in).
+WorldDocument parse_tree(std::string_view text, int dims, detail::PointLists* split) {
+  std::vector<Cell>* split_walls = split != nullptr && split->walls ? &*split->walls : nullptr;
   json root;
   std::vector<Cell> fast_walls;
   bool have_fast_walls = false;
@@ -346,7 +350,9 @@ WorldDocument parse_world_in(std::string_view text, int dims) {
 
   if (const json* walls = member(root, "walls")) {
     doc.has_walls = true;
-    doc.walls = have_fast_walls ? std::move(fast_walls) : point_list(*walls, dims, "walls");
+    doc.walls = split_walls != nullptr ? std::move(*split_walls)
+                : have_fast_walls      ? std::move(fast_walls)
+                                       : point_list(*walls, dims, "walls");
   }
   if (const json* octo = member(root, "octomap")) {
     if (!octo->is_string()) fail("octomap must be a file name (string), not " + type_name(*octo));
@@ -401,16 +407,20 @@ WorldDocument parse_world_in(std::string_view text, int dims) {
   for (const auto& li : doc.items) doc.next_item_id = std::max(doc.next_item_id, li.item.id + 1);
   for (const auto& h : doc.holding) doc.next_item_id = std::max(doc.next_item_id, h.id + 1);
 
-  if (const json* rooms = member(root, "rooms")) {
+  auto add_room = [&doc](const std::string& name, std::vector<Cell> pts) {
+    Area area = pts;
+    areas::normalize(area);
+    doc.rooms.emplace(name, std::move(area));
+    doc.room_points.emplace_back(name, std::move(pts));
+  };
+  if (split != nullptr && split->rooms) {
+    for (auto& [name, pts] : *split->rooms) add_room(name, std::move(pts));
+  } else if (const json* rooms = member(root, "rooms")) {
     if (!rooms->is_object())
       fail("rooms must be an object mapping names to points, not " + type_name(*rooms));
     for (auto it = rooms->begin(); it != rooms->end(); ++it) {
       if (it.key().empty()) fail("rooms: a room name must not be empty");
-      auto pts = point_list(it.value(), dims, "rooms." + it.key());
-      Area area = pts;
-      areas::normalize(area);
-      doc.rooms.emplace(it.key(), std::move(area));
-      doc.room_points.emplace_back(it.key(), std::move(pts));
+      add_room(it.key(), point_list(it.value(), dims, "rooms." + it.key()));
     }
   }
 
@@ -426,6 +436,32 @@ WorldDocument parse_world_in(std::string_view text, int dims) {
   }
   areas::normalize(doc.walls);
   return doc;
+}
+
+// Plain wall and room lists are read from the text (detail::scan_point_lists) and the rest parsed
+// with [] and {} in their place; when that fails, or neither is plain, the text as sent is parsed
+// whole, which gives the exact error (its message's byte positions are the sent text's).
+WorldDocument parse_world_in(std::string_view text, int dims) {
+  if (auto split = detail::scan_point_lists(text, dims)) {
+    std::vector<std::pair<detail::PointLists::Span, const char*>> cut;
+    if (split->walls) cut.emplace_back(split->walls_at, "[]");
+    if (split->rooms) cut.emplace_back(split->rooms_at, "{}");
+    std::sort(cut.begin(), cut.end(),
+              [](const auto& a, const auto& b) { return a.first.begin < b.first.begin; });
+    std::string rest;
+    rest.reserve(text.size());
+    std::size_t at = 0;
+    for (const auto& [span, empty] : cut) {
+      rest.append(text.substr(at, span.begin - at)).append(empty);
+      at = span.end;
+    }
+    rest.append(text.substr(at));
+    try {
+      return parse_tree(rest, dims, &*split);
+    } catch (const Error&) {  // read again below, as sent
+    }
+  }
+  return parse_tree(text, dims, nullptr);
 }
 
 }  // namespace
