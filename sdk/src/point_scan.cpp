@@ -6,8 +6,6 @@
 namespace flipper::sdk::detail {
 namespace {
 
-constexpr std::int64_t kLimit = std::int64_t{1} << 28;  // as world_format's coordinate()
-
 class PointScan {
  public:
   PointScan(std::string_view text, int dims) : t_(text), dims_(dims) {}
@@ -113,7 +111,7 @@ class PointScan {
     } else {
       while (!at_end() && t_[p_] >= '0' && t_[p_] <= '9') {
         v = v * 10 + (t_[p_++] - '0');
-        if (v > kLimit) return false;  // out of range: the full parse says so
+        if (v > kMaxCoordinate) return false;  // out of range: the full parse says so
       }
     }
     if (!at_end() &&

@@ -3,6 +3,7 @@
 // and rooms are most of a world's bytes, and nlohmann's lexer (a token string per value, strtoull
 // per number) and tree spent about two thirds of a `world` op on them.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -12,6 +13,10 @@
 #include "flipper/sdk/geometry.hpp"
 
 namespace flipper::sdk::detail {
+
+/// The largest coordinate magnitude a world may use: headroom so that box sizes and neighbour
+/// steps cannot overflow 32 bits. Every reader of world points checks against it.
+inline constexpr std::int64_t kMaxCoordinate = std::int64_t{1} << 28;
 
 /// The values of the top-level "walls" and "rooms" members, where they are plain, read from the
 /// text, and where they are in it.

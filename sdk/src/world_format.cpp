@@ -43,8 +43,9 @@ class DuplicateKeyCheck : public nlohmann::json_sax<json> {
   }
   bool number_unsigned(number_unsigned_t v) override {
     if (wdepth_)
-      return v > static_cast<number_unsigned_t>(1 << 28) ? bad()
-                                                         : coordinate(static_cast<std::int64_t>(v));
+      return v > static_cast<number_unsigned_t>(detail::kMaxCoordinate)
+                 ? bad()
+                 : coordinate(static_cast<std::int64_t>(v));
     return value() && dom_.number_unsigned(v);
   }
   bool number_float(number_float_t v, const string_t& s) override {
@@ -147,7 +148,7 @@ class DuplicateKeyCheck : public nlohmann::json_sax<json> {
     return true;
   }
   bool coordinate(std::int64_t v) {
-    constexpr std::int64_t kLimit = 1 << 28;  // as coordinate() below
+    constexpr std::int64_t kLimit = detail::kMaxCoordinate;  // as coordinate() below
     if (wdepth_ != 2 || coords_ >= dims_ || v < -kLimit || v > kLimit) return bad();
     xyz_[coords_++] = static_cast<std::int32_t>(v);
     return true;
@@ -177,8 +178,7 @@ std::string type_name(const json& v) {
 std::int32_t coordinate(const json& v, const std::string& what) {
   if (!v.is_number_integer()) fail(what + " must be an integer, not " + type_name(v));
   const auto i = v.get<std::int64_t>();
-  // Leave headroom so box sizes and neighbour steps cannot overflow.
-  constexpr std::int64_t kLimit = 1 << 28;
+  constexpr std::int64_t kLimit = detail::kMaxCoordinate;
   if (i < -kLimit || i > kLimit) fail(what + " is out of range (" + std::to_string(i) + ")");
   return static_cast<std::int32_t>(i);
 }
@@ -195,7 +195,7 @@ Cell point(const json& v, int dims, const std::string& where) {
 
 // A well-formed point without building the names used in messages (a wall list has thousands).
 bool plain_point(const json& v, int dims, Cell& c) {
-  constexpr std::int64_t kLimit = 1 << 28;  // as coordinate()
+  constexpr std::int64_t kLimit = detail::kMaxCoordinate;
   if (!v.is_array() || v.size() != static_cast<std::size_t>(dims)) return false;
   std::int32_t xyz[3] = {0, 0, 0};
   for (int a = 0; a < dims; ++a) {
