@@ -666,13 +666,32 @@ void LexiconStore::verify() {
 }
 
 bool LexiconStore::changed_elsewhere() {
-  auto& s = *impl_->data_version;
+  Impl& m = *impl_;
+  // The header is read before the pragma, so a commit racing with both shows next time.
+  std::optional<WalIndexWatch::Header> header = m.wal_index.read();
+  if (header && m.last_data_version && header == m.header_at_last_read) return false;
+  auto& s = *m.data_version;
   s.step();
   const std::int64_t v = s.int64(0);
   s.reset();
-  const bool changed = !impl_->last_data_version || *impl_->last_data_version != v;
-  impl_->last_data_version = v;
+  ++m.data_version_reads;
+  const bool changed = !m.last_data_version || *m.last_data_version != v;
+  m.last_data_version = v;
+  // Only a header read before the pragma may stand for it: one read after could already show a
+  // commit the pragma did not see. So the call that maps the index records none.
+  m.header_at_last_read = header;
+  if (!m.wal_index_tried) {  // SQLite mapped the index for the read above
+    m.wal_index_tried = true;
+    // A store open for writing is in WAL mode (open_writable); a read-only one may keep its
+    // index in private memory, which only its own reads refresh: it always asks SQLite.
+    if (!m.db->read_only() && m.db->write_refusal() == nullptr && journal_mode(*m.db) == "wal")
+      m.wal_index.map(m.db->raw());
+  }
   return changed;
+}
+
+std::uint64_t LexiconStore::data_version_reads() const {
+  return impl_->data_version_reads;
 }
 
 namespace {

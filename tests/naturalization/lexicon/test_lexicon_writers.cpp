@@ -134,6 +134,57 @@ TEST_CASE("changes_since reads other connections' rules and deletions incrementa
   fs::remove_all(dir);
 }
 
+TEST_CASE("changed_elsewhere asks SQLite only when the WAL index's header moved",
+          "[lexicon][writers]") {
+  const fs::path dir = fresh_dir("watch");
+  const std::string path = (dir / "lexicon.db").string();
+  LexiconStore reader(path), writer(path);
+  CHECK(reader.changed_elsewhere());  // first look: asks, then maps the index
+  CHECK(reader.data_version_reads() == 1);
+  CHECK_FALSE(reader.changed_elsewhere());  // asks once more, now with the header read before
+  CHECK(reader.data_version_reads() == 2);
+  for (int i = 0; i < 100; ++i) CHECK_FALSE(reader.changed_elsewhere());
+  CHECK(reader.data_version_reads() == 2);  // nothing committed: the header alone answers
+
+  writer.commit_definition({0, "glorp 3", {"b"}, "ana", 1}, {rule_of("ana", "glorp")});
+  CHECK(reader.changed_elsewhere());
+  CHECK(reader.data_version_reads() == 3);
+  CHECK_FALSE(reader.changed_elsewhere());
+  CHECK(reader.data_version_reads() == 3);
+
+  // Its own commit moves the header too: SQLite is asked, and says "not elsewhere".
+  reader.commit_definition({0, "blick 3", {"b"}, "bob", 1}, {rule_of("bob", "blick")});
+  CHECK_FALSE(reader.changed_elsewhere());
+  CHECK(reader.data_version_reads() == 4);
+
+  // Another process's commit.
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    int status = 0;
+    try {
+      LexiconStore other(path);
+      other.commit_definition({0, "zorp 3", {"b"}, "eve", 1}, {rule_of("eve", "zorp")});
+    } catch (...) {
+      status = 1;
+    }
+    _exit(status);
+  }
+  int status = -1;
+  REQUIRE(waitpid(child, &status, 0) == child);
+  REQUIRE(WIFEXITED(status));
+  REQUIRE(WEXITSTATUS(status) == 0);
+  CHECK(reader.changed_elsewhere());
+  CHECK(reader.data_version_reads() == 5);
+  CHECK(reader.changes_since({}).added.size() == 3);
+
+  // An in-memory store has no shared index: every call asks.
+  LexiconStore memory(":memory:");
+  for (int i = 0; i < 3; ++i) memory.changed_elsewhere();
+  CHECK(memory.data_version_reads() == 3);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("accept counters add up across connections", "[lexicon][writers]") {
   const fs::path dir = fresh_dir("uses");
   const std::string path = (dir / "lexicon.db").string();

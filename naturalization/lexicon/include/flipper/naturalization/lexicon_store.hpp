@@ -270,8 +270,12 @@ class LexiconStore {
   /// Rules added and deleted after `since` (any process), read in one snapshot.
   LexiconChanges changes_since(const ChangeMark& since) const;
   /// True when another connection committed since the previous call (PRAGMA data_version; a
-  /// cheap check before changes_since). The first call is true.
+  /// cheap check before changes_since). The first call is true. While the WAL index's header is
+  /// the one seen at the last pragma, nothing was committed and it answers false without asking
+  /// SQLite (docs/naturalization.md §5).
   bool changed_elsewhere();
+  /// How many times changed_elsewhere() asked SQLite (tests, benchmarks).
+  std::uint64_t data_version_reads() const;
   /// Counters and weight keys changed after learning mark `since` (0: everything ever learned),
   /// read in one snapshot. Marks only grow; a store without the sequence (read-only, schema 2 or
   /// 3) has nothing new.
