@@ -4,6 +4,7 @@
 #include "flipper/sdk/answer_check.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <unordered_set>
@@ -13,6 +14,7 @@
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/scorer.hpp"
+#include "node_check.hpp"
 
 namespace flipper::sdk {
 inline namespace FLIPPER_ABI_NAMESPACE {
@@ -29,6 +31,31 @@ std::string number_text(double v) {
   return s.str();
 }
 
+// The nodes or derivations already checked (a shared subtree is checked once): a scan of a small
+// array while there are few, as for most parses (no allocation), a hash set beyond.
+class SeenSet {
+ public:
+  /// False when `p` was seen before.
+  bool insert(const void* p) {
+    if (spilled_) return more_.insert(p).second;
+    for (std::size_t i = 0; i < count_; ++i)
+      if (few_[i] == p) return false;
+    if (count_ < few_.size()) {
+      few_[count_++] = p;
+      return true;
+    }
+    more_.insert(few_.begin(), few_.end());
+    spilled_ = true;
+    return more_.insert(p).second;
+  }
+
+ private:
+  std::array<const void*, 48> few_{};
+  std::size_t count_ = 0;
+  bool spilled_ = false;
+  std::unordered_set<const void*> more_;
+};
+
 bool is_leaf(Kind k) {
   using K = Kind;
   return k == K::Num || k == K::Direction || k == K::Color || k == K::Shape || k == K::Room ||
@@ -36,11 +63,11 @@ bool is_leaf(Kind k) {
 }
 
 // Whether `n` is a tree `make` would build: every node present, of its kind's sort, with the
-// arity and kid sorts its kind takes (make checks them; it is rebuilt node by node). Shared
-// subtrees are checked once.
-std::optional<std::string> program_violation(const Node* n, std::unordered_set<const Node*>& seen) {
+// arity and kid sorts its kind takes (make's own checks, node by node, without building one).
+// Shared subtrees are checked once.
+std::optional<std::string> program_violation(const Node* n, SeenSet& seen) {
   if (n == nullptr) return "a missing (null) program node";
-  if (!seen.insert(n).second) return std::nullopt;
+  if (!seen.insert(n)) return std::nullopt;
   if (n->kind == Kind::Hole) return "a template hole where a program was expected";
   if (n->sort != sort_of(n->kind))
     return std::string("a ") + kind_name(n->kind) + " node of sort " + sort_name(n->sort);
@@ -52,7 +79,7 @@ std::optional<std::string> program_violation(const Node* n, std::unordered_set<c
   for (const Program& k : n->kids)
     if (auto v = program_violation(k.get(), seen)) return v;
   try {
-    (void)make(n->kind, n->kids);
+    detail::check_operands(n->kind, n->kids);
   } catch (const Error& e) {
     return std::string("a malformed ") + kind_name(n->kind) + " node (" + e.what() + ")";
   }
@@ -60,8 +87,7 @@ std::optional<std::string> program_violation(const Node* n, std::unordered_set<c
 }
 
 // A derivation (and its kids): spans within [lo, hi] of the utterance, finite scores.
-std::optional<Violation> derivation_violation(const Derivation* d, int lo, int hi,
-                                              std::unordered_set<const Derivation*>& seen) {
+std::optional<Violation> derivation_violation(const Derivation* d, int lo, int hi, SeenSet& seen) {
   using codes::kInvalidCandidate;
   if (d == nullptr || d->rule == nullptr)
     return Violation{kInvalidCandidate, "a missing (null) derivation or rule"};
@@ -73,7 +99,7 @@ std::optional<Violation> derivation_violation(const Derivation* d, int lo, int h
     return Violation{codes::kInvalidScore, "a derivation over tokens [" + std::to_string(d->start) +
                                                ", " + std::to_string(d->end) + ") has the score " +
                                                number_text(d->score)};
-  if (!seen.insert(d).second) return std::nullopt;
+  if (!seen.insert(d)) return std::nullopt;
   for (const DerivationPtr& k : d->kids)
     if (auto v = derivation_violation(k.get(), d->start, d->end, seen)) return v;
   return std::nullopt;
@@ -129,8 +155,8 @@ std::optional<std::string> tour_violation(std::size_t points, const TourResult& 
 
 std::optional<Violation> parse_violation(const ParseRequest& req, const ParseResult& r) {
   const int n = static_cast<int>(req.tokens.size());
-  std::unordered_set<const Node*> nodes;
-  std::unordered_set<const Derivation*> derivations;
+  SeenSet nodes;
+  SeenSet derivations;
   for (std::size_t i = 0; i < r.candidates.size(); ++i) {
     const Candidate& c = r.candidates[i];
     const std::string which = "candidate " + std::to_string(i);

@@ -1,9 +1,11 @@
 #include "flipper/sdk/ast.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <initializer_list>
 
 #include "flipper/sdk/errors.hpp"
+#include "node_check.hpp"
 #include "node_storage.hpp"
 
 namespace flipper::sdk {
@@ -487,3 +489,21 @@ Program normal_form(const Program& p) {
 
 }  // namespace FLIPPER_ABI_NAMESPACE
 }  // namespace flipper::sdk
+
+namespace flipper::sdk::detail {
+
+void check_operands(Kind kind, const std::vector<Program>& kids) {
+  // The two shapes make rewrites before or after its check (a nested sequence, flattened; a word
+  // verb's ItemAction, made Pick or Drop and checked again) go through make itself.
+  const bool rewritten =
+      (kind == Kind::Seq &&
+       std::any_of(kids.begin(), kids.end(),
+                   [](const Program& k) { return k && k->kind == Kind::Seq; })) ||
+      (kind == Kind::ItemAction && !kids.empty() && kids[0] && kids[0]->kind == Kind::ItemAct);
+  if (rewritten)
+    (void)make(kind, kids);
+  else
+    sdk::check(kind, kids);
+}
+
+}  // namespace flipper::sdk::detail

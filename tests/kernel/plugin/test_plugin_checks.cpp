@@ -338,10 +338,65 @@ TEST_CASE("a parser's candidates: well-formed statements over the utterance, fin
   c.program = seq;
   CHECK(parse_check(one(c)).rfind(
             "invalid_candidate: candidate 0 is not a program: a malformed Seq node (", 0) == 0);
+  // What make accepts by rewriting it, the check accepts: a sequence whose one statement is a
+  // sequence (make flattens it into two), an item action whose verb is a word (make's Pick).
+  auto nested = std::make_shared<sdk::Node>(*seq);
+  nested->kids = {sdk::read_canonical("{{move up};{move left}}")};
+  c.program = nested;
+  CHECK(parse_check(one(c)) == "ok");
+  auto verb = std::make_shared<sdk::Node>();
+  verb->kind = sdk::Kind::ItemAction;
+  verb->sort = sdk::Sort::Action;
+  verb->kids = {sdk::make_word(sdk::Kind::ItemAct, "pick"), sdk::make(sdk::Kind::Item)};
+  c.program = verb;
+  CHECK(parse_check(one(c)) == "ok");
+  verb->kids[1] = sdk::read_canonical("red", sdk::Sort::Color);  // no item to pick
+  CHECK(parse_check(one(c)).rfind(
+            "invalid_candidate: candidate 0 is not a program: a malformed ItemAction node (", 0) ==
+        0);
   c.program = sdk::read_canonical("{foreach point in world {visit point}}");
   CHECK(parse_check(one(c)) == "ok");
   c.program = c.program->kids[1];  // `visit point` without its loop
   CHECK(parse_check(one(c)) ==
         "invalid_candidate: candidate 0 uses 'point' or 'area' outside a loop (core-language "
         "§3.7)");
+}
+
+TEST_CASE("a parser's candidates: shared derivations and nodes are checked once, however many",
+          "[plugin_checks]") {
+  // A chain of 101 derivations, each over both of its kids the one below: 2^100 paths down, each
+  // derivation checked once (the check keeps what it has seen, past its first 48 without a
+  // hash set too).
+  sdk::Candidate c = move_up();
+  const sdk::DerivationPtr bottom = c.derivations[0];
+  auto chain = [&](const sdk::DerivationPtr& leaf) {
+    sdk::DerivationPtr d = leaf;
+    for (int i = 0; i < 100; ++i) {
+      auto up = std::make_shared<sdk::Derivation>(*bottom);
+      up->kids = {d, d};
+      d = up;
+    }
+    return d;
+  };
+  c.derivations = {chain(bottom)};
+  CHECK(parse_check(one(c)) == "ok");
+  auto bad = std::make_shared<sdk::Derivation>(*bottom);
+  bad->score = std::numeric_limits<double>::infinity();
+  c.derivations = {chain(bad)};
+  CHECK(parse_check(one(c)) ==
+        "invalid_score: candidate 0: a derivation over tokens [0, 2) has the score inf");
+
+  // A sequence of 100 statements, all one shared `move up`, then one distinct malformed one.
+  auto seq = std::make_shared<sdk::Node>(*sdk::read_canonical("{{move up};{move left}}"));
+  const sdk::Program up = seq->kids[0];
+  seq->kids.assign(100, up);
+  for (int i = 0; i < 60; ++i) seq->kids.push_back(sdk::read_canonical("{move left}"));
+  c = move_up();
+  c.program = seq;
+  CHECK(parse_check(one(c)) == "ok");
+  auto no_direction = std::make_shared<sdk::Node>(*up);
+  no_direction->kids.clear();
+  seq->kids.push_back(no_direction);
+  CHECK(parse_check(one(c)).rfind(
+            "invalid_candidate: candidate 0 is not a program: a malformed Move node (", 0) == 0);
 }
