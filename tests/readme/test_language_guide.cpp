@@ -2,32 +2,28 @@
 // `flipper run --json`, ends where the guide says, moving, picking, dropping and warning as it
 // says. The table is read through the repl's embedded copy (guide_examples), so this also checks
 // that `:examples` shows the guide as it is.
-#include <sys/wait.h>
-
-#include <array>
 #include <catch2/catch.hpp>
-#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_test_support.hpp"
 #include "flipper/repl/repl.hpp"
 
 using nlohmann::json;
 
 namespace {
 
+// `flipper run --json` of `program`: its stdout (its stderr goes to the test's own, which ctest
+// shows beside a failure). It must exit normally with 0 or 1 (a failure's JSON); a sanitizer's
+// report also exits 1, and its stderr then says so.
 std::string flipper_run_json(const std::string& program) {
-  const std::string cmd = std::string(FLIPPER_BINARY_DIR) +
-                          "/bin/flipper run --json --set lexicon.path=:memory: '" + program +
-                          "' 2>/dev/null";
-  std::string out;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  ::pclose(p);
-  return out;
+  const flipper::clitest::Run r =
+      flipper::clitest::run_flipper("run --json --set lexicon.path=:memory: '" + program + "'",
+                                    false);  // run_shell: killed by no signal
+  INFO("flipper run --json '" << program << "': exit status " << r.status);
+  REQUIRE(r.status <= 1);
+  return r.out;
 }
 
 std::string plural(std::size_t n, const char* word) {

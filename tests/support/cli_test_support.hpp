@@ -30,9 +30,12 @@ inline Run run_shell(const std::string& cmd) {
   return r;
 }
 
+/// `flipper ARGS` through the shell: `merge` puts its stderr after its stdout in `out`; otherwise
+/// its stderr goes to the test's own (ctest shows it beside a failure: a sanitizer's report of a
+/// child that died before writing its answer, say), never to `out`.
 inline Run run_flipper(const std::string& args, bool merge = true) {
   return run_shell(std::string(FLIPPER_BINARY_DIR) + "/bin/flipper " + args +
-                   (merge ? " 2>&1" : " 2>/dev/null"));
+                   (merge ? " 2>&1" : ""));
 }
 
 /// A fresh path under build/tests/tmp/cli (any old file removed).
