@@ -40,6 +40,9 @@ if(FLIPPER_SANITIZE)
   if(FLIPPER_HAVE_LLD)
     add_link_options(-fuse-ld=lld)
   endif()
+  # Every executable links the tree's ASan defaults (cmake/sanitizer_defaults.cpp says why each).
+  add_library(flipper_sanitizer_defaults OBJECT ${CMAKE_CURRENT_LIST_DIR}/sanitizer_defaults.cpp)
+  link_libraries("$<$<STREQUAL:$<TARGET_PROPERTY:TYPE>,EXECUTABLE>:flipper_sanitizer_defaults>")
   # Shared objects do not carry the sanitizer runtime (the executable does), so with clang their
   # __asan_*/__ubsan_* references stay undefined until load: plugins drop -Wl,--no-undefined.
   set(FLIPPER_PLUGIN_ALLOW_UNDEFINED ON)
