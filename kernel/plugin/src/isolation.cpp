@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdint>
 #include <cstring>
 #include <ctime>
 #include <mutex>
@@ -110,11 +111,28 @@ void write_all(int fd, const std::string& bytes) {
   }
 }
 
+// The child's first bytes: its process CPU clock just before the call (nanoseconds, this
+// machine's byte order), written before any plugin code runs, so the plugin cannot change it.
+constexpr std::size_t kStartBytes = sizeof(std::int64_t);
+
+std::string start_bytes(nanoseconds cpu) {
+  const std::int64_t v = cpu.count();
+  return {reinterpret_cast<const char*>(&v), kStartBytes};  // NOLINT: the value's bytes
+}
+
+nanoseconds start_of(std::string_view bytes) {
+  std::int64_t v = 0;
+  std::memcpy(&v, bytes.data(), kStartBytes);
+  return nanoseconds(std::max<std::int64_t>(v, 0));
+}
+
 [[noreturn]] void run_child(const PluginId& plugin, std::string_view op, int answer_fd,
                             const sdk::StopCondition& parent_stop, nanoseconds cpu_left,
                             const std::function<std::string(const sdk::StopCondition&)>& work) {
   prepare_child(answer_fd,
                 cpu_left == nanoseconds::max() ? cpu_left : cpu_left + detail::kCpuGrace);
+  // What the fork cost this process so far (its copy-on-write faults) is the isolation's.
+  write_all(answer_fd, start_bytes(sdk::cpu_time(CLOCK_PROCESS_CPUTIME_ID)));
   sdk::StopCondition stop;  // the parent's limits, its CPU budget on this process's one thread
   stop.deadline = parent_stop.deadline;
   stop.max_expansions = parent_stop.max_expansions;
@@ -138,6 +156,10 @@ void write_all(int fd, const std::string& bytes) {
     }
   }
   write_all(answer_fd, out);
+  // Answered: stopped here, the parent reads this process's CPU clock and kills it, so that its
+  // exit (unmapping a copy of the parent's address space) is not charged as the call's work.
+  ::close(answer_fd);
+  ::raise(SIGSTOP);
   ::_exit(0);
 }
 
@@ -146,15 +168,32 @@ struct Reaped {
   int signal = 0;  // the signal that ended it (0: it exited)
   int status = 0;  // its exit status when it exited
 };
-Reaped reap(pid_t pid) {
+// Reaps a child that ended or is being killed, or, `answered`, the child that closed the pipe
+// after its answer: having answered it stops itself (run_child), and the call's CPU time is then
+// its process clock less `started` (its first bytes, when they came); it is killed and reaped
+// uncharged, so that its exit is not charged as the call's work. A child that ended is charged
+// its CPU time by wait4 less `started`: what the fork cost it before the call is not the call's.
+Reaped reap(pid_t pid, std::optional<nanoseconds> started, bool answered = false) {
   int raw = 0;
   rusage ru{};
   pid_t got;
-  do got = ::wait4(pid, &raw, 0, &ru);
+  do got = ::wait4(pid, &raw, answered ? WUNTRACED : 0, &ru);
   while (got < 0 && errno == EINTR);
   Reaped r;
   if (got != pid) return r;
-  charge_cpu(cpu_of(ru));
+  if (WIFSTOPPED(raw)) {
+    clockid_t clock{};
+    timespec now{};
+    const bool read =
+        started && ::clock_getcpuclockid(pid, &clock) == 0 && ::clock_gettime(clock, &now) == 0;
+    ::kill(pid, SIGKILL);
+    do got = ::wait4(pid, &raw, 0, &ru);
+    while (got < 0 && errno == EINTR);
+    charge_cpu(read ? std::chrono::seconds(now.tv_sec) + nanoseconds(now.tv_nsec) - *started
+                    : cpu_of(ru));  // no clock to read: everything it used
+    return r;
+  }
+  charge_cpu(cpu_of(ru) - started.value_or(nanoseconds::zero()));
   if (WIFSIGNALED(raw)) r.signal = WTERMSIG(raw);
   if (WIFEXITED(raw)) r.status = WEXITSTATUS(raw);
   return r;
@@ -198,16 +237,36 @@ ReadAcrossFork::~ReadAcrossFork() {
   list.erase(std::remove(list.begin(), list.end(), mutex_), list.end());
 }
 
-void charge_cpu(nanoseconds cpu) {
-  if (cpu <= nanoseconds::zero()) return;
+namespace {
+
+// Moves the CPU deadline of every budget attached on the calling thread by `by`: earlier for a
+// charge (negative), later for a refund; an unlimited budget stays unlimited.
+void move_deadlines(nanoseconds by) {
   const std::lock_guard<std::mutex> lock(g_charges_mutex);
   const pthread_t self = ::pthread_self();
+  constexpr nanoseconds kLatest = nanoseconds::max() - nanoseconds(1);
   for (const Attached& a : charges()) {
     if (::pthread_equal(a.owner, self) == 0) continue;
     nanoseconds& deadline = a.budget->cpu_deadline;
     if (deadline == nanoseconds::max()) continue;
-    deadline = deadline > cpu ? deadline - cpu : nanoseconds::zero();
+    if (by < nanoseconds::zero())
+      deadline = deadline > -by ? deadline + by : nanoseconds::zero();
+    else
+      deadline = deadline < kLatest - by ? deadline + by : kLatest;
   }
+}
+
+// While alive: the calling thread's CPU time until it ends goes back to its budgets, as time
+// spent isolating a call (forking, waiting), which a call in process does not cost.
+struct RefundThreadCpu {
+  nanoseconds start = sdk::cpu_time();
+  ~RefundThreadCpu() { move_deadlines(std::max(sdk::cpu_time() - start, nanoseconds::zero())); }
+};
+
+}  // namespace
+
+void charge_cpu(nanoseconds cpu) {
+  if (cpu > nanoseconds::zero()) move_deadlines(-cpu);
 }
 
 namespace detail {
@@ -215,6 +274,9 @@ namespace detail {
 std::optional<std::string> call_in_child(
     const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
     const std::function<std::string(const sdk::StopCondition&)>& work) {
+  // The budgets count the call's work, as in process (docs/plugins-untrusted.md §6): not this
+  // thread's fork and waits, nor what the child spends before the call and on its exit.
+  const RefundThreadCpu isolating;
   const nanoseconds cpu_left = stop.cpu_left();
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) return std::nullopt;
@@ -242,6 +304,9 @@ std::optional<std::string> call_in_child(
                            ? stop.deadline
                            : stop.deadline + std::chrono::duration_cast<milliseconds>(kCpuGrace);
   std::string bytes;
+  const auto started_so_far = [&bytes]() -> std::optional<nanoseconds> {
+    return bytes.size() < kStartBytes ? std::nullopt : std::optional(start_of(bytes));
+  };
   char buffer[65536];
   for (;;) {
     int timeout_ms = -1;
@@ -257,13 +322,13 @@ std::optional<std::string> call_in_child(
     if (ready < 0 && errno == EINTR) continue;
     if (stop.cancel != nullptr && stop.cancel->load(std::memory_order_relaxed)) {
       ::kill(pid, SIGKILL);
-      reap(pid);
+      reap(pid, started_so_far());
       throw sdk::StoppedError(sdk::StopCause::cancelled, "deadline exceeded: cancelled");
     }
     if (ready == 0) {
       if (std::chrono::steady_clock::now() < kill_by) continue;
       ::kill(pid, SIGKILL);
-      reap(pid);
+      reap(pid, started_so_far());
       throw sdk::StoppedError(sdk::StopCause::wall_backstop,
                               "deadline exceeded: " + plugin.label() + ": " + std::string(op) +
                                   ": still running past the wall-clock backstop, its process "
@@ -274,23 +339,24 @@ std::optional<std::string> call_in_child(
     if (n <= 0) break;  // end of the answer (or an error reading it: judged below)
     if (bytes.size() + static_cast<std::size_t>(n) > kMaxAnswerBytes) {
       ::kill(pid, SIGKILL);
-      reap(pid);
+      reap(pid, started_so_far());
       crashed(plugin, op,
               "its answer is larger than " + std::to_string(kMaxAnswerBytes) +
                   " bytes, its process killed");
     }
     bytes.append(buffer, static_cast<std::size_t>(n));
   }
-  const Reaped r = reap(pid);
+  const Reaped r = reap(pid, started_so_far(), true);
   if (r.signal == SIGXCPU && cpu_left != nanoseconds::max())
     crashed(plugin, op,
             "SIGXCPU (still running " + std::to_string(kCpuGrace.count()) +
                 " ms of CPU time after its budget was spent)");
   if (r.signal != 0) crashed(plugin, op, signal_text(r.signal));
-  if (r.status != 0 || bytes.empty())
+  std::string_view in_view(bytes);
+  in_view.remove_prefix(std::min(bytes.size(), kStartBytes));  // the clock before the call
+  if (r.status != 0 || in_view.empty())
     crashed(plugin, op,
             "its process exited with status " + std::to_string(r.status) + " and no answer");
-  std::string_view in_view(bytes);
   const char tag = in_view.front();
   in_view.remove_prefix(1);
   if (tag == 'A') return std::string(in_view);

@@ -46,11 +46,11 @@ std::vector<std::string> run_keys(const replay::Corpus& corpus, const replay::Ru
   for (auto& k : replay::view_overrides(corpus, run)) sets.push_back(std::move(k));
   sets.push_back("induction.generalize=false");
   sets.push_back("serve.sempre=true");
-  // Plugin calls in process, as `flipper replay` makes them: with the server's default (a child
-  // process per plan and parse, docs/plugins-untrusted.md §6) the isolation's own CPU (fork,
-  // copy-on-write faults, exit: ~3 ms a call on a 2-core VM) is charged to execution.cpu_budget_ms,
-  // and feb2018/groupA#848 and #850 (a foreach over every empty cell with an `if possible` visit,
-  // ~800 plans, 1.7 ms of CPU in process) ran out of their 2,000 ms there and not in replay.
+  // Plugin calls in process, as `flipper replay` makes them. With the server's default (a child
+  // process per plan and parse, docs/plugins-untrusted.md §6) the pages a call touches in its
+  // fresh process are still charged to execution.cpu_budget_ms (~0.1 ms a call): a program of
+  // thousands of plans, as feb2018/groupA#848 and #850 are, costs the budget more isolated than in
+  // process, and a child process per plan makes the corpus slower to serve.
   sets.push_back("plugins.isolation=in_process");
   // Every logged sessionId comes from this one address, as fast as the server answers.
   for (const char* key : {"serve.sessions_per_address", "serve.new_sessions_per_minute",

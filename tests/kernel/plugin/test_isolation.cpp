@@ -1,10 +1,14 @@
 // A planner's calls in a child process each (kernel/isolation.hpp, docs/plugins-untrusted.md §6):
 // the same answers and errors as in process, a crash turned into plugin_crashed naming plugin,
 // call and signal, the CPU budget handed to the child and its CPU time charged back.
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -188,6 +192,81 @@ TEST_CASE("an isolated call gets the CPU budget left, and its CPU time is charge
   const auto charged = left_before - wide.cpu_left();
   CHECK(charged >= milliseconds(50));
   CHECK(charged < milliseconds(50 + 150));
+}
+
+// 256 MiB of this process's memory, written page by page in 4 KiB pages (no transparent huge
+// pages): a fork copies its page table and the child's exit tears it down, as in a large server.
+class Ballast {
+ public:
+  static constexpr std::size_t kBytes = std::size_t{256} << 20;
+  Ballast() {
+    memory_ = ::mmap(nullptr, kBytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    REQUIRE(memory_ != MAP_FAILED);
+    (void)::madvise(memory_, kBytes, MADV_NOHUGEPAGE);
+    std::memset(memory_, 1, kBytes);
+  }
+  ~Ballast() { ::munmap(memory_, kBytes); }
+  Ballast(const Ballast&) = delete;
+  Ballast& operator=(const Ballast&) = delete;
+
+ private:
+  void* memory_;
+};
+
+TEST_CASE("an isolated call is charged its own work, not the fork's or the child's exit",
+          "[isolation]") {
+  Fixture f;
+  const Ballast ballast;
+  sdk::StopCondition wide = sdk::StopCondition::within_cpu(milliseconds(10000), milliseconds(0));
+  const kernel::CpuCharge charge(wide);
+
+  // 20 plans that do nothing. In this process, each fork copies the page table of 256 MiB and
+  // each child's exit frees it: 1-3 ms of CPU per call here, which the budget once paid (a
+  // program of ~800 plans ran out of a 2 s budget on that alone). Now the request thread's time
+  // in the call is refunded and a child is charged from just before the call until it stopped
+  // itself after answering: what the empty plan writes (a few copy-on-write faults).
+  f.planner->plan_does = [](const sdk::StopCondition&) { return sdk::PathResult{}; };
+  constexpr int kCalls = 20;
+  const auto left_before = wide.cpu_left();
+  for (int i = 0; i < kCalls; ++i) (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
+  const auto charged = left_before - wide.cpu_left();
+  INFO("charged " << charged.count() << " ns for " << kCalls << " empty isolated plans");
+  // Here: 0.15 ms a call in the Release build, 0.4 ms instrumented (ASan writes shadow memory
+  // too), 18 ms a call before.
+  CHECK(charged < kCalls * milliseconds(1));
+
+  // The call's own work is charged whole, in a large process as in a small one.
+  f.planner->plan_does = [](const sdk::StopCondition&) {
+    spin_cpu(milliseconds(50));
+    return sdk::PathResult{};
+  };
+  const auto before_work = wide.cpu_left();
+  (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
+  const auto charged_work = before_work - wide.cpu_left();
+  CHECK(charged_work >= milliseconds(50));
+  CHECK(charged_work < milliseconds(50 + 10));
+}
+
+TEST_CASE("an isolated call whose process exits without answering is charged what it spent",
+          "[isolation]") {
+  Fixture f;
+  // The plugin ends its process itself, without the stop after an answer: its CPU time by
+  // wait4 is charged, less what it had spent before the call.
+  f.planner->plan_does = [](const sdk::StopCondition&) -> sdk::PathResult {
+    spin_cpu(milliseconds(40));
+    ::_exit(0);
+  };
+  sdk::StopCondition wide = sdk::StopCondition::within_cpu(milliseconds(10000), milliseconds(0));
+  const kernel::CpuCharge charge(wide);
+  const auto left_before = wide.cpu_left();
+  CHECK(error_of([&] { (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide); }) ==
+        std::pair<std::string, std::string>{
+            "plugin_crashed",
+            "plugin 'scripted' (/plugins/libscripted.so): plan: its process "
+            "exited with status 0 and no answer"});
+  const auto charged = left_before - wide.cpu_left();
+  CHECK(charged >= milliseconds(40));
+  CHECK(charged < milliseconds(40 + 20));
 }
 
 TEST_CASE("an isolated call that ignores its budget is ended 1 s of CPU after it (SIGXCPU)",

@@ -7,9 +7,12 @@
 ///
 /// A call is isolated by fork(): the child inherits the request as it is in memory (the world,
 /// the request, the plugin object), makes the call on its only thread with the CPU budget the
-/// request has left, writes the answer to a pipe and _exits; the parent reads the answer with a
-/// bound, reaps the child and charges the child's CPU time to the request's budgets
-/// (`CpuCharge`), so that budgets still count work, never wall time. What the call changes in
+/// request has left, writes the answer to a pipe and stops itself; the parent reads the answer
+/// with a bound, charges the CPU time the child spent on the call to the request's budgets
+/// (`CpuCharge`) and kills it, so that budgets still count work, never wall time, and the same
+/// work whether isolated or not: the fork, what it costs the child before the call and the
+/// child's exit are not charged (nor is the request thread's own time in call_in_child, which
+/// is refunded). What the call changes in
 /// the plugin object stays in the child: const calls are isolated as they are (a planner's plan
 /// and tour, a parser's parse with its score_node calls); a scorer's learn sends the weights it
 /// changed back as values, set in the parent (plugin_checks.hpp checked_learn).
