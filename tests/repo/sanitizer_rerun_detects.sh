@@ -23,12 +23,18 @@ scripted leaks_and_crashes "$leak; $crash; exit 1"
 scripted ub_and_crashes "echo 'a.cpp:3:7: runtime error: signed integer overflow'; $crash; exit 1"
 scripted fails "echo 'FAILED:'; exit 1"
 scripted options "echo \"\$ASAN_OPTIONS\" >$tmp/options"
+# Last, with regular-expression characters in its name: a run given -E numbers only the tests it
+# kept, so the rerun must select by name (ctest --rerun-failed reran "passes" instead).
+scripted 'crash.once+1' "echo All tests passed; if [ \$n = 1 ]; then $crash; exit 1; fi"
 cmake -S "$tmp" -B "$tmp/b" >/dev/null
 runs() { cat "$tmp/$1.runs" 2>/dev/null || echo 0; }
 case_run() {  # case_run REGEX: a fresh count, the script on the tests REGEX selects; sets rc
+  case_args -R "$1"
+}
+case_args() {  # case_args CTEST_ARGS...: the same with those ctest arguments
   rm -f "$tmp"/*.runs
   rc=0
-  bash "$src/scripts/sanitizer-ctest" "$tmp/b" -R "$1" >"$tmp/out" 2>&1 || rc=$?
+  bash "$src/scripts/sanitizer-ctest" "$tmp/b" "$@" >"$tmp/out" 2>&1 || rc=$?
 }
 
 case_run '^passes$'
@@ -40,6 +46,11 @@ case_run '^(passes|crashes_once)$'
 [[ $(runs crashes_once) == 2 && $(runs passes) == 1 ]] ||
   fail "LSan crashing once: runs $(runs crashes_once) and $(runs passes), not 2 and 1"
 grep -q '^  crashes_once$' "$tmp/out" || fail "the rerun test is not named: $(cat "$tmp/out")"
+
+case_args -E '^(passes|crashes_once|crashes_always|leaks_and_crashes|ub_and_crashes|fails|options)$'
+((rc == 0)) || fail "LSan crashing once after excluded tests: exit $rc: $(cat "$tmp/out")"
+[[ $(runs crash.once+1) == 2 && $(runs passes) == 0 ]] ||
+  fail "the rerun after -E: runs $(runs crash.once+1) and $(runs passes) of passes, not 2 and 0"
 
 case_run '^crashes_always$'
 ((rc != 0)) || fail "LSan crashing on every run passed"
@@ -68,4 +79,4 @@ seen=$(options_seen)
 seen=$(options_seen ASAN_OPTIONS=malloc_context_size=30:detect_leaks=0)
 [[ $seen == malloc_context_size=10:malloc_context_size=30:detect_leaks=0 ]] ||
   fail "ASAN_OPTIONS given to the script: '$seen'"
-echo "sanitizer_rerun_detects: 9 of 9 cases as documented" >&2
+echo "sanitizer_rerun_detects: 10 of 10 cases as documented" >&2
