@@ -112,7 +112,7 @@ void write_all(int fd, const std::string& bytes) {
 }
 
 // The child's first bytes: its process CPU clock just before the call (nanoseconds, this
-// machine's byte order), written before any plugin code runs, so the plugin cannot change it.
+// machine's byte order), written by this code before the call, so the call cannot change it.
 constexpr std::size_t kStartBytes = sizeof(std::int64_t);
 
 std::string start_bytes(nanoseconds cpu) {
