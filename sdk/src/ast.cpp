@@ -118,6 +118,17 @@ void expect_all(Kind kind, const std::vector<Program>& kids, Sort s, std::size_t
     if (!k || !fits(s, k->sort)) misuse(kind, std::string("operands must be ") + sort_name(s));
 }
 
+// The two shapes make rewrites instead of building them as they are: a sequence with a sequence
+// among its statements (flattened into it) and a word verb's ItemAction (made Pick or Drop).
+bool nests_sequence(Kind kind, const std::vector<Program>& kids) {
+  return kind == Kind::Seq && std::any_of(kids.begin(), kids.end(), [](const Program& k) {
+           return k && k->kind == Kind::Seq;
+         });
+}
+bool is_word_verb_action(Kind kind, const std::vector<Program>& kids) {
+  return kind == Kind::ItemAction && !kids.empty() && kids[0] && kids[0]->kind == Kind::ItemAct;
+}
+
 void check(Kind kind, const std::vector<Program>& kids) {
   using S = Sort;
   switch (kind) {
@@ -319,7 +330,7 @@ const char* sort_name(Sort sort) {
 }
 
 Program make(Kind kind, std::vector<Program> kids) {
-  if (kind == Kind::Seq) {
+  if (nests_sequence(kind, kids)) {
     std::vector<Program> flat;
     for (auto& k : kids) {
       if (k && k->kind == Kind::Seq)
@@ -331,7 +342,7 @@ Program make(Kind kind, std::vector<Program> kids) {
   }
   check(kind, kids);
   // A verb that is a word decides the action: ItemAction(pick, I) is Pick(I).
-  if (kind == Kind::ItemAction && kids[0]->kind == Kind::ItemAct)
+  if (is_word_verb_action(kind, kids))
     return make(kids[0]->text == "pick" ? Kind::Pick : Kind::Drop, {kids[1]});
   Node n;
   n.kind = kind;
@@ -493,14 +504,8 @@ Program normal_form(const Program& p) {
 namespace flipper::sdk::detail {
 
 void check_operands(Kind kind, const std::vector<Program>& kids) {
-  // The two shapes make rewrites before or after its check (a nested sequence, flattened; a word
-  // verb's ItemAction, made Pick or Drop and checked again) go through make itself.
-  const bool rewritten =
-      (kind == Kind::Seq &&
-       std::any_of(kids.begin(), kids.end(),
-                   [](const Program& k) { return k && k->kind == Kind::Seq; })) ||
-      (kind == Kind::ItemAction && !kids.empty() && kids[0] && kids[0]->kind == Kind::ItemAct);
-  if (rewritten)
+  // The shapes make rewrites before or after its check go through make itself.
+  if (nests_sequence(kind, kids) || is_word_verb_action(kind, kids))
     (void)make(kind, kids);
   else
     sdk::check(kind, kids);
