@@ -78,6 +78,15 @@ void spin_cpu(milliseconds cpu) {
   while (sdk::cpu_time() < until) n = n + 1;
 }
 
+// The CPU time that `calls` charge a wide (10 s) budget attached on this thread, given to them.
+std::chrono::nanoseconds charged_by(const std::function<void(const sdk::StopCondition&)>& calls) {
+  sdk::StopCondition wide = sdk::StopCondition::within_cpu(milliseconds(10000), milliseconds(0));
+  const kernel::CpuCharge charge(wide);
+  const auto left_before = wide.cpu_left();
+  calls(wide);
+  return left_before - wide.cpu_left();
+}
+
 }  // namespace
 
 TEST_CASE("an isolated plan and tour give the in-process answers, checked", "[isolation]") {
@@ -181,15 +190,13 @@ TEST_CASE("an isolated call gets the CPU budget left, and its CPU time is charge
 
   // Without the charge attached the budget would still have ~200 ms left; with it, a plan that
   // spends 50 ms of its 10 s moves the deadline by at least those 50 ms.
-  sdk::StopCondition wide = sdk::StopCondition::within_cpu(milliseconds(10000), milliseconds(0));
-  const kernel::CpuCharge wide_charge(wide);
   f.planner->plan_does = [](const sdk::StopCondition&) {
     spin_cpu(milliseconds(50));
     return sdk::PathResult{};
   };
-  const auto left_before = wide.cpu_left();
-  (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
-  const auto charged = left_before - wide.cpu_left();
+  const auto charged = charged_by([&](const sdk::StopCondition& wide) {
+    (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
+  });
   CHECK(charged >= milliseconds(50));
   CHECK(charged < milliseconds(50 + 150));
 }
@@ -217,19 +224,17 @@ TEST_CASE("an isolated call is charged its own work, not the fork's or the child
           "[isolation]") {
   Fixture f;
   const Ballast ballast;
-  sdk::StopCondition wide = sdk::StopCondition::within_cpu(milliseconds(10000), milliseconds(0));
-  const kernel::CpuCharge charge(wide);
 
   // 20 plans that do nothing. In this process, each fork copies the page table of 256 MiB and
   // each child's exit frees it: 1-3 ms of CPU per call here, which the budget once paid (a
-  // program of ~800 plans ran out of a 2 s budget on that alone). Now the request thread's time
+  // program of many plans ran out of a 2 s budget on that alone). Now the request thread's time
   // in the call is refunded and a child is charged from just before the call until it stopped
   // itself after answering: what the empty plan writes (a few copy-on-write faults).
   f.planner->plan_does = [](const sdk::StopCondition&) { return sdk::PathResult{}; };
   constexpr int kCalls = 20;
-  const auto left_before = wide.cpu_left();
-  for (int i = 0; i < kCalls; ++i) (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
-  const auto charged = left_before - wide.cpu_left();
+  const auto charged = charged_by([&](const sdk::StopCondition& wide) {
+    for (int i = 0; i < kCalls; ++i) (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
+  });
   INFO("charged " << charged.count() << " ns for " << kCalls << " empty isolated plans");
   // Here: 0.15 ms a call in the Release build, 0.4 ms instrumented (ASan writes shadow memory
   // too), 18 ms a call before.
@@ -240,9 +245,9 @@ TEST_CASE("an isolated call is charged its own work, not the fork's or the child
     spin_cpu(milliseconds(50));
     return sdk::PathResult{};
   };
-  const auto before_work = wide.cpu_left();
-  (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
-  const auto charged_work = before_work - wide.cpu_left();
+  const auto charged_work = charged_by([&](const sdk::StopCondition& wide) {
+    (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
+  });
   CHECK(charged_work >= milliseconds(50));
   CHECK(charged_work < milliseconds(50 + 10));
 }
@@ -256,15 +261,14 @@ TEST_CASE("an isolated call whose process exits without answering is charged wha
     spin_cpu(milliseconds(40));
     ::_exit(0);
   };
-  sdk::StopCondition wide = sdk::StopCondition::within_cpu(milliseconds(10000), milliseconds(0));
-  const kernel::CpuCharge charge(wide);
-  const auto left_before = wide.cpu_left();
-  CHECK(error_of([&] { (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide); }) ==
-        std::pair<std::string, std::string>{
-            "plugin_crashed",
-            "plugin 'scripted' (/plugins/libscripted.so): plan: its process "
-            "exited with status 0 and no answer"});
-  const auto charged = left_before - wide.cpu_left();
+  std::pair<std::string, std::string> error;
+  const auto charged = charged_by([&](const sdk::StopCondition& wide) {
+    error = error_of([&] { (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide); });
+  });
+  CHECK(error == std::pair<std::string, std::string>{
+                     "plugin_crashed",
+                     "plugin 'scripted' (/plugins/libscripted.so): plan: its process "
+                     "exited with status 0 and no answer"});
   CHECK(charged >= milliseconds(40));
   CHECK(charged < milliseconds(40 + 20));
 }
