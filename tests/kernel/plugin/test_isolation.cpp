@@ -4,6 +4,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <csignal>
@@ -12,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "flipper/kernel/isolation.hpp"
 #include "flipper/kernel/plugin_checks.hpp"
@@ -223,22 +225,33 @@ class Ballast {
 TEST_CASE("an isolated call is charged its own work, not the fork's or the child's exit",
           "[isolation]") {
   Fixture f;
-  const Ballast ballast;
-
-  // 20 plans that do nothing. In this process, each fork copies the page table of 256 MiB and
-  // each child's exit frees it: 1-3 ms of CPU per call here, which the budget once paid (a
-  // program of many plans ran out of a 2 s budget on that alone). Now the request thread's time
-  // in the call is refunded and a child is charged from just before the call until it stopped
-  // itself after answering: what the empty plan writes (a few copy-on-write faults).
+  // Plans that do nothing, first in this process as it is, then with 256 MiB more of it
+  // written. Each fork copies the page table of that memory and each child's exit frees it:
+  // 1-3 ms of CPU per call, which the budget once paid (a program of many plans ran out of a 2 s
+  // budget on that alone). Now the request thread's time in the call is refunded and a child is
+  // charged from just before the call until it stopped itself after answering: what the empty
+  // plan touches (its copy-on-write faults), whatever the size of the process. What those faults
+  // cost depends on the machine (0.15 ms a call on one 2-core VM, 1 ms on another whose page
+  // faults cost ~10 us each), so the bound is on the difference the process's size makes.
   f.planner->plan_does = [](const sdk::StopCondition&) { return sdk::PathResult{}; };
-  constexpr int kCalls = 20;
-  const auto charged = charged_by([&](const sdk::StopCondition& wide) {
-    for (int i = 0; i < kCalls; ++i) (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
-  });
-  INFO("charged " << charged.count() << " ns for " << kCalls << " empty isolated plans");
-  // Here: 0.15 ms a call in the Release build, 0.4 ms instrumented (ASan writes shadow memory
-  // too), 18 ms a call before.
-  CHECK(charged < kCalls * milliseconds(1));
+  // The median charge of 21 such calls (one slow page fault moves no median).
+  const auto median_charge = [&] {
+    std::vector<std::chrono::nanoseconds> charges;
+    for (int i = 0; i < 21; ++i)
+      charges.push_back(charged_by([&](const sdk::StopCondition& wide) {
+        (void)kernel::checked_plan(f.ref, *kOpenRow, f.request, wide);
+      }));
+    std::sort(charges.begin(), charges.end());
+    return charges[charges.size() / 2];
+  };
+  const auto small = median_charge();
+  const Ballast ballast;
+  const auto large = median_charge();
+  INFO("an empty isolated plan charged " << small.count() << " ns, " << large.count()
+                                         << " ns with 256 MiB more (medians of 21)");
+  // Here: 0.0-0.25 ms more with the ballast in the Release build (what a fault costs grows a
+  // little with the page table); before, 18 ms more, which the bound of 2 ms sits between.
+  CHECK(large - small < milliseconds(2));
 
   // The call's own work is charged whole, in a large process as in a small one.
   f.planner->plan_does = [](const sdk::StopCondition&) {
