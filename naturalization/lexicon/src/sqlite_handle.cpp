@@ -168,6 +168,8 @@ Db::Db(const std::string& path, const ReadOnly& how, int busy_timeout_ms)
 
 Db::~Db() {
   checkpointer_.reset();
+  for (auto& [sql, stmts] : idle_)
+    for (sqlite3_stmt* stmt : stmts) sqlite3_finalize(stmt);
   sqlite3_close_v2(db_);  // the last connection to close checkpoints and removes the WAL
 }
 
@@ -221,6 +223,55 @@ void Db::exec(const char* sql) {
   }
 }
 
+void Db::run(const char* sql) {
+  Idle* home = nullptr;
+  sqlite3_stmt* stmt = take(sql, home);
+  int rc = SQLITE_ROW;
+  while (rc == SQLITE_ROW) rc = sqlite3_step(stmt);
+  if (rc == SQLITE_DONE) {
+    give_back(stmt, home);
+    return;
+  }
+  // The same message as exec's, read before the reset that gives the statement back.
+  const std::string msg = sqlite3_errmsg(db_);
+  const int extended = sqlite3_extended_errcode(db_);
+  const char* code = code_for(rc, sqlite3_system_errno(db_));
+  give_back(stmt, home);
+  throw sdk::Error(code, "lexicon store '" + path_ + "' " + explain(code, busy_timeout_ms_) + " (" +
+                             sql + ": " + msg + ", sqlite code " + std::to_string(extended) + ")");
+}
+
+sqlite3_stmt* Db::take(const char* sql, Idle*& home) {
+  auto it = idle_.find(std::string_view(sql));
+  if (it == idle_.end() && idle_.size() < kStatementTexts) it = idle_.emplace(sql, Idle()).first;
+  home = it == idle_.end() ? nullptr : &it->second;
+  if (home != nullptr && !home->empty()) {
+    sqlite3_stmt* stmt = home->back();
+    home->pop_back();
+    --idle_count_;
+    return stmt;
+  }
+  sqlite3_stmt* stmt = nullptr;
+  const int rc = sqlite3_prepare_v3(db_, sql, -1, SQLITE_PREPARE_PERSISTENT, &stmt, nullptr);
+  if (rc != SQLITE_OK) {
+    sqlite3_finalize(stmt);
+    fail("cannot prepare statement", rc);
+  }
+  return stmt;
+}
+
+void Db::give_back(sqlite3_stmt* stmt, Idle* home) {
+  if (stmt == nullptr) return;
+  sqlite3_reset(stmt);
+  sqlite3_clear_bindings(stmt);
+  if (home == nullptr || idle_count_ >= kIdleStatements) {
+    sqlite3_finalize(stmt);
+    return;
+  }
+  home->push_back(stmt);
+  ++idle_count_;
+}
+
 void Db::fail(const std::string& what, int rc) const {
   const std::string detail = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
   const char* code = code_for(rc, db_ ? sqlite3_system_errno(db_) : 0);
@@ -228,13 +279,10 @@ void Db::fail(const std::string& what, int rc) const {
                              what + ": " + detail + ")");
 }
 
-Stmt::Stmt(Db& db, const char* sql) : db_(db) {
-  const int rc = sqlite3_prepare_v2(db.raw(), sql, -1, &stmt_, nullptr);
-  if (rc != SQLITE_OK) db.fail("cannot prepare statement", rc);
-}
+Stmt::Stmt(Db& db, const char* sql) : db_(db), stmt_(db.take(sql, home_)) {}
 
 Stmt::~Stmt() {
-  sqlite3_finalize(stmt_);
+  db_.give_back(stmt_, home_);
 }
 
 Stmt& Stmt::bind(int i, std::string_view text) {
@@ -316,7 +364,7 @@ Transaction::Transaction(Db& db) : db_(db) {
     throw sdk::Error(code, "lexicon store '" + db_.path() + "' " + explain(code, 0) +
                                " (it was so when this process opened it: it serves its rules, "
                                "and every write is refused until the store is reopened)");
-  db_.exec("BEGIN IMMEDIATE");
+  db_.run("BEGIN IMMEDIATE");
 }
 
 Transaction::~Transaction() {
@@ -324,7 +372,7 @@ Transaction::~Transaction() {
 }
 
 void Transaction::commit() {
-  db_.exec("COMMIT");
+  db_.run("COMMIT");
   done_ = true;
   if (GroupSync* group = db_.group_sync()) {
     group->wait_durable([this]() -> GroupSync::Failure {
@@ -358,11 +406,14 @@ void Db::sync_wal() {
 }
 
 ReadTransaction::ReadTransaction(Db& db) : db_(db) {
-  db_.exec("BEGIN");
+  db_.run("BEGIN");
 }
 
 ReadTransaction::~ReadTransaction() {
-  sqlite3_exec(db_.raw(), "COMMIT", nullptr, nullptr, nullptr);
+  try {
+    db_.run("COMMIT");  // ends a read: fails only if there was none to end
+  } catch (const sdk::Error&) {
+  }
 }
 
 }  // namespace flipper::naturalization::sqlite

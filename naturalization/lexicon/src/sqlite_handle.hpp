@@ -6,10 +6,13 @@
 #include <sqlite3.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
+#include <vector>
 
 namespace flipper::naturalization::sqlite {
 
@@ -49,6 +52,8 @@ class Db {
   const char* write_refusal() const { return write_refusal_; }
   /// Runs one or more statements without results.
   void exec(const char* sql);
+  /// Runs one statement without results through the statement cache (below): BEGIN, COMMIT.
+  void run(const char* sql);
   /// Throws the lexicon error for `rc` with `what` and SQLite's message.
   [[noreturn]] void fail(const std::string& what, int rc) const;
   /// WAL checkpoints off the committing path (docs/naturalization.md §5): no auto-checkpoint in
@@ -69,7 +74,26 @@ class Db {
   static constexpr int kCheckpointPages = 1000;  // SQLite's own auto-checkpoint size
   static constexpr int kMaxWalPages = 16000;     // ~64 MiB with 4 KiB pages
 
+  /// The statement cache (docs/naturalization.md §5 "Durability and latency"): compiling a
+  /// statement costs more than running most of the lexicon's, so a connection keeps its idle
+  /// prepared statements by SQL text, up to kIdleStatements of them for up to kStatementTexts
+  /// texts. `take` hands out an idle statement for `sql` (or prepares one; Error as Stmt's) and
+  /// sets `home` to where it goes back (null: a text past the cap, finalized when given back);
+  /// `give_back` resets it (no lock or snapshot survives it, no binding points at the caller's
+  /// memory) and keeps it. A statement in use is out of the cache: Stmts of one text may nest.
+  using Idle = std::vector<sqlite3_stmt*>;
+  sqlite3_stmt* take(const char* sql, Idle*& home);
+  void give_back(sqlite3_stmt* stmt, Idle* home);
+  static constexpr std::size_t kIdleStatements = 64;
+  static constexpr std::size_t kStatementTexts = 256;
+  /// The texts the cache has a place for (at most kStatementTexts).
+  std::size_t statement_texts() const { return idle_.size(); }
+
  private:
+  struct TextHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+  };
   static int on_busy(void* self, int attempts);
   static int on_wal_commit(void* self, sqlite3* db, const char* name, int pages);
 
@@ -81,8 +105,12 @@ class Db {
   std::unique_ptr<Checkpointer> checkpointer_;  // stopped before the connection closes
   const char* write_refusal_ = nullptr;
   std::shared_ptr<GroupSync> group_sync_;
+  std::unordered_map<std::string, Idle, TextHash, std::equal_to<>> idle_;  // nodes never erased
+  std::size_t idle_count_ = 0;
 };
 
+/// A prepared statement, taken from the connection's statement cache (Db::take) and given back
+/// reset when destroyed.
 class Stmt {
  public:
   Stmt(Db& db, const char* sql);
@@ -110,6 +138,7 @@ class Stmt {
 
  private:
   Db& db_;
+  Db::Idle* home_ = nullptr;
   sqlite3_stmt* stmt_ = nullptr;
 };
 
