@@ -14,7 +14,8 @@ namespace {
 constexpr std::size_t kChunk = 512;  // index lines are ~60 bytes, synset lines mostly < 512
 }  // namespace
 
-DictFile::DictFile(const std::string& path) : path_(path) {
+DictFile::DictFile(const std::string& path, std::size_t max_probes)
+    : path_(path), max_probes_(max_probes) {
   fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) throw sdk::Error(sdk::codes::kBadConfig, "wordnet: cannot open '" + path + "'");
   struct stat st {};
@@ -32,6 +33,7 @@ DictFile::~DictFile() {
 std::size_t DictFile::read(std::size_t at, char* buf, std::size_t n) const {
   if (at >= size_) return 0;
   n = std::min(n, size_ - at);
+  reads_.fetch_add(1, std::memory_order_relaxed);
   std::size_t done = 0;
   while (done < n) {
     const ssize_t r = ::pread(fd_, buf + done, n - done, static_cast<off_t>(at + done));
@@ -65,6 +67,32 @@ std::size_t DictFile::line_start(std::size_t pos, std::size_t lo) const {
     pos = from;
   }
   return lo;
+}
+
+std::string DictFile::range(std::size_t lo, std::size_t hi) const {
+  if (lo >= std::min(hi, size_)) return {};
+  std::string out(std::min(hi, size_) - lo, '\0');
+  out.resize(read(lo, out.data(), out.size()));
+  return out;
+}
+
+DictFile::Probe DictFile::probe(std::size_t lo, std::size_t hi) const {
+  const bool cacheable = hi <= UINT32_MAX;
+  const std::uint64_t key = (static_cast<std::uint64_t>(lo) << 32) | hi;
+  if (cacheable) {
+    std::lock_guard<std::mutex> lock(probes_mutex_);
+    if (auto it = probes_.find(key); it != probes_.end()) return it->second;
+  }
+  Probe p;
+  p.start = line_start(lo + (hi - lo) / 2, lo);
+  const std::string line = line_from(p.start);
+  p.length = line.size();
+  p.key = line.substr(0, line.find(' '));
+  if (cacheable) {
+    std::lock_guard<std::mutex> lock(probes_mutex_);
+    if (probes_.size() < max_probes_) probes_.emplace(key, p);
+  }
+  return p;
 }
 
 }  // namespace flipper::plugins::wordnet

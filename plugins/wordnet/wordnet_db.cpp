@@ -48,24 +48,6 @@ std::vector<std::string_view> fields(std::string_view line) {
   return out;
 }
 
-// Binary search of a bytewise-sorted file of lines "key ...", from `start` on (the probes of a
-// search over the whole text: each probe's line starts after the last newline before its middle).
-std::string find_line(const DictFile& file, std::size_t start, std::string_view key) {
-  std::size_t lo = start, hi = file.size();
-  while (lo < hi) {
-    const std::size_t s = file.line_start(lo + (hi - lo) / 2, lo);
-    std::string line = file.line_from(s);
-    const std::string_view k = std::string_view(line).substr(0, line.find(' '));
-    const int cmp = k.compare(key);
-    if (cmp == 0) return line;
-    if (cmp < 0)
-      lo = s + line.size() + 1;
-    else
-      hi = s;
-  }
-  return {};
-}
-
 template <class T>
 bool parse(std::string_view s, T& out, int base = 10) {
   auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), out, base);
@@ -73,6 +55,42 @@ bool parse(std::string_view s, T& out, int base = 10) {
 }
 
 }  // namespace
+
+// The probes of a search over the whole text: each probe's line starts after the last newline
+// before its middle, so [lo, hi) always holds whole lines. The first levels' probes come from the
+// file's probe cache; once the range is at most kSearchWindow bytes it is read at once and
+// searched in memory with the same probes, so the line found is the one a probe-by-probe search
+// finds.
+std::string find_line(const DictFile& file, std::size_t start, std::string_view key) {
+  std::size_t lo = start, hi = file.size();
+  while (lo < hi && hi - lo > kSearchWindow) {
+    const DictFile::Probe p = file.probe(lo, hi);
+    const int cmp = std::string_view(p.key).compare(key);
+    if (cmp == 0) return file.line_from(p.start);
+    if (cmp < 0)
+      lo = p.start + p.length + 1;
+    else
+      hi = p.start;
+  }
+  if (lo >= hi) return {};
+  const std::string text = file.range(lo, hi);
+  const std::string_view all(text);
+  const std::size_t base = lo;
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2 - base;
+    const std::size_t nl = mid == 0 ? std::string_view::npos : all.rfind('\n', mid - 1);
+    const std::size_t s = nl == std::string_view::npos || nl + base < lo ? lo - base : nl + 1;
+    const std::size_t e = all.find('\n', s);
+    const std::string_view line = all.substr(s, e == std::string_view::npos ? e : e - s);
+    const int cmp = line.substr(0, line.find(' ')).compare(key);
+    if (cmp == 0) return std::string(line);
+    if (cmp < 0)
+      lo = base + s + line.size() + 1;
+    else
+      hi = base + s;
+  }
+  return {};
+}
 
 WordNetDb::WordNetDb(std::string dir) : dir_(std::move(dir)) {
   const auto probe = std::filesystem::path(dir_) / "index.noun";

@@ -18,6 +18,12 @@
 
 namespace flipper::plugins::wordnet {
 
+/// Binary search of a bytewise-sorted file of lines "key ...", from byte `start` (a line start)
+/// on: a line whose key (the text before its first space) is `key`, or "" when there is none.
+/// Once the range left is at most kSearchWindow bytes it is read at once (wordnet_db.cpp).
+std::string find_line(const DictFile& file, std::size_t start, std::string_view key);
+inline constexpr std::size_t kSearchWindow = 8192;
+
 enum class Pos : std::uint8_t { noun = 0, verb = 1, adj = 2, adv = 3 };
 
 class WordNetDb {
