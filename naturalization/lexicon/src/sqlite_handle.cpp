@@ -182,10 +182,17 @@ void Db::checkpoint_in_background() {
 // Called by SQLite after each commit, once the commit is durable, with the WAL's frame count.
 int Db::on_wal_commit(void* self, sqlite3* db, const char* name, int pages) {
   auto& d = *static_cast<Db*>(self);
-  if (pages >= kMaxWalPages)
+  if (pages >= kMaxWalPages) {
     sqlite3_wal_checkpoint_v2(db, name, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
-  else if (pages >= kCheckpointPages)
+  } else if (pages >= kCheckpointPages &&
+             (pages < d.requested_at_pages_ || pages >= d.requested_at_pages_ + kRequestEvery)) {
+    // Once per kRequestEvery frames (and again once the log restarted): a request per commit
+    // would keep the thread checkpointing (two syncs each) while commits arrive faster than one
+    // checkpoint, for a few frames each time.
+    d.requested_at_pages_ = pages;
+    ++d.checkpoint_requests_;
     d.checkpointer_->request();
+  }
   return SQLITE_OK;
 }
 

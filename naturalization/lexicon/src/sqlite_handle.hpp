@@ -73,6 +73,10 @@ class Db {
 
   static constexpr int kCheckpointPages = 1000;  // SQLite's own auto-checkpoint size
   static constexpr int kMaxWalPages = 16000;     // ~64 MiB with 4 KiB pages
+  /// Past kCheckpointPages, a checkpoint is requested again only after this many more frames.
+  static constexpr int kRequestEvery = kCheckpointPages / 4;
+  /// Checkpoints requested of the thread so far (for the tests).
+  std::uint64_t checkpoint_requests() const { return checkpoint_requests_; }
 
   /// The statement cache (docs/naturalization.md §5 "Durability and latency"): compiling a
   /// statement costs more than running most of the lexicon's, so a connection keeps its idle
@@ -103,6 +107,8 @@ class Db {
   std::int64_t busy_since_us_ = 0;
   std::uint64_t jitter_ = 0;
   std::unique_ptr<Checkpointer> checkpointer_;  // stopped before the connection closes
+  int requested_at_pages_ = 0;                  // the WAL's frames at the last checkpoint request
+  std::uint64_t checkpoint_requests_ = 0;
   const char* write_refusal_ = nullptr;
   std::shared_ptr<GroupSync> group_sync_;
   std::unordered_map<std::string, Idle, TextHash, std::equal_to<>> idle_;  // nodes never erased

@@ -2,10 +2,13 @@
 // and latency"): a statement is compiled once per text and connection, comes back reset (no read
 // snapshot held, no binding left), Stmts of one text nest, the cache keeps at most
 // kIdleStatements statements, and a failed statement run through it reports what exec reports.
+// And the background checkpoints' requests: past kCheckpointPages, then once per kRequestEvery
+// frames (docs/naturalization.md §5).
 #include <sqlite3.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -177,4 +180,44 @@ TEST_CASE("statement cache: a failed run reports as exec does, and its statement
           std::string::npos);
   }
   CHECK(statements_on(db) == 2);
+}
+
+TEST_CASE(
+    "background checkpoints: requested past kCheckpointPages, then once per kRequestEvery "
+    "frames",
+    "[lexicon][checkpoint]") {
+  CacheStore store;
+  Db db(store.path, false, 1000);
+  db.exec("PRAGMA wal_autocheckpoint=0");
+  db.checkpoint_in_background();
+  // A reader holds its snapshot throughout: the log can neither restart nor be checkpointed past
+  // it, so it only grows, one frame or more a commit.
+  Db reader(store.path, false, 1000);
+  reader.run("BEGIN");
+  Stmt hold(reader, "SELECT count(*) FROM t");
+  REQUIRE(hold.step());
+  // The oracle: the WAL's frames after each commit, from its size (a 32-byte header, then
+  // frames of a 24-byte header and one page), and the rule applied to them.
+  const auto wal = store.path + "-wal";
+  const std::uintmax_t page = 4096;
+  std::uint64_t expected = 0;
+  int last = 0, frames = 0;
+  // Each commit changes one row of a one-page table: one frame, so every boundary is met
+  // exactly (a request at 1,000 frames, then at 1,250, not 1,251).
+  while (frames < Db::kCheckpointPages + 3 * Db::kRequestEvery + 10) {
+    db.run("BEGIN IMMEDIATE");
+    Stmt up(db, "UPDATE t SET x = x + 1 WHERE x = (SELECT max(x) FROM t)");
+    up.run();
+    db.run("COMMIT");
+    const int before = frames;
+    frames = static_cast<int>((fs::file_size(wal) - 32) / (page + 24));
+    REQUIRE(frames == before + 1);
+    if (frames >= Db::kCheckpointPages && (frames < last || frames >= last + Db::kRequestEvery)) {
+      ++expected;
+      last = frames;
+    }
+    REQUIRE(db.checkpoint_requests() == expected);
+  }
+  // 1,000 frames, then 1,250, 1,500 and 1,750.
+  CHECK(expected == 4);
 }
