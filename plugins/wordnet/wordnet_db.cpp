@@ -54,40 +54,47 @@ bool parse(std::string_view s, T& out, int base = 10) {
   return ec == std::errc() && p == s.data() + s.size();
 }
 
+// The probe of [lo, hi) in `window`, the file's bytes from `base` on, as DictFile::probe finds it
+// in the file: [lo, hi) holds whole lines, so the byte before lo (when in the window) is a newline.
+DictFile::Probe probe_in(std::string_view window, std::size_t base, std::size_t lo,
+                         std::size_t hi) {
+  const std::size_t mid = lo + (hi - lo) / 2 - base;
+  const std::size_t nl = window.substr(0, mid).rfind('\n');
+  DictFile::Probe p;
+  p.start = base + (nl == std::string_view::npos ? 0 : nl + 1);
+  const std::size_t from = p.start - base, end = window.find('\n', from);
+  const std::string_view line =
+      window.substr(from, end == std::string_view::npos ? std::string_view::npos : end - from);
+  p.length = line.size();
+  p.key = std::string(line.substr(0, line.find(' ')));
+  return p;
+}
+
 }  // namespace
 
 // The probes of a search over the whole text: each probe's line starts after the last newline
 // before its middle, so [lo, hi) always holds whole lines. The first levels' probes come from the
-// file's probe cache; once the range is at most kSearchWindow bytes it is read at once and
-// searched in memory with the same probes, so the line found is the one a probe-by-probe search
-// finds.
+// file's probe cache; once the range is at most kSearchWindow bytes it is read at once and the
+// same probes are made in memory, so the line found is the one a probe-by-probe search finds.
 std::string find_line(const DictFile& file, std::size_t start, std::string_view key) {
   std::size_t lo = start, hi = file.size();
-  while (lo < hi && hi - lo > kSearchWindow) {
-    const DictFile::Probe p = file.probe(lo, hi);
+  std::string window;  // once read: the file's bytes [base, hi) of the range then left
+  std::size_t base = 0;
+  bool in_window = false;
+  while (lo < hi) {
+    if (!in_window && hi - lo <= kSearchWindow) {
+      window = file.range(lo, hi);
+      base = lo;
+      in_window = true;
+    }
+    const DictFile::Probe p = in_window ? probe_in(window, base, lo, hi) : file.probe(lo, hi);
     const int cmp = std::string_view(p.key).compare(key);
-    if (cmp == 0) return file.line_from(p.start);
+    if (cmp == 0)
+      return in_window ? window.substr(p.start - base, p.length) : file.line_from(p.start);
     if (cmp < 0)
       lo = p.start + p.length + 1;
     else
       hi = p.start;
-  }
-  if (lo >= hi) return {};
-  const std::string text = file.range(lo, hi);
-  const std::string_view all(text);
-  const std::size_t base = lo;
-  while (lo < hi) {
-    const std::size_t mid = lo + (hi - lo) / 2 - base;
-    const std::size_t nl = mid == 0 ? std::string_view::npos : all.rfind('\n', mid - 1);
-    const std::size_t s = nl == std::string_view::npos || nl + base < lo ? lo - base : nl + 1;
-    const std::size_t e = all.find('\n', s);
-    const std::string_view line = all.substr(s, e == std::string_view::npos ? e : e - s);
-    const int cmp = line.substr(0, line.find(' ')).compare(key);
-    if (cmp == 0) return std::string(line);
-    if (cmp < 0)
-      lo = base + s + line.size() + 1;
-    else
-      hi = base + s;
   }
   return {};
 }

@@ -221,13 +221,17 @@ void Db::exec(const char* sql) {
   char* err = nullptr;
   const int rc = sqlite3_exec(db_, sql, nullptr, nullptr, &err);
   if (rc != SQLITE_OK) {
-    std::string msg = err ? err : sqlite3_errstr(rc);
+    const std::string msg = err ? err : sqlite3_errstr(rc);
     sqlite3_free(err);
-    const char* code = code_for(rc, sqlite3_system_errno(db_));
-    throw sdk::Error(code, "lexicon store '" + path_ + "' " + explain(code, busy_timeout_ms_) +
-                               " (" + sql + ": " + msg + ", sqlite code " +
-                               std::to_string(sqlite3_extended_errcode(db_)) + ")");
+    fail_statement(sql, rc, msg, sqlite3_extended_errcode(db_), sqlite3_system_errno(db_));
   }
+}
+
+void Db::fail_statement(const char* sql, int rc, const std::string& msg, int extended,
+                        int system_errno) const {
+  const char* code = code_for(rc, system_errno);
+  throw sdk::Error(code, "lexicon store '" + path_ + "' " + explain(code, busy_timeout_ms_) + " (" +
+                             sql + ": " + msg + ", sqlite code " + std::to_string(extended) + ")");
 }
 
 void Db::run(const char* sql) {
@@ -239,13 +243,12 @@ void Db::run(const char* sql) {
     give_back(stmt, home);
     return;
   }
-  // The same message as exec's, read before the reset that gives the statement back.
+  // The message and codes are read before the reset that gives the statement back.
   const std::string msg = sqlite3_errmsg(db_);
   const int extended = sqlite3_extended_errcode(db_);
-  const char* code = code_for(rc, sqlite3_system_errno(db_));
+  const int system_errno = sqlite3_system_errno(db_);
   give_back(stmt, home);
-  throw sdk::Error(code, "lexicon store '" + path_ + "' " + explain(code, busy_timeout_ms_) + " (" +
-                             sql + ": " + msg + ", sqlite code " + std::to_string(extended) + ")");
+  fail_statement(sql, rc, msg, extended, system_errno);
 }
 
 sqlite3_stmt* Db::take(const char* sql, Idle*& home) {

@@ -98,6 +98,9 @@ class Db {
     using is_transparent = void;
     std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
   };
+  /// Throws the lexicon error of statement `sql` that failed with `rc`: exec's and run's message.
+  [[noreturn]] void fail_statement(const char* sql, int rc, const std::string& msg, int extended,
+                                   int system_errno) const;
   static int on_busy(void* self, int attempts);
   static int on_wal_commit(void* self, sqlite3* db, const char* name, int pages);
 
@@ -144,7 +147,7 @@ class Stmt {
 
  private:
   Db& db_;
-  Db::Idle* home_ = nullptr;
+  Db::Idle* home_ = nullptr;  // declared before stmt_: the constructor's Db::take sets it
   sqlite3_stmt* stmt_ = nullptr;
 };
 
