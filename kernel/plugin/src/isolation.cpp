@@ -17,6 +17,7 @@
 #include <ctime>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -101,7 +102,7 @@ void prepare_child(int answer_fd, nanoseconds cpu_limit) {
   }
 }
 
-void write_all(int fd, const std::string& bytes) {
+void write_all(int fd, std::string_view bytes) {
   std::size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -126,6 +127,10 @@ nanoseconds start_of(std::string_view bytes) {
   return nanoseconds(std::max<std::int64_t>(v, 0));
 }
 
+// In a child: its answer's pipe, and whether send_part has begun the answer ('A' sent).
+int g_part_fd = -1;
+bool g_parts_sent = false;
+
 [[noreturn]] void run_child(const PluginId& plugin, std::string_view op, int answer_fd,
                             const sdk::StopCondition& parent_stop, nanoseconds cpu_left,
                             const std::function<std::string(const sdk::StopCondition&)>& work) {
@@ -138,22 +143,18 @@ nanoseconds start_of(std::string_view bytes) {
   stop.max_expansions = parent_stop.max_expansions;
   stop.cpu_clock = CLOCK_THREAD_CPUTIME_ID;
   if (cpu_left != nanoseconds::max()) stop.cpu_deadline = sdk::cpu_time() + cpu_left;
+  g_part_fd = answer_fd;
+  g_parts_sent = false;  // this child's own answer (a child may fork one of its own)
   std::string out;
   try {
     std::string answer = work(stop);
     out.reserve(answer.size() + 1);
-    out.push_back('A');
+    if (!g_parts_sent) out.push_back('A');
     out += answer;
   } catch (...) {
-    out = "E";
-    try {
-      detail::rethrow_plugin_failure(plugin, op);
-    } catch (const sdk::Error& e) {
-      out += sdk::host::to_bytes(sdk::host::CallFailure{
-          static_cast<std::uint64_t>(sdk::stop_cause_of(e)), e.code(), e.what()});
-    } catch (...) {
-      ::_exit(4);
-    }
+    std::optional<std::string> failure = detail::failure_bytes(plugin, op);
+    if (!failure || g_parts_sent) ::_exit(4);  // a failure after parts: not one answer
+    out = "E" + *failure;
   }
   write_all(answer_fd, out);
   // Answered: stopped here, the parent reads this process's CPU clock and kills it, so that its
@@ -269,11 +270,11 @@ void charge_cpu(nanoseconds cpu) {
   if (cpu > nanoseconds::zero()) move_deadlines(-cpu);
 }
 
-namespace detail {
+namespace {
 
-std::optional<std::string> call_in_child(
+std::optional<std::string> call_in_child_reading(
     const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
-    const std::function<std::string(const sdk::StopCondition&)>& work) {
+    const std::function<std::string(const sdk::StopCondition&)>& work, std::string& bytes) {
   // The budgets count the call's work, as in process (docs/plugins-untrusted.md §6): not this
   // thread's fork and waits, nor what the child spends before the call and on its exit.
   const RefundThreadCpu isolating;
@@ -299,11 +300,11 @@ std::optional<std::string> call_in_child(
 
   // The answer, read as it comes (it may be larger than a pipe holds), until the child closes
   // its end. A wall backstop (with the grace a planner gets to notice it) and the cancel flag
-  // end the wait; a child that sends more than kMaxAnswerBytes is ended too.
-  const auto kill_by = stop.deadline == std::chrono::steady_clock::time_point::max()
-                           ? stop.deadline
-                           : stop.deadline + std::chrono::duration_cast<milliseconds>(kCpuGrace);
-  std::string bytes;
+  // end the wait; a child that sends more than detail::kMaxAnswerBytes is ended too.
+  const auto kill_by =
+      stop.deadline == std::chrono::steady_clock::time_point::max()
+          ? stop.deadline
+          : stop.deadline + std::chrono::duration_cast<milliseconds>(detail::kCpuGrace);
   const auto started_so_far = [&bytes]() -> std::optional<nanoseconds> {
     return bytes.size() < kStartBytes ? std::nullopt : std::optional(start_of(bytes));
   };
@@ -337,11 +338,11 @@ std::optional<std::string> call_in_child(
     const ssize_t n = ::read(in, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;  // end of the answer (or an error reading it: judged below)
-    if (bytes.size() + static_cast<std::size_t>(n) > kMaxAnswerBytes) {
+    if (bytes.size() + static_cast<std::size_t>(n) > detail::kMaxAnswerBytes) {
       ::kill(pid, SIGKILL);
       reap(pid, started_so_far());
       crashed(plugin, op,
-              "its answer is larger than " + std::to_string(kMaxAnswerBytes) +
+              "its answer is larger than " + std::to_string(detail::kMaxAnswerBytes) +
                   " bytes, its process killed");
     }
     bytes.append(buffer, static_cast<std::size_t>(n));
@@ -349,7 +350,7 @@ std::optional<std::string> call_in_child(
   const Reaped r = reap(pid, started_so_far(), true);
   if (r.signal == SIGXCPU && cpu_left != nanoseconds::max())
     crashed(plugin, op,
-            "SIGXCPU (still running " + std::to_string(kCpuGrace.count()) +
+            "SIGXCPU (still running " + std::to_string(detail::kCpuGrace.count()) +
                 " ms of CPU time after its budget was spent)");
   if (r.signal != 0) crashed(plugin, op, signal_text(r.signal));
   std::string_view in_view(bytes);
@@ -360,7 +361,49 @@ std::optional<std::string> call_in_child(
   const char tag = in_view.front();
   in_view.remove_prefix(1);
   if (tag == 'A') return std::string(in_view);
-  const auto failure = tag == 'E' ? sdk::host::call_failure_of(in_view) : std::nullopt;
+  if (tag != 'E') crashed(plugin, op, "its process sent a malformed answer");
+  detail::throw_failure(plugin, op, in_view);
+}
+
+}  // namespace
+
+namespace detail {
+
+void send_part(std::string_view bytes) {
+  if (g_part_fd < 0) throw std::logic_error("send_part outside an isolated call's child");
+  if (!g_parts_sent) {
+    write_all(g_part_fd, "A");
+    g_parts_sent = true;
+  }
+  write_all(g_part_fd, bytes);
+}
+
+std::optional<std::string> call_in_child(
+    const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
+    const std::function<std::string(const sdk::StopCondition&)>& work, std::string* received) {
+  std::string bytes;
+  try {
+    return call_in_child_reading(plugin, op, stop, work, bytes);
+  } catch (...) {
+    if (received != nullptr)
+      *received = bytes.size() > kStartBytes ? bytes.substr(kStartBytes) : std::string();
+    throw;
+  }
+}
+
+std::optional<std::string> failure_bytes(const PluginId& plugin, std::string_view op) {
+  try {
+    rethrow_plugin_failure(plugin, op);
+  } catch (const sdk::Error& e) {
+    return sdk::host::to_bytes(sdk::host::CallFailure{
+        static_cast<std::uint64_t>(sdk::stop_cause_of(e)), e.code(), e.what()});
+  } catch (...) {
+  }
+  return std::nullopt;
+}
+
+void throw_failure(const PluginId& plugin, std::string_view op, std::string_view bytes) {
+  const auto failure = sdk::host::call_failure_of(bytes);
   if (!failure || failure->cause > static_cast<std::uint64_t>(sdk::StopCause::wall_backstop))
     crashed(plugin, op, "its process sent a malformed answer");
   if (failure->cause != 0)

@@ -3,6 +3,8 @@
 // (flipper/sdk/answer_check.hpp).
 #include "flipper/kernel/plugin_checks.hpp"
 
+#include <cstdint>
+#include <cstring>
 #include <optional>
 #include <string_view>
 
@@ -96,6 +98,139 @@ sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
   if (auto v = sdk::parse_violation(request, r))
     throw_invalid_output(parser.id(), v->code, v->what);
   return r;
+}
+
+namespace {
+
+// A series' answer (checked_parses): per parse, 'A' and its result's bytes or 'E' and its
+// failure's bytes (the last), each after its length (8 bytes, this machine's byte order).
+void append_frame(std::string& out, char tag, const std::string& payload) {
+  const std::uint64_t length = payload.size() + 1;
+  out.append(reinterpret_cast<const char*>(&length), sizeof length);  // NOLINT: its bytes
+  out.push_back(tag);
+  out += payload;
+}
+
+// The whole frames at the front of `bytes` as outcomes, at most one per request, ending at the
+// first failure; `whole` says whether they are a whole series (see below).
+std::vector<ParseOutcome> outcomes_of(const PluginRef<const sdk::Parser>& parser,
+                                      const std::vector<sdk::ParseRequest>& requests,
+                                      std::string_view bytes, bool& whole) {
+  std::vector<ParseOutcome> out;
+  whole = false;
+  while (bytes.size() >= sizeof(std::uint64_t) && out.size() < requests.size()) {
+    std::uint64_t length = 0;
+    std::memcpy(&length, bytes.data(), sizeof length);
+    if (length == 0 || length > bytes.size() - sizeof length) return out;
+    const char tag = bytes[sizeof length];
+    const std::string_view payload = bytes.substr(sizeof length + 1, length - 1);
+    ParseOutcome o;
+    if (tag == 'A') {
+      auto result = sdk::host::parse_result_of(payload);
+      if (!result) return out;
+      o.result = std::move(*result);
+      if (auto v = sdk::parse_violation(requests[out.size()], o.result)) {
+        try {
+          throw_invalid_output(parser.id(), v->code, v->what);
+        } catch (...) {
+          o.error = std::current_exception();
+        }
+      }
+    } else if (tag == 'E') {
+      try {
+        detail::throw_failure(parser.id(), "parse", payload);
+      } catch (...) {
+        o.error = std::current_exception();
+      }
+    } else {
+      return out;
+    }
+    bytes.remove_prefix(sizeof length + length);
+    const bool failed = o.error != nullptr;
+    out.push_back(std::move(o));
+    if (failed) break;
+  }
+  // Ended by a failure (the child's, or the parent's check of an answer: the parses the child
+  // made after it are dropped, as they would not have been made), or every parse answered.
+  whole = (!out.empty() && out.back().error != nullptr) ||
+          (bytes.empty() && out.size() == requests.size());
+  return out;
+}
+
+}  // namespace
+
+std::vector<ParseOutcome> checked_parses(const PluginRef<const sdk::Parser>& parser,
+                                         const std::vector<sdk::ParseRequest>& requests,
+                                         const sdk::StopCondition& stop) {
+  auto one_by_one = [&] {
+    std::vector<ParseOutcome> out;
+    for (const auto& request : requests) {
+      ParseOutcome o;
+      try {
+        o.result = checked_parse(parser, request);
+      } catch (...) {
+        o.error = std::current_exception();
+      }
+      const bool failed = o.error != nullptr;
+      out.push_back(std::move(o));
+      if (failed) break;
+    }
+    return out;
+  };
+  if (parser.isolation() != Isolation::process || requests.size() < 2) return one_by_one();
+  // One child for the series; each parse's frame is sent as soon as it is made (send_part), so
+  // that a child that dies midway has sent the outcomes of the parses before it.
+  std::optional<std::string> bytes;
+  std::string received;
+  try {
+    const detail::CallTimer timer(parser.id(), "parse");
+    const sdk::Parser& object = *parser.borrow();
+    bytes = detail::call_in_child(
+        parser.id(), "parse", stop,
+        [&](const sdk::StopCondition& s) {
+          for (const auto& request : requests) {
+            std::string frame;
+            try {
+              sdk::ParseRequest in_child = request;  // the child's budget (isolation.hpp)
+              in_child.stop = s;
+              append_frame(frame, 'A', sdk::host::to_bytes(object.parse(in_child)));
+            } catch (...) {
+              // Its failure ends the series (none to send: the parent sees a malformed one).
+              if (auto failure = detail::failure_bytes(parser.id(), "parse"))
+                append_frame(frame, 'E', *failure);
+              detail::send_part(frame);
+              break;
+            }
+            detail::send_part(frame);
+          }
+          return std::string();
+        },
+        &received);
+  } catch (const sdk::Error& e) {
+    if (std::string_view(e.code()) != kPluginCrashed) throw;  // stopped, cancelled: the series'
+    // The child died: the parses it answered keep their outcomes, the next one has the crash.
+    std::string_view sent(received);
+    if (!sent.empty() && sent.front() == 'A') sent.remove_prefix(1);
+    bool whole = false;
+    std::vector<ParseOutcome> out = outcomes_of(parser, requests, sent, whole);
+    if (out.size() < requests.size() && (out.empty() || out.back().error == nullptr))
+      out.push_back(ParseOutcome{{}, std::current_exception()});
+    return out;
+  }
+  if (!bytes) return one_by_one();  // no child could be started: in process (isolation.hpp)
+  bool whole = false;
+  std::vector<ParseOutcome> out = outcomes_of(parser, requests, *bytes, whole);
+  if (!whole) {  // not a series: the parse after the last whole frame has the malformed answer
+    if (!out.empty() && (out.size() == requests.size() || out.back().error != nullptr))
+      out.pop_back();
+    try {
+      throw sdk::Error(kPluginCrashed,
+                       parser.id().label() + ": parse: its process sent a malformed answer");
+    } catch (...) {
+      out.push_back(ParseOutcome{{}, std::current_exception()});
+    }
+  }
+  return out;
 }
 
 std::optional<std::vector<sdk::WeightChange>> checked_state_weights(

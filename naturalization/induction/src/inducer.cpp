@@ -83,14 +83,34 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
     }
   };
 
-  // One parse of the head gives both the core check (whole span) and the head chart.
+  // One parse of the head gives both the core check (whole span) and the head chart; then one
+  // parse per body line that has words. They are made as one series (kernel::checked_parses:
+  // one child process when the parser is isolated) and read in order, so that each refusal
+  // below comes where it would if each parse were made after the lines before it were read.
+  std::vector<sdk::ParseRequest> requests;
+  requests.reserve(def.body.size() + 1);
   req.tokens = out.head_tokens;
   req.want_chart = true;
   req.whole_span = true;
-  auto parse = [&] {
-    return kernel::checked_parse(parser_, req);  // docs/plugins-untrusted.md
+  requests.push_back(req);
+  req.want_chart = false;
+  std::vector<std::vector<std::string>> body_tokens;
+  body_tokens.reserve(def.body.size());
+  for (const auto& text : def.body) {
+    body_tokens.push_back(sdk::tokenize(text));
+    if (body_tokens.back().empty()) continue;
+    req.tokens = body_tokens.back();
+    requests.push_back(req);
+  }
+  std::vector<kernel::ParseOutcome> outcomes =
+      kernel::checked_parses(parser_, requests, stop);  // docs/plugins-untrusted.md
+  std::size_t next = 0;
+  auto parsed = [&]() -> sdk::ParseResult& {
+    kernel::ParseOutcome& o = outcomes.at(next++);  // a series ends only at a failure
+    if (o.error) std::rethrow_exception(o.error);
+    return o.result;
   };
-  sdk::ParseResult head = parse();
+  sdk::ParseResult& head = parsed();
   refuse_if_stopped(head, "the head");
   for (const auto& c : head.candidates)
     if (c.core_only)
@@ -99,17 +119,16 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
                                                          " in the core language; use it as it is");
   out.head_chart = std::move(head.chart);
 
-  req.want_chart = false;
   std::vector<sdk::Program> lines;
   for (std::size_t i = 0; i < def.body.size(); ++i) {
-    req.tokens = sdk::tokenize(def.body[i]);
+    std::vector<std::string>& tokens = body_tokens[i];
     const std::string line = "body line " + std::to_string(i + 1) + " '" + def.body[i] + "'";
-    sdk::ParseResult r;
-    if (!req.tokens.empty()) r = parse();
+    sdk::ParseResult none;
+    sdk::ParseResult& r = tokens.empty() ? none : parsed();
     refuse_if_stopped(r, "body line " + std::to_string(i + 1));
     if (i < def.body_programs.size() && def.body_programs[i]) {
       take_program_line(def.body_programs[i], r, lines, out);
-      out.body_tokens.push_back(std::move(req.tokens));
+      out.body_tokens.push_back(std::move(tokens));
       continue;
     }
     if (r.candidates.empty())
@@ -122,7 +141,7 @@ PreparedDefinition Inducer::prepare(const DefinitionInput& def,
     sdk::Candidate& chosen = r.candidates[static_cast<std::size_t>(rank)];
     lines.push_back(chosen.program);
     out.body_derivations.push_back(chosen.derivations.empty() ? nullptr : chosen.derivations[0]);
-    out.body_tokens.push_back(std::move(req.tokens));
+    out.body_tokens.push_back(std::move(tokens));
     out.body_candidates.push_back(std::move(chosen));
   }
   out.body = sdk::make_seq(std::move(lines));

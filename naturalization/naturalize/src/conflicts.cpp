@@ -2,6 +2,7 @@
 // stored, the phrases other users already rely on — the heads and body lines of their live rules —
 // that the new rules would give another first reading or one more reading.
 #include <algorithm>
+#include <functional>
 #include <set>
 #include <unordered_set>
 
@@ -73,31 +74,44 @@ std::vector<DefineConflict> Naturalizer::find_conflicts(
   }
   if (probes.empty()) return out;
 
-  const auto parse = [&](const Probe& probe) {
-    sdk::ParseRequest req;
-    req.tokens = sdk::tokenize(probe.phrase);
-    req.scorer = runtime_->scorer.borrow();  // covered by the parse call that uses it
-    req.context.user = probe.user;
+  // The probes' parses as one series (kernel::checked_parses: one child process when the parser
+  // is isolated), read in order; each probe parses with what its user sees.
+  std::vector<std::function<bool(const sdk::Rule&)>> visibility;
+  visibility.reserve(probes.size());
+  for (const auto& probe : probes) visibility.push_back(visibility_for(probe.user));
+  std::vector<sdk::ParseRequest> requests(probes.size());
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    sdk::ParseRequest& req = requests[i];
+    req.tokens = sdk::tokenize(probes[i].phrase);
+    req.scorer = runtime_->scorer.borrow();  // covered by the parse calls that use it
+    req.context.user = probes[i].user;
     req.context.usage = runtime_->usage.get();
-    const auto visible = visibility_for(probe.user);  // outlives the parse below
-    req.visible = sdk::RuleFilter::of(visible);
+    req.visible = sdk::RuleFilter::of(visibility[i]);  // outlives the parses below
     req.beam = options_.induction.beam;
     req.stop = stop;
-    auto result = kernel::checked_parse(runtime_->parser, req);  // docs/plugins-untrusted.md
-    if (result.stopped) {
-      const sdk::StopCause cause =
-          stop.cause() != sdk::StopCause::none ? stop.cause() : sdk::StopCause::cpu_budget;
-      throw sdk::StoppedError(cause, std::string("deadline exceeded while checking the definition "
-                                                 "for conflicts (stopped: ") +
-                                         sdk::to_string(cause) +
-                                         ": session.cpu_budget_ms or session.deadline_ms); "
-                                         "nothing was stored");
+  }
+  const auto parse_all = [&] {
+    std::vector<kernel::ParseOutcome> outcomes =
+        kernel::checked_parses(runtime_->parser, requests, stop);  // docs/plugins-untrusted.md
+    std::vector<Reading> readings;
+    readings.reserve(outcomes.size());
+    for (auto& o : outcomes) {
+      if (o.error) std::rethrow_exception(o.error);
+      if (o.result.stopped) {
+        const sdk::StopCause cause =
+            stop.cause() != sdk::StopCause::none ? stop.cause() : sdk::StopCause::cpu_budget;
+        throw sdk::StoppedError(cause,
+                                std::string("deadline exceeded while checking the definition "
+                                            "for conflicts (stopped: ") +
+                                    sdk::to_string(cause) +
+                                    ": session.cpu_budget_ms or session.deadline_ms); "
+                                    "nothing was stored");
+      }
+      readings.push_back(read_phrase(o.result));
     }
-    return read_phrase(result);
+    return readings;
   };
-  std::vector<Reading> before;
-  before.reserve(probes.size());
-  for (const auto& p : probes) before.push_back(parse(p));
+  const std::vector<Reading> before = parse_all();
 
   // The new rules join the grammar for the second parse only, after every stored rule (as they
   // would be committed), and leave it whatever happens.
@@ -118,8 +132,9 @@ std::vector<DefineConflict> Naturalizer::find_conflicts(
     runtime_->parser.call("add_rule", [&](sdk::Parser& p) { p.add_rule(pending); });
     added.push_back(pending->id);
   }
+  const std::vector<Reading> after_all = parse_all();
   for (std::size_t i = 0; i < probes.size(); ++i) {
-    const Reading after = parse(probes[i]);
+    const Reading& after = after_all[i];
     if (after.first != before[i].first)
       out.push_back({probes[i].phrase, probes[i].user, "first_reading", before[i].first,
                      after.first, before[i].total, after.total});

@@ -132,3 +132,59 @@ TEST_CASE("run: a parser's misbehaviour, isolated and in process", "[isolation][
     CHECK(fine.status == 0);
   }
 }
+
+TEST_CASE("session: a definition's parses are one series, read in order, isolated or not",
+          "[isolation][parser][series]") {
+  // The head and the body lines are parsed in one child (kernel::checked_parses) and read in
+  // order: a body line whose parse crashes is the definition's plugin_crashed, yet a head that
+  // is core is refused first (its parse comes before the body's, as one call after another
+  // would have it), and the session answers the next definition.
+  const std::string in =
+      clitest::write_file("parser-isolation-define.jsonl",
+                          R"({"op":"define","head":"zq hop","body":["move left","visit room1"]})"
+                          "\n"
+                          R"({"op":"define","head":"move left","body":["visit room1"]})"
+                          "\n"
+                          R"({"op":"define","head":"zq room1","body":["move left"]})"
+                          "\n"
+                          R"({"op":"define","head":"zq hop","body":["move left","move right"]})"
+                          "\n");
+  struct Case {
+    std::string mode, isolation, body_error, head_error;
+  };
+  const std::string head_is_core = R"({"code":"head_is_core","message":"'move left' already )"
+                                   R"(means {move left} in the core language; use it as it is"})";
+  const std::vector<Case> cases = {
+      {"segv", "process",
+       R"({"code":"plugin_crashed","message":")" + kLabel + R"(: parse: SIGSEGV"})",
+       R"({"code":"plugin_crashed","message":")" + kLabel + R"(: parse: SIGSEGV"})"},
+      {"throw", "process",
+       R"({"code":"plugin_error","message":")" + kLabel +
+           R"(: parse: evil_parser: thrown on purpose"})",
+       R"({"code":"plugin_error","message":")" + kLabel +
+           R"(: parse: evil_parser: thrown on purpose"})"},
+      {"throw", "in_process",
+       R"({"code":"plugin_error","message":")" + kLabel +
+           R"(: parse: evil_parser: thrown on purpose"})",
+       R"({"code":"plugin_error","message":")" + kLabel +
+           R"(: parse: evil_parser: thrown on purpose"})"},
+  };
+  for (const Case& c : cases) {
+    INFO("mode " << c.mode << ", " << c.isolation);
+    const auto r = clitest::run_flipper(
+        "session --set lexicon.path=:memory: --set lexicon.preload=" + set_args(evil_sets(c.mode)) +
+            " --set plugins.isolation=" + c.isolation + " " + in,
+        false);
+    REQUIRE(r.status == 0);
+    std::vector<json> answers;
+    std::size_t at = 0;
+    for (std::size_t nl; (nl = r.out.find('\n', at)) != std::string::npos; at = nl + 1)
+      answers.push_back(json::parse(r.out.substr(at, nl - at)));
+    REQUIRE(answers.size() == 4u);
+    CHECK(answers[0]["error"] == json::parse(c.body_error));
+    CHECK(answers[1]["error"] == json::parse(head_is_core));
+    CHECK(answers[2]["error"] == json::parse(c.head_error));
+    CHECK(answers[3]["ok"] == true);
+    CHECK(answers[3]["rules"][0]["semantics"] == "{{move left};{move right}}");
+  }
+}

@@ -80,10 +80,29 @@ namespace detail {
 /// sdk::Error(plugin_crashed, "plugin 'NAME' (FILE): OP: SIGNAL ...") when the child dies,
 /// StoppedError(cancelled) when `stop`'s cancel flag is set meanwhile (the child is killed).
 /// Returns nullopt, having run nothing, when no child can be started (no descriptor left for
-/// the pipe, no process left): the caller then makes the call in process.
+/// the pipe, no process left): the caller then makes the call in process. When it throws and
+/// `received` is given, `*received` holds what the child had sent by then (send_part).
 std::optional<std::string> call_in_child(
     const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
-    const std::function<std::string(const sdk::StopCondition&)>& work);
+    const std::function<std::string(const sdk::StopCondition&)>& work,
+    std::string* received = nullptr);
+
+/// In `work`, in the child: sends `bytes` to the parent at once, as the first part of the answer
+/// (`work` then returns the rest), so that what a call answers in parts (checked_parses' series)
+/// reaches the parent as it is made, and a child that dies midway has sent the parts before it.
+/// A `work` that sends parts must not throw after them. Throws std::logic_error outside a child.
+void send_part(std::string_view bytes);
+
+/// In a catch block, in a child: the exception in flight as the bytes of an
+/// sdk::host::CallFailure (rethrow_plugin_failure's error: an sdk::Error as is, with its stop
+/// cause, anything else as plugin_error); nullopt when even that cannot be made.
+std::optional<std::string> failure_bytes(const PluginId& plugin, std::string_view op);
+
+/// In the parent: throws what failure_bytes encoded, as the call in process would have thrown it
+/// (a StoppedError with its cause, an sdk::Error with its code); plugin_crashed ("its process
+/// sent a malformed answer") when `bytes` are not one CallFailure.
+[[noreturn]] void throw_failure(const PluginId& plugin, std::string_view op,
+                                std::string_view bytes);
 
 /// How much more CPU time than its budget a child may use before it is killed (SIGXCPU): a
 /// plugin that honours its stop condition answers `stopped` well within it.

@@ -9,12 +9,14 @@
 /// sdk::Error(invalid_plan | invalid_candidate | invalid_score | invalid_weights, "plugin 'NAME'
 /// (FILE): WHAT") when the answer breaks its contract: nothing of it is acted on.
 
+#include <exception>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/answer_check.hpp"  // declares the SDK types used here
+#include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/scorer.hpp"
 
 namespace flipper::kernel {
@@ -36,6 +38,24 @@ sdk::TourResult checked_tour(const PluginRef<const sdk::Planner>& planner,
 /// parser.parse(request), its candidates checked (invalid_candidate, invalid_score).
 sdk::ParseResult checked_parse(const PluginRef<const sdk::Parser>& parser,
                                const sdk::ParseRequest& request);
+
+/// What one parse of a series gave: its result, or the error it ended with.
+struct ParseOutcome {
+  sdk::ParseResult result;
+  std::exception_ptr error;  ///< set: the parse threw, or its answer broke the contract
+};
+
+/// checked_parse of each request in order, as calls one after another would make them, but in
+/// one child process when the parser is isolated (one fork for a definition's head and body
+/// lines, or for its conflict probes: docs/plugins-untrusted.md §6). The outcomes end with the
+/// first parse that fails: the ones after it are not made. Isolated, every parse is bounded by
+/// the budget `stop` has left (the child's, shared by the series, as in process where each
+/// request's own stop is used: callers give them all `stop`). A child that dies (or sends what
+/// is not a series) makes the parses again one by one, each in a child of its own, so that a
+/// crash is the error of the parse that makes it and the parses before it keep their results.
+std::vector<ParseOutcome> checked_parses(const PluginRef<const sdk::Parser>& parser,
+                                         const std::vector<sdk::ParseRequest>& requests,
+                                         const sdk::StopCondition& stop);
 
 /// The scorer's reading of a state it saved (sdk::StateWeights, which `reader` is: the scorer's
 /// own object), its weights checked (invalid_weights); nullopt when it does not read `state`.
