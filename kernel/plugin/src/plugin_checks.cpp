@@ -221,14 +221,14 @@ std::vector<ParseOutcome> checked_parses(const PluginRef<const sdk::Parser>& par
   bool whole = false;
   std::vector<ParseOutcome> out = outcomes_of(parser, requests, *bytes, whole);
   if (!whole) {  // not a series: the parse after the last whole frame has the malformed answer
-    if (!out.empty() && (out.size() == requests.size() || out.back().error != nullptr))
-      out.pop_back();
-    try {
-      throw sdk::Error(kPluginCrashed,
-                       parser.id().label() + ": parse: its process sent a malformed answer");
-    } catch (...) {
-      out.push_back(ParseOutcome{{}, std::current_exception()});
-    }
+    // (a series ended by a failure is whole, so here every outcome is a result; bytes past all
+    // of them make the last one the malformed answer's)
+    if (out.size() == requests.size()) out.pop_back();
+    out.push_back(ParseOutcome{
+        {},
+        std::make_exception_ptr(sdk::Error(kPluginCrashed, parser.id().label() +
+                                                               ": parse: its process sent a "
+                                                               "malformed answer"))});
   }
   return out;
 }

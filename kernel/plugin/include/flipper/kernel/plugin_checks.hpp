@@ -50,9 +50,10 @@ struct ParseOutcome {
 /// lines, or for its conflict probes: docs/plugins-untrusted.md §6). The outcomes end with the
 /// first parse that fails: the ones after it are not made. Isolated, every parse is bounded by
 /// the budget `stop` has left (the child's, shared by the series, as in process where each
-/// request's own stop is used: callers give them all `stop`). A child that dies (or sends what
-/// is not a series) makes the parses again one by one, each in a child of its own, so that a
-/// crash is the error of the parse that makes it and the parses before it keep their results.
+/// request's own stop is used: callers give them all `stop`). The child sends each answer as
+/// it is made, so a child that dies midway leaves the parses it answered their results and the
+/// next parse the crash (plugin_crashed); bytes that are not a series are plugin_crashed ("its
+/// process sent a malformed answer") for the parse after the last whole answer.
 std::vector<ParseOutcome> checked_parses(const PluginRef<const sdk::Parser>& parser,
                                          const std::vector<sdk::ParseRequest>& requests,
                                          const sdk::StopCondition& stop);
