@@ -5,7 +5,7 @@
 # declaring another's config key, a key spelled twice, a string read of a key, a kernel over its
 # line cap, and naturalization decoding a scorer's saved state. The toolkit's config module is the
 # kernel's, naturalization's and the apps' only: they may include it, the SDK, the plugins and the
-# plugins' toolkit may not.
+# plugins' toolkit may not; its process module is the kernel's only.
 # Usage: layers_detect.sh <doc>
 set -euo pipefail
 doc=$1
@@ -144,4 +144,17 @@ echo '#include "flipper/language/executor.hpp"' >"$tmp/tree/kernel/k.cpp"
 echo '#include "flipper/toolkit/json/raw_members.hpp"' >"$tmp/tree/naturalization/n.cpp"
 printf '#include "flipper/sdk/plugin.hpp"\n#include "flipper/language/keys.hpp"\n' >"$tmp/tree/language/l.cpp"
 expect pass "the kernel includes the core language, naturalization the toolkit's JSON module"
+clean
+echo '#include "flipper/toolkit/process/child_call.hpp"' >"$tmp/tree/kernel/k.cpp"
+expect pass "the kernel includes the toolkit's process module"
+clean
+echo '#include "flipper/toolkit/process/child_call.hpp"' >"$tmp/tree/naturalization/n.cpp"
+expect fail "naturalization includes the toolkit's process module"
+clean
+echo '#include "flipper/toolkit/process/child_call.hpp"' >"$tmp/tree/plugins/b/b.cpp"
+expect fail "a plugin includes the toolkit's process module"
+clean
+mkdir -p "$tmp/tree/toolkit/src"
+echo '#include "flipper/toolkit/process/child_call.hpp"' >"$tmp/tree/toolkit/src/t.cpp"
+expect fail "the plugins' toolkit includes its process module"
 echo "layer check detection OK"

@@ -7,19 +7,6 @@ namespace flipper::kernel::protocol {
 
 using toolkit::json::JsonWriter;
 
-namespace {
-[[noreturn]] void bad(const std::string& what) {
-  throw sdk::Error(sdk::codes::kBadRequest, what);
-}
-
-const Json& field(const Json& j, const char* name, const char* in) {
-  if (!j.is_object()) bad(std::string(in) + " must be an object");
-  auto it = j.find(name);
-  if (it == j.end()) bad(std::string(in) + " has no \"" + name + "\"");
-  return *it;
-}
-}  // namespace
-
 Json cell_json(const sdk::Cell& c, int dims) {
   Json p = Json::array({c.x, c.y});
   if (dims == 3) p.push_back(c.z);
@@ -106,55 +93,6 @@ Json outcome_json(const sdk::Outcome& outcome, int dims) {
   if (outcome.error)
     j["error"] = error_json(outcome.error_code.value_or(sdk::codes::kExecution), *outcome.error);
   return j;
-}
-
-sdk::Cell cell_from_json(const Json& j) {
-  if (!j.is_array() || (j.size() != 2 && j.size() != 3))
-    bad("a point must be [x, y] or [x, y, z], got " + j.dump());
-  for (const auto& v : j)
-    if (!v.is_number_integer()) bad("point coordinates must be integers, got " + j.dump());
-  sdk::Cell c;
-  c.x = j[0].get<std::int32_t>();
-  c.y = j[1].get<std::int32_t>();
-  if (j.size() == 3) c.z = j[2].get<std::int32_t>();
-  return c;
-}
-
-sdk::ItemInfo item_from_json(const Json& j) {
-  sdk::ItemInfo item;
-  const Json& id = field(j, "id", "an item");
-  const Json& color = field(j, "color", "an item");
-  const Json& shape = field(j, "shape", "an item");
-  if (!id.is_number_integer()) bad("item \"id\" must be an integer");
-  if (!color.is_string() || !shape.is_string()) bad("item \"color\" and \"shape\" must be strings");
-  item.id = id.get<std::int64_t>();
-  item.color = color.get<std::string>();
-  item.shape = shape.get<std::string>();
-  return item;
-}
-
-sdk::TraceStep step_from_json(const Json& j) {
-  const Json& act = field(j, "act", "a trace step");
-  sdk::TraceStep s;
-  if (act == "move") {
-    s.act = sdk::TraceStep::Act::move;
-    s.cell = cell_from_json(field(j, "to", "a move step"));
-  } else if (act == "pick" || act == "drop") {
-    s.act = act == "pick" ? sdk::TraceStep::Act::pick : sdk::TraceStep::Act::drop;
-    s.cell = cell_from_json(field(j, "at", "a pick/drop step"));
-    s.item = item_from_json(field(j, "item", "a pick/drop step"));
-  } else {
-    bad("unknown trace step act " + act.dump() + " (expected move, pick or drop)");
-  }
-  return s;
-}
-
-std::vector<sdk::TraceStep> trace_from_json(const Json& j) {
-  if (!j.is_array()) bad("a trace must be an array");
-  std::vector<sdk::TraceStep> out;
-  out.reserve(j.size());
-  for (const auto& s : j) out.push_back(step_from_json(s));
-  return out;
 }
 
 }  // namespace flipper::kernel::protocol

@@ -5,9 +5,10 @@
 /// request that made the call gets `plugin_crashed` naming plugin, operation and signal, and the
 /// process (a server with other users' sessions) carries on.
 ///
-/// A call is isolated by fork(): the child inherits the request as it is in memory (the world,
-/// the request, the plugin object), makes the call on its only thread with the CPU budget the
-/// request has left, writes the answer to a pipe and stops itself; the parent reads the answer
+/// A call is isolated by fork() (the toolkit's bounded child call,
+/// flipper/toolkit/process/child_call.hpp): the child inherits the request as it is in memory (the
+/// world, the request, the plugin object), makes the call on its only thread with the CPU budget
+/// the request has left, writes the answer to a pipe and stops itself; the parent reads the answer
 /// with a bound, charges the CPU time the child spent on the call to the request's budgets
 /// (`CpuCharge`) and kills it, so that budgets still count work, never wall time, and the same
 /// work whether isolated or not: the fork, what it costs the child before the call and the
@@ -21,7 +22,6 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
-#include <shared_mutex>
 #include <string>
 #include <string_view>
 
@@ -51,20 +51,6 @@ class CpuCharge {
 
  private:
   sdk::StopCondition* budget_ = nullptr;
-};
-
-/// A reader-writer lock of data an isolated call may read (the usage counters a scorer reads
-/// while the parser scores): while alive, every fork for an isolated call holds it shared, so
-/// that no child inherits it locked by a writer of another thread (it would wait for ever).
-class ReadAcrossFork {
- public:
-  explicit ReadAcrossFork(std::shared_mutex& mutex);
-  ~ReadAcrossFork();
-  ReadAcrossFork(const ReadAcrossFork&) = delete;
-  ReadAcrossFork& operator=(const ReadAcrossFork&) = delete;
-
- private:
-  std::shared_mutex* mutex_;
 };
 
 /// Charges `cpu` to every budget attached on the calling thread (see CpuCharge).

@@ -3,8 +3,8 @@
 /// JSON shapes of docs/protocol.md for execution results, shared by `flipper run`, the session
 /// and replay: cells `[x, y]` / `[x, y, z]`, items `{"id","color","shape"}`, trace steps
 /// `{"act":"move","to":P}` / `{"act":"pick"|"drop","at":P,"item":ITEM}` (core-language §5),
-/// errors `{"code","message"}`, and an outcome's pieces. Readers accept exactly these shapes and
-/// throw sdk::Error(bad_request) naming the offending field.
+/// errors `{"code","message"}`, and an outcome's pieces. Writers only: nothing in the product reads
+/// these shapes back.
 
 #include <nlohmann/json_fwd.hpp>
 #include <string>
@@ -35,11 +35,5 @@ Json error_json(const sdk::Error& error);
 /// and, for an erroneous execution, "error": {"code","message"}. The world is added by the
 /// caller (it needs the world plugin's `save`).
 Json outcome_json(const sdk::Outcome& outcome, int dims);
-
-/// Readers (for replay and tests).
-sdk::Cell cell_from_json(const Json& j);
-sdk::ItemInfo item_from_json(const Json& j);
-sdk::TraceStep step_from_json(const Json& j);
-std::vector<sdk::TraceStep> trace_from_json(const Json& j);
 
 }  // namespace flipper::kernel::protocol

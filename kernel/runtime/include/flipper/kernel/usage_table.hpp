@@ -11,8 +11,8 @@
 #include <string>
 #include <unordered_map>
 
-#include "flipper/kernel/isolation.hpp"
 #include "flipper/sdk/scorer.hpp"
+#include "flipper/toolkit/process/child_call.hpp"
 
 namespace flipper::kernel {
 
@@ -27,7 +27,8 @@ class UsageTable final : public sdk::UsageCounters {
 
  private:
   mutable std::shared_mutex mutex_;
-  ReadAcrossFork fork_guard_{mutex_};  // parses in a child read the table (isolation.hpp)
+  // Isolated parses read the table in a child process (isolation.hpp).
+  toolkit::process::ReadAcrossFork fork_guard_{mutex_};
   std::unordered_map<std::string, sdk::RuleUses> uses_;
 };
 
