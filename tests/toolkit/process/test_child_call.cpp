@@ -93,8 +93,8 @@ std::atomic<bool> g_slow_fork_child{false};
 
 TEST_CASE("the CPU time of a body that answered is the body's, not the fork's", "[process]") {
   static const bool registered = ::pthread_atfork(nullptr, nullptr, [] {
-    if (g_slow_fork_child) spin(milliseconds(60));
-  }) == 0;
+                                   if (g_slow_fork_child) spin(milliseconds(60));
+                                 }) == 0;
   REQUIRE(registered);
   g_slow_fork_child = true;
   const auto call = run([] { spin(milliseconds(40)); });
@@ -138,7 +138,7 @@ TEST_CASE("the wall backstop and the cancel flag kill a child that does not answ
 
 TEST_CASE("a child has none of the parent's descriptors but its answer's pipe", "[process]") {
   int fds[2];
-  REQUIRE(::pipe(fds) == 0);  // below the answer's pipe, made later
+  REQUIRE(::pipe(fds) == 0);                       // below the answer's pipe, made later
   const int high = ::fcntl(fds[0], F_DUPFD, 500);  // above it
   REQUIRE(high >= 500);
   const auto call = run([&] {

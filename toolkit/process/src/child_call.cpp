@@ -58,7 +58,7 @@ nanoseconds process_cpu_now() {
 // child running past it (SIGXCPU).
 void prepare_child(int answer_fd, nanoseconds cpu_limit) {
   for (const int s : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGXCPU, SIGTERM, SIGINT, SIGHUP})
-    ::signal(s, SIG_DFL);  // the parent's handlers write to the parent's files
+    ::signal(s, SIG_DFL);      // the parent's handlers write to the parent's files
   ::signal(SIGPIPE, SIG_IGN);  // a parent gone: the write fails, the child exits
   sigset_t none;
   sigemptyset(&none);
@@ -170,8 +170,8 @@ void read_answer(pid_t pid, int in, const ChildLimits& limits, ChildCall& call,
   for (;;) {
     int timeout_ms = limits.cancel != nullptr ? 50 : -1;
     if (limits.kill_by != std::chrono::steady_clock::time_point::max()) {
-      const auto left = std::chrono::duration_cast<milliseconds>(
-          limits.kill_by - std::chrono::steady_clock::now());
+      const auto left = std::chrono::duration_cast<milliseconds>(limits.kill_by -
+                                                                 std::chrono::steady_clock::now());
       const int ms = static_cast<int>(std::clamp<std::int64_t>(left.count() + 1, 0, 60000));
       timeout_ms = timeout_ms < 0 ? ms : std::min(timeout_ms, ms);
     }

@@ -55,8 +55,7 @@ struct ChildCall {
 /// `body` that throws ends the child with status 4. Returns how the child ended; nullopt, having
 /// run nothing, when no child can be started (no descriptor left for the pipe, no process left).
 /// A child that sends nothing and returns from `body` has answered empty bytes.
-std::optional<ChildCall> run_in_child(const ChildLimits& limits,
-                                      const std::function<void()>& body);
+std::optional<ChildCall> run_in_child(const ChildLimits& limits, const std::function<void()>& body);
 
 /// In `body`, in the child: sends `bytes` to the parent at once. A parent no longer reading ends
 /// the child (status 3). Throws std::logic_error outside a child of run_in_child.
