@@ -31,8 +31,8 @@ struct ChildLimits {
 
 /// How a child's call ended.
 enum class ChildEnd {
-  answered,       ///< it closed the pipe after `body` returned (its whole answer is `bytes`)
-  exited,         ///< it exited on its own (`status`) without having returned from `body`
+  answered,       ///< `body` returned (or the child exited with status 0): `bytes` is its answer
+  exited,         ///< it exited with a status other than 0 (`status`), `body` unfinished
   signalled,      ///< a signal ended it (`signal`; SIGXCPU: past ChildLimits::cpu)
   cancelled,      ///< the cancel flag was set; it was killed
   wall_backstop,  ///< still running at kill_by; it was killed
