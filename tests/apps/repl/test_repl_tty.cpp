@@ -18,7 +18,7 @@ TEST_CASE("repl in a terminal: map, candidates, choosing moves the robot", "[rep
   REQUIRE(tmux.ask("move right", "Choose 1.."));
   CHECK_THAT(tmux.screen(), Catch::Contains("[1] {move right}"));
   REQUIRE(tmux.ask("1", "Done:"));
-  CHECK_THAT(tmux.screen(), Catch::Contains(" 4 ##. . . R "));
+  CHECK(tmux.wait_for(" 4 ##. . . R "));  // the map after the move comes after "Done:"
   // Readline history: Up recalls the last line.
   REQUIRE(tmux.ask(":map", "Legend:", 3));
   tmux.key("Up");
@@ -44,6 +44,8 @@ TEST_CASE("repl readings: paths on the map, paging with m, choose any, undo", "[
   CHECK_THAT(s, Catch::Contains(" 4 ##. . R o o o o E*"));
   REQUIRE(tmux.ask("m", "4 of 4 shown. Choose 1..4, or r"));
   REQUIRE(tmux.ask("4", "Done:"));
+  // The map after the move is drawn after "Done:": read the screen once it is all there.
+  REQUIRE(tmux.wait_for("Robot at [7,4]"));
   s = tmux.screen();
   CHECK_THAT(s, Catch::Contains("Done: 5 steps."));
   CHECK_THAT(s,
