@@ -381,7 +381,10 @@ std::int64_t next_value(sqlite::Db& db, const char* sql) {
   return s.int64(0);
 }
 
-/// Inserts a rule (never replacing one: a taken id or `created` fails the transaction).
+/// Inserts a rule (never replacing one: a taken id or `created` fails the transaction), and its
+/// counters when it has been used: a rule without a `rule_uses` row has none (every reader joins
+/// with `coalesce(..., 0)`), so a definition's new rules write no counter pages (three b-tree
+/// pages of a define's eleven, docs/naturalization.md §5).
 void insert_rule(sqlite::Db& db, const StoredRule& r, std::int64_t definition) {
   sqlite::Stmt ins(
       db,
@@ -397,6 +400,7 @@ void insert_rule(sqlite::Db& db, const StoredRule& r, std::int64_t definition) {
     ins.bind_null(12).bind_null(13);
   }
   ins.run();
+  if (r.uses_by_author == 0 && r.uses_by_others == 0) return;
   sqlite::Stmt uses(db,
                     "INSERT INTO rule_uses(rule, by_author, by_others) VALUES (?,?,?) "
                     "ON CONFLICT(rule) DO UPDATE SET by_author = excluded.by_author, "

@@ -123,6 +123,43 @@ TEST_CASE("accepts persist use counters and weights together", "[lexicon]") {
   CHECK(*store.load_weights("global") == "w=1");
 }
 
+namespace {
+std::int64_t counter_rows(const std::string& path) {
+  sqlite3* db = nullptr;
+  REQUIRE(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  REQUIRE(sqlite3_prepare_v2(db, "SELECT count(*) FROM rule_uses", -1, &st, nullptr) == SQLITE_OK);
+  REQUIRE(sqlite3_step(st) == SQLITE_ROW);
+  const std::int64_t n = sqlite3_column_int64(st, 0);
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return n;
+}
+}  // namespace
+
+TEST_CASE("a rule gets its counter row at its first use, not when it is stored", "[lexicon]") {
+  const fs::path dir = fresh_dir("uses");
+  const std::string path = (dir / "lexicon.db").string();
+  LexiconStore store(path);
+  store.add_definition({0, "h", {"b"}, "ana", 1}, {make_rule(1, "ana"), make_rule(2, "ana")});
+  CHECK(counter_rows(path) == 0);
+  CHECK(store.rule("r1")->uses_by_author == 0);
+  CHECK(store.rule("r1")->uses_by_others == 0);
+  store.record_accept({{"r1", 1, 0}}, "global", "w=1");
+  CHECK(counter_rows(path) == 1);
+  CHECK(store.rule("r1")->uses_by_author == 1);
+  CHECK(store.rule("r2")->uses_by_author == 0);
+  // A rule imported with its counters keeps them.
+  std::stringstream line;
+  line << R"({"type":"rule","id":"r3","lhs":"$Action","rhs":["x"],"semantics":"{pick item }",)"
+       << R"("author":"bob","how":"simple","created":3,"uses_by_others":4})"
+       << "\n";
+  CHECK(store.import_jsonl(line) == 1);
+  CHECK(counter_rows(path) == 2);
+  CHECK(store.rule("r3")->uses_by_others == 4);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("weight changes add up in the store and survive export and import", "[lexicon]") {
   LexiconStore store(":memory:");
   store.add_definition({0, "h", {"b"}, "ana", 1}, {make_rule(1, "ana")});
