@@ -12,7 +12,6 @@
 #include <ctime>
 #include <mutex>
 #include <optional>
-#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -86,18 +85,17 @@ void answer_in_child(const PluginId& plugin, std::string_view op,
   stop.cpu_clock = CLOCK_THREAD_CPUTIME_ID;
   if (cpu_left != nanoseconds::max()) stop.cpu_deadline = sdk::cpu_time() + cpu_left;
   g_parts_sent = false;  // this child's own answer (a child may fork one of its own)
-  std::string out;
+  std::string answer;
   try {
-    std::string answer = work(stop);
-    out.reserve(answer.size() + 1);
-    if (!g_parts_sent) out.push_back('A');
-    out += answer;
+    answer = work(stop);
   } catch (...) {
     std::optional<std::string> failure = detail::failure_bytes(plugin, op);
     if (!failure || g_parts_sent) ::_exit(4);  // a failure after parts: not one answer
-    out = "E" + *failure;
+    process::send_to_parent("E" + *failure);
+    return;
   }
-  process::send_to_parent(out);
+  if (!g_parts_sent) process::send_to_parent("A");
+  process::send_to_parent(answer);  // sent as it is: an answer may be large
 }
 
 }  // namespace

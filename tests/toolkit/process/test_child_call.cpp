@@ -8,6 +8,7 @@
 #include <chrono>
 #include <csignal>
 #include <ctime>
+#include <limits>
 #include <mutex>
 #include <shared_mutex>
 #include <stdexcept>
@@ -86,6 +87,10 @@ TEST_CASE("a child may send max_bytes and is killed at one more", "[process]") {
   CHECK(call.bytes.size() == limits.max_bytes);
   call = run([&] { process::send_to_parent(exact + "y"); }, limits);
   CHECK(call.end == ChildEnd::too_large);
+  limits.max_bytes = std::numeric_limits<std::size_t>::max();  // no bound: nothing wraps
+  call = run([&] { process::send_to_parent(exact); }, limits);
+  CHECK(call.end == ChildEnd::answered);
+  CHECK(call.bytes.size() == exact.size());
 }
 
 // When set, every child spends 60 ms of CPU time right after the fork, before its body.

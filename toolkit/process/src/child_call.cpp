@@ -48,10 +48,14 @@ nanoseconds cpu_of(const rusage& ru) {
          std::chrono::microseconds(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
 }
 
+nanoseconds duration_of(const timespec& t) {
+  return std::chrono::seconds(t.tv_sec) + nanoseconds(t.tv_nsec);
+}
+
 nanoseconds process_cpu_now() {
   timespec now{};
   ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return std::chrono::seconds(now.tv_sec) + nanoseconds(now.tv_nsec);
+  return duration_of(now);
 }
 
 // In the child, before the body (child_call.hpp run_in_child), and a CPU-time limit that ends a
@@ -139,8 +143,8 @@ void reap(pid_t pid, std::optional<nanoseconds> started, ChildCall& call, bool a
     ::kill(pid, SIGKILL);
     do got = ::wait4(pid, &raw, 0, &ru);
     while (got < 0 && errno == EINTR);
-    call.cpu = read ? std::chrono::seconds(now.tv_sec) + nanoseconds(now.tv_nsec) - *started
-                    : cpu_of(ru);  // no clock to read: everything it used
+    call.cpu =
+        read ? duration_of(now) - *started : cpu_of(ru);  // no clock to read: everything it used
     return;
   }
   call.cpu = std::max(cpu_of(ru) - started.value_or(nanoseconds::zero()), nanoseconds::zero());
@@ -187,7 +191,8 @@ void read_answer(pid_t pid, int in, const ChildLimits& limits, ChildCall& call,
     const ssize_t n = ::read(in, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;  // end of the answer (or an error reading it: how the child ended says)
-    if (bytes.size() + static_cast<std::size_t>(n) > limits.max_bytes + kStartBytes)
+    const std::size_t sent = bytes.size() + static_cast<std::size_t>(n);
+    if (sent > kStartBytes && sent - kStartBytes > limits.max_bytes)  // no wrap at SIZE_MAX
       return kill(ChildEnd::too_large);
     bytes.append(buffer, static_cast<std::size_t>(n));
   }
