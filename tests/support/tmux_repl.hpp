@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <thread>
 
@@ -79,6 +80,21 @@ class Tmux {
   bool ask(const std::string& line, const std::string& expect, int count = 1) {
     send(line);
     return wait_for(expect, count);
+  }
+  /// The cursor's row in the pane (0 at the top).
+  int cursor_y() {
+    return std::atoi(shell_output(base() + " display -p -t t '#{cursor_y}'").c_str());
+  }
+  /// Polls until the cursor is below row `row` (up to 30 s): once a typed line is accepted,
+  /// readline has echoed its newline.
+  bool wait_for_cursor_below(int row) {
+    for (int i = 0; i < 300; ++i) {
+      if (cursor_y() > row) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    UNSCOPED_INFO("waited 30 s for the cursor to leave row " << row << "; the screen:\n"
+                                                             << screen());
+    return false;
   }
   /// Waits for the repl's first prompt.
   bool started() { return wait_for("flipper>"); }

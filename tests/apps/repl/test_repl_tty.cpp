@@ -142,7 +142,11 @@ TEST_CASE("repl Ctrl-C during a long query drops its answer and keeps the repl",
   REQUIRE(tmux.started());
   tmux.type("visit room1");
   REQUIRE(tmux.wait_for("flipper> visit room1"));
+  const int prompt_row = tmux.cursor_y();
   tmux.key("Enter");
+  // Ctrl-C once the line is taken: a terminal drops the input not yet read when it signals, so a
+  // Ctrl-C right behind the Enter could cancel the line instead of the query.
+  REQUIRE(tmux.wait_for_cursor_below(prompt_row));
   tmux.key("C-c");
   REQUIRE(tmux.wait_for("Cancelled (Ctrl-C): the readings are not shown."));
   CHECK(tmux.last_lines(4) ==
