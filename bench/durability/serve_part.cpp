@@ -32,6 +32,7 @@ void client(int me, int port, const ServeRound& round, ServeTimes& into, std::mu
   httplib::Client http("127.0.0.1", port);
   http.set_read_timeout(120);
   http.set_tcp_nodelay(true);
+  http.set_keep_alive(true);
   std::string session;
   auto ask = [&](const json& req) {
     const std::string path =
