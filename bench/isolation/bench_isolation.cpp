@@ -7,9 +7,9 @@
 //            difference of the two per-query medians; then the same mix with k = 0 (the
 //            query is parsed, no candidate executed: no plan call), which is the cost of the
 //            parse's own child process; then accepts: each query of the mix answered, then
-//            its first reading accepted, the accept's round trip timed (it executes the reading,
-//            its plan calls in children too, and the scorer's learn, in a child with process
-//            isolation: the learnt weights cross as values)
+//            its first reading accepted, the accept's round trip timed (it applies the execution
+//            its query showed, planning nothing again, and runs the scorer's learn, in a child
+//            with process isolation: the learnt weights cross as values)
 //   memory   the sessions' resident memory (VmRSS, VmHWM) after the queries: isolation must not
 //            grow the long-lived process; and one plan call's process (a planner that plans, then
 //            spins: tests/support/evil_planner mode hang) while it runs: its private dirty

@@ -329,11 +329,13 @@ class RunReplay {
 
     kernel::AcceptResult accepted;
     PlanTally tally;
-    std::string error;
-    {
+    if (!outcome.error_code) {  // the planner's figures of the program (an accept plans nothing
+      // again: it applies the query's execution, docs/protocol.md), the program run once more
       const PlanTallyScope scope(tally);
-      error = attempt([&] { accepted = session_->accept(kernel::AcceptRequest{row.rank}); });
+      (void)session_->executor().run(program, start);
     }
+    const std::string error =
+        attempt([&] { accepted = session_->accept(kernel::AcceptRequest{row.rank}); });
     row.executed = error.empty();
     row.plan_calls = tally.calls;
     row.plan_cpu_ms = std::chrono::duration<double, std::milli>(tally.cpu).count();

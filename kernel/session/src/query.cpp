@@ -217,13 +217,9 @@ AcceptResult Session::accept(const AcceptRequest& request,
                          " cannot be accepted: its execution failed (" +
                          sc.outcome.error.value_or(*sc.error_code) + ")");
   AcceptResult result;
-  sdk::Outcome& outcome = result.outcome;
-  outcome = executor_.run(q.parse.candidates[sc.index].program, world_, request_stop());
-  if (outcome.error_code == sdk::codes::kDeadlineExceeded)  // says so, applies nothing
-    throw sdk::StoppedError(outcome.stopped, *outcome.error);
-  if (outcome.error)
-    throw sdk::Error(session_codes::kNotAcceptable, "candidate " + std::to_string(rank) +
-                                                        " cannot be accepted: " + *outcome.error);
+  // The execution the query showed, not run again (docs/protocol.md, accept): the world is still
+  // the query's (a new world discards the last query), and what the user previewed is applied.
+  const sdk::Outcome& outcome = result.outcome = sc.outcome;
   if (before_commit) before_commit(outcome);  // the answer: nothing may fail after the commit
 
   // Nothing is applied unless everything commits: learning and counters are undone when the

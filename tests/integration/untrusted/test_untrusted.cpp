@@ -157,6 +157,37 @@ TEST_CASE("session: a bad answer on a later call refuses the whole candidate", "
   CHECK(c["world"]["robot"] == json{{"x", 2}, {"y", 4}, {"holding", json::array()}});
 }
 
+TEST_CASE("session: an accept applies the plan the query showed, without planning again",
+          "[untrusted]") {
+  // on_call=2: the query's one plan call (13 steps to room1's [9,0]) is answered well, a second
+  // call would walk through the wall. The accept applies the previewed execution: no second call
+  // (docs/protocol.md, accept). Were it executed again, it would be not_acceptable.
+  std::string script = R"({"op":"query","text":"visit room1"})"
+                       "\n"
+                       R"({"op":"accept","rank":0})"
+                       "\n"
+                       R"({"op":"state"})"
+                       "\n";
+  const std::string in = clitest::write_file("session-accept-no-replan.jsonl", script);
+  const auto r = clitest::run_flipper(
+      "session --set lexicon.path=:memory: --set lexicon.preload=" + evil_args("wall") +
+          " --set planner.params.on_call=2 " + in,
+      false);
+  REQUIRE(r.status == 0);
+  std::vector<json> a;
+  std::istringstream out(r.out);
+  for (std::string line; std::getline(out, line);) a.push_back(json::parse(line));
+  REQUIRE(a.size() == 3);
+  const json c = candidate(a[0], "{visit room1}");
+  REQUIRE(c["realizable"] == true);
+  REQUIRE(c["trace"].size() == 13);
+  INFO(a[1].dump());
+  CHECK(a[1]["ok"] == true);
+  CHECK(a[1]["trace"] == c["trace"]);
+  CHECK(a[1]["world"]["robot"] == json{{"x", 9}, {"y", 0}, {"holding", json::array()}});
+  CHECK(a[2]["world"]["robot"] == json{{"x", 9}, {"y", 0}, {"holding", json::array()}});
+}
+
 TEST_CASE("serve: the same answer as session over HTTP on 127.0.0.1", "[untrusted]") {
   const std::string request = R"({"op":"query","text":"visit room1"})";
   const json expected = session_answers("wall", {request}, "serve-reference")[0];
