@@ -329,8 +329,10 @@ class RunReplay {
 
     kernel::AcceptResult accepted;
     PlanTally tally;
-    if (!outcome.error_code) {  // the planner's figures of the program (an accept plans nothing
-      // again: it applies the query's execution, docs/protocol.md), the program run once more
+    // The planner's figures of the program: an accept plans nothing (it applies the query's
+    // execution, docs/protocol.md), so the program runs once more for them, unless its execution
+    // failed (the accept refuses it without executing, as it always did).
+    if (!outcome.error) {
       const PlanTallyScope scope(tally);
       (void)session_->executor().run(program, start);
     }

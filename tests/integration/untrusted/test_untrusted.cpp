@@ -41,15 +41,16 @@ std::string evil_args(const std::string& mode) {
   return args;
 }
 
-// `flipper session` on `lines` with the evil planner in `mode`: one JSON answer per line.
+// `flipper session` on `lines` with the evil planner in `mode` (and `more` arguments, such as
+// another --set): one JSON answer per line.
 std::vector<json> session_answers(const std::string& mode, const std::vector<std::string>& lines,
-                                  const std::string& name) {
+                                  const std::string& name, const std::string& more = "") {
   std::string script;
   for (const auto& l : lines) script += l + "\n";
   const std::string in = clitest::write_file(name + ".jsonl", script);
-  const auto r = clitest::run_flipper(
-      "session --set lexicon.path=:memory: --set lexicon.preload=" + evil_args(mode) + " " + in,
-      false);
+  const auto r = clitest::run_flipper("session --set lexicon.path=:memory: --set lexicon.preload=" +
+                                          evil_args(mode) + more + " " + in,
+                                      false);
   INFO(r.out);
   REQUIRE(r.status == 0);
   std::vector<json> answers;
@@ -140,14 +141,8 @@ TEST_CASE("session: a bad answer on a later call refuses the whole candidate", "
   // on_call=2: the first plan (13 steps to room1's [9,0]) is valid; the second, to room2's
   // nearest cell [7,0] by [8,0], leaves out its first step. The whole candidate is refused
   // with it (core-language §9: nothing of a failed execution applies).
-  std::string script = R"({"op":"query","text":"visit room1; visit room2"})";
-  const std::string in = clitest::write_file("session-on-call.jsonl", script + "\n");
-  const auto r = clitest::run_flipper(
-      "session --set lexicon.path=:memory: --set lexicon.preload=" + evil_args("jump") +
-          " --set planner.params.on_call=2 " + in,
-      false);
-  REQUIRE(r.status == 0);
-  const json a = json::parse(r.out);
+  const json a = session_answers("jump", {R"({"op":"query","text":"visit room1; visit room2"})"},
+                                 "session-on-call", " --set planner.params.on_call=2")[0];
   const json c = candidate(a, "{{visit room1};{visit room2}}");
   CHECK(c["error"] ==
         json{{"code", "invalid_plan"},
@@ -162,22 +157,10 @@ TEST_CASE("session: an accept applies the plan the query showed, without plannin
   // on_call=2: the query's one plan call (13 steps to room1's [9,0]) is answered well, a second
   // call would walk through the wall. The accept applies the previewed execution: no second call
   // (docs/protocol.md, accept). Were it executed again, it would be not_acceptable.
-  std::string script = R"({"op":"query","text":"visit room1"})"
-                       "\n"
-                       R"({"op":"accept","rank":0})"
-                       "\n"
-                       R"({"op":"state"})"
-                       "\n";
-  const std::string in = clitest::write_file("session-accept-no-replan.jsonl", script);
-  const auto r = clitest::run_flipper(
-      "session --set lexicon.path=:memory: --set lexicon.preload=" + evil_args("wall") +
-          " --set planner.params.on_call=2 " + in,
-      false);
-  REQUIRE(r.status == 0);
-  std::vector<json> a;
-  std::istringstream out(r.out);
-  for (std::string line; std::getline(out, line);) a.push_back(json::parse(line));
-  REQUIRE(a.size() == 3);
+  const auto a = session_answers("wall",
+                                 {R"({"op":"query","text":"visit room1"})",
+                                  R"({"op":"accept","rank":0})", R"({"op":"state"})"},
+                                 "session-accept-no-replan", " --set planner.params.on_call=2");
   const json c = candidate(a[0], "{visit room1}");
   REQUIRE(c["realizable"] == true);
   REQUIRE(c["trace"].size() == 13);
