@@ -21,7 +21,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -32,6 +31,7 @@
 
 #include "bench_common.hpp"
 #include "child_process.hpp"
+#include "process_children.hpp"
 
 namespace {
 
@@ -40,6 +40,7 @@ using flipper::bench::percentile;
 
 using Clock = std::chrono::steady_clock;
 using flipper::testsupport::ChildProcess;
+using flipper::testsupport::children_of;
 
 // A /proc/PID/<file> field in kB ("VmRSS:  1234 kB"), 0 when absent.
 long proc_kb(int pid, const std::string& file, const std::string& field) {
@@ -47,16 +48,6 @@ long proc_kb(int pid, const std::string& file, const std::string& field) {
   for (std::string line; std::getline(f, line);)
     if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
   return 0;
-}
-
-std::vector<int> children_of(int pid) {
-  std::vector<int> out;
-  for (const auto& task :
-       std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
-    std::ifstream f(task.path() / "children");
-    for (int c = 0; f >> c;) out.push_back(c);
-  }
-  return out;
 }
 
 std::unique_ptr<ChildProcess> session(const std::string& flipper, const std::string& isolation,

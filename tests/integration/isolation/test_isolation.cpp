@@ -23,6 +23,7 @@
 #include "apps/studio/studio_server.hpp"
 #include "cli_test_support.hpp"
 #include "isolation_test_support.hpp"
+#include "process_children.hpp"
 
 using namespace flipper;
 using nlohmann::json;
@@ -58,16 +59,6 @@ json reference(const std::string& request) {
 json only_candidate(const json& answer) {
   REQUIRE(answer["candidates"].size() == 1u);
   return answer["candidates"][0];
-}
-
-// The pids of the children of process `pid` (/proc/PID/task/*/children).
-std::vector<int> children_of(int pid) {
-  std::vector<int> out;
-  for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
-    std::ifstream f(task.path() / "children");
-    for (int c = 0; f >> c;) out.push_back(c);
-  }
-  return out;
 }
 
 // The user + system CPU time of process `pid` in clock ticks (/proc/PID/stat fields 14 and 15;
@@ -161,7 +152,7 @@ TEST_CASE("serve: the plan's process killed from outside (SIGKILL) costs one ans
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     int spinning = 0;
     while (spinning == 0 && std::chrono::steady_clock::now() < until) {
-      for (const int kid : children_of(pid))
+      for (const int kid : testsupport::children_of(pid))
         if (cpu_ticks(kid) >= 5) spinning = kid;
       if (spinning == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }

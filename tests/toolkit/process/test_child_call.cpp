@@ -9,8 +9,6 @@
 #include <chrono>
 #include <csignal>
 #include <ctime>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <mutex>
 #include <shared_mutex>
@@ -20,6 +18,7 @@
 #include <vector>
 
 #include "flipper/toolkit/process/child_call.hpp"
+#include "process_children.hpp"
 
 namespace process = flipper::toolkit::process;
 using process::ChildEnd;
@@ -47,14 +46,9 @@ void spin(nanoseconds cpu) {
   }
 }
 
-// This process's children, ended (zombies) or not: /proc/self/task/*/children.
+// This process's children, ended (zombies) or not.
 std::vector<int> my_children() {
-  std::vector<int> out;
-  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
-    std::ifstream f(task.path() / "children");
-    for (int pid = 0; f >> pid;) out.push_back(pid);
-  }
-  return out;
+  return flipper::testsupport::children_of(::getpid());
 }
 
 }  // namespace
