@@ -1,6 +1,7 @@
 #pragma once
 // Runs build/bin/flipper like a user (through the shell) and gives back status and output.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <catch2/catch.hpp>
@@ -59,6 +60,16 @@ inline std::string write_file(const std::string& name, const std::string& text) 
   const std::string path = scratch(name);
   std::ofstream(path) << text;
   return path;
+}
+
+/// write_file under a name of this process's own (its pid before the extension of `name`): for a
+/// helper that several test cases of one file call, which ctest runs as processes side by side
+/// (with one shared name, one case rewrites the file while another's command reads it).
+inline std::string write_own_file(const std::string& name, const std::string& text) {
+  const auto dot = name.rfind('.');
+  const std::string pid = "-" + std::to_string(::getpid());
+  return write_file(
+      dot == std::string::npos ? name + pid : name.substr(0, dot) + pid + name.substr(dot), text);
 }
 
 inline std::string read_file(const std::string& path) {

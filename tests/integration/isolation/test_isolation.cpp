@@ -44,7 +44,7 @@ std::vector<std::string> evil_sets(const std::string& mode) {
 // The answer to `request` of a fresh `flipper session` with the evil planner in mode ok, in
 // process: the reference for user B's answers and A's next one.
 json reference(const std::string& request) {
-  const std::string in = clitest::write_file("isolation-reference.jsonl", request + "\n");
+  const std::string in = clitest::write_own_file("isolation-reference.jsonl", request + "\n");
   std::string sets;
   for (const auto& s : evil_sets("ok")) sets += " --set " + s;
   const auto r =

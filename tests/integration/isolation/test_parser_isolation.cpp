@@ -33,7 +33,7 @@ std::vector<std::string> evil_sets(const std::string& mode) {
 // The answer to kFine of a fresh `flipper session` with the evil parser in mode ok, in process:
 // the reference for user B's answers and A's next one.
 json reference() {
-  const std::string in = clitest::write_file("parser-isolation-reference.jsonl", kFine + "\n");
+  const std::string in = clitest::write_own_file("parser-isolation-reference.jsonl", kFine + "\n");
   const auto r = clitest::run_flipper(
       "session --set lexicon.path=:memory: --set lexicon.preload=" + set_args(evil_sets("ok")) +
           " --set plugins.isolation=in_process " + in,

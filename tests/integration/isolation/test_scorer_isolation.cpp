@@ -4,8 +4,6 @@
 // model is unchanged (user B's answers before and after are exactly a fresh in-process session's),
 // and A's next query and accept are answered. The evil scorer (tests/support/evil_scorer)
 // misbehaves only on accepts of utterances with the token `room1` (`on_token=room1`).
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -36,10 +34,7 @@ std::vector<std::string> evil_sets(const std::string& mode) {
 std::vector<json> reference(const std::vector<std::string>& lines) {
   std::string text;
   for (const auto& l : lines) text += l + "\n";
-  // A name of this process's own: ctest runs this file's cases as processes side by side, and two
-  // of them ask for a reference (one rewriting the file while the other's session reads it).
-  const std::string in = clitest::write_file(
-      "scorer-isolation-reference-" + std::to_string(::getpid()) + ".jsonl", text);
+  const std::string in = clitest::write_own_file("scorer-isolation-reference.jsonl", text);
   const auto r = clitest::run_flipper(
       "session --set lexicon.path=:memory: --set lexicon.preload=" + set_args(evil_sets("ok")) +
           " --set plugins.isolation=in_process " + in,
