@@ -18,9 +18,9 @@
 #include "common.hpp"
 #include "flipper/kernel/config.hpp"
 #include "flipper/kernel/executor.hpp"
-#include "flipper/kernel/protocol.hpp"
 #include "flipper/kernel/runtime.hpp"
 #include "flipper/naturalization/repair_extension.hpp"
+#include "flipper/repl/outcome_json.hpp"
 #include "flipper/repl/repl.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/sdk/errors.hpp"
@@ -149,7 +149,7 @@ void print_human(const sdk::Program& program, const sdk::Outcome& o, int dims,
       std::cout << " " << s.item.color << " " << s.item.shape << " (id " << s.item.id << ")";
     std::cout << "\n";
   }
-  for (const auto& w : repl::collapse_warnings(kernel::protocol::strings_json(o.warnings)))
+  for (const auto& w : repl::collapse_warnings(repl::strings_json(o.warnings)))
     std::cout << "warning: " << w << "\n";
   std::cout << "realizable: " << (o.realizable ? "yes" : "no") << "\n";
   const sdk::WorldState& w = o.world;
@@ -222,14 +222,14 @@ int run(const RunOptions& opts) {
   }
   if (!opts.svg_file.empty()) {
     const kernel::Json before = session->world_json(world);
-    const kernel::Json trace = kernel::protocol::trace_json(o.trace, dims);
+    const repl::Json trace = repl::trace_json(o.trace, dims);
     std::ofstream f(opts.svg_file);
     f << svg::world_picture(before, &trace, sdk::render(program));
     f.flush();
     if (!f) return fail("io", "cannot write '" + opts.svg_file + "'", kExitFailed);
   }
   if (opts.json) {
-    nlohmann::json j = kernel::protocol::outcome_json(o, dims);
+    nlohmann::json j = repl::outcome_json(o, dims);
     j["ok"] = true;
     j["formula"] = sdk::render(program);
     j["world"] = session->world_json(o.world);

@@ -10,9 +10,9 @@
 
 #include <fstream>
 
-#include "flipper/kernel/protocol.hpp"
 #include "flipper/naturalization/naturalize_ops.hpp"
 #include "flipper/naturalization/repair_extension.hpp"
+#include "flipper/repl/outcome_json.hpp"
 #include "flipper/repl/repl.hpp"
 #include "flipper/sdk/canonical.hpp"
 #include "flipper/svg/svg.hpp"
@@ -86,10 +86,9 @@ kernel::Json candidate_view(const kernel::LastQuery& q, const kernel::ShownCandi
                  {"rules", std::move(rules)},
                  {"authors", std::move(authors)},
                  {"realizable", sc.outcome.realizable && !sc.outcome.error},
-                 {"trace", kernel::protocol::trace_json(sc.outcome.trace, dims)},
-                 {"warnings", kernel::protocol::strings_json(sc.outcome.warnings)}};
-  if (sc.error_code)
-    v["error"] = kernel::protocol::error_json(*sc.error_code, sc.outcome.error.value_or(""));
+                 {"trace", trace_json(sc.outcome.trace, dims)},
+                 {"warnings", strings_json(sc.outcome.warnings)}};
+  if (sc.error_code) v["error"] = error_json(*sc.error_code, sc.outcome.error.value_or(""));
   return v;
 }
 
@@ -277,14 +276,14 @@ class Repl {
     if (!call([&] { accepted = session_.accept(kernel::AcceptRequest{*n - 1}); })) return true;
     const sdk::Outcome& o = accepted.outcome;
     undo_.push_back(before);
-    trail_ = kernel::protocol::trace_json(o.trace, o.world.geometry ? o.world.geometry->dims() : 2);
+    trail_ = trace_json(o.trace, o.world.geometry ? o.world.geometry->dims() : 2);
     trail_title_ = readings_[static_cast<std::size_t>(*n - 1)].value("formula", std::string());
     trail_world_ = query_world_;
     readings_ = kernel::Json::array();
     std::size_t steps = 0;
     for (const auto& s : o.trace) steps += s.act == sdk::TraceStep::Act::move;
     out_ << "Done: " << steps << (steps == 1 ? " step" : " steps") << ". (:undo puts it back)\n";
-    for (const auto& w : collapse_warnings(kernel::protocol::strings_json(o.warnings)))
+    for (const auto& w : collapse_warnings(strings_json(o.warnings)))
       out_ << "warning: " << w << '\n';
     const kernel::Json world = world_view(o.world);
     if (!world.is_null()) out_ << render_map(world, map_options(&trail_));

@@ -1,4 +1,4 @@
-// Input limits from the config, and the nesting depth of a request.
+// Input limits from the config.
 #include "flipper/kernel/limits.hpp"
 
 #include "flipper/kernel/config.hpp"
@@ -16,30 +16,6 @@ InputLimits InputLimits::from_config(const Config& c) {
   l.cpu_budget = std::chrono::milliseconds(c.get(keys::kCpuBudgetMs));
   l.deadline = std::chrono::milliseconds(c.get(keys::kDeadlineMs));
   return l;
-}
-
-int json_depth(std::string_view text, int stop_above) {
-  int depth = 0, deepest = 0;
-  bool in_string = false, escaped = false;
-  for (char c : text) {
-    if (in_string) {
-      if (escaped)
-        escaped = false;
-      else if (c == '\\')
-        escaped = true;
-      else if (c == '"')
-        in_string = false;
-      continue;
-    }
-    if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > deepest && (deepest = depth) > stop_above) return deepest;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return deepest;
 }
 
 }  // namespace flipper::kernel

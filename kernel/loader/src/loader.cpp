@@ -20,11 +20,6 @@ namespace {
 
 constexpr const char* kSidecarSuffix = ".flipper.yaml";
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 PluginEntry read_sidecar(const fs::path& file, const std::string& dir) {
   PluginEntry e;
   e.sidecar = file.string();
@@ -61,7 +56,7 @@ std::vector<PluginEntry> index_dir(const std::string& dir) {
   std::sort(files.begin(), files.end());
   std::vector<PluginEntry> out;
   for (const auto& f : files)
-    if (ends_with(f.filename().string(), kSidecarSuffix)) out.push_back(read_sidecar(f, dir));
+    if (f.filename().string().ends_with(kSidecarSuffix)) out.push_back(read_sidecar(f, dir));
   for (const auto& f : files) {
     if (f.extension() != ".so") continue;
     const std::string lib = f.lexically_normal().string();

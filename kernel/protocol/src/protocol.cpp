@@ -1,5 +1,4 @@
-#include <nlohmann/json.hpp>
-
+// The trace of an execution result as protocol text (protocol.hpp).
 #include "flipper/kernel/protocol.hpp"
 #include "flipper/toolkit/json/json_writer.hpp"
 
@@ -7,37 +6,9 @@ namespace flipper::kernel::protocol {
 
 using toolkit::json::JsonWriter;
 
-Json cell_json(const sdk::Cell& c, int dims) {
-  Json p = Json::array({c.x, c.y});
-  if (dims == 3) p.push_back(c.z);
-  return p;
-}
-
-Json item_json(const sdk::ItemInfo& item) {
-  return Json{{"id", item.id}, {"color", item.color}, {"shape", item.shape}};
-}
-
-Json step_json(const sdk::TraceStep& step, int dims) {
-  switch (step.act) {
-    case sdk::TraceStep::Act::move:
-      return Json{{"act", "move"}, {"to", cell_json(step.cell, dims)}};
-    case sdk::TraceStep::Act::pick:
-    case sdk::TraceStep::Act::drop:
-      return Json{{"act", step.act == sdk::TraceStep::Act::pick ? "pick" : "drop"},
-                  {"at", cell_json(step.cell, dims)},
-                  {"item", item_json(step.item)}};
-  }
-  return Json();
-}
-
-Json trace_json(const std::vector<sdk::TraceStep>& trace, int dims) {
-  Json out = Json::array();
-  for (const auto& s : trace) out.push_back(step_json(s, dims));
-  return out;
-}
-
-// The bytes of step_json(...).dump() without the tree: members in the tree's (sorted) key order,
-// strings escaped by the writer (nlohmann's escaping), integers as nlohmann writes them.
+// The bytes of the trace's JSON tree dumped (trace_json, flipper/repl/outcome_json.hpp), without
+// the tree: members in the tree's (sorted) key order, strings escaped by the writer (nlohmann's
+// escaping), integers as nlohmann writes them.
 void append_trace_text(std::string& out, const std::vector<sdk::TraceStep>& trace, int dims) {
   const auto cell = [&](const sdk::Cell& c) {
     out += '[';
@@ -71,28 +42,6 @@ void append_trace_text(std::string& out, const std::vector<sdk::TraceStep>& trac
     out += "}}";
   }
   out += ']';
-}
-
-Json strings_json(const std::vector<std::string>& values) {
-  Json out = Json::array();
-  for (const auto& v : values) out.push_back(v);
-  return out;
-}
-
-Json error_json(const std::string& code, const std::string& message) {
-  return Json{{"code", code}, {"message", message}};
-}
-Json error_json(const sdk::Error& error) {
-  return error_json(error.code(), error.what());
-}
-
-Json outcome_json(const sdk::Outcome& outcome, int dims) {
-  Json j{{"trace", trace_json(outcome.trace, dims)},
-         {"warnings", strings_json(outcome.warnings)},
-         {"realizable", outcome.realizable && !outcome.error}};
-  if (outcome.error)
-    j["error"] = error_json(outcome.error_code.value_or(sdk::codes::kExecution), *outcome.error);
-  return j;
 }
 
 }  // namespace flipper::kernel::protocol

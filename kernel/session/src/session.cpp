@@ -10,6 +10,7 @@
 #include "flipper/sdk/errors.hpp"
 #include "flipper/toolkit/config/regular_file.hpp"
 #include "flipper/toolkit/json/json_writer.hpp"
+#include "flipper/toolkit/json/raw_members.hpp"
 #include "world_texts.hpp"
 
 namespace flipper::kernel {
@@ -52,12 +53,6 @@ std::string error_line(const std::string& code, const std::string& message) {
   std::string out;
   write_error(out, nullptr, {}, nullptr, {}, code, message);
   return out;
-}
-
-bool is_blank(std::string_view s) {
-  for (char c : s)
-    if (c != ' ' && c != '\t' && c != '\r' && c != '\n') return false;
-  return true;
 }
 
 }  // namespace
@@ -228,13 +223,13 @@ void Session::check_deadline(const char* stage) const {
 }
 
 std::string Session::handle_line(std::string_view line) {
-  if (is_blank(line)) return {};
+  if (line.find_first_not_of(" \t\r\n") == std::string_view::npos) return {};  // blank
   try {
     if (line.size() > options_.input.max_line_bytes) return line_too_long(line.size());
     // Nesting is checked before parsing: the tree of a deeply nested value is copied and
     // destroyed recursively, and no request needs more than a few levels.
     const int limit = options_.input.max_json_depth;
-    if (int depth = json_depth(line, limit); depth > limit)
+    if (int depth = toolkit::json::json_depth(line, limit); depth > limit)
       return error_line(sdk::codes::kTooDeep,
                         "the request is nested deeper than input.max_json_depth = " +
                             std::to_string(limit) + " levels");

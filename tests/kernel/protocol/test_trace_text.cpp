@@ -1,5 +1,5 @@
 // append_trace_text must write exactly what dumping trace_json writes (the session splices it
-// into answers in place of the tree).
+// into answers in place of the tree; the tree is the terminal front ends', flipper/repl).
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "flipper/kernel/protocol.hpp"
+#include "flipper/repl/outcome_json.hpp"
 #include "json_strings.hpp"
 
 namespace protocol = flipper::kernel::protocol;
@@ -15,8 +16,8 @@ namespace sdk = flipper::sdk;
 
 namespace {
 std::string via_tree(const std::vector<sdk::TraceStep>& trace, int dims) {
-  return protocol::trace_json(trace, dims)
-      .dump(-1, ' ', false, protocol::Json::error_handler_t::replace);
+  return flipper::repl::trace_json(trace, dims)
+      .dump(-1, ' ', false, flipper::repl::Json::error_handler_t::replace);
 }
 std::string via_text(const std::vector<sdk::TraceStep>& trace, int dims) {
   std::string out = "prefix:";

@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "flipper/kernel/protocol.hpp"
+#include "flipper/repl/outcome_json.hpp"
 #include "study_fixture.hpp"
 
 using namespace flipper;
@@ -162,7 +162,7 @@ TEST_CASE("bad programs are execution errors and change nothing", "[exec][errors
   CHECK(coord.error_code == "execution_error");
   auto loopvar = st.run("{visit point}", st.state());
   CHECK(loopvar.error_code == "execution_error");
-  auto j = kernel::protocol::outcome_json(room, 2);
+  auto j = repl::outcome_json(room, 2);
   CHECK(j["error"]["code"] == "execution_error");
   CHECK(j["realizable"] == false);
 }
@@ -284,13 +284,12 @@ TEST_CASE("the CPU budget counts the thread's CPU time, not the time it waited",
 TEST_CASE("protocol JSON of trace steps", "[protocol]") {
   Study st;
   auto o = st.run("{{visit [7,4]};{pick item }}", st.state(6, 4));
-  auto j = kernel::protocol::trace_json(o.trace, 2);
+  auto j = repl::trace_json(o.trace, 2);
   CHECK(
       j.dump() ==
       R"([{"act":"move","to":[7,4]},{"act":"pick","at":[7,4],"item":{"color":"red","id":4,"shape":"circle"}}])");
-  CHECK(kernel::protocol::cell_json({1, 2, 3}, 3).dump() == "[1,2,3]");
-  CHECK(kernel::protocol::error_json("bad_world", "x").dump() ==
-        R"({"code":"bad_world","message":"x"})");
+  CHECK(repl::cell_json({1, 2, 3}, 3).dump() == "[1,2,3]");
+  CHECK(repl::error_json("bad_world", "x").dump() == R"({"code":"bad_world","message":"x"})");
 }
 
 TEST_CASE("A containing item keeps the cells of A holding a matching item", "[exec]") {

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
-#include <string_view>
 
 #include "flipper/kernel/keys.hpp"
 
@@ -35,9 +34,5 @@ struct InputLimits {
   /// From a validated config (every key present: the schema filled the defaults).
   static InputLimits from_config(const Config& config);
 };
-
-/// Depth of the deepest array/object nesting in JSON text (strings skipped), stopping early once
-/// it exceeds `stop_above`: no recursion, O(length).
-int json_depth(std::string_view text, int stop_above);
 
 }  // namespace flipper::kernel

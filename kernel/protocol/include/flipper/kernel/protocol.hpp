@@ -1,39 +1,20 @@
 #pragma once
 /// @file protocol.hpp
-/// JSON shapes of docs/protocol.md for execution results, shared by `flipper run`, the session
-/// and replay: cells `[x, y]` / `[x, y, z]`, items `{"id","color","shape"}`, trace steps
-/// `{"act":"move","to":P}` / `{"act":"pick"|"drop","at":P,"item":ITEM}` (core-language §5),
-/// errors `{"code","message"}`, and an outcome's pieces. Writers only: nothing in the product reads
-/// these shapes back.
+/// docs/protocol.md's trace of an execution result as compact text, shared by the session's
+/// answers (`query`, `accept`): steps `{"act":"move","to":P}` /
+/// `{"act":"pick"|"drop","at":P,"item":ITEM}` (core-language §5), cells `[x, y]` / `[x, y, z]`.
+/// The JSON trees of the same shapes, which only the terminal front ends build, are theirs
+/// (flipper/repl/outcome_json.hpp).
 
-#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
-#include "flipper/sdk/errors.hpp"
 #include "flipper/sdk/execution.hpp"
 
 namespace flipper::kernel::protocol {
 
-using Json = nlohmann::json;
-
-/// [x, y] (dims 2) or [x, y, z] (dims 3).
-Json cell_json(const sdk::Cell& c, int dims);
-/// {"id", "color", "shape"}.
-Json item_json(const sdk::ItemInfo& item);
-Json step_json(const sdk::TraceStep& step, int dims);
-Json trace_json(const std::vector<sdk::TraceStep>& trace, int dims);
-/// Appends trace_json(trace, dims) as compact text, exactly as nlohmann's dump writes it (invalid
+/// Appends the trace as compact JSON text, exactly as nlohmann's dump writes its tree (invalid
 /// UTF-8 replaced), without building the tree: long traces are most of a big answer.
 void append_trace_text(std::string& out, const std::vector<sdk::TraceStep>& trace, int dims);
-Json strings_json(const std::vector<std::string>& values);
-/// {"code", "message"}.
-Json error_json(const std::string& code, const std::string& message);
-Json error_json(const sdk::Error& error);
-
-/// The execution part of a candidate or an `accept` answer: {"trace", "warnings", "realizable"}
-/// and, for an erroneous execution, "error": {"code","message"}. The world is added by the
-/// caller (it needs the world plugin's `save`).
-Json outcome_json(const sdk::Outcome& outcome, int dims);
 
 }  // namespace flipper::kernel::protocol
