@@ -59,7 +59,7 @@ void move_deadlines(nanoseconds by) {
 // spent isolating a call (forking, waiting), which a call in process does not cost.
 struct RefundThreadCpu {
   nanoseconds start = sdk::cpu_time();
-  ~RefundThreadCpu() { move_deadlines(std::max(sdk::cpu_time() - start, nanoseconds::zero())); }
+  ~RefundThreadCpu() { refund_cpu(sdk::cpu_time() - start); }
 };
 
 std::string signal_text(int signal) {
@@ -121,8 +121,24 @@ void CpuCharge::detach() {
   budget_ = nullptr;
 }
 
+namespace {
+thread_local nanoseconds t_charged{0};  // charged_cpu
+}  // namespace
+
 void charge_cpu(nanoseconds cpu) {
-  if (cpu > nanoseconds::zero()) move_deadlines(-cpu);
+  if (cpu <= nanoseconds::zero()) return;
+  move_deadlines(-cpu);
+  t_charged += cpu;
+}
+
+void refund_cpu(nanoseconds cpu) {
+  if (cpu <= nanoseconds::zero()) return;
+  move_deadlines(cpu);
+  t_charged -= cpu;
+}
+
+nanoseconds charged_cpu() {
+  return t_charged;
 }
 
 namespace detail {
@@ -137,7 +153,8 @@ void send_part(std::string_view bytes) {
 
 std::optional<std::string> call_in_child(
     const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
-    const std::function<std::string(const sdk::StopCondition&)>& work, std::string* received) {
+    const std::function<std::string(const sdk::StopCondition&)>& work, std::string* received,
+    bool charge) {
   // The budgets count the call's work, as in process (docs/plugins-untrusted.md §6): not this
   // thread's fork and waits, nor what the child spends before the call and on its exit.
   const RefundThreadCpu isolating;
@@ -152,7 +169,7 @@ std::optional<std::string> call_in_child(
   std::optional<process::ChildCall> child =
       process::run_in_child(limits, [&] { answer_in_child(plugin, op, stop, cpu_left, work); });
   if (!child) return std::nullopt;
-  charge_cpu(child->cpu);
+  if (charge) charge_cpu(child->cpu);
   std::string_view answer(child->bytes);
   if (child->end == process::ChildEnd::answered && !answer.empty() && answer.front() == 'A') {
     child->bytes.erase(0, 1);
@@ -186,6 +203,20 @@ std::optional<std::string> call_in_child(
   if (answer.empty()) crashed(plugin, op, "its process exited with status 0 and no answer");
   if (answer.front() != 'E') crashed(plugin, op, "its process sent a malformed answer");
   throw_failure(plugin, op, answer.substr(1));
+}
+
+void rethrow_as_call(const std::exception_ptr& end, const PluginId& plugin, std::string_view op) {
+  try {
+    std::rethrow_exception(end);
+  } catch (const sdk::Error& e) {  // "NAME: execute: SIGNAL" -> "NAME: OP: SIGNAL"
+    const std::string execute = plugin.label() + ": execute: ";
+    std::string message = e.what();
+    if (const auto at = message.find(execute); at != std::string::npos)
+      message.replace(at, execute.size(), plugin.label() + ": " + std::string(op) + ": ");
+    if (sdk::stop_cause_of(e) != sdk::StopCause::none)
+      throw sdk::StoppedError(sdk::stop_cause_of(e), message);
+    throw sdk::Error(e.code(), message);
+  }
 }
 
 std::optional<std::string> failure_bytes(const PluginId& plugin, std::string_view op) {

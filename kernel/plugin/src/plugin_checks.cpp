@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <string_view>
 
@@ -15,10 +16,12 @@
 #include "flipper/sdk/parser.hpp"
 #include "flipper/sdk/planner.hpp"
 #include "flipper/sdk/scorer.hpp"
+#include "flipper/toolkit/process/call_tape.hpp"
 
 namespace flipper::kernel {
 
 using sdk::Cell;
+using toolkit::process::CallTape;
 
 namespace {
 
@@ -31,13 +34,68 @@ Result whole(const PluginId& plugin, const char* op, std::optional<Result> answe
   return std::move(*answer);
 }
 
+// What a planner call is asked, as a number: the key of its record on a call tape (`op`, the
+// geometry's address, which a fork keeps, the start, the cells of its areas).
+std::uint64_t call_key(char op, const sdk::Geometry& geometry, Cell start,
+                       const std::vector<Cell>* a, const std::vector<Cell>* b) {
+  std::string bytes(1, op);
+  auto add = [&](const void* p, std::size_t n) { bytes.append(static_cast<const char*>(p), n); };
+  const sdk::Geometry* where = &geometry;
+  add(static_cast<const void*>(&where), sizeof where);
+  add(&start, sizeof start);
+  for (const std::vector<Cell>* v : {a, b}) {
+    const std::size_t n = v == nullptr ? ~std::size_t{0} : v->size();
+    add(&n, sizeof n);
+    if (v != nullptr) add(v->data(), n * sizeof(Cell));  // three 32-bit numbers, no padding
+  }
+  return std::hash<std::string>{}(bytes) | 1U;  // never 0, which no call has
+}
+
 // A plugin call as PluginRef::call makes it, in a child process when the ref says so.
-// The answer crosses the pipe as sdk::host's bytes (flipper/sdk/answer_wire.hpp).
+// The answer crosses the pipe as sdk::host's bytes (flipper/sdk/answer_wire.hpp). A call with a
+// `key` (a planner's) on a thread with a call tape (docs/plugins-untrusted.md §6, "One child per
+// execution") forks no child of its own: a probe makes the first as without a tape and gives up
+// at the second, a recording child makes it in process and sends its record, a replay takes the
+// recorded answer (charged, then checked by the caller as a child's) or the recording child's
+// end when it died in this call; once the replay has left the recording, it forks as without one.
 template <class Result, class T, class Call, class FromBytes>
 Result isolable_call(const PluginRef<const T>& plugin, const char* op,
-                     const sdk::StopCondition& stop, Call call, FromBytes from_bytes) {
+                     const sdk::StopCondition& stop, Call call, FromBytes from_bytes,
+                     std::uint64_t key = 0) {
   auto in_process = [&] { return plugin.call(op, [&](const T& p) { return call(p, stop); }); };
   if (plugin.isolation() != Isolation::process) return in_process();
+  if (CallTape* tape = key != 0 ? CallTape::current() : nullptr) {
+    if (tape->mode() == CallTape::Mode::probe && !tape->probe_call())
+      throw sdk::Error(sdk::codes::kInternal,
+                       "a second planner call: the execution runs in a child");
+    if (tape->mode() == CallTape::Mode::record) {
+      detail::send_part(CallTape::bytes_of({key, {}, toolkit::process::kBegun, {}}));
+      toolkit::process::TapeRecord r{key, {}, 'A', {}};
+      const auto start = sdk::cpu_time();
+      try {
+        Result result = in_process();
+        r.bytes = sdk::host::to_bytes(result);
+        r.cpu = sdk::cpu_time() - start;
+        detail::send_part(CallTape::bytes_of(r));
+        return result;
+      } catch (...) {
+        r = {key, sdk::cpu_time() - start, 'E',
+             detail::failure_bytes(plugin.id(), op).value_or("")};
+        detail::send_part(CallTape::bytes_of(r));
+        throw;
+      }
+    }
+    std::optional<toolkit::process::TapeRecord> r;
+    if (tape->mode() == CallTape::Mode::replay) r = tape->take(key);
+    if (r && r->tag == toolkit::process::kBegun && tape->end())  // the recording died in it
+      detail::rethrow_as_call(tape->end(), plugin.id(), op);
+    if (r && r->tag != toolkit::process::kBegun) {
+      const detail::CallTimer timer(plugin.id(), op);
+      charge_cpu(r->cpu);
+      if (r->tag != 'A') detail::throw_failure(plugin.id(), op, r->bytes);
+      return whole(plugin.id(), op, from_bytes(r->bytes));
+    }
+  }
   std::optional<std::string> bytes;
   {
     const detail::CallTimer timer(plugin.id(), op);
@@ -64,7 +122,8 @@ sdk::PathResult checked_plan(const PluginRef<const sdk::Planner>& planner,
       [&](const sdk::Planner& p, const sdk::StopCondition& s) {
         return p.plan(geometry, request, s);
       },
-      sdk::host::path_result_of);
+      sdk::host::path_result_of,
+      call_key('p', geometry, request.start, request.goals, request.avoid));
   if (auto v = sdk::path_violation(geometry, request, r))
     throw_invalid_output(planner.id(), sdk::codes::kInvalidPlan, *v);
   return r;
@@ -78,7 +137,7 @@ sdk::TourResult checked_tour(const PluginRef<const sdk::Planner>& planner,
       [&](const sdk::Planner& p, const sdk::StopCondition& s) {
         return p.tour(geometry, start, points, s);
       },
-      sdk::host::tour_result_of);
+      sdk::host::tour_result_of, call_key('t', geometry, start, &points, nullptr));
   if (auto v = sdk::tour_violation(points.size(), t))
     throw_invalid_output(planner.id(), sdk::codes::kInvalidPlan, *v);
   return t;

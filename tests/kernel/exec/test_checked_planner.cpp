@@ -1,13 +1,23 @@
 // kernel::Executor: the core language's executor with the planner behind the kernel (kernel/exec,
 // docs/architecture.md "What the kernel keeps"): an isolated planner's CPU time is charged to the
-// execution's budget, and a path that breaks its contract is refused before the executor acts.
+// execution's budget, and a path that breaks its contract is refused before the executor acts;
+// an isolated execution's planner calls run in one child and are replayed here
+// (docs/plugins-untrusted.md §6, "One child per execution").
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <csignal>
+#include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "flipper/kernel/executor.hpp"
+#include "flipper/kernel/isolation.hpp"
 #include "flipper/kernel/plugin_ref.hpp"
 #include "flipper/sdk/answer_check.hpp"
 #include "flipper/sdk/canonical.hpp"
@@ -20,10 +30,23 @@ using std::chrono::milliseconds;
 
 namespace {
 
-// A planner that spends `cpu` of CPU time on each plan, then answers a step to the first goal.
+// Appends the process's id to `file` (none: nothing).
+void append_pid(const std::string& file) {
+  if (file.empty()) return;
+  const std::string line = std::to_string(::getpid()) + "\n";
+  const int fd = ::open(file.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0600);
+  REQUIRE(::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size()));
+  ::close(fd);
+}
+
+// A planner that spends `cpu` of CPU time on each plan, then answers a step to the first goal;
+// each plan and traits call first appends the process's id to `pid_file` / `traits_file`; it
+// crashes (SIGSEGV) when asked for `crash_at`, and ends its process (status 0) at `exit_at`.
 class SpinningPlanner : public sdk::Planner {
  public:
   milliseconds cpu{0};
+  std::string pid_file, traits_file;
+  std::optional<Cell> crash_at, exit_at;
   std::function<sdk::PathResult(const sdk::PathRequest&)> answer = [](const sdk::PathRequest& r) {
     sdk::PathResult p;
     p.status = sdk::PlanStatus::found;
@@ -35,6 +58,9 @@ class SpinningPlanner : public sdk::Planner {
  protected:
   sdk::PathResult do_plan(const sdk::Geometry&, const sdk::PathRequest& request,
                           const sdk::StopCondition&) const override {
+    append_pid(pid_file);
+    if (crash_at && *request.goals->begin() == *crash_at) std::raise(SIGSEGV);
+    if (exit_at && *request.goals->begin() == *exit_at) ::_exit(0);
     const auto until = sdk::cpu_time() + cpu;
     volatile std::uint64_t n = 0;
     while (sdk::cpu_time() < until) n = n + 1;
@@ -46,7 +72,10 @@ class SpinningPlanner : public sdk::Planner {
     for (std::size_t i = 0; i < points.size(); ++i) t.order.push_back(i);
     return t;
   }
-  sdk::PlannerTraits do_traits() const override { return {}; }
+  sdk::PlannerTraits do_traits() const override {
+    append_pid(traits_file);
+    return {};
+  }
 };
 
 sdk::WorldState open_row() {
@@ -69,6 +98,21 @@ kernel::PluginRef<const sdk::Planner> ref(const std::shared_ptr<SpinningPlanner>
 // Six steps back and forth: six plans.
 const char* const kSixVisits =
     "{{visit [1,0]};{visit [0,0]};{visit [1,0]};{visit [0,0]};{visit [1,0]};{visit [0,0]}}";
+
+// Three plans, to [1,0], [0,0] and [2,0], with the planner isolated.
+sdk::Outcome three_visits_isolated(const std::shared_ptr<SpinningPlanner>& planner) {
+  return kernel::Executor(ref(planner, kernel::Isolation::process))
+      .run(sdk::read_canonical("{{visit [1,0]};{visit [0,0]};{visit [2,0]}}"), open_row());
+}
+
+// The process ids the planner wrote, one per plan call (the file is removed).
+std::vector<long> pids_in(const std::string& file) {
+  std::vector<long> pids;
+  std::ifstream in(file);
+  for (long pid = 0; in >> pid;) pids.push_back(pid);
+  ::unlink(file.c_str());
+  return pids;
+}
 
 }  // namespace
 
@@ -123,4 +167,110 @@ TEST_CASE("a path through a wall is refused before the executor moves the robot"
     CHECK(o.trace.empty());
     CHECK(o.world.robot == Cell{0, 0, 0});
   }
+}
+
+TEST_CASE("an isolated execution's planner calls run in one child, none when it plans nothing",
+          "[exec][isolation]") {
+  auto planner = std::make_shared<SpinningPlanner>();
+  planner->pid_file = "exec_pids_" + std::to_string(::getpid()) + ".txt";
+  const auto program = sdk::read_canonical(kSixVisits);
+  const sdk::Outcome a =
+      kernel::Executor(ref(planner, kernel::Isolation::in_process)).run(program, open_row());
+  CHECK(pids_in(planner->pid_file) == std::vector<long>(6, ::getpid()));
+
+  // The first call in a child of its own (the execution might plan only once), then, at the
+  // second, the execution again from the start in one child that makes all six.
+  const sdk::Outcome b =
+      kernel::Executor(ref(planner, kernel::Isolation::process)).run(program, open_row());
+  const std::vector<long> pids = pids_in(planner->pid_file);
+  REQUIRE(pids.size() == 7);
+  CHECK(pids[0] != ::getpid());
+  CHECK(pids[1] != ::getpid());
+  CHECK(pids[1] != pids[0]);
+  CHECK(std::vector<long>(pids.begin() + 1, pids.end()) == std::vector<long>(6, pids[1]));
+  CHECK_FALSE(b.error);
+  CHECK(b.trace.size() == 6);
+  CHECK(b.trace.size() == a.trace.size());
+  CHECK(b.world.robot == a.world.robot);
+
+  // A program with one planner call: its child, and no other.
+  const sdk::Outcome once = kernel::Executor(ref(planner, kernel::Isolation::process))
+                                .run(sdk::read_canonical("{visit [1,0]}"), open_row());
+  CHECK(once.world.robot == Cell{1, 0, 0});
+  const std::vector<long> once_pids = pids_in(planner->pid_file);
+  REQUIRE(once_pids.size() == 1);
+  CHECK(once_pids[0] != ::getpid());
+
+  // A program without a planner call runs here, as in process: no child (the executor asks the
+  // planner's traits as it starts, here only).
+  planner->traits_file = "exec_traits_pids_" + std::to_string(::getpid()) + ".txt";
+  sdk::WorldState row = open_row();
+  row.geometry = std::make_shared<const sdk::Geometry>(
+      2, Cell{0, 0, 0}, Cell{2, 0, 0}, std::vector<std::uint8_t>{1, 1, 1},
+      std::vector<Cell>{{1, 0, 0}, {-1, 0, 0}},
+      std::vector<std::pair<std::string, Cell>>{{"right", {1, 0, 0}}});
+  const sdk::Outcome c = kernel::Executor(ref(planner, kernel::Isolation::process))
+                             .run(sdk::read_canonical("{move right}"), row);
+  CHECK(c.error.value_or("") == "");
+  CHECK(c.world.robot == Cell{1, 0, 0});
+  CHECK(pids_in(planner->pid_file).empty());
+  CHECK(pids_in(planner->traits_file) == std::vector<long>{::getpid()});
+}
+
+TEST_CASE("a crash at an isolated execution's third planner call is that call's plugin_crashed",
+          "[exec][isolation]") {
+  auto planner = std::make_shared<SpinningPlanner>();
+  planner->pid_file = "exec_crash_pids_" + std::to_string(::getpid()) + ".txt";
+  planner->crash_at = Cell{2, 0, 0};
+  const sdk::Outcome o = three_visits_isolated(planner);
+  CHECK(o.error_code == "plugin_crashed");
+  CHECK(o.error.value_or("") == "plugin 'spinning' (/plugins/libspin.so): plan: SIGSEGV");
+  CHECK(o.world.robot == Cell{0, 0, 0});
+  // The first call in a child of its own; then the recording child made three calls and died
+  // in the third; the first two were replayed here, and the third has the child's death, not
+  // made again.
+  const std::vector<long> pids = pids_in(planner->pid_file);
+  REQUIRE(pids.size() == 4);
+  CHECK(pids[0] != pids[1]);
+  CHECK(std::vector<long>(pids.begin() + 1, pids.end()) == std::vector<long>(3, pids[1]));
+  CHECK(pids[1] != ::getpid());
+}
+
+TEST_CASE("a call the recording does not answer is made in a child of its own",
+          "[exec][isolation]") {
+  // The recording child ends, status 0, inside the third call: the tape ends there with no
+  // error to give it, so that call is made again in a child of its own, which ends the same way:
+  // the answer an isolated call that exits without answering has.
+  auto planner = std::make_shared<SpinningPlanner>();
+  planner->pid_file = "exec_exit_pids_" + std::to_string(::getpid()) + ".txt";
+  planner->exit_at = Cell{2, 0, 0};
+  const sdk::Outcome o = three_visits_isolated(planner);
+  CHECK(o.error_code == "plugin_crashed");
+  CHECK(o.error.value_or("") ==
+        "plugin 'spinning' (/plugins/libspin.so): plan: its process exited with status 0 and no "
+        "answer");
+  // The probe's child, the recording child's three calls, the third call's own child.
+  const std::vector<long> pids = pids_in(planner->pid_file);
+  REQUIRE(pids.size() == 5);
+  CHECK(pids[2] == pids[1]);
+  CHECK(pids[3] == pids[1]);
+  CHECK(pids[4] != pids[1]);
+  CHECK(pids[4] != pids[0]);
+  CHECK(pids[4] != ::getpid());
+}
+
+TEST_CASE("an isolated execution is charged its planner calls' CPU time once",
+          "[exec][isolation]") {
+  auto planner = std::make_shared<SpinningPlanner>();
+  planner->cpu = milliseconds(40);  // six plans: 240 ms
+  sdk::StopCondition request = sdk::StopCondition::within_cpu(milliseconds(10000), milliseconds(0));
+  const kernel::CpuCharge charge(request);
+  const auto left_before = request.cpu_left();
+  const sdk::Outcome o = kernel::Executor(ref(planner, kernel::Isolation::process))
+                             .run(sdk::read_canonical(kSixVisits), open_row(), request);
+  const auto charged = left_before - request.cpu_left();
+  CHECK_FALSE(o.error);
+  CHECK(charged >= milliseconds(240));  // every replayed call's time
+  // Not the recording child's as well (480), nor the first call the probe made (280).
+  CHECK(charged < milliseconds(270));
 }

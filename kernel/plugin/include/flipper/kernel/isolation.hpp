@@ -20,6 +20,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <optional>
 #include <string>
@@ -53,8 +54,12 @@ class CpuCharge {
   sdk::StopCondition* budget_ = nullptr;
 };
 
-/// Charges `cpu` to every budget attached on the calling thread (see CpuCharge).
+/// Charges `cpu` to every budget attached on the calling thread (see CpuCharge); refund_cpu
+/// gives it back (work thrown away, which a call in process would not have done).
 void charge_cpu(std::chrono::nanoseconds cpu);
+void refund_cpu(std::chrono::nanoseconds cpu);
+/// What charge_cpu has charged on the calling thread so far, less what refund_cpu gave back.
+std::chrono::nanoseconds charged_cpu();
 
 namespace detail {
 
@@ -67,11 +72,13 @@ namespace detail {
 /// StoppedError(cancelled) when `stop`'s cancel flag is set meanwhile (the child is killed).
 /// Returns nullopt, having run nothing, when no child can be started (no descriptor left for
 /// the pipe, no process left): the caller then makes the call in process. When it throws and
-/// `received` is given, `*received` holds what the child had sent by then (send_part).
+/// `received` is given, `*received` holds what the child had sent by then (send_part). With
+/// `charge` false the child's CPU time is not charged (a recording child's calls are charged
+/// one by one when they are replayed).
 std::optional<std::string> call_in_child(
     const PluginId& plugin, std::string_view op, const sdk::StopCondition& stop,
     const std::function<std::string(const sdk::StopCondition&)>& work,
-    std::string* received = nullptr);
+    std::string* received = nullptr, bool charge = true);
 
 /// In `work`, in the child: sends `bytes` to the parent at once, as the first part of the answer
 /// (`work` then returns the rest), so that what a call answers in parts (checked_parses' series)
@@ -89,6 +96,11 @@ std::optional<std::string> failure_bytes(const PluginId& plugin, std::string_vie
 /// sent a malformed answer") when `bytes` are not one CallFailure.
 [[noreturn]] void throw_failure(const PluginId& plugin, std::string_view op,
                                 std::string_view bytes);
+
+/// Rethrows `end`, what call_in_child threw for a child that died making the call "execute" (a
+/// recording of an execution's planner calls), as the error of the call `op` it died in.
+[[noreturn]] void rethrow_as_call(const std::exception_ptr& end, const PluginId& plugin,
+                                  std::string_view op);
 
 /// How much more CPU time than its budget a child may use before it is killed (SIGXCPU): a
 /// plugin that honours its stop condition answers `stopped` well within it.

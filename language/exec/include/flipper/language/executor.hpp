@@ -56,8 +56,10 @@ class Executor : public sdk::ExecutionService {
   /// The same within a request's limits as well: execution stops when either its own limits
   /// (execution.cpu_budget_ms, execution.deadline_ms) or the request's (`request`: its CPU
   /// budget, wall backstop and cancel flag) fire, with `deadline_exceeded` naming the one.
-  sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world,
-                   const sdk::StopCondition& request) const;
+  /// The one-argument run is this one without a request's limits; a subclass may change where
+  /// the planner's calls run (kernel::Executor), never what they mean.
+  virtual sdk::Outcome run(const sdk::Program& program, const sdk::WorldState& world,
+                           const sdk::StopCondition& request) const;
   const ExecLimits& limits() const { return limits_; }
 
  private:
