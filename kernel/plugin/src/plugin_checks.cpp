@@ -8,6 +8,7 @@
 #include <functional>
 #include <optional>
 #include <string_view>
+#include <type_traits>
 
 #include "flipper/kernel/isolation.hpp"
 #include "flipper/sdk/answer_check.hpp"
@@ -51,50 +52,59 @@ std::uint64_t call_key(char op, const sdk::Geometry& geometry, Cell start,
   return std::hash<std::string>{}(bytes) | 1U;  // never 0, which no call has
 }
 
+// A planner call on a thread with a call tape (docs/plugins-untrusted.md §6, "One child per
+// execution"), `key` what it is asked: a probe makes the first as without a tape (nullopt) and
+// gives up at the second; a recording child makes it in process and sends its record; a replay
+// takes the recorded answer (charged, then checked by the caller as a child's) or the recording
+// child's end when it died in this call, and once it has left the recording, nullopt: the call
+// is made as without a tape.
+template <class Result, class T, class InProcess, class FromBytes>
+std::optional<Result> taped_call(CallTape& tape, const PluginRef<const T>& plugin, const char* op,
+                                 std::uint64_t key, InProcess in_process, FromBytes from_bytes) {
+  using toolkit::process::kBegun;
+  if (tape.mode() == CallTape::Mode::probe) {
+    if (tape.probe_call()) return std::nullopt;
+    throw sdk::Error(sdk::codes::kInternal, "a second planner call: the execution runs in a child");
+  }
+  if (tape.mode() == CallTape::Mode::record) {
+    detail::send_part(CallTape::bytes_of({key, {}, kBegun, {}}));
+    toolkit::process::TapeRecord r{key, {}, 'A', {}};
+    const auto start = sdk::cpu_time();
+    try {
+      Result result = in_process();
+      r.bytes = sdk::host::to_bytes(result);
+      r.cpu = sdk::cpu_time() - start;
+      detail::send_part(CallTape::bytes_of(r));
+      return result;
+    } catch (...) {
+      r = {key, sdk::cpu_time() - start, 'E', detail::failure_bytes(plugin.id(), op).value_or("")};
+      detail::send_part(CallTape::bytes_of(r));
+      throw;
+    }
+  }
+  const std::optional<toolkit::process::TapeRecord> r = tape.take(key);
+  if (!r || (r->tag == kBegun && !tape.end())) return std::nullopt;
+  if (r->tag == kBegun) detail::rethrow_as_call(tape.end(), plugin.id(), op);  // died in it
+  const detail::CallTimer timer(plugin.id(), op);
+  charge_cpu(r->cpu);
+  if (r->tag != 'A') detail::throw_failure(plugin.id(), op, r->bytes);
+  return whole(plugin.id(), op, from_bytes(r->bytes));
+}
+
 // A plugin call as PluginRef::call makes it, in a child process when the ref says so.
-// The answer crosses the pipe as sdk::host's bytes (flipper/sdk/answer_wire.hpp). A call with a
-// `key` (a planner's) on a thread with a call tape (docs/plugins-untrusted.md §6, "One child per
-// execution") forks no child of its own: a probe makes the first as without a tape and gives up
-// at the second, a recording child makes it in process and sends its record, a replay takes the
-// recorded answer (charged, then checked by the caller as a child's) or the recording child's
-// end when it died in this call; once the replay has left the recording, it forks as without one.
-template <class Result, class T, class Call, class FromBytes>
+// The answer crosses the pipe as sdk::host's bytes (flipper/sdk/answer_wire.hpp). A planner's
+// call gives `key_of` (what it is asked, as a number), read only when the thread has a call tape
+// (taped_call).
+template <class Result, class T, class Call, class FromBytes, class KeyOf = std::nullptr_t>
 Result isolable_call(const PluginRef<const T>& plugin, const char* op,
                      const sdk::StopCondition& stop, Call call, FromBytes from_bytes,
-                     std::uint64_t key = 0) {
+                     KeyOf key_of = nullptr) {
   auto in_process = [&] { return plugin.call(op, [&](const T& p) { return call(p, stop); }); };
   if (plugin.isolation() != Isolation::process) return in_process();
-  if (CallTape* tape = key != 0 ? CallTape::current() : nullptr) {
-    if (tape->mode() == CallTape::Mode::probe && !tape->probe_call())
-      throw sdk::Error(sdk::codes::kInternal,
-                       "a second planner call: the execution runs in a child");
-    if (tape->mode() == CallTape::Mode::record) {
-      detail::send_part(CallTape::bytes_of({key, {}, toolkit::process::kBegun, {}}));
-      toolkit::process::TapeRecord r{key, {}, 'A', {}};
-      const auto start = sdk::cpu_time();
-      try {
-        Result result = in_process();
-        r.bytes = sdk::host::to_bytes(result);
-        r.cpu = sdk::cpu_time() - start;
-        detail::send_part(CallTape::bytes_of(r));
-        return result;
-      } catch (...) {
-        r = {key, sdk::cpu_time() - start, 'E',
-             detail::failure_bytes(plugin.id(), op).value_or("")};
-        detail::send_part(CallTape::bytes_of(r));
-        throw;
-      }
-    }
-    std::optional<toolkit::process::TapeRecord> r;
-    if (tape->mode() == CallTape::Mode::replay) r = tape->take(key);
-    if (r && r->tag == toolkit::process::kBegun && tape->end())  // the recording died in it
-      detail::rethrow_as_call(tape->end(), plugin.id(), op);
-    if (r && r->tag != toolkit::process::kBegun) {
-      const detail::CallTimer timer(plugin.id(), op);
-      charge_cpu(r->cpu);
-      if (r->tag != 'A') detail::throw_failure(plugin.id(), op, r->bytes);
-      return whole(plugin.id(), op, from_bytes(r->bytes));
-    }
+  if constexpr (!std::is_same_v<KeyOf, std::nullptr_t>) {
+    if (CallTape* tape = CallTape::current())
+      if (auto r = taped_call<Result>(*tape, plugin, op, key_of(), in_process, from_bytes))
+        return std::move(*r);
   }
   std::optional<std::string> bytes;
   {
@@ -123,7 +133,7 @@ sdk::PathResult checked_plan(const PluginRef<const sdk::Planner>& planner,
         return p.plan(geometry, request, s);
       },
       sdk::host::path_result_of,
-      call_key('p', geometry, request.start, request.goals, request.avoid));
+      [&] { return call_key('p', geometry, request.start, request.goals, request.avoid); });
   if (auto v = sdk::path_violation(geometry, request, r))
     throw_invalid_output(planner.id(), sdk::codes::kInvalidPlan, *v);
   return r;
@@ -137,7 +147,7 @@ sdk::TourResult checked_tour(const PluginRef<const sdk::Planner>& planner,
       [&](const sdk::Planner& p, const sdk::StopCondition& s) {
         return p.tour(geometry, start, points, s);
       },
-      sdk::host::tour_result_of, call_key('t', geometry, start, &points, nullptr));
+      sdk::host::tour_result_of, [&] { return call_key('t', geometry, start, &points, nullptr); });
   if (auto v = sdk::tour_violation(points.size(), t))
     throw_invalid_output(planner.id(), sdk::codes::kInvalidPlan, *v);
   return t;
