@@ -19,9 +19,13 @@ CallTape::CallTape(Mode mode, std::string tape, std::exception_ptr end)
   t_current = this;
 }
 
-CallTape::~CallTape() { t_current = outer_; }
+CallTape::~CallTape() {
+  t_current = outer_;
+}
 
-CallTape* CallTape::current() { return t_current; }
+CallTape* CallTape::current() {
+  return t_current;
+}
 
 std::optional<TapeRecord> CallTape::take(std::uint64_t key) {
   std::optional<TapeRecord> begun = next();
