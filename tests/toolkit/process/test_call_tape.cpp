@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -167,4 +168,44 @@ TEST_CASE("records sent by a child that then dies are replayed to the call it di
   CHECK(one->cpu == nanoseconds(10));
   CHECK(tape.take(2)->tag == process::kBegun);
   CHECK(tape.end() != nullptr);
+}
+
+TEST_CASE("any bytes on a tape are read within their bounds, a call at a time", "[process][tape]") {
+  // A tape is what a child sent, and a child runs a plugin's code: its bytes may be anything.
+  // Every mutation of a valid tape (a byte changed, cut, grown) and random bytes: take() returns
+  // only records whose bytes lie inside the tape (ASan in the instrumented tree), in order, and
+  // once it misses it answers nothing more.
+  const std::string valid = tape_of({{1, nanoseconds(10), 'A', "one"},
+                                     {2, nanoseconds(20), 'E', std::string(40, 'e')},
+                                     {3, nanoseconds(30), 'A', ""}});
+  std::mt19937_64 random(20261203);
+  for (int round = 0; round < 20000; ++round) {
+    std::string tape = valid;
+    switch (round % 4) {
+      case 0:
+        tape[random() % tape.size()] = static_cast<char>(random());
+        break;
+      case 1:
+        tape.resize(random() % tape.size());
+        break;
+      case 2:
+        tape.insert(random() % tape.size(), 1 + random() % 9, static_cast<char>(random()));
+        break;
+      default:
+        tape.assign(random() % 200, '\0');
+        for (char& c : tape) c = static_cast<char>(random());
+    }
+    CallTape replay(CallTape::Mode::replay, tape);
+    std::size_t taken = 0;
+    for (std::uint64_t key = 1; key <= 4; ++key) {
+      const auto r = replay.take(random() % 8 == 0 ? key + 1 : key);
+      if (!r) break;
+      ++taken;
+      CHECK(r->bytes.size() < tape.size());
+      CHECK(r->cpu >= nanoseconds(0));
+      if (r->tag == process::kBegun) break;  // the tape ends in this call
+    }
+    CHECK(taken <= 3);
+    if (replay.missed()) CHECK_FALSE(replay.take(4));
+  }
 }
