@@ -8,8 +8,9 @@
 /// tape, in order, for as long as the calls are the recorded ones. Each call is announced before
 /// it is made (a begun record: its key, tag kBegun), so that a tape whose child died in a call
 /// says which: that call's take gives the begun record, and its caller gives the call the end
-/// the child met (end()). Generic: it knows no plugin
-/// and no budget; the kernel runs an execution's planner calls this way
+/// the child met (end()). A tape's bytes are what a child sent, and the child may have run
+/// anything: every length is checked, and a record that is not whole ends the tape. Generic: it
+/// knows no plugin and no budget; the kernel runs an execution's planner calls this way
 /// (docs/plugins-untrusted.md §6, "One child per execution").
 
 #include <chrono>
