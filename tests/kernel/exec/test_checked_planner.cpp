@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -105,6 +106,13 @@ sdk::Outcome three_visits_isolated(const std::shared_ptr<SpinningPlanner>& plann
       .run(sdk::read_canonical("{{visit [1,0]};{visit [0,0]};{visit [2,0]}}"), open_row());
 }
 
+// A scratch file of this test process's own under build/tests/tmp, for the planner's pids.
+std::string pid_file_named(const std::string& name) {
+  const auto dir = std::filesystem::path(FLIPPER_BINARY_DIR) / "tests" / "tmp";
+  std::filesystem::create_directories(dir);
+  return (dir / (name + "-" + std::to_string(::getpid()) + ".txt")).string();
+}
+
 // The process ids the planner wrote, one per plan call (the file is removed).
 std::vector<long> pids_in(const std::string& file) {
   std::vector<long> pids;
@@ -172,7 +180,7 @@ TEST_CASE("a path through a wall is refused before the executor moves the robot"
 TEST_CASE("an isolated execution's planner calls run in one child, none when it plans nothing",
           "[exec][isolation]") {
   auto planner = std::make_shared<SpinningPlanner>();
-  planner->pid_file = "exec_pids_" + std::to_string(::getpid()) + ".txt";
+  planner->pid_file = pid_file_named("exec_pids");
   const auto program = sdk::read_canonical(kSixVisits);
   const sdk::Outcome a =
       kernel::Executor(ref(planner, kernel::Isolation::in_process)).run(program, open_row());
@@ -203,7 +211,7 @@ TEST_CASE("an isolated execution's planner calls run in one child, none when it 
 
   // A program without a planner call runs here, as in process: no child (the executor asks the
   // planner's traits as it starts, here only).
-  planner->traits_file = "exec_traits_pids_" + std::to_string(::getpid()) + ".txt";
+  planner->traits_file = pid_file_named("exec_traits_pids");
   sdk::WorldState row = open_row();
   row.geometry = std::make_shared<const sdk::Geometry>(
       2, Cell{0, 0, 0}, Cell{2, 0, 0}, std::vector<std::uint8_t>{1, 1, 1},
@@ -220,7 +228,7 @@ TEST_CASE("an isolated execution's planner calls run in one child, none when it 
 TEST_CASE("a crash at an isolated execution's third planner call is that call's plugin_crashed",
           "[exec][isolation]") {
   auto planner = std::make_shared<SpinningPlanner>();
-  planner->pid_file = "exec_crash_pids_" + std::to_string(::getpid()) + ".txt";
+  planner->pid_file = pid_file_named("exec_crash_pids");
   planner->crash_at = Cell{2, 0, 0};
   const sdk::Outcome o = three_visits_isolated(planner);
   CHECK(o.error_code == "plugin_crashed");
@@ -242,7 +250,7 @@ TEST_CASE("a call the recording does not answer is made in a child of its own",
   // error to give it, so that call is made again in a child of its own, which ends the same way:
   // the answer an isolated call that exits without answering has.
   auto planner = std::make_shared<SpinningPlanner>();
-  planner->pid_file = "exec_exit_pids_" + std::to_string(::getpid()) + ".txt";
+  planner->pid_file = pid_file_named("exec_exit_pids");
   planner->exit_at = Cell{2, 0, 0};
   const sdk::Outcome o = three_visits_isolated(planner);
   CHECK(o.error_code == "plugin_crashed");
