@@ -3,6 +3,8 @@
 // (flipper/sdk/answer_check.hpp).
 #include "flipper/kernel/plugin_checks.hpp"
 
+#include <unistd.h>
+
 #include <cstdint>
 #include <cstring>
 #include <functional>
@@ -67,18 +69,24 @@ std::optional<Result> taped_call(CallTape& tape, const PluginRef<const T>& plugi
     throw sdk::Error(sdk::codes::kInternal, "a second planner call: the execution runs in a child");
   }
   if (tape.mode() == CallTape::Mode::record) {
-    detail::send_part(CallTape::bytes_of({key, {}, kBegun, {}}));
+    auto send = [&tape](const toolkit::process::TapeRecord& record) {
+      const std::string bytes = CallTape::bytes_of(record);
+      detail::send_part(bytes);
+      tape.count_sent(bytes.size());
+    };
+    if (tape.sent() > detail::kMaxTapeBytes) ::_exit(0);  // the tape ends: one by one from here
+    send({key, {}, kBegun, {}});
     toolkit::process::TapeRecord r{key, {}, 'A', {}};
     const auto start = sdk::cpu_time();
     try {
       Result result = in_process();
       r.bytes = sdk::host::to_bytes(result);
       r.cpu = sdk::cpu_time() - start;
-      detail::send_part(CallTape::bytes_of(r));
+      send(r);
       return result;
     } catch (...) {
       r = {key, sdk::cpu_time() - start, 'E', detail::failure_bytes(plugin.id(), op).value_or("")};
-      detail::send_part(CallTape::bytes_of(r));
+      send(r);
       throw;
     }
   }

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <csignal>
@@ -113,6 +114,13 @@ std::string pid_file_named(const std::string& name) {
   return (dir / (name + "-" + std::to_string(::getpid()) + ".txt")).string();
 }
 
+// A planner that writes its pid per plan call to a scratch file `name` of this process's own.
+std::shared_ptr<SpinningPlanner> counted_planner(const std::string& name) {
+  auto planner = std::make_shared<SpinningPlanner>();
+  planner->pid_file = pid_file_named(name);
+  return planner;
+}
+
 // The process ids the planner wrote, one per plan call (the file is removed).
 std::vector<long> pids_in(const std::string& file) {
   std::vector<long> pids;
@@ -179,8 +187,7 @@ TEST_CASE("a path through a wall is refused before the executor moves the robot"
 
 TEST_CASE("an isolated execution's planner calls run in one child, none when it plans nothing",
           "[exec][isolation]") {
-  auto planner = std::make_shared<SpinningPlanner>();
-  planner->pid_file = pid_file_named("exec_pids");
+  auto planner = counted_planner("exec_pids");
   const auto program = sdk::read_canonical(kSixVisits);
   const sdk::Outcome a =
       kernel::Executor(ref(planner, kernel::Isolation::in_process)).run(program, open_row());
@@ -227,8 +234,7 @@ TEST_CASE("an isolated execution's planner calls run in one child, none when it 
 
 TEST_CASE("a crash at an isolated execution's third planner call is that call's plugin_crashed",
           "[exec][isolation]") {
-  auto planner = std::make_shared<SpinningPlanner>();
-  planner->pid_file = pid_file_named("exec_crash_pids");
+  auto planner = counted_planner("exec_crash_pids");
   planner->crash_at = Cell{2, 0, 0};
   const sdk::Outcome o = three_visits_isolated(planner);
   CHECK(o.error_code == "plugin_crashed");
@@ -249,8 +255,7 @@ TEST_CASE("a call the recording does not answer is made in a child of its own",
   // The recording child ends, status 0, inside the third call: the tape ends there with no
   // error to give it, so that call is made again in a child of its own, which ends the same way:
   // the answer an isolated call that exits without answering has.
-  auto planner = std::make_shared<SpinningPlanner>();
-  planner->pid_file = pid_file_named("exec_exit_pids");
+  auto planner = counted_planner("exec_exit_pids");
   planner->exit_at = Cell{2, 0, 0};
   const sdk::Outcome o = three_visits_isolated(planner);
   CHECK(o.error_code == "plugin_crashed");
@@ -281,4 +286,35 @@ TEST_CASE("an isolated execution is charged its planner calls' CPU time once",
   CHECK(charged >= milliseconds(240));  // every replayed call's time
   // Not the recording child's as well (480), nor the first call the probe made (280).
   CHECK(charged < milliseconds(270));
+}
+
+TEST_CASE("a recording past its byte bound ends, and the calls after it are made one by one",
+          "[exec][isolation]") {
+  // Each plan answers no path with a 1 MiB message: 140 of them would send 140 MiB, past the
+  // recording's bound (kernel::detail::kMaxTapeBytes, 128 MiB). The child stops before its 129th
+  // call; the parent replays 128 and makes the other 12 in a child each, with the same answers.
+  auto planner = counted_planner("exec_bound_pids");
+  planner->answer = [](const sdk::PathRequest&) {
+    sdk::PathResult p;
+    p.status = sdk::PlanStatus::no_path;
+    p.message = std::string(std::size_t{1} << 20, 'm');
+    return p;
+  };
+  std::string text = "{";
+  for (int i = 0; i < 140; ++i)
+    text += (i == 0 ? "" : ";") + std::string("{if {possible {visit [2,0]}} {visit [1,0]}}");
+  text += "}";
+  STATIC_REQUIRE(kernel::detail::kMaxTapeBytes == std::size_t{128} << 20);
+  const sdk::Outcome o = kernel::Executor(ref(planner, kernel::Isolation::process))
+                             .run(sdk::read_canonical(text), open_row());
+  CHECK(o.error.value_or("") == "");
+  CHECK(o.world.robot == Cell{0, 0, 0});  // no visit was possible
+  // The probe's child (its first call), the recording child's 128, then 12 children of one each.
+  const std::vector<long> pids = pids_in(planner->pid_file);
+  REQUIRE(pids.size() == 141);
+  CHECK(std::vector<long>(pids.begin() + 1, pids.begin() + 129) == std::vector<long>(128, pids[1]));
+  std::vector<long> rest(pids.begin() + 129, pids.end());
+  std::sort(rest.begin(), rest.end());
+  CHECK(std::adjacent_find(rest.begin(), rest.end()) == rest.end());  // each its own
+  CHECK(std::find(rest.begin(), rest.end(), pids[1]) == rest.end());
 }

@@ -108,6 +108,9 @@ inline constexpr std::chrono::milliseconds kCpuGrace{1000};
 
 /// Bytes of an answer a child may send (more is plugin_crashed: a bounded read).
 inline constexpr std::size_t kMaxAnswerBytes = std::size_t{256} << 20;
+/// Bytes a recording child sends before it stops (docs/plugins-untrusted.md §6): the calls
+/// after them are made one by one, and the call in progress has the rest of kMaxAnswerBytes.
+inline constexpr std::size_t kMaxTapeBytes = kMaxAnswerBytes / 2;
 
 }  // namespace detail
 }  // namespace flipper::kernel

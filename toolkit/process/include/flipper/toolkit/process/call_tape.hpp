@@ -66,6 +66,9 @@ class CallTape {
   /// recorded one: missed()).
   std::optional<TapeRecord> take(std::uint64_t key);
   const std::exception_ptr& end() const { return end_; }
+  /// record: the bytes of the records sent so far (their sender counts them here).
+  std::size_t sent() const { return sent_; }
+  void count_sent(std::size_t bytes) { sent_ += bytes; }
   /// A record's bytes on the tape: its length first, then the key, the CPU time, the tag and the
   /// answer (numbers in this machine's byte order: the child is a fork of the same program).
   static std::string bytes_of(const TapeRecord& record);
@@ -75,7 +78,7 @@ class CallTape {
   std::string tape_;
   std::size_t at_ = 0;
   bool missed_ = false;
-  std::size_t calls_ = 0;
+  std::size_t calls_ = 0, sent_ = 0;
   std::exception_ptr end_;
   CallTape* outer_;
   std::optional<TapeRecord> next();
