@@ -72,6 +72,12 @@ function(flipper_add_conformance_test plugin)
     FLIPPER_CONFORMANCE_WORLD="${world}"
     FLIPPER_CONFORMANCE_GRAMMAR="${grammar}")
   target_include_directories(${test} PRIVATE ${kit_dir})
+  # In the source tree the drivers compile at the test units' level (FLIPPER_TEST_OPT, -O0 by
+  # default; docs/testing.md "CI time"): they are Catch2 around calls into the plugin, which keeps
+  # its own level, and each kit runs in milliseconds. Out of tree the build type decides.
+  if(FLIPPER_TEST_OPT)
+    target_compile_options(${test} PRIVATE ${FLIPPER_TEST_OPT})
+  endif()
   set_target_properties(${test} PROPERTIES CXX_STANDARD 20 CXX_STANDARD_REQUIRED ON)
   add_dependencies(${test} ${target})
   catch_discover_tests(${test} TEST_PREFIX "${test}." PROPERTIES TIMEOUT 300)
